@@ -1,0 +1,1 @@
+"""Command-line sub-commands for the converter and maps folder."""

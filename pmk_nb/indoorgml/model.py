@@ -1,0 +1,128 @@
+"""The building model every IndoorGML dialect is read into.
+
+All coordinates are metres in the building's own frame (the file's coordinates times the unit
+scale); the georeference says how that frame sits in the world.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
+
+
+class CellKind(str, Enum):
+    """What a cell is for the wheelchair; decides free/occupied in the grid."""
+
+    NAVIGABLE = "navigable"  # navi:NavigableSpace and plain core:CellSpace in a topographic layer
+    GENERAL = "general"  # navi:GeneralSpace (rooms)
+    TRANSITION = "transition"  # navi:TransitionSpace (corridors, stairs)
+    CONNECTION = "connection"  # navi:ConnectionSpace (doors)
+    ANCHOR = "anchor"  # navi:AnchorSpace (entrances)
+    NON_NAVIGABLE = "non-navigable"  # NonNavigableSpace (obstacles, columns)
+
+    @property
+    def is_free(self) -> bool:
+        return self is not CellKind.NON_NAVIGABLE
+
+    @property
+    def is_door(self) -> bool:
+        return self in (CellKind.CONNECTION, CellKind.ANCHOR)
+
+
+@dataclass
+class Cell:
+    id: str
+    kind: CellKind
+    footprint: BaseGeometry  # shapely Polygon/MultiPolygon in metres (2D)
+    storey: str
+    name: str = ""
+    layer: str = ""
+    z_min: float | None = None
+    z_max: float | None = None
+    boundary_ids: list[str] = field(default_factory=list)
+
+
+@dataclass
+class Boundary:
+    """A CellSpaceBoundary; doors let the rasteriser open the wall they sit in."""
+
+    id: str
+    is_door: bool
+    geometry: BaseGeometry | None  # 2D LineString/Polygon footprint in metres, or None
+    storey: str | None = None
+    name: str = ""
+
+
+@dataclass
+class State:
+    id: str
+    point: tuple[float, float, float] | None
+    cell_id: str | None
+    layer: str = ""
+
+
+@dataclass
+class Transition:
+    id: str
+    source: str
+    target: str
+    weight: float | None = None
+    layer: str = ""
+
+
+@dataclass
+class NavGraph:
+    states: dict[str, State] = field(default_factory=dict)
+    transitions: list[Transition] = field(default_factory=list)
+
+
+@dataclass
+class Storey:
+    name: str
+    elevation: float | None  # floor z in metres, when known
+    cell_ids: list[str] = field(default_factory=list)
+    source: str = ""  # how the storey was found: level / description / extension / z / single
+
+
+@dataclass
+class Georeference:
+    translation: tuple[float, float] = (0.0, 0.0)  # metres, building frame -> world
+    rotation: float = 0.0  # degrees, counter-clockwise
+    lla: tuple[float, float, float] | None = None  # lat, lon, alt of the frame origin
+    srs_name: str | None = None
+
+
+@dataclass
+class Building:
+    source: str  # path of the file read
+    sha256: str
+    version: str  # "1.0", "1.0.3", "1.1", "2.0", "alma", ...
+    namespaces: dict[str, str]  # prefix -> URI as declared
+    unit: str  # "m" | "cm" | "mm"
+    unit_reason: str
+    storeys: list[Storey]
+    cells: dict[str, Cell]
+    boundaries: dict[str, Boundary] = field(default_factory=dict)
+    graph: NavGraph = field(default_factory=NavGraph)
+    georef: Georeference = field(default_factory=Georeference)
+    layers: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+    def storey(self, name: str) -> Storey:
+        for s in self.storeys:
+            if s.name == name:
+                return s
+        known = ", ".join(s.name for s in self.storeys)
+        from pmk_nb.errors import IndoorGMLError
+
+        raise IndoorGMLError(f"{self.source}: no storey named {name!r}; storeys are: {known}")
+
+    def cells_of(self, storey: str) -> list[Cell]:
+        return [self.cells[c] for c in self.storey(storey).cell_ids]
+
+    def doors_of(self, storey: str) -> list[Boundary]:
+        return [b for b in self.boundaries.values() if b.is_door and b.storey == storey]
