@@ -1,0 +1,29 @@
+"""IndoorGML reader: every dialect seen in the wild -> one :class:`Building` model in metres.
+
+``read_building(path, unit="auto", progress=None)`` and ``summarize(building)`` are the API; the
+modules underneath are layered: ``xmlsafe`` (safe streaming XML) -> ``gml`` (coordinates) ->
+``scan`` (raw records) -> ``footprint``/``doors``/``units``/``storeys`` -> ``build`` (the model).
+"""
+
+from __future__ import annotations
+
+from pmk_nb.errors import IndoorGMLError
+from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
+from pmk_nb.indoorgml.reader import read_building
+from pmk_nb.indoorgml.summary import format_summary, summarize
+from pmk_nb.indoorgml.units import UNIT_CHOICES, UNIT_SCALE
+
+__all__ = [
+    "UNIT_CHOICES",
+    "UNIT_SCALE",
+    "Boundary",
+    "Building",
+    "Cell",
+    "CellKind",
+    "Georeference",
+    "IndoorGMLError",
+    "Storey",
+    "format_summary",
+    "read_building",
+    "summarize",
+]

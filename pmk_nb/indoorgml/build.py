@@ -1,0 +1,369 @@
+"""Raw records -> :class:`Building`: layers, kinds, units, storeys, doors, graph, georeference."""
+
+from __future__ import annotations
+
+import math
+from collections import defaultdict
+from dataclasses import dataclass
+
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from pmk_nb.errors import IndoorGMLError
+from pmk_nb.indoorgml import doors as doorlib
+from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint, cell_footprint
+from pmk_nb.indoorgml.model import (
+    Boundary,
+    Building,
+    Cell,
+    CellKind,
+    Georeference,
+    NavGraph,
+    State,
+    Storey,
+    Transition,
+)
+from pmk_nb.indoorgml.scan import RawCell, RawDocument
+from pmk_nb.indoorgml.storeys import CellZ, plan_storeys
+from pmk_nb.indoorgml.units import UNIT_SCALE, choose_unit
+
+MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
+RAISED = 0.5  # metres above its storey floor: a window/sill, not floor space
+
+KIND_BY_NAME = {
+    "navigablespace": CellKind.NAVIGABLE,
+    "generalspace": CellKind.GENERAL,
+    "transitionspace": CellKind.TRANSITION,
+    "transferspace": CellKind.TRANSITION,
+    "connectionspace": CellKind.CONNECTION,
+    "anchorspace": CellKind.ANCHOR,
+    "nonnavigablespace": CellKind.NON_NAVIGABLE,
+    "obstacle": CellKind.NON_NAVIGABLE,
+}
+GEOMETRY_LAYER_WORDS = ("base", "primal", "topographic", "geometry", "physical")
+
+
+@dataclass
+class _Cell:
+    raw: RawCell
+    fp: Footprint
+    layer: str
+
+
+def detect_alma(doc: RawDocument) -> str:
+    """Why this file is ALMA style ('' if it is not); structural, so any prefix works."""
+    uris = {v.lower() for v in doc.namespaces.values()}
+    if any("idsia.ch/alma" in u for u in uris):
+        return "alma namespace"
+    if doc.root == "multilayeredgraph" and any(c.alma_inline for c in doc.cells):
+        return "MultiLayeredGraph root with cells inline in State/duality"
+    if doc.translation is not None and any(c.alma_inline for c in doc.cells):
+        return "cells inline in State/duality and a map-frame translation"
+    if {"indoorCore", "indoorNavi"} & set(doc.namespaces) and any(c.alma_inline for c in doc.cells):
+        return "indoorCore/indoorNavi prefixes with cells inline in State/duality"
+    return ""
+
+
+def _version(doc: RawDocument, alma: str) -> str:
+    if alma:
+        return "alma"
+    uris = " ".join(doc.namespaces.values()).lower()
+    if "indoorgml/2.0" in uris or doc.has_primal_layer:
+        return "2.0"
+    if doc.has_level or "indoorgml/1.1" in uris:
+        return "1.1"
+    if any(c.wrapped for c in doc.cells):
+        return "1.0.3"
+    return "1.0"
+
+
+def _kind(raw: RawCell, alma: bool) -> CellKind:
+    kind = KIND_BY_NAME.get(raw.kind_name)
+    if kind is not None:
+        return kind
+    if doorlib.says_door(raw.id, raw.name):
+        return CellKind.CONNECTION
+    # ALMA convention (original app and idsia reader): only navi spaces are navigable
+    return CellKind.NON_NAVIGABLE if alma else CellKind.NAVIGABLE
+
+
+def _cell_layers(doc: RawDocument) -> dict[str, str]:
+    """Layer of each cell: the SpaceLayer it sits in, else the layer of its dual State."""
+    state_layer = {s.id: s.layer for s in doc.states}
+    layer_of: dict[str, str] = {}
+    for s in doc.states:
+        if s.cell and s.layer:
+            layer_of.setdefault(s.cell, s.layer)
+    for c in doc.cells:
+        if c.layer:
+            layer_of[c.id] = c.layer
+        elif c.id not in layer_of and c.duality in state_layer:
+            layer_of[c.id] = state_layer[c.duality]
+    return layer_of
+
+
+def _select_layers(cells: list[_Cell], doc: RawDocument, alma: str, warnings: list[str]) -> list[_Cell]:
+    """Keep the geometry layer(s); drop layers that only repeat/subdivide the same space."""
+    by_layer: dict[str, list[_Cell]] = defaultdict(list)
+    for c in cells:
+        by_layer[c.layer].append(c)
+    order = [layer.id for layer in doc.layers if layer.id in by_layer]
+    if len(order) <= 1:
+        return cells
+    info = {layer.id: layer for layer in doc.layers}
+    if alma:
+        geo = [
+            lid for lid in order
+            if lid == "L1" or (info[lid].cls.upper() == "TOPOGRAPHIC" and info[lid].usage.lower() == "geometry")
+        ]  # fmt: skip
+        keep = geo[:1] or order[:1]
+        dropped = [lid for lid in order if lid not in keep]
+        warnings.append(f"ALMA style: geometry from layer {keep[0]!r} only; ignored layers {dropped}")
+        return [c for c in cells if c.layer in keep or c.layer == ""]
+
+    def rank(lid: str) -> int:
+        text = f"{lid} {info[lid].cls} {info[lid].usage}".lower()
+        return 0 if any(w in text for w in GEOMETRY_LAYER_WORDS) else 1
+
+    primary = min(order, key=lambda lid: (rank(lid), order.index(lid)))
+    kept = {primary, ""}
+    base = [c.fp.geometry for c in by_layer[primary] + by_layer.get("", []) if c.fp.geometry is not None]
+    for lid in order:
+        if lid == primary:
+            continue
+        geoms = [c.fp.geometry for c in by_layer[lid] if c.fp.geometry is not None]
+        share = doorlib.overlap_fraction(geoms, base)
+        if share > 0.5:
+            warnings.append(
+                f"layer {lid!r}: {len(by_layer[lid])} cells lie inside layer {primary!r} "
+                f"({share:.0%} overlap) - ignored to avoid double-counting; geometry from {primary!r}"
+            )
+        else:
+            kept.add(lid)
+            base.extend(geoms)
+    return [c for c in cells if c.layer in kept]
+
+
+def _scale(geom: BaseGeometry | None, s: float) -> BaseGeometry | None:
+    if geom is None or s == 1.0:
+        return geom
+    return shapely.transform(geom, lambda xy: xy * s)
+
+
+def _raised(z_min: float | None, z_max: float | None, floor: float | None) -> bool:
+    """A 3D cell starting well above its storey floor is a window/sill, not floor space."""
+    if z_min is None or z_max is None or floor is None:
+        return False
+    return z_min - floor > RAISED and z_max > z_min
+
+
+def _zs(v: float | None, s: float) -> float | None:
+    return None if v is None else v * s
+
+
+def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
+    """Interpret ``doc``; see the package docstring for the rules."""
+    warnings: list[str] = []
+    path = doc.path
+    alma = detect_alma(doc)
+    layer_of = _cell_layers(doc)
+    cells: list[_Cell] = []
+    no_geom = 0
+    for raw in doc.cells:
+        if not raw.polygons:
+            no_geom += 1
+            continue
+        fp = cell_footprint(raw.polygons)
+        if fp.geometry is None:
+            warnings.append(f"cell {raw.id!r} (line {raw.line}): zero-area footprint - skipped")
+            continue
+        if fp.repaired:
+            warnings.append(f"cell {raw.id!r} (line {raw.line}): invalid/self-intersecting polygon repaired")
+        cells.append(_Cell(raw, fp, layer_of.get(raw.id, "")))
+    if no_geom:
+        warnings.append(f"{no_geom} cells have no geometry (skipped)")
+    if not cells:
+        raise IndoorGMLError(
+            f"{path}: no usable cell: {len(doc.cells)} cell elements, none with a non-empty 2D/3D geometry"
+        )
+    cells = _select_layers(cells, doc, alma, warnings)
+    kinds = {c.raw.id: _kind(c.raw, bool(alma)) for c in cells}
+    named_doors = sum(1 for c in cells if kinds[c.raw.id] is CellKind.CONNECTION and c.raw.kind_name == "cellspace")
+    if named_doors:
+        warnings.append(f"{named_doors} plain CellSpaces named 'door' treated as connection (door) cells")
+
+    # boundaries and door evidence (file units; every door rule is scale-free)
+    refs: dict[str, list[str]] = defaultdict(list)
+    for c in cells:
+        for r in c.raw.boundary_refs:
+            refs[r].append(c.raw.id)
+    trans_dual = {t.duality for t in doc.transitions if t.duality}
+    trans_ids = {t.id for t in doc.transitions}
+    geom_of = {c.raw.id: c.fp.geometry for c in cells}
+    cell_geoms = [c.fp.geometry for c in cells]
+    cell_tree = shapely.STRtree(cell_geoms)  # boundary -> nearby cells without an O(B x C) scan
+    raw_refs: dict[str, list[str]] = defaultdict(list)
+    for raw in doc.cells:
+        for r in raw.boundary_refs:
+            raw_refs[r].append(raw.id)
+    state_cell = {st.id: st.cell for st in doc.states}
+    state_cell.update({raw.duality: raw.id for raw in doc.cells if raw.alma_inline and raw.duality})
+    dual_cells: dict[str, set[str]] = defaultdict(set)
+    for t in doc.transitions:
+        if t.duality:
+            dual_cells[t.duality].update(c for c in (state_cell.get(x) for x in t.connects) if c)
+    dropped_b = 0
+    bfps: dict[str, tuple[Footprint, bool]] = {}
+    seen: set[tuple[tuple[float, ...], ...]] = set()
+    dupes = 0
+    for rb in doc.boundaries:
+        fp = boundary_footprint(rb.polygons, rb.lines)
+        if fp.geometry is not None:
+            key = tuple(sorted(tuple(round(v, 6) for v in xy) for xy in shapely.get_coordinates(fp.geometry)))
+            if key in seen:
+                dupes += 1
+                continue
+            seen.add(key)
+        owners = set(raw_refs.get(rb.id, [])) | dual_cells.get(rb.id, set())
+        if owners and not owners & set(geom_of):
+            dropped_b += 1
+            continue
+        near: list[BaseGeometry] = []
+        if fp.geometry is not None:
+            tol = 1e-6 + doorlib.NEAR * fp.geometry.length
+            near = [cell_geoms[i] for i in cell_tree.query(fp.geometry, predicate="dwithin", distance=tol)]
+        is_door = (
+            rb.kind_name in doorlib.DOOR_TYPES
+            or rb.id in trans_dual
+            or (rb.duality in trans_ids if rb.duality else False)
+            or doorlib.says_door(rb.id, rb.name, rb.description)
+            or (fp.geometry is not None and doorlib.partial_edge(fp.geometry, near))
+        )
+        bfps[rb.id] = (fp, is_door)
+    if dropped_b:
+        warnings.append(f"{dropped_b} boundaries belong only to cells of ignored layers - dropped")
+    if dupes:
+        warnings.append(f"{dupes} boundaries repeat another one's geometry (e.g. '-REVERSE' copies) - merged")
+    door_widths = [
+        fp.geometry.length
+        for fp, d in bfps.values()
+        if d and fp.geometry is not None and fp.geometry.geom_type == "LineString"
+    ]
+    for c in cells:
+        if kinds[c.raw.id] in (CellKind.CONNECTION, CellKind.ANCHOR) and c.fp.geometry is not None:
+            rect = c.fp.geometry.minimum_rotated_rectangle
+            xy = shapely.get_coordinates(rect)
+            sides = [math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1))]
+            if sides:
+                door_widths.append(max(sides))
+
+    # units
+    all_geom = shapely.union_all([c.fp.geometry for c in cells])
+    minx, miny, maxx, maxy = all_geom.bounds
+    if unit == "auto":
+        unit, reason = choose_unit(
+            alma=bool(alma), alma_why=alma, door_widths=door_widths, extent=max(maxx - minx, maxy - miny)
+        )
+    elif unit in UNIT_SCALE:
+        reason = f"given: {unit}"
+    else:
+        raise IndoorGMLError(f"{path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}")
+    s = UNIT_SCALE[unit]
+    if max(abs(minx), abs(miny), abs(maxx), abs(maxy)) * s > MAX_COORD_M:
+        worst = max(cells, key=lambda c: max(abs(v) for v in c.fp.geometry.bounds))
+        raise IndoorGMLError(
+            f"{path}: cell {worst.raw.id!r} (line {worst.raw.line}) has coordinates beyond 1e7 m "
+            f"({max(abs(v) for v in worst.fp.geometry.bounds):.3g} {unit}); the file is corrupt or uses a "
+            "geographic/other CRS"
+        )
+
+    # storeys (metres)
+    plan = plan_storeys(
+        [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
+    )
+    warnings.extend(plan.notes)
+    model_cells: dict[str, Cell] = {}
+    raised: list[str] = []
+    for c in cells:
+        storey = plan.of_cell[c.raw.id]
+        kind = kinds[c.raw.id]
+        z_min, z_max = _zs(c.fp.z_min, s), _zs(c.fp.z_max, s)
+        floor = plan.elevation.get(storey)
+        if kind.is_free and _raised(z_min, z_max, floor):
+            kind = CellKind.NON_NAVIGABLE
+            raised.append(c.raw.id)
+        model_cells[c.raw.id] = Cell(
+            id=c.raw.id, kind=kind, footprint=_scale(c.fp.geometry, s), storey=storey, name=c.raw.name,
+            layer=c.layer, z_min=z_min, z_max=z_max, boundary_ids=list(c.raw.boundary_refs),
+        )  # fmt: skip
+    if raised:
+        warnings.append(
+            f"{len(raised)} cells start more than {RAISED} m above their storey floor (windows/sills): "
+            f"treated as non-navigable: {raised[:8]}"
+        )
+    storeys = [
+        Storey(n, plan.elevation[n], [i for i, c in model_cells.items() if c.storey == n], plan.source[n])
+        for n in plan.names
+    ]
+    boundaries = _boundaries(doc, bfps, refs, model_cells, storeys, s)
+    graph = _graph(doc, model_cells, s)
+    georef = Georeference(
+        translation=(doc.translation[0] * s, doc.translation[1] * s) if doc.translation else (0.0, 0.0),
+        rotation=doc.rotation or 0.0,
+        lla=doc.lla,
+        srs_name=doc.srs_name,
+    )
+    st = doc.stats
+    if st.unclosed:
+        warnings.append(f"{st.unclosed} rings were not closed (closed them)")
+    if st.repeated:
+        warnings.append(f"{st.repeated} repeated consecutive points dropped")
+    return Building(
+        source=str(path), sha256=sha256, version=_version(doc, alma), namespaces=doc.namespaces,
+        unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells, boundaries=boundaries,
+        graph=graph, georef=georef, layers=[layer.id for layer in doc.layers], warnings=warnings,
+    )  # fmt: skip
+
+
+def _boundaries(
+    doc: RawDocument,
+    bfps: dict[str, tuple[Footprint, bool]],
+    refs: dict[str, list[str]],
+    cells: dict[str, Cell],
+    storeys: list[Storey],
+    s: float,
+) -> dict[str, Boundary]:
+    out: dict[str, Boundary] = {}
+    cell_list = list(cells.values())
+    tree = shapely.STRtree([c.footprint for c in cell_list])
+    for rb in doc.boundaries:
+        if rb.id not in bfps:
+            continue
+        fp, is_door = bfps[rb.id]
+        geom = _scale(fp.geometry, s)
+        storey = next((cells[i].storey for i in refs.get(rb.id, []) if i in cells), None)
+        if storey is None and geom is not None:
+            touching = [cell_list[i] for i in tree.query(geom, predicate="dwithin", distance=0.05)]
+            if fp.z_min is not None:
+                touching.sort(key=lambda c: abs((c.z_min or 0.0) - fp.z_min * s))
+            storey = touching[0].storey if touching else None
+        if storey is None and len(storeys) == 1:
+            storey = storeys[0].name
+        out[rb.id] = Boundary(rb.id, is_door, geom, storey, rb.name)
+    return out
+
+
+def _graph(doc: RawDocument, cells: dict[str, Cell], s: float) -> NavGraph:
+    graph = NavGraph()
+    inline = {c.duality: c.id for c in doc.cells if c.alma_inline and c.duality}
+    for rs in doc.states:
+        point = None
+        if rs.point is not None:
+            z = rs.point[2] * s if len(rs.point) > 2 else 0.0
+            point = (rs.point[0] * s, rs.point[1] * s, z)
+        cell = rs.cell or inline.get(rs.id)
+        graph.states[rs.id] = State(rs.id, point, cell if cell in cells else None, rs.layer)
+    for t in doc.transitions:
+        if len(t.connects) >= 2:
+            graph.transitions.append(Transition(t.id, t.connects[0], t.connects[1], t.weight, t.layer))
+    return graph

@@ -1,0 +1,119 @@
+"""2D footprints of cells and boundaries (file units; scaling happens later).
+
+A 3D solid's footprint is the union of its roughly horizontal faces projected to the plane (floor
+and ceiling coincide for prisms; stairs give the union of their steps); vertical surfaces become
+LineStrings. Every polygon is validated; self-intersections are repaired with ``make_valid`` and
+reported, because one bad ring in an editor export should not sink a whole building.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry import LineString, MultiPolygon, Polygon
+from shapely.geometry.base import BaseGeometry
+
+from pmk_nb.indoorgml.gml import Coord, PolygonZ
+
+FLAT_SLOPE = 0.02  # a face whose z spread is < 2 % of its plan size counts as horizontal
+
+
+@dataclass
+class Footprint:
+    geometry: BaseGeometry | None  # Polygon/MultiPolygon, None when nothing with area remains
+    z_min: float | None
+    z_max: float | None
+    repaired: bool = False
+
+
+def polygonal(geom: BaseGeometry) -> BaseGeometry:
+    """Keep only the polygonal parts (make_valid may return collections with lines/points)."""
+    if geom.is_empty:
+        return Polygon()
+    if isinstance(geom, Polygon | MultiPolygon):
+        return geom
+    parts = [g for g in shapely.get_parts(geom) if isinstance(g, Polygon | MultiPolygon) and not g.is_empty]
+    if not parts:
+        return Polygon()
+    return shapely.union_all(parts)
+
+
+def _to_polygon(poly: PolygonZ) -> tuple[BaseGeometry, bool]:
+    ext = [c[:2] for c in poly.exterior]
+    holes = [[c[:2] for c in ring] for ring in poly.interiors]
+    if len(ext) < 4:
+        return Polygon(), False
+    geom = Polygon(ext, holes)
+    if geom.is_valid:
+        return geom, False
+    return polygonal(shapely.make_valid(geom)), True
+
+
+def _z_spread(poly: PolygonZ) -> tuple[float, float] | None:
+    zs = [c[2] for c in poly.exterior if len(c) > 2]
+    return (min(zs), max(zs)) if zs else None
+
+
+def cell_footprint(polys: list[PolygonZ]) -> Footprint:
+    """Footprint of a cell from its polygons (2D polygon, flat 3D polygon, or solid faces)."""
+    zr = [z for z in (_z_spread(p) for p in polys) if z is not None]
+    z_min = min(z[0] for z in zr) if zr else None
+    z_max = max(z[1] for z in zr) if zr else None
+    flat: list[PolygonZ] = []
+    for p, z in zip(polys, (_z_spread(p) for p in polys), strict=True):
+        xy = np.asarray([c[:2] for c in p.exterior], dtype=float)
+        size = float(np.ptp(xy, axis=0).max()) if len(xy) else 0.0
+        if z is None or z[1] - z[0] <= FLAT_SLOPE * size:
+            flat.append(p)
+    chosen = flat or polys
+    repaired = False
+    geoms: list[BaseGeometry] = []
+    for p in chosen:
+        g, fixed = _to_polygon(p)
+        repaired |= fixed
+        if not g.is_empty and g.area > 0:
+            geoms.append(g)
+    if not geoms:
+        return Footprint(None, z_min, z_max, repaired)
+    union = shapely.union_all(geoms)
+    if not union.is_valid:
+        union = shapely.make_valid(union)
+        repaired = True
+    union = polygonal(union)
+    if union.is_empty or union.area <= 0:
+        return Footprint(None, z_min, z_max, repaired)
+    return Footprint(union, z_min, z_max, repaired)
+
+
+def boundary_footprint(polys: list[PolygonZ], lines: list[list[Coord]]) -> Footprint:
+    """2D footprint of a boundary: a LineString for walls/doors, a polygon for flat surfaces."""
+    pts = [c for line in lines for c in line] + [c for p in polys for c in p.exterior]
+    if not pts:
+        return Footprint(None, None, None)
+    zs = [c[2] for c in pts if len(c) > 2]
+    z_min, z_max = (min(zs), max(zs)) if zs else (None, None)
+    if lines and not polys:
+        parts = [LineString([c[:2] for c in line]) for line in lines if len(line) >= 2]
+        parts = [g for g in parts if g.length > 0]
+        if not parts:
+            return Footprint(None, z_min, z_max)
+        geom = parts[0] if len(parts) == 1 else shapely.line_merge(shapely.union_all(parts))
+        return Footprint(geom, z_min, z_max)
+    xy = np.asarray([c[:2] for c in pts], dtype=float)
+    centre = xy.mean(axis=0)
+    spread = xy - centre
+    if not np.any(spread):
+        return Footprint(None, z_min, z_max)
+    _, _, vt = np.linalg.svd(spread, full_matrices=False)
+    along = spread @ vt[0]
+    across = spread @ vt[1] if vt.shape[0] > 1 else np.zeros(len(xy))
+    length = float(along.max() - along.min())
+    width = float(across.max() - across.min())
+    if width <= 0.05 * length:  # a vertical surface: its plan is a segment
+        a = centre + vt[0] * along.min()
+        b = centre + vt[0] * along.max()
+        return Footprint(LineString([tuple(a), tuple(b)]), z_min, z_max)
+    flat = cell_footprint(polys)
+    return Footprint(flat.geometry, z_min, z_max, flat.repaired)

@@ -1,0 +1,46 @@
+"""Entry point: ``read_building(path)`` streams, validates and interprets one IndoorGML file."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+from pmk_nb.errors import IndoorGMLError
+from pmk_nb.indoorgml.build import build_building
+from pmk_nb.indoorgml.model import Building
+from pmk_nb.indoorgml.scan import scan
+from pmk_nb.indoorgml.units import UNIT_CHOICES
+from pmk_nb.indoorgml.xmlsafe import ProgressFn
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with path.open("rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()
+
+
+def read_building(path: str | os.PathLike[str], *, unit: str = "auto", progress: ProgressFn | None = None) -> Building:
+    """Read an IndoorGML file (1.0, 1.0.x, 1.1, 2.0 drafts, ALMA style) into a :class:`Building`.
+
+    Args:
+        path: the .gml file.
+        unit: "m", "dm", "cm", "mm", or "auto" (see :mod:`pmk_nb.indoorgml.units`).
+        progress: called as ``progress(bytes_read, total_bytes)`` while the file streams in.
+
+    Returns:
+        The building, all coordinates in metres.
+
+    Raises:
+        IndoorGMLError: the file is missing, unsafe (DOCTYPE with entities), malformed, not
+            IndoorGML, or holds no usable cell; the message names the file (and line/cell).
+    """
+    p = Path(path)
+    if unit not in UNIT_CHOICES:
+        raise IndoorGMLError(f"{p}: unknown unit {unit!r}; use one of {', '.join(UNIT_CHOICES)}")
+    if not p.is_file():
+        raise IndoorGMLError(f"{p}: no such file")
+    doc = scan(p, progress)
+    return build_building(doc, _sha256(p), unit)

@@ -1,0 +1,307 @@
+"""Streaming scan of an IndoorGML document into raw records (file units, no interpretation yet).
+
+Features (cells, boundaries, states, transitions, layers) are decoded when their end tag arrives
+and then cleared, so memory stays proportional to one feature. Elements are matched by lower-cased
+local name, whatever their prefix (``core:``, ``ns5:``, ``indoorCore:``, default namespace).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from lxml import etree
+
+from pmk_nb.errors import IndoorGMLError
+from pmk_nb.indoorgml import gml
+from pmk_nb.indoorgml.gml import Coord, CoordError, PolygonZ, RingStats, local
+from pmk_nb.indoorgml.xmlsafe import ProgressFn, iter_events
+
+GML_ID = "{http://www.opengis.net/gml/3.2}id"
+XLINK_HREF = "{http://www.w3.org/1999/xlink}href"
+
+CELL_NAMES = {
+    "cellspace", "navigablespace", "generalspace", "transitionspace", "transferspace",
+    "connectionspace", "anchorspace", "nonnavigablespace", "obstacle",
+}  # fmt: skip
+BOUNDARY_NAMES = {
+    "cellspaceboundary", "navigableboundary", "connectionboundary", "anchorboundary",
+    "transferboundary", "nonnavigableboundary",
+}  # fmt: skip
+STATE_NAMES = {"state", "node"}
+TRANSITION_NAMES = {"transition", "edge"}
+LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer"}
+ROOT_NAMES = {"indoorfeatures", "multilayeredgraph", "primalspacefeatures", "indoorgml"}
+_STOREY_TEXT = re.compile(r"\b(?:storey|story|level|floor)\s*[=:]\s*\"?([^\";:,\s]+)", re.IGNORECASE)
+
+
+@dataclass
+class RawCell:
+    id: str
+    kind_name: str  # lower-cased local name of the element
+    name: str
+    description: str
+    polygons: list[PolygonZ]
+    line: int | None
+    layer: str = ""
+    storey_hint: str | None = None
+    storey_source: str = ""
+    duality: str | None = None
+    boundary_refs: list[str] = field(default_factory=list)
+    wrapped: bool = False  # geometry inside cellSpaceGeometry (1.0.1+)
+    alma_inline: bool = False  # cell written inside State/duality (ALMA MultiLayeredGraph)
+
+
+@dataclass
+class RawBoundary:
+    id: str
+    kind_name: str
+    name: str
+    description: str
+    polygons: list[PolygonZ]
+    lines: list[list[Coord]]
+    duality: str | None
+    line: int | None
+
+
+@dataclass
+class RawState:
+    id: str
+    point: Coord | None
+    cell: str | None
+    layer: str
+
+
+@dataclass
+class RawTransition:
+    id: str
+    connects: list[str]
+    weight: float | None
+    duality: str | None
+    layer: str
+
+
+@dataclass
+class RawLayer:
+    id: str
+    cls: str = ""
+    usage: str = ""
+    function: str = ""
+
+
+@dataclass
+class RawDocument:
+    path: Path
+    root: str
+    namespaces: dict[str, str]
+    cells: list[RawCell] = field(default_factory=list)
+    boundaries: list[RawBoundary] = field(default_factory=list)
+    states: list[RawState] = field(default_factory=list)
+    transitions: list[RawTransition] = field(default_factory=list)
+    layers: list[RawLayer] = field(default_factory=list)
+    translation: tuple[float, float] | None = None
+    rotation: float | None = None
+    lla: tuple[float, float, float] | None = None
+    srs_name: str | None = None
+    has_level: bool = False
+    has_primal_layer: bool = False
+    stats: RingStats = field(default_factory=RingStats)
+
+
+def _href(elem: etree._Element | None) -> str | None:
+    if elem is None:
+        return None
+    ref = elem.get(XLINK_HREF)
+    if ref:
+        return ref.rsplit("#", 1)[-1].strip() or None
+    return None
+
+
+def _child(elem: etree._Element, name: str) -> etree._Element | None:
+    for c in elem:
+        if local(c) == name:
+            return c
+    return None
+
+
+def _text(elem: etree._Element | None) -> str:
+    return " ".join((elem.text or "").split()) if elem is not None else ""
+
+
+def _storey_of(elem: etree._Element, description: str) -> tuple[str | None, str]:
+    """Storey from `level` (1.1/2.0), an extension element, or gml:description text."""
+    for c in elem.iter():
+        name = local(c)
+        if c is elem or gml.is_gml(c) or not name:
+            continue
+        if name == "level" and _text(c):
+            return _text(c), "level"
+        if any(k in name for k in ("storey", "story", "floor")) and len(c) == 0 and _text(c):
+            return _text(c), "extension"
+    m = _STOREY_TEXT.search(description)
+    if m:
+        return m.group(1), "description"
+    return None, ""
+
+
+class _Scanner:
+    def __init__(self, path: Path) -> None:
+        self.doc = RawDocument(path=path, root="", namespaces={})
+        self.stack: list[tuple[str, str | None]] = []  # (local name, gml:id) of open elements
+
+    def _ancestor(self, names: set[str]) -> tuple[str, str | None] | None:
+        for name, ident in reversed(self.stack[:-1]):
+            if name in names:
+                return name, ident
+        return None
+
+    def _layer(self) -> str:
+        anc = self._ancestor(LAYER_NAMES)
+        return (anc[1] or "") if anc else ""
+
+    def start(self, elem: etree._Element) -> None:
+        name = local(elem)
+        if not self.stack:
+            self.doc.root = name
+            self.doc.namespaces = {k or "": v for k, v in elem.nsmap.items()}
+            if name not in ROOT_NAMES and not any("indoorgml" in v.lower() for v in elem.nsmap.values()):
+                raise IndoorGMLError(
+                    f"{self.doc.path}: not an IndoorGML document: the root element is "
+                    f"<{etree.QName(elem).localname}> (expected IndoorFeatures or MultiLayeredGraph)"
+                )
+        elif not self.doc.srs_name and elem.get("srsName"):
+            self.doc.srs_name = elem.get("srsName")
+        if name == "primalspacelayer":
+            self.doc.has_primal_layer = True
+        self.stack.append((name, elem.get(GML_ID)))
+
+    def end(self, elem: etree._Element) -> None:
+        name = local(elem)
+        try:
+            self._end(elem, name)
+        except CoordError as err:
+            ident = elem.get(GML_ID) or next((i for _, i in reversed(self.stack) if i), None)
+            raise IndoorGMLError(f"{self.doc.path}: line {err.line}: {err} (in {ident or name!r})") from err
+        self.stack.pop()
+
+    def _end(self, elem: etree._Element, name: str) -> None:
+        doc = self.doc
+        consumed = True
+        parent = elem.getparent()
+        in_member = parent is not None and local(parent) == "cellspacemember"
+        if (name in CELL_NAMES or in_member) and not gml.is_gml(elem):
+            self._cell(elem, name)
+        elif name in BOUNDARY_NAMES and not gml.is_gml(elem):
+            self._boundary(elem, name)
+        elif name in STATE_NAMES and not gml.is_gml(elem):
+            point_el = _child(elem, "geometry")
+            point = gml.point_under(point_el) if point_el is not None else None
+            dual = _child(elem, "duality")
+            cell = _href(dual)
+            if cell is None and dual is not None and len(dual):
+                cell = dual[0].get(GML_ID)
+            doc.states.append(RawState(elem.get(GML_ID) or f"state{len(doc.states)}", point, cell, self._layer()))
+        elif name in TRANSITION_NAMES and not gml.is_gml(elem):
+            connects = [h for h in (_href(c) for c in elem if local(c) == "connects") if h]
+            weight_el = _child(elem, "weight")
+            try:
+                weight = float(_text(weight_el)) if _text(weight_el) else None
+            except ValueError:
+                weight = None
+            doc.transitions.append(
+                RawTransition(elem.get(GML_ID) or "", connects, weight, _href(_child(elem, "duality")), self._layer())
+            )
+        elif name in LAYER_NAMES:
+            doc.layers.append(
+                RawLayer(
+                    elem.get(GML_ID) or f"layer{len(doc.layers) + 1}",
+                    _text(_child(elem, "class")),
+                    _text(_child(elem, "usage")),
+                    _text(_child(elem, "function")),
+                )
+            )
+        elif name in ("translation", "rotation", "lla", "lla_origin") and not gml.is_gml(elem):
+            self._georef(elem, name)
+        else:
+            consumed = name.endswith("member") and not gml.is_gml(elem)
+        if consumed:
+            elem.clear(keep_tail=False)
+            if parent is not None and name.endswith("member"):
+                while elem.getprevious() is not None:
+                    del parent[0]
+
+    def _cell(self, elem: etree._Element, name: str) -> None:
+        description = _text(_child(elem, "description"))
+        storey, source = _storey_of(elem, description)
+        if any(local(c) == "level" for c in elem):
+            self.doc.has_level = True
+        dual = _child(elem, "duality")
+        refs = [h for h in (_href(c) for c in elem if local(c) == "partialboundedby") if h]
+        refs += [c[0].get(GML_ID) or "" for c in elem if local(c) == "partialboundedby" and len(c)]
+        in_state = self._ancestor(STATE_NAMES)
+        cell = RawCell(
+            id=elem.get(GML_ID) or f"cell{len(self.doc.cells) + 1}",
+            kind_name=name,
+            name=_text(_child(elem, "name")),
+            description=description,
+            polygons=gml.polygons_under(elem, self.doc.stats, None),
+            line=elem.sourceline,
+            layer=self._layer(),
+            storey_hint=storey,
+            storey_source=source,
+            duality=_href(dual) or (in_state[1] if in_state else None),
+            boundary_refs=[r for r in refs if r],
+            wrapped=_child(elem, "cellspacegeometry") is not None,
+            alma_inline=in_state is not None,
+        )
+        self.doc.cells.append(cell)
+
+    def _boundary(self, elem: etree._Element, name: str) -> None:
+        self.doc.boundaries.append(
+            RawBoundary(
+                id=elem.get(GML_ID) or f"boundary{len(self.doc.boundaries) + 1}",
+                kind_name=name,
+                name=_text(_child(elem, "name")),
+                description=_text(_child(elem, "description")),
+                polygons=gml.polygons_under(elem, self.doc.stats, None),
+                lines=gml.lines_under(elem, self.doc.stats, None),
+                duality=_href(_child(elem, "duality")),
+                line=elem.sourceline,
+            )
+        )
+
+    def _georef(self, elem: etree._Element, name: str) -> None:
+        values = [float(v) for v in " ".join(elem.itertext()).replace(",", " ").split() if _is_number(v)]
+        if name == "translation" and len(values) >= 2:
+            self.doc.translation = (values[0], values[1])
+        elif name == "rotation" and values:
+            self.doc.rotation = values[0]
+        elif name.startswith("lla") and len(values) >= 2:
+            self.doc.lla = (values[0], values[1], values[2] if len(values) > 2 else 0.0)
+
+
+def _is_number(tok: str) -> bool:
+    try:
+        float(tok)
+    except ValueError:
+        return False
+    return True
+
+
+def scan(path: str | os.PathLike[str], progress: ProgressFn | None = None) -> RawDocument:
+    """Stream ``path`` once and return its raw records.
+
+    Raises:
+        IndoorGMLError: unreadable, unsafe, malformed or non-IndoorGML input (message names the file).
+    """
+    scanner = _Scanner(Path(path))
+    for event, elem in iter_events(path, progress):
+        if event == "start":
+            scanner.start(elem)
+        else:
+            scanner.end(elem)
+    if not scanner.doc.root:
+        raise IndoorGMLError(f"{path}: no XML root element found")
+    return scanner.doc

@@ -1,0 +1,91 @@
+"""A JSON-able digest of a Building (for `pmk info`, the maps list and logs)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import shapely
+
+from pmk_nb.indoorgml.model import Building
+
+
+def _r(v: float | None) -> float | None:
+    return None if v is None else round(float(v), 3)
+
+
+def summarize(building: Building) -> dict[str, Any]:
+    """Return version, namespaces, units, storeys (cells, extents in metres), doors, graph, georef."""
+    storeys = []
+    for st in building.storeys:
+        cells = [building.cells[i] for i in st.cell_ids]
+        kinds: dict[str, int] = {}
+        for c in cells:
+            kinds[c.kind.value] = kinds.get(c.kind.value, 0) + 1
+        extent = None
+        if cells:
+            minx, miny, maxx, maxy = shapely.union_all([c.footprint for c in cells]).bounds
+            extent = {"min": [_r(minx), _r(miny)], "max": [_r(maxx), _r(maxy)],
+                      "size": [_r(maxx - minx), _r(maxy - miny)]}  # fmt: skip
+        door_cells = sum(1 for c in cells if c.kind.is_door)
+        storeys.append({
+            "name": st.name, "elevation": _r(st.elevation), "source": st.source, "cells": len(cells),
+            "kinds": kinds, "doors": len(building.doors_of(st.name)) + door_cells, "extent": extent,
+        })  # fmt: skip
+    door_boundaries = sum(1 for b in building.boundaries.values() if b.is_door)
+    door_cells = sum(1 for c in building.cells.values() if c.kind.is_door)
+    g = building.georef
+    return {
+        "source": building.source,
+        "sha256": building.sha256,
+        "version": building.version,
+        "namespaces": dict(building.namespaces),
+        "unit": building.unit,
+        "unit_reason": building.unit_reason,
+        "storeys": storeys,
+        "cells": len(building.cells),
+        "boundaries": len(building.boundaries),
+        "doors": {"boundaries": door_boundaries, "cells": door_cells, "total": door_boundaries + door_cells},
+        "graph": {"states": len(building.graph.states), "transitions": len(building.graph.transitions)},
+        "layers": list(building.layers),
+        "geometry_layers": sorted({c.layer for c in building.cells.values()}),
+        "georeference": {
+            "translation": [_r(g.translation[0]), _r(g.translation[1])],
+            "rotation": g.rotation,
+            "lla": list(g.lla) if g.lla else None,
+            "srs_name": g.srs_name,
+        },
+        "warnings": list(building.warnings),
+    }
+
+
+def format_summary(summary: dict[str, Any]) -> str:
+    """Human-readable text for :func:`summarize`'s dict."""
+    lines = [
+        f"{summary['source']}",
+        f"  IndoorGML version: {summary['version']}",
+        f"  units: {summary['unit']} ({summary['unit_reason']})",
+        f"  cells: {summary['cells']}   doors: {summary['doors']['total']} "
+        f"({summary['doors']['boundaries']} boundaries, {summary['doors']['cells']} door cells)",
+        f"  graph: {summary['graph']['states']} states, {summary['graph']['transitions']} transitions",
+        f"  layers: {', '.join(summary['layers']) or '-'} (geometry from: "
+        f"{', '.join(x or '(primal features)' for x in summary['geometry_layers'])})",
+        f"  storeys: {len(summary['storeys'])}",
+    ]
+    for st in summary["storeys"]:
+        ext = st["extent"]
+        size = f"{ext['size'][0]:.2f} x {ext['size'][1]:.2f} m at ({ext['min'][0]}, {ext['min'][1]})" if ext else "-"
+        elev = "?" if st["elevation"] is None else f"{st['elevation']:.2f} m"
+        lines.append(f"    {st['name']:>6}: {st['cells']:3d} cells, {st['doors']:3d} doors, floor {elev}, "
+                     f"{size} [{st['source']}]")  # fmt: skip
+    g = summary["georeference"]
+    lines.append(
+        f"  georeference: translation {g['translation']} m, rotation {g['rotation']} deg"
+        + (f", lla {g['lla']}" if g["lla"] else "")
+        + (f", srs {g['srs_name']}" if g["srs_name"] else "")
+    )
+    ns = ", ".join(f"{k or '(default)'}={v}" for k, v in summary["namespaces"].items())
+    lines.append(f"  namespaces: {ns}")
+    if summary["warnings"]:
+        lines.append(f"  warnings ({len(summary['warnings'])}):")
+        lines.extend(f"    - {w}" for w in summary["warnings"])
+    return "\n".join(lines)
