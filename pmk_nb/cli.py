@@ -1,8 +1,8 @@
 """`pmk` command line: thin wrappers, one library call per command.
 
-Each sub-command lives in the module that owns the feature and registers itself through
-``add_parser(subparsers)`` / ``run(args) -> int``; this file only wires them up so that importing
-``pmk_nb.cli`` stays cheap (features are imported when their command runs).
+Each sub-command lives in the module that owns the feature and provides ``add_parser(subparsers)``
+(which sets ``run``) and ``run(args) -> int``. Only the module of the command being run is imported,
+so `pmk info` does not pay for the simulator's or the dashboard's imports.
 """
 
 from __future__ import annotations
@@ -14,35 +14,36 @@ from collections.abc import Sequence
 
 from pmk_nb.errors import PmkError
 
-# command name -> module providing add_parser(subparsers) and run(args)
-COMMANDS: dict[str, str] = {
-    "info": "pmk_nb.commands.info",
-    "convert": "pmk_nb.commands.convert",
-    "maps": "pmk_nb.commands.maps",
-    "sim": "pmk_nb.sim.cli",
-    "send": "pmk_nb.chair.cli",
-    "chair": "pmk_nb.chair.cli_profiles",
-    "dashboard": "pmk_nb.ui.cli",
-    "bench": "pmk_nb.commands.bench",
+# command name -> (module providing add_parser/run, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "info": ("pmk_nb.commands.info", "describe an IndoorGML file: storeys, cells, doors, units"),
+    "convert": ("pmk_nb.commands.convert", "IndoorGML file -> ROS map_server YAML + image per storey"),
+    "maps": ("pmk_nb.commands.maps", "the maps folder: list, import, download, convert, delete"),
+    "sim": ("pmk_nb.sim.cli", "run the simulated chair (rosbridge + SFTP)"),
+    "send": ("pmk_nb.chair.cli", "send a map to a chair and reload it there"),
+    "chair": ("pmk_nb.chair.cli_profiles", "manage chair profiles; test a connection"),
+    "dashboard": ("pmk_nb.ui.cli", "serve the dashboard with Voilà"),
+    "demo": ("pmk_nb.ui.cli_demo", "simulated chair + dashboard with the sample map"),
+    "bench": ("pmk_nb.commands.bench", "run the benchmarks, write bench/results.md"),
 }
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The full parser for ``command``; without one, a parser that only lists the commands."""
     parser = argparse.ArgumentParser(prog="pmk", description="PMK Notebook: building plans to wheelchair maps.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for module_name in COMMANDS.values():
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError as err:
-            if err.name and module_name.startswith(err.name):
-                continue  # feature not installed in this build
-            raise
-        module.add_parser(sub)
+    for name, (module_name, help_text) in COMMANDS.items():
+        if name == command:
+            importlib.import_module(module_name).add_parser(sub)
+        else:
+            sub.add_parser(name, help=help_text, add_help=False)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(command if command in COMMANDS else None)
     args = parser.parse_args(argv)
     try:
         return int(args.run(args) or 0)
