@@ -1,0 +1,322 @@
+"""Converter benchmark: IndoorGML -> map files, this rasteriser vs the original 100 px/m bitmap.
+
+For each case two child processes run (so peak memory does not mix): ``new`` = parse + rasterise
+at the target resolution (pmk_nb.occupancy) + write (pmk_nb.rosmap: PGM + YAML + preview); and
+``original`` = the thesis approach: draw every polygon on a 100 px/m Pillow bitmap, shrink it with
+nearest-neighbour by ``resolution / 0.01``, save PNG + YAML + a 10 px/m preview. Each child runs under
+an address-space limit (RLIMIT_AS) and the original approach refuses bitmaps over a pixel budget, so
+a case reports "refused" / "OOM" instead of taking the machine down. Peak memory = ru_maxrss of the
+child (includes ~100 MB of interpreter + libraries; "base" is that figure right after imports).
+
+"wall kept" (generated buildings only): share of the rows along every interior wall line, away from
+doors, where the wall is still occupied in the output grid: 100 % means rooms cannot leak.
+
+Cases: the shared samples (/work/shared/data/indoorgml/*.gml) at 0.05 m; a generated 20-storey
+building with 500 rooms (+ doors) per storey at 0.05 m; a generated 200 m x 200 m storey at 0.05 m and
+0.01 m. ``--quick`` keeps the samples, the 20 x 500 building on 4 storeys and the 200 m storey at 0.05 m.
+
+Usage: .venv/bin/python bench/bench_convert.py [--quick]   -> writes bench/results-convert.md
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+SAMPLES = Path("/work/shared/data/indoorgml")
+AS_LIMIT = 6 * 1024**3  # address-space cap per child
+BITMAP_BUDGET = 600_000_000  # pixels the original approach may allocate (~600 MB in mode "L")
+DOOR = 0.9
+
+
+# --- generated buildings -------------------------------------------------------------------------
+
+
+def generate(storeys: int, nx: int, ny: int, w: float, h: float) -> Any:
+    """A building of ``storeys`` identical floors of nx x ny rooms (w x h m) sharing their walls.
+
+    Each room has a door in its right and top wall (door boundaries as LineStrings), so every room
+    is reachable and every interior wall has a 0.9 m opening per room.
+    """
+    from shapely.geometry import LineString, box
+
+    from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Storey
+
+    cells: dict[str, Cell] = {}
+    bounds: dict[str, Boundary] = {}
+    levels = []
+    for s in range(storeys):
+        name = f"F{s}"
+        ids = []
+        for i in range(nx):
+            for j in range(ny):
+                cid = f"{name}-r{i}-{j}"
+                kind = CellKind.TRANSITION if j == 0 else CellKind.GENERAL
+                cells[cid] = Cell(cid, kind, box(i * w, j * h, (i + 1) * w, (j + 1) * h), name)
+                ids.append(cid)
+                if i + 1 < nx:
+                    y0 = j * h + (h - DOOR) / 2
+                    line = LineString([((i + 1) * w, y0), ((i + 1) * w, y0 + DOOR)])
+                    bounds[f"{cid}-dx"] = Boundary(f"{cid}-dx", True, line, name)
+                if j + 1 < ny:
+                    x0 = i * w + (w - DOOR) / 2
+                    line = LineString([(x0, (j + 1) * h), (x0 + DOOR, (j + 1) * h)])
+                    bounds[f"{cid}-dy"] = Boundary(f"{cid}-dy", True, line, name)
+        levels.append(Storey(name, 3.0 * s, ids))
+    return Building(
+        source=f"generated {storeys}x{nx * ny} rooms",
+        sha256="0" * 64,
+        version="generated",
+        namespaces={},
+        unit="m",
+        unit_reason="generated",
+        storeys=levels,
+        cells=cells,
+        boundaries=bounds,
+    )
+
+
+def load(case: dict[str, Any]) -> Any:
+    if case["kind"] == "file":
+        from pmk_nb.indoorgml import read_building
+
+        return read_building(case["path"])
+    return generate(*case["gen"])
+
+
+def wall_kept(
+    data: Any, res: tuple[float, float], origin: tuple[float, float], case: dict[str, Any], occupied: int
+) -> float | None:
+    """Share of interior-wall rows (away from doors) where ``data`` (row 0 = bottom) holds ``occupied``.
+
+    Only the few columns next to each wall line are read, so the check adds no full-size copy.
+    """
+    import numpy as np
+
+    if case["kind"] != "gen":
+        return None
+    _, nx, ny, w, h = case["gen"]
+    (x0, y0), (rx, ry) = origin, res
+    ys = y0 + (np.arange(data.shape[0]) + 0.5) * ry
+    yy = np.mod(ys, h)
+    away = (ys > 0) & (ys < ny * h) & (np.abs(yy - h / 2) > DOOR / 2 + 2 * ry) & (yy > 2 * ry) & (yy < h - 2 * ry)
+    kept, total = 0, 0
+    for i in range(1, nx):
+        c = (i * w - x0) / rx
+        cols = sorted({k for k in (math.floor(c - 0.5), math.floor(c), math.floor(c + 0.5)) if 0 <= k < data.shape[1]})
+        blocked = (data[:, cols] == occupied).any(axis=1)
+        kept += int(blocked[away].sum())
+        total += int(away.sum())
+    return 100.0 * kept / max(1, total)
+
+
+# --- workers (run in a child process) -----------------------------------------------------------------
+
+
+def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
+    from pmk_nb.occupancy import rasterise_storey
+    from pmk_nb.rosmap import storey_map_names, write_map
+
+    t0 = time.perf_counter()
+    building = load(case)
+    t1 = time.perf_counter()
+    names = [s.name for s in building.storeys]
+    files = storey_map_names("map", names)
+    t_r = t_w = 0.0
+    cells = 0
+    kept: list[float] = []
+    for s in names:
+        a = time.perf_counter()
+        grid = rasterise_storey(building, s, case["res"], max_cells=case.get("max_cells", 400_000_000))
+        b = time.perf_counter()
+        write_map(grid, out, files[s])
+        t_r += b - a
+        t_w += time.perf_counter() - b
+        cells += grid.width * grid.height
+        k = wall_kept(grid.data, (grid.resolution, grid.resolution), grid.origin[:2], case, 100)
+        if k is not None:
+            kept.append(k)
+        del grid
+    return {"parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None}
+
+
+def work_original(case: dict[str, Any], out: Path) -> dict[str, Any]:
+    import numpy as np
+    from PIL import Image, ImageDraw
+
+    from pmk_nb.raster import polygons_of
+
+    t0 = time.perf_counter()
+    building = load(case)
+    t1 = time.perf_counter()
+    t_r = t_w = 0.0
+    cells = 0
+    kept: list[float] = []
+    for storey in building.storeys:
+        a = time.perf_counter()
+        polys = [(c.kind, p) for c in building.cells_of(storey.name) for p in polygons_of(c.footprint)]
+        minx = min(p.bounds[0] for _, p in polys)
+        miny = min(p.bounds[1] for _, p in polys)
+        maxx = max(p.bounds[2] for _, p in polys)
+        maxy = max(p.bounds[3] for _, p in polys)
+        width, height = math.ceil((maxx - minx) * 100), math.ceil((maxy - miny) * 100)
+        if width * height > BITMAP_BUDGET:
+            return {"refused": f"{width} x {height} px bitmap > budget {BITMAP_BUDGET:.1e}"}
+        img = Image.new("L", (width, height), 205)
+        draw = ImageDraw.Draw(img)
+
+        def px(coords: Any, minx: float = minx, miny: float = miny, height: int = height) -> list[Any]:
+            return [((x - minx) * 100, height - (y - miny) * 100) for x, y, *_ in coords]
+
+        for kind, p in sorted(polys, key=lambda kp: kp[0].is_door):  # doors last, like the original
+            fill = 254 if kind.is_free else 0
+            draw.polygon(px(p.exterior.coords), fill=fill, outline=None if kind.is_door else 0)
+            for hole in p.interiors:
+                draw.polygon(px(hole.coords), fill=205, outline=0)
+        factor = case["res"] / 0.01
+        small = img.resize((max(1, int(width / factor)), max(1, int(height / factor))), Image.Resampling.NEAREST)
+        preview = img.resize((max(1, width // 10), max(1, height // 10)), Image.Resampling.NEAREST)
+        b = time.perf_counter()
+        name = f"map_{storey.name}"
+        small.save(out / f"{name}.png")
+        preview.save(out / f"{name}-visualization.png")
+        (out / f"{name}.yaml").write_text(
+            f"image: {name}.png\nresolution: {case['res']}\norigin: [ 0, 0, 0]\n"
+            "occupied_thresh: 0.65\nfree_thresh: 0.196\nnegate: 0\n"
+        )
+        t_r += b - a
+        t_w += time.perf_counter() - b
+        cells += small.size[0] * small.size[1]
+        # resize maps the whole extent, so a shrunk pixel is width/new_width bitmap pixels wide
+        cell = (width / small.size[0] * 0.01, height / small.size[1] * 0.01)
+        k = wall_kept(np.asarray(small)[::-1], cell, (minx, miny), case, 0)
+        if k is not None:
+            kept.append(k)
+        del img, small, preview, draw
+    return {"parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None}
+
+
+def child_main(spec: str) -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (AS_LIMIT, AS_LIMIT))
+    job = json.loads(spec)
+    import importlib
+
+    for module in ("numpy", "PIL.Image", "PIL.ImageDraw", "shapely", "pmk_nb.indoorgml", "pmk_nb.occupancy",
+                   "pmk_nb.rosmap"):  # fmt: skip
+        importlib.import_module(module)  # the baseline includes what both approaches load
+
+    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    with tempfile.TemporaryDirectory(prefix="bench-convert-") as tmp:
+        try:
+            fn = work_new if job["approach"] == "new" else work_original
+            result = fn(job["case"], Path(tmp))
+        except MemoryError:
+            result = {"refused": "OOM (MemoryError under the address-space cap)"}
+        except Exception as err:  # a benchmark row, not a crash
+            result = {"refused": f"{type(err).__name__}: {str(err)[:120]}"}
+        out_bytes = sum(p.stat().st_size for p in Path(tmp).iterdir())
+    result["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    result["base_mb"] = base
+    result["out_mb"] = out_bytes / 1e6
+    print(json.dumps(result))
+
+
+# --- parent --------------------------------------------------------------------------------------
+
+
+def run_job(approach: str, case: dict[str, Any]) -> dict[str, Any]:
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONPATH=str(ROOT))
+    spec = json.dumps({"approach": approach, "case": case})
+    t0 = time.perf_counter()
+    proc = subprocess.run(
+        [sys.executable, __file__, "--child", spec], capture_output=True, text=True, env=env, timeout=600
+    )
+    wall = time.perf_counter() - t0
+    if proc.returncode != 0:
+        tail = (proc.stderr.strip().splitlines() or ["killed"])[-1]
+        return {"refused": f"crashed (exit {proc.returncode}): {tail[:120]}", "wall": wall}
+    result = json.loads(proc.stdout.strip().splitlines()[-1])
+    result["wall"] = wall
+    return result
+
+
+def cases(quick: bool) -> list[dict[str, Any]]:
+    out: list[dict[str, Any]] = []
+    for path in sorted(SAMPLES.glob("*.gml")):
+        out.append({"label": f"{path.name}", "kind": "file", "path": str(path), "res": 0.05})
+    storeys = 4 if quick else 20
+    out.append({"label": f"generated {storeys} storeys x 500 rooms (100 x 100 m)", "kind": "gen",
+                "gen": [storeys, 25, 20, 4.0, 5.0], "res": 0.05})  # fmt: skip
+    out.append({"label": "generated 200 x 200 m storey, 2500 rooms", "kind": "gen",
+                "gen": [1, 50, 50, 4.0, 4.0], "res": 0.05})  # fmt: skip
+    if not quick:
+        out.append({"label": "generated 200 x 200 m storey, 2500 rooms", "kind": "gen",
+                    "gen": [1, 50, 50, 4.0, 4.0], "res": 0.01, "max_cells": 450_000_000})  # fmt: skip
+    return out
+
+
+def fmt(r: dict[str, Any], key: str, spec: str) -> str:
+    v = r.get(key)
+    return "-" if v is None else format(v, spec)
+
+
+def main() -> int:
+    if len(sys.argv) >= 3 and sys.argv[1] == "--child":
+        child_main(sys.argv[2])
+        return 0
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer/smaller cases")
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results-convert.md")
+    args = ap.parse_args()
+    rows = []
+    started = time.perf_counter()
+    for case in cases(args.quick):
+        for approach in ("new", "original"):
+            r = run_job(approach, case)
+            rows.append((case, approach, r))
+            status = r.get("refused") or f"{r['parse'] + r['raster'] + r['write']:.2f}s, {r['peak_mb']:.0f} MB"
+            print(f"{case['label']} @ {case['res']} m [{approach}]: {status}", file=sys.stderr, flush=True)
+    lines = [
+        "## Convert (IndoorGML -> map files)",
+        "",
+        "`bench/bench_convert.py`" + (" --quick" if args.quick else "") + ": one child process per row, "
+        f"address space capped at {AS_LIMIT / 1024**3:.0f} GiB; original approach = 100 px/m Pillow bitmap "
+        f"shrunk by resolution/0.01 (bitmap budget {BITMAP_BUDGET:.1e} px). Times in seconds; "
+        "peak = child ru_maxrss (base = after imports). wall kept = share of interior wall rows that "
+        "stay occupied (generated buildings; < 100 % means rooms leak into each other).",
+        "",
+        "| case | res (m) | approach | parse | raster | write | total | cells | peak MB (base) | output MB "
+        "| wall kept |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for case, approach, r in rows:
+        if "refused" in r:
+            lines.append(f"| {case['label']} | {case['res']} | {approach} | {r['refused']} | | | | | "
+                         f"{fmt(r, 'peak_mb', '.0f')} | | |")  # fmt: skip
+            continue
+        total = r["parse"] + r["raster"] + r["write"]
+        lines.append(
+            f"| {case['label']} | {case['res']} | {approach} | {r['parse']:.2f} | {r['raster']:.2f} | "
+            f"{r['write']:.2f} | {total:.2f} | {r['cells']:.3g} | {r['peak_mb']:.0f} ({r['base_mb']:.0f}) | "
+            f"{r['out_mb']:.1f} | {fmt(r, 'wall_kept', '.1f')} |"
+        )
+    lines += ["", f"Total benchmark time {time.perf_counter() - started:.0f} s.", ""]
+    args.out.write_text("\n".join(lines), encoding="utf-8")
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,298 @@
+"""Vectorised rasterisation primitives: polygon scanline fill and supercover line cells.
+
+Both work directly at the target resolution on a grid frame (origin + resolution), row 0 = bottom,
+and touch only the rows and columns a shape covers, processed in bounded chunks, so memory stays
+proportional to the grid however fine the resolution. A cell belongs to a polygon when its centre is
+inside (even-odd rule over all rings, so holes are respected).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+# (block view of the grid, boolean mask of the same shape) -> None; updates the block in place
+CellOp = Callable[[np.ndarray, np.ndarray], None]
+_CHUNK_CROSSINGS = 2_000_000  # rows x edges evaluated at once
+_CHUNK_CELLS = 4_000_000  # rows x columns of a block at once
+
+
+@dataclass(frozen=True)
+class Frame:
+    """Where a grid sits: lower-left corner of cell (0, 0), metres per cell, size in cells."""
+
+    x0: float
+    y0: float
+    resolution: float
+    width: int
+    height: int
+
+    def col_range(self, xmin: float, xmax: float) -> tuple[int, int]:
+        """Columns whose centres lie in [xmin, xmax], clipped (may be empty: start > stop)."""
+        r = self.resolution
+        c0 = max(0, math.ceil((xmin - self.x0) / r - 0.5))
+        c1 = min(self.width - 1, math.floor((xmax - self.x0) / r - 0.5))
+        return c0, c1
+
+    def row_range(self, ymin: float, ymax: float) -> tuple[int, int]:
+        r = self.resolution
+        r0 = max(0, math.ceil((ymin - self.y0) / r - 0.5))
+        r1 = min(self.height - 1, math.floor((ymax - self.y0) / r - 0.5))
+        return r0, r1
+
+
+def _ring_edges(polygon: shapely.Polygon) -> np.ndarray:
+    """All edges of all rings as an (E, 4) array xa, ya, xb, yb."""
+    parts = []
+    for ring in (polygon.exterior, *polygon.interiors):
+        xy = np.asarray(ring.coords, dtype=np.float64)[:, :2]
+        if len(xy) < 2:
+            continue
+        if not np.array_equal(xy[0], xy[-1]):
+            xy = np.vstack([xy, xy[:1]])
+        parts.append(np.hstack([xy[:-1], xy[1:]]))
+    if not parts:
+        return np.empty((0, 4))
+    return np.vstack(parts)
+
+
+def polygons_of(geom: shapely.Geometry | None) -> list[shapely.Polygon]:
+    """The non-empty polygon parts of any geometry (Polygon, MultiPolygon, collections)."""
+    if geom is None or geom.is_empty:
+        return []
+    if isinstance(geom, shapely.Polygon):
+        return [geom]
+    if isinstance(geom, shapely.MultiPolygon | shapely.GeometryCollection):
+        return [p for part in geom.geoms for p in polygons_of(part)]
+    return []
+
+
+def fill_polygon(grid: np.ndarray, frame: Frame, polygon: shapely.Polygon, op: CellOp) -> None:
+    """Apply ``op`` to the cells whose centres are inside ``polygon`` (even-odd scanline fill)."""
+    edges = _ring_edges(polygon)
+    if len(edges) == 0:
+        return
+    xmin, ymin, xmax, ymax = polygon.bounds
+    c0, c1 = frame.col_range(xmin, xmax)
+    r0, r1 = frame.row_range(ymin, ymax)
+    if c0 > c1 or r0 > r1:
+        return
+    ncols = c1 - c0 + 1
+    lo_y = np.minimum(edges[:, 1], edges[:, 3])
+    hi_y = np.maximum(edges[:, 1], edges[:, 3])
+    step = max(1, min(_CHUNK_CELLS // ncols, _CHUNK_CROSSINGS // max(1, len(edges))))
+    res = frame.resolution
+    for start in range(r0, r1 + 1, step):
+        stop = min(r1 + 1, start + step)
+        rows = np.arange(start, stop)
+        yc = frame.y0 + (rows + 0.5) * res
+        near = (hi_y >= yc[0]) & (lo_y <= yc[-1])  # only edges spanning this band of rows
+        e = edges[near]
+        if len(e) == 0:
+            continue
+        inside = _scan_rows(e, yc, frame.x0 + (c0 + 0.5) * res, res, ncols)
+        if inside is not None:
+            op(grid[start:stop, c0 : c1 + 1], inside)
+
+
+def _scan_rows(e: np.ndarray, yc: np.ndarray, xc0: float, res: float, ncols: int) -> np.ndarray | None:
+    """Even-odd inside mask (rows, ncols) for row centres ``yc`` and column centres xc0 + k*res."""
+    xa, ya, xb, yb = e[:, 0], e[:, 1], e[:, 2], e[:, 3]
+    crosses = (ya[None, :] <= yc[:, None]) != (yb[None, :] <= yc[:, None])
+    if not crosses.any():
+        return None
+    dy = np.where(ya == yb, 1.0, yb - ya)
+    slope = (xb - xa) / dy
+    xs = np.where(crosses, xa[None, :] + (yc[:, None] - ya[None, :]) * slope[None, :], np.inf)
+    xs.sort(axis=1)
+    counts = crosses.sum(axis=1)
+    k = int(counts.max()) & ~1
+    if k == 0:
+        return None
+    starts, ends = xs[:, 0:k:2], xs[:, 1:k:2]
+    valid = np.isfinite(ends)
+    # columns whose centre x satisfies start <= x < end
+    cs = np.clip(np.ceil((starts - xc0) / res), 0, ncols).astype(np.int64)
+    ce = np.clip(np.ceil((ends - xc0) / res), 0, ncols).astype(np.int64)
+    valid &= ce > cs
+    nrows = len(yc)
+    row_idx = np.broadcast_to(np.arange(nrows)[:, None], cs.shape)
+    width = ncols + 1
+    flat_s = (row_idx * width + cs)[valid]
+    flat_e = (row_idx * width + ce)[valid]
+    # even-odd intervals of one polygon never overlap, so no start repeats: a +1/-1 int8 difference
+    # row (ends may meet the next start; the separate += and -= then cancel) and a running sum
+    diff = np.zeros(nrows * width, dtype=np.int8)
+    diff[flat_s] += 1
+    diff[flat_e] -= 1
+    return np.cumsum(diff.reshape(nrows, width), axis=1, dtype=np.int8)[:, :ncols].view(np.bool_)
+
+
+def fill_geometry(grid: np.ndarray, frame: Frame, geom: shapely.Geometry | None, op: CellOp) -> None:
+    for poly in polygons_of(geom):
+        fill_polygon(grid, frame, poly, op)
+
+
+def line_segments(lines: list[shapely.Geometry]) -> np.ndarray:
+    """(S, 4) array xa, ya, xb, yb of the straight segments of LineStrings / rings / their multis."""
+    return segments_with_owner(lines)[0]
+
+
+def segments_with_owner(lines: list[shapely.Geometry]) -> tuple[np.ndarray, np.ndarray]:
+    """Segments as in :func:`line_segments`, plus the index in ``lines`` each one came from."""
+    arr = np.asarray(lines, dtype=object)
+    if arr.size == 0:
+        return np.empty((0, 4)), np.empty(0, np.int64)
+    parts, owner = shapely.get_parts(arr, return_index=True)
+    keep = np.isin(shapely.get_type_id(parts), (1, 2)) & ~shapely.is_empty(parts)
+    parts, owner = parts[keep], owner[keep]
+    if len(parts) == 0:
+        return np.empty((0, 4)), np.empty(0, np.int64)
+    coords, index = shapely.get_coordinates(parts, return_index=True)
+    same = index[1:] == index[:-1]
+    return np.hstack([coords[:-1][same], coords[1:][same]]), owner[index[1:][same]]
+
+
+def supercover_cells(segments: np.ndarray, frame: Frame) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns of every cell a segment passes through (4-connected; both cells at corners).
+
+    Vectorised over all segments: the crossings of each segment with the grid lines are generated
+    with ``np.repeat``, sorted per segment, and the cell at each midpoint is taken.
+    """
+    if len(segments) == 0:
+        return np.empty(0, np.int64), np.empty(0, np.int64)
+    res = frame.resolution
+    u0 = (segments[:, 0] - frame.x0) / res
+    v0 = (segments[:, 1] - frame.y0) / res
+    du = (segments[:, 2] - frame.x0) / res - u0
+    dv = (segments[:, 3] - frame.y0) / res - v0
+    fu0, fu1 = np.floor(u0), np.floor(u0 + du)
+    fv0, fv1 = np.floor(v0), np.floor(v0 + dv)
+    nu = np.abs(fu1 - fu0).astype(np.int64)
+    nv = np.abs(fv1 - fv0).astype(np.int64)
+    seg_ids = np.arange(len(segments))
+    t_parts = [np.zeros(len(segments)), np.ones(len(segments))]
+    id_parts = [seg_ids, seg_ids]
+    for n, f0, d, p0 in ((nu, fu0, du, u0), (nv, fv0, dv, v0)):
+        ids = np.repeat(seg_ids, n)
+        if len(ids) == 0:
+            continue
+        k = np.arange(len(ids)) - np.repeat(np.cumsum(n) - n, n)  # 0..n-1 within each segment
+        sign = np.sign(d[ids])
+        line = f0[ids] + np.where(sign > 0, k + 1, -k)  # grid lines crossed, in travel order
+        t_parts.append((line - p0[ids]) / d[ids])
+        id_parts.append(ids)
+    t = np.concatenate(t_parts).clip(0.0, 1.0)
+    ids = np.concatenate(id_parts)
+    order = np.lexsort((t, ids))
+    t, ids = t[order], ids[order]
+    same = ids[1:] == ids[:-1]
+    tm = ((t[1:] + t[:-1]) / 2)[same]
+    sid = ids[1:][same]
+    cu = np.floor(u0[sid] + du[sid] * tm).astype(np.int64)
+    cv = np.floor(v0[sid] + dv[sid] * tm).astype(np.int64)
+    # where consecutive cells of a segment differ in both axes (a corner was hit) add both neighbours
+    diag = (sid[1:] == sid[:-1]) & (cu[1:] != cu[:-1]) & (cv[1:] != cv[:-1])
+    cu = np.concatenate([cu, cu[1:][diag], cu[:-1][diag]])
+    cv = np.concatenate([cv, cv[:-1][diag], cv[1:][diag]])
+    keep = (cu >= 0) & (cu < frame.width) & (cv >= 0) & (cv < frame.height)
+    return cv[keep], cu[keep]
+
+
+def nice_ceil(value: float) -> float:
+    """``value`` rounded up to two significant digits (0.01234 -> 0.013): a resolution to suggest."""
+    if value <= 0 or not math.isfinite(value):
+        return value
+    step = 10.0 ** (math.floor(math.log10(value)) - 1)
+    return float(f"{math.ceil(value / step - 1e-9) * step:.12g}")
+
+
+def fill_segment_bands(
+    grid: np.ndarray,
+    frame: Frame,
+    segments: np.ndarray,
+    half: float | np.ndarray,
+    value: int,
+    keep: tuple[int, ...] = (),
+    *,
+    caps: bool = True,
+) -> None:
+    """Set cells whose centres lie in the rectangle of half-width ``half`` around each segment (one
+    value, or one per segment) to ``value``, sparing cells that hold a ``keep`` value.
+
+    With ``caps`` the rectangles extend ``half`` beyond both ends (square caps, so consecutive
+    segments of a ring join without notches). All segments are processed at once: one (segment, row)
+    pair per covered row gives an x-interval, and only the covered cells are written.
+    """
+    halves = np.broadcast_to(np.asarray(half, dtype=np.float64), (len(segments),))[:, None]
+    if len(segments) == 0 or not (halves > 0).any():
+        return
+    p0, p1 = segments[:, 0:2], segments[:, 2:4]
+    d = p1 - p0
+    length = np.hypot(d[:, 0], d[:, 1])
+    u = np.where(length[:, None] > 0, d / np.where(length > 0, length, 1.0)[:, None], [1.0, 0.0])
+    n = np.stack([-u[:, 1], u[:, 0]], axis=1) * halves
+    if caps:
+        p0, p1 = p0 - u * halves, p1 + u * halves
+    quad = np.stack([p0 + n, p1 + n, p1 - n, p0 - n], axis=1)  # (S, 4, 2)
+    res = frame.resolution
+    ys = quad[:, :, 1]
+    r0 = np.maximum(0, np.ceil((ys.min(axis=1) - frame.y0) / res - 0.5)).astype(np.int64)
+    r1 = np.minimum(frame.height - 1, np.floor((ys.max(axis=1) - frame.y0) / res - 0.5)).astype(np.int64)
+    count = np.maximum(0, r1 - r0 + 1)
+    seg = np.repeat(np.arange(len(segments)), count)
+    if len(seg) == 0:
+        return
+    row = r0[seg] + (np.arange(len(seg)) - np.repeat(np.cumsum(count) - count, count))
+    yc = frame.y0 + (row + 0.5) * res
+    xl = np.full(len(seg), np.inf)
+    xr = np.full(len(seg), -np.inf)
+    for i in range(4):
+        a, b = quad[seg, i], quad[seg, (i + 1) % 4]
+        lo, hi = np.minimum(a[:, 1], b[:, 1]), np.maximum(a[:, 1], b[:, 1])
+        spans = (lo <= yc) & (yc <= hi) & (hi > lo)
+        dy = np.where(hi > lo, b[:, 1] - a[:, 1], 1.0)
+        x = a[:, 0] + (yc - a[:, 1]) * (b[:, 0] - a[:, 0]) / dy
+        xl = np.where(spans, np.minimum(xl, x), xl)
+        xr = np.where(spans, np.maximum(xr, x), xr)
+    cs = np.clip(np.ceil((xl - frame.x0) / res - 0.5), 0, frame.width)
+    ce = np.clip(np.floor((xr - frame.x0) / res - 0.5) + 1, 0, frame.width)
+    ok = np.isfinite(xl) & (ce > cs)
+    apply_intervals(grid, row[ok], cs[ok].astype(np.int64), ce[ok].astype(np.int64), value, keep)
+
+
+def apply_intervals(
+    grid: np.ndarray, rows: np.ndarray, starts: np.ndarray, stops: np.ndarray, value: int, keep: tuple[int, ...]
+) -> None:
+    """Set ``grid[row, start:stop] = value`` for every interval, except cells holding a ``keep`` value.
+
+    Touches only the covered cells (walls cover a small share of a fine grid), in chunks of at most
+    a few million cells; overlapping intervals are fine.
+    """
+    lengths = stops - starts
+    if len(lengths) == 0:
+        return
+    if not grid.flags.c_contiguous:
+        raise ValueError("apply_intervals needs a C-contiguous grid (it writes through a flat view)")
+    flat_grid = grid.reshape(-1)
+    width = grid.shape[1]
+    # group intervals so each group covers about _CHUNK_CELLS cells (plus at most one grid row)
+    group = (np.cumsum(lengths) - lengths) // _CHUNK_CELLS
+    cuts = [0, *(np.flatnonzero(np.diff(group)) + 1).tolist(), len(lengths)]
+    for lo, hi in itertools.pairwise(cuts):
+        n = lengths[lo:hi]
+        first = rows[lo:hi] * width + starts[lo:hi]
+        offsets = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        idx = np.repeat(first, n) + offsets
+        if keep:
+            current = flat_grid[idx]
+            ok = np.ones(len(idx), dtype=bool)
+            for k in keep:
+                ok &= current != k
+            idx = idx[ok]
+        flat_grid[idx] = value

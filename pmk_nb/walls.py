@@ -1,0 +1,121 @@
+"""Where walls go and where doors open them: the vector geometry step before rasterising.
+
+Rooms' rings become wall lines except where a door sits (door cells and door boundaries cut them,
+found per room with an R-tree); door cells keep walls only on their jambs; each door gets a short
+"passage" segment across the wall so the opening survives any resolution.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import shapely
+
+from pmk_nb.raster import polygons_of
+
+if TYPE_CHECKING:
+    from pmk_nb.indoorgml.model import Building, Cell
+
+
+def door_geometry(building: Building, storey: str, cells: list[Cell]) -> tuple[list[Any], list[Any]]:
+    """(door polygons, door lines) of a storey: door cells and door boundaries."""
+    polys = [c.footprint for c in cells if c.kind.is_door]
+    lines: list[Any] = []
+    for boundary in building.doors_of(storey):
+        geom = boundary.geometry
+        if geom is None or geom.is_empty:
+            continue
+        for part in shapely.get_parts(geom):
+            if isinstance(part, shapely.Polygon) and part.area > 1e-9:
+                polys.append(part)
+            elif isinstance(part, shapely.Polygon):  # a vertical surface seen from above: a line
+                lines.append(shapely.LineString(part.exterior.coords))
+            elif isinstance(part, shapely.LineString) and part.length > 0:
+                lines.append(part)
+    return polys, lines
+
+
+def door_gaps(door_lines: list[Any], rooms: list[Any], max_gap: float) -> np.ndarray:
+    """Per door line, how far the rooms it joins stand off it (0 when they share its edge).
+
+    Some files model the wall between rooms as a gap with the door line in the middle; the wall cut
+    and the opening must then reach across that gap.
+    """
+    gaps = np.zeros(len(door_lines))
+    if not door_lines or not rooms:
+        return gaps
+    lines, room_arr = np.asarray(door_lines, dtype=object), np.asarray(rooms, dtype=object)
+    pairs = shapely.STRtree(room_arr).query(lines, predicate="dwithin", distance=max_gap)
+    if pairs.shape[1]:
+        np.maximum.at(gaps, pairs[0], shapely.distance(lines[pairs[0]], room_arr[pairs[1]]))
+    return gaps
+
+
+def wall_lines(
+    rooms: list[Any], door_polys: list[Any], door_lines: list[Any], gaps: np.ndarray, tol: float
+) -> list[Any]:
+    """Rings of free cells minus the stretches doors occupy; door cells keep their jambs only."""
+    room_arr = np.asarray(rooms, dtype=object)
+    lines = shapely.boundary(room_arr) if len(room_arr) else np.empty(0, dtype=object)
+    if (door_polys or door_lines) and len(lines):
+        # each ring minus only the doors near it: one small difference per room, found by an R-tree
+        cuts = np.concatenate([
+            shapely.buffer(np.asarray(door_polys, dtype=object), tol),
+            shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat"),
+        ])  # fmt: skip
+        pairs = shapely.STRtree(cuts).query(lines, predicate="intersects")
+        lines = lines.copy()
+        order = np.argsort(pairs[0], kind="stable")
+        rooms_hit, starts = np.unique(pairs[0][order], return_index=True)
+        groups = np.split(pairs[1][order], starts[1:]) if len(rooms_hit) else []
+        for i, near_idx in zip(rooms_hit, groups, strict=True):
+            near = cuts[near_idx]
+            lines[i] = shapely.difference(lines[i], near[0] if len(near) == 1 else shapely.union_all(near))
+    out = [g for g in lines.tolist() if g is not None and not g.is_empty]
+    if door_polys:
+        tree = shapely.STRtree(room_arr) if len(room_arr) else None
+        for i, door in enumerate(door_polys):
+            near = [d for j, d in enumerate(door_polys) if j != i and d.distance(door) <= tol]
+            if tree is not None:
+                near += list(room_arr[tree.query(shapely.buffer(door, tol), predicate="intersects")])
+            ring = shapely.boundary(door)
+            if near:
+                ring = shapely.difference(ring, shapely.buffer(shapely.union_all(near), tol))
+            if not ring.is_empty:
+                out.append(ring)
+    return out
+
+
+def shrink_segments(segments: np.ndarray, by: float) -> np.ndarray:
+    """Segments shortened by ``by`` at both ends (never past their midpoint)."""
+    p0, p1 = segments[:, 0:2], segments[:, 2:4]
+    d = p1 - p0
+    length = np.hypot(d[:, 0], d[:, 1])[:, None]
+    cut = np.minimum(by, length / 2) / np.where(length > 0, length, 1.0)
+    return np.hstack([p0 + d * cut, p1 - d * cut])
+
+
+def passages(door_polys: list[Any], door_segs: np.ndarray, seg_reach: np.ndarray, reach: float) -> np.ndarray:
+    """Segments across each door (perpendicular to the wall), ``reach`` beyond it on both sides."""
+    d = door_segs[:, 2:4] - door_segs[:, 0:2]
+    length = np.hypot(d[:, 0], d[:, 1])
+    keep = length > 0
+    mid = (door_segs[keep, 0:2] + door_segs[keep, 2:4]) / 2
+    normal = np.stack([-d[keep, 1], d[keep, 0]], axis=1) / length[keep, None] * seg_reach[keep, None]
+    segs: list[np.ndarray] = [np.hstack([mid - normal, mid + normal])]
+    for poly in door_polys:
+        for part in polygons_of(poly):
+            rect = np.asarray(shapely.minimum_rotated_rectangle(part).exterior.coords)[:4, :2]
+            if len(rect) < 4:
+                continue
+            e1, e2 = rect[1] - rect[0], rect[2] - rect[1]
+            short, long_ = (e1, e2) if np.hypot(*e1) <= np.hypot(*e2) else (e2, e1)
+            ls = float(np.hypot(*short))
+            if ls == 0 or np.hypot(*long_) < 1.3 * ls:
+                continue  # no clear wall direction: the polygon fill alone opens it
+            c = rect.mean(axis=0)
+            u = short / ls
+            half = ls / 2 + reach
+            segs.append(np.array([[c[0] - u[0] * half, c[1] - u[1] * half, c[0] + u[0] * half, c[1] + u[1] * half]]))
+    return np.vstack(segs)
