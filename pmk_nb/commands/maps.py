@@ -1,0 +1,156 @@
+"""`pmk maps list|import|download|convert|delete`: the MAPS screen of the original app, scriptable.
+
+Each sub-command is one :class:`~pmk_nb.library.MapsFolder` call; errors are LibraryError (a
+PmkError), which ``pmk_nb.cli`` prints and turns into exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from pmk_nb.library import GeneratedMap, MapEntry, MapsFolder
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    p = subparsers.add_parser(
+        "maps",
+        help="list, import, download, convert and delete maps in the maps folder",
+        description="Manage the maps folder (ALMA_MAPS): IndoorGML sources and the maps generated from them.",
+    )
+    dir_help = "maps folder (default: $PMK_MAPS_DIR or the user data folder)"
+    p.add_argument("--dir", help=dir_help)
+    # --dir is accepted after the action too (`pmk maps list --dir D`); SUPPRESS keeps the outer value
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--dir", default=argparse.SUPPRESS, help=dir_help)
+    sub = p.add_subparsers(dest="maps_command", metavar="ACTION", required=True)
+
+    sub.add_parser("list", parents=[common], help="list the IndoorGML maps and their generated files")
+
+    imp = sub.add_parser("import", parents=[common], help="copy an IndoorGML file into the maps folder")
+    imp.add_argument("path", help="IndoorGML file (.gml / .xml)")
+    imp.add_argument("--name", help="map name (default: the file name without extension)")
+    imp.add_argument("--overwrite", action="store_true", help="replace a map with the same name")
+
+    dl = sub.add_parser("download", parents=[common], help="download an IndoorGML map from an http(s) URL")
+    dl.add_argument("url")
+    dl.add_argument("name", help="name to save the map under")
+    dl.add_argument("--overwrite", action="store_true", help="replace a map with the same name")
+    dl.add_argument("--timeout", type=float, default=30.0, help="seconds without data before giving up")
+    dl.add_argument("--max-mb", type=float, default=50.0, help="refuse files larger than this (MiB)")
+
+    cv = sub.add_parser(
+        "convert", parents=[common], help="generate map_server files (YAML + image + preview) from a map"
+    )
+    cv.add_argument("name")
+    cv.add_argument("-r", "--resolution", type=float, default=0.05, help="metres per cell (default 0.05)")
+    cv.add_argument("--storey", action="append", dest="storeys", help="convert only this storey (repeatable)")
+    cv.add_argument("--wall-thickness", type=float, default=0.10, help="wall thickness in metres")
+    # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
+    cv.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
+    cv.add_argument("--format", dest="image_format", default="pgm", choices=("pgm", "png"))
+
+    rm = sub.add_parser("delete", parents=[common], help="delete a map and every file generated from it")
+    rm.add_argument("name")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from pmk_nb.library import MapsFolder
+
+    folder = MapsFolder(args.dir)
+    action = args.maps_command
+    if action == "list":
+        return _list(folder)
+    if action == "import":
+        entry = folder.import_file(args.path, args.name, overwrite=args.overwrite)
+        print(f"imported {args.path} as map {entry.name!r} ({entry.source})")
+        return 0
+    if action == "download":
+        return _download(folder, args)
+    if action == "convert":
+        return _convert(folder, args)
+    if action == "delete":
+        entry = folder.entry(args.name)
+        folder.delete(entry.name)
+        print(f"deleted map {entry.name!r}: {entry.source.name} and {len(entry.generated)} generated map(s)")
+        return 0
+    raise AssertionError(action)  # argparse restricts the choices
+
+
+def _describe(gm: GeneratedMap) -> str:
+    storey = f"storey {gm.storey}: " if gm.storey is not None else ""
+    if gm.broken:
+        return f"{storey}{gm.yaml.name} BROKEN ({gm.broken})"
+    stale = " STALE (source changed since; convert again)" if gm.stale else ""
+    return f"{storey}{gm.yaml.name} {gm.width}x{gm.height} cells at {gm.resolution:g} m{stale}"
+
+
+def _list(folder: MapsFolder) -> int:
+    entries: list[MapEntry] = folder.list()
+    print(f"maps folder: {folder.root}")
+    if not entries:
+        print("no maps yet: use `pmk maps import FILE` or `pmk maps download URL NAME`")
+    for e in entries:
+        print(f"{e.name}  ({e.source.name}, {e.size} bytes)  {e.status}")
+        for gm in e.generated:
+            print(f"    {_describe(gm)}")
+    orphans = folder.orphans()
+    if orphans:
+        print("maps without an IndoorGML source:")
+        for gm in orphans:
+            print(f"    {_describe(gm)}")
+    return 0
+
+
+def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
+    interactive = sys.stderr.isatty()
+
+    def progress(done: int, total: int | None) -> None:
+        if interactive:
+            shown = f"{done}/{total}" if total else f"{done}"
+            print(f"\rdownloading: {shown} bytes", end="", file=sys.stderr, flush=True)
+
+    try:
+        entry = folder.download(
+            args.url,
+            args.name,
+            overwrite=args.overwrite,
+            timeout=args.timeout,
+            max_bytes=int(args.max_mb * 1024 * 1024),
+            progress=progress,
+        )
+    finally:
+        if interactive:
+            print(file=sys.stderr)
+    print(f"downloaded {args.url} as map {entry.name!r} ({entry.size} bytes, {entry.source})")
+    return 0
+
+
+def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
+    interactive = sys.stderr.isatty()
+
+    def progress(step: str, fraction: float) -> None:
+        if interactive:
+            print(f"\r{fraction * 100:5.1f}% {step:<50}", end="", file=sys.stderr, flush=True)
+
+    try:
+        maps = folder.convert(
+            args.name,
+            args.resolution,
+            storeys=args.storeys,
+            wall_thickness=args.wall_thickness,
+            unit=args.unit,
+            image_format=args.image_format,
+            progress=progress,
+        )
+    finally:
+        if interactive:
+            print(file=sys.stderr)
+    print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
+    for gm in maps:
+        files = ", ".join(p.name for p in (gm.yaml, gm.image, gm.preview) if p is not None)
+        print(f"    {_describe(gm)}  [{files}]")
+    return 0

@@ -1,0 +1,420 @@
+"""The maps folder (the original app's ALMA_MAPS): IndoorGML sources and the maps generated from them.
+
+Layout, as in the original (thesis 3.2.2): ``NAME.gml`` is the source; converting it writes
+``NAME.yaml`` + ``NAME.pgm`` + ``NAME-visualization.png`` for a one-storey building, or
+``NAME_<storey>.yaml`` ... per storey. Every write is atomic (temp file in the folder + rename) and a
+failed download, import or conversion leaves the folder as it was.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import math
+import os
+import re
+import shutil
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from pmk_nb.download import DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
+from pmk_nb.errors import IndoorGMLError, LibraryError, MapFormatError, OccupancyError
+from pmk_nb.library_scan import GeneratedMap, scan_generated, storey_file_stem
+from pmk_nb.sniff import check_indoorgml
+
+if TYPE_CHECKING:
+    from pmk_nb.indoorgml.model import Building
+
+__all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "check_name", "default_maps_dir"]
+
+SOURCE_SUFFIXES = (".gml", ".xml")
+MAX_NAME_LENGTH = 100
+_NAME_RE = re.compile(r"^[\w .-]+$")
+ConvertProgress = Callable[[str, float], None]
+
+
+def default_maps_dir() -> Path:
+    """The maps folder: ``$PMK_MAPS_DIR`` if set, else ``<user data dir>/pmk_nb/ALMA_MAPS``; created here."""
+    env = os.environ.get("PMK_MAPS_DIR", "").strip()
+    if env:
+        path = Path(env).expanduser()
+    else:
+        import platformdirs
+
+        path = Path(platformdirs.user_data_dir("pmk_nb")) / "ALMA_MAPS"
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise LibraryError(f"cannot create the maps folder {path}: {err.strerror or err}") from err
+    return path
+
+
+def check_name(name: str) -> str:
+    """Validate a map name given by the user; returns it without a ``.gml``/``.xml`` suffix.
+
+    Raises:
+        LibraryError: empty, too long, a path separator, a leading dot, or other characters than
+            letters, digits, space, ``-``, ``_`` and ``.``.
+    """
+    if not isinstance(name, str) or not name.strip():
+        raise LibraryError("a map name is required")
+    if name.lower().endswith(SOURCE_SUFFIXES):
+        name = name[:-4]
+    problem = None
+    if "/" in name or "\\" in name or os.sep in name:
+        problem = "must not contain a path separator"
+    elif name.startswith("."):
+        problem = "must not start with a dot"
+    elif name != name.strip():
+        problem = "must not start or end with a space"
+    elif len(name) > MAX_NAME_LENGTH:
+        problem = f"is {len(name)} characters long; at most {MAX_NAME_LENGTH} are allowed"
+    elif not _NAME_RE.match(name):
+        bad = sorted({c for c in name if not _NAME_RE.match(c)})
+        problem = f"contains {''.join(bad)!r}; use letters, digits, space, '-', '_' and '.'"
+    if problem:
+        raise LibraryError(f"invalid map name {name!r}: it {problem}")
+    return name
+
+
+@dataclass
+class MapEntry:
+    """One IndoorGML source in the folder and the maps generated from it."""
+
+    name: str
+    source: Path
+    size: int
+    generated: list[GeneratedMap] = field(default_factory=list)
+    sha256: str = ""
+
+    @property
+    def status(self) -> str:
+        """``not converted`` / ``converted`` / ``stale`` (source changed since) / ``broken``."""
+        if not self.generated:
+            return "not converted"
+        if any(g.broken for g in self.generated):
+            return "broken"
+        if any(g.stale for g in self.generated):
+            return "stale"
+        return "converted"
+
+
+class MapsFolder:
+    """List, import, download, convert and delete maps in one folder.
+
+    Args:
+        root: the folder; defaults to :func:`default_maps_dir`. It is created when first written to.
+    """
+
+    def __init__(self, root: str | os.PathLike[str] | None = None) -> None:
+        self.root = Path(root).expanduser() if root is not None else default_maps_dir()
+        self._sha_cache: dict[Path, tuple[int, int, str]] = {}
+
+    def __repr__(self) -> str:
+        return f"MapsFolder({str(self.root)!r})"
+
+    # ----------------------------------------------------------------- listing
+    def _sources(self) -> dict[str, Path]:
+        if not self.root.is_dir():
+            return {}
+        found: dict[str, Path] = {}
+        for path in sorted(self.root.iterdir(), key=lambda p: (p.suffix.lower() != ".gml", p.name)):
+            if path.name.startswith(".") or path.suffix.lower() not in SOURCE_SUFFIXES or not path.is_file():
+                continue
+            found.setdefault(path.stem, path)  # NAME.gml wins over NAME.xml
+        return found
+
+    def _sha256(self, path: Path) -> str:
+        st = path.stat()
+        cached = self._sha_cache.get(path)
+        if cached and cached[:2] == (st.st_size, st.st_mtime_ns):
+            return cached[2]
+        digest = hashlib.sha256()
+        with open(path, "rb") as fh:
+            while chunk := fh.read(1 << 20):
+                digest.update(chunk)
+        self._sha_cache[path] = (st.st_size, st.st_mtime_ns, digest.hexdigest())
+        return digest.hexdigest()
+
+    def list(self) -> list[MapEntry]:
+        """Every IndoorGML file (``*.gml``, ``*.xml``) sorted by name, with its generated maps."""
+        sources = self._sources()
+        generated = scan_generated(self.root, sources)
+        entries = []
+        for name in sorted(sources, key=lambda n: (n.casefold(), n)):
+            path = sources[name]
+            try:
+                size, sha = path.stat().st_size, self._sha256(path)
+            except OSError:
+                continue  # vanished while listing
+            maps = generated.get(name, [])
+            for gm in maps:
+                gm.stale = bool(gm.source_sha256) and gm.source_sha256 != sha
+            entries.append(MapEntry(name=name, source=path, size=size, generated=maps, sha256=sha))
+        return entries
+
+    def orphans(self) -> list[GeneratedMap]:
+        """Map YAMLs in the folder that belong to no IndoorGML source (e.g. copied in by hand)."""
+        return scan_generated(self.root, self._sources()).get("", [])
+
+    def exists(self, name: str) -> bool:
+        return _lookup_name(name) in self._sources()
+
+    def entry(self, name: str) -> MapEntry:
+        """The entry called ``name``; LibraryError listing the known names if there is none."""
+        key = _lookup_name(name)
+        for e in self.list():
+            if e.name == key:
+                return e
+        known = ", ".join(e.name for e in self.list()) or "none"
+        raise LibraryError(f"no map named {key!r} in {self.root} (maps: {known})")
+
+    # ----------------------------------------------------------------- adding sources
+    def _ensure_root(self) -> None:
+        try:
+            self.root.mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise LibraryError(f"cannot create the maps folder {self.root}: {err.strerror or err}") from err
+        if not self.root.is_dir():
+            raise LibraryError(f"the maps folder {self.root} is not a directory")
+
+    def _refuse_existing(self, name: str, overwrite: bool) -> None:
+        if not overwrite and self.exists(name):
+            raise LibraryError(f"map {name!r} already exists; pass overwrite=True to replace it")
+
+    def _install(self, tmp: Path, name: str) -> MapEntry:
+        """Move a checked temp file into place as NAME.gml; drops a NAME.xml it replaces."""
+        target = self.root / f"{name}.gml"
+        old = self._sources().get(name)
+        os.chmod(tmp, 0o644)  # mkstemp makes 0600; the folder is shared like the original ALMA_MAPS
+        os.replace(tmp, target)
+        if old is not None and old != target:
+            old.unlink(missing_ok=True)
+        return self.entry(name)
+
+    def import_file(
+        self, path: str | os.PathLike[str], name: str | None = None, *, overwrite: bool = False
+    ) -> MapEntry:
+        """Copy an IndoorGML file into the folder as ``NAME.gml`` (name defaults to the file's stem).
+
+        Raises:
+            LibraryError: missing file, invalid name, name taken without ``overwrite``, not IndoorGML.
+        """
+        src = Path(path).expanduser()
+        if not src.is_file():
+            raise LibraryError(f"cannot import {src}: no such file")
+        name = check_name(name if name is not None else src.stem)
+        self._refuse_existing(name, overwrite)
+        self._ensure_root()
+        current = self._sources().get(name)
+        if current is not None and current.exists() and current.samefile(src):
+            raise LibraryError(f"{src} is already map {name!r} in {self.root}")
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=".import", dir=self.root)
+        tmp = Path(tmp_name)
+        try:
+            with os.fdopen(fd, "wb") as out, open(src, "rb") as inp:
+                shutil.copyfileobj(inp, out, 1 << 20)
+                out.flush()
+                os.fsync(out.fileno())
+            check_indoorgml(tmp, what=str(src))  # check the copy: what is installed is what was checked
+            return self._install(tmp, name)
+        except OSError as err:
+            raise LibraryError(f"cannot import {src} into {self.root}: {err.strerror or err}") from err
+        finally:
+            tmp.unlink(missing_ok=True)
+
+    def download(
+        self,
+        url: str,
+        name: str,
+        *,
+        overwrite: bool = False,
+        timeout: float = DEFAULT_TIMEOUT,
+        max_bytes: int = DEFAULT_MAX_BYTES,
+        progress: Callable[[int, int | None], None] | None = None,
+    ) -> MapEntry:
+        """Download an IndoorGML map from an http(s) URL into ``NAME.gml`` (thesis 3.2.1).
+
+        The name is checked before any network access; the body goes to a temp file that is checked
+        to be IndoorGML and then renamed into place, so a failure leaves no file behind and an
+        existing map untouched.
+
+        Raises:
+            LibraryError: invalid name or URL, name taken without ``overwrite``, DNS / connection /
+                HTTP / timeout / size failures, a body that is not XML or not IndoorGML.
+        """
+        name = check_name(name)
+        self._refuse_existing(name, overwrite)
+        check_url(url)
+        self._ensure_root()
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=".part", dir=self.root)
+        tmp = Path(tmp_name)
+        try:
+            with os.fdopen(fd, "wb") as out:
+                fetch(url, out, timeout=timeout, max_bytes=max_bytes, progress=progress)
+                os.fsync(out.fileno())
+            check_indoorgml(tmp, what=f"the file at {url}")
+            self._refuse_existing(name, overwrite)  # another writer may have taken the name meanwhile
+            return self._install(tmp, name)
+        except OSError as err:
+            raise LibraryError(f"cannot save the download as {name!r} in {self.root}: {err.strerror or err}") from err
+        finally:
+            tmp.unlink(missing_ok=True)
+
+    # ----------------------------------------------------------------- convert / delete
+    def convert(
+        self,
+        name: str,
+        resolution: float,
+        *,
+        storeys: list[str] | None = None,
+        wall_thickness: float = 0.10,
+        unit: str = "auto",
+        image_format: str = "pgm",
+        progress: ConvertProgress | None = None,
+    ) -> list[GeneratedMap]:
+        """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2).
+
+        All new files are written to a staging folder first and renamed into place only when every
+        storey succeeded; then files of storeys that no longer exist are removed.
+
+        Args:
+            resolution: metres per cell (e.g. 0.05).
+            storeys: storey names to convert; default all.
+            progress: called as ``progress(step_description, fraction_done_0_to_1)``.
+
+        Raises:
+            LibraryError: unknown map, bad arguments, or any reader / rasteriser / writer error
+                (chained, with its message).
+        """
+        entry = self.entry(name)
+        if not (isinstance(resolution, int | float) and math.isfinite(resolution) and resolution > 0):
+            raise LibraryError(f"resolution must be a positive number of metres per cell, got {resolution!r}")
+        if not (isinstance(wall_thickness, int | float) and math.isfinite(wall_thickness) and wall_thickness >= 0):
+            raise LibraryError(f"wall thickness must be a number of metres >= 0, got {wall_thickness!r}")
+        if image_format not in ("pgm", "png"):
+            raise LibraryError(f"image format must be 'pgm' or 'png', got {image_format!r}")
+        report = progress or (lambda _step, _frac: None)
+        try:
+            building = self._read(entry, unit, report)
+            return self._convert_building(
+                entry, building, float(resolution), storeys, wall_thickness, image_format, report
+            )
+        except (IndoorGMLError, OccupancyError, MapFormatError) as err:
+            raise LibraryError(f"cannot convert map {entry.name!r}: {err}") from err
+        except MemoryError as err:
+            raise LibraryError(
+                f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell; "
+                "use a coarser resolution (a larger number)"
+            ) from err
+        except OSError as err:
+            raise LibraryError(
+                f"cannot write the maps of {entry.name!r} in {self.root}: {err.strerror or err}"
+            ) from err
+
+    def _read(self, entry: MapEntry, unit: str, report: ConvertProgress) -> Building:
+        from pmk_nb.indoorgml import read_building
+
+        label = f"reading {entry.source.name}"
+        report(label, 0.0)
+        return read_building(
+            entry.source, unit=unit, progress=lambda done, total: report(label, 0.3 * done / max(total, 1))
+        )
+
+    def _convert_building(
+        self,
+        entry: MapEntry,
+        building: Building,
+        resolution: float,
+        storeys: list[str] | None,
+        wall_thickness: float,
+        image_format: str,
+        report: ConvertProgress,
+    ) -> list[GeneratedMap]:
+        from pmk_nb.occupancy import rasterise_storey
+        from pmk_nb.rosmap import write_map
+
+        all_storeys = [s.name for s in building.storeys]
+        wanted = list(dict.fromkeys(storeys)) if storeys else all_storeys
+        for s in wanted:
+            building.storey(s)  # IndoorGMLError naming the known storeys
+        stems = storey_file_stem(entry.name, all_storeys)
+        self._ensure_root()
+        staging = Path(tempfile.mkdtemp(prefix=f".{entry.name}.convert-", dir=self.root))
+        try:
+            staged: list[Path] = []
+            span = 0.6 / len(wanted)
+            for i, storey in enumerate(wanted):
+                step, base = f"rasterising storey {storey}", 0.3 + span * i
+                report(step, base)
+                grid = rasterise_storey(
+                    building,
+                    storey,
+                    resolution,
+                    wall_thickness=wall_thickness,
+                    progress=lambda done, total, step=step, base=base: report(step, base + span * done / max(total, 1)),
+                )
+                grid.meta.update(_meta(entry, building, storey))
+                files = write_map(grid, staging, stems[storey], image_format=image_format)
+                staged += [p for p in (files.yaml, files.image, files.preview) if p is not None]
+            report("saving", 0.95)
+            old = scan_generated(self.root, self._sources()).get(entry.name, [])
+            new_names = {p.name for p in staged}
+            for path in staged:  # each rename is atomic; all files are complete before the first one
+                os.replace(path, self.root / path.name)
+            self._remove_superseded(old, new_names, {stems[s] for s in all_storeys})
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
+        report("done", 1.0)
+        result = self.entry(entry.name).generated
+        return [g for g in result if g.yaml.stem in {stems[s] for s in wanted}]
+
+    def _remove_superseded(self, old: list[GeneratedMap], new_names: set[str], current_stems: set[str]) -> None:
+        """Delete old files the new set does not reuse: other image formats, storeys now gone.
+
+        A storey that still exists but was not converted this time keeps its files, and so does a
+        map matched only by its file name (it may have been put there by hand).
+        """
+        for gm in old:
+            if gm.yaml.name not in new_names and (gm.yaml.stem in current_stems or not gm.tagged):
+                continue
+            for path in (gm.yaml, gm.image, gm.preview):
+                # only our own folder: a hand-written YAML may point at an image elsewhere
+                if path is not None and path.parent == self.root and path.name not in new_names:
+                    with contextlib.suppress(FileNotFoundError):
+                        path.unlink()
+
+    def delete(self, name: str) -> None:
+        """Remove the source of map ``name`` and every map generated from it.
+
+        Maps matched only by a ``NAME_*`` file name (not written by :meth:`convert`) are kept.
+        """
+        entry = self.entry(name)
+        for gm in entry.generated:
+            if not (gm.tagged or gm.yaml.stem == entry.name):
+                continue
+            for path in (gm.yaml, gm.image, gm.preview):
+                if path is not None and path.parent == self.root:
+                    with contextlib.suppress(FileNotFoundError):
+                        path.unlink()
+        try:
+            entry.source.unlink()
+        except FileNotFoundError:
+            pass
+        except OSError as err:
+            raise LibraryError(f"cannot delete {entry.source}: {err.strerror or err}") from err
+
+
+def _lookup_name(name: str) -> str:
+    """Name of an existing map: lenient (files dropped in by hand may have any name) but never a path."""
+    if not isinstance(name, str) or not name or "/" in name or "\\" in name or name.startswith("."):
+        raise LibraryError(f"invalid map name {name!r}")
+    return name[:-4] if name.lower().endswith(SOURCE_SUFFIXES) else name
+
+
+def _meta(entry: MapEntry, building: Building, storey: str) -> dict[str, Any]:
+    """Extras written into each YAML: how list() finds the map's source and whether it is stale."""
+    return {"map": entry.name, "storey": storey, "source": entry.source.name, "source_sha256": building.sha256}
