@@ -1,0 +1,108 @@
+"""``pmk sim``: run a simulated chair (rosbridge v2 + SFTP) until Ctrl-C or SIGTERM."""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import threading
+from pathlib import Path
+from typing import Any
+
+from pmk_nb.sim.demo import sample_floor
+from pmk_nb.sim.server import SimChair
+
+READY_LINE = "pmk sim: ready"
+
+
+def add_parser(subparsers: Any) -> None:
+    p = subparsers.add_parser(
+        "sim",
+        help="run a simulated chair: rosbridge v2 on a WebSocket, map server with hot reload, SFTP",
+        description="Simulated PMK wheelchair for demos and tests (loopback only by default).",
+    )
+    p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1)")
+    p.add_argument("--port", type=int, default=9090, help="rosbridge WebSocket port (0 = any free port)")
+    p.add_argument(
+        "--map",
+        type=Path,
+        default=None,
+        help="map_server YAML to start with (default: sample clinic floor, else a built-in demo floor)",
+    )
+    p.add_argument("--maps-dir", type=Path, default=None, help="the chair's ~/ALMA_MAPS folder (default: temp)")
+    p.add_argument("--sftp-port", type=int, default=2222, help="SFTP port (0 = any free port)")
+    p.add_argument("--no-sftp", action="store_true", help="do not start the SFTP endpoint")
+    p.add_argument("--sftp-user", default="pmk")
+    p.add_argument("--sftp-password", default=None, help="default: a random password, printed at start")
+    p.add_argument("--flavour", choices=("ros1", "ros2"), default="ros1")
+    p.add_argument("--odom-rate", type=float, default=50.0, help="Hz")
+    p.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
+    p.add_argument("--rays", type=int, default=720, help="laser rays over 270 degrees")
+    p.add_argument("--patrol", action="store_true", help="drive between random reachable points forever")
+    p.set_defaults(run=run)
+
+
+def describe(sim: SimChair) -> list[str]:
+    """The lines ``pmk sim`` prints: where to connect and what is served."""
+    bridge = sim.bridge
+    assert bridge is not None and sim.grid is not None
+    grid = sim.grid
+    lines = [
+        f"pmk sim: rosbridge v2 ({sim.flavour}) at {sim.url}",
+        f"  map: {_map_name(sim)} ({grid.width}x{grid.height} cells, {grid.resolution:.3f} m/cell)",
+        "  chair at x={:.2f} y={:.2f} theta={:.2f}".format(*sim.pose),
+        f"  maps dir (chair ~/ALMA_MAPS): {sim.maps_dir}",
+        "  topics:",
+    ]
+    lines += [f"    {name} [{entry.type}]" for name, entry in sorted(bridge.topics.items())]
+    lines.append("  services:")
+    lines += [f"    {name} [{entry.type}]" for name, entry in sorted(bridge.services.items())]
+    if sim.sftp_port is not None:
+        lines += [
+            f"  sftp: {sim.sftp_user}@{sim.host} port {sim.sftp_port} password {sim.sftp_password}",
+            f"  sftp host key: {sim.sftp_host_key_fingerprint} ({sim.sftp_host_key})",
+        ]
+    return lines
+
+
+def _map_name(sim: SimChair) -> str:
+    if sim.mapserver is not None and sim.mapserver.source is not None:
+        return str(sim.mapserver.source)
+    grid = sim.grid
+    source = grid.meta.get("source") if grid is not None else None
+    return f"sample {source}" if source and source != "demo" else "built-in demo floor"
+
+
+def run(args: argparse.Namespace) -> int:
+    grid = None if args.map is not None else sample_floor()
+    sim = SimChair(
+        args.map,
+        grid=grid,
+        host=args.host,
+        port=args.port,
+        flavour=args.flavour,
+        odom_rate=args.odom_rate,
+        scan_rate=args.scan_rate,
+        rays=args.rays,
+        patrol=args.patrol,
+        sftp_port=None if args.no_sftp else args.sftp_port,
+        sftp_user=args.sftp_user,
+        sftp_password=args.sftp_password,
+        maps_dir=args.maps_dir,
+    )
+    stop = threading.Event()
+    previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        sim.start()
+        for line in describe(sim):
+            print(line, flush=True)
+        print(f"{READY_LINE} (Ctrl-C to stop)", flush=True)
+        while not stop.wait(0.5):
+            if not sim.running:
+                print("pmk sim: the simulator thread ended unexpectedly", flush=True)
+                return 1
+    finally:
+        sim.stop()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    print("pmk sim: stopped", flush=True)
+    return 0

@@ -1,0 +1,209 @@
+"""What runs on the simulator's loop: the chair in its world, goals, patrol and the publish loops.
+
+The engine outlives a single server start: stopping and starting a SimChair attaches a fresh
+bridge to the same engine, so the chair keeps its pose and map across restarts.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+import time
+from typing import TYPE_CHECKING, Any
+
+from pmk_nb.sim.chair import Chair, DriveLimits
+from pmk_nb.sim.messages import yaw_of
+from pmk_nb.sim.world import World
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from pmk_nb.grid import OccupancyGrid
+    from pmk_nb.sim.laser import Laser
+    from pmk_nb.sim.messages import Names
+    from pmk_nb.sim.protocol import Bridge
+
+LOG = logging.getLogger("pmk_nb.sim")
+PATROL_IDLE = 5.0  # s after a manual command before patrol resumes
+PATROL_PAUSE = 1.0  # s between patrol legs
+
+
+class Engine:
+    """Chair + world + loops. Every method runs on the simulator's event loop."""
+
+    def __init__(
+        self,
+        names: Names,
+        laser: Laser,
+        *,
+        odom_rate: float,
+        scan_rate: float,
+        footprint_radius: float,
+        limits: DriveLimits,
+        start_pose: tuple[float, float, float] | None,
+        patrol: bool,
+        rng: np.random.Generator,
+    ) -> None:
+        self.names = names
+        self.laser = laser
+        self.odom_rate = odom_rate
+        self.scan_rate = scan_rate
+        self.footprint_radius = footprint_radius
+        self.limits = limits
+        self.start_pose = start_pose
+        self.patrol = patrol
+        self.rng = rng
+        self.paused = False
+        self.chair: Chair | None = None
+        self.world: World | None = None
+        self.bridge: Bridge | None = None
+        self.notes: list[str] = []  # things the sim did on its own (moved the chair after a reload, ...)
+        self._plan_task: asyncio.Task[None] | None = None
+        self._last_manual = -math.inf
+        self._patrol_next = 0.0
+
+    def attach(self, bridge: Bridge) -> None:
+        """Register the chair's topics on a (new) bridge."""
+        self.bridge = bridge
+        n = self.names
+        bridge.advertise_internal("/odom", n.msg("nav_msgs", "Odometry"))
+        bridge.advertise_internal("/scan", n.msg("sensor_msgs", "LaserScan"))
+        bridge.advertise_internal("/tf", n.msg("tf2_msgs", "TFMessage"))
+        bridge.listen("/cmd_vel", n.msg("geometry_msgs", "Twist"), self.on_cmd_vel)
+        bridge.listen("/move_base_simple/goal", n.msg("geometry_msgs", "PoseStamped"), self.on_goal)
+
+    def tasks(self) -> list[asyncio.Task[None]]:
+        return [asyncio.create_task(self._odom_loop()), asyncio.create_task(self._scan_loop())]
+
+    def cancel_plan(self) -> None:
+        if self._plan_task is not None:
+            self._plan_task.cancel()
+            self._plan_task = None
+
+    def note(self, text: str) -> None:
+        LOG.info("sim: %s", text)
+        self.notes.append(text)
+
+    # -- map changes ------------------------------------------------------------------------------
+
+    async def install(self, grid: OccupancyGrid) -> None:
+        """Swap in a new map (built off the loop); keep the chair where it is if that is free."""
+        world = await asyncio.to_thread(World, grid, self.footprint_radius)
+        self.cancel_plan()
+        if self.chair is None:
+            pose = self.start_pose
+            if pose is None:
+                x, y = await asyncio.to_thread(world.open_spot)
+                pose = (x, y, 0.0)
+            self.chair = Chair(world, pose, self.limits)
+        else:
+            self.chair.world = world
+            self.chair.teleport(self.chair.pose)  # a new map cancels any goal
+        self.world = world
+        x, y, th = self.chair.pose
+        if world.blocked_at(x, y):
+            spot = world.nearest_free(x, y)
+            if spot is None:
+                raise ValueError("the map has no free cell large enough for the chair's footprint")
+            self.chair.teleport((spot[0], spot[1], th))
+            self.note(f"pose ({x:.2f}, {y:.2f}) is not free on the new map: moved to ({spot[0]:.2f}, {spot[1]:.2f})")
+
+    def teleport(self, pose: tuple[float, float, float]) -> None:
+        self.cancel_plan()
+        if self.chair is not None:
+            self.chair.teleport(pose)
+
+    # -- inputs -----------------------------------------------------------------------------------
+
+    def on_cmd_vel(self, msg: dict[str, Any]) -> None:
+        if self.chair is None:
+            return
+        lin, ang = msg.get("linear") or {}, msg.get("angular") or {}
+        now = asyncio.get_running_loop().time()
+        self._last_manual = now
+        self.cancel_plan()
+        self.chair.command(float(lin.get("x", 0.0)), float(ang.get("z", 0.0)), now)
+
+    def on_goal(self, msg: dict[str, Any]) -> None:
+        pose = msg.get("pose") or {}
+        pos = pose.get("position") or {}
+        goal = (float(pos.get("x", 0.0)), float(pos.get("y", 0.0)))
+        yaw = yaw_of(pose["orientation"]) if pose.get("orientation") else None
+        self.start_plan(goal, yaw)
+
+    def start_plan(self, goal: tuple[float, float], yaw: float | None) -> None:
+        self.cancel_plan()
+        self._plan_task = asyncio.get_running_loop().create_task(self._plan(goal, yaw))
+
+    async def _plan(self, goal: tuple[float, float], yaw: float | None) -> None:
+        chair, world = self.chair, self.world
+        if chair is None or world is None:
+            return
+        path = await asyncio.to_thread(world.plan, chair.pose[:2], goal)
+        if world is self.world:
+            chair.follow(path, yaw)
+            if not path:
+                self.note(f"no path to goal ({goal[0]:.2f}, {goal[1]:.2f})")
+
+    def _patrol_tick(self, chair: Chair, now: float) -> None:
+        busy = chair.driving_goal or (self._plan_task is not None and not self._plan_task.done())
+        if busy or now - self._last_manual < PATROL_IDLE or now < self._patrol_next or self.world is None:
+            return
+        self._patrol_next = now + PATROL_PAUSE
+        points = self.world.reachable_points(chair.pose[:2], self.rng)
+        if points:
+            self.start_plan(points[0], None)
+
+    # -- loops ------------------------------------------------------------------------------------
+
+    async def _odom_loop(self) -> None:
+        """Physics and /odom + /tf at ``odom_rate`` (absolute schedule, no drift, no catch-up bursts)."""
+        loop = asyncio.get_running_loop()
+        period = 1.0 / self.odom_rate
+        last = next_t = loop.time()
+        seq = 0
+        n = self.names
+        while True:
+            next_t += period
+            await asyncio.sleep(max(0.0, next_t - loop.time()))
+            now = loop.time()
+            next_t = max(next_t, now - period)
+            dt, last = now - last, now
+            chair, bridge = self.chair, self.bridge
+            if self.paused or chair is None or bridge is None:
+                continue
+            chair.step(dt, now)
+            if self.patrol:
+                self._patrol_tick(chair, now)
+            seq += 1
+            t = time.time()
+            if bridge.has_subscribers("/odom"):
+                bridge.publish("/odom", n.odometry(chair.pose, chair.v, chair.w, t, seq))
+            if bridge.has_subscribers("/tf"):
+                identity = n.transform("map", "odom", (0.0, 0.0, 0.0), t)
+                bridge.publish("/tf", n.tf_message([identity, n.transform("odom", "base_link", chair.pose, t)]))
+
+    async def _scan_loop(self) -> None:
+        """Ray cast and publish /scan at ``scan_rate``, only while someone listens."""
+        loop = asyncio.get_running_loop()
+        period = 1.0 / self.scan_rate
+        next_t = loop.time()
+        seq = 0
+        lz = self.laser
+        while True:
+            next_t += period
+            await asyncio.sleep(max(0.0, next_t - loop.time()))
+            next_t = max(next_t, loop.time() - period)
+            chair, world, bridge = self.chair, self.world, self.bridge
+            if self.paused or chair is None or world is None or bridge is None:
+                continue
+            if not bridge.has_subscribers("/scan"):
+                continue
+            grid = world.grid
+            ranges = lz.cast(world.hit, grid.resolution, grid.origin[:2], chair.pose)
+            seq += 1
+            msg = self.names.laser_scan(
+                ranges, lz.angle_min, lz.angle_increment, lz.range_min, lz.range_max, period, time.time(), seq
+            )
+            bridge.publish("/scan", msg)

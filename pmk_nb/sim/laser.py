@@ -1,0 +1,77 @@
+"""Vectorised 2D laser ray casting on an occupancy mask: all rays at once, in blocks of steps.
+
+Each block samples every still-active ray at ``block`` points spaced half a cell apart (one fancy
+index into the mask), records the first hit per ray and drops rays that hit or left the grid, so
+a scan in a room costs a few short NumPy passes instead of rays x steps Python work.
+
+Rays that hit nothing within ``range_max`` report ``range_max + 1.0``: REP 117 would say +inf,
+but rosbridge carries JSON and JSON has no Infinity (browsers' JSON.parse rejects it), so we use
+the older "beyond range_max means no return" convention. Clients must treat any value outside
+[range_min, range_max] as "no return".
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+NO_RETURN_OFFSET = 1.0
+
+
+class Laser:
+    """A planar scanner centred on base_link, ``rays`` beams spread evenly over ``fov`` radians."""
+
+    def __init__(
+        self,
+        rays: int = 720,
+        fov: float = math.radians(270.0),
+        range_min: float = 0.05,
+        range_max: float = 10.0,
+        block: int = 24,
+    ) -> None:
+        if rays < 2:
+            raise ValueError(f"a laser needs at least 2 rays, got {rays}")
+        self.rays = rays
+        self.angle_min = -fov / 2.0
+        self.angle_increment = fov / (rays - 1)
+        self.range_min = range_min
+        self.range_max = range_max
+        self.block = block
+        self.angles = self.angle_min + self.angle_increment * np.arange(rays)
+
+    @property
+    def no_return(self) -> float:
+        return self.range_max + NO_RETURN_OFFSET
+
+    def cast(
+        self, hit: np.ndarray, resolution: float, origin: tuple[float, float], pose: tuple[float, float, float]
+    ) -> np.ndarray:
+        """Ranges (float32, metres) for a scanner at ``pose`` (map frame) over the ``hit`` mask."""
+        h, w = hit.shape
+        x, y, theta = pose
+        step = 0.5 * resolution
+        n_steps = int(self.range_max / step) + 1
+        gx, gy = (x - origin[0]) / resolution, (y - origin[1]) / resolution
+        ang = theta + self.angles
+        dx, dy = np.cos(ang) * 0.5, np.sin(ang) * 0.5  # cells per step
+        ranges = np.full(self.rays, self.no_return, dtype=np.float32)
+        active = np.arange(self.rays)
+        for first in range(0, n_steps, self.block):
+            t = np.arange(first, min(first + self.block, n_steps), dtype=np.float64)
+            cols = np.floor(gx + dx[active, None] * t).astype(np.intp)
+            rows = np.floor(gy + dy[active, None] * t).astype(np.intp)
+            inside = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
+            hits = hit[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)] & inside
+            got = hits.any(axis=1)
+            if got.any():
+                k = hits[got].argmax(axis=1)
+                # the sample is inside the wall cell; back off half a step for an unbiased range
+                r = (first + k - 0.5) * step
+                ranges[active[got]] = np.maximum(r, self.range_min)
+            # a ray that has left the grid never comes back (the grid is a convex rectangle)
+            keep = ~got & inside[:, -1]
+            active = active[keep]
+            if active.size == 0:
+                break
+        return ranges

@@ -1,0 +1,209 @@
+"""ROS message dicts as rosbridge sends them, for ROS 1 and ROS 2 flavours.
+
+The two flavours differ in exactly the places a client has to care about: type names
+(``nav_msgs/Odometry`` vs ``nav_msgs/msg/Odometry``), stamps (``secs/nsecs`` vs ``sec/nanosec``)
+and ``Header.seq`` (ROS 1 only). Everything else is built once here so the simulator, the map
+server and rosapi agree on names.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from pmk_nb.grid import OccupancyGrid
+
+Flavour = Literal["ros1", "ros2"]
+FLAVOURS: tuple[str, ...] = ("ros1", "ros2")
+
+_ZERO36 = [0.0] * 36
+
+
+def canonical_type(type_name: str) -> str:
+    """``pkg/msg/Name`` and ``pkg/srv/Name`` -> ``pkg/Name``: ROS 2 rosbridge accepts both spellings."""
+    parts = type_name.strip().split("/")
+    if len(parts) == 3 and parts[1] in ("msg", "srv", "action"):
+        return f"{parts[0]}/{parts[2]}"
+    return type_name.strip()
+
+
+def is_type_name(type_name: str) -> bool:
+    parts = type_name.split("/")
+    return len(parts) in (2, 3) and all(p and p.replace("_", "").isalnum() for p in parts)
+
+
+@dataclass(frozen=True)
+class Names:
+    """Type names and stamp layout for one flavour."""
+
+    flavour: Flavour
+
+    @property
+    def ros_version(self) -> int:
+        return 1 if self.flavour == "ros1" else 2
+
+    def msg(self, pkg: str, name: str) -> str:
+        return f"{pkg}/{name}" if self.flavour == "ros1" else f"{pkg}/msg/{name}"
+
+    def srv(self, pkg: str, name: str) -> str:
+        return f"{pkg}/{name}" if self.flavour == "ros1" else f"{pkg}/srv/{name}"
+
+    def stamp(self, t: float) -> dict[str, int]:
+        secs = math.floor(t)
+        nsecs = min(round((t - secs) * 1e9), 999_999_999)
+        if self.flavour == "ros1":
+            return {"secs": secs, "nsecs": nsecs}
+        return {"sec": secs, "nanosec": nsecs}
+
+    def header(self, frame_id: str, t: float, seq: int = 0) -> dict[str, Any]:
+        h: dict[str, Any] = {"stamp": self.stamp(t), "frame_id": frame_id}
+        if self.flavour == "ros1":
+            h = {"seq": seq, **h}
+        return h
+
+    # -- builders -----------------------------------------------------------------------------
+
+    def odometry(self, pose: tuple[float, float, float], v: float, w: float, t: float, seq: int) -> dict[str, Any]:
+        x, y, th = pose
+        return {
+            "header": self.header("odom", t, seq),
+            "child_frame_id": "base_link",
+            "pose": {"pose": pose_msg(x, y, th), "covariance": _ZERO36},
+            "twist": {
+                "twist": {"linear": vec3(v, 0.0, 0.0), "angular": vec3(0.0, 0.0, w)},
+                "covariance": _ZERO36,
+            },
+        }
+
+    def laser_scan(
+        self,
+        ranges: np.ndarray,
+        angle_min: float,
+        angle_increment: float,
+        range_min: float,
+        range_max: float,
+        scan_time: float,
+        t: float,
+        seq: int,
+    ) -> dict[str, Any]:
+        n = int(ranges.shape[0])
+        return {
+            "header": self.header("base_link", t, seq),
+            "angle_min": angle_min,
+            "angle_max": angle_min + angle_increment * (n - 1),
+            "angle_increment": angle_increment,
+            "time_increment": 0.0,
+            "scan_time": scan_time,
+            "range_min": range_min,
+            "range_max": range_max,
+            "ranges": ranges.astype(np.float64).round(4).tolist(),  # float64: short JSON numbers
+            "intensities": [],
+        }
+
+    def transform(self, parent: str, child: str, pose: tuple[float, float, float], t: float) -> dict[str, Any]:
+        x, y, th = pose
+        return {
+            "header": self.header(parent, t),
+            "child_frame_id": child,
+            "transform": {"translation": vec3(x, y, 0.0), "rotation": quat(th)},
+        }
+
+    def tf_message(self, transforms: list[dict[str, Any]]) -> dict[str, Any]:
+        return {"transforms": transforms}
+
+    def map_metadata(self, grid: OccupancyGrid, load_time: float) -> dict[str, Any]:
+        ox, oy, oth = grid.origin
+        return {
+            "map_load_time": self.stamp(load_time),
+            "resolution": grid.resolution,
+            "width": grid.width,
+            "height": grid.height,
+            "origin": pose_msg(ox, oy, oth),
+        }
+
+    def occupancy_grid(self, grid: OccupancyGrid, load_time: float, t: float, seq: int = 0) -> dict[str, Any]:
+        return {
+            "header": self.header(grid.frame_id or "map", t, seq),
+            "info": self.map_metadata(grid, load_time),
+            "data": grid.to_ros_data(),
+        }
+
+    def empty_grid(self, t: float) -> dict[str, Any]:
+        return {
+            "header": self.header("", t),
+            "info": {
+                "map_load_time": self.stamp(0.0),
+                "resolution": 0.0,
+                "width": 0,
+                "height": 0,
+                "origin": pose_msg(0.0, 0.0, 0.0),
+            },
+            "data": [],
+        }
+
+
+def vec3(x: float, y: float, z: float) -> dict[str, float]:
+    return {"x": x, "y": y, "z": z}
+
+
+def quat(yaw: float) -> dict[str, float]:
+    return {"x": 0.0, "y": 0.0, "z": math.sin(yaw / 2.0), "w": math.cos(yaw / 2.0)}
+
+
+def yaw_of(q: dict[str, Any]) -> float:
+    """Yaw of a (possibly partial) quaternion dict; planar robots only care about z/w."""
+    x, y = float(q.get("x", 0.0)), float(q.get("y", 0.0))
+    z, w = float(q.get("z", 0.0)), float(q.get("w", 1.0))
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def pose_msg(x: float, y: float, yaw: float) -> dict[str, Any]:
+    return {"position": vec3(x, y, 0.0), "orientation": quat(yaw)}
+
+
+# Field names of the message types clients may publish to the simulator. A published message with a
+# field not listed here does not conform to the topic's type and is refused (rosbridge does the same).
+_VEC3 = {"x": None, "y": None, "z": None}
+_QUAT = {"x": None, "y": None, "z": None, "w": None}
+_STAMP = {"secs": None, "nsecs": None, "sec": None, "nanosec": None}
+_HEADER = {"seq": None, "stamp": _STAMP, "frame_id": None}
+_POSE = {"position": _VEC3, "orientation": _QUAT}
+SCHEMAS: dict[str, dict[str, Any]] = {
+    "geometry_msgs/Twist": {"linear": _VEC3, "angular": _VEC3},
+    "geometry_msgs/PoseStamped": {"header": _HEADER, "pose": _POSE},
+    "geometry_msgs/PoseWithCovarianceStamped": {
+        "header": _HEADER,
+        "pose": {"pose": _POSE, "covariance": None},
+    },
+    "std_msgs/String": {"data": None},
+}
+
+
+def conformance_error(type_name: str, msg: Any) -> str | None:
+    """Why ``msg`` does not fit ``type_name``, or None (unknown types are accepted as they are)."""
+    schema = SCHEMAS.get(canonical_type(type_name))
+    if schema is None:
+        return None if isinstance(msg, dict) else "msg must be a JSON object"
+    return _check(schema, msg, "msg")
+
+
+def _check(schema: dict[str, Any], value: Any, where: str) -> str | None:
+    if not isinstance(value, dict):
+        return f"{where} must be a JSON object"
+    for key, item in value.items():
+        if key not in schema:
+            return f"{where} has no field {key!r}"
+        sub = schema[key]
+        if isinstance(sub, dict):
+            err = _check(sub, item, f"{where}.{key}")
+            if err:
+                return err
+        elif sub is None and isinstance(item, dict):
+            return f"{where}.{key} must be a value, not an object"
+        elif key in ("x", "y", "z", "w") and not isinstance(item, int | float):
+            return f"{where}.{key} must be a number"
+    return None

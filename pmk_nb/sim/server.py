@@ -1,0 +1,313 @@
+"""SimChair: a simulated PMK wheelchair behind a rosbridge v2 WebSocket (and optionally SFTP).
+
+It runs in a background thread with its own asyncio loop, so tests, notebooks and the CLI can use
+it from plain synchronous code: ``SimChair(...).start()`` ... ``stop()``. Stopping and starting
+again reuses the same port (reconnect tests); ``pause()`` stops all publishing while sockets stay
+open (stale-data tests).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+import shutil
+import tempfile
+import threading
+import time
+import weakref
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from websockets.asyncio.server import Server, serve
+
+from pmk_nb.errors import PmkError
+from pmk_nb.grid import OccupancyGrid
+from pmk_nb.sim.chair import DriveLimits
+from pmk_nb.sim.demo import demo_grid
+from pmk_nb.sim.engine import Engine
+from pmk_nb.sim.laser import Laser
+from pmk_nb.sim.mapserver import RELOAD_SERVICES, MapServer
+from pmk_nb.sim.messages import FLAVOURS, Flavour, Names
+from pmk_nb.sim.paths import ChairFS
+from pmk_nb.sim.protocol import Bridge
+from pmk_nb.sim.rosapi import register_rosapi
+
+
+class SimError(PmkError):
+    """The simulator could not start (port in use, bad map, bad option)."""
+
+
+class SimChair:
+    """A simulated chair. All public methods are thread-safe and callable from any thread."""
+
+    def __init__(
+        self,
+        map_yaml: Path | str | None = None,
+        *,
+        grid: OccupancyGrid | None = None,
+        host: str = "127.0.0.1",
+        port: int = 0,
+        flavour: Flavour = "ros1",
+        odom_rate: float = 50.0,
+        scan_rate: float = 20.0,
+        rays: int = 720,
+        range_max: float = 10.0,
+        patrol: bool = False,
+        sftp_port: int | None = None,
+        sftp_user: str = "pmk",
+        sftp_password: str | None = None,
+        sftp_authorized_key: str | Path | None = None,
+        maps_dir: Path | str | None = None,
+        start_pose: tuple[float, float, float] | None = None,
+        footprint_radius: float = 0.35,
+        reload_services: Iterable[str] | None = None,
+        limits: DriveLimits | None = None,
+        seed: int = 0,
+        client_queue: int = 200,
+    ) -> None:
+        if flavour not in FLAVOURS:
+            raise SimError(f"unknown flavour {flavour!r}: use 'ros1' or 'ros2'")
+        if odom_rate <= 0 or scan_rate <= 0:
+            raise SimError(f"rates must be positive (odom_rate={odom_rate}, scan_rate={scan_rate})")
+        self.map_yaml = Path(map_yaml) if map_yaml is not None else None
+        self._initial_grid = grid
+        self.host = host
+        self._port = port
+        self.flavour: Flavour = flavour
+        self.names = Names(flavour)
+        self.odom_rate = odom_rate
+        self.scan_rate = scan_rate
+        self.laser = Laser(rays=rays, range_max=range_max)
+        self.sftp_user = sftp_user
+        self.sftp_password = sftp_password or _random_password()
+        self.sftp_authorized_key = sftp_authorized_key
+        self._sftp_port_wanted = sftp_port
+        self.sftp_port: int | None = None
+        self.sftp_host_key_fingerprint: str | None = None  # "SHA256:..." as OpenSSH prints it
+        self.sftp_host_key: str | None = None  # OpenSSH public key line, for known_hosts
+        self._sftp_host_key: Any = None
+        if maps_dir is None:
+            maps_dir = tempfile.mkdtemp(prefix="pmk-sim-maps-")
+            self._cleanup = weakref.finalize(self, shutil.rmtree, maps_dir, True)
+        self.maps_dir = Path(maps_dir)
+        self.maps_dir.mkdir(parents=True, exist_ok=True)
+        self.fs = ChairFS(self.maps_dir, sftp_user)
+        self.footprint_radius = footprint_radius
+        self.reload_services = tuple(reload_services) if reload_services is not None else None
+        unknown = [s for s in self.reload_services or () if s not in RELOAD_SERVICES]
+        if unknown:
+            raise SimError(f"unknown reload service(s) {unknown}: choose from {', '.join(RELOAD_SERVICES)}")
+        self.limits = limits or DriveLimits()
+        self.client_queue = client_queue  # topic messages buffered per client before the oldest drop
+        self._thread: threading.Thread | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._stop_event: asyncio.Event | None = None
+        self._error: BaseException | None = None
+        self.mapserver: MapServer | None = None
+        self.bridge: Bridge | None = None
+        self.engine = Engine(
+            self.names,
+            self.laser,
+            odom_rate=odom_rate,
+            scan_rate=scan_rate,
+            footprint_radius=footprint_radius,
+            limits=self.limits,
+            start_pose=start_pose,
+            patrol=patrol,
+            rng=np.random.default_rng(seed),
+        )
+
+    # -- lifecycle --------------------------------------------------------------------------------
+
+    @property
+    def port(self) -> int:
+        return self._port
+
+    @property
+    def url(self) -> str:
+        return f"ws://{self.host}:{self._port}"
+
+    @property
+    def running(self) -> bool:
+        return self._thread is not None and self._thread.is_alive()
+
+    def start(self, timeout: float = 10.0) -> SimChair:
+        """Serve in a background thread; returns once the port accepts connections."""
+        if self.running:
+            return self
+        grid = self._first_grid()
+        ready = threading.Event()
+        self._error = None
+        self._thread = threading.Thread(target=self._run, args=(grid, ready), name="pmk-sim", daemon=True)
+        self._thread.start()
+        if not ready.wait(timeout):
+            self.stop()
+            raise SimError(f"simulator did not start within {timeout} s")
+        if self._error is not None:
+            self._thread.join(timeout)
+            err = self._error
+            raise SimError(f"simulator could not start on {self.host}:{self._port}: {err}") from err
+        return self
+
+    def stop(self, timeout: float = 10.0) -> None:
+        """Close every connection and the listening sockets; the object can be started again."""
+        loop, thread = self._loop, self._thread
+        if loop is not None and thread is not None and thread.is_alive() and self._stop_event is not None:
+            loop.call_soon_threadsafe(self._stop_event.set)
+            thread.join(timeout)
+        self._thread = None
+
+    def __enter__(self) -> SimChair:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop()
+
+    def pause(self) -> None:
+        """Stop publishing and moving (sockets and services stay up): clients see stale data."""
+        self.engine.paused = True
+
+    def resume(self) -> None:
+        self.engine.paused = False
+
+    @property
+    def paused(self) -> bool:
+        return self.engine.paused
+
+    # -- state and control from other threads -----------------------------------------------------
+
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        """Ground truth (x, y, theta) in the map frame (= odom frame: map->odom is identity)."""
+        chair = self.engine.chair
+        return chair.pose if chair else (math.nan, math.nan, math.nan)
+
+    @property
+    def velocity(self) -> tuple[float, float]:
+        chair = self.engine.chair
+        return (chair.v, chair.w) if chair else (0.0, 0.0)
+
+    @property
+    def bumped(self) -> bool:
+        return bool(self.engine.chair and self.engine.chair.bumped)
+
+    @property
+    def goal_status(self) -> str:
+        return self.engine.chair.goal_status if self.engine.chair else "idle"
+
+    @property
+    def grid(self) -> OccupancyGrid | None:
+        return self.mapserver.grid if self.mapserver else None
+
+    @property
+    def patrol(self) -> bool:
+        """Patrol mode: drive between random reachable points while nobody drives manually."""
+        return self.engine.patrol
+
+    @patrol.setter
+    def patrol(self, on: bool) -> None:
+        self.engine.patrol = bool(on)
+
+    @property
+    def notes(self) -> list[str]:
+        """Things the simulator did on its own (e.g. moved the chair off a wall after a reload)."""
+        return self.engine.notes
+
+    @property
+    def client_count(self) -> int:
+        return len(self.bridge.clients) if self.bridge else 0
+
+    def set_pose(self, x: float, y: float, theta: float = 0.0) -> None:
+        self._call(self.engine.teleport, (x, y, theta))
+
+    def load_map(self, path: str | Path, timeout: float = 30.0) -> int:
+        """Reload like a service call would; returns the Nav2 result code (0 = success)."""
+        assert self.mapserver is not None, "start() the simulator first"
+        code, _ = self._run_coro(self.mapserver.load(str(path)), timeout)
+        return int(code)
+
+    def disconnect_clients(self, timeout: float = 5.0) -> None:
+        """Close every client connection (the server keeps listening): for reconnect tests."""
+        if self.bridge is not None:
+            self._run_coro(self.bridge.close_all(), timeout)
+
+    def _call(self, fn: Any, *args: Any) -> None:
+        if self._loop is None or not self.running:
+            raise SimError("the simulator is not running")
+        self._loop.call_soon_threadsafe(fn, *args)
+
+    def _run_coro(self, coro: Any, timeout: float) -> Any:
+        if self._loop is None or not self.running:
+            coro.close()
+            raise SimError("the simulator is not running")
+        return asyncio.run_coroutine_threadsafe(coro, self._loop).result(timeout)
+
+    # -- the loop thread --------------------------------------------------------------------------
+
+    def _first_grid(self) -> OccupancyGrid:
+        if self.mapserver is not None and self.mapserver.grid is not None:
+            return self.mapserver.grid  # restart keeps the current map
+        if self._initial_grid is not None:
+            return self._initial_grid
+        if self.map_yaml is not None:
+            from pmk_nb.rosmap import read_map
+
+            return read_map(self.map_yaml, flavour="ros1" if self.flavour == "ros1" else "nav2_humble")
+        return demo_grid()
+
+    def _run(self, grid: OccupancyGrid, ready: threading.Event) -> None:
+        loop = asyncio.new_event_loop()
+        self._loop = loop
+        try:
+            loop.run_until_complete(self._main(grid, ready))
+        except BaseException as err:
+            self._error = err
+        finally:
+            ready.set()
+            loop.run_until_complete(loop.shutdown_default_executor())  # map-load / planning threads
+            loop.close()
+
+    async def _main(self, grid: OccupancyGrid, ready: threading.Event) -> None:
+        self._stop_event = asyncio.Event()
+        bridge = Bridge(self.client_queue)
+        self.bridge = bridge
+        source = self.mapserver.source if self.mapserver else self.map_yaml
+        self.mapserver = MapServer(bridge, self.names, self.fs, self.engine.install, self.reload_services)
+        self.mapserver.register()
+        register_rosapi(bridge, self.names, time.time)
+        self.engine.attach(bridge)
+        await self.mapserver.set_grid(grid, source)
+        server = await serve(
+            bridge.handle, self.host, self._port, compression=None, max_size=16 * 2**20, reuse_address=True
+        )
+        sftp = None
+        try:
+            self._port = int(next(iter(server.sockets)).getsockname()[1])
+            if self._sftp_port_wanted is not None:
+                from pmk_nb.sim.sftp import start_sftp
+
+                sftp = await start_sftp(self)
+            tasks = self.engine.tasks()
+            ready.set()
+            await self._stop_event.wait()
+            for task in tasks:
+                task.cancel()
+        finally:
+            await self._shutdown(server, bridge, sftp)
+
+    async def _shutdown(self, server: Server, bridge: Bridge, sftp: Any) -> None:
+        server.close(close_connections=False)
+        await bridge.close_all()
+        await server.wait_closed()
+        if sftp is not None:
+            sftp.close()
+            await sftp.wait_closed()
+        self.engine.cancel_plan()
+
+
+def _random_password() -> str:
+    import secrets
+
+    return secrets.token_urlsafe(12)

@@ -1,0 +1,169 @@
+"""Pure parts of the simulator: grid operations, ray casting, planning, kinematics, path mapping."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import socket
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pmk_nb.sim import SimChair, SimError
+from pmk_nb.sim.chair import Chair
+from pmk_nb.sim.demo import sample_floor
+from pmk_nb.sim.gridops import clearance, dilate_disk, wavefront
+from pmk_nb.sim.laser import Laser
+from pmk_nb.sim.messages import Names, canonical_type, conformance_error
+from pmk_nb.sim.paths import ChairFS
+from pmk_nb.sim.world import World
+from tests.fixtures_sim import room_grid
+
+
+def test_dilate_disk_matches_brute_force():
+    rng = np.random.default_rng(1)
+    mask = rng.random((40, 50)) > 0.97
+    radius = 3.4
+    got = dilate_disk(mask, radius)
+    rows, cols = np.nonzero(mask)
+    rr, cc = np.mgrid[0:40, 0:50]
+    want = np.zeros_like(mask)
+    for r, c in zip(rows, cols, strict=True):
+        want |= (rr - r) ** 2 + (cc - c) ** 2 <= radius**2
+    assert np.array_equal(got, want)
+
+
+def test_wavefront_distances_and_walls():
+    free = np.ones((5, 7), dtype=bool)
+    free[:4, 3] = False  # wall with a gap at the top row
+    src = np.zeros_like(free)
+    src[0, 0] = True
+    dist = wavefront(free, src)
+    assert dist[0, 0] == 0 and dist[0, 2] == 2
+    assert np.isinf(dist[0, 3])
+    assert dist[0, 4] > 4  # must go round through row 4
+    assert clearance(np.ones((9, 9), dtype=bool))[4, 4] == pytest.approx(4.0)
+
+
+def test_laser_ranges_in_a_room():
+    grid = room_grid(6.0, 4.0)
+    laser = Laser(rays=5, fov=math.pi, range_max=10.0)  # -90, -45, 0, 45, 90 degrees
+    ranges = laser.cast(grid.data >= 50, grid.resolution, grid.origin[:2], (2.0, 2.0, 0.0))
+    assert ranges.dtype == np.float32
+    assert ranges[2] == pytest.approx(3.95, abs=0.05)  # +x wall at 5.95
+    assert ranges[0] == pytest.approx(1.95, abs=0.05) and ranges[4] == pytest.approx(1.95, abs=0.05)
+    assert ranges[3] == pytest.approx(1.95 * math.sqrt(2), abs=0.07)
+
+
+def test_laser_no_return_and_range_min():
+    laser = Laser(rays=3, fov=math.pi / 2, range_max=2.0)
+    empty = np.zeros((100, 100), dtype=bool)
+    assert np.all(laser.cast(empty, 0.05, (0.0, 0.0), (2.5, 2.5, 0.0)) == pytest.approx(3.0))
+
+
+def test_world_blocks_unknown_and_footprint():
+    grid = room_grid(4.0, 4.0)
+    grid.data[:, 60:] = -1  # unknown beyond x = 3 m
+    world = World(grid, footprint_radius=0.35)
+    assert not world.blocked_at(1.5, 2.0)
+    assert world.blocked_at(2.8, 2.0)  # within 0.35 m of unknown space
+    assert world.blocked_at(0.2, 2.0)  # within 0.35 m of the outer wall
+    assert world.blocked_at(-1.0, 2.0)  # off the map
+    x, y = world.open_spot()
+    assert 1.0 < x < 2.0 and 1.5 < y < 2.5
+
+
+def test_plan_goes_through_the_door():
+    world = World(room_grid(6.0, 4.0, wall_x=3.0, door=(2.3, 3.6)))
+    path = world.plan((1.5, 1.0), (4.5, 1.0))
+    assert path and math.dist(path[-1], (4.5, 1.0)) < 1e-6
+    crossing = [p for p in path if 2.8 < p[0] < 3.3]
+    assert crossing and all(2.3 < p[1] < 3.6 for p in crossing)
+    assert World(room_grid(6.0, 4.0, wall_x=3.0)).plan((1.5, 1.0), (4.5, 1.0)) == []
+
+
+def test_chair_arc_integration_and_wall():
+    world = World(room_grid(6.0, 4.0))
+    chair = Chair(world, (3.0, 2.0, 0.0))
+    chair.command(0.5, 0.5, now=0.0)
+    for i in range(10):
+        chair.step(0.04, now=0.04 * (i + 1))
+    x, y, th = chair.pose
+    assert th == pytest.approx(0.2)
+    assert x == pytest.approx(3.0 + 1.0 * math.sin(0.2)) and y == pytest.approx(2.0 + 1.0 * (1 - math.cos(0.2)))
+    chair.step(0.1, now=10.0)  # long after the last command: stands still
+    assert chair.v == 0.0 and chair.pose[0] == pytest.approx(x)
+
+
+def test_names_per_flavour():
+    ros1, ros2 = Names("ros1"), Names("ros2")
+    assert ros1.msg("nav_msgs", "Odometry") == "nav_msgs/Odometry"
+    assert ros2.srv("nav2_msgs", "LoadMap") == "nav2_msgs/srv/LoadMap"
+    assert ros1.stamp(12.5) == {"secs": 12, "nsecs": 500_000_000}
+    assert ros2.stamp(12.5) == {"sec": 12, "nanosec": 500_000_000}
+    assert canonical_type("geometry_msgs/msg/Twist") == "geometry_msgs/Twist"
+    assert conformance_error("geometry_msgs/Twist", {"linear": {"x": 1.0}}) is None
+    assert "no field" in conformance_error("geometry_msgs/msg/Twist", {"linear": {"q": 1}})
+    assert "number" in conformance_error("geometry_msgs/Twist", {"angular": {"z": "fast"}})
+
+
+def test_chair_fs_mapping(tmp_path):
+    fs = ChairFS(tmp_path, "pmk")
+    root = tmp_path.resolve()
+    for path in ("~/ALMA_MAPS/a.yaml", "/home/pmk/ALMA_MAPS/a.yaml", "ALMA_MAPS/a.yaml", "a.yaml", "~/a.yaml"):
+        assert fs.map_server_path(path) == root / "a.yaml", path
+    assert fs.map_server_path("/elsewhere/b.yaml") == Path("/elsewhere/b.yaml")
+    assert fs.in_maps(fs.virtual("ALMA_MAPS/../../../etc/passwd")) is None
+    assert fs.to_virtual(root / "x" / "y.yaml") == "/home/pmk/ALMA_MAPS/x/y.yaml"
+
+
+def test_port_in_use_is_a_clear_error():
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        sim = SimChair(grid=room_grid(), port=busy.getsockname()[1])
+        with pytest.raises(SimError, match="could not start"):
+            sim.start()
+        assert not sim.running
+
+
+def test_bad_options_are_refused():
+    with pytest.raises(SimError, match="flavour"):
+        SimChair(flavour="ros3")  # type: ignore[arg-type]
+    with pytest.raises(SimError, match="unknown reload service"):
+        SimChair(grid=room_grid(), reload_services=("reload_everything",))
+    with pytest.raises(SimError, match="rates must be positive"):
+        SimChair(grid=room_grid(), odom_rate=0)
+
+
+def test_plan_through_the_sample_clinic_doors():
+    grid = sample_floor()
+    assert grid is not None, "sample_maps/clinic_floor.gml and the converter are part of this checkout"
+    world = World(grid)
+    # waiting room -> exam room 2: out through door D1 (x 4.5..5.4), along the corridor, in through D3
+    path = world.plan((2.0, 2.0), (25.0, 3.0))
+    assert path
+    crossings = [  # x where the path crosses the wall line y = 6.0
+        x0 + (x1 - x0) * (6.0 - y0) / (y1 - y0)
+        for (x0, y0), (x1, y1) in itertools.pairwise(path)
+        if (y0 - 6.0) * (y1 - 6.0) < 0
+    ]
+    assert len(crossings) == 2
+    assert 4.5 < crossings[0] < 5.4 and 24.5 < crossings[1] < 25.4
+    assert all(not world.blocked_at(x, y) for x, y in path)
+    x, y = world.open_spot()
+    assert not world.blocked_at(x, y)
+
+
+def test_goal_into_a_wall_pocket_gives_up_as_blocked():
+    world = World(room_grid(6.0, 4.0))
+    chair = Chair(world, (1.0, 2.0, 0.0))
+    chair.follow([(1.0, 2.0), (5.9, 2.0)], None)  # a path straight into the far wall
+    t = 0.0
+    while chair.goal_status == "active" and t < 20.0:
+        t += 0.02
+        chair.step(0.02, t)
+    assert chair.goal_status == "blocked"
+    assert chair.pose[0] == pytest.approx(6.0 - 0.05 - 0.35, abs=0.1)
+    assert t < 10.0
