@@ -1,0 +1,1 @@
+"""pmk_nb.chair"""

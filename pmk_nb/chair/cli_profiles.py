@@ -1,0 +1,170 @@
+"""`pmk chair list|add|show|delete|test`: the Settings screen's form, for scripts and kiosks."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+from typing import Any
+
+from pmk_nb.errors import PmkError, SettingsError
+
+# option -> (ChairProfile field, type, help); everything but name, which is positional
+_FIELDS: list[tuple[str, type, str]] = [
+    ("host", str, "chair IP address or host name"),
+    ("port", int, "rosbridge port (9090)"),
+    ("odom-topic", str, "odometry topic (/odom)"),
+    ("scan-topic", str, "laser scan topic (/scan)"),
+    ("pose-source", str, "odometry | pose_topic | tf"),
+    ("pose-topic", str, "pose topic when pose-source is pose_topic (/amcl_pose)"),
+    ("ssh-user", str, "login name on the chair"),
+    ("ssh-port", int, "SSH port (22)"),
+    ("auth", str, "password | key"),
+    ("key-file", str, "private key file when auth is key"),
+    ("remote-maps-dir", str, "maps folder on the chair (~/ALMA_MAPS)"),
+    ("reload-service", str, "auto or a service name like /change_map"),
+    ("reload-flavour", str, "auto | ros1 | nav2 | mapupdate"),
+    ("footprint-radius", float, "chair radius in metres (0.35)"),
+    ("known-hosts", str, "known_hosts file for the chair's SSH key"),
+    ("host-key-check", str, "tofu (trust on first use) | strict"),
+]
+
+
+def add_parser(subparsers: Any) -> None:
+    p = subparsers.add_parser("chair", help="manage chair profiles (connection settings)")
+    sub = p.add_subparsers(dest="action", metavar="ACTION")  # bare `pmk chair` lists
+    sub.add_parser("list", help="list profiles (* = default)").set_defaults(run=run_list)
+    add = sub.add_parser("add", help="create or update a profile (it becomes the default)")
+    add.add_argument("name")
+    for option, kind, text in _FIELDS:
+        add.add_argument(f"--{option}", type=kind, help=text)
+    add.add_argument("--password-stdin", action="store_true", help="remember a password read from stdin")
+    add.set_defaults(run=run_add)
+    show = sub.add_parser("show", help="print a profile as JSON")
+    show.add_argument("name", nargs="?", help="profile (default: the last used one)")
+    show.set_defaults(run=run_show)
+    delete = sub.add_parser("delete", help="delete a profile (and its remembered password)")
+    delete.add_argument("name")
+    delete.set_defaults(run=run_delete)
+    test = sub.add_parser("test", help="test rosbridge and SSH access of a profile")
+    test.add_argument("name", nargs="?", help="profile (default: the last used one)")
+    test.add_argument("--password-stdin", action="store_true", help="read the SSH password from stdin")
+    test.add_argument("--timeout", type=float, default=5.0)
+    test.add_argument("--no-ssh", action="store_true", help="only test rosbridge")
+    test.set_defaults(run=run_test)
+    p.set_defaults(run=run_list)
+
+
+def _store() -> Any:
+    from pmk_nb.chair.settings import ProfileStore
+
+    return ProfileStore()
+
+
+def _profile(store: Any, name: str | None) -> Any:
+    if name:
+        return store.get(name)
+    last = store.last_used()
+    if last is None:
+        raise SettingsError("no chair profile yet: create one with `pmk chair add NAME --host ...`")
+    return last
+
+
+def run_list(args: argparse.Namespace) -> int:
+    store = _store()
+    last = store.last_used()
+    profiles = store.list()
+    if not profiles:
+        print(f"no chair profiles in {store.path}")
+    for profile in profiles:
+        mark = "*" if last is not None and profile.name == last.name else " "
+        who = f"{profile.ssh_user}@" if profile.ssh_user else ""
+        ssh = f"{who}{profile.host}:{profile.ssh_port}"
+        print(f"{mark} {profile.name:20} ws://{profile.host}:{profile.port}  ssh {ssh}")
+    return 0
+
+
+def run_add(args: argparse.Namespace) -> int:
+    from pmk_nb.chair.settings import ChairProfile
+
+    store = _store()
+    changes = {
+        option.replace("-", "_"): getattr(args, option.replace("-", "_"))
+        for option, _kind, _text in _FIELDS
+        if getattr(args, option.replace("-", "_")) is not None
+    }
+    try:
+        current = store.get(args.name)
+    except SettingsError:
+        if "host" not in changes:
+            raise SettingsError(f"new profile {args.name!r} needs --host") from None
+        current = ChairProfile(name=args.name, host=changes["host"])
+    profile = dataclasses.replace(current, **changes)
+    store.save(profile)
+    if args.password_stdin:
+        import sys
+
+        store.set_password(profile.name, sys.stdin.readline().rstrip("\r\n"))
+        print(f"password kept in {store.password_storage}")
+    print(f"saved chair profile {profile.name!r} in {store.path} (now the default)")
+    if store.backup_of_corrupt is not None:
+        print(f"note: the unreadable profiles file was kept as {store.backup_of_corrupt}")
+    return 0
+
+
+def run_show(args: argparse.Namespace) -> int:
+    profile = _profile(_store(), args.name)
+    print(json.dumps(profile.to_dict(), indent=2))
+    return 0
+
+
+def run_delete(args: argparse.Namespace) -> int:
+    store = _store()
+    store.delete(args.name)
+    print(f"deleted chair profile {args.name!r}")
+    return 0
+
+
+def run_test(args: argparse.Namespace) -> int:
+    """Like the Settings screen's Connect button, plus an SSH login: report each part, fail if any fails."""
+    from pmk_nb.chair.cli import ask_password
+    from pmk_nb.chair.deploy import close_links, link_for
+
+    store = _store()
+    profile = _profile(store, args.name)
+    failures = 0
+    try:
+        link = link_for(profile)
+        report = link.test_connection(timeout=args.timeout)
+        if report.ok:
+            info = report.map_info
+            about = f"map {info.width}x{info.height} at {info.resolution:g} m" if info else "no map published"
+            print(f"rosbridge ws://{profile.host}:{profile.port}: ok ({about}, {report.elapsed:.2f} s)")
+        else:
+            failures += 1
+            print(f"rosbridge ws://{profile.host}:{profile.port}: FAILED: {report.reason}")
+    except PmkError as err:
+        failures += 1
+        print(f"rosbridge ws://{profile.host}:{profile.port}: FAILED: {err}")
+    finally:
+        close_links()
+    if not args.no_ssh:
+        from pmk_nb.chair.transfer import check_ssh
+
+        try:
+            password = ask_password(profile, store, args.password_stdin)
+            check = check_ssh(profile, password=password, timeout=args.timeout)
+            state = "exists" if check.exists else "will be created on first send"
+            trusted = " (newly trusted)" if check.host_key.newly_trusted else ""
+            print(
+                f"ssh {profile.ssh_user}@{profile.host}:{profile.ssh_port}: ok, host key "
+                f"{check.host_key.fingerprint}{trusted}; {check.remote_dir} {state}"
+            )
+            if password is not None and profile.auth == "password":
+                store.set_password(profile.name, password)
+        except PmkError as err:
+            failures += 1
+            print(f"ssh {profile.ssh_user}@{profile.host}:{profile.ssh_port}: FAILED: {err}")
+    if failures == 0:
+        store.mark_used(profile.name)
+    return 1 if failures else 0

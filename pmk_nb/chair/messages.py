@@ -1,0 +1,286 @@
+"""Parse rosbridge JSON messages (ROS 1 and ROS 2 shapes) into small typed records.
+
+Pure functions, no I/O: the link's topic callbacks call them on the I/O thread, so they stay cheap
+(one numpy conversion per scan, no Python loop per ray). ROS 1 and ROS 2 differ in stamps
+(``secs/nsecs`` vs ``sec/nanosec``) and type spellings (``pkg/Type`` vs ``pkg/msg/Type``); rosbridge
+sends NaN/inf floats either as JSON ``NaN``/``Infinity`` literals or as ``null``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Odometry:
+    """Latest odometry: pose in the odometry frame and body velocities.
+
+    ``stamp`` is the message header time in seconds (None if absent); ``received`` is
+    ``time.monotonic()`` when the link got it, for ages that do not depend on the chair's clock.
+    """
+
+    x: float
+    y: float
+    theta: float
+    v: float
+    w: float
+    stamp: float | None
+    received: float
+    frame: str = "odom"
+    child_frame: str = "base_link"
+
+
+@dataclass(frozen=True)
+class Pose2D:
+    """A planar pose of the chair in ``frame`` (``map`` when known, else ``odom``)."""
+
+    x: float
+    y: float
+    theta: float
+    frame: str
+    received: float
+    stamp: float | None = None
+
+
+@dataclass(frozen=True)
+class Scan:
+    """A sanitised laser scan.
+
+    ``ranges`` is float32 with NaN for every invalid ray (null, NaN, inf, or outside
+    [range_min, range_max]); ``at_max`` marks rays that hit nothing (at/over range_max or +inf)
+    so a UI can draw them as "free up to max range" instead of as obstacles.
+    """
+
+    angle_min: float
+    angle_increment: float
+    range_min: float
+    range_max: float
+    ranges: np.ndarray
+    at_max: np.ndarray
+    received: float
+    stamp: float | None = None
+    frame: str = "laser"
+
+    def angles(self) -> np.ndarray:
+        """Angle of every ray in the laser frame (radians)."""
+        return (self.angle_min + self.angle_increment * np.arange(self.ranges.size)).astype(np.float32)
+
+
+@dataclass(frozen=True)
+class MapInfo:
+    """What the chair's map server publishes about its map (``nav_msgs/MapMetaData``)."""
+
+    width: int
+    height: int
+    resolution: float
+    origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class TransformStamped2D:
+    """One planar transform from a ``tf2_msgs/TFMessage``: ``child`` expressed in ``parent``."""
+
+    parent: str
+    child: str
+    x: float
+    y: float
+    theta: float
+    stamp: float | None = None
+
+
+def stamp_to_sec(stamp: Any) -> float | None:
+    """Seconds from a ROS 1 (``secs/nsecs``) or ROS 2 (``sec/nanosec``) stamp dict, else None."""
+    if not isinstance(stamp, dict):
+        return None
+    if "sec" in stamp:
+        return float(stamp["sec"]) + float(stamp.get("nanosec", 0)) * 1e-9
+    if "secs" in stamp:
+        return float(stamp["secs"]) + float(stamp.get("nsecs", 0)) * 1e-9
+    return None
+
+
+def stamp_ros_version(stamp: Any) -> int | None:
+    """1 for ``secs/nsecs`` stamps, 2 for ``sec/nanosec``, None when it cannot tell."""
+    if isinstance(stamp, dict):
+        if "sec" in stamp or "nanosec" in stamp:
+            return 2
+        if "secs" in stamp or "nsecs" in stamp:
+            return 1
+    return None
+
+
+def make_stamp(t: float, ros_version: int | None) -> dict[str, int]:
+    """A header stamp for time ``t`` (seconds) in the spelling of the given ROS version."""
+    sec = math.floor(t)
+    nsec = min(round((t - sec) * 1e9), 999_999_999)
+    if ros_version == 2:
+        return {"sec": sec, "nanosec": nsec}
+    return {"secs": sec, "nsecs": nsec}
+
+
+def type_ros_version(type_name: str) -> int:
+    """2 for ``pkg/msg/Type`` / ``pkg/srv/Type`` spellings, 1 for ``pkg/Type``."""
+    parts = type_name.strip("/").split("/")
+    return 2 if len(parts) == 3 and parts[1] in ("msg", "srv", "action") else 1
+
+
+def type_spellings(type_name: str, kind: str = "msg") -> list[str]:
+    """Both spellings of a type, the given one first: ``nav_msgs/Odometry`` <-> ``nav_msgs/msg/Odometry``."""
+    parts = type_name.strip("/").split("/")
+    if len(parts) == 3:
+        other = f"{parts[0]}/{parts[2]}"
+    elif len(parts) == 2:
+        other = f"{parts[0]}/{kind}/{parts[1]}"
+    else:
+        return [type_name]
+    return [type_name, other]
+
+
+def spell_type(type_name: str, ros_version: int | None, kind: str = "msg") -> str:
+    """The spelling a server of ``ros_version`` expects (ROS 1 spelling when unknown: ROS 2
+    rosbridge accepts it too, ROS 1 rosbridge accepts nothing else).
+    """
+    if ros_version == 2:
+        return type_name if type_ros_version(type_name) == 2 else type_spellings(type_name, kind)[1]
+    return normalise_type(type_name)
+
+
+def normalise_type(type_name: str) -> str:
+    """The ROS 1 spelling (``pkg/Type``), for comparing types across ROS versions."""
+    parts = type_name.strip("/").split("/")
+    return f"{parts[0]}/{parts[-1]}" if len(parts) == 3 else type_name.strip("/")
+
+
+def normalise_frame(frame: str) -> str:
+    """tf frame ids without the leading '/' ROS 1 tf allowed (``/odom`` == ``odom``)."""
+    return frame.lstrip("/")
+
+
+def yaw_from_quaternion(q: dict[str, Any] | None) -> float:
+    """Heading (rotation about z) of a ``geometry_msgs/Quaternion`` dict, in (-pi, pi]."""
+    if not q:
+        return 0.0
+    x, y = float(q.get("x") or 0.0), float(q.get("y") or 0.0)
+    z, w = float(q.get("z") or 0.0), float(q.get("w", 1.0) if q.get("w") is not None else 1.0)
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def quaternion_from_yaw(theta: float) -> dict[str, float]:
+    return {"x": 0.0, "y": 0.0, "z": math.sin(theta / 2.0), "w": math.cos(theta / 2.0)}
+
+
+def _f(value: Any) -> float:
+    """A float from a JSON number that may be null (rosbridge's NaN/inf)."""
+    return float("nan") if value is None else float(value)
+
+
+def parse_odometry(msg: dict[str, Any], received: float) -> Odometry:
+    """``nav_msgs/Odometry`` -> :class:`Odometry` (v = linear.x, w = angular.z of the twist)."""
+    header = msg.get("header") or {}
+    pose = (msg.get("pose") or {}).get("pose") or {}
+    pos = pose.get("position") or {}
+    twist = (msg.get("twist") or {}).get("twist") or {}
+    return Odometry(
+        x=_f(pos.get("x", 0.0)),
+        y=_f(pos.get("y", 0.0)),
+        theta=yaw_from_quaternion(pose.get("orientation")),
+        v=_f((twist.get("linear") or {}).get("x", 0.0)),
+        w=_f((twist.get("angular") or {}).get("z", 0.0)),
+        stamp=stamp_to_sec(header.get("stamp")),
+        received=received,
+        frame=normalise_frame(header.get("frame_id") or "odom"),
+        child_frame=normalise_frame(msg.get("child_frame_id") or "base_link"),
+    )
+
+
+def parse_pose(msg: dict[str, Any], received: float) -> Pose2D:
+    """``PoseWithCovarianceStamped`` (pose.pose) or ``PoseStamped`` (pose) -> :class:`Pose2D`."""
+    header = msg.get("header") or {}
+    pose = msg.get("pose") or {}
+    if "pose" in pose:  # PoseWithCovarianceStamped nests pose + covariance
+        pose = pose["pose"] or {}
+    pos = pose.get("position") or {}
+    return Pose2D(
+        x=_f(pos.get("x", 0.0)),
+        y=_f(pos.get("y", 0.0)),
+        theta=yaw_from_quaternion(pose.get("orientation")),
+        frame=normalise_frame(header.get("frame_id") or "map"),
+        received=received,
+        stamp=stamp_to_sec(header.get("stamp")),
+    )
+
+
+def sanitise_ranges(raw: Any, range_min: float, range_max: float) -> tuple[np.ndarray, np.ndarray]:
+    """(ranges float32 with NaN for invalid rays, at_max bool) from a JSON ``ranges`` list.
+
+    ``null`` counts as "no return": ROS 2 rosbridge sends +inf (REP 117's out-of-range value)
+    as null, and a phantom obstacle at max range is worse than a missing ray.
+    """
+    values = np.array(raw if raw is not None else [], dtype=np.float64)  # None -> NaN
+    nulls = np.fromiter((v is None for v in raw), bool, len(raw)) if raw and None in raw else None
+    with np.errstate(invalid="ignore"):
+        at_max = (values >= range_max) | np.isposinf(values)
+        if nulls is not None:
+            at_max |= nulls
+        valid = np.isfinite(values) & (values >= range_min) & (values <= range_max)
+    ranges = np.where(valid, values, np.nan).astype(np.float32)
+    return ranges, at_max
+
+
+def parse_scan(msg: dict[str, Any], received: float) -> Scan:
+    """``sensor_msgs/LaserScan`` -> :class:`Scan` with sanitised ranges."""
+    header = msg.get("header") or {}
+    range_min = _f(msg.get("range_min", 0.0))
+    range_max = _f(msg.get("range_max", float("inf")))
+    if not math.isfinite(range_min):
+        range_min = 0.0
+    if math.isnan(range_max):
+        range_max = float("inf")
+    ranges, at_max = sanitise_ranges(msg.get("ranges"), range_min, range_max)
+    return Scan(
+        angle_min=_f(msg.get("angle_min", 0.0)),
+        angle_increment=_f(msg.get("angle_increment", 0.0)),
+        range_min=range_min,
+        range_max=range_max,
+        ranges=ranges,
+        at_max=at_max,
+        received=received,
+        stamp=stamp_to_sec(header.get("stamp")),
+        frame=normalise_frame(header.get("frame_id") or "laser"),
+    )
+
+
+def parse_map_metadata(info: dict[str, Any]) -> MapInfo:
+    """``nav_msgs/MapMetaData`` (or the ``info`` of an OccupancyGrid) -> :class:`MapInfo`."""
+    origin = info.get("origin") or {}
+    pos = origin.get("position") or {}
+    return MapInfo(
+        width=int(info["width"]),
+        height=int(info["height"]),
+        resolution=float(info["resolution"]),
+        origin=(_f(pos.get("x", 0.0)), _f(pos.get("y", 0.0)), yaw_from_quaternion(origin.get("orientation"))),
+    )
+
+
+def parse_tf_message(msg: dict[str, Any]) -> list[TransformStamped2D]:
+    """``tf2_msgs/TFMessage`` (or ROS 1 ``tf/tfMessage``) -> planar transforms."""
+    out: list[TransformStamped2D] = []
+    for item in msg.get("transforms") or []:
+        header = item.get("header") or {}
+        tf = item.get("transform") or {}
+        tr = tf.get("translation") or {}
+        out.append(
+            TransformStamped2D(
+                parent=normalise_frame(header.get("frame_id") or ""),
+                child=normalise_frame(item.get("child_frame_id") or ""),
+                x=_f(tr.get("x", 0.0)),
+                y=_f(tr.get("y", 0.0)),
+                theta=yaw_from_quaternion(tf.get("rotation")),
+                stamp=stamp_to_sec(header.get("stamp")),
+            )
+        )
+    return out

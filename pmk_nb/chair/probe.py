@@ -1,0 +1,150 @@
+"""Find out precisely why a chair cannot be reached, within a hard time budget.
+
+roslibpy retries failed connects silently (the cause is only logged), so before handing a host to
+it the link probes it step by step with a plain socket and a synchronous websocket client:
+DNS -> TCP -> websocket handshake -> one rosbridge request. Each step has its own reason string,
+which is what the settings screen shows (the original app only ever said "disconnected").
+"""
+
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+from dataclasses import dataclass
+
+from websockets.exceptions import (
+    ConnectionClosed,
+    InvalidHandshake,
+    InvalidStatus,
+    WebSocketException,
+)
+from websockets.sync.client import connect as ws_connect
+
+REFUSED = "connection refused"
+TIMED_OUT = "timed out"
+HOST_UNKNOWN = "host unknown"
+NOT_ROSBRIDGE = "not a rosbridge server"
+
+
+@dataclass(frozen=True)
+class ProbeResult:
+    """Outcome of :func:`probe_rosbridge`: ``reason`` starts with one of the module constants."""
+
+    ok: bool
+    reason: str
+    ros_version: int | None = None
+
+
+def _resolve(host: str, port: int, timeout: float) -> list[tuple] | str:
+    """getaddrinfo with a deadline (the libc resolver can block far longer than we may wait)."""
+    box: dict[str, object] = {}
+    done = threading.Event()
+
+    def work() -> None:
+        try:
+            box["infos"] = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+        except OSError as err:  # gaierror and friends
+            box["error"] = err
+        finally:
+            done.set()
+
+    threading.Thread(target=work, name="pmk-link-dns", daemon=True).start()
+    if not done.wait(max(timeout, 0.0)):
+        return f"{TIMED_OUT}: resolving {host!r} took longer than {timeout:.1f} s"
+    if "error" in box:
+        return f"{HOST_UNKNOWN}: {host!r} cannot be resolved ({box['error']}); check the chair's address"
+    return box["infos"]  # type: ignore[return-value]
+
+
+def _tcp_connect(infos: list[tuple], host: str, port: int, deadline: float) -> socket.socket | str:
+    last = ""
+    for family, socktype, proto, _name, addr in infos:
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            break
+        sock = socket.socket(family, socktype, proto)
+        sock.settimeout(remaining)
+        try:
+            sock.connect(addr)
+            return sock
+        except ConnectionRefusedError:
+            sock.close()
+            last = f"{REFUSED}: nothing listens on {host}:{port} (is rosbridge running on the chair?)"
+        except TimeoutError:
+            sock.close()
+            return f"{TIMED_OUT}: no TCP answer from {host}:{port} (firewall, wrong network or chair off?)"
+        except OSError as err:
+            sock.close()
+            last = f"{REFUSED}: cannot reach {host}:{port} ({err.strerror or err})"
+    return last or f"{TIMED_OUT}: no TCP answer from {host}:{port}"
+
+
+def _rosbridge_check(ws, deadline: float, host: str, port: int) -> ProbeResult:  # type: ignore[no-untyped-def]
+    """Send one rosapi call; any rosbridge answers ``call_service`` (even for a missing service)."""
+    ws.send(json.dumps({"op": "call_service", "id": "pmk-probe:get_time", "service": "/rosapi/get_time"}))
+    while True:
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            return ProbeResult(
+                False, f"{NOT_ROSBRIDGE}: {host}:{port} accepted a websocket but sent no rosbridge reply in time"
+            )
+        try:
+            raw = ws.recv(timeout=remaining)
+        except TimeoutError:
+            continue
+        except ConnectionClosed as err:
+            return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} closed the websocket ({err})")
+        try:
+            msg = json.loads(raw)
+            op = msg.get("op")
+        except (ValueError, AttributeError):
+            return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} sent non-rosbridge data {str(raw)[:60]!r}")
+        if op == "service_response" and msg.get("id") == "pmk-probe:get_time":
+            values = msg.get("values") or {}
+            version = None
+            if msg.get("result", True) and isinstance(values, dict):
+                stamp = values.get("time") or {}
+                version = 2 if "sec" in stamp else 1 if "secs" in stamp else None
+            return ProbeResult(True, "connected", version)
+        if op in ("status", "publish", "service_response"):
+            continue  # rosbridge chatter; keep waiting for our answer
+        return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} answered with op {op!r}")
+
+
+def probe_rosbridge(host: str, port: int, timeout: float = 5.0) -> ProbeResult:
+    """Check step by step that ``ws://host:port`` is a rosbridge server; never exceeds ``timeout``."""
+    deadline = time.monotonic() + timeout
+    infos = _resolve(host, port, timeout)
+    if isinstance(infos, str):
+        return ProbeResult(False, infos)
+    sock = _tcp_connect(infos, host, port, deadline)
+    if isinstance(sock, str):
+        return ProbeResult(False, sock)
+    remaining = deadline - time.monotonic()
+    try:
+        with ws_connect(
+            f"ws://{f'[{host}]' if ':' in host else host}:{port}/",
+            sock=sock,
+            proxy=None,
+            open_timeout=max(remaining, 0.01),
+            close_timeout=0.5,
+            ping_interval=None,
+            compression=None,
+        ) as ws:
+            return _rosbridge_check(ws, deadline, host, port)
+    except TimeoutError:
+        return ProbeResult(
+            False, f"{TIMED_OUT}: {host}:{port} accepted TCP but never completed the websocket handshake"
+        )
+    except InvalidStatus as err:
+        return ProbeResult(
+            False, f"{NOT_ROSBRIDGE}: {host}:{port} answered HTTP {err.response.status_code}, not a websocket"
+        )
+    except (InvalidHandshake, WebSocketException, OSError, EOFError) as err:
+        if isinstance(err, OSError) and isinstance(err.__cause__, TimeoutError):
+            return ProbeResult(False, f"{TIMED_OUT}: {host}:{port} did not complete the websocket handshake")
+        return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} failed the websocket handshake ({err})")
+    finally:
+        sock.close()

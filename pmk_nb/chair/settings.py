@@ -1,0 +1,353 @@
+"""Chair profiles: how to reach one wheelchair (rosbridge, SSH, map reload), saved between sessions.
+
+The original app kept one set of values in Android shared preferences (IP, port, topics, user,
+password) and pre-filled the Settings screen with the last used ones. Here several named profiles
+live in ``profiles.json`` under the user config dir (``PMK_CONFIG_DIR`` overrides it); the last saved
+one is the default. Passwords never reach that file: they go to the system keyring when one works,
+otherwise they live in memory for this session only and the UI asks again next time.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import json
+import os
+import re
+import shutil
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Protocol
+
+import platformdirs
+
+from pmk_nb.errors import SettingsError
+
+POSE_SOURCES = ("odometry", "pose_topic", "tf")
+AUTH_METHODS = ("password", "key")
+RELOAD_FLAVOURS = ("auto", "ros1", "nav2", "mapupdate")
+HOST_KEY_CHECKS = ("tofu", "strict")
+KEYRING_SERVICE = "pmk_nb"
+PROFILES_FILE = "profiles.json"
+FORMAT_VERSION = 1
+
+_HOST_RE = re.compile(r"^[A-Za-z0-9._\-:\[\]%]+$")
+_SERVICE_RE = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_/]*$")
+
+
+def config_dir() -> Path:
+    """Where profiles and the known_hosts file live (``PMK_CONFIG_DIR`` wins, for tests and kiosks)."""
+    env = os.environ.get("PMK_CONFIG_DIR")
+    return Path(env).expanduser() if env else Path(platformdirs.user_config_dir("pmk_nb"))
+
+
+def default_known_hosts() -> Path:
+    """Our own known_hosts, so trusting a chair never edits the user's ~/.ssh/known_hosts."""
+    return config_dir() / "known_hosts"
+
+
+@dataclass
+class ChairProfile:
+    """Everything needed to talk to one chair. ``validate()`` names the first bad field."""
+
+    name: str
+    host: str
+    port: int = 9090
+    odom_topic: str = "/odom"
+    scan_topic: str = "/scan"
+    pose_source: str = "odometry"
+    pose_topic: str = "/amcl_pose"
+    ssh_user: str = ""
+    ssh_port: int = 22
+    auth: str = "password"
+    key_file: str | None = None
+    remote_maps_dir: str = "~/ALMA_MAPS"
+    reload_service: str = "auto"
+    reload_flavour: str = "auto"
+    footprint_radius: float = 0.35
+    known_hosts: str | None = None
+    host_key_check: str = "tofu"
+
+    @property
+    def known_hosts_path(self) -> Path:
+        return Path(self.known_hosts).expanduser() if self.known_hosts else default_known_hosts()
+
+    def validate(self) -> None:
+        """Raise SettingsError naming the field and the fix; returns None when the profile is usable."""
+        if not self.name.strip() or "/" in self.name or "\\" in self.name:
+            _bad("name", self.name, "use a non-empty name without slashes")
+        _check_host(self.host)
+        _check_port("port", self.port)
+        _check_port("ssh_port", self.ssh_port)
+        _check_topic("odom_topic", self.odom_topic)
+        _check_topic("scan_topic", self.scan_topic)
+        if self.pose_source not in POSE_SOURCES:
+            _bad("pose_source", self.pose_source, f"use one of {', '.join(POSE_SOURCES)}")
+        if self.pose_source == "pose_topic" or self.pose_topic:
+            _check_topic("pose_topic", self.pose_topic)
+        if any(c.isspace() for c in self.ssh_user) or ":" in self.ssh_user or "@" in self.ssh_user:
+            _bad("ssh_user", self.ssh_user, "a user name has no spaces, ':' or '@'")
+        if self.auth not in AUTH_METHODS:
+            _bad("auth", self.auth, "use 'password' or 'key'")
+        if self.auth == "key":
+            if not self.key_file:
+                _bad("key_file", self.key_file, "auth is 'key': give the private key file")
+            elif not Path(self.key_file).expanduser().is_file():
+                _bad("key_file", self.key_file, "the private key file does not exist")
+        if not self.remote_maps_dir.strip() or "\n" in self.remote_maps_dir:
+            _bad("remote_maps_dir", self.remote_maps_dir, "give a folder such as ~/ALMA_MAPS")
+        if self.reload_service != "auto" and not _SERVICE_RE.match(self.reload_service):
+            _bad("reload_service", self.reload_service, "use 'auto' or a ROS service name like /change_map")
+        if self.reload_flavour not in RELOAD_FLAVOURS:
+            _bad("reload_flavour", self.reload_flavour, f"use one of {', '.join(RELOAD_FLAVOURS)}")
+        radius = self.footprint_radius
+        if isinstance(radius, bool) or not isinstance(radius, int | float) or not 0 <= radius < 10:
+            _bad("footprint_radius", radius, "give the chair radius in metres (0 to 10)")
+        if self.host_key_check not in HOST_KEY_CHECKS:
+            _bad("host_key_check", self.host_key_check, "use 'tofu' (trust on first use) or 'strict'")
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, raw: dict[str, Any]) -> ChairProfile:
+        """Build and validate; unknown keys are an error (a typo would otherwise be silently ignored)."""
+        if not isinstance(raw, dict):
+            raise SettingsError(f"a profile must be a mapping of field names to values, got {raw!r}")
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(raw) - names)
+        if unknown:
+            raise SettingsError(f"unknown field(s) {', '.join(unknown)}; known fields: {', '.join(sorted(names))}")
+        for required in ("name", "host"):
+            if required not in raw:
+                raise SettingsError(f"{required}: missing (every profile needs a name and a host)")
+        profile = cls(**raw)
+        profile.validate()
+        return profile
+
+
+def _bad(field: str, value: object, hint: str) -> None:
+    raise SettingsError(f"{field}: invalid value {value!r}: {hint}")
+
+
+def _check_host(host: object) -> None:
+    if not isinstance(host, str) or not host.strip():
+        _bad("host", host, "give the chair's IP address or host name, e.g. 192.168.1.20")
+    assert isinstance(host, str)
+    if "://" in host or "/" in host:
+        _bad("host", host, "give only the address, without scheme or path (e.g. 192.168.1.20)")
+    if not _HOST_RE.match(host):
+        _bad("host", host, "an address has no spaces or special characters")
+
+
+def _check_port(field: str, port: object) -> None:
+    if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= 65535:
+        _bad(field, port, "give a port number between 1 and 65535")
+
+
+def _check_topic(field: str, topic: object) -> None:
+    if not isinstance(topic, str) or not topic.startswith("/"):
+        _bad(field, topic, "a ROS topic name starts with '/', e.g. /odom")
+    assert isinstance(topic, str)
+    if len(topic) < 2 or any(c.isspace() for c in topic):
+        _bad(field, topic, "a ROS topic name has no spaces, e.g. /scan")
+
+
+class SecretBackend(Protocol):
+    """The part of the ``keyring`` module API we use."""
+
+    def get_password(self, service: str, username: str) -> str | None: ...
+    def set_password(self, service: str, username: str, password: str) -> None: ...
+    def delete_password(self, service: str, username: str) -> None: ...
+
+
+def detect_keyring() -> tuple[SecretBackend | None, str]:
+    """The keyring module when it is installed and has a real backend; else (None, why not)."""
+    try:
+        import keyring  # type: ignore[import-not-found]
+        import keyring.backends.fail  # type: ignore[import-not-found]
+    except Exception:
+        return None, "the keyring package is not installed"
+    try:
+        backend = keyring.get_keyring()
+    except Exception as err:
+        return None, f"keyring has no usable backend ({err})"
+    if isinstance(backend, keyring.backends.fail.Keyring) or getattr(backend, "priority", 1) <= 0:
+        return None, "keyring has no usable backend"
+    if type(backend).__name__ == "ChainerBackend" and not getattr(backend, "backends", None):
+        return None, "keyring has no usable backend"
+    return keyring, f"system keyring ({type(backend).__name__})"
+
+
+class ProfileStore:
+    """Named chair profiles in one JSON file, plus the session's passwords.
+
+    Args:
+        path: the profiles file; default ``config_dir()/profiles.json``.
+        secrets: a keyring-like backend; default auto-detected. Pass ``False`` to keep passwords in
+            memory only (tests, kiosks without a keyring).
+    """
+
+    def __init__(self, path: Path | str | None = None, *, secrets: SecretBackend | bool | None = None) -> None:
+        self.path = Path(path) if path is not None else config_dir() / PROFILES_FILE
+        self._session_passwords: dict[str, str] = {}
+        self.backup_of_corrupt: Path | None = None
+        if secrets is False:
+            self._secrets: SecretBackend | None = None
+            self._secrets_where = "memory (this session only: asked again next session)"
+        elif secrets is None or secrets is True:
+            self._secrets, why = detect_keyring()
+            self._secrets_where = why if self._secrets else f"memory (this session only: {why})"
+        else:
+            self._secrets, self._secrets_where = secrets, f"keyring ({type(secrets).__name__})"
+
+    # -- file --------------------------------------------------------------------------------------
+    def _read(self) -> dict[str, Any]:
+        if not self.path.exists():
+            return {"version": FORMAT_VERSION, "last_used": None, "profiles": []}
+        try:
+            raw = json.loads(self.path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError) as err:
+            raise SettingsError(f"{self.path}: cannot read the chair profiles file ({err})") from err
+        except json.JSONDecodeError as err:
+            raise SettingsError(
+                f"{self.path}: not valid JSON at line {err.lineno} column {err.colno} ({err.msg}); "
+                "fix it by hand, or save a profile to start a new file (the broken one is kept as .bak)"
+            ) from err
+        if not isinstance(raw, dict) or not isinstance(raw.get("profiles"), list):
+            raise SettingsError(f"{self.path}: expected an object with a 'profiles' list; fix or delete the file")
+        if raw.get("password") or any("password" in p for p in raw["profiles"] if isinstance(p, dict)):
+            raise SettingsError(f"{self.path}: holds a password field; passwords are never stored here, remove it")
+        seen: set[str] = set()
+        for i, item in enumerate(raw["profiles"]):
+            label = item.get("name", f"#{i + 1}") if isinstance(item, dict) else f"#{i + 1}"
+            try:
+                profile = ChairProfile.from_dict(item)
+            except (SettingsError, TypeError) as err:
+                raise SettingsError(f"{self.path}: profile {label!r}: {err}") from err
+            if profile.name in seen:
+                raise SettingsError(f"{self.path}: profile name {profile.name!r} appears twice; rename one")
+            seen.add(profile.name)
+        return raw
+
+    def _write(self, data: dict[str, Any]) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.name}.", suffix=".tmp")
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                json.dump(data, fh, indent=2)
+                fh.write("\n")
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.chmod(tmp, 0o600)
+            os.replace(tmp, self.path)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
+
+    def _read_for_update(self) -> dict[str, Any]:
+        """Current content; a broken file is moved aside to ``.bak`` (never silently overwritten)."""
+        try:
+            return self._read()
+        except SettingsError:
+            if not self.path.exists():
+                raise
+            backup = self.path.with_name(self.path.name + ".bak")
+            if backup.exists():
+                backup = self.path.with_name(f"{self.path.name}.{time.strftime('%Y%m%d-%H%M%S')}.bak")
+            shutil.copy2(self.path, backup)
+            self.backup_of_corrupt = backup
+            return {"version": FORMAT_VERSION, "last_used": None, "profiles": []}
+
+    # -- profiles ----------------------------------------------------------------------------------
+    def list(self) -> list[ChairProfile]:
+        return [ChairProfile.from_dict(p) for p in self._read()["profiles"]]
+
+    def names(self) -> list[str]:
+        return [p.name for p in self.list()]
+
+    def get(self, name: str) -> ChairProfile:
+        for profile in self.list():
+            if profile.name == name:
+                return profile
+        known = ", ".join(self.names()) or "none yet"
+        raise SettingsError(f"no chair profile named {name!r} in {self.path} (profiles: {known})")
+
+    def save(self, profile: ChairProfile) -> None:
+        """Validate, insert or replace by name, and make it the last used (the default next time)."""
+        profile.validate()
+        data = self._read_for_update()
+        profiles = [p for p in data["profiles"] if p.get("name") != profile.name]
+        existing = [p.get("name") for p in data["profiles"]]
+        entry = profile.to_dict()
+        if profile.name in existing:
+            profiles.insert(existing.index(profile.name), entry)
+        else:
+            profiles.append(entry)
+        data.update(version=FORMAT_VERSION, profiles=profiles, last_used=profile.name)
+        self._write(data)
+
+    def mark_used(self, name: str) -> None:
+        """Remember ``name`` as the default without changing it (after a successful send or test)."""
+        data = self._read()
+        if name not in [p["name"] for p in data["profiles"]]:
+            raise SettingsError(f"no chair profile named {name!r} in {self.path}")
+        data["last_used"] = name
+        self._write(data)
+
+    def delete(self, name: str) -> None:
+        data = self._read()
+        if name not in [p["name"] for p in data["profiles"]]:
+            raise SettingsError(f"no chair profile named {name!r} in {self.path}")
+        data["profiles"] = [p for p in data["profiles"] if p["name"] != name]
+        if data.get("last_used") == name:
+            data["last_used"] = data["profiles"][-1]["name"] if data["profiles"] else None
+        self._write(data)
+        self.forget_password(name)
+
+    def last_used(self) -> ChairProfile | None:
+        data = self._read()
+        profiles = [ChairProfile.from_dict(p) for p in data["profiles"]]
+        for profile in profiles:
+            if profile.name == data.get("last_used"):
+                return profile
+        return profiles[-1] if profiles else None
+
+    # -- passwords ---------------------------------------------------------------------------------
+    @property
+    def password_storage(self) -> str:
+        """Where passwords go, in words for the Settings screen."""
+        return self._secrets_where
+
+    @property
+    def passwords_persist(self) -> bool:
+        return self._secrets is not None
+
+    def set_password(self, name: str, password: str) -> None:
+        if self._secrets is not None:
+            try:
+                self._secrets.set_password(KEYRING_SERVICE, name, password)
+                return
+            except Exception as err:
+                self._secrets_where = f"memory (this session only: keyring failed: {err})"
+                self._secrets = None
+        self._session_passwords[name] = password
+
+    def get_password(self, name: str) -> str | None:
+        if name in self._session_passwords:
+            return self._session_passwords[name]
+        if self._secrets is not None:
+            try:
+                return self._secrets.get_password(KEYRING_SERVICE, name)
+            except Exception:
+                return None
+        return None
+
+    def forget_password(self, name: str) -> None:
+        self._session_passwords.pop(name, None)
+        if self._secrets is not None:
+            with contextlib.suppress(Exception):
+                self._secrets.delete_password(KEYRING_SERVICE, name)

@@ -1,0 +1,221 @@
+"""Copy a map (YAML + image) to the chair over SFTP, atomically, with verified host keys.
+
+The original MapTransferrer opened a JSch session with the saved user/password and dropped the two
+files into ``~/ALMA_MAPS``. We keep that layout but: the host key is checked (see
+:mod:`pmk_nb.chair.ssh`: trust on first use records it and reports its SHA256 fingerprint, a
+*changed* key is always refused, strict mode refuses unknown keys too); both files are written
+under hidden temporary names and then renamed into place, image first, so the map server never
+sees a half-written file or a YAML pointing at a missing image; every network step has a timeout.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import posixpath
+import re
+import secrets
+import socket
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import paramiko
+import yaml
+
+from pmk_nb.chair.ssh import (
+    HostKeyInfo,
+    SftpSession,
+    VerifyingHostKeyPolicy,
+    fingerprint,
+    known_hosts_name,
+    open_sftp,
+)
+from pmk_nb.errors import TransferError
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.settings import ChairProfile
+    from pmk_nb.rosmap import MapFiles
+
+__all__ = [
+    "HostKeyInfo",
+    "SshCheck",
+    "UploadResult",
+    "VerifyingHostKeyPolicy",
+    "check_ssh",
+    "fingerprint",
+    "known_hosts_name",
+    "open_sftp",
+    "upload",
+    "upload_map",
+]
+
+ByteProgress = Callable[[int, int], None]  # (bytes sent so far, total bytes)
+
+
+@dataclass(frozen=True)
+class UploadResult:
+    remote_yaml: str
+    remote_image: str
+    bytes_sent: int
+    host_key: HostKeyInfo
+    elapsed: float
+
+
+def _yaml_for_upload(yaml_path: Path) -> tuple[bytes, Path]:
+    """The YAML bytes to send and the image it references (rewritten to a bare file name if needed)."""
+    try:
+        text = yaml_path.read_text(encoding="utf-8")
+        doc = yaml.safe_load(text)
+    except (OSError, yaml.YAMLError) as err:
+        raise TransferError(f"{yaml_path}: cannot read the map YAML ({err})") from err
+    if not isinstance(doc, dict) or not isinstance(doc.get("image"), str) or not doc["image"].strip():
+        raise TransferError(f"{yaml_path}: the map YAML has no 'image' entry")
+    ref = Path(doc["image"]).expanduser()
+    image = ref if ref.is_absolute() else yaml_path.parent / ref
+    if not image.is_file():
+        raise TransferError(f"{yaml_path}: its image {doc['image']} does not exist ({image})")
+    if doc["image"] != image.name:  # the chair has both files side by side: point at the bare name
+        new, count = re.subn(r"(?m)^image\s*:.*$", f"image: {image.name}", text, count=1)
+        text = new if count else yaml.safe_dump({**doc, "image": image.name}, sort_keys=False)
+    return text.encode("utf-8"), image
+
+
+def _temp_name(remote_dir: str, name: str) -> str:
+    return posixpath.join(remote_dir, f".{name}.part-{secrets.token_hex(4)}")
+
+
+def _put_temp(session: SftpSession, data: io.BufferedIOBase, size: int, tmp: str, on_bytes: ByteProgress) -> None:
+    """Write to the hidden temporary path ``tmp`` and check its size on the chair."""
+    session.sftp.putfo(data, tmp, file_size=size, callback=on_bytes, confirm=False)
+    got = session.sftp.stat(tmp).st_size
+    if got != size:
+        raise TransferError(f"{session.where}: {tmp}: wrote {got} of {size} bytes; the chair's disk may be full")
+
+
+def _commit(session: SftpSession, tmp: str, final: str) -> None:
+    """Rename over the final name in one step (posix-rename); plain rename on servers without it."""
+    try:
+        session.sftp.posix_rename(tmp, final)
+    except OSError as err:
+        if "unsupported" not in str(err).lower() and "not supported" not in str(err).lower():
+            raise
+        with contextlib.suppress(FileNotFoundError):  # no posix-rename extension: short window
+            session.sftp.remove(final)
+        session.sftp.rename(tmp, final)
+
+
+def _remove_stale_parts(session: SftpSession, remote_dir: str, names: tuple[str, ...]) -> None:
+    """Best effort: drop temp files an earlier, interrupted upload of these names left behind."""
+    with contextlib.suppress(OSError):
+        for entry in session.sftp.listdir(remote_dir):
+            if any(entry.startswith(f".{name}.part-") for name in names):
+                with contextlib.suppress(OSError):
+                    session.sftp.remove(posixpath.join(remote_dir, entry))
+
+
+def _upload_error(err: BaseException, session: SftpSession, remote_dir: str) -> TransferError:
+    if isinstance(err, PermissionError):
+        return TransferError(
+            f"{session.where}: permission denied writing in {remote_dir}: choose a folder the user can "
+            "write (remote_maps_dir) or fix its permissions on the chair"
+        )
+    if isinstance(err, TimeoutError | socket.timeout):
+        return TransferError(f"{session.where}: the chair stopped answering during the upload; retry")
+    transport = session.client.get_transport()
+    lost = transport is None or not transport.is_active()
+    if lost or isinstance(err, EOFError | paramiko.SSHException | ConnectionError):
+        return TransferError(
+            f"{session.where}: connection lost during the upload ({str(err) or type(err).__name__}); files already on "
+            "the chair under the same name are unchanged: retry"
+        )
+    return TransferError(
+        f"{session.where}: writing in {remote_dir} failed ({err}): the chair's disk may be full or the folder "
+        "not writable; free some space and retry"
+    )
+
+
+def upload(
+    files: MapFiles,
+    profile: ChairProfile,
+    *,
+    password: str | None = None,
+    progress: ByteProgress | None = None,
+    timeout: float = 15.0,
+) -> UploadResult:
+    """Upload a map's YAML and image into ``profile.remote_maps_dir`` (created if missing).
+
+    Raises:
+        TransferError: with the host and what to do (auth, refused, timeout, host key, permissions...).
+    """
+    started = time.monotonic()
+    yaml_bytes, image = _yaml_for_upload(Path(files.yaml))
+    image_size = image.stat().st_size
+    total = image_size + len(yaml_bytes)
+    with open_sftp(profile, password=password, timeout=timeout) as session:
+        remote_dir = session.resolve(profile.remote_maps_dir)
+        session.makedirs(remote_dir)
+        done = 0
+
+        def on_bytes(sent: int, _size: int) -> None:
+            if progress is not None:
+                progress(done + sent, total)
+
+        remote_image = posixpath.join(remote_dir, image.name)
+        remote_yaml = posixpath.join(remote_dir, Path(files.yaml).name)
+        temps = [_temp_name(remote_dir, image.name), _temp_name(remote_dir, Path(files.yaml).name)]
+        try:
+            # both files to temp names first, then two renames: image, then YAML (the YAML never
+            # points at a missing image, and the window where old YAML + new image coexist is tiny)
+            with image.open("rb") as fh:
+                _put_temp(session, fh, image_size, temps[0], on_bytes)
+            done = image_size
+            _put_temp(session, io.BytesIO(yaml_bytes), len(yaml_bytes), temps[1], on_bytes)
+            _commit(session, temps[0], remote_image)
+            _commit(session, temps[1], remote_yaml)
+        except BaseException as err:
+            for tmp in temps:
+                with contextlib.suppress(Exception):
+                    session.sftp.remove(tmp)
+            if isinstance(err, OSError | EOFError | paramiko.SSHException) and not isinstance(err, TransferError):
+                raise _upload_error(err, session, remote_dir) from err
+            raise
+        _remove_stale_parts(session, remote_dir, (image.name, Path(files.yaml).name))
+        if progress is not None:
+            progress(total, total)
+        return UploadResult(remote_yaml, remote_image, total, session.host_key, time.monotonic() - started)
+
+
+def upload_map(
+    files: MapFiles,
+    profile: ChairProfile,
+    *,
+    password: str | None = None,
+    progress: ByteProgress | None = None,
+    timeout: float = 15.0,
+) -> str:
+    """Like ``upload`` but returns only the absolute remote YAML path (what the reload service needs)."""
+    return upload(files, profile, password=password, progress=progress, timeout=timeout).remote_yaml
+
+
+@dataclass(frozen=True)
+class SshCheck:
+    host_key: HostKeyInfo
+    remote_dir: str
+    exists: bool
+
+
+def check_ssh(profile: ChairProfile, *, password: str | None = None, timeout: float = 10.0) -> SshCheck:
+    """Log in and look at the remote maps folder, without changing anything (``pmk chair test``)."""
+    with open_sftp(profile, password=password, timeout=timeout) as session:
+        remote_dir = session.resolve(profile.remote_maps_dir)
+        try:
+            session.sftp.stat(remote_dir)
+            exists = True
+        except FileNotFoundError:
+            exists = False
+        except OSError as err:
+            raise TransferError(f"{session.where}: cannot look at {remote_dir} ({err})") from err
+        return SshCheck(session.host_key, remote_dir, exists)
