@@ -1,0 +1,492 @@
+"""Live preview benchmark: frames/s, message->frame delay, bytes per frame, kernel CPU.
+
+Runs the real thing minus the browser: a simulated chair in its own process (50 Hz odometry,
+1080-ray scans at 40 Hz, driving in circles so the view has to follow), and a real IPython kernel
+(jupyter_client + ipykernel, as JupyterLab and Voilà start it) in which a ChairLink feeds a LiveView
+whose render loop runs as an asyncio task on the kernel's loop.  The kernel's widget messages go
+out on IOPub exactly as they would to a page; this script drains IOPub and counts the canvas bytes
+that really leave the kernel.  Delays are measured inside the kernel from the link's ``received``
+time (monotonic, at message receipt) to the moment the frame was handed to the comm.
+
+Usage: python bench/bench_live.py [--quick] [--seconds S]   -> writes bench/results-live.md
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+from typing import Any
+
+HERE = Path(__file__).resolve().parent
+TARGET_FPS = 20.0
+TARGET_P95_DELAY_MS = 100.0
+TARGET_CPU = 50.0  # % of one core
+
+# The chair drives a 1 m circle in the second room (0.5 m/s, 0.5 rad/s), commanded over rosbridge
+# from the simulator's own process so the kernel under test carries no extra work.
+SIM_CODE = """
+import sys, threading
+from pmk_nb.chair.link import ChairLink
+from pmk_nb.sim import SimChair
+sim = SimChair(odom_rate=50.0, scan_rate=40.0, rays=1080, start_pose=(7.5, 1.5, 0.0)).start()
+driver = ChairLink("127.0.0.1", sim.port)
+driver.connect(timeout=10.0)
+stop = threading.Event()
+def drive():
+    while not stop.wait(0.1):
+        driver.publish_cmd_vel(0.5, 0.5)
+threading.Thread(target=drive, daemon=True).start()
+print(sim.port, flush=True)
+sys.stdin.readline()
+stop.set()
+driver.close()
+sim.stop()
+"""
+
+SETUP = """
+import asyncio, json, os, time
+from pmk_nb.chair.link import ChairLink
+from pmk_nb.sim.demo import demo_grid
+from pmk_nb.ui.live_view import LiveView
+link = ChairLink("127.0.0.1", {port}, throttle_ms={throttle})
+link.connect(timeout=10.0)
+link.start_streams()
+view = LiveView({width}, {height}, fps={fps})
+_grid = demo_grid()
+if {noisy}:  # speckle 5 % of the free cells, like a SLAM map: a worst case for PNG size
+    import numpy as np
+    _rng = np.random.default_rng(1)
+    _free = _grid.data == 0
+    _grid.data[_free & (_rng.random(_grid.data.shape) < 0.05)] = 100
+view.set_map(_grid)
+view.set_zoom({zoom})
+view.attach(link)
+_deadline = time.monotonic() + 10.0
+while link.latest_odom() is None or link.latest_scan() is None:
+    if time.monotonic() > _deadline:
+        raise RuntimeError("no odometry/scan from the simulator within 10 s")
+    time.sleep(0.05)
+print(json.dumps({{"model_id": view.canvas.model_id}}))
+"""
+
+START = """
+_t_cpu0, _t_wall0 = time.process_time(), time.monotonic()
+_counts0 = link.message_counts
+_frames0 = view.metrics.frames
+view.metrics.frame_ms.clear(); view.metrics.odom_delay_ms.clear(); view.metrics.scan_delay_ms.clear()
+view.metrics.frame_bytes.clear(); view.metrics.frame_sent.clear()
+print(view.start())
+"""
+
+STOP = """
+view.stop()
+_cpu = time.process_time() - _t_cpu0
+_wall = time.monotonic() - _t_wall0
+_counts = link.message_counts
+_out = view.metrics.summary()
+_out.update(
+    cpu_percent=100.0 * _cpu / _wall,
+    wall=_wall,
+    frames_in_run=view.metrics.frames - _frames0,
+    odom_msgs=_counts.get("odom", 0) - _counts0.get("odom", 0),
+    scan_msgs=_counts.get("scan", 0) - _counts0.get("scan", 0),
+    loop_mode=view.loop.mode,
+)
+link.close()
+view.close()
+print(json.dumps(_out))
+"""
+
+
+class Kernel:
+    """A real ipykernel driven through jupyter_client; counts canvas bytes on IOPub."""
+
+    def __init__(self) -> None:
+        from jupyter_client.manager import start_new_kernel
+
+        self.km, self.kc = start_new_kernel(kernel_name="python3")
+        self.iopub_bytes = 0
+        self.iopub_msgs = 0
+
+    def run(self, code: str, timeout: float = 60.0) -> str:
+        msg_id = self.kc.execute(code)
+        out: list[str] = []
+        deadline = time.monotonic() + timeout
+        while True:
+            msg = self.kc.get_iopub_msg(timeout=max(0.1, deadline - time.monotonic()))
+            self._count(msg)
+            if msg["parent_header"].get("msg_id") != msg_id:
+                continue
+            kind = msg["msg_type"]
+            if kind == "stream":
+                out.append(msg["content"]["text"])
+            elif kind == "error":
+                raise RuntimeError("kernel error: " + "\n".join(msg["content"]["traceback"][-3:]))
+            elif kind == "status" and msg["content"]["execution_state"] == "idle":
+                return "".join(out)
+
+    def drain(self, seconds: float) -> None:
+        """Receive IOPub for ``seconds`` like a page would (unread messages would pile up in ZMQ)."""
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            try:
+                msg = self.kc.get_iopub_msg(timeout=0.05)
+            except Exception:  # queue.Empty
+                continue
+            self._count(msg)
+
+    def reset(self) -> None:
+        self.iopub_bytes = self.iopub_msgs = 0
+
+    def _count(self, msg: dict[str, Any]) -> None:
+        if msg["msg_type"] != "comm_msg":
+            return
+        self.iopub_msgs += 1
+        self.iopub_bytes += len(json.dumps(msg["content"], default=str))
+        self.iopub_bytes += sum(len(memoryview(b).cast("B")) for b in msg.get("buffers") or [])
+
+    def close(self) -> None:
+        self.kc.stop_channels()
+        self.km.shutdown_kernel(now=True)
+
+
+def run_case(kernel: Kernel, port: int, case: dict[str, Any], seconds: float) -> dict[str, Any]:
+    kernel.run(SETUP.format(port=port, **case))
+    kernel.run(START)
+    kernel.reset()
+    kernel.drain(seconds)
+    result = json.loads(kernel.run(STOP).strip().splitlines()[-1])
+    kernel.drain(0.3)
+    result["iopub_msgs"] = kernel.iopub_msgs
+    result["iopub_bytes_per_s"] = kernel.iopub_bytes / result["wall"]
+    result["iopub_bytes_per_frame"] = kernel.iopub_bytes / max(1, result["frames_in_run"])
+    result.update(case)
+    return result
+
+
+def fmt(value: Any, digits: int = 1) -> str:
+    if value is None:
+        return "–"
+    if isinstance(value, float):
+        return f"{value:.{digits}f}"
+    return str(value)
+
+
+def verdict(r: dict[str, Any]) -> str:
+    delays = [d for d in (r["odom_delay_ms_p95"], r["scan_delay_ms_p95"]) if d is not None]
+    ok = (
+        (r["fps"] or 0) >= TARGET_FPS * 0.95
+        and delays
+        and max(delays) <= TARGET_P95_DELAY_MS
+        and r["cpu_percent"] <= TARGET_CPU
+    )
+    return "yes" if ok else "**no**"
+
+
+def write_results(results: list[dict[str, Any]], seconds: float, sim_cpu: float | None) -> Path:
+    lines = [
+        "## Live preview (`bench/bench_live.py`)",
+        "",
+        "Simulated chair in its own process: odometry 50 Hz, 1080-ray scans at 40 Hz, chair driving "
+        "a 1 m circle at 0.5 m/s. A real "
+        f"ipykernel (jupyter_client) runs ChairLink + LiveView; the render loop is an asyncio task on "
+        f"the kernel's loop. {seconds:.0f} s per case. Canvas {results[0]['width']}x{results[0]['height']} px. "
+        f"Targets: >= {TARGET_FPS:.0f} fps, p95 message->frame delay <= {TARGET_P95_DELAY_MS:.0f} ms, "
+        f"kernel CPU <= {TARGET_CPU:.0f} % of one core.",
+        "",
+        "| case | fps | frame ms p50/p95 | odom->frame ms p50/p95 | scan->frame ms p50/p95 "
+        "| bytes/frame p50/p95 (comm) | IOPub KB/s | kernel CPU % | scans/s in | map redraws | meets targets |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in results:
+        lines.append(
+            f"| {r['name']} | {fmt(r['fps'])} | {fmt(r['frame_ms_p50'], 2)}/{fmt(r['frame_ms_p95'], 2)} "
+            f"| {fmt(r['odom_delay_ms_p50'])}/{fmt(r['odom_delay_ms_p95'])} "
+            f"| {fmt(r['scan_delay_ms_p50'])}/{fmt(r['scan_delay_ms_p95'])} "
+            f"| {fmt(r['bytes_p50'], 0)}/{fmt(r['bytes_p95'], 0)} | {r['iopub_bytes_per_s'] / 1024:.0f} "
+            f"| {r['cpu_percent']:.0f} | {r['scan_msgs'] / r['wall']:.0f} | {r['map_draws']} | {verdict(r)} |"
+        )
+    lines += [
+        "",
+        "Notes: *bytes/frame* is what ipycanvas hands to the comm per frame (command JSON + binary "
+        "buffers, measured by wrapping the canvas manager's `send`); *IOPub KB/s* counts the comm "
+        "messages this script received from the kernel on IOPub, as a page would. Kernel CPU "
+        "includes rosbridge parsing on the link's I/O thread (process CPU time / wall time). "
+        "'zoomed' cases follow the chair at zoom level 3 (the view is about 10 x 7 m), so the map "
+        "layer is re-sent whenever the view pans by a pixel; 'whole map' sends it once. The link's "
+        "default scan throttle (50 ms) caps scans at 20/s; the 'unthrottled' case takes all 40/s. "
+        "The 'speckled' case draws the demo map with 5 % of its free cells made occupied (a "
+        "SLAM-like texture: the map image compresses far worse). Rays are thinned to about 2 px "
+        "apart on screen, so the whole-map view sends fewer segments than the zoomed one."
+        + (f" Simulator process CPU: {sim_cpu:.0f} % of one core." if sim_cpu is not None else ""),
+        "",
+    ]
+    out = HERE / "results-live.md"
+    tmp = out.with_suffix(".md.tmp")
+    tmp.write_text("\n".join(lines), encoding="utf-8")
+    os.replace(tmp, out)
+    return out
+
+
+def proc_cpu_seconds(pid: int) -> float | None:
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+# -- browser stage: Voilà + headless Chromium -------------------------------------------------------
+# The notebook Voilà runs: a LiveView whose frames carry an invisible stamp (the wall-clock time the
+# newest odometry reached the kernel), so the page can time message -> drawn-on-the-page.
+BROWSER_NOTEBOOK = """
+import os, time
+from pmk_nb.chair.link import ChairLink
+from pmk_nb.sim.demo import demo_grid
+from pmk_nb.ui.live_view import LiveView
+
+class StampedView(LiveView):
+    def _draw_dynamic(self, view, pose, odom, scan):
+        super()._draw_dynamic(view, pose, odom, scan)
+        if odom is not None:
+            wall = time.time() - (time.monotonic() - odom.received)
+            self.dyn_layer.fill_text(f"pmkt:{wall * 1000.0:.1f}", -1000, -1000)
+
+link = ChairLink("127.0.0.1", int(os.environ["PMK_BENCH_PORT"]))
+link.connect(timeout=10.0)
+link.start_streams()
+view = StampedView(800, 600, fps=20)
+view.set_map(demo_grid())
+view.set_zoom(int(os.environ.get("PMK_BENCH_ZOOM", "3")))
+view.start(link)
+view.canvas
+"""
+
+# Runs in the page before any script: records every stamped frame the page draws.
+STAMP_JS = """
+window.__pmk = {frames: [], delays: []};
+const _fillText = CanvasRenderingContext2D.prototype.fillText;
+CanvasRenderingContext2D.prototype.fillText = function (text, ...rest) {
+  if (typeof text === "string" && text.startsWith("pmkt:")) {
+    const now = performance.timeOrigin + performance.now();
+    window.__pmk.frames.push(now);
+    window.__pmk.delays.push(now - parseFloat(text.slice(5)));
+    return;
+  }
+  return _fillText.call(this, text, ...rest);
+};
+"""
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--headless",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+
+
+def free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def run_browser(sim_port: int, seconds: float, zoom: int) -> dict[str, Any]:
+    """Serve BROWSER_NOTEBOOK with Voilà, open it in Chromium, measure what the page draws."""
+    import socket
+    import statistics
+    import tempfile
+
+    from playwright.sync_api import sync_playwright
+
+    from pmk_nb.ui.voila_config import voila_command
+
+    with tempfile.TemporaryDirectory(prefix="pmk-bench-live-") as tmp:
+        nb = Path(tmp) / "live.ipynb"
+        cell = {"cell_type": "code", "execution_count": None, "id": "live", "metadata": {}, "outputs": []}
+        cell["source"] = BROWSER_NOTEBOOK
+        nb.write_text(
+            json.dumps(
+                {
+                    "cells": [cell],
+                    "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"}},
+                    "nbformat": 4,
+                    "nbformat_minor": 5,
+                }
+            ),
+            encoding="utf-8",
+        )
+        port = free_port()
+        env = {**os.environ, "PMK_BENCH_PORT": str(sim_port), "PMK_BENCH_ZOOM": str(zoom)}
+        voila = subprocess.Popen(
+            voila_command(nb, port=port),
+            cwd=HERE.parent,
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        try:
+            url = f"http://127.0.0.1:{port}/"
+            deadline = time.monotonic() + 60
+            while True:  # wait for the port (GET / would start a kernel of its own)
+                try:
+                    socket.create_connection(("127.0.0.1", port), timeout=2).close()
+                    break
+                except OSError:
+                    if time.monotonic() > deadline or voila.poll() is not None:
+                        raise RuntimeError("Voilà did not start within 60 s") from None
+                    time.sleep(0.3)
+            with sync_playwright() as pw:
+                browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+                try:
+                    page = browser.new_page(viewport={"width": 1280, "height": 800})
+                    page.add_init_script(STAMP_JS)
+                    t_open = time.monotonic()
+                    page.goto(url, timeout=120_000)
+                    page.wait_for_function(
+                        "window.__pmk && window.__pmk.frames.length > 5", polling=250, timeout=120_000
+                    )
+                    first_frame_s = time.monotonic() - t_open
+                    page.evaluate("window.__pmk.frames = []; window.__pmk.delays = [];")
+                    time.sleep(seconds)
+                    data = page.evaluate("window.__pmk")
+                finally:
+                    browser.close()
+        finally:
+            voila.terminate()
+            try:
+                voila.wait(15)
+            except subprocess.TimeoutExpired:
+                voila.kill()
+    frames, delays = data["frames"], sorted(data["delays"])
+    span = (frames[-1] - frames[0]) / 1000.0 if len(frames) > 1 else 0.0
+
+    def pct(q: float) -> float | None:
+        return statistics.quantiles(delays, n=100)[int(q) - 1] if len(delays) >= 2 else None
+
+    return {
+        "zoom": zoom,
+        "fps": (len(frames) - 1) / span if span > 0 else None,
+        "delay_p50": pct(50),
+        "delay_p95": pct(95),
+        "frames": len(frames),
+        "first_frame_s": first_frame_s,
+    }
+
+
+def write_browser_results(rows: list[dict[str, Any]], seconds: float) -> None:
+    lines = [
+        "",
+        "### In Chromium (Voilà page, headless)",
+        "",
+        f"The same chair; Voilà serves a notebook with the LiveView; headless Chromium ({CHROMIUM}, "
+        f"no GPU) opens it and records, for {seconds:.0f} s, every frame the page draws and the time "
+        "from the odometry message reaching the kernel to the page drawing that frame (same machine, "
+        "wall clocks; 'drawn' = the page executed the frame's canvas commands, the paint follows "
+        "at the next animation frame).",
+        "",
+        "| zoom | frames drawn by the page /s | odom -> drawn in page ms p50/p95 | page open -> first frame s "
+        "| meets targets |",
+        "|---|---|---|---|---|",
+    ]
+    for r in rows:
+        ok = (r["fps"] or 0) >= TARGET_FPS * 0.95 and (r["delay_p95"] or 1e9) <= TARGET_P95_DELAY_MS
+        lines.append(
+            f"| {r['zoom']} | {fmt(r['fps'])} | {fmt(r['delay_p50'])}/{fmt(r['delay_p95'])} "
+            f"| {r['first_frame_s']:.1f} | {'yes' if ok else '**no**'} |"
+        )
+    out = HERE / "results-live.md"
+    text = out.read_text(encoding="utf-8").rstrip("\n") + "\n" + "\n".join(lines) + "\n"
+    tmp = out.with_suffix(".md.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, out)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="3 s per case instead of 10")
+    parser.add_argument("--seconds", type=float, default=None)
+    parser.add_argument("--no-browser", action="store_true", help="skip the Voilà + Chromium stage")
+    args = parser.parse_args(argv)
+    seconds = args.seconds or (3.0 if args.quick else 10.0)
+    base = {"width": 800, "height": 600, "fps": 20, "noisy": False}
+    cases = [
+        {"name": "whole map", "zoom": 1, "throttle": "None", **base},
+        {"name": "zoomed, following", "zoom": 3, "throttle": "None", **base},
+        {"name": "zoomed, unthrottled scans", "zoom": 3, "throttle": '{"scan": 0}', **base},
+        {"name": "zoomed, speckled map", "zoom": 3, "throttle": "None", **base, "noisy": True},
+    ]
+    sim = subprocess.Popen(
+        [sys.executable, "-c", textwrap.dedent(SIM_CODE)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+        cwd=HERE.parent,
+    )
+    kernel = None
+    try:
+        assert sim.stdout is not None
+        port = int(sim.stdout.readline().strip())
+        sim_cpu0, sim_t0 = proc_cpu_seconds(sim.pid), time.monotonic()
+        kernel = Kernel()
+        kernel.run(f"import os; os.chdir({str(HERE.parent)!r})")
+        results = []
+        for case in cases:
+            r = run_case(kernel, port, case, seconds)
+            print(
+                f"{case['name']}: {fmt(r['fps'])} fps, odom p95 {fmt(r['odom_delay_ms_p95'])} ms, "
+                f"scan p95 {fmt(r['scan_delay_ms_p95'])} ms, {fmt(r['bytes_p50'], 0)} B/frame, "
+                f"CPU {r['cpu_percent']:.0f} %, mode {r['loop_mode']}",
+                flush=True,
+            )
+            results.append(r)
+        sim_cpu1 = proc_cpu_seconds(sim.pid)
+        sim_cpu = (
+            100.0 * (sim_cpu1 - sim_cpu0) / (time.monotonic() - sim_t0)
+            if sim_cpu0 is not None and sim_cpu1 is not None
+            else None
+        )
+        out = write_results(results, seconds, sim_cpu)
+        kernel.close()
+        kernel = None
+        if not args.no_browser:
+            if not Path(CHROMIUM).exists():
+                print(f"browser stage skipped: {CHROMIUM} missing (apt-get install -y chromium)", file=sys.stderr)
+                return 1
+            rows = []
+            for zoom in (1, 3):
+                r = run_browser(port, seconds, zoom)
+                print(f"browser zoom {zoom}: {fmt(r['fps'])} fps, delay p95 {fmt(r['delay_p95'])} ms", flush=True)
+                rows.append(r)
+            write_browser_results(rows, seconds)
+        print(f"wrote {out}")
+        return 0
+    finally:
+        if kernel is not None:
+            kernel.close()
+        if sim.stdin is not None:
+            try:
+                sim.stdin.write("\n")
+                sim.stdin.flush()
+            except OSError:
+                pass
+        try:
+            sim.wait(10)
+        except subprocess.TimeoutExpired:
+            sim.kill()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

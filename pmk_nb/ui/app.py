@@ -1,0 +1,181 @@
+"""The dashboard shell: navigation and information panel on the left, the active screen on the right.
+
+Same layout as the original tablet app (thesis 4.2.1.1): Home, Maps and Settings buttons, below
+them an information panel (the active screen's info plus the latest message), and the screen's
+content filling the rest.  ``build_app()`` is all a notebook or the Voilà kiosk page needs.
+"""
+
+from __future__ import annotations
+
+import atexit
+import logging
+from pathlib import Path
+from typing import Any, Protocol
+
+import ipywidgets as w
+
+from pmk_nb.errors import PmkError
+from pmk_nb.ui.context import AppContext, Notification
+from pmk_nb.ui.widgets import button, escape, guard, style_widget
+
+log = logging.getLogger(__name__)
+
+SCREENS: tuple[str, ...] = ("home", "maps", "settings")
+_NAV_LABELS = {"home": ("Home", "home"), "maps": ("Maps", "map"), "settings": ("Settings", "cog")}
+
+
+class Screen(Protocol):
+    widget: w.Widget
+    info_widget: w.Widget
+
+    def close(self) -> None: ...
+
+
+class _PlaceholderScreen:
+    """Stands in for a screen whose module is missing from this build."""
+
+    def __init__(self, message: str) -> None:
+        self.widget = w.HTML(f"<p>{escape(message)}</p>")
+        self.info_widget = w.HTML("")
+
+    def close(self) -> None:
+        return None
+
+
+def _home_screen(ctx: AppContext) -> Any:
+    try:
+        from pmk_nb.ui.home import HomeScreen
+    except ModuleNotFoundError as err:
+        if err.name and err.name.startswith("pmk_nb.ui.home"):
+            return _PlaceholderScreen("The live preview is not installed in this build.")
+        raise
+    return HomeScreen(ctx)
+
+
+class Dashboard(w.HBox):
+    """The whole app as one widget; ``show(name)`` switches screens like the navigation buttons.
+
+    Attributes:
+        ctx: the session state shared by the screens.
+        screens: ``{"home": HomeScreen, "maps": MapsScreen, "settings": SettingsScreen}``.
+    """
+
+    def __init__(self, ctx: AppContext) -> None:
+        from pmk_nb.ui.maps_screen import MapsScreen
+        from pmk_nb.ui.settings_screen import SettingsScreen
+
+        self.ctx = ctx
+        self.screens: dict[str, Any] = {
+            "home": _home_screen(ctx),
+            "maps": MapsScreen(ctx),
+            "settings": SettingsScreen(ctx),
+        }
+        self.current = "home"
+        self.nav_buttons: dict[str, w.Button] = {}
+        for name in SCREENS:
+            label, icon = _NAV_LABELS[name]
+            btn = button(label, f"pmk-nav-{name}", icon=icon, width="100%")
+            btn.on_click(guard(ctx, f"Opening {label}")(lambda _b, n=name: self.show(n)))
+            self.nav_buttons[name] = btn
+        self.message = w.HTML("")
+        self.message.add_class("pmk-message")
+        self.info_slot = w.VBox([])
+        info = w.VBox([self.info_slot, self.message], layout=w.Layout(width="100%"))
+        info.add_class("pmk-info")
+        title = w.HTML("<div class='pmk-title'>PMK Wheelchair</div>")
+        nav = w.VBox(
+            [title, *self.nav_buttons.values(), info],
+            layout=w.Layout(width="270px", min_width="270px", min_height="560px", grid_gap="8px"),
+        )
+        nav.add_class("pmk-nav")
+        self.content = w.Box([], layout=w.Layout(flex="1 1 auto", width="100%", overflow="auto"))
+        self.content.add_class("pmk-content")
+        super().__init__(
+            [style_widget(), nav, self.content],
+            layout=w.Layout(width="100%", min_height="600px", align_items="stretch"),
+        )
+        self.add_class("pmk-app")
+        self._unsubscribe = ctx.observe_notifications(self._on_notification)
+        if ctx.notifications:  # problems found while the screens were built
+            self._on_notification(ctx.notifications[-1])
+        self._closed = False
+        self.show("home")
+
+    def show(self, name: str) -> None:
+        """Switch to a screen; leaving Home stops the live preview (as the Android app did)."""
+        if name not in self.screens:
+            raise ValueError(f"unknown screen {name!r}; expected one of {', '.join(SCREENS)}")
+        previous = self.current
+        if previous == "home" and name != "home":
+            stop = getattr(self.screens["home"], "stop_preview", None)
+            if stop is not None:
+                stop()
+        screen = self.screens[name]
+        self.current = name
+        self.content.children = (screen.widget,)
+        self.info_slot.children = (screen.info_widget,)
+        for other, btn in self.nav_buttons.items():
+            if other == name:
+                btn.add_class("pmk-nav-active")
+            else:
+                btn.remove_class("pmk-nav-active")
+        on_show = getattr(screen, "on_show", None)
+        if on_show is not None:
+            on_show()
+
+    def _on_notification(self, note: Notification) -> None:
+        self.message.value = f"<div class='pmk-msg-{note.level}'>{escape(note.message)}</div>"
+
+    def close(self) -> None:
+        """Stop every screen and close the chair link of this session.
+
+        Also reached from ``Widget.__del__`` (garbage collection, interpreter exit): runs once.
+        """
+        if getattr(self, "_closed", True):
+            super().close()
+            return
+        self._closed = True
+        self._unsubscribe()
+        for screen in self.screens.values():
+            try:
+                screen.close()
+            except Exception:
+                log.exception("closing a screen failed")
+        self.ctx.close()
+        super().close()
+
+
+def build_app(
+    maps_dir: str | Path | None = None,
+    config_dir: str | Path | None = None,
+    *,
+    ctx: AppContext | None = None,
+) -> w.Widget:
+    """Build the dashboard; display the returned widget (a notebook cell's last line does that).
+
+    Args:
+        maps_dir: the maps folder (default: ``PMK_MAPS_DIR`` or the user data dir).
+        config_dir: where chair profiles and UI state live (default: ``PMK_CONFIG_DIR`` or user config).
+        ctx: an existing session state (tests); overrides both directories.
+
+    Returns:
+        The :class:`Dashboard`, or, when even the folders cannot be opened, a message saying why
+        (a kiosk page must not show a traceback).
+    """
+    try:
+        if ctx is None:
+            from pmk_nb.chair.settings import PROFILES_FILE, ProfileStore
+            from pmk_nb.library import MapsFolder
+
+            cfg = Path(config_dir) if config_dir is not None else None
+            profiles = ProfileStore(cfg / PROFILES_FILE) if cfg is not None else ProfileStore()
+            maps = MapsFolder(Path(maps_dir) if maps_dir is not None else None)
+            ctx = AppContext(maps, profiles, config_dir=cfg)
+        app = Dashboard(ctx)
+    except PmkError as err:
+        box = w.HTML(f"<div class='pmk-msg-error'><b>The dashboard cannot start:</b> {escape(err)}</div>")
+        box.add_class("pmk-app-error")
+        return box
+    # One chair connection per page: closed when the kernel goes (Voilà culls idle kernels).
+    atexit.register(app.ctx.close)
+    return app

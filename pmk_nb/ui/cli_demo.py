@@ -1,0 +1,39 @@
+"""``pmk demo``: a simulated chair and the dashboard, ready to preview, in one command.
+
+The first-run experience: converts the sample clinic floor into a demo maps folder, starts the
+simulated chair (``pmk sim``) with an SFTP endpoint, writes a "Simulated chair" profile pointing at
+it, makes the clinic the current map and serves the dashboard, so a new user opens the URL, presses
+Preview on the Home screen and sees the chair patrolling.  Ctrl-C / SIGTERM stops everything.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from pmk_nb.ui.cli import check_port_number, serve, server_options, sigterm_as_interrupt
+
+
+def add_parser(subparsers: Any) -> None:
+    """Register ``pmk demo``."""
+    p = subparsers.add_parser("demo", help="start a simulated chair and the dashboard, ready to preview")
+    server_options(p)
+    p.add_argument("--dir", type=Path, default=Path(".demo"), help="demo folder (default: ./.demo)")
+    p.add_argument("--gml", type=Path, help="IndoorGML file to use (default: sample_maps/clinic_floor.gml)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from pmk_nb.ui.demo import prepare_demo
+
+    check_port_number(args.port)
+    with sigterm_as_interrupt():
+        print("Preparing the demo: converting the sample map, starting the simulated chair...", flush=True)
+        demo = prepare_demo(args.dir, gml=args.gml)
+        try:
+            print(f"Simulated chair: rosbridge ws://127.0.0.1:{demo.ros_port}, SFTP port {demo.sftp_port}", flush=True)
+            print("Open the URL below, press Preview on the Home screen: the chair patrols the clinic.", flush=True)
+            return serve(args, demo.env, demo.root)
+        finally:
+            demo.stop()

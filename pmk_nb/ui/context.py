@@ -1,0 +1,264 @@
+"""Shared state of one dashboard session (one kernel): maps folder, chair profiles, current map.
+
+Screens never talk to each other directly: the Maps screen sets the current map, the Home screen
+observes it; every screen reports problems through :meth:`AppContext.notify` so the app shell can
+show them in the information panel instead of a traceback.  The current map survives restarts in a
+small JSON state file in the config dir (``PMK_CONFIG_DIR`` overrides), like the original app's
+"last map used" preference.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import tempfile
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.chair.settings import ChairProfile, ProfileStore
+    from pmk_nb.library import MapsFolder
+
+log = logging.getLogger(__name__)
+
+Level = Literal["info", "warning", "error"]
+LEVELS: tuple[str, ...] = ("info", "warning", "error")
+STATE_FILE = "ui_state.json"
+#: ``pmk demo`` hands its simulated chair's SFTP password to the dashboard in these two variables:
+#: the password applies to the named profile only (a keyring may not exist, and the profile store's
+#: memory-only fallback does not cross processes).
+DEMO_PASSWORD_ENV = "PMK_SIM_PASSWORD"
+DEMO_PROFILE_ENV = "PMK_SIM_PROFILE"
+
+
+def default_config_dir() -> Path:
+    """Directory for UI state: the chair profiles' config dir (``PMK_CONFIG_DIR`` overrides)."""
+    from pmk_nb.chair.settings import config_dir
+
+    return config_dir()
+
+
+@dataclass(frozen=True)
+class CurrentMap:
+    """The map the Home screen previews: the last one sent to the chair."""
+
+    name: str
+    yaml: Path
+    preview: Path | None
+
+
+@dataclass(frozen=True)
+class Notification:
+    """One message for the information panel."""
+
+    message: str
+    level: Level
+
+
+def _atomic_write_json(path: Path, data: object) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            json.dump(data, fh, indent=2)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+class AppContext:
+    """Per-kernel session state shared by the dashboard screens.
+
+    Args:
+        maps: the maps folder the Maps screen lists and converts into.
+        profiles: chair profiles; the last used one is "the chair".
+        config_dir: where the UI state file lives (default :func:`default_config_dir`).
+    """
+
+    def __init__(self, maps: MapsFolder, profiles: ProfileStore, *, config_dir: Path | None = None) -> None:
+        self.maps = maps
+        self.profiles = profiles
+        self.config_dir = Path(config_dir) if config_dir is not None else default_config_dir()
+        self._lock = threading.RLock()
+        self._map_observers: list[Callable[[CurrentMap | None], None]] = []
+        self._note_observers: list[Callable[[Notification], None]] = []
+        self._links: dict[tuple[str, int], ChairLink] = {}
+        self._session_passwords: dict[str, str] = {}
+        self.notifications: list[Notification] = []
+        self._current_map = self._load_current_map()
+        self._closed = False
+        self._profile_error = ""
+
+    # -- chair -------------------------------------------------------------------------------------
+    def profile(self) -> ChairProfile | None:
+        """The current chair profile (the last one saved or used), or None before any is saved."""
+        try:
+            profile = self.profiles.last_used()
+        except Exception as err:  # a corrupt profile file must not break the whole app
+            message = f"Cannot read chair settings: {err}"
+            if message != self._profile_error:  # say it once, not on every poll
+                self._profile_error = message
+                self.notify(message, "error")
+            return None
+        self._profile_error = ""
+        return profile
+
+    def link(self) -> ChairLink:
+        """The rosbridge link for the current profile (the kernel's link from ``get_link``).
+
+        When the profile now points at another chair, the link to the previous one is closed: a
+        page holds one chair connection.
+
+        Raises:
+            SettingsError: when no chair profile has been saved yet.
+        """
+        from pmk_nb.chair.link import get_link
+        from pmk_nb.errors import SettingsError
+
+        profile = self.profile()
+        if profile is None:
+            raise SettingsError("No wheelchair configured yet: fill in and save the Settings screen first.")
+        key = (profile.host, int(profile.port))
+        with self._lock:
+            link = get_link(
+                profile.host,
+                int(profile.port),
+                odom_topic=profile.odom_topic,
+                scan_topic=profile.scan_topic,
+                pose_source=profile.pose_source,
+                pose_topic=profile.pose_topic,
+            )
+            stale = [old for k, old in self._links.items() if k != key and old is not link]
+            self._links = {key: link}
+        for old in stale:
+            try:
+                old.close()
+            except Exception as err:
+                log.warning("closing the previous chair link failed: %s", err)
+        return link
+
+    def ssh_password(self, profile: ChairProfile) -> str | None:
+        """Password for SFTP: entered this session, stored (keyring), or the demo chair's env var."""
+        with self._lock:
+            if profile.name in self._session_passwords:
+                return self._session_passwords[profile.name]
+        try:
+            stored = self.profiles.get_password(profile.name)
+        except Exception as err:
+            log.warning("password lookup failed for %s: %s", profile.name, err)
+            stored = None
+        if stored:
+            return stored
+        if os.environ.get(DEMO_PROFILE_ENV) == profile.name:
+            return os.environ.get(DEMO_PASSWORD_ENV) or None
+        return None
+
+    def remember_password(self, profile_name: str, password: str) -> None:
+        """Keep a password typed in a dialog for this session only (never written to disk)."""
+        with self._lock:
+            self._session_passwords[profile_name] = password
+
+    # -- current map -------------------------------------------------------------------------------
+    @property
+    def current_map(self) -> CurrentMap | None:
+        with self._lock:
+            return self._current_map
+
+    def set_current_map(self, name: str, yaml: Path | str, preview: Path | str | None) -> CurrentMap:
+        """Make a map the current one (after sending it), persist it and tell the observers."""
+        current = CurrentMap(str(name), Path(yaml), Path(preview) if preview is not None else None)
+        with self._lock:
+            self._current_map = current
+            observers = list(self._map_observers)
+        try:
+            _atomic_write_json(
+                self.config_dir / STATE_FILE,
+                {
+                    "current_map": {
+                        "name": current.name,
+                        "yaml": str(current.yaml),
+                        "preview": str(current.preview) if current.preview else None,
+                    }
+                },
+            )
+        except OSError as err:
+            self.notify(f"Could not remember the current map in {self.config_dir}: {err}", "warning")
+        for cb in observers:
+            self._safe_call(cb, current)
+        return current
+
+    def observe_current_map(self, cb: Callable[[CurrentMap | None], None]) -> Callable[[], None]:
+        """Call ``cb(current_map)`` on every change; returns a function that unsubscribes."""
+        with self._lock:
+            self._map_observers.append(cb)
+        return lambda: self._remove(self._map_observers, cb)
+
+    def _load_current_map(self) -> CurrentMap | None:
+        path = self.config_dir / STATE_FILE
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+            cur = data["current_map"]
+            if not cur:
+                return None
+            preview = cur.get("preview")
+            return CurrentMap(str(cur["name"]), Path(cur["yaml"]), Path(preview) if preview else None)
+        except FileNotFoundError:
+            return None
+        except (OSError, ValueError, KeyError, TypeError) as err:
+            log.warning("ignoring unreadable UI state %s: %s", path, err)
+            return None
+
+    # -- notifications -----------------------------------------------------------------------------
+    def notify(self, message: str, level: Level = "info") -> None:
+        """Report something to the user (info panel); safe to call from worker threads."""
+        if level not in LEVELS:
+            level = "info"
+        note = Notification(str(message), level)
+        with self._lock:
+            self.notifications.append(note)
+            del self.notifications[:-50]
+            observers = list(self._note_observers)
+        log.log({"info": logging.INFO, "warning": logging.WARNING}.get(level, logging.ERROR), "%s", message)
+        for cb in observers:
+            self._safe_call(cb, note)
+
+    def observe_notifications(self, cb: Callable[[Notification], None]) -> Callable[[], None]:
+        """Call ``cb(notification)`` for every :meth:`notify`; returns a function that unsubscribes."""
+        with self._lock:
+            self._note_observers.append(cb)
+        return lambda: self._remove(self._note_observers, cb)
+
+    # -- lifecycle ---------------------------------------------------------------------------------
+    def close(self) -> None:
+        """Close the chair links this session opened (called when the kernel goes away)."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+            links = list(self._links.values())
+            self._links.clear()
+            self._map_observers.clear()
+            self._note_observers.clear()
+        for link in links:
+            try:
+                link.close()
+            except Exception as err:
+                log.warning("closing chair link failed: %s", err)
+
+    def _remove(self, observers: list, cb: object) -> None:
+        with self._lock:
+            if cb in observers:
+                observers.remove(cb)
+
+    @staticmethod
+    def _safe_call(cb: Callable[..., object], arg: object) -> None:
+        try:
+            cb(arg)
+        except Exception:  # an observer's bug must not stop the others
+            log.exception("observer %r failed", cb)

@@ -1,0 +1,302 @@
+"""Settings screen: how to reach the wheelchair, saved as a chair profile, with a connection test.
+
+As in the original (thesis 5.2.3.2): a form (name, address, rosbridge port, topics, SSH user and
+password), Save, and Test connection whose status goes Disconnected -> Connecting -> Connected
+with the published map's width, height and resolution in the information panel.  Saved values are
+the defaults next time; the password goes to :class:`ProfileStore` (keyring or session memory),
+never to a file.  A successful test fills the topic pickers with what the chair publishes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+from typing import TYPE_CHECKING, Any
+
+import ipywidgets as w
+
+from pmk_nb.chair.settings import AUTH_METHODS, POSE_SOURCES, ChairProfile
+from pmk_nb.errors import SettingsError
+from pmk_nb.ui.widgets import TOUCH_PX, button, escape, field_error, guard, heading, run_in_thread, text
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link import ConnectionReport
+    from pmk_nb.ui.context import AppContext
+
+TEST_TIMEOUT = 5.0
+TOPIC_TYPES: dict[str, tuple[str, ...]] = {
+    "odom_topic": ("nav_msgs/Odometry", "nav_msgs/msg/Odometry"),
+    "scan_topic": ("sensor_msgs/LaserScan", "sensor_msgs/msg/LaserScan"),
+    "pose_topic": ("geometry_msgs/PoseWithCovarianceStamped", "geometry_msgs/msg/PoseWithCovarianceStamped"),
+}
+_POSE_LABELS = {"odometry": "Odometry", "pose_topic": "Pose topic (e.g. AMCL)", "tf": "TF map → base_link"}
+
+
+def _wide() -> dict[str, Any]:
+    """Fresh style/layout kwargs (a Layout shared by several widgets breaks their rendering)."""
+    return {
+        "style": {"description_width": "200px"},
+        "layout": w.Layout(width="100%", max_width="720px", height=f"{TOUCH_PX - 8}px"),
+    }
+
+
+def _combobox(value: str, label: str, css_class: str) -> w.Combobox:
+    box = w.Combobox(value=value, options=[], description=label, ensure_option=False, **_wide())
+    box.add_class(css_class)
+    return box
+
+
+def _parse_port(field: str, raw: object) -> int:
+    try:
+        port = int(str(raw).strip())
+    except ValueError:
+        raise SettingsError(f"{field}: invalid value {raw!r}: give a port number between 1 and 65535") from None
+    return port
+
+
+class SettingsScreen:
+    """The Settings screen; ``widget`` is its form, ``info_widget`` the connection status panel."""
+
+    def __init__(self, ctx: AppContext) -> None:
+        self.ctx = ctx
+        self._test_lock = threading.Lock()
+        self.state = "Disconnected"
+        self.last_report: ConnectionReport | None = None
+        self.profile_picker = w.Dropdown(options=[], description="Saved chairs", **_wide())
+        self.profile_picker.add_class("pmk-settings-profile")
+        self.profile_picker.observe(guard(ctx, "Loading a chair profile")(self._on_pick), names="value")
+        self.fields: dict[str, w.Widget] = {
+            "name": text("", "Wheelchair name", "pmk-settings-name"),
+            "host": text("", "Wheelchair IP / host", "pmk-settings-host", placeholder="192.168.1.20"),
+            "port": text("9090", "rosbridge port", "pmk-settings-port"),
+            "odom_topic": _combobox("/odom", "Odometry topic", "pmk-settings-odom"),
+            "scan_topic": _combobox("/scan", "Laser topic", "pmk-settings-scan"),
+            "pose_source": w.Dropdown(
+                options=[(_POSE_LABELS[s], s) for s in POSE_SOURCES],
+                value="odometry",
+                description="Position from",
+                **_wide(),
+            ),
+            "pose_topic": _combobox("/amcl_pose", "Pose topic", "pmk-settings-pose-topic"),
+            "ssh_user": text("", "SSH user", "pmk-settings-user"),
+            "ssh_port": text("22", "SSH port", "pmk-settings-ssh-port"),
+            "auth": w.ToggleButtons(
+                options=list(AUTH_METHODS),
+                value="password",
+                style={"button_width": "140px"},
+            ),
+            "password": text("", "SSH password", "pmk-settings-password", password=True),
+            "key_file": text("", "SSH key file", "pmk-settings-key", placeholder="~/.ssh/id_ed25519"),
+            "remote_maps_dir": text("~/ALMA_MAPS", "Maps folder on chair", "pmk-settings-remote-dir"),
+        }
+        self.fields["pose_source"].add_class("pmk-settings-pose-source")
+        self.fields["auth"].add_class("pmk-settings-auth")
+        self.errors = {name: field_error() for name in self.fields}
+        self.fields["auth"].observe(guard(ctx, "Choosing SSH login")(lambda _c: self._auth_visibility()), "value")
+        self.save_button = button("Save", "pmk-settings-save", icon="save", style="primary")
+        self.test_button = button("Test connection", "pmk-settings-test", icon="plug")
+        self.save_button.on_click(guard(ctx, "Saving settings")(lambda _b: self.save()))
+        self.test_button.on_click(guard(ctx, "Testing the connection")(lambda _b: self.test_connection()))
+        self.message = w.HTML("")
+        self.message.add_class("pmk-settings-message")
+        self.status = w.HTML("")
+        self.status.add_class("pmk-settings-status")
+        self.map_info = w.HTML("")
+        self.map_info.add_class("pmk-settings-mapinfo")
+        self.info_widget = w.VBox([self.status, self.map_info])
+        self.rows = {name: w.VBox([field, self.errors[name]]) for name, field in self.fields.items()}
+        auth_label = w.HTML(
+            "<div style='text-align:right;padding-right:8px'>SSH login</div>", layout=w.Layout(width="208px")
+        )
+        self.rows["auth"].children = (
+            w.HBox([auth_label, self.fields["auth"]], layout=w.Layout(align_items="center")),
+            self.errors["auth"],
+        )
+        self.widget = w.VBox(
+            [
+                heading("Wheelchair settings"),
+                self.profile_picker,
+                *self.rows.values(),
+                w.HBox([self.save_button, self.test_button], layout=w.Layout(grid_gap="12px")),
+                self.message,
+            ],
+            layout=w.Layout(width="100%"),
+        )
+        self.widget.add_class("pmk-settings")
+        self._set_state("Disconnected")
+        self._reload_profiles()
+
+    # -- form <-> profile ------------------------------------------------------------------------------
+    def _reload_profiles(self, select: str | None = None) -> None:
+        try:
+            names = self.ctx.profiles.names()
+        except SettingsError as err:
+            self.ctx.notify(str(err), "error")
+            names = []
+        current = self.ctx.profile()
+        chosen = select or (current.name if current else None)
+        self.profile_picker.options = names
+        if chosen in names:
+            self.profile_picker.value = chosen
+            self.load(self.ctx.profiles.get(chosen))
+        self.profile_picker.layout.display = "flex" if len(names) > 1 else "none"
+
+    def _on_pick(self, change: dict[str, Any]) -> None:
+        name = change.get("new")
+        if isinstance(name, str) and name:
+            self.load(self.ctx.profiles.get(name))
+
+    def load(self, profile: ChairProfile) -> None:
+        """Fill the form from a profile (the password is never shown, only whether one is stored)."""
+        self._loaded = profile
+        for name, field in self.fields.items():
+            if name == "password":
+                continue
+            value = getattr(profile, name)
+            field.value = "" if value is None else str(value)
+        stored = self.ctx.ssh_password(profile)
+        self.fields["password"].value = ""
+        self.fields["password"].placeholder = "stored: leave empty to keep" if stored else ""
+        for err in self.errors.values():
+            err.value = ""
+        self._auth_visibility()
+
+    def _auth_visibility(self) -> None:
+        key = self.fields["auth"].value == "key"
+        self.rows["key_file"].layout.display = "flex" if key else "none"
+        self.rows["password"].layout.display = "none" if key else "flex"
+
+    def form_profile(self) -> ChairProfile:
+        """The profile the form describes; raises SettingsError naming the first bad field."""
+        values = {name: self.fields[name].value for name in self.fields if name != "password"}
+        for name, value in values.items():
+            if not isinstance(value, str):
+                raise SettingsError(f"{name}: invalid value {value!r}: expected text")
+        values = {k: v.strip() for k, v in values.items()}
+        base = getattr(self, "_loaded", None)
+        profile = ChairProfile(
+            name=values["name"],
+            host=values["host"],
+            port=_parse_port("port", values["port"]),
+            odom_topic=values["odom_topic"],
+            scan_topic=values["scan_topic"],
+            pose_source=values["pose_source"],
+            pose_topic=values["pose_topic"],
+            ssh_user=values["ssh_user"],
+            ssh_port=_parse_port("ssh_port", values["ssh_port"]),
+            auth=values["auth"],
+            key_file=values["key_file"] or None,
+            remote_maps_dir=values["remote_maps_dir"],
+        )
+        if base is not None and base.name == profile.name:
+            keep = {
+                f: getattr(base, f)
+                for f in ("reload_service", "reload_flavour", "footprint_radius", "known_hosts", "host_key_check")
+            }
+            profile = dataclasses.replace(profile, **keep)
+        profile.validate()
+        return profile
+
+    def _show_field_error(self, err: SettingsError) -> None:
+        field, _, rest = str(err).partition(":")
+        target = self.errors.get(field.strip())
+        if target is not None:
+            target.value = escape(rest.strip() or err)
+        self.message.value = f"<span class='pmk-field-error'>Not saved: {escape(err)}</span>"
+
+    # -- actions -----------------------------------------------------------------------------------
+    def save(self) -> ChairProfile | None:
+        """Validate and save the form; it becomes the current chair. Returns None when invalid."""
+        for err in self.errors.values():
+            err.value = ""
+        try:
+            profile = self.form_profile()
+        except SettingsError as err:
+            self._show_field_error(err)
+            return None
+        self.ctx.profiles.save(profile)
+        password = self.fields["password"].value
+        if profile.auth == "password" and isinstance(password, str) and password:
+            self.ctx.profiles.set_password(profile.name, password)
+        self.message.value = (
+            f"Saved {escape(profile.name)}. Passwords are kept in {escape(self.ctx.profiles.password_storage)}."
+        )
+        self.ctx.notify(f"Saved settings for {profile.name}.")
+        self._reload_profiles(select=profile.name)
+        return profile
+
+    def test_connection(self) -> Any:
+        """Connect to the chair in the form (in a thread) and show status and published map info."""
+        for err in self.errors.values():
+            err.value = ""
+        try:
+            profile = self.form_profile()
+        except SettingsError as err:
+            self._show_field_error(err)
+            return None
+        self._set_state("Connecting")
+        self.map_info.value = ""
+
+        def work() -> tuple[ConnectionReport, dict[str, list[str]]]:
+            from pmk_nb.chair.link import ChairLink
+
+            link = ChairLink(
+                profile.host,
+                profile.port,
+                odom_topic=profile.odom_topic,
+                scan_topic=profile.scan_topic,
+                pose_source=profile.pose_source,
+                pose_topic=profile.pose_topic,
+            )
+            try:
+                report = link.test_connection(timeout=TEST_TIMEOUT)
+                found: dict[str, list[str]] = {}
+                if report.ok:
+                    for field, types in TOPIC_TYPES.items():
+                        found[field] = sorted({t for typ in types for t in link.topics_of_type(typ)})
+                return report, found
+            finally:
+                link.close()
+
+        def done(result: tuple[ConnectionReport, dict[str, list[str]]]) -> None:
+            report, found = result
+            self.last_report = report
+            if not report.ok:
+                self._set_state("Failed", report.reason)
+                return
+            self._set_state("Connected")
+            info = report.map_info
+            if info is not None:
+                self.map_info.value = (
+                    f"<div>Map width: <b>{info.width}</b></div><div>Map height: <b>{info.height}</b></div>"
+                    f"<div>Resolution: <b>{info.resolution:g} m</b></div>"
+                )
+            else:
+                self.map_info.value = "<div>The chair publishes no map yet.</div>"
+            for field, topics in found.items():
+                self.fields[field].options = topics
+
+        def failed(err: BaseException) -> None:
+            self._set_state("Failed", str(err))
+
+        return run_in_thread(
+            self.ctx,
+            "Testing the connection",
+            work,
+            on_done=done,
+            on_error=failed,
+            busy=[self.test_button],
+            exclusive=self._test_lock,
+        )
+
+    def _set_state(self, state: str, reason: str = "") -> None:
+        self.state = state
+        colour = {"Connected": "#a5d6a7", "Failed": "#ff8a80", "Connecting": "#ffe082"}.get(state, "#eceff1")
+        shown = "Disconnected" if state == "Failed" else state
+        extra = f"<div class='pmk-status-reason'>{escape(reason)}</div>" if reason else ""
+        self.status.value = f"<div>Status: <b style='color:{colour}'>{shown}</b></div>{extra}"
+        if state == "Failed":
+            self.ctx.notify(f"Connection failed: {reason}", "error")
+
+    def close(self) -> None:
+        self.widget.close()

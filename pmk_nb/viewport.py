@@ -1,0 +1,377 @@
+"""View maths of the live preview: zoom levels, follow, clamp, world <-> canvas pixel (pure NumPy).
+
+The live view (``pmk_nb.ui.live_view``) only draws what this module computes, so every rule of the
+original MapViewer (thesis 4.2.1.3) lives here and is tested without widgets:
+
+* zoom level 1 shows the whole map (fitted and centred); each level up magnifies by ``zoom_step``;
+* zoomed in, the view follows the chair (chair in the centre) but never shows beyond the map: near
+  an edge the view stops and the chair moves off centre; along an axis where the map is smaller
+  than the view, the map is centred;
+* world metres -> map cells use the grid's origin and resolution, and the image's y is flipped
+  (image row 0 is the top of the map, world y grows upwards).
+
+Coordinates: "cells" are continuous map-image coordinates (u = column, v = row from the TOP, both in
+cells, (0, 0) = top-left corner of the image); "pixels" are canvas pixels, (0, 0) = top-left corner
+of the canvas.  The grid's yaw is ignored, as map_server consumers do (see ARCHITECTURE.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+#: Below this speed (m/s) the heading dot sits on the footprint's edge instead of at "where in 1 s",
+#: so a standing chair still shows which way it faces.
+STILL_SPEED = 0.05
+#: Smallest chair circle drawn, in canvas pixels (a 0.35 m chair on a 200 m map is < 1 px otherwise).
+MIN_CHAIR_RADIUS_PX = 4.0
+#: Smallest heading dot drawn, in canvas pixels.
+MIN_DOT_RADIUS_PX = 2.0
+
+
+@dataclass(frozen=True)
+class LaserSegments:
+    """Laser rays as canvas-pixel line segments, ready for ``Canvas.stroke_line_segments``.
+
+    Attributes:
+        hits: float32 (n, 2, 2): rays that ended on an obstacle, [[x0, y0], [x1, y1]] each.
+        max_rays: float32 (m, 2, 2): rays that saw nothing up to the sensor's range (drawn faint).
+    """
+
+    hits: np.ndarray
+    max_rays: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return int(self.hits.shape[0] + self.max_rays.shape[0])
+
+
+def _finite(value: float, name: str) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"{name} must be a number, got {value!r}") from err
+    if not math.isfinite(out):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return out
+
+
+class Viewport:
+    """Which part of a map a W x H canvas shows, and where world points land on it.
+
+    Args:
+        map_width, map_height: map size in cells (columns, rows).
+        resolution: metres per cell.
+        origin: world (x, y) of the map's lower-left corner, metres (a third element, yaw, is ignored).
+        canvas_width, canvas_height: canvas size in pixels.
+        zoom_step: magnification between two zoom levels (> 1).
+        max_zoom: the highest zoom level (level 1 = whole map).
+
+    Raises:
+        ValueError: on non-positive sizes, resolution, or zoom settings.
+    """
+
+    def __init__(
+        self,
+        map_width: int,
+        map_height: int,
+        resolution: float,
+        origin: tuple[float, ...] = (0.0, 0.0),
+        canvas_width: int = 800,
+        canvas_height: int = 600,
+        *,
+        zoom_step: float = 1.5,
+        max_zoom: int = 8,
+    ) -> None:
+        if int(map_width) < 1 or int(map_height) < 1:
+            raise ValueError(f"map must be at least 1x1 cells, got {map_width}x{map_height}")
+        if int(canvas_width) < 1 or int(canvas_height) < 1:
+            raise ValueError(f"canvas must be at least 1x1 px, got {canvas_width}x{canvas_height}")
+        self.map_width = int(map_width)
+        self.map_height = int(map_height)
+        self.resolution = _finite(resolution, "resolution")
+        if self.resolution <= 0:
+            raise ValueError(f"resolution must be > 0 metres per cell, got {resolution}")
+        self.origin = (_finite(origin[0], "origin x"), _finite(origin[1], "origin y"))
+        self.canvas_width = int(canvas_width)
+        self.canvas_height = int(canvas_height)
+        self.zoom_step = _finite(zoom_step, "zoom_step")
+        if self.zoom_step <= 1.0:
+            raise ValueError(f"zoom_step must be > 1, got {zoom_step}")
+        if int(max_zoom) < 1:
+            raise ValueError(f"max_zoom must be >= 1, got {max_zoom}")
+        self.max_zoom = int(max_zoom)
+        self._zoom = 1
+        # Centre of the view in cell coordinates; starts on the map's centre.
+        self._center = (self.map_width / 2.0, self.map_height / 2.0)
+        self._target: tuple[float, float] | None = None
+
+    @classmethod
+    def for_grid(cls, grid: object, canvas_width: int, canvas_height: int, **kw: object) -> Viewport:
+        """A viewport for an ``OccupancyGrid`` (anything with width, height, resolution, origin)."""
+        return cls(
+            grid.width,  # type: ignore[attr-defined]
+            grid.height,  # type: ignore[attr-defined]
+            grid.resolution,  # type: ignore[attr-defined]
+            grid.origin,  # type: ignore[attr-defined]
+            canvas_width,
+            canvas_height,
+            **kw,  # type: ignore[arg-type]
+        )
+
+    # -- zoom --------------------------------------------------------------------------------------
+    @property
+    def zoom(self) -> int:
+        """Current zoom level, 1 (whole map) .. max_zoom."""
+        return self._zoom
+
+    @property
+    def zoom_factor(self) -> float:
+        """Magnification relative to the whole-map fit (1.0 at level 1)."""
+        return self.zoom_step ** (self._zoom - 1)
+
+    @property
+    def fit_scale(self) -> float:
+        """Canvas pixels per cell at zoom level 1: the whole map fits in the canvas."""
+        return min(self.canvas_width / self.map_width, self.canvas_height / self.map_height)
+
+    @property
+    def scale(self) -> float:
+        """Canvas pixels per map cell at the current zoom."""
+        return self.fit_scale * self.zoom_factor
+
+    @property
+    def px_per_m(self) -> float:
+        return self.scale / self.resolution
+
+    def clamp_zoom(self, level: object) -> int:
+        """A valid zoom level from anything a widget might send (rounded, clamped; ValueError if NaN/text)."""
+        value = _finite(level, "zoom level")  # type: ignore[arg-type]
+        return int(min(max(round(value), 1), self.max_zoom))
+
+    def set_zoom(self, level: object) -> int:
+        """Set the zoom level (clamped to 1..max_zoom) and re-clamp the view; returns the level set."""
+        self._zoom = self.clamp_zoom(level)
+        self._apply_target()
+        return self._zoom
+
+    def zoom_in(self) -> int:
+        return self.set_zoom(self._zoom + 1)
+
+    def zoom_out(self) -> int:
+        return self.set_zoom(self._zoom - 1)
+
+    def zoom_for_pinch(self, start_zoom: int, ratio: float) -> int:
+        """Zoom level for a two-finger pinch that began at ``start_zoom`` and has scaled by ``ratio``.
+
+        ``ratio`` = current finger distance / distance at touch start; one level per ``zoom_step``.
+        Non-positive or non-finite ratios keep ``start_zoom``.
+        """
+        try:
+            r = float(ratio)
+        except (TypeError, ValueError):
+            return self.clamp_zoom(start_zoom)
+        if not (math.isfinite(r) and r > 0):
+            return self.clamp_zoom(start_zoom)
+        steps = math.log(r) / math.log(self.zoom_step)
+        return self.clamp_zoom(start_zoom + round(steps))
+
+    # -- follow and clamp --------------------------------------------------------------------------
+    @property
+    def view_size_cells(self) -> tuple[float, float]:
+        """Width and height of the visible area, in cells."""
+        s = self.scale
+        return self.canvas_width / s, self.canvas_height / s
+
+    @property
+    def center(self) -> tuple[float, float]:
+        """Centre of the view in cell coordinates (after clamping)."""
+        return self._center
+
+    @property
+    def top_left(self) -> tuple[float, float]:
+        """Cell coordinates shown at canvas pixel (0, 0)."""
+        vw, vh = self.view_size_cells
+        return self._center[0] - vw / 2.0, self._center[1] - vh / 2.0
+
+    def follow(self, x: float, y: float) -> None:
+        """Centre the view on world point (x, y) as far as the map's edges allow."""
+        u, v = self.world_to_cell(_finite(x, "x"), _finite(y, "y"))
+        self._target = (float(u), float(v))
+        self._apply_target()
+
+    def center_on_cell(self, u: float, v: float) -> None:
+        """Centre on cell coordinates (u, v) as far as the map's edges allow."""
+        self._target = (_finite(u, "u"), _finite(v, "v"))
+        self._apply_target()
+
+    def _apply_target(self) -> None:
+        target = self._target or (self.map_width / 2.0, self.map_height / 2.0)
+        vw, vh = self.view_size_cells
+        self._center = (
+            self._clamp_axis(target[0], vw, self.map_width),
+            self._clamp_axis(target[1], vh, self.map_height),
+        )
+
+    @staticmethod
+    def _clamp_axis(c: float, view: float, size: float) -> float:
+        if view >= size:  # the map is narrower than the view: centre it
+            return size / 2.0
+        return min(max(c, view / 2.0), size - view / 2.0)
+
+    def visible_cells(self) -> tuple[float, float, float, float]:
+        """(u0, v0, u1, v1): the part of the map on screen, cell coordinates, clipped to the map."""
+        u0, v0 = self.top_left
+        vw, vh = self.view_size_cells
+        return max(u0, 0.0), max(v0, 0.0), min(u0 + vw, self.map_width), min(v0 + vh, self.map_height)
+
+    def state_key(self) -> tuple[object, ...]:
+        """Changes exactly when the map layer must be redrawn (zoom, pan to a new whole pixel, size)."""
+        u0, v0 = self.top_left
+        s = self.scale
+        return (self._zoom, self.canvas_width, self.canvas_height, round(u0 * s), round(v0 * s))
+
+    # -- conversions (vectorised) ------------------------------------------------------------------
+    def world_to_cell(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """World metres -> cell coordinates (u from the left, v from the TOP)."""
+        u = (np.asarray(x, dtype=np.float64) - self.origin[0]) / self.resolution
+        v = self.map_height - (np.asarray(y, dtype=np.float64) - self.origin[1]) / self.resolution
+        return u, v
+
+    def cell_to_world(self, u: ArrayLike, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        x = self.origin[0] + np.asarray(u, dtype=np.float64) * self.resolution
+        y = self.origin[1] + (self.map_height - np.asarray(v, dtype=np.float64)) * self.resolution
+        return x, y
+
+    def cell_to_pixel(self, u: ArrayLike, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        u0, v0 = self.top_left
+        s = self.scale
+        return (np.asarray(u, dtype=np.float64) - u0) * s, (np.asarray(v, dtype=np.float64) - v0) * s
+
+    def pixel_to_cell(self, px: ArrayLike, py: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        u0, v0 = self.top_left
+        s = self.scale
+        return np.asarray(px, dtype=np.float64) / s + u0, np.asarray(py, dtype=np.float64) / s + v0
+
+    def world_to_pixel(self, x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """World metres -> canvas pixels; works on scalars and arrays alike."""
+        return self.cell_to_pixel(*self.world_to_cell(x, y))
+
+    def pixel_to_world(self, px: ArrayLike, py: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        return self.cell_to_world(*self.pixel_to_cell(px, py))
+
+    def metres_to_px(self, metres: float) -> float:
+        return float(metres) * self.px_per_m
+
+    # -- drawing helpers ---------------------------------------------------------------------------
+    def chair_radius_px(self, footprint_radius: float) -> float:
+        """Radius of the chair's circle in canvas pixels (never below MIN_CHAIR_RADIUS_PX)."""
+        return max(self.metres_to_px(abs(_finite(footprint_radius, "footprint_radius"))), MIN_CHAIR_RADIUS_PX)
+
+    def dot_radius_px(self, footprint_radius: float) -> float:
+        """The heading dot has half the chair's radius (as in the original app)."""
+        return max(self.chair_radius_px(footprint_radius) / 2.0, MIN_DOT_RADIUS_PX)
+
+    def image_window(self, map_image: np.ndarray, fill: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """The visible part of ``map_image`` resampled (nearest) to the canvas size.
+
+        Args:
+            map_image: (map_height, map_width[, channels]) uint8 image, row 0 = top.
+            fill: value for canvas pixels outside the map (letterbox).
+
+        Returns:
+            (image, inside): image of shape (canvas_height, canvas_width[, channels]) and a bool
+            (canvas_height, canvas_width) mask of pixels that show the map.
+        """
+        if map_image.shape[:2] != (self.map_height, self.map_width):
+            raise ValueError(
+                f"map image is {map_image.shape[1]}x{map_image.shape[0]} px, viewport expects "
+                f"{self.map_width}x{self.map_height} cells"
+            )
+        cols = np.floor(self.pixel_to_cell(np.arange(self.canvas_width) + 0.5, 0.0)[0]).astype(np.int64)
+        rows = np.floor(self.pixel_to_cell(0.0, np.arange(self.canvas_height) + 0.5)[1]).astype(np.int64)
+        col_ok = (cols >= 0) & (cols < self.map_width)
+        row_ok = (rows >= 0) & (rows < self.map_height)
+        out = map_image[np.clip(rows, 0, self.map_height - 1)[:, None], np.clip(cols, 0, self.map_width - 1)]
+        inside = row_ok[:, None] & col_ok[None, :]
+        if not inside.all():
+            out = out.copy()
+            out[~inside] = fill
+        return out, inside
+
+
+def heading_point(
+    x: float, y: float, theta: float, v: float, footprint_radius: float, horizon: float = 1.0
+) -> tuple[float, float]:
+    """Where the chair will be after ``horizon`` seconds at speed ``v`` along ``theta`` (world metres).
+
+    A chair slower than STILL_SPEED would hide the dot under its own circle, so the dot is then put
+    on the footprint's edge along the heading: the heading stays visible while standing still.
+    Reversing (v < 0) puts the dot behind the chair, which is where it is going.  Turning (w) is
+    ignored: a straight-line guess is what the original app showed.
+    """
+    still = not math.isfinite(v) or abs(v) < STILL_SPEED
+    d = abs(footprint_radius) if still else v * horizon
+    return x + d * math.cos(theta), y + d * math.sin(theta)
+
+
+def laser_segments(
+    view: Viewport,
+    pose: tuple[float, float, float],
+    angle_min: float,
+    angle_increment: float,
+    ranges: np.ndarray,
+    at_max: np.ndarray | None = None,
+    range_max: float | None = None,
+    min_spacing_px: float = 0.0,
+) -> LaserSegments:
+    """Canvas-pixel segments from the chair to each ray's end; NaN / inf / negative ranges skipped.
+
+    The scanner is taken to sit at the chair's pose (no tf offset).  Rays flagged ``at_max`` are
+    returned separately; when their range is not finite they are drawn ``range_max`` long.
+    With ``min_spacing_px`` > 0 only every k-th ray is kept, k chosen so that neighbouring rays end
+    at least that far apart at the scan's median range: a 1080-ray scan on a whole-map view would
+    otherwise be a solid red fan of sub-pixel lines costing bandwidth and showing nothing more.
+    """
+    r = np.asarray(ranges, dtype=np.float64).ravel()
+    n = r.size
+    flags = np.zeros(n, dtype=bool) if at_max is None else np.asarray(at_max, dtype=bool).ravel()[:n]
+    if flags.size < n:
+        flags = np.concatenate([flags, np.zeros(n - flags.size, dtype=bool)])
+    if range_max is not None and math.isfinite(range_max) and range_max > 0:
+        r = np.where(flags & ~np.isfinite(r), range_max, r)
+    ok = np.isfinite(r) & (r >= 0)
+    stride = ray_stride(view, r[ok], angle_increment, min_spacing_px)
+    if stride > 1:
+        ok &= np.arange(n) % stride == 0
+    x, y, theta = (float(p) for p in pose)
+    ang = theta + angle_min + angle_increment * np.arange(n, dtype=np.float64)
+    ex, ey = view.world_to_pixel(x + r * np.cos(ang), y + r * np.sin(ang))
+    sx, sy = view.world_to_pixel(x, y)
+
+    def segs(mask: np.ndarray) -> np.ndarray:
+        k = int(mask.sum())
+        out = np.empty((k, 2, 2), dtype=np.float32)
+        out[:, 0, 0] = sx
+        out[:, 0, 1] = sy
+        out[:, 1, 0] = ex[mask]
+        out[:, 1, 1] = ey[mask]
+        return out
+
+    return LaserSegments(hits=segs(ok & ~flags), max_rays=segs(ok & flags))
+
+
+def ray_stride(view: Viewport, valid_ranges: np.ndarray, angle_increment: float, min_spacing_px: float) -> int:
+    """Keep every k-th ray so rays end >= ``min_spacing_px`` apart at the median range (1 = all)."""
+    if not (min_spacing_px > 0) or valid_ranges.size == 0:
+        return 1
+    spacing = float(np.median(valid_ranges)) * abs(float(angle_increment)) * view.px_per_m
+    if not (math.isfinite(spacing) and spacing > 0):
+        return 1
+    return max(1, math.ceil(min_spacing_px / spacing))

@@ -1,0 +1,263 @@
+"""Maps screen driven like a user: import, select, convert, send to the simulated chair, download."""
+
+from __future__ import annotations
+
+import datetime as dt
+import http.server
+import socket
+import threading
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any, ClassVar
+
+import pytest
+
+from pmk_nb.chair.settings import ChairProfile, ProfileStore
+from pmk_nb.library import MapsFolder
+from pmk_nb.ui.context import AppContext
+from pmk_nb.ui.maps_screen import MapsScreen, parse_resolution
+from tests.indoorgml_samples import HTML_PAGE, two_rooms
+
+NOW = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)  # FileUpload's kernel-side value format
+
+
+def wait_until(cond: Callable[[], Any], timeout: float = 60.0, what: str = "condition") -> Any:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = cond()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+@pytest.fixture
+def ctx(tmp_path: Path) -> Iterator[AppContext]:
+    store = ProfileStore(tmp_path / "cfg" / "profiles.json", secrets=False)
+    context = AppContext(MapsFolder(tmp_path / "maps"), store, config_dir=tmp_path / "cfg")
+    yield context
+    context.close()
+
+
+@pytest.fixture
+def screen(ctx: AppContext) -> Iterator[MapsScreen]:
+    s = MapsScreen(ctx)
+    yield s
+    s.close()
+
+
+def errors(ctx: AppContext) -> list[str]:
+    return [n.message for n in ctx.notifications if n.level == "error"]
+
+
+def send_buttons(screen: MapsScreen) -> list[Any]:
+    return screen._send_buttons()
+
+
+@pytest.mark.parametrize("raw", ["0.05", " 0.1 ", "1", "0,05"])
+def test_resolution_accepts(raw: str) -> None:
+    assert 0 < parse_resolution(raw) <= 1
+
+
+@pytest.mark.parametrize("raw", ["", "abc", "0", "-0.05", "1.5", "nan", "inf", "1e9"])
+def test_resolution_rejects(raw: str) -> None:
+    with pytest.raises(ValueError):
+        parse_resolution(raw)
+
+
+def test_upload_lists_and_selects_the_map(screen: MapsScreen, ctx: AppContext) -> None:
+    data = two_rooms(("F1", "F2"))
+    screen.upload.value = (
+        {"name": "house.gml", "type": "application/gml+xml", "size": len(data), "content": memoryview(data),
+         "last_modified": NOW},
+    )  # fmt: skip
+    assert screen.upload.value == ()  # reset so the same file can be chosen again
+    assert (ctx.maps.root / "house.gml").read_bytes() == data
+    assert screen.map_list.value == "house"
+    assert "not converted" in screen.map_list.options[0][0]
+    assert "house" in screen.title.value and screen.convert_row.layout.display == "flex"
+    assert send_buttons(screen) == []  # nothing to send before converting
+    # importing the same name again asks first, and only the confirm button replaces it
+    screen.import_bytes("house.gml", two_rooms(("F1",), width=9.0))
+    assert screen.import_confirm.visible
+    assert (ctx.maps.root / "house.gml").read_bytes() == data
+    screen.import_confirm.no.click()
+    assert not screen.import_confirm.visible and (ctx.maps.root / "house.gml").read_bytes() == data
+    screen.import_bytes("house.gml", two_rooms(("F1",), width=9.0))
+    screen.import_confirm.yes.click()
+    assert (ctx.maps.root / "house.gml").read_bytes() != data
+
+
+def test_import_of_a_non_indoorgml_file_is_reported(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.upload.value = (
+        {
+            "name": "page.gml",
+            "type": "",
+            "size": len(HTML_PAGE),
+            "content": memoryview(HTML_PAGE),
+            "last_modified": NOW,
+        },
+    )
+    assert errors(ctx), "an HTML page must not be imported silently"
+    assert not (ctx.maps.root / "page.gml").exists()
+
+
+def test_bad_resolution_blocks_convert(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.import_bytes("house.gml", two_rooms())
+    screen.resolution.value = "lots"
+    screen.convert_button.click()
+    assert "not a number" in screen.resolution_error.value
+    time.sleep(0.2)
+    assert not list(ctx.maps.root.glob("*.yaml"))
+
+
+def test_convert_requires_a_selection(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.convert_button.click()
+    assert any("Select a map" in e for e in errors(ctx))
+
+
+@pytest.mark.slow
+def test_convert_and_send_to_the_simulator(
+    screen: MapsScreen, ctx: AppContext, sim_factory: Any, tmp_path: Path
+) -> None:
+    screen.import_bytes("house.gml", two_rooms(("F1", "F2")))
+    screen.resolution.value = "0.1"
+    screen.convert_button.click()
+    wait_until(lambda: len(send_buttons(screen)) == 2, what="two storeys converted")
+    assert screen.convert_progress.value == 1.0 and not errors(ctx)
+    assert "2 storeys" in screen.map_list.options[0][0]
+    previews = [c for c in screen.generated_box.children if "pmk-maps-preview" in c.children[0]._dom_classes]
+    assert len(previews) == 2 and previews[0].children[0].value[:4] == b"\x89PNG"
+
+    chair_dir = tmp_path / "chair"
+    sim = sim_factory(sftp_port=0, maps_dir=chair_dir)
+    ctx.profiles.save(
+        ChairProfile(
+            name="sim",
+            host="127.0.0.1",
+            port=sim.port,
+            ssh_user=sim.sftp_user,
+            ssh_port=sim.sftp_port,
+            known_hosts=str(tmp_path / "known_hosts"),
+        )
+    )
+    # password auth with no stored password: Send asks for it in the page
+    send_buttons(screen)[1].click()
+    assert screen.password_box.layout.display == "flex"
+    screen.password.value = sim.sftp_password
+    screen.password_ok.click()
+    wait_until(lambda: ctx.current_map or errors(ctx), what="the map to be sent")
+    assert not errors(ctx)
+    current = ctx.current_map
+    entry = ctx.maps.entry("house")
+    sent = entry.generated[1]
+    assert current.yaml == sent.yaml and current.preview == sent.preview
+    assert (chair_dir / sent.yaml.name).is_file()
+    wait_until(lambda: sim.grid is not None and sim.grid.width == sent.width, what="the chair to load the map")
+    assert sim.grid.height == sent.height
+    assert "current map" in screen.status.value and not errors(ctx)
+    assert ctx.ssh_password(ctx.profile()) == sim.sftp_password  # asked once per session
+
+
+def test_send_without_profile_says_what_to_do(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.import_bytes("house.gml", two_rooms())
+    screen.resolution.value = "0.2"
+    screen.convert_button.click()
+    wait_until(lambda: send_buttons(screen), what="conversion")
+    send_buttons(screen)[0].click()
+    assert any("Settings" in e for e in errors(ctx))
+    assert ctx.current_map is None
+
+
+def test_send_to_a_closed_port_reports_failure(screen: MapsScreen, ctx: AppContext, tmp_path: Path) -> None:
+    screen.import_bytes("house.gml", two_rooms())
+    screen.resolution.value = "0.2"
+    screen.convert_button.click()
+    wait_until(lambda: send_buttons(screen), what="conversion")
+    port = _closed_port()
+    ctx.profiles.save(ChairProfile(name="gone", host="127.0.0.1", port=port, ssh_port=port, ssh_user="pmk"))
+    ctx.profiles.set_password("gone", "x")
+    send_buttons(screen)[0].click()
+    wait_until(lambda: errors(ctx), timeout=60, what="the failure message")
+    assert "pmk-field-error" in screen.status.value and ctx.current_map is None
+    assert screen.send_progress.bar_style == "danger"
+
+
+# -- download -------------------------------------------------------------------------------------
+class _Handler(http.server.BaseHTTPRequestHandler):
+    routes: ClassVar[dict[str, bytes]] = {}
+
+    def do_GET(self) -> None:
+        body = self.routes.get(self.path)
+        if body is None:
+            self.send_error(404)
+            return
+        self.send_response(200)
+        self.send_header("Content-Length", str(len(body)))
+        self.end_headers()
+        self.wfile.write(body)
+
+    def log_message(self, *_args: Any) -> None:
+        return None
+
+
+@pytest.fixture
+def web() -> Iterator[str]:
+    _Handler.routes = {"/house.gml": two_rooms(), "/house2.gml": two_rooms(width=9.0), "/page.gml": HTML_PAGE}
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), _Handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{server.server_address[1]}"
+    server.shutdown()
+    server.server_close()
+
+
+def _closed_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_download_then_confirm_overwrite(screen: MapsScreen, ctx: AppContext, web: str) -> None:
+    screen.tabs.selected_index = 1
+    screen.downloader.url.value, screen.downloader.name.value = f"{web}/house.gml", "clinic"
+    screen.downloader.button.click()
+    wait_until(lambda: ctx.maps.exists("clinic") and "Downloaded" in screen.downloader.status.value, what="download")
+    assert screen.downloader.progress.value == 1.0
+    assert "clinic" in [v for _label, v in screen.map_list.options]
+    first = (ctx.maps.root / "clinic.gml").read_bytes()
+    screen.downloader.url.value = f"{web}/house2.gml"
+    screen.downloader.button.click()
+    assert screen.downloader.confirm.visible  # explicit confirm step before overwriting
+    assert (ctx.maps.root / "clinic.gml").read_bytes() == first
+    screen.downloader.confirm.yes.click()
+    wait_until(lambda: (ctx.maps.root / "clinic.gml").read_bytes() != first, what="overwrite")
+
+
+@pytest.mark.parametrize(
+    ("path", "expect"),
+    [("/page.gml", "IndoorGML"), ("/missing.gml", "404"), (None, "")],
+)
+def test_download_failures_are_explained(
+    screen: MapsScreen, ctx: AppContext, web: str, path: str | None, expect: str
+) -> None:
+    url = f"{web}{path}" if path else f"http://127.0.0.1:{_closed_port()}/x.gml"
+    screen.downloader.url.value, screen.downloader.name.value = url, "bad"
+    screen.downloader.button.click()
+    wait_until(lambda: "pmk-field-error" in screen.downloader.status.value, what="failure message")
+    assert expect in screen.downloader.status.value
+    assert not ctx.maps.exists("bad")
+
+
+def test_download_validates_inputs(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.downloader.url.value, screen.downloader.name.value = "ftp://x/y.gml", "n"
+    screen.downloader.button.click()
+    assert "http" in screen.downloader.error.value
+    screen.downloader.url.value, screen.downloader.name.value = "http://127.0.0.1/y.gml", "  "
+    screen.downloader.button.click()
+    assert "name" in screen.downloader.error.value
+    screen.downloader.url.value, screen.downloader.name.value = "http://127.0.0.1/y.gml", "../etc/passwd"
+    screen.downloader.button.click()
+    wait_until(lambda: errors(ctx), what="name rejected")
+    assert not list(ctx.maps.root.parent.glob("etc*"))

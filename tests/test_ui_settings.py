@@ -1,0 +1,147 @@
+"""Settings screen driven like a user: fill, save, reload defaults, test connection (sim, closed port)."""
+
+from __future__ import annotations
+
+import json
+import socket
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from pmk_nb.chair.settings import ProfileStore
+from pmk_nb.library import MapsFolder
+from pmk_nb.ui.context import AppContext
+from pmk_nb.ui.settings_screen import SettingsScreen
+
+
+def wait_until(cond: Callable[[], Any], timeout: float = 30.0, what: str = "condition") -> Any:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = cond()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+@pytest.fixture
+def ctx(tmp_path: Path) -> Iterator[AppContext]:
+    store = ProfileStore(tmp_path / "cfg" / "profiles.json", secrets=False)
+    context = AppContext(MapsFolder(tmp_path / "maps"), store, config_dir=tmp_path / "cfg")
+    yield context
+    context.close()
+
+
+def fill(screen: SettingsScreen, **values: str) -> None:
+    base = {"name": "Chair A", "host": "127.0.0.1", "port": "9090", "ssh_user": "pmk"}
+    for key, value in {**base, **values}.items():
+        screen.fields[key].value = value
+
+
+def test_save_stores_profile_and_prefills_next_time(ctx: AppContext, tmp_path: Path) -> None:
+    screen = SettingsScreen(ctx)
+    fill(screen, odom_topic="/wheel_odom", scan_topic="/base_scan", password="hunter2")
+    screen.save_button.click()
+    assert "Saved" in screen.message.value
+    saved = ctx.profiles.get("Chair A")
+    assert (saved.odom_topic, saved.scan_topic, saved.port) == ("/wheel_odom", "/base_scan", 9090)
+    assert "hunter2" not in (tmp_path / "cfg" / "profiles.json").read_text()
+    assert ctx.ssh_password(saved) == "hunter2"
+    again = SettingsScreen(ctx)  # the next session starts from the saved values
+    assert again.fields["odom_topic"].value == "/wheel_odom"
+    assert again.fields["host"].value == "127.0.0.1"
+    assert again.fields["password"].value == "" and "stored" in again.fields["password"].placeholder
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "needle"),
+    [
+        ("port", "ninety", "port number"),
+        ("port", "70000", "port number"),
+        ("host", "http://chair/", "without scheme"),
+        ("odom_topic", "odom", "starts with &#x27;/&#x27;"),
+        ("ssh_port", "", "port number"),
+        ("name", "a/b", "without slashes"),
+    ],
+)
+def test_invalid_values_are_shown_next_to_the_field(
+    ctx: AppContext, tmp_path: Path, field: str, value: str, needle: str
+) -> None:
+    screen = SettingsScreen(ctx)
+    fill(screen, **{field: value})
+    screen.save_button.click()
+    assert needle in screen.errors[field].value
+    assert "Not saved" in screen.message.value
+    assert not (tmp_path / "cfg" / "profiles.json").exists()
+
+
+def test_key_auth_shows_key_field_and_validates_it(ctx: AppContext, tmp_path: Path) -> None:
+    screen = SettingsScreen(ctx)
+    fill(screen)
+    screen.fields["auth"].value = "key"
+    assert screen.rows["key_file"].layout.display == "flex" and screen.rows["password"].layout.display == "none"
+    screen.fields["key_file"].value = str(tmp_path / "missing_key")
+    screen.save_button.click()
+    assert "does not exist" in screen.errors["key_file"].value
+    key = tmp_path / "id_test"
+    key.write_text("not really a key")
+    screen.fields["key_file"].value = str(key)
+    assert screen.save() is not None and ctx.profiles.get("Chair A").key_file == str(key)
+
+
+def test_a_page_cannot_push_non_text_into_fields(ctx: AppContext) -> None:
+    screen = SettingsScreen(ctx)
+    fill(screen)
+    with pytest.raises(Exception):  # noqa: B017 - traitlets refuses it before our callback sees it
+        screen.fields["host"].value = 12  # type: ignore[assignment]
+    assert screen.save() is not None
+
+
+@pytest.mark.slow
+def test_connection_to_the_simulator(ctx: AppContext, sim_factory: Any) -> None:
+    sim = sim_factory()
+    screen = SettingsScreen(ctx)
+    fill(screen, port=str(sim.port))
+    assert "Disconnected" in screen.status.value
+    screen.test_button.click()
+    assert screen.state in ("Connecting", "Connected")
+    wait_until(lambda: screen.state != "Connecting", what="the connection test")
+    assert screen.state == "Connected", screen.status.value
+    grid = sim.grid
+    assert f"<b>{grid.width}</b>" in screen.map_info.value and f"<b>{grid.height}</b>" in screen.map_info.value
+    assert f"{grid.resolution:g} m" in screen.map_info.value
+    assert "/odom" in screen.fields["odom_topic"].options
+    assert "/scan" in screen.fields["scan_topic"].options
+    assert screen.info_widget.children == (screen.status, screen.map_info)
+
+
+def test_connection_to_a_closed_port_shows_the_reason(ctx: AppContext) -> None:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    screen = SettingsScreen(ctx)
+    fill(screen, port=str(port))
+    screen.test_button.click()
+    wait_until(lambda: screen.state != "Connecting", what="the connection test")
+    assert screen.state == "Failed"
+    assert "Disconnected" in screen.status.value
+    reason = screen.status.value.split("pmk-status-reason'>", 1)[1]
+    assert str(port) in reason or "refused" in reason.lower(), reason
+    assert any(n.level == "error" for n in ctx.notifications)
+    assert not screen.test_button.disabled  # usable again
+
+
+def test_profile_picker_switches_between_saved_chairs(ctx: AppContext, tmp_path: Path) -> None:
+    screen = SettingsScreen(ctx)
+    fill(screen, name="A", host="10.0.0.1")
+    screen.save()
+    fill(screen, name="B", host="10.0.0.2")
+    screen.save()
+    assert screen.profile_picker.layout.display == "flex"
+    screen.profile_picker.value = "A"
+    assert screen.fields["host"].value == "10.0.0.1"
+    data = json.loads((tmp_path / "cfg" / "profiles.json").read_text())
+    assert data["last_used"] == "B"

@@ -1,0 +1,279 @@
+"""View maths of the live preview: zoom, follow, clamp, conversions (pure, no widgets)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pmk_nb.viewport import (
+    MIN_CHAIR_RADIUS_PX,
+    STILL_SPEED,
+    Viewport,
+    heading_point,
+    laser_segments,
+)
+
+sizes = st.integers(min_value=1, max_value=3000)
+canvas = st.integers(min_value=50, max_value=1600)
+resolutions = st.floats(min_value=0.01, max_value=1.0)
+origins = st.floats(min_value=-500, max_value=500)
+fractions = st.floats(min_value=-0.5, max_value=1.5)
+
+
+@st.composite
+def viewports(draw: st.DrawFn) -> Viewport:
+    view = Viewport(
+        draw(sizes),
+        draw(sizes),
+        draw(resolutions),
+        (draw(origins), draw(origins), 0.3),
+        draw(canvas),
+        draw(canvas),
+        zoom_step=draw(st.sampled_from([1.5, 2.0])),
+        max_zoom=draw(st.integers(min_value=1, max_value=10)),
+    )
+    view.set_zoom(draw(st.integers(min_value=1, max_value=view.max_zoom)))
+    return view
+
+
+def world_point(view: Viewport, fu: float, fv: float) -> tuple[float, float]:
+    """A world point at a fraction of the map's extent (fractions outside 0..1 leave the map)."""
+    x = view.origin[0] + fu * view.map_width * view.resolution
+    y = view.origin[1] + fv * view.map_height * view.resolution
+    return x, y
+
+
+@settings(max_examples=200, deadline=None)
+@given(viewports(), fractions, fractions, fractions, fractions)
+def test_world_pixel_world_round_trip(view: Viewport, fu: float, fv: float, cu: float, cv: float) -> None:
+    view.follow(*world_point(view, cu, cv))
+    x, y = world_point(view, fu, fv)
+    px, py = view.world_to_pixel(x, y)
+    bx, by = view.pixel_to_world(px, py)
+    tol = 1e-6 * max(1.0, abs(x), abs(y), view.map_width * view.resolution)
+    assert abs(bx - x) <= tol and abs(by - y) <= tol
+
+
+@settings(max_examples=200, deadline=None)
+@given(viewports(), fractions, fractions)
+def test_clamp_keeps_view_inside_map_at_every_zoom(view: Viewport, fu: float, fv: float) -> None:
+    view.follow(*world_point(view, fu, fv))
+    for level in range(1, view.max_zoom + 1):
+        view.set_zoom(level)
+        u0, v0 = view.top_left
+        vw, vh = view.view_size_cells
+        eps = 1e-9 * max(view.map_width, view.map_height)
+        for start, extent, size in ((u0, vw, view.map_width), (v0, vh, view.map_height)):
+            if extent >= size:  # map narrower than the view: centred, both margins equal
+                assert math.isclose(start + extent / 2, size / 2, rel_tol=1e-9, abs_tol=eps)
+            else:
+                assert start >= -eps and start + extent <= size + eps
+
+
+@settings(max_examples=200, deadline=None)
+@given(viewports(), fractions, fractions)
+def test_followed_chair_is_centred_unless_clamped(view: Viewport, fu: float, fv: float) -> None:
+    x, y = world_point(view, fu, fv)
+    view.follow(x, y)
+    px, py = view.world_to_pixel(x, y)
+    u, v = view.world_to_cell(x, y)
+    vw, vh = view.view_size_cells
+    for p, c, extent, size, canvas_px in (
+        (px, u, vw, view.map_width, view.canvas_width),
+        (py, v, vh, view.map_height, view.canvas_height),
+    ):
+        free = extent < size and extent / 2 <= c <= size - extent / 2
+        if free:
+            assert abs(p - canvas_px / 2) < 1e-6 * max(1.0, canvas_px)
+        else:  # clamped: the chair is off-centre towards the edge it is near (or the map is centred)
+            assert not (extent < size and extent / 2 < c < size - extent / 2)
+
+
+@settings(max_examples=100, deadline=None)
+@given(viewports())
+def test_zoom_in_then_out_returns_to_same_zoom(view: Viewport) -> None:
+    before = view.zoom
+    view.zoom_in()
+    view.zoom_out()
+    if before < view.max_zoom:
+        assert view.zoom == before
+    else:  # at the top, zoom_in is clamped and zoom_out steps down one
+        assert view.zoom == before - 1 or view.max_zoom == 1
+
+
+@settings(max_examples=200, deadline=None)
+@given(viewports(), fractions, fractions)
+def test_unzoomed_shows_the_whole_map(view: Viewport, fu: float, fv: float) -> None:
+    view.set_zoom(1)
+    view.follow(*world_point(view, fu, fv))
+    corners_x, corners_y = world_point(view, np.array([0.0, 1.0]), np.array([0.0, 1.0]))  # type: ignore[arg-type]
+    px, py = view.world_to_pixel(corners_x, corners_y)
+    eps = 1e-6 * max(view.canvas_width, view.canvas_height)
+    assert np.all(px >= -eps) and np.all(px <= view.canvas_width + eps)
+    assert np.all(py >= -eps) and np.all(py <= view.canvas_height + eps)
+    # and it fills the canvas along at least one axis
+    span_x, span_y = abs(px[1] - px[0]), abs(py[1] - py[0])
+    assert math.isclose(span_x, view.canvas_width, rel_tol=1e-9) or math.isclose(
+        span_y, view.canvas_height, rel_tol=1e-9
+    )
+
+
+def test_y_is_flipped_and_origin_applied() -> None:
+    view = Viewport(100, 50, 0.1, (-2.0, 3.0), 100, 50)  # 1 px per cell at zoom 1
+    # lower-left corner of the map = bottom-left of the canvas
+    px, py = view.world_to_pixel(-2.0, 3.0)
+    assert (float(px), float(py)) == pytest.approx((0.0, 50.0))
+    # top-right corner of the map = top-right of the canvas
+    px, py = view.world_to_pixel(-2.0 + 10.0, 3.0 + 5.0)
+    assert (float(px), float(py)) == pytest.approx((100.0, 0.0))
+    # moving north (y up) moves up on screen
+    assert float(view.world_to_pixel(0.0, 5.0)[1]) < float(view.world_to_pixel(0.0, 4.0)[1])
+
+
+def test_vectorised_conversions_match_scalar() -> None:
+    view = Viewport(300, 200, 0.05, (1.0, -1.0), 640, 480)
+    view.set_zoom(4)
+    view.follow(6.0, 3.0)
+    xs = np.linspace(1.0, 16.0, 7)
+    ys = np.linspace(-1.0, 9.0, 7)
+    px, py = view.world_to_pixel(xs, ys)
+    for i in range(7):
+        sx, sy = view.world_to_pixel(xs[i], ys[i])
+        assert (px[i], py[i]) == pytest.approx((float(sx), float(sy)))
+
+
+def test_zoom_clamps_and_rejects_garbage() -> None:
+    view = Viewport(100, 100, 0.05, (0, 0), 400, 400, max_zoom=5)
+    assert view.set_zoom(99) == 5
+    assert view.zoom_in() == 5
+    assert view.set_zoom(-3) == 1
+    assert view.zoom_out() == 1
+    assert view.set_zoom(2.6) == 3
+    assert view.set_zoom("4") == 4
+    for bad in ("four", float("nan"), float("inf"), None):
+        with pytest.raises(ValueError):
+            view.set_zoom(bad)
+    assert view.zoom == 4
+
+
+def test_pinch_ratio_maps_to_levels() -> None:
+    view = Viewport(100, 100, 0.05, (0, 0), 400, 400, zoom_step=2.0, max_zoom=6)
+    assert view.zoom_for_pinch(2, 1.0) == 2
+    assert view.zoom_for_pinch(2, 2.0) == 3
+    assert view.zoom_for_pinch(2, 4.1) == 4
+    assert view.zoom_for_pinch(3, 0.5) == 2
+    assert view.zoom_for_pinch(3, 0.01) == 1
+    assert view.zoom_for_pinch(3, 1000.0) == 6
+    assert view.zoom_for_pinch(3, 0.0) == 3
+    assert view.zoom_for_pinch(3, float("nan")) == 3
+
+
+def test_small_map_axis_is_centred_when_zoomed() -> None:
+    # a long corridor: 1000 x 20 cells in a 500 x 500 canvas -> zoom 2 still shows all 20 rows
+    view = Viewport(1000, 20, 0.1, (0, 0), 500, 500, zoom_step=2.0)
+    view.set_zoom(2)
+    view.follow(95.0, 0.1)  # near the east end, at the bottom
+    u0, v0 = view.top_left
+    vw, vh = view.view_size_cells
+    assert vh > 20 and math.isclose(v0 + vh / 2, 10.0)
+    assert math.isclose(u0 + vw, 1000.0)  # clamped to the east edge
+
+
+def test_heading_point_moving_and_still() -> None:
+    x, y = heading_point(1.0, 2.0, math.pi / 2, 0.8, 0.35)
+    assert (x, y) == pytest.approx((1.0, 2.8))
+    x, y = heading_point(1.0, 2.0, 0.0, STILL_SPEED / 2, 0.35)  # still: dot on the footprint edge
+    assert (x, y) == pytest.approx((1.35, 2.0))
+    x, y = heading_point(0.0, 0.0, 0.0, -0.5, 0.35)  # reversing: dot behind
+    assert (x, y) == pytest.approx((-0.5, 0.0))
+
+
+def test_chair_radius_scales_with_zoom_and_has_a_minimum() -> None:
+    view = Viewport(200, 200, 0.05, (0, 0), 400, 400)  # 2 px per cell = 40 px/m
+    assert view.chair_radius_px(0.35) == pytest.approx(14.0)
+    view.set_zoom(3)
+    assert view.chair_radius_px(0.35) == pytest.approx(14.0 * 1.5**2)
+    tiny = Viewport(20000, 20000, 0.05, (0, 0), 400, 400)
+    assert tiny.chair_radius_px(0.35) == MIN_CHAIR_RADIUS_PX
+    assert view.dot_radius_px(0.35) == pytest.approx(view.chair_radius_px(0.35) / 2)
+
+
+def test_laser_segments_skip_nan_and_split_max_range() -> None:
+    view = Viewport(200, 200, 0.05, (0, 0), 200, 200)  # 1 px per cell = 20 px/m, 10 m map
+    ranges = np.array([1.0, np.nan, 2.0, 4.0, np.inf, -1.0], dtype=np.float32)
+    at_max = np.array([False, False, False, True, True, False])
+    segs = laser_segments(view, (5.0, 5.0, 0.0), 0.0, math.pi / 2, ranges, at_max, range_max=4.0)
+    assert segs.hits.dtype == np.float32 and segs.hits.shape == (2, 2, 2)
+    assert segs.max_rays.shape == (2, 2, 2)
+    assert segs.count == 4
+    cx, cy = (float(a) for a in view.world_to_pixel(5.0, 5.0))
+    assert np.allclose(segs.hits[:, 0], [cx, cy])
+    # ray 0: 1 m east -> +20 px in x; ray 2: angle pi -> 2 m west
+    assert segs.hits[0, 1] == pytest.approx([cx + 20, cy])
+    assert segs.hits[1, 1] == pytest.approx([cx - 40, cy], abs=1e-3)
+    # ray 3 (3*pi/2 = south, 4 m): down on screen; ray 4 (inf, at max) drawn at range_max (2pi = east)
+    assert segs.max_rays[0, 1] == pytest.approx([cx, cy + 80], abs=1e-3)
+    assert segs.max_rays[1, 1] == pytest.approx([cx + 80, cy], abs=1e-3)
+
+
+def test_image_window_crops_scales_and_letterboxes() -> None:
+    img = np.arange(12, dtype=np.uint8).reshape(3, 4)  # 4 x 3 cells
+    view = Viewport(4, 3, 1.0, (0, 0), 8, 8)  # fit: 2 px per cell, 6 rows -> 1 px letterbox top/bottom
+    out, inside = view.image_window(img, fill=255)
+    assert out.shape == (8, 8) and inside.shape == (8, 8)
+    assert not inside[0].any() and not inside[7].any() and inside[1:7].all()
+    assert (out[0] == 255).all()
+    assert out[1, 0] == img[0, 0] and out[6, 7] == img[2, 3] and out[3, 2] == img[1, 1]
+    view.set_zoom(3)  # x2.25: the view is inside the map, no letterbox
+    view.center_on_cell(0, 3)
+    out, inside = view.image_window(img)
+    assert inside.all()
+    assert out[-1, 0] == img[2, 0]  # bottom-left corner clamped
+    with pytest.raises(ValueError, match="viewport expects"):
+        view.image_window(np.zeros((4, 4), dtype=np.uint8))
+
+
+def test_state_key_changes_only_with_the_view() -> None:
+    view = Viewport(400, 400, 0.05, (0, 0), 200, 200)
+    key = view.state_key()
+    view.follow(3.0, 3.0)  # unzoomed: the whole map stays put
+    assert view.state_key() == key
+    view.zoom_in()
+    zoomed = view.state_key()
+    assert zoomed != key
+    view.follow(8.0, 8.0)
+    assert view.state_key() != zoomed
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        (0, 10, 0.05),
+        (10, 10, 0.0),
+        (10, 10, float("nan")),
+        (10, 10, 0.05, (0, 0), 0, 100),
+    ],
+)
+def test_bad_geometry_is_rejected(args: tuple) -> None:
+    with pytest.raises(ValueError):
+        Viewport(*args)
+
+
+def test_ray_stride_thins_dense_scans_only() -> None:
+    from pmk_nb.viewport import ray_stride
+
+    view = Viewport(200, 200, 0.05, (0, 0), 200, 200)  # 20 px/m
+    ranges = np.full(1080, 3.0)
+    inc = math.radians(0.25)
+    # 3 m * 0.00436 rad * 20 px/m = 0.26 px apart -> every 8th ray for 2 px
+    assert ray_stride(view, ranges, inc, 2.0) == 8
+    assert ray_stride(view, ranges, inc, 0.0) == 1
+    assert ray_stride(view, np.array([]), inc, 2.0) == 1
+    view.set_zoom(view.max_zoom)
+    assert ray_stride(view, ranges, inc, 2.0) == 1
+    segs = laser_segments(view, (5.0, 5.0, 0.0), 0.0, inc, ranges, min_spacing_px=40.0)
+    assert 0 < segs.hits.shape[0] < 1080
