@@ -35,7 +35,9 @@ from typing import Any
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-SAMPLES = Path("/work/shared/data/indoorgml")
+SAMPLES = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "indoorgml"
+if not SAMPLES.is_dir():
+    SAMPLES = Path("/work/shared/data/indoorgml")
 AS_LIMIT = 6 * 1024**3  # address-space cap per child
 BITMAP_BUDGET = 600_000_000  # pixels the original approach may allocate (~600 MB in mode "L")
 DOOR = 0.9

@@ -15,8 +15,9 @@ from pmk_nb.cli import main
 from pmk_nb.indoorgml import read_building
 from pmk_nb.occupancy import rasterise_storey
 from pmk_nb.rosmap import read_map
+from tests.shared_data import INDOORGML_DATA
 
-SAMPLES = Path("/work/shared/data/indoorgml")
+SAMPLES = INDOORGML_DATA
 ONE_STOREY = SAMPLES / "pnu313_4F_2D_doors_subset.gml"
 THREE_STOREYS = SAMPLES / "fjk_haus_v1_0_3.gml"
 

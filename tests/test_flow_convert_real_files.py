@@ -23,8 +23,9 @@ from pmk_nb.indoorgml.model import Building, Cell
 from pmk_nb.library import MapsFolder
 from pmk_nb.occupancy import DEFAULT_WALL_THICKNESS
 from pmk_nb.rosmap import read_map
+from tests.shared_data import INDOORGML_DATA
 
-SHARED = Path("/work/shared/data/indoorgml")
+SHARED = INDOORGML_DATA
 SAMPLES = Path(__file__).resolve().parent.parent / "sample_maps"
 FILES = sorted(SHARED.glob("*.gml")) + sorted(SAMPLES.glob("*.gml"))
 WALL = DEFAULT_WALL_THICKNESS

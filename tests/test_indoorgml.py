@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-
 import pytest
 from shapely.geometry import Point
 
 from pmk_nb.indoorgml import CellKind, read_building, summarize
+from tests.shared_data import INDOORGML_DATA
 
-DATA = Path(os.environ.get("PMK_INDOORGML_DATA", "/work/shared/data/indoorgml"))
+DATA = INDOORGML_DATA
 
 # file -> unit, {storey: cell count}, (storey -> point inside a free cell, point outside all cells), doors
 EXPECTED: dict[str, dict] = {

@@ -1,4 +1,4 @@
-"""map_server reader/writer against the upstream fixtures in /work/shared/data/map_server."""
+"""map_server reader/writer against the upstream fixtures in shared/data/map_server."""
 
 from __future__ import annotations
 
@@ -18,8 +18,9 @@ from pmk_nb.errors import MapFormatError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.rosmap import MapLoadError, grid_to_gray, read_map, read_map_yaml, write_map
 from pmk_nb.rosmap_image import decode_image, image_to_data
+from tests.shared_data import MAP_SERVER_DATA
 
-DATA = Path("/work/shared/data/map_server")
+DATA = MAP_SERVER_DATA
 ROS1 = DATA / "ros1_map_server"
 NAV2 = DATA / "nav2_map_server"
 FLAVOURS = ["ros1", "nav2_humble", "nav2_jazzy"]

@@ -9,8 +9,9 @@ import pytest
 from pmk_nb.errors import LibraryError
 from pmk_nb.sniff import check_indoorgml, is_indoorgml_root
 from tests.indoorgml_samples import BROKEN_HTML, ENTITY_BOMB, EXTERNAL_DTD, HTML_PAGE, OTHER_XML, two_rooms
+from tests.shared_data import INDOORGML_DATA
 
-SHARED = Path("/work/shared/data/indoorgml")
+SHARED = INDOORGML_DATA
 ALMA = (
     b'<?xml version="1.0" encoding="UTF-8"?>\n'
     b'<indoorCore:MultiLayeredGraph xmlns:indoorCore="http://www.opengis.net/indoorgml/1.0/core" '
