@@ -275,6 +275,7 @@ class MapsFolder:
         unit: str = "auto",
         image_format: str = "pgm",
         progress: ConvertProgress | None = None,
+        max_wall_gap: float = 0.5,
     ) -> list[GeneratedMap]:
         """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2).
 
@@ -284,6 +285,8 @@ class MapsFolder:
         Args:
             resolution: metres per cell (e.g. 0.05).
             storeys: storey names to convert; default all.
+            max_wall_gap: gaps between cells up to this many metres wide are walls the file left
+                out, drawn occupied (0 turns this off).
             progress: called as ``progress(step_description, fraction_done_0_to_1)``.
 
         Raises:
@@ -295,14 +298,17 @@ class MapsFolder:
             raise LibraryError(f"resolution must be a positive number of metres per cell, got {resolution!r}")
         if not (isinstance(wall_thickness, int | float) and math.isfinite(wall_thickness) and wall_thickness >= 0):
             raise LibraryError(f"wall thickness must be a number of metres >= 0, got {wall_thickness!r}")
+        if not (isinstance(max_wall_gap, int | float) and math.isfinite(max_wall_gap) and max_wall_gap >= 0):
+            raise LibraryError(f"max wall gap must be a number of metres >= 0, got {max_wall_gap!r}")
         if image_format not in ("pgm", "png"):
             raise LibraryError(f"image format must be 'pgm' or 'png', got {image_format!r}")
         report = progress or (lambda _step, _frac: None)
         try:
             building = self._read(entry, unit, report)
             return self._convert_building(
-                entry, building, float(resolution), storeys, wall_thickness, image_format, report
-            )
+                entry, building, float(resolution), storeys, image_format, report,
+                wall_thickness=wall_thickness, max_wall_gap=float(max_wall_gap),
+            )  # fmt: skip
         except (IndoorGMLError, OccupancyError, MapFormatError) as err:
             raise LibraryError(f"cannot convert map {entry.name!r}: {err}") from err
         except MemoryError as err:
@@ -330,9 +336,9 @@ class MapsFolder:
         building: Building,
         resolution: float,
         storeys: list[str] | None,
-        wall_thickness: float,
         image_format: str,
         report: ConvertProgress,
+        **raster_kw: float,
     ) -> list[GeneratedMap]:
         from pmk_nb.occupancy import rasterise_storey
         from pmk_nb.rosmap import write_map
@@ -354,7 +360,7 @@ class MapsFolder:
                     building,
                     storey,
                     resolution,
-                    wall_thickness=wall_thickness,
+                    **raster_kw,
                     progress=lambda done, total, step=step, base=base: report(step, base + span * done / max(total, 1)),
                 )
                 grid.meta.update(_meta(entry, building, storey))

@@ -7,13 +7,15 @@ target resolution, with the cell-centre rule (:mod:`pmk_nb.raster`), in this ord
 
 1. free cells (navigable, general, transition, anchor and connection spaces) -> 0;
 2. non-navigable cells -> 100;
-3. walls: every free cell's rings, minus the stretches where a door sits, drawn as a band of
+3. wall gaps: regions between cells narrower than ``max_wall_gap`` (files that leave walls out as
+   gaps between cells, e.g. ALMA) are wall, except across door boundaries (:func:`walls.gap_walls`);
+4. walls: every free cell's rings, minus the stretches where a door sits, drawn as a band of
    ``wall_thickness`` centred on the line *and* as a 4-connected supercover line, so rooms that share
    an edge never merge even when the wall is thinner than a cell;
-4. doors opened after the walls: door cells (ConnectionSpace/AnchorSpace) and door boundaries clear
+5. doors opened after the walls: door cells (ConnectionSpace/AnchorSpace) and door boundaries clear
    the wall across their width, plus a short passage line across the wall so the opening survives
    coarse resolutions;
-5. everything outside all cells stays unknown (or occupied with ``outside="occupied"``).
+6. everything outside all cells stays unknown (or occupied with ``outside="occupied"``).
 """
 
 from __future__ import annotations
@@ -37,13 +39,14 @@ from pmk_nb.raster import (
     segments_with_owner,
     supercover_cells,
 )
-from pmk_nb.walls import door_gaps, door_geometry, passages, shrink_segments, wall_lines
+from pmk_nb.walls import door_gaps, door_geometry, gap_walls, passages, shrink_segments, wall_lines
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell
 
 __all__ = [
     "DEFAULT_MAX_CELLS",
+    "DEFAULT_MAX_WALL_GAP",
     "DEFAULT_WALL_THICKNESS",
     "NAV2_MAX_CELLS_PER_SIDE",
     "plan_storey",
@@ -52,11 +55,12 @@ __all__ = [
 ]
 
 DEFAULT_WALL_THICKNESS = 0.10
+DEFAULT_MAX_WALL_GAP = 0.5  # metres: a gap between cells up to this wide is a wall left out of the file
 DEFAULT_MAX_CELLS = 400_000_000  # ~400 MB of int8
 NAV2_MAX_CELLS_PER_SIDE = 32767
 _WALL = 101  # transient markers while drawing: a wall cell that a door may still open,
 _OUTSIDE = 102  # and a cell outside every cell (unknown or occupied once finished)
-_MAX_DOOR_GAP = 0.5  # metres between a door line and the rooms it joins, at most
+_MAX_DOOR_GAP = 1.0  # metres between a door line and the rooms it joins, at most (walls modelled as gaps)
 Progress = Callable[[int, int], None]
 
 
@@ -180,6 +184,7 @@ def rasterise_storey(
     *,
     wall_thickness: float = DEFAULT_WALL_THICKNESS,
     outside: str = "unknown",
+    max_wall_gap: float = DEFAULT_MAX_WALL_GAP,
     max_cells: int = DEFAULT_MAX_CELLS,
     margin: float | None = None,
     allow_large: bool = False,
@@ -192,6 +197,7 @@ def rasterise_storey(
     """
     if outside not in ("unknown", "occupied"):
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {outside!r}")
+    max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
     frame = plan_storey(
         building, storey, resolution, wall_thickness=wall_thickness, margin=margin,
         max_cells=max_cells, allow_large=allow_large,
@@ -224,7 +230,9 @@ def rasterise_storey(
         tick()
 
     tol = max(0.01, 0.25 * res)
-    gaps = door_gaps(door_lines, rooms, max_gap=_MAX_DOOR_GAP)
+    gaps = door_gaps(door_lines, rooms, max_gap=max(_MAX_DOOR_GAP, max_gap))
+    gap_fill = gap_walls([c.footprint for c in cells] + door_polys, door_lines, gaps, max_gap, tol)
+    fill_geometry(grid, frame, gap_fill, _setter(_WALL, keep=(FREE, OCCUPIED)))
     walls = wall_lines(rooms, door_polys, door_lines, gaps, tol)
     segments = line_segments(walls)
     fill_segment_bands(grid, frame, segments, half, _WALL, (OCCUPIED,))
@@ -250,11 +258,11 @@ def rasterise_storey(
     tick()
     return OccupancyGrid(
         data=grid, resolution=res, origin=(frame.x0, frame.y0, 0.0), frame_id="map",
-        meta=_meta(building, storey, float(wall_thickness), outside),
+        meta=_meta(building, storey, float(wall_thickness), outside, max_gap),
     )  # fmt: skip
 
 
-def _meta(building: Building, storey: str, wall_thickness: float, outside: str) -> dict[str, Any]:
+def _meta(building: Building, storey: str, wall_thickness: float, outside: str, max_gap: float) -> dict[str, Any]:
     geo = building.georef
     return {
         "storey": storey,
@@ -267,6 +275,7 @@ def _meta(building: Building, storey: str, wall_thickness: float, outside: str) 
         "lla_origin": None if geo.lla is None else [float(v) for v in geo.lla],
         "wall_thickness": wall_thickness,
         "outside": outside,
+        "max_wall_gap": max_gap,
     }
 
 

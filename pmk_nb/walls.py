@@ -2,7 +2,8 @@
 
 Rooms' rings become wall lines except where a door sits (door cells and door boundaries cut them,
 found per room with an R-tree); door cells keep walls only on their jambs; each door gets a short
-"passage" segment across the wall so the opening survives any resolution.
+"passage" segment across the wall so the opening survives any resolution. Many files leave the wall
+itself out, as a gap between cells: :func:`gap_walls` finds those gaps so they are drawn occupied.
 """
 
 from __future__ import annotations
@@ -37,19 +38,93 @@ def door_geometry(building: Building, storey: str, cells: list[Cell]) -> tuple[l
 
 
 def door_gaps(door_lines: list[Any], rooms: list[Any], max_gap: float) -> np.ndarray:
-    """Per door line, how far the rooms it joins stand off it (0 when they share its edge).
+    """Per door line, how far it must reach to join a room on each side (0 when rooms share its edge).
 
-    Some files model the wall between rooms as a gap with the door line in the middle; the wall cut
-    and the opening must then reach across that gap.
+    Some files model the wall between rooms as a gap, with the door line in the middle of it or on
+    one room's edge; the wall cut and the opening must then reach across that gap. Each side of the
+    line counts its nearest room only, so a third room further off never widens the opening, and a
+    side with no room within ``max_gap`` (an outside door) counts 0.
     """
     gaps = np.zeros(len(door_lines))
     if not door_lines or not rooms:
         return gaps
     lines, room_arr = np.asarray(door_lines, dtype=object), np.asarray(rooms, dtype=object)
-    pairs = shapely.STRtree(room_arr).query(lines, predicate="dwithin", distance=max_gap)
-    if pairs.shape[1]:
-        np.maximum.at(gaps, pairs[0], shapely.distance(lines[pairs[0]], room_arr[pairs[1]]))
-    return gaps
+    tree = shapely.STRtree(room_arr)
+    try:
+        chords = _chords(lines)
+        # fast path, the common case: rooms on both sides touch the line at its middle (1 mm probes)
+        p0, p1 = (shapely.get_coordinates(shapely.get_point(chords, i)) for i in (0, -1))
+        mid, d = (p0 + p1) / 2, p1 - p0
+        normal = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.hypot(d[:, 0], d[:, 1])[:, None] * 1e-3
+        both = np.ones(len(lines), dtype=bool)
+        for probe in (mid + normal, mid - normal):
+            hit = np.zeros(len(lines), dtype=bool)
+            hit[tree.query(shapely.points(probe), predicate="intersects")[0]] = True
+            both &= hit
+        todo = np.flatnonzero(~both)
+        for side in (1.0, -1.0):  # the strip left, then right, of each other door line
+            strips = shapely.buffer(chords[todo], side * max_gap, single_sided=True, cap_style="flat")
+            li, ri = tree.query(strips, predicate="intersects")
+            near = np.full(len(todo), np.inf)
+            parts = shapely.intersection(room_arr[ri], strips[li])
+            inside = shapely.area(parts) > 1e-9  # a room merely touching the line lies on the other side
+            np.minimum.at(near, li[inside], shapely.distance(chords[todo[li[inside]]], parts[inside]))
+            gaps[todo] = np.maximum(gaps[todo], np.where(np.isfinite(near), near, 0.0))
+    except shapely.errors.GEOSException:  # degenerate room geometry: the farthest room near the line
+        pairs = tree.query(lines, predicate="dwithin", distance=max_gap)
+        if pairs.shape[1]:
+            np.maximum.at(gaps, pairs[0], shapely.distance(lines[pairs[0]], room_arr[pairs[1]]))
+    return np.nan_to_num(gaps)
+
+
+def _chords(lines: np.ndarray) -> np.ndarray:
+    """Each line as one straight segment, from its first point to the point farthest from it: a door
+    boundary taken from a vertical surface runs along the door and back, which has no left or right."""
+    coords, index = shapely.get_coordinates(lines, return_index=True)
+    groups = np.split(coords, np.cumsum(np.bincount(index, minlength=len(lines)))[:-1])
+    out = lines.copy()
+    for i, xy in enumerate(groups):
+        if len(xy) > 2:
+            far = int(np.argmax(np.hypot(xy[:, 0] - xy[0, 0], xy[:, 1] - xy[0, 1])))
+            out[i] = shapely.LineString([xy[0], xy[far]]) if far else lines[i]
+    return out
+
+
+def gap_walls(footprints: list[Any], door_lines: list[Any], gaps: np.ndarray, max_gap: float, tol: float) -> Any:
+    """The regions between cells narrower than ``max_gap``: walls the file models as gaps.
+
+    A mitre closing of the union of the storey's cells (grow by ``max_gap / 2``, shrink back) fills
+    exactly where cells grown from two sides meet: gaps between cells up to ``max_gap`` wide, holes
+    and notches narrower than that. Wider gaps (courtyards, light wells) stay open, and with mitre
+    joins a building's own corners (convex or concave, e.g. the inner corner of an L) come back
+    unchanged, so nothing outside the building is filled. Door boundaries cut the filled region
+    along their length, as far as the rooms they join (``gaps``, from :func:`door_gaps`); door cells
+    are cells, so they stay open by construction. Slivers from round-off are dropped.
+
+    Returns a Polygon / MultiPolygon (empty when there is nothing to fill).
+    """
+    empty = shapely.Polygon()
+    if max_gap <= 0 or not footprints:
+        return empty
+    polys = [p for g in footprints for p in polygons_of(g if g.is_valid else shapely.make_valid(g))]
+    if not polys:
+        return empty
+    try:
+        union = shapely.union_all(np.asarray(polys, dtype=object))
+        r = max_gap / 2 + 1e-6  # a micrometre more: a gap exactly max_gap wide is filled, whatever the round-off
+        closed = shapely.buffer(shapely.buffer(union, r, join_style="mitre"), -r, join_style="mitre")
+        fill = shapely.difference(closed, union)
+        if door_lines and not fill.is_empty:
+            cuts = shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat")
+            fill = shapely.difference(fill, shapely.union_all(cuts))
+    except shapely.errors.GEOSException:  # degenerate input geometry: draw the gaps as before
+        return empty
+    parts = np.asarray(polygons_of(fill), dtype=object)
+    if len(parts) == 0:
+        return empty
+    # mean width 2 * area / perimeter: round-off slivers along shared edges are far below 0.1 mm
+    width = 2 * shapely.area(parts) / np.maximum(shapely.length(parts), 1e-12)
+    return shapely.MultiPolygon(parts[width > 1e-4].tolist())
 
 
 def wall_lines(

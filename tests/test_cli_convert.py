@@ -76,6 +76,17 @@ def test_progress_bar_on_request(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert capsys.readouterr().err == ""
 
 
+def test_max_wall_gap_option(tmp_path: Path) -> None:
+    clinic = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+    for gap, expected in (("0.5", 100), ("0", -1)):
+        out = tmp_path / gap
+        argv = ["convert", str(clinic), "-r", "0.1", "--out", str(out), "--max-wall-gap", gap, "--no-progress"]
+        assert main(argv) == 0
+        grid = read_map(out / "clinic_floor.yaml")
+        assert grid.value_at(12.0, 6.0) == expected  # the wall left out between exam room 1 and the corridor
+        assert grid.meta["max_wall_gap"] == float(gap)
+
+
 @pytest.fixture
 def existing(tmp_path: Path) -> Path:
     """An output folder that already holds a map set named like the sample."""
@@ -91,6 +102,7 @@ def existing(tmp_path: Path) -> Path:
         (["-r", "inf"], "resolution"),
         (["-r", "0.05", "--storey", "NOPE"], "NOPE"),
         (["-r", "0.05", "--wall-thickness", "-1"], "wall thickness"),
+        (["-r", "0.05", "--max-wall-gap", "-0.5"], "max wall gap"),
         (["-r", "0.05", "--unit", "furlong"], "furlong"),
     ],
 )

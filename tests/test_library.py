@@ -289,7 +289,18 @@ def test_convert_errors_are_library_errors_and_leave_files(folder: MapsFolder, g
         folder.convert("clinic", -1.0)
     with pytest.raises(LibraryError, match="'pgm' or 'png'"):
         folder.convert("clinic", 0.05, image_format="jpg")
+    with pytest.raises(LibraryError, match="max wall gap"):
+        folder.convert("clinic", 0.05, max_wall_gap=-0.2)
     assert snapshot(folder.root) == before
+
+
+def test_convert_passes_max_wall_gap(folder: MapsFolder, tmp_path: Path) -> None:
+    src = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+    folder.import_file(src, "alma")
+    [gm] = folder.convert("alma", 0.1)
+    assert read_map(gm.yaml).value_at(12.0, 6.0) == 100  # the wall the file leaves out as a gap
+    [gm] = folder.convert("alma", 0.1, max_wall_gap=0.0)
+    assert read_map(gm.yaml).value_at(12.0, 6.0) == -1
 
 
 def test_convert_of_invalid_building_chains_reader_error(folder: MapsFolder) -> None:

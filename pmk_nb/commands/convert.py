@@ -62,6 +62,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     p.add_argument("--out", type=Path, default=None, help="output folder (default: the file's folder)")
     p.add_argument("--name", default=None, help="base name of the map files (default: the file's stem)")
     p.add_argument("--wall-thickness", type=float, default=0.10, help="wall band in metres (default 0.10)")
+    p.add_argument(
+        "--max-wall-gap", type=float, default=0.5, metavar="M",
+        help="gaps between cells up to M metres wide are walls the file left out: occupied (default 0.5, 0 = off)",
+    )  # fmt: skip
     p.add_argument("--unit", default="auto", help="coordinate unit: auto, m, dm, cm, mm (default auto)")
     p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
     p.add_argument("--outside", choices=("unknown", "occupied"), default="unknown", help="value outside all cells")
@@ -109,7 +113,8 @@ def run(args: argparse.Namespace) -> int:
         for storey in storeys:
             bar.stage(f"storey {storey}")
             grid = rasterise_storey(
-                building, storey, args.resolution, outside=args.outside, progress=bar, **kw
+                building, storey, args.resolution, outside=args.outside, max_wall_gap=args.max_wall_gap,
+                progress=bar, **kw,
             )  # fmt: skip
             bar.close()
             files = write_map(

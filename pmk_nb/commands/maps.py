@@ -48,6 +48,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     cv.add_argument("-r", "--resolution", type=float, default=0.05, help="metres per cell (default 0.05)")
     cv.add_argument("--storey", action="append", dest="storeys", help="convert only this storey (repeatable)")
     cv.add_argument("--wall-thickness", type=float, default=0.10, help="wall thickness in metres")
+    cv.add_argument(
+        "--max-wall-gap", type=float, default=0.5, metavar="M",
+        help="gaps between cells up to M metres wide are walls the file left out (default 0.5, 0 = off)",
+    )  # fmt: skip
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     cv.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
     cv.add_argument("--format", dest="image_format", default="pgm", choices=("pgm", "png"))
@@ -142,6 +146,7 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             args.resolution,
             storeys=args.storeys,
             wall_thickness=args.wall_thickness,
+            max_wall_gap=args.max_wall_gap,
             unit=args.unit,
             image_format=args.image_format,
             progress=progress,
