@@ -4,13 +4,14 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 PYTEST_ARGS ?=
+JS_STAMP := tests/js/node_modules/.package-lock.json
 
 .PHONY: demo test lint bench system-deps venv clean
 
 demo: $(STAMP)  ## convert the sample, start the simulated chair and the Voilà kiosk, print the URL
 	$(BIN)/pmk demo
 
-test: $(STAMP) system-deps lint  ## install everything the tests need and run the whole suite
+test: $(STAMP) system-deps $(JS_STAMP) lint  ## install everything the tests need and run the whole suite
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
 
 lint: $(STAMP)
@@ -38,5 +39,12 @@ system-deps:
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing >/dev/null; \
 	fi
 
+# roslibjs (a second real rosbridge client) checks the simulator; versions fixed by the lock file.
+$(JS_STAMP): tests/js/package.json tests/js/package-lock.json
+	@command -v npm >/dev/null || { echo "make: the roslibjs tests need Node.js >= 20 and npm"; exit 1; }
+	@node -e 'process.exit(+process.versions.node.split(".")[0] >= 20 ? 0 : 1)' || { echo "make: Node.js >= 20 needed, found $$(node --version)"; exit 1; }
+	cd tests/js && npm ci --no-audit --no-fund --loglevel=error
+	touch $(JS_STAMP)
+
 clean:
-	rm -rf $(VENV) .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
+	rm -rf $(VENV) tests/js/node_modules .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
