@@ -4,7 +4,9 @@ The SimChair runs in this process (patrolling the demo floor, so every scan is a
 one roslibpy subscriber (asyncio transport) runs in a child process so its decoding is not counted.
 CPU = process time / wall time of this process over the measuring window (1.0 = one full core).
 Cases: nobody subscribed; odometry 50 Hz + 1080-ray scans at 40 Hz to one client; and the
-default 720 rays at 20 Hz. Also the mean time of one 1080-ray cast.
+default 720 rays at 20 Hz. Also the mean time of one 1080-ray cast, and a hot map reload: its
+steps (read the files, build the world, encode the /map JSON), the whole ``load_map`` and the
+longest gap between /odom messages a client saw meanwhile (the loop must keep publishing).
 
 Usage: python bench/bench_sim.py [--quick] [--seconds S]   -> writes bench/results-sim.md
 """
@@ -20,6 +22,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench"))
 
 from pmk_nb.sim import SimChair  # noqa: E402
 from pmk_nb.sim.chair import DriveLimits  # noqa: E402
@@ -80,6 +83,89 @@ def measure(seconds: float, *, rays: int, scan_rate: float, subscriber: bool) ->
         sim.stop()
 
 
+GAP_CLIENT_CODE = """
+import json, sys, time, roslibpy
+port = int(sys.argv[1])
+ros = roslibpy.Ros("127.0.0.1", port, transport="asyncio")
+ros.run(10)
+arrivals = []
+roslibpy.Topic(ros, "/odom", "nav_msgs/Odometry").subscribe(lambda _: arrivals.append(time.monotonic()))
+print("ready", flush=True)
+for line in sys.stdin:  # "go" starts a window, "stop" reports the longest gap in it
+    if line.strip() == "go":
+        t0, first = time.monotonic(), len(arrivals)
+    else:
+        times = [t0, *arrivals[first:]]
+        print(json.dumps(max(b - a for a, b in zip(times, times[1:], strict=False)) if len(times) > 1 else -1.0),
+              flush=True)
+ros.close()
+"""
+
+
+def reload_rows(sizes: tuple[int, ...], repeats: int) -> list[str]:
+    """Median step and total times of hot reloads of an NxN floor plan, and the worst /odom gap."""
+    import statistics
+    import tempfile
+
+    from bench_deploy import building_grid
+
+    from pmk_nb.rosmap import read_map, write_map
+    from pmk_nb.sim.messages import Names
+    from pmk_nb.sim.world import World
+
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="pmk-bench-reload-") as tmp:
+        sim = SimChair(grid=building_grid(200, seed=0), maps_dir=Path(tmp), odom_rate=50.0, scan_rate=20.0).start()
+        child = subprocess.Popen(
+            [sys.executable, "-c", GAP_CLIENT_CODE, str(sim.port)],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+            cwd=ROOT,
+        )
+        try:
+            assert child.stdout is not None and child.stdin is not None
+            if child.stdout.readline().strip() != "ready":
+                raise RuntimeError("benchmark client did not connect")
+            for size in sizes:
+                steps: dict[str, list[float]] = {"read": [], "world": [], "json": [], "load": [], "gap": []}
+                for i in range(repeats):
+                    yaml = write_map(building_grid(size, seed=i + 1), Path(tmp), f"floor{size}_{i}", preview=False).yaml
+                    t0 = time.perf_counter()
+                    grid = read_map(yaml)
+                    t1 = time.perf_counter()
+                    World(grid)
+                    t2 = time.perf_counter()
+                    Names("ros1").occupancy_grid(grid, 0.0, 0.0)
+                    t3 = time.perf_counter()
+                    del grid
+                    child.stdin.write("go\n")
+                    child.stdin.flush()
+                    time.sleep(0.2)
+                    t4 = time.perf_counter()
+                    if sim.load_map(yaml, timeout=120.0) != 0:
+                        raise RuntimeError(f"reload of {yaml} failed")
+                    t5 = time.perf_counter()
+                    time.sleep(0.2)
+                    child.stdin.write("stop\n")
+                    child.stdin.flush()
+                    gap = float(json.loads(child.stdout.readline()))
+                    for key, value in zip(steps, (t1 - t0, t2 - t1, t3 - t2, t5 - t4, gap), strict=True):
+                        steps[key].append(value)
+                med = {key: statistics.median(values) for key, values in steps.items()}
+                rows.append(
+                    f"| {size}x{size} | {med['read']:.2f} | {med['world']:.2f} | {med['json']:.2f} | "
+                    f"{med['load']:.2f} | {1000 * med['gap']:.0f} |"
+                )
+                print(rows[-1], flush=True)
+        finally:
+            if child.stdin is not None:
+                child.stdin.close()
+            child.wait(timeout=20)
+            sim.stop()
+    return rows
+
+
 def cast_ms(rays: int, repeat: int) -> float:
     from pmk_nb.sim.demo import demo_grid
     from pmk_nb.sim.laser import Laser
@@ -113,6 +199,7 @@ def main() -> int:
         )
         print(rows[-1], flush=True)
     one_cast = cast_ms(1080, 50 if args.quick else 400)
+    reloads = reload_rows((500, 1000) if args.quick else (1000, 2000, 4000), 1 if args.quick else 3)
     text = "\n".join(
         [
             "## Simulator (`bench/bench_sim.py`)",
@@ -126,6 +213,19 @@ def main() -> int:
             *rows,
             "",
             f"One vectorised 1080-ray cast (10 m range) on the demo floor: {one_cast:.2f} ms.",
+            "",
+            "### Hot map reload",
+            "",
+            "Floor plans from `bench_deploy.building_grid` (0.05 m cells, 8-bit PGM, unknown margin); median of "
+            f"{1 if args.quick else 3}. Steps timed alone: read = `rosmap.read_map`, world = collision mask + laser "
+            "targets (the planning grid is built on first use), JSON = the /map message with its data encoded. "
+            "load = `SimChair.load_map` (read, then world and JSON side by side in worker threads, publish "
+            "/map and /map_metadata). Max odom gap = longest wait between /odom messages (50 Hz) seen by a "
+            "roslibpy client in another process during the reload.",
+            "",
+            "| map | read s | world s | JSON s | load s | max odom gap ms |",
+            "|---|---:|---:|---:|---:|---:|",
+            *reloads,
             "Machine: 2 shared cores, other jobs running; numbers are indicative, not asserts.",
             "",
         ]

@@ -1,14 +1,20 @@
-"""`pmk sim` as a user runs it: prints where it serves, answers, and stops cleanly on SIGTERM."""
+"""`pmk sim` as a user runs it: prints where it serves, answers, stops cleanly on SIGTERM; SFTP auth options."""
 
 from __future__ import annotations
 
+import base64
+import io
 import json
 import re
 import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
+import asyncssh
+import paramiko
+import pytest
 from websockets.sync.client import connect
 
 from tests.fixtures_sim import room_grid, write_test_map
@@ -86,3 +92,101 @@ def test_cli_bad_map_is_a_clear_error(tmp_path):
     )
     assert proc.returncode == 2
     assert "no.yaml" in proc.stderr
+
+
+def _cli_paramiko(lines: list[str], **auth: object) -> paramiko.SSHClient:
+    """Log in to the CLI sim's SFTP as printed (port, user, host key), with ``auth`` only."""
+    text = "\n".join(lines)
+    login = re.search(r"sftp: (\S+)@127\.0\.0\.1 port (\d+)", text)
+    host_key = re.search(r"sftp host key: SHA256:\S+ \((ssh-ed25519) (\S+)", text)
+    assert login and host_key, text
+    client = paramiko.SSHClient()
+    port = int(login.group(2))
+    client.get_host_keys().add(
+        f"[127.0.0.1]:{port}", host_key.group(1), paramiko.Ed25519Key(data=base64.b64decode(host_key.group(2)))
+    )
+    client.set_missing_host_key_policy(paramiko.RejectPolicy())
+    client.connect(
+        "127.0.0.1", port, username=login.group(1), allow_agent=False, look_for_keys=False, timeout=10, **auth
+    )
+    return client
+
+
+def _user_key(tmp_path: Path) -> tuple[Path, Path, str]:
+    """An ed25519 key pair on disk (private, public) and its SHA256 fingerprint."""
+    key = asyncssh.generate_private_key("ssh-ed25519", comment="tester")
+    private, public = tmp_path / "id_ed25519", tmp_path / "id_ed25519.pub"
+    private.write_bytes(key.export_private_key("openssh"))
+    public.write_bytes(b"# the chair's authorized_keys\n\n" + key.export_public_key("openssh"))
+    return private, public, key.get_fingerprint("sha256")
+
+
+def _stop(proc: subprocess.Popen[str]) -> None:
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=10) == 0
+
+
+def test_cli_authorized_key_and_password_both_log_in(tmp_path):
+    private, public, fingerprint = _user_key(tmp_path)
+    proc, lines = start_cli("--sftp-port", "0", "--sftp-authorized-key", str(public), "--sftp-password", "pw-123")
+    try:
+        assert any(f"sftp authorized keys: {fingerprint}" in line for line in lines), lines
+        client = _cli_paramiko(lines, key_filename=str(private))
+        try:
+            sftp = client.open_sftp()
+            sftp.putfo(io.BytesIO(b"x"), "ALMA_MAPS/by_key.txt")
+            assert "by_key.txt" in sftp.listdir("ALMA_MAPS")
+        finally:
+            client.close()
+        _cli_paramiko(lines, password="pw-123").close()
+        with pytest.raises(paramiko.AuthenticationException):
+            _cli_paramiko(lines, password="wrong")
+        _stop(proc)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+def test_cli_no_sftp_password_is_key_only(tmp_path):
+    private, public, _ = _user_key(tmp_path)
+    (tmp_path / "other").mkdir()
+    other, _, _ = _user_key(tmp_path / "other")
+    proc, lines = start_cli("--sftp-port", "0", "--sftp-authorized-key", str(public), "--no-sftp-password")
+    try:
+        assert any("key login only" in line for line in lines), lines
+        assert not any("password" in line for line in lines if line.strip().startswith("sftp:")), lines
+        _cli_paramiko(lines, key_filename=str(private)).close()
+        with pytest.raises(paramiko.AuthenticationException):
+            _cli_paramiko(lines, key_filename=str(other))  # a key that is not authorized
+        with pytest.raises(paramiko.BadAuthenticationType) as refused:  # password auth is not even offered
+            _cli_paramiko(lines, password="anything")
+        assert refused.value.allowed_types == ["publickey"]
+        _stop(proc)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+@pytest.mark.parametrize(
+    ("extra", "needle"),
+    [
+        (["--no-sftp-password"], "--sftp-authorized-key"),
+        (["--no-sftp-password", "--sftp-password", "x", "--sftp-authorized-key", "K"], "contradict"),
+        (["--sftp-authorized-key", "MISSING"], "MISSING"),
+        (["--sftp-authorized-key", "PRIVATE"], "not an OpenSSH public key"),
+    ],
+)
+def test_cli_bad_sftp_auth_options_are_clear_errors(tmp_path, extra, needle):
+    private, public, _ = _user_key(tmp_path)
+    subst = {"K": str(public), "MISSING": str(tmp_path / "nope.pub"), "PRIVATE": str(private)}
+    argv = [subst.get(a, a) for a in extra]
+    proc = subprocess.run(
+        [sys.executable, "-m", "pmk_nb.cli", "sim", "--port", "0", "--sftp-port", "0", *argv],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert subst.get(needle, needle) in proc.stderr

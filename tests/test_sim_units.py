@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import json
 import math
 import socket
 from pathlib import Path
@@ -10,10 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from pmk_nb.grid import OccupancyGrid
 from pmk_nb.sim import SimChair, SimError
 from pmk_nb.sim.chair import Chair
 from pmk_nb.sim.demo import sample_floor
 from pmk_nb.sim.gridops import clearance, dilate_disk, wavefront
+from pmk_nb.sim.jsonfast import RawJSON, dumps, int8_array_json
 from pmk_nb.sim.laser import Laser
 from pmk_nb.sim.messages import Names, canonical_type, conformance_error
 from pmk_nb.sim.paths import ChairFS
@@ -21,17 +24,39 @@ from pmk_nb.sim.world import World
 from tests.fixtures_sim import room_grid
 
 
-def test_dilate_disk_matches_brute_force():
+@pytest.mark.parametrize(("shape", "radius"), [((40, 50), 3.4), ((40, 50), 7.0), ((9, 3), 2.0), ((1, 12), 1.5)])
+def test_dilate_disk_matches_brute_force(shape, radius):
     rng = np.random.default_rng(1)
-    mask = rng.random((40, 50)) > 0.97
-    radius = 3.4
+    mask = rng.random(shape) > 0.9
+    mask[0, 0] = mask[-1, -1] = True  # reaches past every border
     got = dilate_disk(mask, radius)
     rows, cols = np.nonzero(mask)
-    rr, cc = np.mgrid[0:40, 0:50]
+    rr, cc = np.mgrid[0 : shape[0], 0 : shape[1]]
     want = np.zeros_like(mask)
     for r, c in zip(rows, cols, strict=True):
         want |= (rr - r) ** 2 + (cc - c) ** 2 <= radius**2
     assert np.array_equal(got, want)
+
+
+def test_int8_array_json_is_compact_json_of_every_value():
+    rng = np.random.default_rng(2)
+    every = np.arange(-128, 128, dtype=np.int8)
+    for data in (every, rng.permutation(every).reshape(16, 16), every[::-3], np.zeros(0, np.int8), every[:1]):
+        text = int8_array_json(data)
+        assert text == json.dumps(data.reshape(-1).tolist(), separators=(",", ":"))
+    big = rng.choice(np.array([-1, 0, 100, 42], dtype=np.int8), size=(300, 200))
+    assert json.loads(int8_array_json(big)) == big.reshape(-1).tolist()
+
+
+def test_dumps_splices_raw_json_verbatim():
+    tricky = "a \x00 b \\u0000"  # NULs and escape-looking text in ordinary strings stay ordinary
+    msg = {"s": tricky, "data": RawJSON("[1,-1,100]"), "nested": [{"x": RawJSON("{}")}, 2.5]}
+    text = dumps(msg)
+    assert "[1,-1,100]" in text
+    assert json.loads(text) == {"s": tricky, "data": [1, -1, 100], "nested": [{"x": {}}, 2.5]}
+    assert dumps({"plain": [1, 2]}) == json.dumps({"plain": [1, 2]})
+    with pytest.raises(TypeError):
+        dumps({"bad": object()})
 
 
 def test_wavefront_distances_and_walls():
@@ -72,6 +97,28 @@ def test_world_blocks_unknown_and_footprint():
     assert world.blocked_at(-1.0, 2.0)  # off the map
     x, y = world.open_spot()
     assert 1.0 < x < 2.0 and 1.5 < y < 2.5
+
+
+def test_nearest_free_matches_a_full_scan():
+    rng = np.random.default_rng(4)
+    for _ in range(30):
+        h, w = (int(v) for v in rng.integers(3, 160, 2))
+        data = np.full((h, w), 100, dtype=np.int8)
+        for _ in range(int(rng.integers(0, 4))):  # 0..3 free rectangles (0 = no free cell at all)
+            r, c = int(rng.integers(0, h)), int(rng.integers(0, w))
+            data[r : r + int(rng.integers(1, 40)), c : c + int(rng.integers(1, 40))] = 0
+        world = World(OccupancyGrid(data=data, resolution=0.05, origin=(-1.0, 2.0, 0.0)), footprint_radius=0.05)
+        rows, cols = np.nonzero(~world.blocked)
+        cx, cy = -1.0 + (cols + 0.5) * 0.05, 2.0 + (rows + 0.5) * 0.05
+        for _ in range(8):
+            x, y = float(rng.uniform(-3.0, w * 0.05 + 1.0)), float(rng.uniform(0.0, h * 0.05 + 4.0))
+            got = world.nearest_free(x, y)
+            if rows.size == 0:
+                assert got is None
+                continue
+            assert got is not None and not world.blocked_at(*got)
+            best = float(np.min((cx - x) ** 2 + (cy - y) ** 2))
+            assert (got[0] - x) ** 2 + (got[1] - y) ** 2 == pytest.approx(best, abs=1e-9)
 
 
 def test_plan_goes_through_the_door():

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.sim.demo import sample_floor
-from pmk_nb.sim.server import SimChair
+from pmk_nb.sim.server import SimChair, SimError
 
 READY_LINE = "pmk sim: ready"
 
@@ -33,6 +33,20 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--no-sftp", action="store_true", help="do not start the SFTP endpoint")
     p.add_argument("--sftp-user", default="pmk")
     p.add_argument("--sftp-password", default=None, help="default: a random password, printed at start")
+    p.add_argument(
+        "--sftp-authorized-key",
+        type=Path,
+        default=None,
+        metavar="PATH",
+        help="OpenSSH public key file (e.g. ~/.ssh/id_ed25519.pub, or an authorized_keys file) whose keys may "
+        "log in as --sftp-user; password login stays on as well unless --no-sftp-password",
+    )
+    p.add_argument(
+        "--no-sftp-password",
+        action="store_true",
+        help="refuse password login (key only, like a hardened chair); needs --sftp-authorized-key, "
+        "conflicts with --sftp-password",
+    )
     p.add_argument("--flavour", choices=("ros1", "ros2"), default="ros1")
     p.add_argument("--odom-rate", type=float, default=50.0, help="Hz")
     p.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
@@ -57,10 +71,12 @@ def describe(sim: SimChair) -> list[str]:
     lines.append("  services:")
     lines += [f"    {name} [{entry.type}]" for name, entry in sorted(bridge.services.items())]
     if sim.sftp_port is not None:
-        lines += [
-            f"  sftp: {sim.sftp_user}@{sim.host} port {sim.sftp_port} password {sim.sftp_password}",
-            f"  sftp host key: {sim.sftp_host_key_fingerprint} ({sim.sftp_host_key})",
-        ]
+        login = f"password {sim.sftp_password}" if sim.sftp_password is not None else "key login only"
+        lines.append(f"  sftp: {sim.sftp_user}@{sim.host} port {sim.sftp_port} {login}")
+        if sim.sftp_authorized_key is not None:
+            prints = ", ".join(sim.sftp_authorized_fingerprints)
+            lines.append(f"  sftp authorized keys: {prints} (from {sim.sftp_authorized_key})")
+        lines.append(f"  sftp host key: {sim.sftp_host_key_fingerprint} ({sim.sftp_host_key})")
     return lines
 
 
@@ -72,7 +88,17 @@ def _map_name(sim: SimChair) -> str:
     return f"sample {source}" if source and source != "demo" else "built-in demo floor"
 
 
+def _check_sftp_args(args: argparse.Namespace) -> None:
+    if not args.no_sftp_password:
+        return
+    if args.sftp_authorized_key is None:
+        raise SimError("--no-sftp-password needs --sftp-authorized-key PATH, or nobody could log in over SFTP")
+    if args.sftp_password is not None:
+        raise SimError("--no-sftp-password and --sftp-password contradict each other: give one of them")
+
+
 def run(args: argparse.Namespace) -> int:
+    _check_sftp_args(args)
     grid = None if args.map is not None else sample_floor()
     sim = SimChair(
         args.map,
@@ -87,6 +113,8 @@ def run(args: argparse.Namespace) -> int:
         sftp_port=None if args.no_sftp else args.sftp_port,
         sftp_user=args.sftp_user,
         sftp_password=args.sftp_password,
+        sftp_authorized_key=args.sftp_authorized_key.expanduser() if args.sftp_authorized_key else None,
+        sftp_password_login=not args.no_sftp_password,
         maps_dir=args.maps_dir,
     )
     stop = threading.Event()

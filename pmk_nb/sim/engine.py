@@ -88,8 +88,13 @@ class Engine:
     # -- map changes ------------------------------------------------------------------------------
 
     async def install(self, grid: OccupancyGrid) -> None:
-        """Swap in a new map (built off the loop); keep the chair where it is if that is free."""
+        """Swap in a new map (built off the loop); keep the chair where it is if that is free.
+
+        Only O(1) work happens on the loop; the chair keeps driving on the old map meanwhile.
+        """
         world = await asyncio.to_thread(World, grid, self.footprint_radius)
+        if not world.has_free:  # refuse before swapping anything: the chair keeps the old map
+            raise ValueError("the map has no free cell large enough for the chair's footprint")
         self.cancel_plan()
         if self.chair is None:
             pose = self.start_pose
@@ -101,13 +106,13 @@ class Engine:
             self.chair.world = world
             self.chair.teleport(self.chair.pose)  # a new map cancels any goal
         self.world = world
-        x, y, th = self.chair.pose
-        if world.blocked_at(x, y):
-            spot = world.nearest_free(x, y)
-            if spot is None:
-                raise ValueError("the map has no free cell large enough for the chair's footprint")
-            self.chair.teleport((spot[0], spot[1], th))
-            self.note(f"pose ({x:.2f}, {y:.2f}) is not free on the new map: moved to ({spot[0]:.2f}, {spot[1]:.2f})")
+        x, y, _ = self.chair.pose
+        if world.blocked_at(x, y):  # stuck: every move into blocked space is refused meanwhile
+            spot = await asyncio.to_thread(world.nearest_free, x, y)
+            if spot is not None and self.world is world and self.chair.pose[:2] == (x, y):
+                self.chair.teleport((spot[0], spot[1], self.chair.pose[2]))
+                moved = f"moved to ({spot[0]:.2f}, {spot[1]:.2f})"
+                self.note(f"pose ({x:.2f}, {y:.2f}) is not free on the new map: {moved}")
 
     def teleport(self, pose: tuple[float, float, float]) -> None:
         self.cancel_plan()
@@ -151,9 +156,17 @@ class Engine:
         if busy or now - self._last_manual < PATROL_IDLE or now < self._patrol_next or self.world is None:
             return
         self._patrol_next = now + PATROL_PAUSE
-        points = self.world.reachable_points(chair.pose[:2], self.rng)
-        if points:
-            self.start_plan(points[0], None)
+        self.cancel_plan()
+        self._plan_task = asyncio.get_running_loop().create_task(self._patrol_leg())
+
+    async def _patrol_leg(self) -> None:
+        """Pick a reachable point and drive there; both searches run off the loop."""
+        chair, world = self.chair, self.world
+        if chair is None or world is None:
+            return
+        points = await asyncio.to_thread(world.reachable_points, chair.pose[:2], self.rng)
+        if points and world is self.world:
+            await self._plan(points[0], None)
 
     # -- loops ------------------------------------------------------------------------------------
 

@@ -28,24 +28,28 @@ NEIGHBOURS: tuple[tuple[int, int, float], ...] = (
 def dilate_disk(mask: np.ndarray, radius_cells: float) -> np.ndarray:
     """Cells within ``radius_cells`` (Euclidean, centre to centre) of a True cell.
 
-    One pass per disk row: a horizontal sliding-window OR done with prefix sums, so the cost is
-    O(rows_of_disk * H * W) whatever the radius.
+    Horizontal sliding-window ORs done with prefix sums (plain slices, no fancy indexing), one per
+    distinct half-width of the disk, each then ORed in at every disk row with that half-width: the
+    cost is O(rows_of_disk * H * W) whatever the radius, in whole-array NumPy passes that release
+    the GIL (the simulator runs this in a worker thread while its loop keeps publishing).
     """
     mask = np.asarray(mask, dtype=bool)
     r = math.floor(radius_cells)
     if r <= 0:
         return mask.copy()
     h, w = mask.shape
-    padded = np.pad(mask, r, constant_values=False)
-    csum = np.zeros((h + 2 * r, w + 2 * r + 1), dtype=np.int32)
-    np.cumsum(padded, axis=1, out=csum[:, 1:])
-    cols = np.arange(w)
-    out = np.zeros((h, w), dtype=bool)
+    csum = np.zeros((h, w + 2 * r + 1), dtype=np.int32)
+    np.cumsum(mask, axis=1, out=csum[:, r + 1 : r + 1 + w])
+    csum[:, r + 1 + w :] = csum[:, r + w : r + w + 1]
+    halves: dict[int, list[int]] = {}
     for dy in range(-r, r + 1):
-        half = math.floor(math.sqrt(max(radius_cells * radius_cells - dy * dy, 0.0)))
-        rows = csum[r + dy : r + dy + h]
-        out |= (rows[:, cols + r + half + 1] - rows[:, cols + r - half]) > 0
-    return out
+        halves.setdefault(math.floor(math.sqrt(max(radius_cells * radius_cells - dy * dy, 0.0))), []).append(dy)
+    out = np.zeros((h + 2 * r, w), dtype=bool)  # padded rows so every shift is a plain slice
+    for half, dys in halves.items():
+        row_or = csum[:, r + half + 1 : r + half + 1 + w] > csum[:, r - half : r - half + w]
+        for dy in dys:  # out[y] |= row_or[y + dy]
+            out[r - dy : r - dy + h] |= row_or
+    return out[r : r + h]
 
 
 def shift(arr: np.ndarray, drow: int, dcol: int, fill: float) -> np.ndarray:

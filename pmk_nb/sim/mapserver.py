@@ -11,6 +11,10 @@
 Which of them exist is configurable so clients' service detection can be tested. ``/static_map``
 (``nav_msgs/GetMap``) is always there. Files are read with :func:`pmk_nb.rosmap.read_map` off the
 loop; a successful load republishes the latched ``/map`` and ``/map_metadata``.
+
+A reload never stalls the loop (odometry keeps flowing): reading the file, building the world and
+encoding the grid's JSON (once per load, see :mod:`pmk_nb.sim.jsonfast`) run in worker threads,
+the last two side by side.
 """
 
 from __future__ import annotations
@@ -88,12 +92,18 @@ class MapServer:
 
     async def set_grid(self, grid: OccupancyGrid, source: Path | None = None) -> None:
         """Install ``grid`` in the simulator and publish it (latched)."""
-        await self._install(grid)
         now = time.time()
+        encoding = asyncio.ensure_future(asyncio.to_thread(self.names.occupancy_grid, grid, now, now))
+        try:
+            await self._install(grid)
+        except BaseException:
+            encoding.cancel()
+            raise
+        msg = await encoding
         self.grid, self.source, self.load_time = grid, source, now
         self.loads += 1
-        self._grid_msg = await asyncio.to_thread(self.names.occupancy_grid, grid, now, now)
-        self.bridge.publish("/map", self._grid_msg)
+        self._grid_msg = msg
+        self.bridge.publish("/map", msg)
         self.bridge.publish("/map_metadata", self.names.map_metadata(grid, now))
 
     async def load(self, path: str) -> tuple[int, str]:

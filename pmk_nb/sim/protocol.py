@@ -20,9 +20,18 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.sim.jsonfast import dumps
 from pmk_nb.sim.messages import canonical_type, conformance_error, is_type_name
 from pmk_nb.sim.services import ServiceEntry, ServiceOps
-from pmk_nb.sim.session import STATUS_LEVELS, ClientSession, SubParams, Subscription, fragments, png_encode
+from pmk_nb.sim.session import (
+    STATUS_LEVELS,
+    ClientSession,
+    SubParams,
+    Subscription,
+    fragments,
+    png_encode,
+    resolve_name,
+)
 
 if TYPE_CHECKING:
     from websockets.asyncio.server import ServerConnection
@@ -54,7 +63,8 @@ class TopicEntry:
     last: str | None = None  # encoded publish op kept for latched topics
     publishers: set[int] = field(default_factory=set)
     listeners: list[Listener] = field(default_factory=list)
-    subs: dict[int, Subscription] = field(default_factory=dict)
+    # keyed by (client id, the client's spelling): rosbridge keeps 'odom' and '/odom' apart per client
+    subs: dict[tuple[int, str], Subscription] = field(default_factory=dict)
 
     @property
     def unused(self) -> bool:
@@ -94,7 +104,7 @@ class Bridge(ServiceOps):
         entry = self.topics[name]
         if not entry.subs and not entry.latched:
             return
-        text = json.dumps({"op": "publish", "topic": name, "msg": msg})
+        text = dumps({"op": "publish", "topic": name, "msg": msg})  # msg may hold pre-encoded RawJSON
         self._fan_out(entry, text)
 
     # -- connection handling ----------------------------------------------------------------------
@@ -142,9 +152,11 @@ class Bridge(ServiceOps):
             client.status("error", f"{op}: {type(err).__name__}: {err}", op_id)
 
     # -- topic ops --------------------------------------------------------------------------------
+    # rosbridge resolves relative names against its namespace ("/"), and answers in the client's
+    # own spelling (roslibjs 2.x routes by that exact string and uses relative rosapi names).
 
     def _op_advertise(self, client: ClientSession, msg: dict[str, Any]) -> None:
-        name, type_name, op_id = str(msg["topic"]), str(msg["type"]), msg.get("id")
+        name, type_name, op_id = resolve_name(msg["topic"]), str(msg["type"]), msg.get("id")
         if not is_type_name(type_name):
             client.status("error", f"advertise {name}: cannot resolve type '{type_name}'", op_id)
             return
@@ -158,7 +170,7 @@ class Bridge(ServiceOps):
         client.advertised[name] = entry.type
 
     def _op_unadvertise(self, client: ClientSession, msg: dict[str, Any]) -> None:
-        name = str(msg["topic"])
+        name = resolve_name(msg["topic"])
         entry = self.topics.get(name)
         if entry is None or client.cid not in entry.publishers:
             client.status("warning", f"unadvertise {name}: this client does not advertise it", msg.get("id"))
@@ -168,7 +180,7 @@ class Bridge(ServiceOps):
         self._forget_if_unused(entry)
 
     def _op_publish(self, client: ClientSession, msg: dict[str, Any]) -> None:
-        name, op_id = str(msg["topic"]), msg.get("id")
+        name, op_id = resolve_name(msg["topic"]), msg.get("id")
         entry = self.topics.get(name)
         if entry is None:
             client.status("error", f"publish {name}: topic does not exist (advertise it first)", op_id)
@@ -186,7 +198,8 @@ class Bridge(ServiceOps):
             self._fan_out(entry, text)
 
     def _op_subscribe(self, client: ClientSession, msg: dict[str, Any]) -> None:
-        name, op_id = str(msg["topic"]), msg.get("id")
+        spelled, op_id = str(msg["topic"]), msg.get("id")
+        name = resolve_name(spelled)
         type_name = msg.get("type") or None
         entry = self.topics.get(name)
         if entry is None and type_name is None:
@@ -213,15 +226,16 @@ class Bridge(ServiceOps):
             client.status("error", f"subscribe {name}: throttle_rate/queue_length must be integers", op_id)
             return
         entry = entry or self.topics.setdefault(name, TopicEntry(name, str(type_name)))
-        sub = entry.subs.setdefault(client.cid, Subscription(client, name))
+        sub = entry.subs.setdefault((client.cid, spelled), Subscription(client, name, spelled=spelled))
         sub.by_id[str(op_id) if op_id is not None else f"anon:{next(self._ids)}"] = params
         if entry.last is not None:
             self._deliver_now(sub, entry.last)
 
     def _op_unsubscribe(self, client: ClientSession, msg: dict[str, Any]) -> None:
-        name, op_id = str(msg["topic"]), msg.get("id")
+        spelled, op_id = str(msg["topic"]), msg.get("id")
+        name = resolve_name(spelled)
         entry = self.topics.get(name)
-        sub = entry.subs.get(client.cid) if entry else None
+        sub = entry.subs.get((client.cid, spelled)) if entry else None
         if entry is None or sub is None:
             client.status("warning", f"unsubscribe {name}: not subscribed", op_id)
             return
@@ -231,7 +245,7 @@ class Bridge(ServiceOps):
             sub.by_id.clear()
         if not sub.by_id:
             sub.cancel()
-            del entry.subs[client.cid]
+            del entry.subs[(client.cid, spelled)]
             self._forget_if_unused(entry)
 
     def _op_set_level(self, client: ClientSession, msg: dict[str, Any]) -> None:
@@ -285,6 +299,8 @@ class Bridge(ServiceOps):
         self._send(sub, text, control=True)
 
     def _send(self, sub: Subscription, text: str, *, control: bool) -> None:
+        if sub.spelled and sub.spelled != sub.topic:  # the topic field comes first after "op"
+            text = text.replace(json.dumps(sub.topic), json.dumps(sub.spelled), 1)
         if sub.compression == "png":
             text = png_encode(text)
         size = sub.fragment_size
@@ -302,9 +318,8 @@ class Bridge(ServiceOps):
     def _drop_client(self, client: ClientSession) -> None:
         self.clients.pop(client.cid, None)
         for entry in list(self.topics.values()):
-            sub = entry.subs.pop(client.cid, None)
-            if sub is not None:
-                sub.cancel()
+            for key in [k for k in entry.subs if k[0] == client.cid]:
+                entry.subs.pop(key).cancel()
             entry.publishers.discard(client.cid)
             self._forget_if_unused(entry)
         self._drop_services_of(client)

@@ -59,6 +59,7 @@ class SimChair:
         sftp_user: str = "pmk",
         sftp_password: str | None = None,
         sftp_authorized_key: str | Path | None = None,
+        sftp_password_login: bool = True,
         maps_dir: Path | str | None = None,
         start_pose: tuple[float, float, float] | None = None,
         footprint_radius: float = 0.35,
@@ -81,8 +82,22 @@ class SimChair:
         self.scan_rate = scan_rate
         self.laser = Laser(rays=rays, range_max=range_max)
         self.sftp_user = sftp_user
-        self.sftp_password = sftp_password or _random_password()
+        if not sftp_password_login and (sftp_authorized_key is None or sftp_password):
+            raise SimError(
+                "SFTP password login off needs an authorized key and no password "
+                f"(sftp_authorized_key={sftp_authorized_key!r}, sftp_password given: {bool(sftp_password)})"
+            )
+        # None = password login refused (key only)
+        self.sftp_password: str | None = (sftp_password or _random_password()) if sftp_password_login else None
         self.sftp_authorized_key = sftp_authorized_key
+        self._sftp_keys: list[Any] = []
+        if sftp_authorized_key is not None:
+            from pmk_nb.sim.sftp import load_authorized_keys
+
+            try:
+                self._sftp_keys = load_authorized_keys(sftp_authorized_key)
+            except ValueError as err:
+                raise SimError(str(err)) from err
         self._sftp_port_wanted = sftp_port
         self.sftp_port: int | None = None
         self.sftp_host_key_fingerprint: str | None = None  # "SHA256:..." as OpenSSH prints it
@@ -128,6 +143,11 @@ class SimChair:
     @property
     def url(self) -> str:
         return f"ws://{self.host}:{self._port}"
+
+    @property
+    def sftp_authorized_fingerprints(self) -> list[str]:
+        """Fingerprints ("SHA256:...") of the public keys allowed to log in over SFTP (empty: none)."""
+        return [key.get_fingerprint("sha256") for key in self._sftp_keys]
 
     @property
     def running(self) -> bool:

@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import asyncio
 import itertools
-import json
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 from typing import Any
 
-from pmk_nb.sim.session import ClientSession, fragments, png_encode
+from pmk_nb.sim.jsonfast import dumps
+from pmk_nb.sim.session import ClientSession, fragments, png_encode, resolve_name
 
 ServiceHandler = Callable[[dict[str, Any]], Awaitable[tuple[dict[str, Any], bool]]]
 
@@ -42,7 +42,7 @@ class ServiceOps:
     def _op_call_service(self, client: ClientSession, msg: dict[str, Any]) -> None:
         name, op_id = str(msg["service"]), msg.get("id")
         args = msg.get("args") or {}
-        entry = self.services.get(name)
+        entry = self.services.get(resolve_name(name))
         if entry is None:
             self._service_failure(client, name, op_id, f"Service {name} does not exist")
             return
@@ -54,7 +54,7 @@ class ServiceOps:
         if entry.provider is not None:
             inner = f"service_request:{name}:{next(self._ids)}"
             self._pending[inner] = (client, op_id, name)
-            entry.provider.send_control({"op": "call_service", "id": inner, "service": name, "args": args})
+            entry.provider.send_control({"op": "call_service", "id": inner, "service": entry.name, "args": args})
             return
         assert entry.handler is not None
         task = asyncio.ensure_future(self._run_service(client, entry, args, op_id, msg))
@@ -68,12 +68,13 @@ class ServiceOps:
         try:
             values, ok = await entry.handler(args)
         except Exception as err:
-            self._service_failure(client, entry.name, op_id, f"{type(err).__name__}: {err}")
+            self._service_failure(client, str(msg["service"]), op_id, f"{type(err).__name__}: {err}")
             return
-        out: dict[str, Any] = {"op": "service_response", "service": entry.name, "values": values, "result": ok}
+        # answer in the caller's spelling of the name, as rosbridge does
+        out: dict[str, Any] = {"op": "service_response", "service": str(msg["service"]), "values": values, "result": ok}
         if op_id is not None:
             out["id"] = op_id
-        text = json.dumps(out)
+        text = dumps(out)  # values may hold pre-encoded RawJSON (a whole map)
         if msg.get("compression") == "png":
             text = png_encode(text)
         size = msg.get("fragment_size")
@@ -91,7 +92,7 @@ class ServiceOps:
         client.send_control(out)
 
     def _op_advertise_service(self, client: ClientSession, msg: dict[str, Any]) -> None:
-        name, type_name = str(msg["service"]), str(msg["type"])
+        name, type_name = resolve_name(msg["service"]), str(msg["type"])
         existing = self.services.get(name)
         if existing is not None and existing.provider is None:
             client.status("error", f"advertise_service {name}: the simulator already provides it")
@@ -100,7 +101,7 @@ class ServiceOps:
         client.services.add(name)
 
     def _op_unadvertise_service(self, client: ClientSession, msg: dict[str, Any]) -> None:
-        name = str(msg["service"])
+        name = resolve_name(msg["service"])
         entry = self.services.get(name)
         if entry is None or entry.provider is not client:
             client.status("warning", f"unadvertise_service {name}: not advertised by this client")

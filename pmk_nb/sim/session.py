@@ -25,6 +25,12 @@ STATUS_LEVELS = {"none": 0, "error": 1, "warning": 2, "info": 3}
 DEFAULT_CLIENT_QUEUE = 200
 
 
+def resolve_name(name: object) -> str:
+    """A topic or service name as rosbridge resolves it in the root namespace."""
+    text = str(name)
+    return text if text.startswith("/") else "/" + text.lstrip("~/")
+
+
 @dataclass
 class SubParams:
     throttle_ms: int = 0
@@ -40,6 +46,7 @@ class Subscription:
     client: ClientSession
     topic: str
     by_id: dict[str, SubParams] = field(default_factory=dict)
+    spelled: str = ""  # the client's own spelling of the topic (may be relative)
     last_sent: float = -math.inf
     pending: deque[str] = field(default_factory=deque)
     flush_handle: asyncio.TimerHandle | None = None

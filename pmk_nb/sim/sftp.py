@@ -4,7 +4,8 @@ Paths are mapped through :class:`pmk_nb.sim.paths.ChairFS`, the same mapping the
 so ``put(x.yaml, "ALMA_MAPS/x.yaml")`` followed by a reload of ``~/ALMA_MAPS/x.yaml`` (or
 ``/home/<user>/ALMA_MAPS/x.yaml``) loads that file. Everything outside ``~/ALMA_MAPS`` lives in a
 private scratch folder, so a client can never reach the rest of the host file system.
-Auth: the configured user with its password, or with the authorized public key if one is given.
+Auth: the configured user with its password (unless password login is off), or with any of the
+authorized public keys if given (an OpenSSH public key line, or a file of them like authorized_keys).
 The ed25519 host key is generated once per SimChair and kept across restarts.
 """
 
@@ -51,17 +52,17 @@ class ChairSFTPServer(asyncssh.SFTPServer):
 
 
 class _Auth(asyncssh.SSHServer):
-    def __init__(self, user: str, password: str, keys: list[asyncssh.SSHKey]) -> None:
+    def __init__(self, user: str, password: str | None, keys: list[asyncssh.SSHKey]) -> None:
         self._user, self._password, self._keys = user, password, keys
 
     def begin_auth(self, username: str) -> bool:
         return True
 
     def password_auth_supported(self) -> bool:
-        return True
+        return self._password is not None
 
     def validate_password(self, username: str, password: str) -> bool:
-        return username == self._user and password == self._password
+        return self._password is not None and username == self._user and password == self._password
 
     def public_key_auth_supported(self) -> bool:
         return bool(self._keys)
@@ -71,13 +72,33 @@ class _Auth(asyncssh.SSHServer):
         return username == self._user and any(k.public_data == data for k in self._keys)
 
 
-def _load_keys(spec: str | Path | None) -> list[asyncssh.SSHKey]:
+def load_authorized_keys(spec: str | Path | None) -> list[asyncssh.SSHKey]:
+    """Public keys from an OpenSSH key line or a file of them (blank and ``#`` lines skipped).
+
+    Raises ValueError naming the file and line, so a bad ``--sftp-authorized-key`` fails at start.
+    """
     if spec is None:
         return []
-    text = str(spec)
-    if not text.lstrip().startswith(("ssh-", "ecdsa-")):
-        text = Path(spec).read_text(encoding="utf-8")
-    return [asyncssh.import_public_key(line) for line in text.splitlines() if line.strip()]
+    text, where = str(spec), "key"
+    if not text.lstrip().startswith(("ssh-", "ecdsa-", "sk-")):
+        where = str(spec)
+        try:
+            text = Path(spec).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as err:
+            raise ValueError(f"cannot read authorized key file {spec}: {err}") from err
+    keys = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        try:
+            keys.append(asyncssh.import_public_key(line.strip()))
+        except (asyncssh.KeyImportError, ValueError) as err:
+            raise ValueError(
+                f"{where} line {number}: not an OpenSSH public key ({err}); give the .pub file, not the private key"
+            ) from err
+    if not keys:
+        raise ValueError(f"{where}: no public key found (expected lines like 'ssh-ed25519 AAAA... comment')")
+    return keys
 
 
 class SftpEndpoint:
@@ -101,7 +122,7 @@ async def start_sftp(sim: SimChair) -> SftpEndpoint:
     if host_key is None:
         host_key = asyncssh.generate_private_key("ssh-ed25519", comment="pmk-sim")
         sim._sftp_host_key = host_key  # kept so a restarted sim presents the same key
-    keys = _load_keys(sim.sftp_authorized_key)
+    keys = sim._sftp_keys
     scratch = Path(tempfile.mkdtemp(prefix="pmk-sim-home-")).resolve()
     (scratch / sim.fs.home.lstrip("/") / "ALMA_MAPS").mkdir(parents=True)
     fs = sim.fs

@@ -3,11 +3,14 @@
 Rebuilt once per map load (and on hot reload), never per tick. Unknown cells (-1) count as blocked
 for driving — a real chair must not roll into unmapped space — but the laser only sees occupied
 cells, as a real laser sees only physical walls. Map yaw is ignored (as AMCL and costmaps do).
+Construction builds only what driving and the laser need; the planning grid is built on first
+use (in a worker thread: planning always runs off the loop), so a hot reload of a big map is fast.
 """
 
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 
@@ -30,7 +33,22 @@ class World:
         res = grid.resolution
         self.hit = data >= OCCUPIED_AT  # laser targets
         self.blocked = dilate_disk(self.hit | (data < 0), footprint_radius / res)  # chair centre may not enter
-        self._build_planning_grid()
+        self.has_free = not bool(self.blocked.all())  # somewhere the footprint fits
+        self.factor = max(1, math.ceil(max(grid.width, grid.height) / PLAN_MAX_CELLS))
+        self._plan_lock = threading.Lock()
+        self._planned = False
+
+    @property
+    def plan_free(self) -> np.ndarray:
+        """Free cells of the downsampled planning grid (built on first use; call off the loop)."""
+        self._ensure_planning_grid()
+        return self._plan_free
+
+    def _ensure_planning_grid(self) -> None:
+        with self._plan_lock:
+            if not self._planned:
+                self._build_planning_grid()
+                self._planned = True
 
     def _build_planning_grid(self) -> None:
         """Downsample for planning without losing narrow doors.
@@ -40,8 +58,7 @@ class World:
         cells, which plain sampling would miss. Cells near walls cost more, so paths keep to the
         middle of corridors and doors.
         """
-        res, f = self.grid.resolution, max(1, math.ceil(max(self.grid.width, self.grid.height) / PLAN_MAX_CELLS))
-        self.factor = f
+        res, f = self.grid.resolution, self.factor
         cap = max(1, round(CLEAR_CAP / res))
         clear = erosion_depth(~self.blocked, cap)  # 0 on blocked cells, >= 1 on free ones
         h, w = clear.shape
@@ -51,7 +68,7 @@ class World:
         blocks = padded.reshape(hp // f, f, wp // f, f).transpose(0, 2, 1, 3).reshape(hp // f, wp // f, f * f)
         best = blocks.argmax(axis=2)
         value = np.take_along_axis(blocks, best[..., None], axis=2)[..., 0]
-        self.plan_free = value > 0
+        self._plan_free = value > 0
         drow, dcol = np.divmod(best, f)
         self._rep_row = np.arange(hp // f)[:, None] * f + drow
         self._rep_col = np.arange(wp // f)[None, :] * f + dcol
@@ -67,14 +84,40 @@ class World:
         return True
 
     def nearest_free(self, x: float, y: float) -> tuple[float, float] | None:
-        """Centre of the free cell (for the footprint) closest to (x, y); None if the map has none."""
-        rows, cols = np.nonzero(~self.blocked)
+        """Centre of the free cell (for the footprint) closest to (x, y); None if the map has none.
+
+        Searches square windows around (x, y) that double in size, so a chair a little off the
+        free space of a huge map costs a few small windows, not a scan of every cell.
+        """
+        h, w = self.blocked.shape
+        col, row = self.grid.world_to_cell(x, y)
+        col, row = min(max(col, 0), w - 1), min(max(row, 0), h - 1)
+        half = 16
+        while True:
+            found = self._nearest_in(x, y, row, col, half)
+            if found is not None or half >= max(h, w):
+                break
+            half *= 2
+        if found is None:
+            return None
+        # the window is a square, distances are round: a free cell just outside it may be nearer
+        reach = math.ceil(found[2] / self.grid.resolution) + 1
+        if reach > half:
+            found = self._nearest_in(x, y, row, col, reach)
+        assert found is not None
+        return found[0], found[1]
+
+    def _nearest_in(self, x: float, y: float, row: int, col: int, half: int) -> tuple[float, float, float] | None:
+        """(x, y, distance) of the free cell nearest (x, y) within ``half`` cells of (row, col)."""
+        r0, c0 = max(row - half, 0), max(col - half, 0)
+        rows, cols = np.nonzero(~self.blocked[r0 : row + half + 1, c0 : col + half + 1])
         if rows.size == 0:
             return None
         res, (ox, oy, _) = self.grid.resolution, self.grid.origin
-        cx, cy = ox + (cols + 0.5) * res, oy + (rows + 0.5) * res
-        i = int(np.argmin((cx - x) ** 2 + (cy - y) ** 2))
-        return float(cx[i]), float(cy[i])
+        cx, cy = ox + (cols + c0 + 0.5) * res, oy + (rows + r0 + 0.5) * res
+        d2 = (cx - x) ** 2 + (cy - y) ** 2
+        i = int(np.argmin(d2))
+        return float(cx[i]), float(cy[i]), math.sqrt(float(d2[i]))
 
     def open_spot(self) -> tuple[float, float]:
         """The most open free point: largest clearance on the planning grid (the "largest free area")."""
