@@ -139,7 +139,7 @@ def main() -> int:
         "reached through the real ChairLink (roslibpy). Times in seconds. LoadMap (/change_map, Nav2",
         "load_map) answers with the whole loaded map, so its reply carries every cell through rosbridge;",
         "MapUpdate answers a bool. For 4000x4000 the reload is dominated by the simulator's own load work",
-        "(PGM decode ~1 s, world rebuild, ~51 MB of JSON for the latched /map), not by the transfer.",
+        "(reading the PGM and, for LoadMap, the client parsing the 35 MB reply), not by the transfer.",
         "",
         "| SFTP server, reload service | map | image MB | upload | detect | reload | confirm | total | upload MB/s |",
         "|---|---|---:|---:|---:|---:|---:|---:|---:|",
