@@ -306,6 +306,27 @@ class Viewport:
         return out, inside
 
 
+def fit_canvas(map_width: int, map_height: int, max_width: int, max_height: int, min_px: int = 160) -> tuple[int, int]:
+    """Canvas size (px) with the map's aspect ratio, as large as fits in ``max_width`` x ``max_height``.
+
+    A canvas of the map's own shape shows the whole map at zoom level 1 with no empty band around
+    it (the page keeps its controls right next to the map).  Neither side goes below ``min_px``
+    (capped by the maximum), so a long thin corridor map still gets a usable canvas; the view is
+    then letterboxed along that side.
+
+    Raises:
+        ValueError: on non-positive sizes.
+    """
+    mw, mh, cw, ch = int(map_width), int(map_height), int(max_width), int(max_height)
+    if min(mw, mh) < 1 or min(cw, ch) < 1:
+        raise ValueError(f"sizes must be positive, got map {map_width}x{map_height}, max {max_width}x{max_height}")
+    scale = min(cw / mw, ch / mh)
+    # round up: the map then fills the limiting side exactly and leaves < 1 px on the other
+    width = min(max(math.ceil(mw * scale - 1e-9), min(int(min_px), cw)), cw)
+    height = min(max(math.ceil(mh * scale - 1e-9), min(int(min_px), ch)), ch)
+    return int(width), int(height)
+
+
 def heading_point(
     x: float, y: float, theta: float, v: float, footprint_radius: float, horizon: float = 1.0
 ) -> tuple[float, float]:

@@ -1,8 +1,10 @@
 """The kiosk in a real browser: Voilà serving the dashboard, headless Chromium driven by Playwright.
 
-Walks the user's flow against the simulated chair (started like ``pmk demo`` does): Settings ->
-Test connection -> Connected; Maps -> Convert -> Send; Home -> Preview, and checks that the live
-canvas changes while the chair patrols.  Screenshots of every screen go to ``test-artifacts/``.
+Walks the user's flow against the simulated chair (started like ``pmk demo`` does): the first page
+already shows the chair moving (the demo starts the preview by itself), laid out to fit a 1280 x 800
+and a 1024 x 768 landscape tablet; Settings -> Test connection -> Connected; Maps -> Convert ->
+Send; Home -> Disconnect -> Preview, and checks that the live canvas changes while the chair
+patrols.  Screenshots of every screen go to ``test-artifacts/``.
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ CHROMIUM_ARGS = [
 ]  # fmt: skip
 ARTIFACTS = Path(__file__).resolve().parents[1] / "test-artifacts"
 VIEWPORT = {"width": 1280, "height": 800}  # a landscape tablet
+SMALL_VIEWPORT = {"width": 1024, "height": 768}  # an older one
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
@@ -66,6 +69,35 @@ def _shot(page: Any, name: str) -> None:
     page.screenshot(path=str(ARTIFACTS / f"kiosk-{name}.png"))
 
 
+def _canvas_changes(page: Any, seconds: float = 20.0) -> float:
+    """Fraction of the live canvas's pixels that changed while waiting (up to ``seconds``)."""
+    box = page.locator(".pmk-home-preview-box canvas").last
+    before = _pixels(box.screenshot())
+    changed = 0.0
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and changed < 1e-4:
+        time.sleep(1.0)
+        after = _pixels(box.screenshot())
+        changed = float(np.mean(np.any(before != after, axis=2))) if after.shape == before.shape else 1.0
+    assert float(np.std(after)) > 5.0, "the live canvas is blank: no map drawn"
+    return changed
+
+
+def _check_home_layout(page: Any, size: dict[str, int]) -> None:
+    """The map fits the window, keeps its shape, and sits right under the toolbar (no empty band)."""
+    canvas = page.locator(".pmk-home-preview-box canvas").last
+    box = canvas.bounding_box()
+    toolbar = page.locator(".pmk-home-toolbar").bounding_box()
+    zoom_in = page.locator("button.pmk-home-zoom-in").bounding_box()
+    assert box is not None and toolbar is not None and zoom_in is not None
+    assert box["x"] + box["width"] <= size["width"] + 0.5 and box["y"] + box["height"] <= size["height"] + 0.5
+    attr_w, attr_h = (int(canvas.get_attribute(a) or 0) for a in ("width", "height"))
+    assert abs(box["width"] / box["height"] - attr_w / attr_h) < 0.02, "the canvas is stretched"
+    assert 0 <= box["y"] - (toolbar["y"] + toolbar["height"]) < 24, "empty band between toolbar and map"
+    # the zoom buttons end at the map's right edge (its upper-right corner, as in the original)
+    assert abs((zoom_in["x"] + zoom_in["width"]) - (box["x"] + box["width"])) < 24
+
+
 def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
     if not CHROMIUM.exists():
         pytest.fail(f"{CHROMIUM} is missing: install Debian's chromium package (apt-get install -y chromium)")
@@ -75,15 +107,26 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
         try:
-            page = browser.new_page(viewport=VIEWPORT)
+            page = browser.new_page(viewport=VIEWPORT, has_touch=True)  # a tablet: touch events on
             page.set_default_timeout(60_000)
             page.goto(url, wait_until="domcontentloaded")
             expect(page.locator("button.pmk-nav-home")).to_be_visible(timeout=120_000)
             expect(page.locator(".pmk-home-map")).to_contain_text("clinic_floor")
+            # -- a first-time user sees the chair moving without pressing anything (demo autostart)
+            expect(page.locator("button.pmk-home-disconnect")).to_be_visible(timeout=30_000)
+            expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=30_000)
+            assert _canvas_changes(page) >= 1e-4, "the chair does not move on the first page"
             _shot(page, "1-home")
+            _check_home_layout(page, VIEWPORT)
             # -- nothing but the app: no notebook code, no traceback
             assert "build_app" not in page.content()
             assert page.locator(".jp-OutputArea-output pre").count() == 0
+            # -- an older 1024 x 768 tablet: the map scales down and still fits
+            page.set_viewport_size(SMALL_VIEWPORT)
+            time.sleep(1.0)
+            _shot(page, "1b-home-1024x768")
+            _check_home_layout(page, SMALL_VIEWPORT)
+            page.set_viewport_size(VIEWPORT)
 
             # -- Settings: the demo profile is pre-filled; Test connection -> Connected + map info
             page.locator("button.pmk-nav-settings").click()
@@ -93,7 +136,7 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
             expect(page.locator(".pmk-settings-mapinfo")).to_contain_text("Map width")
             _shot(page, "2-settings-connected")
 
-            # -- Maps: select, convert, send
+            # -- Maps: select, convert, send (key login: no password asked)
             page.locator("button.pmk-nav-maps").click()
             page.locator(".pmk-maps-list select").select_option(index=0)
             expect(page.locator(".pmk-maps-details")).to_contain_text("clinic_floor")
@@ -111,23 +154,43 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
             expect(page.locator("button.pmk-maps-download")).to_be_visible()
             _shot(page, "4b-maps-download")
 
-            # -- Home: preview shows the moving chair
+            # -- Home: live again by itself; Disconnect stops it, Preview starts it again
             page.locator("button.pmk-nav-home").click()
+            page.locator("button.pmk-home-disconnect").click()
+            expect(page.locator("button.pmk-home-preview")).to_be_visible()
+            expect(page.locator(".pmk-home-preview-box canvas").last).to_be_hidden()
+            _shot(page, "5-home-stopped")
             page.locator("button.pmk-home-preview").click()
-            canvas = page.locator(".pmk-home-preview-box canvas").last
-            expect(canvas).to_be_visible()
+            expect(page.locator(".pmk-home-preview-box canvas").last).to_be_visible()
             time.sleep(3.0)
-            before = _pixels(page.locator(".pmk-home-preview-box").screenshot())
-            _shot(page, "5-home-preview")
-            changed = 0.0
-            deadline = time.monotonic() + 20.0
-            while time.monotonic() < deadline and changed < 1e-4:
-                time.sleep(1.0)
-                after = _pixels(page.locator(".pmk-home-preview-box").screenshot())
-                changed = float(np.mean(np.any(before != after, axis=2))) if after.shape == before.shape else 1.0
-            assert changed >= 1e-4, "the live canvas did not change while the chair moves"
+            assert _canvas_changes(page) >= 1e-4, "the live canvas did not change while the chair moves"
             _shot(page, "6-home-moving")
-            # something was drawn: the map is not a blank canvas
-            assert float(np.std(after)) > 5.0
+
+            # -- zoom: the buttons, the mouse wheel and a two-finger pinch (real touch events)
+            zoom = page.locator(".pmk-home-info-zoom")
+            page.locator("button.pmk-home-zoom-in").click()
+            expect(zoom).to_contain_text("Zoom: 2")
+            box = page.locator(".pmk-home-preview-box canvas").last.bounding_box()
+            assert box is not None
+            cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+            page.mouse.move(cx, cy)
+            page.mouse.wheel(0, -120)  # wheel up zooms in
+            expect(zoom).to_contain_text("Zoom: 3")
+            time.sleep(1.0)
+            _shot(page, "7-home-zoomed")
+            cdp = page.context.new_cdp_session(page)
+
+            def touch(kind: str, spread: float | None) -> None:
+                points = [] if spread is None else [{"x": cx - spread, "y": cy}, {"x": cx + spread, "y": cy}]
+                cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
+
+            touch("touchStart", 40)
+            for spread in (60, 90, 130, 135):  # fingers apart: x3.4 -> three levels in at 1.5 per level
+                touch("touchMove", spread)
+                time.sleep(0.2)
+            touch("touchEnd", None)
+            expect(zoom).to_contain_text("Zoom: 6")
+            page.locator("button.pmk-home-zoom-out").click()
+            expect(zoom).to_contain_text("Zoom: 5")
         finally:
             browser.close()

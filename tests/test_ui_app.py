@@ -170,15 +170,81 @@ def test_cli_parses_dashboard_and_demo() -> None:
 
     args = build_parser("dashboard").parse_args(["dashboard", "--port", "8870", "--no-browser"])
     assert args.run is ui_cli.run and args.port == 8870 and args.no_browser and args.ip == "127.0.0.1"
+    assert not args.preview_on_start
+    assert build_parser("dashboard").parse_args(["dashboard", "--preview-on-start"]).preview_on_start
     args = build_parser("demo").parse_args(["demo", "--dir", "x", "--ip", "0.0.0.0"])
     assert args.run is cli_demo.run and args.dir == Path("x") and args.port == 8866
 
 
-def test_demo_password_env_applies_to_the_demo_profile_only(ctx: AppContext, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("PMK_SIM_PROFILE", "Simulated chair")
+def test_demo_makes_a_private_key_pair_and_a_key_only_chair(tmp_path: Path) -> None:
+    import stat
+
+    import paramiko
+
+    from pmk_nb.ui.demo import make_key_pair, sim_command
+
+    private, public = make_key_pair(tmp_path / "cfg")
+    assert stat.S_IMODE(private.stat().st_mode) == 0o600
+    key = paramiko.PKey.from_path(private)
+    assert public.read_text().split()[:2] == [key.get_name(), key.get_base64()] == ["ssh-ed25519", key.get_base64()]
+    cmd = sim_command(tmp_path / "m.yaml", 1, 2, tmp_path / "chair", public)
+    assert cmd[cmd.index("--sftp-authorized-key") + 1] == str(public)
+    assert "--no-sftp-password" in cmd and "--sftp-password" not in cmd  # no secret on a command line
+    again, _ = make_key_pair(tmp_path / "cfg")  # each demo run gets a new pair
+    assert paramiko.PKey.from_path(again).get_base64() != key.get_base64()
+    assert sorted(p.name for p in (tmp_path / "cfg").iterdir()) == ["chair_key", "chair_key.pub"]  # no temp left
+
+
+def test_ssh_password_never_comes_from_the_environment(ctx: AppContext, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("PMK_SIM_PROFILE", "Simulated chair")  # what earlier demos used
     monkeypatch.setenv("PMK_SIM_PASSWORD", "s3cret")
-    assert ctx.ssh_password(ChairProfile(name="Simulated chair", host="127.0.0.1")) == "s3cret"
-    assert ctx.ssh_password(ChairProfile(name="Real chair", host="10.0.0.2")) is None
+    profile = ChairProfile(name="Simulated chair", host="127.0.0.1")
+    assert ctx.ssh_password(profile) is None
+    ctx.remember_password(profile.name, "typed")
+    assert ctx.ssh_password(profile) == "typed"
+
+
+@pytest.mark.slow
+def test_autostart_shows_the_chair_without_a_click_and_respects_disconnect(
+    ctx: AppContext, sim_factory: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from tests.fixtures_sim import room_grid, write_test_map
+
+    sim = sim_factory(patrol=True)
+    yaml = write_test_map(room_grid(), tmp_path / "maps", "room")
+    ctx.profiles.save(ChairProfile(name="sim", host="127.0.0.1", port=sim.port))
+    ctx.set_current_map("room", yaml, None)
+    monkeypatch.setenv("PMK_AUTOSTART_PREVIEW", "1")
+    app = build_app(ctx=ctx)
+    try:
+        home = app.screens["home"]
+        assert home.running  # nothing pressed
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and home.live.metrics.last_pose is None:
+            time.sleep(0.05)
+        assert home.live.metrics.last_pose is not None
+        app.nav_buttons["maps"].click()
+        assert not home.running
+        app.nav_buttons["home"].click()
+        assert home.running  # back on Home: live again
+        home.disconnect_button.click()  # the user's choice wins over autostart ...
+        app.nav_buttons["settings"].click()
+        app.nav_buttons["home"].click()
+        assert not home.running and home.preview_button.layout.display != "none"
+        home.preview_button.click()  # ... until they press Preview again
+        app.nav_buttons["maps"].click()
+        app.nav_buttons["home"].click()
+        assert home.running
+    finally:
+        app.close()
+    monkeypatch.delenv("PMK_AUTOSTART_PREVIEW")
+    other = AppContext(ctx.maps, ctx.profiles, config_dir=tmp_path / "cfg2")
+    other.set_current_map("room", yaml, None)
+    plain = build_app(ctx=other)
+    try:
+        assert not plain.screens["home"].running  # default: Preview is pressed by the user
+    finally:
+        plain.close()
 
 
 @pytest.mark.slow

@@ -190,6 +190,25 @@ def test_show_sensors_toggles_ray_drawing() -> None:
     assert view.metrics.last_hits == 0
 
 
+def test_rays_start_from_the_pose_the_chair_had_when_the_scan_arrived() -> None:
+    view = LiveView(300, 200)
+    view.set_map(sample_grid())
+    src = Source()
+    view.attach(src)
+    src.move(3.0, 2.0, 0.0)
+    view.render_frame()
+    src.set_scan()  # cast from (3, 2, 0)
+    time.sleep(0.1)
+    src.move(3.1, 2.0, 1.2)  # the chair turned since
+    view.render_frame()
+    assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.0, 2.0, 0.0))
+    late = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), time.monotonic() + 5.0)
+    assert view.scan_pose(src.odom, late) == pytest.approx((3.1, 2.0, 1.2))  # nothing close: newest pose
+    view.attach(src)  # a new source forgets the old poses
+    assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.1, 2.0, 1.2))
+    view.close()
+
+
 def test_dense_scans_are_thinned_to_what_the_screen_can_show() -> None:
     view = LiveView(320, 240)  # whole 15 x 10 m map: about 21 px/m
     view.set_map(sample_grid())
@@ -449,6 +468,74 @@ def test_home_warns_when_the_map_is_missing_and_hides_preview(home_env: Any) -> 
         assert "missing" in home.warning.value
     finally:
         home.close()
+
+
+def test_home_warns_about_a_missing_preview_image_but_keeps_preview(home_env: Any) -> None:
+    from pmk_nb.ui.home import HomeScreen
+
+    ctx, _sim, files = home_env
+    home = HomeScreen(ctx, canvas_width=400, canvas_height=400)
+    try:
+        assert home.map_note.value == ""
+        Path(files.preview).unlink()
+        home.on_show()
+        assert "demo-visualization.png" in home.map_note.value and "missing" in home.map_note.value
+        # the map files are fine: Preview stays, drawn from the map file itself
+        assert shown(home.preview_button) and home.warning.value == ""
+        assert home.start_preview() and home.running
+        grid = home._grid_cache[1]
+        # the canvas takes the map's shape within the maximum: no empty band around the map
+        w, h = home.live.canvas.width, home.live.canvas.height
+        assert max(w, h) == 400 and abs(w / h - grid.width / grid.height) < 0.02
+        assert shown(home.live.canvas) and shown(home.zoom_bar)
+        home.stop_preview()
+        assert not shown(home.live.canvas) and not shown(home.zoom_bar)
+    finally:
+        home.close()
+
+
+def test_home_says_early_when_the_chair_does_not_answer(home_env: Any) -> None:
+    import socket
+
+    from pmk_nb.chair.settings import ChairProfile
+    from pmk_nb.ui.home import HomeScreen
+
+    ctx, sim, _files = home_env
+    home = HomeScreen(ctx, canvas_width=200, canvas_height=150)
+    try:
+        home.check_chair().join(5.0)
+        assert home.chair_note.value == ""  # the simulator answers
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            dead_port = s.getsockname()[1]
+        ctx.profiles.save(ChairProfile(name="gone", host="127.0.0.1", port=dead_port))
+        home.on_show()
+        assert wait_for(lambda: "does not answer" in home.chair_note.value, 5.0)
+        assert f"127.0.0.1:{dead_port}" in home.chair_note.value and "Settings" in home.chair_note.value
+        assert shown(home.preview_button) and not home.running  # a warning, not an action
+        ctx.profiles.save(ChairProfile(name="sim", host="127.0.0.1", port=sim.port))
+        home.on_show()
+        assert wait_for(lambda: home.chair_note.value == "", 5.0)
+    finally:
+        home.close()
+
+
+def test_home_without_a_chair_profile_points_to_settings(tmp_path: Path) -> None:
+    from pmk_nb.chair.settings import ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.ui.context import AppContext
+    from pmk_nb.ui.home import HomeScreen
+
+    ctx = AppContext(
+        MapsFolder(tmp_path / "maps"), ProfileStore(tmp_path / "p.json", secrets=False), config_dir=tmp_path
+    )
+    home = HomeScreen(ctx, canvas_width=200, canvas_height=150, autostart=True)
+    try:
+        home.on_show()
+        assert "No wheelchair configured" in home.chair_note.value and not home.running
+    finally:
+        home.close()
+        ctx.close()
 
 
 def test_home_follows_the_current_map_and_handles_no_map(tmp_path: Path) -> None:

@@ -160,6 +160,45 @@ def test_convert_and_send_to_the_simulator(
     assert ctx.ssh_password(ctx.profile()) == sim.sftp_password  # asked once per session
 
 
+@pytest.mark.slow
+def test_send_with_key_login_to_a_key_only_chair(
+    screen: MapsScreen, ctx: AppContext, sim_factory: Any, tmp_path: Path
+) -> None:
+    """The demo's set-up: the chair refuses passwords; Send logs in with the profile's key, asks nothing."""
+    from pmk_nb.ui.demo import make_key_pair
+
+    private, public = make_key_pair(tmp_path / "keys")
+    screen.import_bytes("house.gml", two_rooms())
+    screen.resolution.value = "0.2"
+    screen.convert_button.click()
+    wait_until(lambda: send_buttons(screen), what="conversion")
+    chair_dir = tmp_path / "chair"
+    sim = sim_factory(sftp_port=0, maps_dir=chair_dir, sftp_authorized_key=public, sftp_password_login=False)
+    assert sim.sftp_password is None
+    profile = ChairProfile(
+        name="keyed",
+        host="127.0.0.1",
+        port=sim.port,
+        ssh_user=sim.sftp_user,
+        ssh_port=sim.sftp_port,
+        auth="key",
+        key_file=str(private),
+        known_hosts=str(tmp_path / "known_hosts"),
+    )
+    ctx.profiles.save(profile)
+    send_buttons(screen)[0].click()
+    assert screen.password_box.layout.display == "none"  # no password asked for
+    wait_until(lambda: ctx.current_map or errors(ctx), what="the map to be sent")
+    assert not errors(ctx)
+    assert (chair_dir / ctx.current_map.yaml.name).is_file()
+    # the same chair with a key it does not know: refused, and said so in the page
+    other, _ = make_key_pair(tmp_path / "other")
+    ctx.profiles.save(ChairProfile(**{**profile.to_dict(), "key_file": str(other)}))
+    send_buttons(screen)[0].click()
+    wait_until(lambda: errors(ctx), what="the refusal")
+    assert "key" in errors(ctx)[-1].lower() and "Traceback" not in screen.status.value
+
+
 def test_send_without_profile_says_what_to_do(screen: MapsScreen, ctx: AppContext) -> None:
     screen.import_bytes("house.gml", two_rooms())
     screen.resolution.value = "0.2"

@@ -13,6 +13,7 @@ from pmk_nb.viewport import (
     MIN_CHAIR_RADIUS_PX,
     STILL_SPEED,
     Viewport,
+    fit_canvas,
     heading_point,
     laser_segments,
 )
@@ -277,3 +278,26 @@ def test_ray_stride_thins_dense_scans_only() -> None:
     assert ray_stride(view, ranges, inc, 2.0) == 1
     segs = laser_segments(view, (5.0, 5.0, 0.0), 0.0, inc, ranges, min_spacing_px=40.0)
     assert 0 < segs.hits.shape[0] < 1080
+
+
+@settings(max_examples=200, deadline=None)
+@given(sizes, sizes, canvas, canvas)
+def test_fit_canvas_keeps_the_map_aspect_within_the_maximum(mw: int, mh: int, cw: int, ch: int) -> None:
+    w, h = fit_canvas(mw, mh, cw, ch, min_px=40)
+    assert 1 <= w <= cw and 1 <= h <= ch
+    assert w == cw or h == ch or w == min(40, cw) or h == min(40, ch)  # one side touches a bound
+    if min(w, h) > 40:  # not padded up to the minimum: the map fills the canvas, no letterbox
+        view = Viewport(mw, mh, 0.05, (0, 0), w, h)
+        u0, v0, u1, v1 = view.visible_cells()
+        px0, py0 = view.cell_to_pixel(u0, v0)
+        px1, py1 = view.cell_to_pixel(u1, v1)
+        assert px0 <= 1 and py0 <= 1 and px1 >= w - 1 and py1 >= h - 1
+
+
+def test_fit_canvas_examples_and_garbage() -> None:
+    assert fit_canvas(1000, 500, 920, 560) == (920, 460)  # wide map: full width, no band below
+    assert fit_canvas(300, 600, 920, 560) == (280, 560)  # tall map: full height
+    assert fit_canvas(2000, 10, 920, 560) == (920, 160)  # a corridor still gets a usable height
+    assert fit_canvas(2000, 10, 920, 100) == (920, 100)  # ... but never above the maximum
+    with pytest.raises(ValueError, match="positive"):
+        fit_canvas(0, 10, 100, 100)

@@ -15,7 +15,7 @@ from typing import Any, Protocol
 import ipywidgets as w
 
 from pmk_nb.errors import PmkError
-from pmk_nb.ui.context import AppContext, Notification
+from pmk_nb.ui.context import AppContext, Notification, autostart_from_env
 from pmk_nb.ui.widgets import button, escape, guard, style_widget
 
 log = logging.getLogger(__name__)
@@ -42,31 +42,35 @@ class _PlaceholderScreen:
         return None
 
 
-def _home_screen(ctx: AppContext) -> Any:
+def _home_screen(ctx: AppContext, autostart: bool) -> Any:
     try:
         from pmk_nb.ui.home import HomeScreen
     except ModuleNotFoundError as err:
         if err.name and err.name.startswith("pmk_nb.ui.home"):
             return _PlaceholderScreen("The live preview is not installed in this build.")
         raise
-    return HomeScreen(ctx)
+    return HomeScreen(ctx, autostart=autostart)
 
 
 class Dashboard(w.HBox):
     """The whole app as one widget; ``show(name)`` switches screens like the navigation buttons.
+
+    Args:
+        ctx: the session state shared by the screens.
+        autostart_preview: start Home's live preview whenever Home is shown (demo, kiosk).
 
     Attributes:
         ctx: the session state shared by the screens.
         screens: ``{"home": HomeScreen, "maps": MapsScreen, "settings": SettingsScreen}``.
     """
 
-    def __init__(self, ctx: AppContext) -> None:
+    def __init__(self, ctx: AppContext, *, autostart_preview: bool = False) -> None:
         from pmk_nb.ui.maps_screen import MapsScreen
         from pmk_nb.ui.settings_screen import SettingsScreen
 
         self.ctx = ctx
         self.screens: dict[str, Any] = {
-            "home": _home_screen(ctx),
+            "home": _home_screen(ctx, autostart_preview),
             "maps": MapsScreen(ctx),
             "settings": SettingsScreen(ctx),
         }
@@ -150,6 +154,7 @@ def build_app(
     config_dir: str | Path | None = None,
     *,
     ctx: AppContext | None = None,
+    autostart_preview: bool | None = None,
 ) -> w.Widget:
     """Build the dashboard; display the returned widget (a notebook cell's last line does that).
 
@@ -157,6 +162,8 @@ def build_app(
         maps_dir: the maps folder (default: ``PMK_MAPS_DIR`` or the user data dir).
         config_dir: where chair profiles and UI state live (default: ``PMK_CONFIG_DIR`` or user config).
         ctx: an existing session state (tests); overrides both directories.
+        autostart_preview: start the live preview when Home is shown; None reads
+            ``PMK_AUTOSTART_PREVIEW`` (set by ``pmk demo``).
 
     Returns:
         The :class:`Dashboard`, or, when even the folders cannot be opened, a message saying why
@@ -171,7 +178,9 @@ def build_app(
             profiles = ProfileStore(cfg / PROFILES_FILE) if cfg is not None else ProfileStore()
             maps = MapsFolder(Path(maps_dir) if maps_dir is not None else None)
             ctx = AppContext(maps, profiles, config_dir=cfg)
-        app = Dashboard(ctx)
+        if autostart_preview is None:
+            autostart_preview = autostart_from_env()
+        app = Dashboard(ctx, autostart_preview=autostart_preview)
     except PmkError as err:
         box = w.HTML(f"<div class='pmk-msg-error'><b>The dashboard cannot start:</b> {escape(err)}</div>")
         box.add_class("pmk-app-error")

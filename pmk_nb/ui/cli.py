@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.errors import PmkError
+from pmk_nb.ui.context import AUTOSTART_ENV
 from pmk_nb.ui.voila_config import DEFAULT_IP, DEFAULT_PORT, voila_command, write_dashboard_notebook
 
 VOILA_START_TIMEOUT = 120.0
@@ -30,6 +31,11 @@ def add_parser(subparsers: Any) -> None:
     server_options(p)
     p.add_argument("--maps-dir", type=Path, help="maps folder (default: $PMK_MAPS_DIR or the user data dir)")
     p.add_argument("--config-dir", type=Path, help="settings folder (default: $PMK_CONFIG_DIR or user config)")
+    p.add_argument(
+        "--preview-on-start",
+        action="store_true",
+        help="start the Home screen's live preview by itself (kiosk: no button to press)",
+    )
     p.set_defaults(run=run)
 
 
@@ -130,5 +136,7 @@ def run(args: argparse.Namespace) -> int:
         env["PMK_MAPS_DIR"] = str(args.maps_dir.expanduser().resolve())
     if args.config_dir is not None:
         env["PMK_CONFIG_DIR"] = str(args.config_dir.expanduser().resolve())
+    if args.preview_on_start:
+        env[AUTOSTART_ENV] = "1"
     with sigterm_as_interrupt(), tempfile.TemporaryDirectory(prefix="pmk-dashboard-") as tmp:
         return serve(args, env, Path(tmp))

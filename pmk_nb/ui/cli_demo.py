@@ -2,8 +2,9 @@
 
 The first-run experience: converts the sample clinic floor into a demo maps folder, starts the
 simulated chair (``pmk sim``) with an SFTP endpoint, writes a "Simulated chair" profile pointing at
-it, makes the clinic the current map and serves the dashboard, so a new user opens the URL, presses
-Preview on the Home screen and sees the chair patrolling.  Ctrl-C / SIGTERM stops everything.
+it (SFTP by a key pair made in the demo folder), makes the clinic the current map and serves the
+dashboard with the Home preview starting by itself, so a new user opens the URL and sees the chair
+patrolling without pressing anything.  Ctrl-C / SIGTERM stops everything.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
         demo = prepare_demo(args.dir, gml=args.gml)
         try:
             print(f"Simulated chair: rosbridge ws://127.0.0.1:{demo.ros_port}, SFTP port {demo.sftp_port}", flush=True)
-            print("Open the URL below, press Preview on the Home screen: the chair patrols the clinic.", flush=True)
+            print("Open the URL below: the Home screen shows the chair patrolling the clinic.", flush=True)
             return serve(args, demo.env, demo.root)
         finally:
             demo.stop()

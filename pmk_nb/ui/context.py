@@ -29,11 +29,14 @@ log = logging.getLogger(__name__)
 Level = Literal["info", "warning", "error"]
 LEVELS: tuple[str, ...] = ("info", "warning", "error")
 STATE_FILE = "ui_state.json"
-#: ``pmk demo`` hands its simulated chair's SFTP password to the dashboard in these two variables:
-#: the password applies to the named profile only (a keyring may not exist, and the profile store's
-#: memory-only fallback does not cross processes).
-DEMO_PASSWORD_ENV = "PMK_SIM_PASSWORD"
-DEMO_PROFILE_ENV = "PMK_SIM_PROFILE"
+#: Set to 1 (``pmk demo``, ``pmk dashboard --preview-on-start``) to start the Home screen's live
+#: preview by itself: a kiosk or first-time user then sees the chair without pressing anything.
+AUTOSTART_ENV = "PMK_AUTOSTART_PREVIEW"
+
+
+def autostart_from_env() -> bool:
+    """True when :data:`AUTOSTART_ENV` asks for the preview to start by itself."""
+    return os.environ.get(AUTOSTART_ENV, "").strip().lower() in ("1", "true", "yes", "on")
 
 
 def default_config_dir() -> Path:
@@ -144,7 +147,7 @@ class AppContext:
         return link
 
     def ssh_password(self, profile: ChairProfile) -> str | None:
-        """Password for SFTP: entered this session, stored (keyring), or the demo chair's env var."""
+        """Password for SFTP: entered this session, else stored (keyring)."""
         with self._lock:
             if profile.name in self._session_passwords:
                 return self._session_passwords[profile.name]
@@ -153,11 +156,7 @@ class AppContext:
         except Exception as err:
             log.warning("password lookup failed for %s: %s", profile.name, err)
             stored = None
-        if stored:
-            return stored
-        if os.environ.get(DEMO_PROFILE_ENV) == profile.name:
-            return os.environ.get(DEMO_PASSWORD_ENV) or None
-        return None
+        return stored or None
 
     def remember_password(self, profile_name: str, password: str) -> None:
         """Keep a password typed in a dialog for this session only (never written to disk)."""

@@ -2,31 +2,36 @@
 
 Kept apart from the CLI so the browser test can build the same world.  The simulator runs as a
 ``pmk sim`` child process (its own event loop and GIL, like a real chair); the dashboard's kernels
-reach it through the "Simulated chair" profile written here.  The simulator gets a random SFTP
-password per run, handed to the dashboard's processes in ``PMK_SIM_PASSWORD`` with the profile
-name in ``PMK_SIM_PROFILE`` (:meth:`AppContext.ssh_password` honours it for that profile only): a
-keyring may not exist, and the profile store's memory-only fallback does not cross processes.
+reach it through the "Simulated chair" profile written here.
+
+SFTP logins use an ed25519 key pair made for each run in the demo folder (``chair_key``, mode
+0600, and ``chair_key.pub``, the simulator's authorised key); the simulator refuses passwords.
+That is how a hardened chair is set up, and no secret travels through environment variables or
+command lines (a keyring may not exist, and the profile store never writes passwords to disk).
+The dashboard is told to start the Home preview by itself (``PMK_AUTOSTART_PREVIEW``), so a
+first-time user sees the chair moving without pressing anything.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-import secrets
 import subprocess
 import sys
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import pmk_nb
 from pmk_nb.errors import PmkError
-from pmk_nb.ui.context import DEMO_PASSWORD_ENV, DEMO_PROFILE_ENV
+from pmk_nb.ui.context import AUTOSTART_ENV
 
 DEMO_PROFILE = "Simulated chair"
 DEMO_RESOLUTION = 0.05
 DEMO_SFTP_USER = "pmk"
 SIM_START_TIMEOUT = 60.0
+KEY_NAME = "chair_key"
 
 
 def sample_gml() -> Path:
@@ -59,8 +64,8 @@ class DemoWorld:
                 self._log.close()
 
 
-def sim_command(map_yaml: Path, ros_port: int, sftp_port: int, chair_dir: Path, password: str) -> list[str]:
-    """``pmk sim`` for the demo: patrolling chair, SFTP with a per-run random password."""
+def sim_command(map_yaml: Path, ros_port: int, sftp_port: int, chair_dir: Path, public_key: Path) -> list[str]:
+    """``pmk sim`` for the demo: patrolling chair, SFTP by key only (``public_key`` may log in)."""
     return [
         sys.executable, "-m", "pmk_nb.cli", "sim",
         "--map", str(map_yaml),
@@ -68,10 +73,44 @@ def sim_command(map_yaml: Path, ros_port: int, sftp_port: int, chair_dir: Path, 
         "--port", str(ros_port),
         "--sftp-port", str(sftp_port),
         "--sftp-user", DEMO_SFTP_USER,
-        "--sftp-password", password,
+        "--sftp-authorized-key", str(public_key),
+        "--no-sftp-password",
         "--maps-dir", str(chair_dir),
         "--patrol",
     ]  # fmt: skip
+
+
+def _write_atomic(path: Path, data: bytes, mode: int) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    try:
+        os.fchmod(fd, mode)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
+    """A new ed25519 key pair: ``directory/name`` (OpenSSH private key, 0600) and ``name.pub``.
+
+    Made with ``cryptography`` (paramiko's own dependency), so no ``ssh-keygen`` is needed.
+    Returns (private key path, public key path).
+    """
+    from cryptography.hazmat.primitives import serialization
+    from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
+
+    key = Ed25519PrivateKey.generate()
+    private = key.private_bytes(
+        serialization.Encoding.PEM, serialization.PrivateFormat.OpenSSH, serialization.NoEncryption()
+    )
+    public = key.public_key().public_bytes(serialization.Encoding.OpenSSH, serialization.PublicFormat.OpenSSH)
+    directory.mkdir(parents=True, exist_ok=True)
+    private_path, public_path = directory / name, directory / f"{name}.pub"
+    _write_atomic(private_path, private, 0o600)
+    _write_atomic(public_path, public + b" pmk-demo\n", 0o644)
+    return private_path, public_path
 
 
 def prepare_demo(root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1") -> DemoWorld:
@@ -101,15 +140,14 @@ def prepare_demo(root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1") 
         raise PmkError(f"{source}: conversion produced no map")
     first = generated[0]
 
-    password = secrets.token_urlsafe(16)
+    private_key, public_key = make_key_pair(config_dir)
     ros_port, sftp_port = free_port(), free_port()
     env = dict(os.environ)
-    env.update(PMK_MAPS_DIR=str(maps_dir), PMK_CONFIG_DIR=str(config_dir))
-    env.update({DEMO_PROFILE_ENV: DEMO_PROFILE, DEMO_PASSWORD_ENV: password})
+    env.update({"PMK_MAPS_DIR": str(maps_dir), "PMK_CONFIG_DIR": str(config_dir), AUTOSTART_ENV: "1"})
     log_path = root / "sim.log"
     log = log_path.open("ab")
     sim = subprocess.Popen(
-        sim_command(first.yaml, ros_port, sftp_port, chair_dir, password),
+        sim_command(first.yaml, ros_port, sftp_port, chair_dir, public_key),
         env=env, stdout=log, stderr=subprocess.STDOUT, cwd=root,
     )  # fmt: skip
     world = DemoWorld(root, maps_dir, config_dir, chair_dir, first.yaml, ros_port, sftp_port, env, sim, log_path, log)
@@ -124,7 +162,8 @@ def prepare_demo(root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1") 
                 port=ros_port,
                 ssh_user=DEMO_SFTP_USER,
                 ssh_port=sftp_port,
-                auth="password",
+                auth="key",
+                key_file=str(private_key),
                 known_hosts=str(config_dir / "known_hosts"),
             )
         )

@@ -1,14 +1,19 @@
 """Home screen: the current map, Preview / Disconnect, Show sensors, zoom, and the live info panel.
 
-As in the original app (thesis 3.2.5, 5.2.3.1, 5.2.3.4): the current map is the last one sent to
-the chair; when it cannot be shown there is a warning and no Preview button; Preview connects to
-the chair and starts the live view, Disconnect stops it; "Show sensors" toggles the laser rays;
-the zoom buttons sit above the map's upper-right corner; position, heading, speed and zoom are
-shown in the information panel and updated live, with a clear "no data" state when odometry stops.
+As in the original app (thesis 3.2.5, 4.2.1.1, 5.2.3.1, 5.2.3.4): the current map is the last one
+sent to the chair; when it cannot be shown there is a warning and no Preview button; Preview
+connects to the chair and starts the live view, Disconnect stops it; "Show sensors" toggles the
+laser rays; the zoom buttons sit at the map's upper-right corner; position, heading, speed and zoom
+are shown in the information panel and updated live, with a clear "no data" state when odometry
+stops.  Like the original's wifi dialog, showing Home checks that the chair answers and warns if not.
 
-The live view draws the map from the map files themselves (YAML + image, exact metres and origin),
-so a missing ``-visualization.png`` thumbnail does not prevent a preview; a missing or unreadable
-map does.
+The live view draws the map from the map files themselves (YAML + image, exact metres and origin).
+A missing ``NAME-visualization.png`` preview image gets a warning but keeps Preview: the image is
+only a thumbnail here, and refusing to show the map the chair really uses because its thumbnail is
+gone would block the user for nothing.  A missing or unreadable map file hides Preview.
+
+With ``autostart`` (``pmk demo``, kiosks: see :data:`pmk_nb.ui.context.AUTOSTART_ENV`) the preview
+starts by itself whenever Home is shown, unless the user pressed Disconnect.
 """
 
 from __future__ import annotations
@@ -24,6 +29,12 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import PmkError
+from pmk_nb.ui.home_checks import preview_image_problem, probe_chair
+from pmk_nb.ui.home_info import CONNECT_TIMEOUT, connection_state, info_texts
+from pmk_nb.ui.home_info import call as _call
+from pmk_nb.ui.home_info import note as _note
+from pmk_nb.ui.home_info import set_html as _set
+from pmk_nb.ui.home_info import subscribe_state as _subscribe_state
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.render_loop import RenderLoop
 from pmk_nb.ui.widgets import TOUCH_PX, button, escape, heading
@@ -34,9 +45,11 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-STALE_AFTER = 2.0  # s without odometry before the "no data" state
 INFO_HZ = 4.0  # info panel refresh rate: text widgets need no 20 fps
-CONNECT_TIMEOUT = 5.0
+#: Largest live canvas: fits the content area of a 1280 x 800 landscape tablet next to the
+#: navigation panel; the canvas takes the map's shape within it and the page scales it down on
+#: smaller screens.
+CANVAS_MAX = (920, 560)
 
 
 class HomeScreen:
@@ -44,26 +57,41 @@ class HomeScreen:
 
     Args:
         ctx: the session (current map, chair profile, link, notifications).
-        canvas_width, canvas_height: live view size in pixels.
+        canvas_width, canvas_height: largest live view size in pixels (it takes the map's shape).
         fps: frame-rate cap of the live view.
+        autostart: start the preview whenever Home is shown (:meth:`on_show`), unless the user
+            pressed Disconnect; for demos and kiosks.
     """
 
     def __init__(
-        self, ctx: AppContext, *, canvas_width: int = 800, canvas_height: int = 600, fps: float = 20.0
+        self,
+        ctx: AppContext,
+        *,
+        canvas_width: int = CANVAS_MAX[0],
+        canvas_height: int = CANVAS_MAX[1],
+        fps: float = 20.0,
+        autostart: bool = False,
     ) -> None:
         self.ctx = ctx
+        self.autostart = bool(autostart)
+        self._user_stopped = False
+        self._probe_gen = 0
         self._lock = threading.RLock()
         self._link: Any = None
         self._unsub_state: Any = None
         self._grid_cache: tuple[tuple[str, float, float], OccupancyGrid] | None = None
         self._connect_error: str | None = None
         self._started_at = 0.0
-        self.live = LiveView(canvas_width, canvas_height, fps=fps)
+        self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True)
         self.live.on_zoom_change(lambda _z: self.refresh_info())
         self.live.on_error(self._on_live_error)
 
         self.map_label = w.HTML("")
         self.map_label.add_class("pmk-home-map")
+        self.map_note = w.HTML("")
+        self.map_note.add_class("pmk-home-map-note")
+        self.chair_note = w.HTML("")
+        self.chair_note.add_class("pmk-home-chair-note")
         self.warning = w.HTML("")
         self.warning.add_class("pmk-home-warning")
         self.status = w.HTML("")
@@ -79,8 +107,8 @@ class HomeScreen:
         for btn in (self.zoom_in_button, self.zoom_out_button):
             btn.layout.min_width = f"{TOUCH_PX}px"
 
-        self.preview_button.on_click(self._safe("Starting the preview", lambda _b: self.start_preview()))
-        self.disconnect_button.on_click(self._safe("Disconnecting", lambda _b: self.stop_preview()))
+        self.preview_button.on_click(self._safe("Starting the preview", lambda _b: self._user_start()))
+        self.disconnect_button.on_click(self._safe("Disconnecting", lambda _b: self._user_stop()))
         self.zoom_in_button.on_click(self._safe("Zooming in", lambda _b: self.live.zoom_in()))
         self.zoom_out_button.on_click(self._safe("Zooming out", lambda _b: self.live.zoom_out()))
         self.sensors.observe(self._safe("Toggling sensors", self._on_sensors), names="value")
@@ -101,18 +129,24 @@ class HomeScreen:
         self.info_widget = w.VBox([self.info_map, self.info_state, self.info_pos, self.info_speed, self.info_zoom])
         self.info_widget.add_class("pmk-home-info")
 
-        zoom_bar = w.HBox(
-            [self.zoom_out_button, self.zoom_in_button],
-            layout=w.Layout(justify_content="flex-end", width="100%", max_width=f"{canvas_width}px"),
+        # one toolbar row: Preview / Disconnect and Show sensors on the left, zoom at the right end,
+        # right above the map's upper-right corner (where the original had them); the box is as
+        # wide as the canvas, which has the map's shape, so nothing floats in an empty band
+        self.zoom_bar = w.HBox([self.zoom_out_button, self.zoom_in_button], layout=w.Layout(grid_gap="8px"))
+        self.zoom_bar.add_class("pmk-home-zoom")
+        self.controls = w.HBox(
+            [self.preview_button, self.disconnect_button, self.sensors],
+            layout=w.Layout(align_items="center", grid_gap="12px"),
         )
-        self.controls = w.HBox([self.preview_button, self.disconnect_button, self.sensors])
-        self.controls.layout.align_items = "center"
-        self.controls.layout.grid_gap = "12px"
-        self.preview_box = w.VBox([zoom_bar, self.live.canvas])
+        self.toolbar = w.HBox(
+            [self.controls, self.zoom_bar],
+            layout=w.Layout(justify_content="space-between", align_items="center", width="100%", grid_gap="12px"),
+        )
+        self.toolbar.add_class("pmk-home-toolbar")
+        self.preview_box = w.VBox([self.toolbar, self.live.canvas], layout=w.Layout(align_items="flex-start"))
         self.preview_box.add_class("pmk-home-preview-box")
-        self.widget = w.VBox(
-            [heading("Home"), self.map_label, self.warning, self.controls, self.status, self.preview_box]
-        )
+        title = w.HBox([heading("Home"), self.map_label], layout=w.Layout(align_items="baseline", grid_gap="24px"))
+        self.widget = w.VBox([title, self.map_note, self.chair_note, self.warning, self.preview_box, self.status])
         self.widget.add_class("pmk-home")
         self._info_loop = RenderLoop(self.refresh_info, INFO_HZ, on_error=self._on_live_error)
         self._unsub_map = ctx.observe_current_map(self._on_current_map)
@@ -125,8 +159,52 @@ class HomeScreen:
         return self.live.running
 
     def on_show(self) -> None:
-        """Called by the app when Home becomes visible: re-check the current map's files."""
-        self.refresh_map()
+        """Called by the app when Home becomes visible: re-check the map files and the chair.
+
+        With ``autostart`` this starts the preview (which reports an unreachable chair itself);
+        otherwise a background probe warns early when the chair does not answer.
+        """
+        grid = self.refresh_map()
+        if self.running:
+            return
+        if self.autostart and not self._user_stopped and grid is not None and self.ctx.profile() is not None:
+            self.start_preview()
+            return
+        self.check_chair()
+
+    def check_chair(self) -> threading.Thread | None:
+        """Probe the chair's rosbridge port in a thread; ``chair_note`` warns when it does not answer."""
+        profile = self.ctx.profile()
+        with self._lock:
+            self._probe_gen += 1
+            gen = self._probe_gen
+        if profile is None:
+            _set(self.chair_note, _note("No wheelchair configured yet: fill in and save the Settings screen."))
+            return None
+        host, port = profile.host, int(profile.port)
+
+        def probe() -> None:
+            problem = probe_chair(host, port)
+            with self._lock:
+                if gen != self._probe_gen:  # a newer check or a preview start took over
+                    return
+            message = (
+                f"The chair at {host}:{port} does not answer ({problem}). Check that it is switched on, "
+                "that this device is on the chair's network, and the Settings screen."
+            )
+            _set(self.chair_note, _note(message) if problem else "")
+
+        thread = threading.Thread(target=probe, name="pmk-home-probe", daemon=True)
+        thread.start()
+        return thread
+
+    def _user_start(self) -> None:
+        self._user_stopped = False
+        self.start_preview()
+
+    def _user_stop(self) -> None:
+        self._user_stopped = True  # autostart respects the choice until Preview is pressed again
+        self.stop_preview()
 
     def start_preview(self) -> bool:
         """Load the current map, connect the chair link and start drawing; False (with a warning) if not."""
@@ -146,11 +224,13 @@ class HomeScreen:
         self.live.show_laser = bool(self.sensors.value)
         self.live.set_map(grid)
         with self._lock:
+            self._probe_gen += 1  # the preview's own connection reports on the chair from now on
             self._link = link
             self._connect_error = None
             self._started_at = time.monotonic()
             self._unsub_state = _subscribe_state(link, self._on_link_state)
         self._warn("")
+        _set(self.chair_note, "")
         self._set_running(True)
         self.live.start(link)
         self._info_loop.start()
@@ -192,6 +272,7 @@ class HomeScreen:
         """Show the current map's name; load its grid (cached) or warn and hide Preview."""
         current = self.ctx.current_map
         if current is None:
+            _set(self.map_note, "")
             self.map_label.value = "<b>No map yet.</b> Convert a map and send it to the chair on the Maps screen."
             self.info_map.value = "Map: <i>none</i>"
             self._map_problem("No current map: send a map to the chair from the Maps screen first.")
@@ -201,8 +282,11 @@ class HomeScreen:
         try:
             grid = self._load_grid(current)
         except (PmkError, OSError, ValueError) as err:
+            _set(self.map_note, "")
             self._map_problem(f"The map '{current.name}' cannot be shown: {err}. Convert and send it again.")
             return None
+        problem = preview_image_problem(current)
+        _set(self.map_note, _note(problem) if problem else "")
         self.preview_button.layout.display = "none" if self.running else ""
         if not self.running:
             self._warn("")
@@ -241,7 +325,10 @@ class HomeScreen:
         except Exception as err:
             host = getattr(link, "host", "?")
             port = getattr(link, "port", "?")
-            message = f"The chair at {host}:{port} is unreachable: {err}"
+            where = f"{host}:{port}"
+            # the link's message usually names the address already: do not say it twice
+            who = "The chair" if where in str(err) else f"The chair at {where}"
+            message = f"{who} is unreachable: {err}"
             with self._lock:
                 if self._link is not link:  # stopped meanwhile
                     return
@@ -259,57 +346,23 @@ class HomeScreen:
         """("off"|"connecting"|"live"|"stale"|"unreachable", seconds since the last odometry or None)."""
         with self._lock:
             link, error, started = self._link, self._connect_error, self._started_at
-        if link is None:
-            return "off", None
-        if error is not None:
-            return "unreachable", None
-        odom = _call(link, "latest_odom")
-        age = time.monotonic() - float(odom.received) if odom is not None else None
-        state = str(getattr(getattr(link, "state", None), "value", getattr(link, "state", ""))).lower()
-        if state.endswith("stale") or (age is not None and age > STALE_AFTER):
-            return "stale", age
-        if odom is None:
-            waited = time.monotonic() - started
-            return ("stale", waited) if waited > STALE_AFTER + CONNECT_TIMEOUT else ("connecting", None)
-        return "live", age
+        return connection_state(link, error, started)
 
     # -- info panel ----------------------------------------------------------------------------------
     def refresh_info(self) -> None:
         """Update position, speed, zoom and state texts (only widgets whose text changed are sent)."""
         state, age = self.connection_state()
-        zoom = f"Zoom: {self.live.zoom} (x{self.live.zoom_factor:.2g})"
         link = self._link
         odom = _call(link, "latest_odom") if link is not None else None
         pose = (_call(link, "latest_pose") if link is not None else None) or odom
-        if pose is not None:
-            pos = f"x {pose.x:.2f} m, y {pose.y:.2f} m, heading {math.degrees(pose.theta):.0f}°"
-        else:
-            pos = "Position: –"
-        speed = f"Speed: {odom.v:.2f} m/s, turning {math.degrees(odom.w):.0f}°/s" if odom is not None else "Speed: –"
-        texts = {
-            "off": "Preview stopped",
-            "connecting": "Connecting to the chair…",
-            "live": "Live",
-            "unreachable": "Chair unreachable",
-        }
-        if state == "stale":
-            state_text = f"No data for {age:.0f} s" if age is not None else "No data"
-        else:
-            state_text = texts[state]
+        texts = info_texts(state, age, pose, odom, self.live.zoom, self.live.zoom_factor)
         self.live.stale = state == "stale"  # the loop redraws: the chair turns grey
-        css = {"live": "info", "off": "info", "connecting": "info"}.get(state, "warning")
-        _set(self.info_state, f"<span class='pmk-msg-{css}'>{escape(state_text)}</span>")
-        _set(self.info_pos, escape(pos))
-        _set(self.info_speed, escape(speed))
-        _set(self.info_zoom, escape(zoom))
-        if state == "stale":
-            _set(
-                self.status,
-                f"<span class='pmk-msg-warning'>No data from the chair for {age or 0:.0f} s: "
-                "check that it is switched on and in range.</span>",
-            )
-        elif state in ("live", "off"):
-            _set(self.status, "")
+        _set(self.info_state, texts.state)
+        _set(self.info_pos, texts.position)
+        _set(self.info_speed, texts.speed)
+        _set(self.info_zoom, texts.zoom)
+        if texts.status is not None:
+            _set(self.status, texts.status)
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _on_sensors(self, change: dict[str, Any]) -> None:
@@ -338,34 +391,13 @@ class HomeScreen:
         return wrapper
 
     def _warn(self, message: str) -> None:
-        _set(self.warning, f"<div class='pmk-msg-warning'>⚠ {escape(message)}</div>" if message else "")
+        _set(self.warning, _note(message) if message else "")
 
     def _set_running(self, running: bool) -> None:
         self.preview_button.layout.display = "none" if running else ""
         self.disconnect_button.layout.display = "" if running else "none"
         self.sensors.layout.display = "" if running else "none"
-        self.preview_box.layout.display = "" if running else "none"
+        self.zoom_bar.layout.display = "" if running else "none"
+        self.live.canvas.layout.display = "" if running else "none"
         if not running and self.ctx.current_map is None:
             self.preview_button.layout.display = "none"
-
-
-def _set(widget: w.HTML, value: str) -> None:
-    if widget.value != value:
-        widget.value = value
-
-
-def _call(obj: Any, name: str) -> Any:
-    try:
-        return getattr(obj, name)()
-    except Exception:
-        return None
-
-
-def _subscribe_state(link: Any, cb: Any) -> Any:
-    subscribe = getattr(link, "on_state_change", None)
-    if subscribe is None:
-        return None
-    try:
-        return subscribe(cb)
-    except Exception:
-        return None

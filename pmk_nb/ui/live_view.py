@@ -16,6 +16,7 @@ import logging
 import math
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from typing import Any, Protocol
 
@@ -24,7 +25,7 @@ from ipycanvas import MultiCanvas
 
 from pmk_nb.ui.frame_metrics import FrameMetrics, measured_hold
 from pmk_nb.ui.render_loop import RenderLoop
-from pmk_nb.viewport import Viewport, heading_point, laser_segments
+from pmk_nb.viewport import Viewport, fit_canvas, heading_point, laser_segments
 
 log = logging.getLogger(__name__)
 
@@ -35,6 +36,13 @@ HIT_STYLE = "rgba(220, 20, 20, 0.6)"  # red: the ray ended on an obstacle
 MAX_STYLE = "rgba(220, 20, 20, 0.15)"  # faint red: nothing seen up to the sensor's range
 RAY_SPACING_PX = 2.0  # thin out rays that would end closer than this on screen
 WHEEL_INTERVAL = 0.15  # s between two wheel zoom steps (trackpads send bursts of events)
+#: After a canvas resize the page may apply the new size after the first frame's drawing (size and
+#: drawing travel on different comms) and that frame would be wiped: send everything again this late.
+RESIZE_RESEND_S = 0.5
+#: Rays are drawn from the pose the chair had when the scan arrived, if one seen is this close in
+#: time; the newest pose otherwise.  A turning chair's scan drawn from the newer heading would
+#: show rays going through walls (38 deg/s x 0.1 s = 4 deg, half a metre at 8 m).
+SCAN_POSE_MATCH_S = 0.25
 
 
 class LiveSource(Protocol):
@@ -60,6 +68,8 @@ class LiveView:
         footprint_radius: chair radius in metres (the blue circle).
         zoom_step, max_zoom: see :class:`pmk_nb.viewport.Viewport`.
         show_laser: draw the scan rays.
+        fit_to_map: treat ``width`` x ``height`` as the largest size and give the canvas the shape
+            of each map set (no empty band around the map at zoom level 1).
     """
 
     def __init__(
@@ -72,9 +82,15 @@ class LiveView:
         zoom_step: float = 1.5,
         max_zoom: int = 8,
         show_laser: bool = True,
+        fit_to_map: bool = False,
     ) -> None:
         self.canvas = MultiCanvas(2, width=int(width), height=int(height))
         self.canvas.layout.max_width = "100%"
+        self.canvas.add_class("pmk-live-canvas")
+        self.max_size = (int(width), int(height))
+        self.fit_to_map = bool(fit_to_map)
+        self._resend_at: float | None = None
+        self._pose_hist: deque[tuple[float, ...]] = deque(maxlen=32)  # (x, y, theta, received)
         self.map_layer = self.canvas[0]
         self.dyn_layer = self.canvas[1]
         self._lock = threading.RLock()
@@ -114,6 +130,8 @@ class LiveView:
 
             gray = grid_to_gray(grid)
         with self._lock:
+            if self.fit_to_map:
+                self._resize(*fit_canvas(int(grid.width), int(grid.height), *self.max_size))
             zoom = self.viewport.zoom if self.viewport is not None else 1
             self.viewport = Viewport.for_grid(
                 grid,
@@ -128,10 +146,17 @@ class LiveView:
             self._force = True
         self.request_redraw()
 
+    def _resize(self, width: int, height: int) -> None:
+        if (self.canvas.width, self.canvas.height) == (width, height):
+            return
+        self.canvas.width, self.canvas.height = width, height
+        self._resend_at = time.monotonic() + RESIZE_RESEND_S
+
     def attach(self, source: LiveSource | None) -> None:
         """Read poses and scans from ``source`` (a ChairLink); None shows the map alone."""
         with self._lock:
             self._source = source
+            self._pose_hist.clear()
             self._force = True
 
     def start(self, source: LiveSource | None = None) -> str:
@@ -251,6 +276,9 @@ class LiveView:
             view, gray, source = self.viewport, self._gray, self._source
             if view is None or gray is None:
                 return False
+            if self._resend_at is not None and time.monotonic() >= self._resend_at:
+                self._resend_at = None
+                self._force, self._map_key = True, None
             pose = odom = scan = None
             if source is not None:
                 odom = source.latest_odom()
@@ -258,6 +286,7 @@ class LiveView:
                 scan = source.latest_scan() if self.show_laser else None
             if pose is not None:
                 view.follow(pose.x, pose.y)
+                self._remember(pose)
             key = view.state_key()
             inputs = (key, pose, odom, scan, self.show_laser, self.footprint_radius, self.stale)
             if not self._force and self._same_inputs(inputs):
@@ -275,6 +304,23 @@ class LiveView:
             self._map_key = key
             self._record(t0, t_sent, sent[0], draw_map, pose, odom, scan)
             return True
+
+    def _remember(self, pose: Any) -> None:
+        tup = _pose_tuple(pose)
+        if tup is not None and (not self._pose_hist or self._pose_hist[-1] != tup):
+            self._pose_hist.append(tup)
+
+    def scan_pose(self, pose: Any, scan: Any) -> tuple[float, float, float]:
+        """Where the rays start: the remembered pose nearest the scan's arrival, else ``pose``."""
+        received = float(getattr(scan, "received", math.nan))
+        best: tuple[float, ...] | None = None
+        if math.isfinite(received) and self._pose_hist:
+            best = min(self._pose_hist, key=lambda p: abs(p[3] - received))
+            if abs(best[3] - received) > SCAN_POSE_MATCH_S:
+                best = None
+        if best is None:
+            return float(pose.x), float(pose.y), float(pose.theta)
+        return best[0], best[1], best[2]
 
     def _same_inputs(self, inputs: tuple[Any, ...]) -> bool:
         last = self._last_inputs
@@ -312,7 +358,7 @@ class LiveView:
         if scan is not None:
             segs = laser_segments(
                 view,
-                (x, y, theta),
+                self.scan_pose(pose, scan),
                 float(scan.angle_min),
                 float(scan.angle_increment),
                 scan.ranges,

@@ -59,11 +59,26 @@ APP_CSS = f"""
 .pmk-msg-info {{ color: #b3e5fc; }}
 .pmk-msg-warning {{ color: #ffe082; font-weight: 600; }}
 .pmk-msg-error {{ color: #ff8a80; font-weight: 600; }}
+/* the same message classes on the white content area: dark text on a tinted band (the pale colours
+   above are for the dark panel) */
+.pmk-content .pmk-msg-warning {{ color: #6d4c00; background: #fff8e1; border-left: 5px solid #ffb300;
+   padding: 6px 10px; border-radius: 4px; margin: 2px 0; }}
+.pmk-content .pmk-msg-error {{ color: #b71c1c; background: #ffebee; border-left: 5px solid #e53935;
+   padding: 6px 10px; border-radius: 4px; margin: 2px 0; }}
+.pmk-content .pmk-msg-info {{ color: #01579b; }}
 .pmk-field-error {{ color: #c62828; font-size: {BASE_FONT_PX - 2}px; }}
 .pmk-content {{ padding: 0 16px; }}
 .pmk-heading {{ font-size: 26px; font-weight: 600; margin: 4px 0 12px 0; }}
 .pmk-confirm {{ background: #fff8e1; border: 2px solid #ffb300; border-radius: 6px; padding: 8px; }}
 .pmk-app .widget-progress {{ height: 18px; }}
+.pmk-home .pmk-heading {{ margin-bottom: 4px; }}
+.pmk-home-preview-box {{ width: fit-content; max-width: 100%; gap: 8px; }}
+.pmk-home-toolbar {{ min-height: {TOUCH_PX}px; }}
+.pmk-home-zoom button.jupyter-button {{ min-width: 64px; }}
+/* the canvas has the map's shape; on a smaller screen the page scales it down, keeping that shape
+   (height auto), and never taller than the window below the toolbar */
+.pmk-app canvas.pmk-live-canvas {{ max-width: 100%; height: auto; width: auto;
+   max-height: calc(100vh - 200px); border: 1px solid #b0bec5; border-radius: 4px; }}
 </style>
 """
 

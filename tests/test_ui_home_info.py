@@ -1,0 +1,75 @@
+"""The Home screen's texts and up-front checks, without widgets: info panel lines, preview image, probe."""
+
+from __future__ import annotations
+
+import socket
+import time
+from pathlib import Path
+
+from pmk_nb.chair.messages import Odometry, Pose2D
+from pmk_nb.ui.context import CurrentMap
+from pmk_nb.ui.home_checks import preview_image_path, preview_image_problem, probe_chair
+from pmk_nb.ui.home_info import STALE_AFTER, connection_state, info_texts
+
+
+class Link:
+    """The two things connection_state reads from a ChairLink: its state and the latest odometry."""
+
+    def __init__(self, odom: Odometry | None, state: str = "connected") -> None:
+        self.odom, self.state = odom, state
+
+    def latest_odom(self) -> Odometry | None:
+        return self.odom
+
+
+def test_connection_states_and_no_data_age() -> None:
+    now = time.monotonic()
+    fresh = Odometry(1.0, 2.0, 0.0, 0.5, 0.0, None, now - 0.1)
+    old = Odometry(1.0, 2.0, 0.0, 0.5, 0.0, None, now - (STALE_AFTER + 3.0))
+    assert connection_state(None, None, now, now) == ("off", None)
+    assert connection_state(Link(fresh), "refused", now, now) == ("unreachable", None)
+    assert connection_state(Link(None), None, now - 1.0, now) == ("connecting", None)
+    state, age = connection_state(Link(None), None, now - 60.0, now)
+    assert state == "stale" and age is not None and age >= 59  # connected but nothing ever came
+    state, age = connection_state(Link(old), None, now - 60.0, now)
+    assert state == "stale" and age is not None and age > STALE_AFTER
+    assert connection_state(Link(fresh, "stale"), None, now, now)[0] == "stale"  # the link's own verdict
+    assert connection_state(Link(fresh), None, now, now)[0] == "live"
+
+
+def test_info_texts_name_the_position_source_and_the_no_data_state() -> None:
+    odom = Odometry(1.234, -5.0, 1.5708, 0.42, -0.1, None, 0.0)
+    live = info_texts("live", 0.1, odom, odom, 2, 1.5)
+    assert live.position == "x 1.23 m, y -5.00 m, heading 90° (odom frame)"
+    assert "0.42 m/s" in live.speed and live.zoom == "Zoom: 2 (x1.5)"
+    assert "Live" in live.state and live.status == ""
+    in_map = info_texts("live", 0.1, Pose2D(3.0, 4.0, 0.0, "map", 0.0), odom, 1, 1.0)
+    assert in_map.position.endswith("(map frame)")
+    stale = info_texts("stale", 7.4, odom, odom, 1, 1.0)
+    assert "No data for 7 s" in stale.state and "pmk-msg-warning" in stale.state
+    assert stale.status is not None and "No data from the chair for 7 s" in stale.status
+    assert info_texts("connecting", None, None, None, 1, 1.0).status is None  # leave the page's line alone
+    assert info_texts("off", None, None, None, 1, 1.0).position == "Position: –"
+
+
+def test_preview_image_check(tmp_path: Path) -> None:
+    yaml = tmp_path / "clinic.yaml"
+    current = CurrentMap("clinic", yaml, None)
+    assert preview_image_path(current) == tmp_path / "clinic-visualization.png"
+    problem = preview_image_problem(current)
+    assert problem is not None and "clinic-visualization.png" in problem and "Maps screen" in problem
+    (tmp_path / "clinic-visualization.png").write_bytes(b"\x89PNG")
+    assert preview_image_problem(current) is None
+    recorded = CurrentMap("clinic", yaml, tmp_path / "elsewhere.png")  # the path recorded at send time wins
+    assert "elsewhere.png" in (preview_image_problem(recorded) or "")
+
+
+def test_probe_chair_answers_and_refusals() -> None:
+    with socket.socket() as server:
+        server.bind(("127.0.0.1", 0))
+        server.listen(1)
+        port = server.getsockname()[1]
+        assert probe_chair("127.0.0.1", port, timeout=2.0) is None
+    reason = probe_chair("127.0.0.1", port, timeout=2.0)  # closed now
+    assert reason and "refused" in reason.lower()
+    assert probe_chair("127.0.0.1", 70000, timeout=1.0)  # a hand-edited profile's bad port: a reason, no crash
