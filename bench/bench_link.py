@@ -12,7 +12,6 @@ Usage: python bench/bench_link.py [--quick] [--seconds S]   -> writes bench/resu
 from __future__ import annotations
 
 import argparse
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -23,27 +22,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from sim_process import driving_sim  # noqa: E402 - bench/ is sys.path[0] when run as a script
+
 from pmk_nb.chair.link import ChairLink  # noqa: E402
 from pmk_nb.chair.messages import parse_scan  # noqa: E402
-
-SIM_CODE = """
-import sys, threading
-from pmk_nb.chair.link import ChairLink
-from pmk_nb.sim import SimChair
-sim = SimChair(odom_rate=50.0, scan_rate=40.0, rays=1080, start_pose=(7.5, 1.5, 0.0)).start()
-driver = ChairLink("127.0.0.1", sim.port)
-driver.connect(timeout=10.0)
-stop = threading.Event()
-def drive():
-    while not stop.wait(0.1):
-        driver.publish_cmd_vel(0.5, 0.5)
-threading.Thread(target=drive, daemon=True).start()
-print(sim.port, flush=True)
-sys.stdin.readline()
-stop.set()
-driver.close()
-sim.stop()
-"""
 
 CASES: list[tuple[str, dict[str, int]]] = [
     ("default throttles (odom 20 ms, scan 50 ms)", {}),
@@ -112,14 +94,8 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true", help="3 s per case")
     args = ap.parse_args()
     seconds = 3.0 if args.quick else args.seconds
-    sim = subprocess.Popen(
-        [sys.executable, "-c", SIM_CODE], cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
-    )
-    try:
-        port = int(sim.stdout.readline())  # type: ignore[union-attr]
+    with driving_sim() as (port, _pid):
         results = [(name, run_case(port, throttle, seconds)) for name, throttle in CASES]
-    finally:
-        sim.communicate("\n", timeout=30)
     cost = parse_cost_us()
     lines = [
         "## Chair link (`bench/bench_link.py`)",

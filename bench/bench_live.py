@@ -18,36 +18,16 @@ import json
 import os
 import subprocess
 import sys
-import textwrap
 import time
 from pathlib import Path
 from typing import Any
+
+from sim_process import driving_sim  # bench/ is sys.path[0] when run as a script
 
 HERE = Path(__file__).resolve().parent
 TARGET_FPS = 20.0
 TARGET_P95_DELAY_MS = 100.0
 TARGET_CPU = 50.0  # % of one core
-
-# The chair drives a 1 m circle in the second room (0.5 m/s, 0.5 rad/s), commanded over rosbridge
-# from the simulator's own process so the kernel under test carries no extra work.
-SIM_CODE = """
-import sys, threading
-from pmk_nb.chair.link import ChairLink
-from pmk_nb.sim import SimChair
-sim = SimChair(odom_rate=50.0, scan_rate=40.0, rays=1080, start_pose=(7.5, 1.5, 0.0)).start()
-driver = ChairLink("127.0.0.1", sim.port)
-driver.connect(timeout=10.0)
-stop = threading.Event()
-def drive():
-    while not stop.wait(0.1):
-        driver.publish_cmd_vel(0.5, 0.5)
-threading.Thread(target=drive, daemon=True).start()
-print(sim.port, flush=True)
-sys.stdin.readline()
-stop.set()
-driver.close()
-sim.stop()
-"""
 
 SETUP = """
 import asyncio, json, os, time
@@ -428,64 +408,46 @@ def main(argv: list[str] | None = None) -> int:
         {"name": "zoomed, unthrottled scans", "zoom": 3, "throttle": '{"scan": 0}', **base},
         {"name": "zoomed, speckled map", "zoom": 3, "throttle": "None", **base, "noisy": True},
     ]
-    sim = subprocess.Popen(
-        [sys.executable, "-c", textwrap.dedent(SIM_CODE)],
-        stdin=subprocess.PIPE,
-        stdout=subprocess.PIPE,
-        text=True,
-        cwd=HERE.parent,
-    )
     kernel = None
-    try:
-        assert sim.stdout is not None
-        port = int(sim.stdout.readline().strip())
-        sim_cpu0, sim_t0 = proc_cpu_seconds(sim.pid), time.monotonic()
-        kernel = Kernel()
-        kernel.run(f"import os; os.chdir({str(HERE.parent)!r})")
-        results = []
-        for case in cases:
-            r = run_case(kernel, port, case, seconds)
-            print(
-                f"{case['name']}: {fmt(r['fps'])} fps, odom p95 {fmt(r['odom_delay_ms_p95'])} ms, "
-                f"scan p95 {fmt(r['scan_delay_ms_p95'])} ms, {fmt(r['bytes_p50'], 0)} B/frame, "
-                f"CPU {r['cpu_percent']:.0f} %, mode {r['loop_mode']}",
-                flush=True,
-            )
-            results.append(r)
-        sim_cpu1 = proc_cpu_seconds(sim.pid)
-        sim_cpu = (
-            100.0 * (sim_cpu1 - sim_cpu0) / (time.monotonic() - sim_t0)
-            if sim_cpu0 is not None and sim_cpu1 is not None
-            else None
-        )
-        out = write_results(results, seconds, sim_cpu)
-        kernel.close()
-        kernel = None
-        if not args.no_browser:
-            if not Path(CHROMIUM).exists():
-                print(f"browser stage skipped: {CHROMIUM} missing (apt-get install -y chromium)", file=sys.stderr)
-                return 1
-            rows = []
-            for zoom in (1, 3):
-                r = run_browser(port, seconds, zoom)
-                print(f"browser zoom {zoom}: {fmt(r['fps'])} fps, delay p95 {fmt(r['delay_p95'])} ms", flush=True)
-                rows.append(r)
-            write_browser_results(rows, seconds)
-        print(f"wrote {out}")
-        return 0
-    finally:
-        if kernel is not None:
-            kernel.close()
-        if sim.stdin is not None:
-            try:
-                sim.stdin.write("\n")
-                sim.stdin.flush()
-            except OSError:
-                pass
+    with driving_sim() as (port, sim_pid):
         try:
-            sim.wait(10)
-        except subprocess.TimeoutExpired:
-            sim.kill()
+            sim_cpu0, sim_t0 = proc_cpu_seconds(sim_pid), time.monotonic()
+            kernel = Kernel()
+            kernel.run(f"import os; os.chdir({str(HERE.parent)!r})")
+            results = []
+            for case in cases:
+                r = run_case(kernel, port, case, seconds)
+                print(
+                    f"{case['name']}: {fmt(r['fps'])} fps, odom p95 {fmt(r['odom_delay_ms_p95'])} ms, "
+                    f"scan p95 {fmt(r['scan_delay_ms_p95'])} ms, {fmt(r['bytes_p50'], 0)} B/frame, "
+                    f"CPU {r['cpu_percent']:.0f} %, mode {r['loop_mode']}",
+                    flush=True,
+                )
+                results.append(r)
+            sim_cpu1 = proc_cpu_seconds(sim_pid)
+            sim_cpu = (
+                100.0 * (sim_cpu1 - sim_cpu0) / (time.monotonic() - sim_t0)
+                if sim_cpu0 is not None and sim_cpu1 is not None
+                else None
+            )
+            out = write_results(results, seconds, sim_cpu)
+            kernel.close()
+            kernel = None
+            if not args.no_browser:
+                if not Path(CHROMIUM).exists():
+                    print(f"browser stage skipped: {CHROMIUM} missing (apt-get install -y chromium)", file=sys.stderr)
+                    return 1
+                rows = []
+                for zoom in (1, 3):
+                    r = run_browser(port, seconds, zoom)
+                    print(f"browser zoom {zoom}: {fmt(r['fps'])} fps, delay p95 {fmt(r['delay_p95'])} ms", flush=True)
+                    rows.append(r)
+                write_browser_results(rows, seconds)
+            print(f"wrote {out}")
+            return 0
+        finally:
+            if kernel is not None:
+                kernel.close()
 
 
 if __name__ == "__main__":

@@ -18,7 +18,7 @@ import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 from pmk_nb.download import DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
 from pmk_nb.errors import IndoorGMLError, LibraryError, MapFormatError, OccupancyError
@@ -185,6 +185,26 @@ class MapsFolder:
         if not overwrite and self.exists(name):
             raise LibraryError(f"map {name!r} already exists; pass overwrite=True to replace it")
 
+    def _add_source(
+        self, name: str, overwrite: bool, suffix: str, write: Callable[[BinaryIO], None], *, what: str, failure: str
+    ) -> MapEntry:
+        """Add map ``name`` via a temp file that ``write`` fills, checked to be IndoorGML before it is
+        renamed into place: a failure leaves an existing map untouched. ``failure`` prefixes OS errors."""
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=suffix, dir=self.root)
+        tmp = Path(tmp_name)
+        try:
+            with os.fdopen(fd, "wb") as out:
+                write(out)
+                out.flush()
+                os.fsync(out.fileno())
+            check_indoorgml(tmp, what=what)  # check the copy: what is installed is what was checked
+            self._refuse_existing(name, overwrite)  # another writer may have taken the name meanwhile
+            return self._install(tmp, name)
+        except OSError as err:
+            raise LibraryError(f"{failure}: {err.strerror or err}") from err
+        finally:
+            tmp.unlink(missing_ok=True)
+
     def _install(self, tmp: Path, name: str) -> MapEntry:
         """Move a checked temp file into place as NAME.gml; drops a NAME.xml it replaces."""
         target = self.root / f"{name}.gml"
@@ -212,19 +232,13 @@ class MapsFolder:
         current = self._sources().get(name)
         if current is not None and current.exists() and current.samefile(src):
             raise LibraryError(f"{src} is already map {name!r} in {self.root}")
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=".import", dir=self.root)
-        tmp = Path(tmp_name)
-        try:
-            with os.fdopen(fd, "wb") as out, open(src, "rb") as inp:
+
+        def copy(out: BinaryIO) -> None:
+            with open(src, "rb") as inp:
                 shutil.copyfileobj(inp, out, 1 << 20)
-                out.flush()
-                os.fsync(out.fileno())
-            check_indoorgml(tmp, what=str(src))  # check the copy: what is installed is what was checked
-            return self._install(tmp, name)
-        except OSError as err:
-            raise LibraryError(f"cannot import {src} into {self.root}: {err.strerror or err}") from err
-        finally:
-            tmp.unlink(missing_ok=True)
+
+        failure = f"cannot import {src} into {self.root}"
+        return self._add_source(name, overwrite, ".import", copy, what=str(src), failure=failure)
 
     def download(
         self,
@@ -250,19 +264,12 @@ class MapsFolder:
         self._refuse_existing(name, overwrite)
         check_url(url)
         self._ensure_root()
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=".part", dir=self.root)
-        tmp = Path(tmp_name)
-        try:
-            with os.fdopen(fd, "wb") as out:
-                fetch(url, out, timeout=timeout, max_bytes=max_bytes, progress=progress)
-                os.fsync(out.fileno())
-            check_indoorgml(tmp, what=f"the file at {url}")
-            self._refuse_existing(name, overwrite)  # another writer may have taken the name meanwhile
-            return self._install(tmp, name)
-        except OSError as err:
-            raise LibraryError(f"cannot save the download as {name!r} in {self.root}: {err.strerror or err}") from err
-        finally:
-            tmp.unlink(missing_ok=True)
+
+        def save(out: BinaryIO) -> None:
+            fetch(url, out, timeout=timeout, max_bytes=max_bytes, progress=progress)
+
+        failure = f"cannot save the download as {name!r} in {self.root}"
+        return self._add_source(name, overwrite, ".part", save, what=f"the file at {url}", failure=failure)
 
     # ----------------------------------------------------------------- convert / delete
     def convert(

@@ -8,13 +8,10 @@ with the reason, so one corrupt file never hides the others.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
 from pmk_nb.errors import MapFormatError
-
-_UNSAFE = re.compile(r"[^\w.-]+")
 
 
 @dataclass
@@ -44,19 +41,10 @@ class GeneratedMap:
 
 
 def storey_file_stem(name: str, storeys: list[str]) -> dict[str, str]:
-    """File stem per storey: ``NAME`` for a one-storey building, else ``NAME_<storey>`` (made safe)."""
-    if len(storeys) == 1:
-        return {storeys[0]: name}
-    stems: dict[str, str] = {}
-    used: set[str] = set()
-    for storey in storeys:
-        base = f"{name}_{_UNSAFE.sub('_', storey).strip('._') or 'storey'}"
-        stem, n = base, 2
-        while stem.casefold() in used:
-            stem, n = f"{base}-{n}", n + 1
-        used.add(stem.casefold())
-        stems[storey] = stem
-    return stems
+    """File stem per storey, named exactly as `pmk convert` names them (one rule for both)."""
+    from pmk_nb.rosmap import storey_map_names
+
+    return storey_map_names(name, storeys)
 
 
 def scan_generated(root: Path, sources: dict[str, Path]) -> dict[str, list[GeneratedMap]]:

@@ -109,3 +109,21 @@ def ros_factory() -> Iterator[Callable[..., Any]]:
                 ros.close()
         except Exception:
             pass
+
+
+@pytest.fixture
+def link_factory() -> Iterator[Callable[[Any], Any]]:
+    """``make(sim)`` -> a connected :class:`pmk_nb.chair.link.ChairLink` to that sim, closed at teardown."""
+    from pmk_nb.chair.link import ChairLink
+
+    links: list[ChairLink] = []
+
+    def make(sim: Any) -> ChairLink:
+        link = ChairLink("127.0.0.1", sim.port)
+        link.connect(timeout=10.0)
+        links.append(link)
+        return link
+
+    yield make
+    for link in links:
+        link.close()

@@ -6,7 +6,7 @@ import json
 import os
 import subprocess
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -50,21 +50,6 @@ def house(tmp_path: Path) -> MapsFolder:
     return folder
 
 
-@pytest.fixture
-def link_to() -> Iterator[Callable[[Any], ChairLink]]:
-    links: list[ChairLink] = []
-
-    def make(sim: Any) -> ChairLink:
-        link = ChairLink("127.0.0.1", sim.port)
-        link.connect(timeout=10.0)
-        links.append(link)
-        return link
-
-    yield make
-    for link in links:
-        link.close()
-
-
 def add_profile(pmk: Pmk, sim: Any, server: SshdServer, remote_dir: str, tmp_path: Path) -> None:
     done = pmk(
         "chair", "add", "bench-chair",
@@ -79,7 +64,7 @@ def add_profile(pmk: Pmk, sim: Any, server: SshdServer, remote_dir: str, tmp_pat
 @pytest.mark.slow
 def test_send_storey_with_password_from_stdin(
     pmk: Pmk, house: MapsFolder, sim_factory: Any, sshd_server: SshdServer, remote_maps_dir: str,
-    link_to: Callable[[Any], ChairLink], tmp_path: Path,
+    link_factory: Callable[[Any], ChairLink], tmp_path: Path,
 ) -> None:  # fmt: skip
     sim = sim_factory(grid=room_grid(), reload_services=("map_update",))
     add_profile(pmk, sim, sshd_server, remote_maps_dir, tmp_path)
@@ -97,7 +82,7 @@ def test_send_storey_with_password_from_stdin(
     f2 = next(g for g in house.entry("house").generated if g.storey == "F2")
     remote = sshd_server.home / remote_maps_dir.removeprefix("~/")
     assert (remote / "house_F2.pgm").read_bytes() == f2.image.read_bytes()
-    info = link_to(sim).map_info(timeout=5.0)
+    info = link_factory(sim).map_info(timeout=5.0)
     assert (info.width, info.height) == (f2.width, f2.height)
     assert sshd_server.password not in (tmp_path / "cfg" / "profiles.json").read_text()
 

@@ -4,7 +4,7 @@ reached through the real ChairLink (roslibpy)."""
 from __future__ import annotations
 
 import shutil
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -49,21 +49,6 @@ def sim_profile(sim: Any, tmp_path: Path, **kw: Any) -> ChairProfile:
     return profile
 
 
-@pytest.fixture
-def connect() -> Iterator[Callable[[Any], ChairLink]]:
-    links: list[ChairLink] = []
-
-    def make(sim: Any) -> ChairLink:
-        link = ChairLink("127.0.0.1", sim.port)
-        link.connect(timeout=10.0)
-        links.append(link)
-        return link
-
-    yield make
-    for link in links:
-        link.close()
-
-
 def assert_publishes(link: ChairLink, grid: OccupancyGrid) -> None:
     info = link.map_info(timeout=5.0)
     assert (info.width, info.height) == (grid.width, grid.height)
@@ -82,7 +67,7 @@ def assert_publishes(link: ChairLink, grid: OccupancyGrid) -> None:
 )
 def test_deploy_each_reload_flavour_over_sim_sftp(
     sim_factory: Any,
-    connect: Callable[[Any], ChairLink],
+    link_factory: Callable[[Any], ChairLink],
     tmp_path: Path,
     sim_flavour: str,
     services: tuple[str, ...],
@@ -97,7 +82,7 @@ def test_deploy_each_reload_flavour_over_sim_sftp(
     )
     new = grid_of(90, 70, seed=2, origin=(-3.0, 1.25))
     files = write_map(new, tmp_path / "local", "hall")
-    link = connect(sim)
+    link = link_factory(sim)
     events: list[tuple[str, float, str]] = []
     report = deploy(
         files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link, progress=lambda *e: events.append(e)
@@ -119,7 +104,7 @@ def test_deploy_each_reload_flavour_over_sim_sftp(
 
 
 def test_failing_reload_keeps_previous_map(
-    sim_factory: Any, connect: Callable[[Any], ChairLink], tmp_path: Path
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
 ) -> None:
     old = grid_of(50, 50, seed=3)
     sim = sim_factory(
@@ -127,7 +112,7 @@ def test_failing_reload_keeps_previous_map(
     )
     files = write_map(grid_of(80, 30, seed=4), tmp_path / "local", "broken")
     files.image.write_bytes(b"P5\n80 30\n255\n" + b"\x00" * 100)  # truncated: the map server must refuse it
-    link = connect(sim)
+    link = link_factory(sim)
     with pytest.raises(DeployError) as info:
         deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link)
     err = info.value
@@ -139,12 +124,12 @@ def test_failing_reload_keeps_previous_map(
 
 
 def test_no_reload_service_fails_at_detect(
-    sim_factory: Any, connect: Callable[[Any], ChairLink], tmp_path: Path
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
 ) -> None:
     old = grid_of(40, 40, seed=5)
     sim = sim_factory(grid=old, reload_services=(), sftp_port=0, maps_dir=tmp_path / "chair_maps")
     files = write_map(grid_of(30, 30, seed=6), tmp_path / "local", "m")
-    link = connect(sim)
+    link = link_factory(sim)
     with pytest.raises(DeployStepError, match="no map reload service") as info:
         deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link)
     assert info.value.step == "detect"
@@ -152,11 +137,13 @@ def test_no_reload_service_fails_at_detect(
     assert_publishes(link, old)
 
 
-def test_wrong_password_fails_at_upload(sim_factory: Any, connect: Callable[[Any], ChairLink], tmp_path: Path) -> None:
+def test_wrong_password_fails_at_upload(
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
+) -> None:
     sim = sim_factory(grid=grid_of(20, 20, seed=7), sftp_port=0, maps_dir=tmp_path / "chair_maps")
     files = write_map(grid_of(30, 30, seed=8), tmp_path / "local", "m")
     with pytest.raises(DeployStepError, match="authentication with password failed") as info:
-        deploy(files, sim_profile(sim, tmp_path), password="wrong", link=connect(sim))
+        deploy(files, sim_profile(sim, tmp_path), password="wrong", link=link_factory(sim))
     assert info.value.step == "upload"
     assert not (tmp_path / "chair_maps" / "m.yaml").exists()
 
@@ -179,13 +166,13 @@ class SplitLink:
 
 
 def test_confirm_step_catches_a_map_that_did_not_change(
-    sim_factory: Any, connect: Callable[[Any], ChairLink], tmp_path: Path
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
 ) -> None:
     maps = tmp_path / "chair_maps"
     reloading = sim_factory(grid=grid_of(20, 20, seed=9), sftp_port=0, maps_dir=maps)
     publishing = sim_factory(grid=grid_of(20, 20, seed=9), maps_dir=maps)
     files = write_map(grid_of(33, 44, seed=10), tmp_path / "local", "m")
-    link = SplitLink(connect(reloading), connect(publishing))
+    link = SplitLink(link_factory(reloading), link_factory(publishing))
     with pytest.raises(DeployStepError, match="still publishes 20x20") as info:
         deploy(
             files, sim_profile(reloading, tmp_path), password=reloading.sftp_password, link=link, confirm_timeout=1.5
@@ -194,13 +181,13 @@ def test_confirm_step_catches_a_map_that_did_not_change(
 
 
 def test_same_size_map_is_confirmed_by_its_cells(
-    sim_factory: Any, connect: Callable[[Any], ChairLink], tmp_path: Path
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
 ) -> None:
     first = grid_of(64, 48, seed=11)
     sim = sim_factory(grid=first, sftp_port=0, maps_dir=tmp_path / "chair_maps")
     second = grid_of(64, 48, seed=12)  # same metadata, other cells
     files = write_map(second, tmp_path / "local", "same")
-    link = connect(sim)
+    link = link_factory(sim)
     report = deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link)
     assert "confirmed by cells" in report.notes
     assert_publishes(link, second)
@@ -211,7 +198,7 @@ def test_openssh_upload_then_sim_reload(
     sshd_server: SshdServer,
     remote_maps_dir: str,
     sim_factory: Any,
-    connect: Callable[[Any], ChairLink],
+    link_factory: Callable[[Any], ChairLink],
     tmp_path: Path,
 ) -> None:
     """The real sshd writes into the test user's home; the simulator's map server loads that path."""
@@ -229,7 +216,7 @@ def test_openssh_upload_then_sim_reload(
         known_hosts=str(tmp_path / "kh"),
         remote_maps_dir=remote_maps_dir,
     )
-    link = connect(sim)
+    link = link_factory(sim)
     report = deploy(files, profile, link=link)
     assert report.remote_yaml.startswith(str(sshd_server.home) + "/pmk-tests/")
     assert report.host_key.fingerprint == sshd_server.host_key_fingerprint

@@ -12,7 +12,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pytest
 import shapely
 from shapely.geometry import Point
@@ -23,6 +22,7 @@ from pmk_nb.indoorgml.model import Building, Cell
 from pmk_nb.library import MapsFolder
 from pmk_nb.occupancy import DEFAULT_WALL_THICKNESS
 from pmk_nb.rosmap import read_map
+from tests.helpers import cells_in, reachable
 from tests.shared_data import INDOORGML_DATA
 
 SHARED = INDOORGML_DATA
@@ -137,32 +137,6 @@ def test_real_file_imports_and_converts(tmp_path: Path, path: Path) -> None:
 
 
 # ---------------------------------------------------------------- the clinic: walls and doors
-def reachable(free: np.ndarray, seed: tuple[int, int]) -> np.ndarray:
-    """4-connected flood fill over ``free`` from (row, col); bounded by the number of cells."""
-    reach = np.zeros_like(free)
-    if not free[seed]:
-        return reach
-    reach[seed] = True
-    for _ in range(free.size):
-        grown = reach.copy()
-        grown[1:] |= reach[:-1]
-        grown[:-1] |= reach[1:]
-        grown[:, 1:] |= reach[:, :-1]
-        grown[:, :-1] |= reach[:, 1:]
-        grown &= free
-        if np.array_equal(grown, reach):
-            break
-        reach = grown
-    return reach
-
-
-def cell_mask(grid: Any, geom: Any) -> np.ndarray:
-    cols, rows = np.meshgrid(np.arange(grid.width), np.arange(grid.height))
-    xs = grid.origin[0] + (cols + 0.5) * grid.resolution
-    ys = grid.origin[1] + (rows + 0.5) * grid.resolution
-    return shapely.contains_xy(geom, xs, ys)
-
-
 @pytest.mark.parametrize("name", ["clinic_floor.gml", "clinic_two_storeys.gml"])
 def test_clinic_rooms_connect_only_through_doors(tmp_path: Path, name: str) -> None:
     folder = MapsFolder(tmp_path)
@@ -199,7 +173,7 @@ def test_clinic_rooms_connect_only_through_doors(tmp_path: Path, name: str) -> N
         for room in ("R1", "R3", "R4", "R5", "R6", "COR"):
             assert everywhere[at(room)], f"{room} not reachable from R2 on storey {gm.storey}"
         # close R1's door: R1 is cut off (its shared wall with R2 has no gap), the rest stays connected
-        closed = free & ~cell_mask(grid, cells["D1"].footprint.buffer(WALL / 2 + 2 * grid.resolution))
+        closed = free & ~cells_in(grid, cells["D1"].footprint.buffer(WALL / 2 + 2 * grid.resolution))
         from_r2 = reachable(closed, at("R2"))
         assert not from_r2[at("R1")]
         assert from_r2[at("COR")] and from_r2[at("R4")]

@@ -13,62 +13,12 @@ from shapely.geometry import LineString, Polygon, box
 
 from pmk_nb.errors import OccupancyError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
+from pmk_nb.indoorgml.model import Boundary, CellKind
 from pmk_nb.occupancy import plan_storey, rasterise, rasterise_storey
 from pmk_nb.raster import Frame, fill_polygon, line_segments, supercover_cells
+from tests.helpers import building, cells_in, flood, reachable, room
 
 # --- helpers ----------------------------------------------------------------------------------------
-
-
-def building(cells: list[Cell], boundaries: list[Boundary] = (), storeys: list[str] | None = None) -> Building:
-    names = storeys or sorted({c.storey for c in cells})
-    return Building(
-        source="hand-made.gml",
-        sha256="ab" * 32,
-        version="test",
-        namespaces={},
-        unit="m",
-        unit_reason="built by the test",
-        storeys=[Storey(n, None, [c.id for c in cells if c.storey == n]) for n in names],
-        cells={c.id: c for c in cells},
-        boundaries={b.id: b for b in boundaries},
-        georef=Georeference(translation=(10.0, 20.0), rotation=15.0, lla=(45.8, 9.09, -151.3)),
-    )
-
-
-def room(cid: str, geom: Polygon, kind: CellKind = CellKind.GENERAL, storey: str = "F1") -> Cell:
-    return Cell(cid, kind, geom, storey)
-
-
-def centres(grid: OccupancyGrid) -> tuple[np.ndarray, np.ndarray]:
-    cols = grid.origin[0] + (np.arange(grid.width) + 0.5) * grid.resolution
-    rows = grid.origin[1] + (np.arange(grid.height) + 0.5) * grid.resolution
-    return np.meshgrid(cols, rows)
-
-
-def cells_in(grid: OccupancyGrid, geom: shapely.Geometry) -> np.ndarray:
-    x, y = centres(grid)
-    return shapely.contains_xy(geom, x, y)
-
-
-def flood(free: np.ndarray, seed: np.ndarray) -> np.ndarray:
-    """Cells reachable from ``seed`` through ``free`` with 8-connected moves (iterative dilation)."""
-    reached = seed & free
-    for _ in range(free.size):
-        grown = reached.copy()
-        grown[1:] |= reached[:-1]
-        grown[:-1] |= reached[1:]
-        grown[:, 1:] |= reached[:, :-1]
-        grown[:, :-1] |= reached[:, 1:]
-        grown[1:, 1:] |= reached[:-1, :-1]
-        grown[1:, :-1] |= reached[:-1, 1:]
-        grown[:-1, 1:] |= reached[1:, :-1]
-        grown[:-1, :-1] |= reached[1:, 1:]
-        grown &= free
-        if np.array_equal(grown, reached):
-            return reached
-        reached = grown
-    return reached
 
 
 def deep_inside(grid: OccupancyGrid, geom: Polygon, depth: float) -> np.ndarray:
@@ -125,19 +75,7 @@ def test_supercover_is_a_4_connected_path_through_both_ends(seg: tuple[float, ..
     starts = [cell for cell in touching(seg[0], seg[1]) if grid[cell]]
     ends = [cell for cell in touching(seg[2], seg[3]) if grid[cell]]
     assert starts and ends, "the drawn line must cover a cell at each end point"
-    # 4-connected: dilate without diagonals
-    reached = np.zeros_like(grid)
-    reached[starts[0]] = True
-    for _ in range(grid.size):
-        grown = reached.copy()
-        grown[1:] |= reached[:-1]
-        grown[:-1] |= reached[1:]
-        grown[:, 1:] |= reached[:, :-1]
-        grown[:, :-1] |= reached[:, 1:]
-        grown &= grid
-        if np.array_equal(grown, reached):
-            break
-        reached = grown
+    reached = reachable(grid, starts[0])  # 4-connected: no diagonal moves
     assert any(reached[cell] for cell in ends)
 
 

@@ -7,37 +7,25 @@ import http.server
 import socket
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, ClassVar
 
 import pytest
 
-from pmk_nb.chair.settings import ChairProfile, ProfileStore
-from pmk_nb.library import MapsFolder
+from pmk_nb.chair.settings import ChairProfile
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen, parse_resolution
+from tests.helpers import app_context, wait_until
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
 NOW = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)  # FileUpload's kernel-side value format
 
 
-def wait_until(cond: Callable[[], Any], timeout: float = 60.0, what: str = "condition") -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = cond()
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
-
-
 @pytest.fixture
 def ctx(tmp_path: Path) -> Iterator[AppContext]:
-    store = ProfileStore(tmp_path / "cfg" / "profiles.json", secrets=False)
-    context = AppContext(MapsFolder(tmp_path / "maps"), store, config_dir=tmp_path / "cfg")
-    yield context
-    context.close()
+    with app_context(tmp_path) as context:
+        yield context
 
 
 @pytest.fixture

@@ -4,35 +4,21 @@ from __future__ import annotations
 
 import json
 import socket
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from pmk_nb.chair.settings import ProfileStore
-from pmk_nb.library import MapsFolder
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.settings_screen import SettingsScreen
-
-
-def wait_until(cond: Callable[[], Any], timeout: float = 30.0, what: str = "condition") -> Any:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        value = cond()
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+from tests.helpers import app_context, wait_until
 
 
 @pytest.fixture
 def ctx(tmp_path: Path) -> Iterator[AppContext]:
-    store = ProfileStore(tmp_path / "cfg" / "profiles.json", secrets=False)
-    context = AppContext(MapsFolder(tmp_path / "maps"), store, config_dir=tmp_path / "cfg")
-    yield context
-    context.close()
+    with app_context(tmp_path) as context:
+        yield context
 
 
 def fill(screen: SettingsScreen, **values: str) -> None:
@@ -108,7 +94,7 @@ def test_connection_to_the_simulator(ctx: AppContext, sim_factory: Any) -> None:
     assert "Disconnected" in screen.status.value
     screen.test_button.click()
     assert screen.state in ("Connecting", "Connected")
-    wait_until(lambda: screen.state != "Connecting", what="the connection test")
+    wait_until(lambda: screen.state != "Connecting", timeout=30.0, what="the connection test")
     assert screen.state == "Connected", screen.status.value
     grid = sim.grid
     assert f"<b>{grid.width}</b>" in screen.map_info.value and f"<b>{grid.height}</b>" in screen.map_info.value
@@ -125,7 +111,7 @@ def test_connection_to_a_closed_port_shows_the_reason(ctx: AppContext) -> None:
     screen = SettingsScreen(ctx)
     fill(screen, port=str(port))
     screen.test_button.click()
-    wait_until(lambda: screen.state != "Connecting", what="the connection test")
+    wait_until(lambda: screen.state != "Connecting", timeout=30.0, what="the connection test")
     assert screen.state == "Failed"
     assert "Disconnected" in screen.status.value
     reason = screen.status.value.split("pmk-status-reason'>", 1)[1]

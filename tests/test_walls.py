@@ -18,7 +18,7 @@ from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.model import Boundary, CellKind
 from pmk_nb.occupancy import DEFAULT_MAX_WALL_GAP, rasterise_storey
 from pmk_nb.walls import door_gaps, gap_walls
-from tests.test_occupancy import building, cells_in, flood, room
+from tests.helpers import building, cells_in, flood, room
 
 CLINIC = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
 L_SHAPE = Polygon([(0, 0), (10, 0), (10, 4), (4, 4), (4, 10), (0, 10)])

@@ -266,30 +266,15 @@ def deploy(
 
 def link_for(profile: ChairProfile) -> Any:
     """The kernel's shared ChairLink for this profile (not connected yet)."""
-    try:
-        from pmk_nb.chair.registry import get_link
-    except ImportError:  # registry not split out: get_link next to the link
-        from pmk_nb.chair.link import get_link  # type: ignore[attr-defined,no-redef]
+    from pmk_nb.chair.registry import get_link
 
-    return get_link(
-        profile.host,
-        profile.port,
-        odom_topic=profile.odom_topic,
-        scan_topic=profile.scan_topic,
-        pose_source=profile.pose_source,
-        pose_topic=profile.pose_topic,
-    )
+    return get_link(profile.host, profile.port, **profile.link_options())
 
 
 def close_links() -> None:
     """Close the kernel's links (CLI processes, at exit)."""
-    try:
-        from pmk_nb.chair.registry import close_all_links
-    except ImportError:
-        try:
-            from pmk_nb.chair.link import close_all_links  # type: ignore[attr-defined,no-redef]
-        except ImportError:
-            return
+    from pmk_nb.chair.registry import close_all_links
+
     close_all_links()
 
 

@@ -74,6 +74,15 @@ class ChairProfile:
     def known_hosts_path(self) -> Path:
         return Path(self.known_hosts).expanduser() if self.known_hosts else default_known_hosts()
 
+    def link_options(self) -> dict[str, Any]:
+        """The stream settings a ChairLink to this chair takes (topics, pose source), as keywords."""
+        return {
+            "odom_topic": self.odom_topic,
+            "scan_topic": self.scan_topic,
+            "pose_source": self.pose_source,
+            "pose_topic": self.pose_topic,
+        }
+
     def validate(self) -> None:
         """Raise SettingsError naming the field and the fix; returns None when the profile is usable."""
         if not self.name.strip() or "/" in self.name or "\\" in self.name:

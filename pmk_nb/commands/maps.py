@@ -7,7 +7,9 @@ PmkError), which ``pmk_nb.cli`` prints and turns into exit status 2.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -109,15 +111,28 @@ def _list(folder: MapsFolder) -> int:
     return 0
 
 
-def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
+@contextlib.contextmanager
+def _status_line() -> Iterator[Callable[[str], None]]:
+    """``show(text)`` rewrites one progress line on stderr when it is a terminal (a log gets none)."""
     interactive = sys.stderr.isatty()
 
-    def progress(done: int, total: int | None) -> None:
+    def show(text: str) -> None:
         if interactive:
-            shown = f"{done}/{total}" if total else f"{done}"
-            print(f"\rdownloading: {shown} bytes", end="", file=sys.stderr, flush=True)
+            print(f"\r{text}", end="", file=sys.stderr, flush=True)
 
     try:
+        yield show
+    finally:
+        if interactive:
+            print(file=sys.stderr)
+
+
+def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
+    with _status_line() as show:
+
+        def progress(done: int, total: int | None) -> None:
+            show(f"downloading: {f'{done}/{total}' if total else done} bytes")
+
         entry = folder.download(
             args.url,
             args.name,
@@ -126,21 +141,16 @@ def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
             max_bytes=int(args.max_mb * 1024 * 1024),
             progress=progress,
         )
-    finally:
-        if interactive:
-            print(file=sys.stderr)
     print(f"downloaded {args.url} as map {entry.name!r} ({entry.size} bytes, {entry.source})")
     return 0
 
 
 def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
-    interactive = sys.stderr.isatty()
+    with _status_line() as show:
 
-    def progress(step: str, fraction: float) -> None:
-        if interactive:
-            print(f"\r{fraction * 100:5.1f}% {step:<50}", end="", file=sys.stderr, flush=True)
+        def progress(step: str, fraction: float) -> None:
+            show(f"{fraction * 100:5.1f}% {step:<50}")
 
-    try:
         maps = folder.convert(
             args.name,
             args.resolution,
@@ -151,9 +161,6 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             image_format=args.image_format,
             progress=progress,
         )
-    finally:
-        if interactive:
-            print(file=sys.stderr)
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:
         files = ", ".join(p.name for p in (gm.yaml, gm.image, gm.preview) if p is not None)

@@ -129,14 +129,7 @@ class AppContext:
             raise SettingsError("No wheelchair configured yet: fill in and save the Settings screen first.")
         key = (profile.host, int(profile.port))
         with self._lock:
-            link = get_link(
-                profile.host,
-                int(profile.port),
-                odom_topic=profile.odom_topic,
-                scan_topic=profile.scan_topic,
-                pose_source=profile.pose_source,
-                pose_topic=profile.pose_topic,
-            )
+            link = get_link(profile.host, int(profile.port), **profile.link_options())
             stale = [old for k, old in self._links.items() if k != key and old is not link]
             self._links = {key: link}
         for old in stale:

@@ -24,6 +24,7 @@ from pmk_nb.ui.widgets import (
     progress_callback,
     run_in_thread,
     set_progress,
+    show_failure,
     text,
 )
 
@@ -80,12 +81,14 @@ class DownloadPanel:
             self.status.value = f"Downloaded {escape(entry.name)}. Convert it on the Maps tab."
             self.ctx.notify(f"Downloaded {entry.name}.")
 
-        def failed(err: BaseException) -> None:
-            set_progress(self.progress, 1.0, style="danger")
-            self.status.value = f"<span class='pmk-field-error'>{escape(err)}</span>"
-
         return run_in_thread(
-            self.ctx, "Downloading", work, on_done=done, on_error=failed, busy=[self.button], exclusive=self._lock
+            self.ctx,
+            "Downloading",
+            work,
+            on_done=done,
+            on_error=show_failure(self.progress, self.status),
+            busy=[self.button],
+            exclusive=self._lock,
         )
 
     def close(self) -> None:

@@ -29,6 +29,7 @@ from pmk_nb.ui.widgets import (
     progress_callback,
     run_in_thread,
     set_progress,
+    show_failure,
     text,
 )
 
@@ -271,16 +272,12 @@ class MapsScreen:
             self.status.value = f"Converted {escape(entry.name)} at {resolution:g} m: {what}."
             self.ctx.notify(f"Converted {entry.name} at {resolution:g} m.")
 
-        def failed(err: BaseException) -> None:
-            set_progress(self.convert_progress, 1.0, style="danger")
-            self.status.value = f"<span class='pmk-field-error'>{escape(err)}</span>"
-
         return run_in_thread(
             self.ctx,
             "Converting",
             work,
             on_done=done,
-            on_error=failed,
+            on_error=show_failure(self.convert_progress, self.status),
             busy=[self.convert_button],
             exclusive=self._files_lock,
         )
@@ -327,16 +324,12 @@ class MapsScreen:
             self.ctx.notify(f"Sent {name} to {profile.name}.")
             self._update_info()
 
-        def failed(err: BaseException) -> None:
-            set_progress(self.send_progress, 1.0, style="danger")
-            self.status.value = f"<span class='pmk-field-error'>{escape(err)}</span>"
-
         return run_in_thread(
             self.ctx,
             "Sending",
             work,
             on_done=done,
-            on_error=failed,
+            on_error=show_failure(self.send_progress, self.status),
             busy=[*self._send_buttons(), self.convert_button],
             exclusive=self._files_lock,
         )

@@ -205,14 +205,20 @@ class SettingsScreen:
         self.message.value = f"<span class='pmk-field-error'>Not saved: {escape(err)}</span>"
 
     # -- actions -----------------------------------------------------------------------------------
-    def save(self) -> ChairProfile | None:
-        """Validate and save the form; it becomes the current chair. Returns None when invalid."""
+    def _checked_form_profile(self) -> ChairProfile | None:
+        """The form as a valid profile, or None with the first bad field's message shown under it."""
         for err in self.errors.values():
             err.value = ""
         try:
-            profile = self.form_profile()
+            return self.form_profile()
         except SettingsError as err:
             self._show_field_error(err)
+            return None
+
+    def save(self) -> ChairProfile | None:
+        """Validate and save the form; it becomes the current chair. Returns None when invalid."""
+        profile = self._checked_form_profile()
+        if profile is None:
             return None
         self.ctx.profiles.save(profile)
         password = self.fields["password"].value
@@ -227,12 +233,8 @@ class SettingsScreen:
 
     def test_connection(self) -> Any:
         """Connect to the chair in the form (in a thread) and show status and published map info."""
-        for err in self.errors.values():
-            err.value = ""
-        try:
-            profile = self.form_profile()
-        except SettingsError as err:
-            self._show_field_error(err)
+        profile = self._checked_form_profile()
+        if profile is None:
             return None
         self._set_state("Connecting")
         self.map_info.value = ""
@@ -240,14 +242,7 @@ class SettingsScreen:
         def work() -> tuple[ConnectionReport, dict[str, list[str]]]:
             from pmk_nb.chair.link import ChairLink
 
-            link = ChairLink(
-                profile.host,
-                profile.port,
-                odom_topic=profile.odom_topic,
-                scan_topic=profile.scan_topic,
-                pose_source=profile.pose_source,
-                pose_topic=profile.pose_topic,
-            )
+            link = ChairLink(profile.host, profile.port, **profile.link_options())
             try:
                 report = link.test_connection(timeout=TEST_TIMEOUT)
                 found: dict[str, list[str]] = {}

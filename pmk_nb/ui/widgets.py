@@ -189,6 +189,16 @@ def progress_callback(bar: w.FloatProgress, label: w.HTML | None = None) -> Call
     return update
 
 
+def show_failure(bar: w.FloatProgress, label: w.HTML) -> Callable[[BaseException], None]:
+    """An ``on_error`` for :func:`run_in_thread`: the bar turns red, ``label`` shows the message."""
+
+    def failed(err: BaseException) -> None:
+        set_progress(bar, 1.0, style="danger")
+        label.value = f"<span class='pmk-field-error'>{escape(err)}</span>"
+
+    return failed
+
+
 def report_error(ctx: AppContext, err: BaseException, action: str) -> str:
     """Turn an exception into a user message in the info panel; returns the message."""
     if isinstance(err, PmkError):
