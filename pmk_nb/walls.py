@@ -111,20 +111,39 @@ def gap_walls(footprints: list[Any], door_lines: list[Any], gaps: np.ndarray, ma
         return empty
     try:
         union = shapely.union_all(np.asarray(polys, dtype=object))
-        r = max_gap / 2 + 1e-6  # a micrometre more: a gap exactly max_gap wide is filled, whatever the round-off
-        closed = shapely.buffer(shapely.buffer(union, r, join_style="mitre"), -r, join_style="mitre")
-        fill = shapely.difference(closed, union)
-        if door_lines and not fill.is_empty:
-            cuts = shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat")
-            fill = shapely.difference(fill, shapely.union_all(cuts))
+        cuts = None
+        if door_lines:
+            cuts = shapely.union_all(
+                shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat")
+            )
+        # GEOS's mitre buffers occasionally lose their way for one exact radius (a shrink that leaves
+        # metres of grown area behind); a piece thicker than max_gap is such an artefact, and a radius
+        # a few micrometres larger usually computes cleanly, so try a few before giving up on a piece.
+        good: list[Any] = []
+        for extra in (1e-6, 2.3e-6, 4.1e-6, 7.7e-6):
+            good, bad = _gap_pieces(union, cuts, max_gap / 2 + extra, tol)
+            if not bad:
+                break
     except shapely.errors.GEOSException:  # degenerate input geometry: draw the gaps as before
         return empty
+    return shapely.MultiPolygon(good) if good else empty
+
+
+def _gap_pieces(union: Any, cuts: Any, r: float, tol: float) -> tuple[list[Any], int]:
+    """(pieces of the mitre closing of ``union`` by ``r`` not in ``union``, count of implausible pieces)."""
+    closed = shapely.buffer(shapely.buffer(union, r, join_style="mitre"), -r, join_style="mitre")
+    fill = shapely.difference(closed, union)
+    if cuts is not None and not fill.is_empty:
+        fill = shapely.difference(fill, cuts)
     parts = np.asarray(polygons_of(fill), dtype=object)
     if len(parts) == 0:
-        return empty
+        return [], 0
     # mean width 2 * area / perimeter: round-off slivers along shared edges are far below 0.1 mm
     width = 2 * shapely.area(parts) / np.maximum(shapely.length(parts), 1e-12)
-    return shapely.MultiPolygon(parts[width > 1e-4].tolist())
+    parts = parts[width > 1e-4]
+    # a gap wall is at most 2 r thick: a piece that holds a wider disc is a buffer artefact
+    too_thick = ~shapely.is_empty(shapely.buffer(parts, -(r + max(tol, 1e-6)), join_style="mitre"))
+    return parts[~too_thick].tolist(), int(too_thick.sum())
 
 
 def wall_lines(

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from shapely import affinity
 from shapely.geometry import LineString, Polygon, box
@@ -79,6 +79,8 @@ def test_door_gaps_counts_the_nearest_room_on_each_side() -> None:
 
 
 @settings(max_examples=60, deadline=None)
+@example(width=0.625, shift=2.0, angle=216.0457, max_gap=0.5)  # GEOS mitre buffers once filled this
+@example(width=0.5, shift=0.00390625, angle=0.0, max_gap=0.8)  # a tiny step: its notch may fill
 @given(
     width=st.floats(0.02, 1.2),
     shift=st.floats(-2.5, 2.5),
@@ -93,8 +95,13 @@ def test_gap_fill_is_the_overlap_strip_at_any_rotation(
     a, b = box(0, 0, 3, 3), box(3 + width, shift, 6, 3 + shift)
     rot = [affinity.rotate(g, angle, origin=(0, 0)) for g in (a, b)]
     fill = gap_walls(rot, [], np.zeros(0), max_gap, 0.01)
-    expected = width * (3 - abs(shift)) if width <= max_gap else 0.0
-    assert fill.area == pytest.approx(expected, rel=1e-6, abs=1e-6)
+    if width > max_gap:
+        assert fill.area == pytest.approx(0.0, abs=1e-6)
+    else:
+        # the strip both rooms face; where one room ends above the other the step is a notch at most
+        # ``width`` wide and ``|shift|`` deep at each end, which the closing may fill too
+        strip = width * (3 - abs(shift))
+        assert strip - 1e-6 <= fill.area <= strip + 2 * width * abs(shift) + 1e-6
     if not fill.is_empty:
         assert fill.difference(shapely.convex_hull(shapely.union_all(rot))).area < 1e-6
 
