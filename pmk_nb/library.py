@@ -22,13 +22,14 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 
 from pmk_nb.download import DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
 from pmk_nb.errors import IndoorGMLError, LibraryError, MapFormatError, OccupancyError
+from pmk_nb.library_info import StoreyCache, StoreyInfo
 from pmk_nb.library_scan import GeneratedMap, scan_generated, storey_file_stem
 from pmk_nb.sniff import check_indoorgml
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building
 
-__all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "check_name", "default_maps_dir"]
+__all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "StoreyInfo", "check_name", "default_maps_dir"]
 
 SOURCE_SUFFIXES = (".gml", ".xml")
 MAX_NAME_LENGTH = 100
@@ -112,6 +113,7 @@ class MapsFolder:
     def __init__(self, root: str | os.PathLike[str] | None = None) -> None:
         self.root = Path(root).expanduser() if root is not None else default_maps_dir()
         self._sha_cache: dict[Path, tuple[int, int, str]] = {}
+        self._storey_cache = StoreyCache()
 
     def __repr__(self) -> str:
         return f"MapsFolder({str(self.root)!r})"
@@ -171,6 +173,27 @@ class MapsFolder:
                 return e
         known = ", ".join(e.name for e in self.list()) or "none"
         raise LibraryError(f"no map named {key!r} in {self.root} (maps: {known})")
+
+    def storeys(self, name: str) -> list[StoreyInfo]:
+        """Storeys of map ``name`` (cells, doors, extent), known before it is converted.
+
+        Read from the source once and cached while its mtime and size are unchanged.
+
+        Raises:
+            LibraryError: unknown map, or a source that cannot be read as IndoorGML.
+        """
+        entry = self.entry(name)
+        return self._storey_cache.get(entry.source, entry.name)
+
+    def cached_storeys(self, map_: str | MapEntry) -> list[StoreyInfo] | None:
+        """The storeys of a map (name or entry) if already read for its file as it is now; never reads it."""
+        source = map_.source if isinstance(map_, MapEntry) else self._sources().get(_lookup_name(map_))
+        return None if source is None else self._storey_cache.cached(source)
+
+    @property
+    def storey_reads(self) -> int:
+        """How many source files :meth:`storeys` has parsed (cache misses)."""
+        return self._storey_cache.reads
 
     # ----------------------------------------------------------------- adding sources
     def _ensure_root(self) -> None:
@@ -333,9 +356,13 @@ class MapsFolder:
 
         label = f"reading {entry.source.name}"
         report(label, 0.0)
-        return read_building(
+        st = entry.source.stat()
+        building = read_building(
             entry.source, unit=unit, progress=lambda done, total: report(label, 0.3 * done / max(total, 1))
         )
+        if unit == "auto":  # what storeys() reads too: the list learns them for free
+            self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), building)
+        return building
 
     def _convert_building(
         self,
@@ -413,6 +440,7 @@ class MapsFolder:
                 if path is not None and path.parent == self.root:
                     with contextlib.suppress(FileNotFoundError):
                         path.unlink()
+        self._storey_cache.forget(entry.source)
         try:
             entry.source.unlink()
         except FileNotFoundError:

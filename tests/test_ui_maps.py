@@ -19,6 +19,7 @@ from pmk_nb.ui.maps_screen import MapsScreen, parse_resolution
 from tests.helpers import app_context, wait_until
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
+SAMPLE_MAPS = Path(__file__).resolve().parent.parent / "sample_maps"
 NOW = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)  # FileUpload's kernel-side value format
 
 
@@ -288,3 +289,82 @@ def test_download_validates_inputs(screen: MapsScreen, ctx: AppContext) -> None:
     screen.downloader.button.click()
     wait_until(lambda: errors(ctx), what="name rejected")
     assert not list(ctx.maps.root.parent.glob("etc*"))
+
+
+def storey_checks(screen: MapsScreen) -> dict[str, Any]:
+    return {b.description: b for b in screen.storeys_panel.choices.children}
+
+
+def test_selecting_an_unconverted_two_storey_map_shows_its_storeys(screen: MapsScreen, ctx: AppContext) -> None:
+    data = (SAMPLE_MAPS / "clinic_two_storeys.gml").read_bytes()
+    screen.import_bytes("clinic_two_storeys.gml", data)
+    assert ctx.maps.storey_reads <= 1  # importing does not parse the whole building
+    screen.select("clinic_two_storeys")
+    wait_until(lambda: "F2" in screen.storeys_panel.table.value, what="storeys read in the background")
+    table = screen.storeys_panel.table.value
+    assert "F1" in table and "F2" in table and "30.0 × 15.0 m" in table and "<td>15</td>" in table
+    assert set(storey_checks(screen)) == {"F1", "F2"} and all(b.value for b in storey_checks(screen).values())
+    assert screen.storeys_panel.choice_box.layout.display == "flex"
+    wait_until(lambda: "2 storeys, not converted" in screen.map_list.options[0][0], what="storey count in the list")
+    assert screen.map_list.value == "clinic_two_storeys"  # relabelling keeps the selection
+    # once known, selecting it again shows the storeys at once (no thread)
+    assert screen.storeys_panel.show(screen.entries["clinic_two_storeys"]) is None
+    assert "F2" in screen.storeys_panel.table.value
+    assert not errors(ctx)
+
+
+def test_a_changed_file_has_its_storeys_read_again(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.import_bytes("house.gml", two_rooms(("A", "B", "C")))
+    wait_until(lambda: "C" in screen.storeys_panel.table.value, what="storeys of the imported map")
+    (ctx.maps.root / "house.gml").write_bytes(two_rooms(("A",), width=9.0))  # changed behind our back
+    screen.refresh()
+    entry = screen.entries["house"]
+    thread = screen.storeys_panel.show(entry)
+    assert thread is not None  # the cached storeys are stale: read again
+    thread.join(10)
+    assert "<td>A</td>" in screen.storeys_panel.table.value and "<td>B</td>" not in screen.storeys_panel.table.value
+    assert screen.storeys_panel.choice_box.layout.display == "none"  # one storey: nothing to choose
+
+
+def test_a_broken_file_shows_why_its_storeys_are_unknown(screen: MapsScreen, ctx: AppContext) -> None:
+    ctx.maps.root.mkdir(parents=True, exist_ok=True)
+    (ctx.maps.root / "broken.gml").write_bytes(HTML_PAGE)  # dropped in by hand, never checked
+    screen.refresh()
+    thread = screen.storeys_panel.show(screen.entries["broken"])
+    assert thread is not None
+    thread.join(10)
+    assert "Cannot read the storeys" in screen.storeys_panel.table.value
+    assert any("broken.gml" in e for e in errors(ctx))
+
+
+def test_converting_only_f2_writes_only_f2s_files(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.import_bytes("clinic_two_storeys.gml", (SAMPLE_MAPS / "clinic_two_storeys.gml").read_bytes())
+    wait_until(lambda: len(storey_checks(screen)) == 2, what="storey checkboxes")
+    checks = storey_checks(screen)
+    checks["F1"].value = False
+    checks["F2"].value = False
+    assert "at least one storey" in screen.storeys_panel.choice_error.value
+    screen.convert_button.click()  # nothing ticked: refused, nothing written
+    assert any("at least one storey" in e for e in errors(ctx)) and not list(ctx.maps.root.glob("*.yaml"))
+    checks["F2"].value = True
+    assert screen.storeys_panel.choice_error.value == ""
+    screen.resolution.value = "0.1"
+    thread = screen.convert()
+    assert thread is not None
+    thread.join(60)
+    written = sorted(p.name for p in ctx.maps.root.iterdir() if not p.name.endswith(".gml"))
+    assert written == [
+        "clinic_two_storeys_F2-visualization.png",
+        "clinic_two_storeys_F2.pgm",
+        "clinic_two_storeys_F2.yaml",
+    ]
+    assert "2 storeys, converted, 0.1 m" in screen.map_list.options[0][0]
+    assert [g.storey for g in screen.entries["clinic_two_storeys"].generated] == ["F2"]
+    assert [b.description for b in send_buttons(screen)] == ["Send F2"]
+    # a converted map's storeys show at once, with every storey ticked again
+    assert screen.storeys_panel.show(screen.entries["clinic_two_storeys"]) is None
+    assert all(b.value for b in storey_checks(screen).values())
+    with pytest.raises(Exception, match="No storey F3"):
+        screen.storeys_panel.check(["F3"])
+    screen.storeys_panel.check(["F1"])
+    assert screen.storeys_panel.selected() == ["F1"]

@@ -17,7 +17,9 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import LibraryError, PmkError
+from pmk_nb.ui.maps_cards import generated_card, map_label
 from pmk_nb.ui.maps_download import DownloadPanel
+from pmk_nb.ui.maps_storeys import StoreysPanel
 from pmk_nb.ui.widgets import (
     ConfirmBox,
     button,
@@ -39,7 +41,6 @@ if TYPE_CHECKING:
 
 DEFAULT_RESOLUTION = 0.05
 MAX_RESOLUTION = 1.0
-THUMB_PX = 220
 CONNECT_TIMEOUT = 10.0
 UPLOAD_MAX_BYTES = 200 * 1024 * 1024
 
@@ -57,24 +58,13 @@ def parse_resolution(raw: object) -> float:
     return value
 
 
-def map_label(entry: MapEntry) -> str:
-    """One line of the maps list: name and what has been generated from it."""
-    n = len(entry.generated)
-    status = getattr(entry, "status", "converted" if n else "not converted")
-    if n == 0:
-        return f"{entry.name}  (not converted)"
-    storeys = [g.storey for g in entry.generated if g.storey]
-    what = f"{n} storeys: {', '.join(storeys)}" if n > 1 else f"converted, {entry.generated[0].resolution:g} m"
-    note = "" if status == "converted" else f", {status}"
-    return f"{entry.name}  ({what}{note})"
-
-
 class MapsScreen:
     """The Maps screen; ``widget`` is its content, ``info_widget`` its part of the info panel."""
 
     def __init__(self, ctx: AppContext) -> None:
         self.ctx = ctx
         self.entries: dict[str, MapEntry] = {}
+        self._quiet = False
         # convert and send touch the same files: one at a time; downloads have their own lock
         self._files_lock = threading.Lock()
         self.info_widget = w.HTML("")
@@ -118,8 +108,15 @@ class MapsScreen:
         self._pending_send: GeneratedMap | None = None
         self.status = w.HTML("")
         self.status.add_class("pmk-maps-status")
+        self.storeys_panel = StoreysPanel(ctx, on_loaded=lambda _name: self._relabel())
         self.convert_row = w.VBox(
-            [self.resolution, self.resolution_error, self.convert_button, self.convert_progress],
+            [
+                self.storeys_panel.widget,
+                self.resolution,
+                self.resolution_error,
+                self.convert_button,
+                self.convert_progress,
+            ],
             layout=w.Layout(align_items="flex-start", width="100%"),
         )
         right = w.VBox(
@@ -156,14 +153,25 @@ class MapsScreen:
             self.ctx.notify(f"Cannot list the maps folder: {err}", "error")
             entries = []
         self.entries = {e.name: e for e in entries}
-        self.map_list.options = [(map_label(e), e.name) for e in entries]
+        self._relabel(select=selected if selected in self.entries else None)
         if selected in self.entries:
-            self.map_list.value = selected
             self._show_entry(self.entries[selected])
         else:
             self.map_list.value = None
             self._show_entry(None)
         self._update_info()
+
+    def _relabel(self, select: str | None = None) -> None:
+        """Rebuild the list's labels (storey counts arrive later than the list) keeping the selection."""
+        keep = self.map_list.value if select is None else select
+        self._quiet = True  # setting options fires value changes that are not the user's
+        try:
+            self.map_list.options = [
+                (map_label(e, self.ctx.maps.cached_storeys(e)), e.name) for e in self.entries.values()
+            ]
+            self.map_list.value = keep if keep in self.entries else None
+        finally:
+            self._quiet = False
 
     def select(self, name: str) -> None:
         """Select a map by name (what tapping the list does)."""
@@ -173,6 +181,8 @@ class MapsScreen:
 
     def _on_select(self, change: dict[str, Any]) -> None:
         name = change.get("new")
+        if self._quiet:
+            return
         if name is not None and not isinstance(name, str):
             raise LibraryError("Unknown map selected.")
         self._show_entry(self.entries.get(name) if name else None)
@@ -185,6 +195,7 @@ class MapsScreen:
             self.details.value = "<p>Tap a map in the list, or import / download one.</p>"
             self.convert_row.layout.display = "none"
             self.generated_box.children = ()
+            self.storeys_panel.show(None)
             return
         self.title.value = f"<div class='pmk-heading'>{escape(entry.name)}</div>"
         size_kb = entry.size / 1024
@@ -195,45 +206,13 @@ class MapsScreen:
             lines.append("Not converted yet: choose a resolution and press Convert.")
         self.details.value = "<br>".join(lines)
         self.convert_row.layout.display = "flex"
-        several = len(entry.generated) > 1
+        self.storeys_panel.show(entry)
+        known = self.ctx.maps.cached_storeys(entry)  # one storey of several converted: still say which
+        several = len(entry.generated) > 1 or (known is not None and len(known) > 1)
         self.generated_box.children = tuple(self._generated_card(g, several) for g in entry.generated)
 
     def _generated_card(self, gm: GeneratedMap, several: bool) -> w.Widget:
-        label = f"Storey {gm.storey}" if several and gm.storey else "Map"
-        thumb: w.Widget
-        if gm.preview is not None and Path(gm.preview).is_file():
-            thumb = w.Image(
-                value=Path(gm.preview).read_bytes(),
-                format="png",
-                layout=w.Layout(max_width=f"{THUMB_PX}px", max_height=f"{THUMB_PX}px", object_fit="contain"),
-            )
-            thumb.add_class("pmk-maps-preview")
-        else:
-            thumb = w.HTML("<i>no preview image</i>")
-        send = button(
-            f"Send {gm.storey}" if several and gm.storey else "Send",
-            "pmk-maps-send",
-            icon="paper-plane",
-            style="success",
-        )
-        send.on_click(guard(self.ctx, "Sending")(lambda _b, g=gm: self.send(g)))
-        lines = [
-            f"<b>{escape(label)}</b>",
-            f"{gm.width} × {gm.height} cells at {gm.resolution:g} m",
-            escape(Path(gm.yaml).name),
-        ]
-        if getattr(gm, "broken", ""):
-            lines.append(f"<span class='pmk-field-error'>Unreadable: {escape(gm.broken)}. Convert again.</span>")
-            send.disabled = True
-        elif getattr(gm, "stale", False):
-            lines.append("<span class='pmk-field-error'>The IndoorGML file changed since: convert again.</span>")
-        info = w.HTML("<br>".join(lines))
-        card = w.HBox(
-            [thumb, w.VBox([info, send], layout=w.Layout(padding="0 0 0 12px"))],
-            layout=w.Layout(margin="8px 0", align_items="center"),
-        )
-        card.add_class("pmk-maps-card")
-        return card
+        return generated_card(self.ctx, gm, several, self.send)
 
     def _selected(self) -> MapEntry:
         name = self.map_list.value
@@ -250,6 +229,7 @@ class MapsScreen:
     def convert(self) -> Any:
         """Convert the selected map at the typed resolution (in a thread); returns the thread."""
         entry = self._selected()
+        storeys = self.storeys_panel.selected() if self.storeys_panel.name == entry.name else None
         try:
             resolution = parse_resolution(self.resolution.value)
         except ValueError as err:
@@ -258,11 +238,12 @@ class MapsScreen:
             return None
         self.resolution_error.value = ""
         set_progress(self.convert_progress, 0.0)
-        self.status.value = f"Converting {escape(entry.name)} at {resolution:g} m…"
+        which = f" (storeys {', '.join(storeys)})" if storeys else ""
+        self.status.value = f"Converting {escape(entry.name)}{escape(which)} at {resolution:g} m…"
 
         def work() -> list[GeneratedMap]:
             return self.ctx.maps.convert(
-                entry.name, resolution, progress=progress_callback(self.convert_progress, self.status)
+                entry.name, resolution, storeys=storeys, progress=progress_callback(self.convert_progress, self.status)
             )
 
         def done(generated: list[GeneratedMap]) -> None:

@@ -1,0 +1,129 @@
+"""What the maps list tells about a source before it is converted: its storeys, cells, doors, size.
+
+Reading an IndoorGML file can take seconds for a large building, so the result is cached per source
+file, keyed by path + mtime_ns + size: an edited or replaced file is read again. The cache lives in
+memory on one :class:`~pmk_nb.library.MapsFolder` only (no sidecar file): the folder keeps the
+original ALMA_MAPS contract that every file in it is a source or a generated map, and that a failed
+action leaves it exactly as it was.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from pmk_nb.errors import IndoorGMLError, LibraryError
+
+if TYPE_CHECKING:
+    from pmk_nb.indoorgml.model import Building
+
+__all__ = ["StoreyCache", "StoreyInfo", "storeys_of"]
+
+_Key = tuple[int, int]  # (mtime_ns, size) of the source when it was read
+
+
+@dataclass(frozen=True)
+class StoreyInfo:
+    """One storey of a building as the maps list shows it.
+
+    ``extent`` is ``(min_x, min_y, max_x, max_y)`` in metres, None for a storey without cells.
+    """
+
+    name: str
+    cells: int
+    doors: int
+    extent: tuple[float, float, float, float] | None
+
+    @property
+    def size(self) -> tuple[float, float] | None:
+        """Width and height in metres."""
+        if self.extent is None:
+            return None
+        return (self.extent[2] - self.extent[0], self.extent[3] - self.extent[1])
+
+    def describe(self) -> str:
+        """``F1: 15 cells, 6 doors, 30.0 × 15.0 m`` for lists and logs."""
+        size = self.size
+        dims = f"{size[0]:.1f} × {size[1]:.1f} m" if size else "no extent"
+        return f"{self.name}: {self.cells} cells, {self.doors} doors, {dims}"
+
+
+def storeys_of(building: Building) -> list[StoreyInfo]:
+    """The storeys of a read building, via ``summarize`` (the same numbers as ``pmk info``)."""
+    from pmk_nb.indoorgml import summarize
+
+    result = []
+    for st in summarize(building)["storeys"]:
+        ext: dict[str, Any] | None = st["extent"]
+        extent = (*map(float, ext["min"]), *map(float, ext["max"])) if ext else None
+        result.append(StoreyInfo(name=str(st["name"]), cells=int(st["cells"]), doors=int(st["doors"]), extent=extent))  # type: ignore[arg-type]
+    return result
+
+
+def _key(path: Path) -> _Key:
+    st = os.stat(path)
+    return (st.st_mtime_ns, st.st_size)
+
+
+class StoreyCache:
+    """Storeys per source file, valid while the file's mtime and size are unchanged.
+
+    Thread-safe: the Maps screen reads storeys in a background thread while the list is refreshed.
+    ``reads`` counts the files actually parsed (tests and logs use it to see cache hits).
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._entries: dict[Path, tuple[_Key, list[StoreyInfo]]] = {}
+        self.reads = 0
+
+    def cached(self, path: Path) -> list[StoreyInfo] | None:
+        """The storeys if known for the file as it is now, else None; never reads the file."""
+        try:
+            key = _key(path)
+        except OSError:
+            return None
+        with self._lock:
+            hit = self._entries.get(path)
+        return list(hit[1]) if hit is not None and hit[0] == key else None
+
+    def put(self, path: Path, key: _Key, building: Building) -> list[StoreyInfo]:
+        """Remember the storeys of ``building`` read from ``path`` when it had ``key``."""
+        info = storeys_of(building)
+        with self._lock:
+            self._entries[path] = (key, info)
+        return list(info)
+
+    def get(self, path: Path, label: str) -> list[StoreyInfo]:
+        """The storeys of ``path``, read (and cached) if not known for its current mtime and size.
+
+        Raises:
+            LibraryError: the file is missing, unreadable or not valid IndoorGML (the message names
+                the map ``label`` and the file and chains the reader's error).
+        """
+        try:
+            key = _key(path)
+        except OSError as err:
+            raise LibraryError(f"cannot read the storeys of map {label!r}: {path}: {err.strerror or err}") from err
+        with self._lock:
+            hit = self._entries.get(path)
+        if hit is not None and hit[0] == key:
+            return list(hit[1])
+        from pmk_nb.indoorgml import read_building
+
+        try:
+            building = read_building(path)
+        except IndoorGMLError as err:
+            raise LibraryError(f"cannot read the storeys of map {label!r} ({path.name}): {err}") from err
+        except OSError as err:
+            raise LibraryError(f"cannot read the storeys of map {label!r}: {path}: {err.strerror or err}") from err
+        with self._lock:
+            self.reads += 1
+        return self.put(path, key, building)
+
+    def forget(self, path: Path) -> None:
+        with self._lock:
+            self._entries.pop(path, None)
