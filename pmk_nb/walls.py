@@ -131,7 +131,8 @@ def gap_walls(footprints: list[Any], door_lines: list[Any], gaps: np.ndarray, ma
 
 def _gap_pieces(union: Any, cuts: Any, r: float, tol: float) -> tuple[list[Any], int]:
     """(pieces of the mitre closing of ``union`` by ``r`` not in ``union``, count of implausible pieces)."""
-    closed = shapely.buffer(shapely.buffer(union, r, join_style="mitre"), -r, join_style="mitre")
+    with np.errstate(divide="ignore", invalid="ignore"):  # GEOS on near-degenerate corners; checked below
+        closed = shapely.buffer(shapely.buffer(union, r, join_style="mitre"), -r, join_style="mitre")
     fill = shapely.difference(closed, union)
     if cuts is not None and not fill.is_empty:
         fill = shapely.difference(fill, cuts)
@@ -142,7 +143,8 @@ def _gap_pieces(union: Any, cuts: Any, r: float, tol: float) -> tuple[list[Any],
     width = 2 * shapely.area(parts) / np.maximum(shapely.length(parts), 1e-12)
     parts = parts[width > 1e-4]
     # a gap wall is at most 2 r thick: a piece that holds a wider disc is a buffer artefact
-    too_thick = ~shapely.is_empty(shapely.buffer(parts, -(r + max(tol, 1e-6)), join_style="mitre"))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        too_thick = ~shapely.is_empty(shapely.buffer(parts, -(r + max(tol, 1e-6)), join_style="mitre"))
     return parts[~too_thick].tolist(), int(too_thick.sum())
 
 
