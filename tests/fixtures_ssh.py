@@ -26,6 +26,8 @@ from pathlib import Path
 
 import pytest
 
+from pmk_nb.chair.settings import ChairProfile
+
 SSHD = "/usr/sbin/sshd"
 TEST_USER = "pmktest"
 # Fixed, not random: two pytest sessions running at once must not change each other's password.
@@ -232,3 +234,21 @@ def remote_maps_dir(sshd_server: SshdServer) -> Iterator[str]:
     run_id = uuid.uuid4().hex[:12]
     yield f"~/pmk-tests/{run_id}/ALMA_MAPS"
     shutil.rmtree(sshd_server.home / "pmk-tests" / run_id, ignore_errors=True)
+
+
+def profile_for(server: SshdServer, tmp_path: Path, remote_dir: str, **kw: object) -> ChairProfile:
+    """A validated key-auth chair profile for this sshd; ``kw`` overrides any field."""
+    values: dict[str, object] = dict(
+        name="test",
+        host=server.host,
+        ssh_port=server.port,
+        ssh_user=server.user,
+        auth="key",
+        key_file=str(server.client_key),
+        known_hosts=str(tmp_path / "known_hosts"),
+        remote_maps_dir=remote_dir,
+    )
+    values.update(kw)
+    profile = ChairProfile(**values)  # type: ignore[arg-type]
+    profile.validate()
+    return profile

@@ -17,7 +17,7 @@ from pmk_nb.chair.settings import ChairProfile
 from pmk_nb.errors import DeployError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.rosmap import write_map
-from tests.fixtures_ssh import SshdServer
+from tests.fixtures_ssh import SshdServer, profile_for
 
 
 def grid_of(width: int, height: int, seed: int, origin: tuple[float, float] = (-1.5, -2.0)) -> OccupancyGrid:
@@ -205,17 +205,7 @@ def test_openssh_upload_then_sim_reload(
     sim = sim_factory(grid=grid_of(30, 30, seed=13), reload_services=("change_map",))
     new = grid_of(75, 55, seed=14, origin=(0.5, 0.25))
     files = write_map(new, tmp_path / "local", "real")
-    profile = ChairProfile(
-        name="real",
-        host="127.0.0.1",
-        port=sim.port,
-        ssh_user=sshd_server.user,
-        ssh_port=sshd_server.port,
-        auth="key",
-        key_file=str(sshd_server.client_key),
-        known_hosts=str(tmp_path / "kh"),
-        remote_maps_dir=remote_maps_dir,
-    )
+    profile = profile_for(sshd_server, tmp_path, remote_maps_dir, name="real", host="127.0.0.1", port=sim.port)
     link = link_factory(sim)
     report = deploy(files, profile, link=link)
     assert report.remote_yaml.startswith(str(sshd_server.home) + "/pmk-tests/")

@@ -18,7 +18,7 @@ from pmk_nb.chair.transfer import check_ssh, upload, upload_map
 from pmk_nb.errors import TransferError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.rosmap import MapFiles, write_map
-from tests.fixtures_ssh import SshdServer
+from tests.fixtures_ssh import SshdServer, profile_for
 
 
 def make_map(folder: Path, name: str, width: int = 40, height: int = 30, seed: int = 0) -> MapFiles:
@@ -26,23 +26,6 @@ def make_map(folder: Path, name: str, width: int = 40, height: int = 30, seed: i
     data = rng.choice(np.array([-1, 0, 100], dtype=np.int8), size=(height, width))
     grid = OccupancyGrid(data=data, resolution=0.05, origin=(-1.0, -2.0, 0.0))
     return write_map(grid, folder, name, preview=False)
-
-
-def profile_for(server: SshdServer, tmp_path: Path, remote_dir: str, **kw: object) -> ChairProfile:
-    values: dict[str, object] = dict(
-        name="test",
-        host=server.host,
-        ssh_port=server.port,
-        ssh_user=server.user,
-        auth="key",
-        key_file=str(server.client_key),
-        known_hosts=str(tmp_path / "known_hosts"),
-        remote_maps_dir=remote_dir,
-    )
-    values.update(kw)
-    profile = ChairProfile(**values)  # type: ignore[arg-type]
-    profile.validate()
-    return profile
 
 
 def local_path(server: SshdServer, remote: str) -> Path:
