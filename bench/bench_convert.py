@@ -1,7 +1,7 @@
 """Converter benchmark: IndoorGML -> map files, this rasteriser vs the original 100 px/m bitmap.
 
 For each case two child processes run (so peak memory does not mix): ``new`` = parse + rasterise
-at the target resolution (pmk_nb.occupancy) + write (pmk_nb.rosmap: PGM + YAML + preview); and
+at the target resolution (pmk_nb.raster.storey) + write (pmk_nb.rosmap.files: PGM + YAML + preview); and
 ``original`` = the thesis approach: draw every polygon on a 100 px/m Pillow bitmap, shrink it with
 nearest-neighbour by ``resolution / 0.01``, save PNG + YAML + a 10 px/m preview. Each child runs under
 an address-space limit (RLIMIT_AS) and the original approach refuses bitmaps over a pixel budget, so
@@ -128,8 +128,9 @@ def wall_kept(
 
 
 def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
-    from pmk_nb.occupancy import rasterise_storey
-    from pmk_nb.rosmap import storey_map_names, write_map
+    from pmk_nb.library.naming import storey_map_names
+    from pmk_nb.raster.storey import rasterise_storey
+    from pmk_nb.rosmap.files import write_map
 
     t0 = time.perf_counter()
     building = load(case)
@@ -158,7 +159,7 @@ def work_original(case: dict[str, Any], out: Path) -> dict[str, Any]:
     import numpy as np
     from PIL import Image, ImageDraw
 
-    from pmk_nb.raster import polygons_of
+    from pmk_nb.raster.scanline import polygons_of
 
     t0 = time.perf_counter()
     building = load(case)
@@ -215,8 +216,8 @@ def child_main(spec: str) -> None:
     job = json.loads(spec)
     import importlib
 
-    for module in ("numpy", "PIL.Image", "PIL.ImageDraw", "shapely", "pmk_nb.indoorgml", "pmk_nb.occupancy",
-                   "pmk_nb.rosmap"):  # fmt: skip
+    for module in ("numpy", "PIL.Image", "PIL.ImageDraw", "shapely", "pmk_nb.indoorgml", "pmk_nb.raster.storey",
+                   "pmk_nb.rosmap.files"):  # fmt: skip
         importlib.import_module(module)  # the baseline includes what both approaches load
 
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

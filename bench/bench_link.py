@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT))
 
 from sim_process import driving_sim  # noqa: E402 - bench/ is sys.path[0] when run as a script
 
-from pmk_nb.chair.link import ChairLink  # noqa: E402
+from pmk_nb.chair.link.client import ChairLink  # noqa: E402
 from pmk_nb.chair.messages import parse_scan  # noqa: E402
 
 CASES: list[tuple[str, dict[str, int]]] = [

@@ -31,7 +31,7 @@ TARGET_CPU = 50.0  # % of one core
 
 SETUP = """
 import asyncio, json, os, time
-from pmk_nb.chair.link import ChairLink
+from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.sim.demo import demo_grid
 from pmk_nb.ui.live_view import LiveView
 link = ChairLink("127.0.0.1", {port}, throttle_ms={throttle})
@@ -227,7 +227,7 @@ def proc_cpu_seconds(pid: int) -> float | None:
 # newest odometry reached the kernel), so the page can time message -> drawn-on-the-page.
 BROWSER_NOTEBOOK = """
 import os, time
-from pmk_nb.chair.link import ChairLink
+from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.sim.demo import demo_grid
 from pmk_nb.ui.live_view import LiveView
 
@@ -291,7 +291,7 @@ def run_browser(sim_port: int, seconds: float, zoom: int) -> dict[str, Any]:
 
     from playwright.sync_api import sync_playwright
 
-    from pmk_nb.ui.voila_config import voila_command
+    from pmk_nb.cli.voila import voila_command
 
     with tempfile.TemporaryDirectory(prefix="pmk-bench-live-") as tmp:
         nb = Path(tmp) / "live.ipynb"

@@ -109,7 +109,7 @@ def reload_rows(sizes: tuple[int, ...], repeats: int) -> list[str]:
 
     from bench_deploy import building_grid
 
-    from pmk_nb.rosmap import read_map, write_map
+    from pmk_nb.rosmap.files import read_map, write_map
     from pmk_nb.sim.messages import Names
     from pmk_nb.sim.world import World
 

@@ -6,6 +6,7 @@ Values follow ``OccupancyGrid.data``: -1 unknown, 0 free, 100 occupied (1..99 in
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -103,3 +104,11 @@ class OccupancyGrid:
             origin=(float(pos["x"]), float(pos["y"]), yaw),
             frame_id=frame,
         )
+
+
+def nice_ceil(value: float) -> float:
+    """``value`` rounded up to two significant digits (0.01234 -> 0.013): a resolution to suggest."""
+    if value <= 0 or not math.isfinite(value):
+        return value
+    step = 10.0 ** (math.floor(math.log10(value)) - 1)
+    return float(f"{math.ceil(value / step - 1e-9) * step:.12g}")

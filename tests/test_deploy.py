@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 
 from pmk_nb.chair.deploy import STEPS, DeployStepError, deploy
-from pmk_nb.chair.link import ChairLink
-from pmk_nb.chair.settings import ChairProfile
+from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.errors import DeployError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap import write_map
+from pmk_nb.rosmap.files import write_map
 from tests.fixtures_ssh import SshdServer, profile_for
 
 

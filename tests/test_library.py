@@ -10,8 +10,8 @@ import pytest
 
 from pmk_nb.errors import IndoorGMLError, LibraryError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.library import MapsFolder, check_name, default_maps_dir
-from pmk_nb.rosmap import read_map, write_map
+from pmk_nb.library.folder import MapsFolder, check_name, default_maps_dir
+from pmk_nb.rosmap.files import read_map, write_map
 from tests.indoorgml_samples import BROKEN_HTML, ENTITY_BOMB, HTML_PAGE, OTHER_XML, two_rooms
 
 
@@ -315,7 +315,7 @@ def test_convert_of_invalid_building_chains_reader_error(folder: MapsFolder) -> 
 
 
 def test_storey_file_names_are_safe_and_unique() -> None:
-    from pmk_nb.library_scan import storey_file_stem
+    from pmk_nb.library.naming import storey_map_names as storey_file_stem
 
     assert storey_file_stem("clinic", ["0"]) == {"0": "clinic"}
     stems = storey_file_stem("c", ["F1", "F 1", "a/b", "2-3", "../x"])

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.download import _describe_reason
 from pmk_nb.errors import LibraryError
-from pmk_nb.library import MapsFolder
+from pmk_nb.library.download import _describe_reason
+from pmk_nb.library.folder import MapsFolder
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
 GOOD = two_rooms(("F1", "F2"))

@@ -9,8 +9,8 @@ import pytest
 
 from pmk_nb.errors import LibraryError
 from pmk_nb.indoorgml import read_building, summarize
-from pmk_nb.library import MapsFolder
-from pmk_nb.library_info import StoreyInfo
+from pmk_nb.library.folder import MapsFolder
+from pmk_nb.library.info import StoreyInfo
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
 SAMPLES = Path(__file__).resolve().parent.parent / "sample_maps"

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 import roslibpy
 
-from pmk_nb.chair.link import ChairLink, LinkState, close_all_links, get_link
-from pmk_nb.chair.registry import open_links
+from pmk_nb.chair.link.client import ChairLink, LinkState, close_all_links, get_link
+from pmk_nb.chair.link.registry import open_links
 from pmk_nb.sim import SimChair
 from tests.fixtures_sim import wait_until
 
@@ -267,7 +267,7 @@ def test_commands_reach_the_chair(sim_factory, links) -> None:
 
 @pytest.mark.parametrize("flavour", FLAVOURS)
 def test_fetch_map_returns_the_published_grid(sim_factory, links, tmp_path, flavour: str) -> None:
-    from pmk_nb.rosmap import read_map, write_map
+    from pmk_nb.rosmap.files import read_map, write_map
 
     sim = sim_factory(flavour=flavour)
     link = links(sim)

@@ -11,7 +11,7 @@ from collections.abc import Iterator
 import pytest
 from websockets.sync.server import ServerConnection, serve
 
-from pmk_nb.chair.link import ChairLink
+from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.errors import ChairLinkError
 
 

@@ -14,7 +14,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from pmk_nb.chair.link import ChairLink, LinkState
+from pmk_nb.chair.link.client import ChairLink, LinkState
 from tests.fixtures_sim import wait_until
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from pmk_nb.chair.link import ChairLink
+from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.chair.reload import MapReloadError
 from tests.fixtures_sim import room_grid, write_test_map
 

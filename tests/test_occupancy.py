@@ -14,8 +14,8 @@ from shapely.geometry import LineString, Polygon, box
 from pmk_nb.errors import OccupancyError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.indoorgml.model import Boundary, CellKind
-from pmk_nb.occupancy import plan_storey, rasterise, rasterise_storey
-from pmk_nb.raster import Frame, fill_polygon, line_segments, supercover_cells
+from pmk_nb.raster.scanline import Frame, fill_polygon, line_segments, supercover_cells
+from pmk_nb.raster.storey import plan_storey, rasterise, rasterise_storey
 from tests.helpers import building, cells_in, flood, reachable, room
 
 # --- helpers ----------------------------------------------------------------------------------------

@@ -13,11 +13,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from PIL import Image
 
-from pmk_nb import rosmap
 from pmk_nb.errors import MapFormatError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap import MapLoadError, grid_to_gray, read_map, read_map_yaml, write_map
-from pmk_nb.rosmap_image import decode_image, image_to_data
+from pmk_nb.rosmap import files as rosmap
+from pmk_nb.rosmap.files import MapLoadError, grid_to_gray, read_map, read_map_yaml, write_map
+from pmk_nb.rosmap.image import decode_image, image_to_data
 from tests.shared_data import MAP_SERVER_DATA
 
 DATA = MAP_SERVER_DATA
@@ -424,7 +424,7 @@ def test_writer_rejects_bad_names(tmp_path: Path, name: str) -> None:
 def test_streamed_pgm_equals_one_shot_encoding() -> None:
     import io
 
-    from pmk_nb.rosmap_image import pgm_bytes, write_pgm
+    from pmk_nb.rosmap.image import pgm_bytes, write_pgm
 
     rng = np.random.default_rng(7)
     grid = make_grid(rng.choice(np.array([-1, 0, 100, 42], dtype=np.int8), size=(37, 11)))
@@ -444,7 +444,7 @@ def test_palette_png_ros1_reads_indices_nav2_reads_colours(tmp_path: Path) -> No
 
 
 def test_storey_file_names() -> None:
-    from pmk_nb.rosmap import safe_file_part, storey_map_names
+    from pmk_nb.library.naming import safe_file_part, storey_map_names
 
     assert storey_map_names("house", ["F1"]) == {"F1": "house"}
     assert storey_map_names("house", ["2"], several=True) == {"2": "house_2"}

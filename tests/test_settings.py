@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.chair.settings import ChairProfile, ProfileStore, config_dir, default_known_hosts
+from pmk_nb.chair.profiles import ChairProfile, ProfileStore, config_dir, default_known_hosts
 from pmk_nb.errors import SettingsError
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.errors import LibraryError
-from pmk_nb.sniff import check_indoorgml, is_indoorgml_root
+from pmk_nb.indoorgml.sniff import check_indoorgml, is_indoorgml_root
 from tests.indoorgml_samples import BROKEN_HTML, ENTITY_BOMB, EXTERNAL_DTD, HTML_PAGE, OTHER_XML, two_rooms
 from tests.shared_data import INDOORGML_DATA
 

@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 import yaml
 
-from pmk_nb.chair.settings import ChairProfile
+from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.chair.transfer import check_ssh, upload, upload_map
 from pmk_nb.errors import TransferError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap import MapFiles, write_map
+from pmk_nb.rosmap.files import MapFiles, write_map
 from tests.fixtures_ssh import SshdServer, profile_for
 
 

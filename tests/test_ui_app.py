@@ -16,13 +16,13 @@ from typing import Any
 import ipywidgets as w
 import pytest
 
-from pmk_nb.chair.settings import ChairProfile, ProfileStore
+from pmk_nb.chair.profiles import ChairProfile, ProfileStore
+from pmk_nb.cli.voila import DASHBOARD_SOURCE, dashboard_notebook, voila_command
 from pmk_nb.errors import LibraryError
-from pmk_nb.library import MapsFolder
+from pmk_nb.library.folder import MapsFolder
 from pmk_nb.ui import build_app
 from pmk_nb.ui.app import SCREENS, Dashboard
 from pmk_nb.ui.context import STATE_FILE, AppContext, CurrentMap
-from pmk_nb.ui.voila_config import DASHBOARD_SOURCE, dashboard_notebook, voila_command
 from pmk_nb.ui.widgets import TOUCH_PX, guard, progress_bar, progress_callback
 
 REPO = Path(__file__).resolve().parents[1]
@@ -165,8 +165,8 @@ def test_voila_command_is_a_locked_down_kiosk(tmp_path: Path) -> None:
 
 def test_cli_parses_dashboard_and_demo() -> None:
     from pmk_nb.cli import build_parser
-    from pmk_nb.ui import cli as ui_cli
-    from pmk_nb.ui import cli_demo
+    from pmk_nb.cli import dashboard as ui_cli
+    from pmk_nb.cli import demo as cli_demo
 
     args = build_parser("dashboard").parse_args(["dashboard", "--port", "8870", "--no-browser"])
     assert args.run is ui_cli.run and args.port == 8870 and args.no_browser and args.ip == "127.0.0.1"
@@ -181,7 +181,7 @@ def test_demo_makes_a_private_key_pair_and_a_key_only_chair(tmp_path: Path) -> N
 
     import paramiko
 
-    from pmk_nb.ui.demo import make_key_pair, sim_command
+    from pmk_nb.cli.demo_setup import make_key_pair, sim_command
 
     private, public = make_key_pair(tmp_path / "cfg")
     assert stat.S_IMODE(private.stat().st_mode) == 0o600
@@ -271,7 +271,7 @@ def test_leaving_home_stops_the_preview(ctx: AppContext, sim_factory: Any, tmp_p
 
 @pytest.mark.slow
 def test_pmk_dashboard_serves_and_stops(tmp_path: Path) -> None:
-    from pmk_nb.ui.cli import free_port, wait_for_port
+    from pmk_nb.cli.dashboard import free_port, wait_for_port
 
     port = free_port()
     env = {**os.environ, "PMK_MAPS_DIR": str(tmp_path / "m"), "PMK_CONFIG_DIR": str(tmp_path / "c")}

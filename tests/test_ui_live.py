@@ -361,9 +361,9 @@ def test_live_view_loop_draws_at_most_fps(tmp_path: Path) -> None:
 @pytest.fixture
 def home_env(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tuple[Any, Any, Any]]:
     """A session (real AppContext, maps folder, profile store) whose chair is a running simulator."""
-    from pmk_nb.chair.settings import ChairProfile, ProfileStore
-    from pmk_nb.library import MapsFolder
-    from pmk_nb.rosmap import write_map
+    from pmk_nb.chair.profiles import ChairProfile, ProfileStore
+    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.rosmap.files import write_map
     from pmk_nb.sim.demo import demo_grid
     from pmk_nb.ui.context import AppContext
 
@@ -497,7 +497,7 @@ def test_home_warns_about_a_missing_preview_image_but_keeps_preview(home_env: An
 def test_home_says_early_when_the_chair_does_not_answer(home_env: Any) -> None:
     import socket
 
-    from pmk_nb.chair.settings import ChairProfile
+    from pmk_nb.chair.profiles import ChairProfile
     from pmk_nb.ui.home import HomeScreen
 
     ctx, sim, _files = home_env
@@ -521,8 +521,8 @@ def test_home_says_early_when_the_chair_does_not_answer(home_env: Any) -> None:
 
 
 def test_home_without_a_chair_profile_points_to_settings(tmp_path: Path) -> None:
-    from pmk_nb.chair.settings import ProfileStore
-    from pmk_nb.library import MapsFolder
+    from pmk_nb.chair.profiles import ProfileStore
+    from pmk_nb.library.folder import MapsFolder
     from pmk_nb.ui.context import AppContext
     from pmk_nb.ui.home import HomeScreen
 
@@ -539,9 +539,9 @@ def test_home_without_a_chair_profile_points_to_settings(tmp_path: Path) -> None
 
 
 def test_home_follows_the_current_map_and_handles_no_map(tmp_path: Path) -> None:
-    from pmk_nb.chair.settings import ProfileStore
-    from pmk_nb.library import MapsFolder
-    from pmk_nb.rosmap import write_map
+    from pmk_nb.chair.profiles import ProfileStore
+    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.rosmap.files import write_map
     from pmk_nb.ui.context import AppContext
     from pmk_nb.ui.home import HomeScreen
 
@@ -567,7 +567,7 @@ def test_home_follows_the_current_map_and_handles_no_map(tmp_path: Path) -> None
 def test_home_reports_an_unreachable_chair(home_env: Any, tmp_path: Path) -> None:
     import socket
 
-    from pmk_nb.chair.settings import ChairProfile
+    from pmk_nb.chair.profiles import ChairProfile
     from pmk_nb.ui.home import HomeScreen
 
     ctx, _sim, _files = home_env

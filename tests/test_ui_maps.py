@@ -13,7 +13,7 @@ from typing import Any, ClassVar
 
 import pytest
 
-from pmk_nb.chair.settings import ChairProfile
+from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen, parse_resolution
 from tests.helpers import app_context, wait_until
@@ -154,7 +154,7 @@ def test_send_with_key_login_to_a_key_only_chair(
     screen: MapsScreen, ctx: AppContext, sim_factory: Any, tmp_path: Path
 ) -> None:
     """The demo's set-up: the chair refuses passwords; Send logs in with the profile's key, asks nothing."""
-    from pmk_nb.ui.demo import make_key_pair
+    from pmk_nb.cli.demo_setup import make_key_pair
 
     private, public = make_key_pair(tmp_path / "keys")
     screen.import_bytes("house.gml", two_rooms())

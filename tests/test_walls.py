@@ -16,8 +16,8 @@ from shapely.geometry import LineString, Polygon, box
 from pmk_nb.errors import OccupancyError
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.model import Boundary, CellKind
-from pmk_nb.occupancy import DEFAULT_MAX_WALL_GAP, rasterise_storey
-from pmk_nb.walls import door_gaps, gap_walls
+from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, rasterise_storey
+from pmk_nb.raster.walls import door_gaps, gap_walls
 from tests.helpers import building, cells_in, flood, room
 
 CLINIC = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"

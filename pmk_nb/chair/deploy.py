@@ -22,8 +22,8 @@ from pmk_nb.chair.transfer import HostKeyInfo, upload
 from pmk_nb.errors import DeployError, PmkError
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.settings import ChairProfile
-    from pmk_nb.rosmap import MapFiles
+    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.rosmap.files import MapFiles
 
 STEPS = ("upload", "detect", "reload", "confirm")
 # Share of the overall progress bar each step covers (upload dominates on real links).
@@ -41,7 +41,7 @@ class DeployStepError(DeployError):
 
 
 class Link(Protocol):
-    """What deploy needs from ``pmk_nb.chair.link.ChairLink``."""
+    """What deploy needs from ``pmk_nb.chair.link.client.ChairLink``."""
 
     def detect_reload_service(self) -> Any: ...
     def reload_map(self, remote_yaml_path: str, *args: Any, **kwargs: Any) -> Any: ...
@@ -163,7 +163,7 @@ def _confirm(link: Link, expected: ExpectedMap, before: Any, files: MapFiles, ti
         return info, "metadata"
     if expected.width * expected.height > DATA_CHECK_MAX_CELLS or not hasattr(link, "fetch_map"):
         return info, "metadata (same size as the previous map: content not compared)"
-    from pmk_nb.rosmap import read_map
+    from pmk_nb.rosmap.files import read_map
 
     ours = read_map(files.yaml)
     theirs = link.fetch_map(timeout=max(2.0, deadline - time.monotonic()))
@@ -266,14 +266,14 @@ def deploy(
 
 def link_for(profile: ChairProfile) -> Any:
     """The kernel's shared ChairLink for this profile (not connected yet)."""
-    from pmk_nb.chair.registry import get_link
+    from pmk_nb.chair.link.registry import get_link
 
     return get_link(profile.host, profile.port, **profile.link_options())
 
 
 def close_links() -> None:
     """Close the kernel's links (CLI processes, at exit)."""
-    from pmk_nb.chair.registry import close_all_links
+    from pmk_nb.chair.link.registry import close_all_links
 
     close_all_links()
 

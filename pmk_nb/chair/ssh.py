@@ -26,7 +26,7 @@ import paramiko
 from pmk_nb.errors import TransferError
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.settings import ChairProfile
+    from pmk_nb.chair.profiles import ChairProfile
 
 
 @dataclass(frozen=True)

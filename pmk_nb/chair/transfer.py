@@ -36,8 +36,8 @@ from pmk_nb.chair.ssh import (
 from pmk_nb.errors import TransferError
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.settings import ChairProfile
-    from pmk_nb.rosmap import MapFiles
+    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.rosmap.files import MapFiles
 
 __all__ = [
     "HostKeyInfo",

@@ -50,7 +50,7 @@ def sample_floor(resolution: float = 0.05) -> OccupancyGrid | None:
         return None
     try:
         from pmk_nb.indoorgml import read_building
-        from pmk_nb.occupancy import rasterise_storey
+        from pmk_nb.raster.storey import rasterise_storey
     except ImportError:
         return None
     building = read_building(SAMPLE_GML)

@@ -9,7 +9,7 @@
   ``{path}`` -> ``{done}``.
 
 Which of them exist is configurable so clients' service detection can be tested. ``/static_map``
-(``nav_msgs/GetMap``) is always there. Files are read with :func:`pmk_nb.rosmap.read_map` off the
+(``nav_msgs/GetMap``) is always there. Files are read with :func:`pmk_nb.rosmap.files.read_map` off the
 loop; a successful load republishes the latched ``/map`` and ``/map_metadata``.
 
 A reload never stalls the loop (odometry keeps flowing): reading the file, building the world and
@@ -24,7 +24,7 @@ import time
 from collections.abc import Awaitable, Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.rosmap import MAP_DOES_NOT_EXIST, MapLoadError, read_map
+from pmk_nb.rosmap.files import MAP_DOES_NOT_EXIST, MapLoadError, read_map
 
 if TYPE_CHECKING:
     from pathlib import Path

@@ -272,7 +272,7 @@ class SimChair:
         if self._initial_grid is not None:
             return self._initial_grid
         if self.map_yaml is not None:
-            from pmk_nb.rosmap import read_map
+            from pmk_nb.rosmap.files import read_map
 
             return read_map(self.map_yaml, flavour="ros1" if self.flavour == "ros1" else "nav2_humble")
         return demo_grid()

@@ -171,8 +171,8 @@ def build_app(
     """
     try:
         if ctx is None:
-            from pmk_nb.chair.settings import PROFILES_FILE, ProfileStore
-            from pmk_nb.library import MapsFolder
+            from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
+            from pmk_nb.library.folder import MapsFolder
 
             cfg = Path(config_dir) if config_dir is not None else None
             profiles = ProfileStore(cfg / PROFILES_FILE) if cfg is not None else ProfileStore()

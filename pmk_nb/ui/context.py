@@ -20,9 +20,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link import ChairLink
-    from pmk_nb.chair.settings import ChairProfile, ProfileStore
-    from pmk_nb.library import MapsFolder
+    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.profiles import ChairProfile, ProfileStore
+    from pmk_nb.library.folder import MapsFolder
 
 log = logging.getLogger(__name__)
 
@@ -41,7 +41,7 @@ def autostart_from_env() -> bool:
 
 def default_config_dir() -> Path:
     """Directory for UI state: the chair profiles' config dir (``PMK_CONFIG_DIR`` overrides)."""
-    from pmk_nb.chair.settings import config_dir
+    from pmk_nb.chair.profiles import config_dir
 
     return config_dir()
 
@@ -121,7 +121,7 @@ class AppContext:
         Raises:
             SettingsError: when no chair profile has been saved yet.
         """
-        from pmk_nb.chair.link import get_link
+        from pmk_nb.chair.link.client import get_link
         from pmk_nb.errors import SettingsError
 
         profile = self.profile()

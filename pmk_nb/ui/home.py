@@ -293,7 +293,7 @@ class HomeScreen:
         return grid
 
     def _load_grid(self, current: CurrentMap) -> OccupancyGrid:
-        from pmk_nb.rosmap import read_map, read_map_yaml
+        from pmk_nb.rosmap.files import read_map, read_map_yaml
 
         yaml_path = Path(current.yaml)
         if not yaml_path.is_file():

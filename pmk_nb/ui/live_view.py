@@ -126,7 +126,7 @@ class LiveView:
     def set_map(self, grid: Any, gray: np.ndarray | None = None) -> None:
         """Show ``grid`` (an OccupancyGrid); ``gray`` is its uint8 image (row 0 = top) if already made."""
         if gray is None:
-            from pmk_nb.rosmap import grid_to_gray
+            from pmk_nb.rosmap.files import grid_to_gray
 
             gray = grid_to_gray(grid)
         with self._lock:

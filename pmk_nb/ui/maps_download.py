@@ -29,7 +29,7 @@ from pmk_nb.ui.widgets import (
 )
 
 if TYPE_CHECKING:
-    from pmk_nb.library import MapEntry
+    from pmk_nb.library.folder import MapEntry
     from pmk_nb.ui.context import AppContext
 
 

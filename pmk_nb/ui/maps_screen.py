@@ -36,7 +36,7 @@ from pmk_nb.ui.widgets import (
 )
 
 if TYPE_CHECKING:
-    from pmk_nb.library import GeneratedMap, MapEntry
+    from pmk_nb.library.folder import GeneratedMap, MapEntry
     from pmk_nb.ui.context import AppContext
 
 DEFAULT_RESOLUTION = 0.05
@@ -284,7 +284,7 @@ class MapsScreen:
 
         def work() -> Any:
             from pmk_nb.chair.deploy import deploy
-            from pmk_nb.rosmap import MapFiles
+            from pmk_nb.rosmap.files import MapFiles
 
             files = MapFiles(yaml=Path(gm.yaml), image=Path(gm.image), preview=gm.preview)
             link = self.ctx.link()

@@ -18,7 +18,7 @@ from pmk_nb.errors import LibraryError
 from pmk_nb.ui.widgets import escape, field_error, guard, run_in_thread
 
 if TYPE_CHECKING:
-    from pmk_nb.library import MapEntry, StoreyInfo
+    from pmk_nb.library.folder import MapEntry, StoreyInfo
     from pmk_nb.ui.context import AppContext
 
 

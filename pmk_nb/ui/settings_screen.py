@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.chair.settings import AUTH_METHODS, POSE_SOURCES, ChairProfile
+from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, ChairProfile
 from pmk_nb.errors import SettingsError
 from pmk_nb.ui.widgets import TOUCH_PX, button, escape, field_error, guard, heading, run_in_thread, text
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link import ConnectionReport
+    from pmk_nb.chair.link.client import ConnectionReport
     from pmk_nb.ui.context import AppContext
 
 TEST_TIMEOUT = 5.0
@@ -240,7 +240,7 @@ class SettingsScreen:
         self.map_info.value = ""
 
         def work() -> tuple[ConnectionReport, dict[str, list[str]]]:
-            from pmk_nb.chair.link import ChairLink
+            from pmk_nb.chair.link.client import ChairLink
 
             link = ChairLink(profile.host, profile.port, **profile.link_options())
             try:

@@ -56,7 +56,7 @@ def add_parser(subparsers: Any) -> None:
 
 
 def _store() -> Any:
-    from pmk_nb.chair.settings import ProfileStore
+    from pmk_nb.chair.profiles import ProfileStore
 
     return ProfileStore()
 
@@ -85,7 +85,7 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_add(args: argparse.Namespace) -> int:
-    from pmk_nb.chair.settings import ChairProfile
+    from pmk_nb.chair.profiles import ChairProfile
 
     store = _store()
     changes = {
@@ -127,8 +127,8 @@ def run_delete(args: argparse.Namespace) -> int:
 
 def run_test(args: argparse.Namespace) -> int:
     """Like the Settings screen's Connect button, plus an SSH login: report each part, fail if any fails."""
-    from pmk_nb.chair.cli import ask_password
     from pmk_nb.chair.deploy import close_links, link_for
+    from pmk_nb.cli.send import ask_password
 
     store = _store()
     profile = _profile(store, args.name)

@@ -1,6 +1,6 @@
 """Find the generated maps in the maps folder and tell which IndoorGML source each belongs to.
 
-A map YAML names its source in the extras :class:`~pmk_nb.library.MapsFolder` writes (``map``,
+A map YAML names its source in the extras :class:`~pmk_nb.library.folder.MapsFolder` writes (``map``,
 ``source``, ``storey``, ``source_sha256``); maps made elsewhere are matched by the original naming,
 ``NAME.yaml`` or ``NAME_<storey>.yaml``. A YAML that cannot be read is still listed, marked broken
 with the reason, so one corrupt file never hides the others.
@@ -40,13 +40,6 @@ class GeneratedMap:
         return not self.broken
 
 
-def storey_file_stem(name: str, storeys: list[str]) -> dict[str, str]:
-    """File stem per storey, named exactly as `pmk convert` names them (one rule for both)."""
-    from pmk_nb.rosmap import storey_map_names
-
-    return storey_map_names(name, storeys)
-
-
 def scan_generated(root: Path, sources: dict[str, Path]) -> dict[str, list[GeneratedMap]]:
     """Generated maps in ``root`` keyed by source name ("" for maps that belong to no source)."""
     found: dict[str, list[GeneratedMap]] = {}
@@ -71,7 +64,7 @@ def _owner_by_name(stem: str, sources: dict[str, Path]) -> tuple[str, str | None
 
 
 def _read_one(path: Path, sources: dict[str, Path], by_file: dict[str, str]) -> tuple[str, GeneratedMap]:
-    from pmk_nb.rosmap import read_map_yaml
+    from pmk_nb.rosmap.files import read_map_yaml
 
     owner, storey = _owner_by_name(path.stem, sources)
     try:

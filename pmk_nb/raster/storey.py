@@ -3,7 +3,7 @@
 The original app drew every polygon on a 100 px/m bitmap and shrank it by ``resolution / 0.01``;
 that costs 10 000 pixels per square metre whatever the target resolution, and shrinking with
 nearest-neighbour could drop thin walls and doors. Here each storey is rasterised once, at the
-target resolution, with the cell-centre rule (:mod:`pmk_nb.raster`), in this order:
+target resolution, with the cell-centre rule (:mod:`pmk_nb.raster.scanline`), in this order:
 
 1. free cells (navigable, general, transition, anchor and connection spaces) -> 0;
 2. non-navigable cells -> 100;
@@ -29,17 +29,16 @@ import numpy as np
 import shapely
 
 from pmk_nb.errors import OccupancyError
-from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
-from pmk_nb.raster import (
+from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, nice_ceil
+from pmk_nb.raster.scanline import (
     Frame,
     fill_geometry,
     fill_segment_bands,
     line_segments,
-    nice_ceil,
     segments_with_owner,
     supercover_cells,
 )
-from pmk_nb.walls import door_gaps, door_geometry, gap_walls, passages, shrink_segments, wall_lines
+from pmk_nb.raster.walls import door_gaps, door_geometry, gap_walls, passages, shrink_segments, wall_lines
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell

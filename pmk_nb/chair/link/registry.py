@@ -11,7 +11,7 @@ import threading
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.chair.link.client import ChairLink
 
 _LINKS: dict[tuple[str, int], ChairLink] = {}
 _LOCK = threading.Lock()
@@ -23,7 +23,7 @@ def get_link(host: str, port: int = 9090, **kw: Any) -> ChairLink:
     Stream settings in ``kw`` that differ from the existing link's are applied with
     :meth:`ChairLink.reconfigure`; other constructor options only count on creation.
     """
-    from pmk_nb.chair.link import ChairLink  # lazy: link.py re-exports this module's functions
+    from pmk_nb.chair.link.client import ChairLink  # lazy: link.py re-exports this module's functions
 
     key = (host, int(port))
     with _LOCK:

@@ -17,7 +17,7 @@ from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.chair.link.client import ChairLink
 
 MAP_TOPIC = "/map"
 METADATA_TOPIC = "/map_metadata"

@@ -80,8 +80,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
 
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.indoorgml import read_building
-    from pmk_nb.occupancy import DEFAULT_MAX_CELLS, plan_storey, rasterise_storey
-    from pmk_nb.rosmap import safe_file_part, storey_map_names, write_map
+    from pmk_nb.library.naming import safe_file_part, storey_map_names
+    from pmk_nb.raster.storey import DEFAULT_MAX_CELLS, plan_storey, rasterise_storey
+    from pmk_nb.rosmap.files import write_map
 
     path: Path = args.file
     out_dir: Path = args.out if args.out is not None else path.parent

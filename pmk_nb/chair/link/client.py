@@ -3,7 +3,7 @@
 Threads (all daemon, all ended by :meth:`ChairLink.close`):
 
 * the I/O thread ``pmk-link-io-HOST:PORT`` runs roslibpy's event loop; topic callbacks run there
-  and only parse + store the latest message (see :mod:`pmk_nb.chair.streams`);
+  and only parse + store the latest message (see :mod:`pmk_nb.chair.link.streams`);
 * the watchdog thread ``pmk-link-watchdog-HOST:PORT`` derives the state every 0.1 s (rosbridge
   never reports half-open sockets, so "stale" means: connected but no message for
   ``stale_after`` s) and runs the ``on_state_change`` callbacks. Callbacks run on that thread:
@@ -33,8 +33,13 @@ from typing import Any
 import roslibpy
 from roslibpy.core import RosTimeoutError, ServiceException
 
-from pmk_nb.chair.discovery import Discovery
-from pmk_nb.chair.mapread import MapReader
+from pmk_nb.chair.link.discovery import Discovery
+from pmk_nb.chair.link.mapread import MapReader
+from pmk_nb.chair.link.probe import probe_rosbridge
+from pmk_nb.chair.link.registry import close_all_links, get_link
+from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
+from pmk_nb.chair.link.streams import PoseSource, StreamConfig, StreamHub
+from pmk_nb.chair.link.transport import LinkRos
 from pmk_nb.chair.messages import (
     MapInfo,
     Odometry,
@@ -44,8 +49,6 @@ from pmk_nb.chair.messages import (
     quaternion_from_yaw,
     spell_type,
 )
-from pmk_nb.chair.probe import probe_rosbridge
-from pmk_nb.chair.registry import close_all_links, get_link
 from pmk_nb.chair.reload import (
     KEEPS_OLD_MAP,
     Flavour,
@@ -54,9 +57,6 @@ from pmk_nb.chair.reload import (
     build_request,
     check_response,
 )
-from pmk_nb.chair.state import LinkState, StateCallback, StateWatch
-from pmk_nb.chair.streams import PoseSource, StreamConfig, StreamHub
-from pmk_nb.chair.transport import LinkRos
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
 
@@ -87,7 +87,7 @@ class ConnectionReport:
 
 
 class ChairLink:
-    """A rosbridge link to one chair. Create through :func:`pmk_nb.chair.registry.get_link` in notebooks."""
+    """A rosbridge link to one chair. Create through :func:`pmk_nb.chair.link.registry.get_link` in notebooks."""
 
     def __init__(
         self,

@@ -2,7 +2,7 @@
 
 Reading an IndoorGML file can take seconds for a large building, so the result is cached per source
 file, keyed by path + mtime_ns + size: an edited or replaced file is read again. The cache lives in
-memory on one :class:`~pmk_nb.library.MapsFolder` only (no sidecar file): the folder keeps the
+memory on one :class:`~pmk_nb.library.folder.MapsFolder` only (no sidecar file): the folder keeps the
 original ALMA_MAPS contract that every file in it is a source or a generated map, and that a failed
 action leaves it exactly as it was.
 """

@@ -1,6 +1,6 @@
 """``pmk dashboard``: serve the app as a Voilà kiosk page, plus the process helpers ``pmk demo`` shares.
 
-Voilà runs as a child process on a generated notebook (see :mod:`pmk_nb.ui.voila_config`); Ctrl-C or
+Voilà runs as a child process on a generated notebook (see :mod:`pmk_nb.cli.voila`); Ctrl-C or
 SIGTERM stops it, and no child is left behind.
 """
 
@@ -18,9 +18,9 @@ import time
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.cli.voila import DEFAULT_IP, DEFAULT_PORT, voila_command, write_dashboard_notebook
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.context import AUTOSTART_ENV
-from pmk_nb.ui.voila_config import DEFAULT_IP, DEFAULT_PORT, voila_command, write_dashboard_notebook
 
 VOILA_START_TIMEOUT = 120.0
 

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from pmk_nb.raster import polygons_of
+from pmk_nb.raster.scanline import polygons_of
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell

@@ -13,7 +13,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.ui.cli import check_port_number, serve, server_options, sigterm_as_interrupt
+from pmk_nb.cli.dashboard import check_port_number, serve, server_options, sigterm_as_interrupt
 
 
 def add_parser(subparsers: Any) -> None:
@@ -26,7 +26,7 @@ def add_parser(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.ui.demo import prepare_demo
+    from pmk_nb.cli.demo_setup import prepare_demo
 
     check_port_number(args.port)
     with sigterm_as_interrupt():

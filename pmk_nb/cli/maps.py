@@ -1,6 +1,6 @@
 """`pmk maps list|import|download|convert|delete`: the MAPS screen of the original app, scriptable.
 
-Each sub-command is one :class:`~pmk_nb.library.MapsFolder` call; errors are LibraryError (a
+Each sub-command is one :class:`~pmk_nb.library.folder.MapsFolder` call; errors are LibraryError (a
 PmkError), which ``pmk_nb.cli`` prints and turns into exit status 2.
 """
 
@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from pmk_nb.library import GeneratedMap, MapEntry, MapsFolder
+    from pmk_nb.library.folder import GeneratedMap, MapEntry, MapsFolder
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -64,7 +64,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.library import MapsFolder
+    from pmk_nb.library.folder import MapsFolder
 
     folder = MapsFolder(args.dir)
     action = args.maps_command

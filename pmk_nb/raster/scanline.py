@@ -204,14 +204,6 @@ def supercover_cells(segments: np.ndarray, frame: Frame) -> tuple[np.ndarray, np
     return cv[keep], cu[keep]
 
 
-def nice_ceil(value: float) -> float:
-    """``value`` rounded up to two significant digits (0.01234 -> 0.013): a resolution to suggest."""
-    if value <= 0 or not math.isfinite(value):
-        return value
-    step = 10.0 ** (math.floor(math.log10(value)) - 1)
-    return float(f"{math.ceil(value / step - 1e-9) * step:.12g}")
-
-
 def fill_segment_bands(
     grid: np.ndarray,
     frame: Frame,

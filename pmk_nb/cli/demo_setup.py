@@ -56,7 +56,7 @@ class DemoWorld:
     _log: Any = field(default=None, repr=False)
 
     def stop(self) -> None:
-        from pmk_nb.ui.cli import stop_process
+        from pmk_nb.cli.dashboard import stop_process
 
         stop_process(self.sim)
         if self._log is not None:
@@ -119,9 +119,9 @@ def prepare_demo(root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1") 
     Raises:
         PmkError: the sample is missing, conversion fails or the simulator does not start.
     """
-    from pmk_nb.chair.settings import PROFILES_FILE, ChairProfile, ProfileStore
-    from pmk_nb.library import MapsFolder
-    from pmk_nb.ui.cli import free_port, stop_process, wait_for_port
+    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
+    from pmk_nb.cli.dashboard import free_port, stop_process, wait_for_port
+    from pmk_nb.library.folder import MapsFolder
     from pmk_nb.ui.context import AppContext
 
     root = root.expanduser().resolve()

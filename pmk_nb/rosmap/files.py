@@ -1,7 +1,7 @@
 """Read and write ROS map_server maps (YAML + PGM/PNG/BMP), exactly as ROS 1 and Nav2 do.
 
 The reader mirrors ``map_server`` (ROS 1) and ``nav2_map_server/map_io`` (Humble; Jazzy's Eigen
-rewrite): pixel rules live in :mod:`pmk_nb.rosmap_image`. Errors carry Nav2's ``LoadMap`` result
+rewrite): pixel rules live in :mod:`pmk_nb.rosmap.image`. Errors carry Nav2's ``LoadMap`` result
 codes (``code`` attribute) so the simulator and the UI can report what a real map server would.
 
 The writer emits the one encoding every loader reads alike (8-bit P5 PGM, 0 / 254 / 205, no alpha,
@@ -15,7 +15,6 @@ import contextlib
 import io
 import math
 import os
-import re
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -26,9 +25,8 @@ import numpy as np
 
 from pmk_nb import __version__
 from pmk_nb.errors import MapFormatError
-from pmk_nb.grid import OccupancyGrid
-from pmk_nb.raster import nice_ceil
-from pmk_nb.rosmap_image import (
+from pmk_nb.grid import OccupancyGrid, nice_ceil
+from pmk_nb.rosmap.image import (
     FLAVOURS,
     MODES,
     decode_image,
@@ -49,8 +47,6 @@ __all__ = [
     "grid_to_gray",
     "read_map",
     "read_map_yaml",
-    "safe_file_part",
-    "storey_map_names",
     "write_map",
 ]
 
@@ -220,34 +216,6 @@ def read_map(yaml_path: str | Path, *, flavour: str = "ros1") -> OccupancyGrid:
 def suggest_resolution(resolution: float, cells: int, limit: int) -> float:
     """The coarser resolution (rounded up to 2 significant digits) that brings ``cells`` <= limit."""
     return nice_ceil(resolution * cells / limit)
-
-
-def safe_file_part(text: str) -> str:
-    """``text`` reduced to characters safe in a file name on every OS (others become ``_``)."""
-    cleaned = re.sub(r"[^A-Za-z0-9._-]+", "_", text.strip()).strip("._")
-    return cleaned or "storey"
-
-
-def storey_map_names(base: str, storeys: list[str], *, several: bool | None = None) -> dict[str, str]:
-    """Map set names per storey: ``base`` for a single storey, ``base_<storey>`` when there are several.
-
-    Storey names are sanitised for file names; names that collide after that get ``-2``, ``-3``...
-    """
-    if several is None:
-        several = len(storeys) > 1
-    if not several:
-        return {s: base for s in storeys}
-    out: dict[str, str] = {}
-    used: set[str] = set()
-    for storey in storeys:
-        name = f"{base}_{safe_file_part(storey)}"
-        candidate, n = name, 1
-        while candidate.lower() in used:
-            n += 1
-            candidate = f"{name}-{n}"
-        used.add(candidate.lower())
-        out[storey] = candidate
-    return out
 
 
 def _plain(value: Any) -> Any:

@@ -16,15 +16,15 @@ from pmk_nb.errors import PmkError
 
 # command name -> (module providing add_parser/run, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
-    "info": ("pmk_nb.commands.info", "describe an IndoorGML file: storeys, cells, doors, units"),
-    "convert": ("pmk_nb.commands.convert", "IndoorGML file -> ROS map_server YAML + image per storey"),
-    "maps": ("pmk_nb.commands.maps", "the maps folder: list, import, download, convert, delete"),
-    "sim": ("pmk_nb.sim.cli", "run the simulated chair (rosbridge + SFTP)"),
-    "send": ("pmk_nb.chair.cli", "send a map to a chair and reload it there"),
-    "chair": ("pmk_nb.chair.cli_profiles", "manage chair profiles; test a connection"),
-    "dashboard": ("pmk_nb.ui.cli", "serve the dashboard with Voilà"),
-    "demo": ("pmk_nb.ui.cli_demo", "simulated chair + dashboard with the sample map"),
-    "bench": ("pmk_nb.commands.bench", "run the benchmarks, write bench/results.md"),
+    "info": ("pmk_nb.cli.info", "describe an IndoorGML file: storeys, cells, doors, units"),
+    "convert": ("pmk_nb.cli.convert", "IndoorGML file -> ROS map_server YAML + image per storey"),
+    "maps": ("pmk_nb.cli.maps", "the maps folder: list, import, download, convert, delete"),
+    "sim": ("pmk_nb.cli.sim", "run the simulated chair (rosbridge + SFTP)"),
+    "send": ("pmk_nb.cli.send", "send a map to a chair and reload it there"),
+    "chair": ("pmk_nb.cli.chair", "manage chair profiles; test a connection"),
+    "dashboard": ("pmk_nb.cli.dashboard", "serve the dashboard with Voilà"),
+    "demo": ("pmk_nb.cli.demo", "simulated chair + dashboard with the sample map"),
+    "bench": ("pmk_nb.cli.bench", "run the benchmarks, write bench/results.md"),
 }
 
 

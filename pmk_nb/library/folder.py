@@ -20,11 +20,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, BinaryIO
 
-from pmk_nb.download import DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
 from pmk_nb.errors import IndoorGMLError, LibraryError, MapFormatError, OccupancyError
-from pmk_nb.library_info import StoreyCache, StoreyInfo
-from pmk_nb.library_scan import GeneratedMap, scan_generated, storey_file_stem
-from pmk_nb.sniff import check_indoorgml
+from pmk_nb.indoorgml.sniff import check_indoorgml
+from pmk_nb.library.download import DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
+from pmk_nb.library.info import StoreyCache, StoreyInfo
+from pmk_nb.library.naming import storey_map_names
+from pmk_nb.library.scan import GeneratedMap, scan_generated
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building
@@ -374,14 +375,14 @@ class MapsFolder:
         report: ConvertProgress,
         **raster_kw: float,
     ) -> list[GeneratedMap]:
-        from pmk_nb.occupancy import rasterise_storey
-        from pmk_nb.rosmap import write_map
+        from pmk_nb.raster.storey import rasterise_storey
+        from pmk_nb.rosmap.files import write_map
 
         all_storeys = [s.name for s in building.storeys]
         wanted = list(dict.fromkeys(storeys)) if storeys else all_storeys
         for s in wanted:
             building.storey(s)  # IndoorGMLError naming the known storeys
-        stems = storey_file_stem(entry.name, all_storeys)
+        stems = storey_map_names(entry.name, all_storeys)
         self._ensure_root()
         staging = Path(tempfile.mkdtemp(prefix=f".{entry.name}.convert-", dir=self.root))
         try:

@@ -16,6 +16,7 @@ from typing import Any, Literal
 
 import roslibpy
 
+from pmk_nb.chair.link.tfmath import TfTree
 from pmk_nb.chair.messages import (
     Odometry,
     Pose2D,
@@ -27,7 +28,6 @@ from pmk_nb.chair.messages import (
     spell_type,
     stamp_ros_version,
 )
-from pmk_nb.chair.tfmath import TfTree
 
 LOG = logging.getLogger(__name__)
 

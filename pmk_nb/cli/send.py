@@ -30,12 +30,12 @@ def add_parser(subparsers: Any) -> None:
 
 def pick_map(name: str, maps_dir: Path | None, storey: str | None) -> Any:
     """The MapFiles to send: a generated map of NAME (one storey), or NAME as a YAML path."""
-    from pmk_nb.library import MapsFolder
-    from pmk_nb.rosmap import MapFiles
+    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.rosmap.files import MapFiles
 
     as_path = Path(name).expanduser()
     if as_path.suffix.lower() in (".yaml", ".yml") and as_path.is_file():
-        from pmk_nb.rosmap import read_map_yaml
+        from pmk_nb.rosmap.files import read_map_yaml
 
         return MapFiles(yaml=as_path, image=Path(read_map_yaml(as_path).image), preview=None)
     folder = MapsFolder(maps_dir)
@@ -80,7 +80,7 @@ def ask_password(profile: Any, store: Any, from_stdin: bool) -> str | None:
 
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.chair.deploy import STEP_SPANS, close_links, deploy
-    from pmk_nb.chair.settings import ProfileStore
+    from pmk_nb.chair.profiles import ProfileStore
 
     store = ProfileStore()
     if args.chair:

@@ -1,1 +1,0 @@
-"""Command-line sub-commands for the converter and maps folder."""
