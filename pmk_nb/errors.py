@@ -1,43 +1,152 @@
-"""Error hierarchy shared by every layer.
+"""Error hierarchy shared by every layer: types with fields, never text to match.
 
-Each layer raises its own subclass so callers (CLI, widgets) can catch ``PmkError`` once and
-show ``str(err)``: messages name the file / element / host at fault and what the user can do.
+Each layer raises its own subclass with the facts a caller needs as attributes (which file, which
+element, which host, which deploy step, whether the chair kept its old map). Control flow looks at
+types and fields only; the text (``str(err)``) is for people and is composed by the layer that
+knows the facts. Each interface (CLI, dashboard) turns an error into its own words in one place.
 """
 
 from __future__ import annotations
 
 
 class PmkError(Exception):
-    """Base of every error PMK Notebook raises on purpose."""
+    """Base of every error PMK Notebook raises on purpose.
+
+    Args:
+        message: what went wrong, naming the file / element / host at fault.
+        hint: what the user can do about it (optional; shown after the message).
+    """
+
+    def __init__(self, message: str, *, hint: str = "") -> None:
+        super().__init__(message)
+        self.message = message
+        self.hint = hint
+
+    def __str__(self) -> str:
+        return f"{self.message} {self.hint}" if self.hint else self.message
 
 
 class IndoorGMLError(PmkError):
     """An IndoorGML file cannot be read or makes no sense as a building."""
 
+    def __init__(self, message: str, *, path: str | None = None, element: str | None = None, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.path = path
+        self.element = element
+
 
 class OccupancyError(PmkError):
-    """A storey cannot be rasterised (e.g. the grid would exceed the memory budget)."""
+    """A storey cannot be rasterised."""
+
+
+class GridTooLarge(OccupancyError):
+    """The grid at the asked resolution would exceed the memory budget or Nav2's side limit.
+
+    Attributes:
+        cells: cells the grid would have (or its longest side, for the side limit).
+        limit: the budget it exceeds.
+        suggested_resolution: the finest resolution that fits, in metres per cell.
+    """
+
+    def __init__(self, message: str, *, cells: int, limit: int, suggested_resolution: float, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.cells = cells
+        self.limit = limit
+        self.suggested_resolution = suggested_resolution
 
 
 class MapFormatError(PmkError):
     """A map_server YAML or image file is missing, malformed or unsupported."""
 
+    def __init__(self, message: str, *, path: str | None = None, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.path = path
+
 
 class LibraryError(PmkError):
     """A maps-folder operation failed (download, import, convert, delete)."""
+
+    def __init__(self, message: str, *, name: str | None = None, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.name = name
+
+
+class AlreadyExists(LibraryError):
+    """A map of that name exists and overwriting was not asked for."""
+
+
+class DownloadError(LibraryError):
+    """A building plan could not be fetched from its URL."""
+
+    def __init__(self, message: str, *, url: str, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.url = url
 
 
 class ChairLinkError(PmkError):
     """The rosbridge connection to a chair failed or a chair service misbehaved."""
 
+    def __init__(self, message: str, *, host: str | None = None, port: int | None = None, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.host = host
+        self.port = port
+
+
+class ChairTimeout(ChairLinkError):
+    """The chair did not answer ``operation`` within ``seconds``."""
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        operation: str,
+        seconds: float,
+        host: str | None = None,
+        port: int | None = None,
+        hint: str = "",
+    ) -> None:
+        super().__init__(message, host=host, port=port, hint=hint)
+        self.operation = operation
+        self.seconds = seconds
+
+
+class UnsupportedOperation(PmkError):
+    """The other side does not offer an operation (e.g. an SFTP server without POSIX rename)."""
+
+    def __init__(self, message: str, *, operation: str, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.operation = operation
+
 
 class TransferError(PmkError):
     """Copying a map to the chair over SFTP failed."""
 
+    def __init__(self, message: str, *, host: str | None = None, path: str | None = None, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.host = host
+        self.path = path
+
 
 class DeployError(PmkError):
-    """Sending, reloading or confirming a map on the chair failed."""
+    """Sending, reloading or confirming a map on the chair failed.
+
+    Attributes:
+        step: the deploy step that failed ("upload", "detect", "reload", "confirm"), if known.
+        keeps_old_map: True when the chair certainly still runs its previous map, False when it may
+            have switched, None when nobody can tell.
+    """
+
+    def __init__(
+        self, message: str, *, step: str | None = None, keeps_old_map: bool | None = None, hint: str = ""
+    ) -> None:
+        super().__init__(message, hint=hint)
+        self.step = step
+        self.keeps_old_map = keeps_old_map
 
 
 class SettingsError(PmkError):
-    """A chair profile holds an invalid value."""
+    """A chair profile holds an invalid value (``field`` names it, when there is one)."""
+
+    def __init__(self, message: str, *, field: str | None = None, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.field = field
