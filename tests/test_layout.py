@@ -1,0 +1,104 @@
+"""The package layout keeps its promises: one package per concept, small modules and functions,
+no control flow on error text, the core free of widget libraries, one atomic-write helper."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+PKG = Path(__file__).resolve().parents[1] / "pmk_nb"
+MAX_MODULE_LINES = 400
+MAX_FUNCTION_LINES = 80
+# Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
+TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py", "viewport.py"}
+PACKAGES = {"chair", "cli", "indoorgml", "library", "raster", "rosmap", "sim", "ui"}
+WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
+
+
+def _modules() -> list[Path]:
+    return sorted(PKG.rglob("*.py"))
+
+
+def _rel(path: Path) -> str:
+    return str(path.relative_to(PKG.parent))
+
+
+def test_top_level_holds_only_shared_modules_and_concept_packages() -> None:
+    files = {p.name for p in PKG.glob("*.py")}
+    dirs = {p.name for p in PKG.iterdir() if p.is_dir() and p.name != "__pycache__"}
+    assert files <= TOP_LEVEL, f"modules that belong in a concept package: {sorted(files - TOP_LEVEL)}"
+    assert dirs <= PACKAGES, f"unexpected packages: {sorted(dirs - PACKAGES)}"
+    for name in PACKAGES:
+        init = PKG / name / "__init__.py"
+        assert init.is_file() and ast.get_docstring(ast.parse(init.read_text())), f"{name}/__init__.py needs a docstring"
+
+
+@pytest.mark.parametrize("path", _modules(), ids=_rel)
+def test_module_is_small(path: Path) -> None:
+    lines = len(path.read_text(encoding="utf-8").splitlines())
+    assert lines <= MAX_MODULE_LINES, f"{_rel(path)} has {lines} lines (> {MAX_MODULE_LINES}): split it"
+
+
+@pytest.mark.parametrize("path", _modules(), ids=_rel)
+def test_functions_are_short(path: Path) -> None:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    long = [
+        f"{node.name} ({node.end_lineno - node.lineno + 1} lines, line {node.lineno})"
+        for node in ast.walk(tree)
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+        and node.end_lineno is not None
+        and node.end_lineno - node.lineno + 1 > MAX_FUNCTION_LINES
+    ]
+    assert not long, f"{_rel(path)}: functions over {MAX_FUNCTION_LINES} lines: {long}"
+
+
+def _matches_error_text(node: ast.AST) -> bool:
+    """``str(err)`` / ``err.args`` / ``message`` used in a comparison, ``in`` or startswith/endswith."""
+
+    def is_error_text(expr: ast.AST) -> bool:
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name) and expr.func.id == "str":
+            return bool(expr.args) and isinstance(expr.args[0], ast.Name) and expr.args[0].id in {"err", "exc", "e", "error"}
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Attribute) and expr.func.attr == "lower":
+            return is_error_text(expr.func.value)
+        return isinstance(expr, ast.Name) and expr.id in {"message", "msg_text", "reason"}
+
+    if isinstance(node, ast.Compare):
+        return is_error_text(node.left) or any(is_error_text(c) for c in node.comparators)
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+        return node.func.attr in {"startswith", "endswith"} and is_error_text(node.func.value)
+    return False
+
+
+@pytest.mark.parametrize("path", _modules(), ids=_rel)
+def test_no_control_flow_on_error_text(path: Path) -> None:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    hits = [node.lineno for node in ast.walk(tree) if _matches_error_text(node)]
+    assert not hits, f"{_rel(path)} decides on the text of an error at lines {hits}: use the error's type or fields"
+
+
+def test_core_imports_no_widget_library() -> None:
+    offenders = []
+    for path in _modules():
+        if path.is_relative_to(PKG / "ui"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module:
+                names = [node.module]
+            offenders += [f"{_rel(path)}: {n}" for n in names if n.startswith(WIDGET_LIBRARIES)]
+    assert not offenders, offenders
+
+
+def test_one_atomic_write_helper() -> None:
+    """Temp-file-and-rename is written once, in pmk_nb/fileio.py."""
+    writers = [
+        _rel(p)
+        for p in _modules()
+        if p.name != "fileio.py" and re.search(r"\bmkstemp\(|\bos\.replace\(", p.read_text(encoding="utf-8"))
+    ]
+    assert not writers, f"hand-written atomic writes (use pmk_nb.fileio): {writers}"
