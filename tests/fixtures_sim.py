@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import base64
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -56,6 +57,21 @@ def write_test_map(grid: OccupancyGrid, directory: Path, name: str) -> Path:
     from pmk_nb.rosmap.files import write_map
 
     return write_map(grid, directory, name, preview=False).yaml
+
+
+def paramiko_sftp(sim: SimChair, **auth: Any) -> tuple[Any, Any]:
+    """A paramiko SSH client + SFTP session to ``sim``'s endpoint, pinned to its host key (RejectPolicy)."""
+    import paramiko
+
+    client = paramiko.SSHClient()
+    key_type, key_b64 = sim.sftp_host_key.split()[:2]
+    host_key = paramiko.Ed25519Key(data=base64.b64decode(key_b64))
+    client.get_host_keys().add(f"[127.0.0.1]:{sim.sftp_port}", key_type, host_key)
+    client.set_missing_host_key_policy(paramiko.RejectPolicy())
+    client.connect(
+        "127.0.0.1", sim.sftp_port, username=sim.sftp_user, allow_agent=False, look_for_keys=False, timeout=10, **auth
+    )
+    return client, client.open_sftp()
 
 
 def wait_until(predicate: Callable[[], bool], timeout: float = 5.0, interval: float = 0.02) -> bool:

@@ -40,8 +40,8 @@ def test_convert_one_storey(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     assert str(tmp_path / f"{stem}.yaml") in out
     assert f"{expected.width} x {expected.height} cells" in out
     assert f"unit {building.unit}" in out and building.unit_reason in out
-    for flavour in ("ros1", "nav2_jazzy"):
-        back = read_map(tmp_path / f"{stem}.yaml", flavour=flavour)
+    for reader in ("ros1", "nav2_jazzy"):
+        back = read_map(tmp_path / f"{stem}.yaml", reader=reader)
         np.testing.assert_array_equal(back.data, expected.data)
         assert back.origin == expected.origin
     doc = yaml.safe_load((tmp_path / f"{stem}.yaml").read_text())

@@ -11,11 +11,12 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pmk_nb.chair.deploy import STEPS, DeployStepError, deploy
+from pmk_nb.chair.deploy import STEPS, deploy
 from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.errors import DeployError
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.progress import Progress
 from pmk_nb.rosmap.files import write_map
 from tests.fixtures_ssh import SshdServer, profile_for
 
@@ -58,24 +59,24 @@ def assert_publishes(link: ChairLink, grid: OccupancyGrid) -> None:
 
 
 @pytest.mark.parametrize(
-    ("sim_flavour", "services", "expected"),
+    ("sim_ros", "services", "expected"),
     [
         ("ros1", ("change_map",), ("/change_map", "ros1")),
         ("ros2", ("load_map",), ("/map_server/load_map", "nav2")),
         ("ros1", ("map_update",), ("/map_update", "mapupdate")),
     ],
 )
-def test_deploy_each_reload_flavour_over_sim_sftp(
+def test_deploy_each_reload_kind_over_sim_sftp(
     sim_factory: Any,
     link_factory: Callable[[Any], ChairLink],
     tmp_path: Path,
-    sim_flavour: str,
+    sim_ros: str,
     services: tuple[str, ...],
     expected: tuple[str, str],
 ) -> None:
     sim = sim_factory(
         grid=grid_of(60, 40, seed=1),
-        flavour=sim_flavour,
+        ros=sim_ros,
         reload_services=services,
         sftp_port=0,
         maps_dir=tmp_path / "chair_maps",
@@ -83,12 +84,10 @@ def test_deploy_each_reload_flavour_over_sim_sftp(
     new = grid_of(90, 70, seed=2, origin=(-3.0, 1.25))
     files = write_map(new, tmp_path / "local", "hall")
     link = link_factory(sim)
-    events: list[tuple[str, float, str]] = []
-    report = deploy(
-        files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link, progress=lambda *e: events.append(e)
-    )
+    events: list[Progress] = []
+    report = deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link, progress=events.append)
 
-    assert (report.service.name, report.service.flavour) == expected
+    assert (report.service.name, report.service.kind) == expected
     assert report.remote_yaml == f"/home/{sim.sftp_user}/ALMA_MAPS/hall.yaml"
     assert (tmp_path / "chair_maps" / "hall.pgm").read_bytes() == files.image.read_bytes()
     assert (report.map_info.width, report.map_info.height) == (90, 70)
@@ -97,10 +96,12 @@ def test_deploy_each_reload_flavour_over_sim_sftp(
     assert set(report.timings) == set(STEPS)
     assert_publishes(link, new)
     # progress: every step in order, overall fraction never goes back, ends at 1
-    steps_seen = list(dict.fromkeys(step for step, _, _ in events))
+    steps_seen = list(dict.fromkeys(p.step for p in events))
     assert steps_seen == list(STEPS)
-    fractions = [f for _, f, _ in events]
+    fractions = [p.fraction for p in events]
+    assert None not in fractions
     assert fractions == sorted(fractions) and fractions[-1] == 1.0
+    assert any(p.step == "upload" and 0.0 < p.fraction < 0.7 for p in events)  # byte progress inside the upload
 
 
 def test_failing_reload_keeps_previous_map(
@@ -108,7 +109,7 @@ def test_failing_reload_keeps_previous_map(
 ) -> None:
     old = grid_of(50, 50, seed=3)
     sim = sim_factory(
-        grid=old, flavour="ros2", reload_services=("load_map",), sftp_port=0, maps_dir=tmp_path / "chair_maps"
+        grid=old, ros="ros2", reload_services=("load_map",), sftp_port=0, maps_dir=tmp_path / "chair_maps"
     )
     files = write_map(grid_of(80, 30, seed=4), tmp_path / "local", "broken")
     files.image.write_bytes(b"P5\n80 30\n255\n" + b"\x00" * 100)  # truncated: the map server must refuse it
@@ -116,8 +117,8 @@ def test_failing_reload_keeps_previous_map(
     with pytest.raises(DeployError) as info:
         deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link)
     err = info.value
-    assert isinstance(err, DeployStepError) and err.step == "reload"
-    assert "keeps its previous map" in str(err)
+    assert err.step == "reload" and err.keeps_old_map is True
+    assert str(err).count("keeps its previous map") == 1
     assert "code 2" in str(err)  # Nav2 INVALID_MAP_DATA
     assert err.__cause__ is not None
     assert_publishes(link, old)
@@ -130,9 +131,9 @@ def test_no_reload_service_fails_at_detect(
     sim = sim_factory(grid=old, reload_services=(), sftp_port=0, maps_dir=tmp_path / "chair_maps")
     files = write_map(grid_of(30, 30, seed=6), tmp_path / "local", "m")
     link = link_factory(sim)
-    with pytest.raises(DeployStepError, match="no map reload service") as info:
+    with pytest.raises(DeployError, match="no map reload service") as info:
         deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link)
-    assert info.value.step == "detect"
+    assert info.value.step == "detect" and info.value.keeps_old_map is True
     assert (tmp_path / "chair_maps" / "m.yaml").exists()  # uploaded, just not loaded
     assert_publishes(link, old)
 
@@ -142,9 +143,9 @@ def test_wrong_password_fails_at_upload(
 ) -> None:
     sim = sim_factory(grid=grid_of(20, 20, seed=7), sftp_port=0, maps_dir=tmp_path / "chair_maps")
     files = write_map(grid_of(30, 30, seed=8), tmp_path / "local", "m")
-    with pytest.raises(DeployStepError, match="authentication with password failed") as info:
+    with pytest.raises(DeployError, match="authentication with password failed") as info:
         deploy(files, sim_profile(sim, tmp_path), password="wrong", link=link_factory(sim))
-    assert info.value.step == "upload"
+    assert info.value.step == "upload" and info.value.keeps_old_map is True
     assert not (tmp_path / "chair_maps" / "m.yaml").exists()
 
 
@@ -154,9 +155,7 @@ class SplitLink:
 
     def __init__(self, reloads: ChairLink, publishes: ChairLink) -> None:
         self.reloads, self.publishes = reloads, publishes
-
-    def detect_reload_service(self) -> Any:
-        return self.reloads.detect_reload_service()
+        self.discovery = reloads.discovery
 
     def reload_map(self, *args: Any, **kw: Any) -> None:
         self.reloads.reload_map(*args, **kw)
@@ -173,11 +172,11 @@ def test_confirm_step_catches_a_map_that_did_not_change(
     publishing = sim_factory(grid=grid_of(20, 20, seed=9), maps_dir=maps)
     files = write_map(grid_of(33, 44, seed=10), tmp_path / "local", "m")
     link = SplitLink(link_factory(reloading), link_factory(publishing))
-    with pytest.raises(DeployStepError, match="still publishes 20x20") as info:
+    with pytest.raises(DeployError, match="still publishes 20x20") as info:
         deploy(
             files, sim_profile(reloading, tmp_path), password=reloading.sftp_password, link=link, confirm_timeout=1.5
         )
-    assert info.value.step == "confirm"
+    assert info.value.step == "confirm" and info.value.keeps_old_map is None
 
 
 def test_same_size_map_is_confirmed_by_its_cells(
@@ -212,3 +211,28 @@ def test_openssh_upload_then_sim_reload(
     assert report.host_key.fingerprint == sshd_server.host_key_fingerprint
     assert_publishes(link, new)
     shutil.rmtree(Path(report.remote_yaml).parent, ignore_errors=True)
+
+
+def test_profile_naming_a_missing_service_fails_at_detect(
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
+) -> None:
+    sim = sim_factory(grid=grid_of(20, 20, seed=15), sftp_port=0, maps_dir=tmp_path / "chair_maps")
+    files = write_map(grid_of(25, 25, seed=16), tmp_path / "local", "m")
+    profile = sim_profile(sim, tmp_path, reload_service="/robot/load_map")
+    with pytest.raises(DeployError, match="has no service /robot/load_map") as info:
+        deploy(files, profile, password=sim.sftp_password, link=link_factory(sim))
+    assert info.value.step == "detect" and info.value.keeps_old_map is True
+    assert "uploaded to" in str(info.value) and str(info.value).count("keeps its previous map") == 1
+
+
+def test_lost_reload_answer_does_not_claim_the_old_map_stays(
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
+) -> None:
+    sim = sim_factory(grid=grid_of(20, 20, seed=17), sftp_port=0, maps_dir=tmp_path / "chair_maps")
+    files = write_map(grid_of(900, 900, seed=18), tmp_path / "local", "big")
+    with pytest.raises(DeployError) as info:
+        deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link_factory(sim),
+               reload_timeout=0.001)  # fmt: skip
+    err = info.value
+    assert err.step == "reload" and err.keeps_old_map is None
+    assert "keeps its previous map" not in str(err)

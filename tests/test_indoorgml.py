@@ -6,6 +6,7 @@ import pytest
 from shapely.geometry import Point
 
 from pmk_nb.indoorgml import CellKind, read_building, summarize
+from pmk_nb.progress import Progress
 from tests.shared_data import INDOORGML_DATA
 
 DATA = INDOORGML_DATA
@@ -149,11 +150,13 @@ def test_versions() -> None:
 
 def test_progress_reports_bytes() -> None:
     path = DATA / "pnu201_3floors_navi_corrected.gml"
-    calls: list[tuple[int, int]] = []
-    read_building(path, progress=lambda done, total: calls.append((done, total)))
+    calls: list[Progress] = []
+    read_building(path, progress=calls.append)
     size = path.stat().st_size
-    assert calls[-1] == (size, size)
-    assert all(t == size for _, t in calls) and [d for d, _ in calls] == sorted(d for d, _ in calls)
+    assert calls[-1] == Progress("read", 1.0, f"{size} bytes")
+    assert {p.step for p in calls} == {"read"}
+    fractions = [p.fraction for p in calls]
+    assert fractions == sorted(fractions) and 0 < fractions[0] < 1  # type: ignore[type-var]
     assert len(calls) > 2
 
 

@@ -102,3 +102,47 @@ def test_one_atomic_write_helper() -> None:
         if p.name != "fileio.py" and re.search(r"\bmkstemp\(|\bos\.replace\(", p.read_text(encoding="utf-8"))
     ]
     assert not writers, f"hand-written atomic writes (use pmk_nb.fileio): {writers}"
+
+
+# Which packages each package may import: the data flow of ARCHITECTURE.md, one direction only.
+SHARED = {"errors", "progress", "fileio", "grid"}
+ALLOWED_IMPORTS: dict[str, set[str]] = {
+    "viewport": set(),
+    "grid": set(),
+    "indoorgml": SHARED,
+    "raster": SHARED | {"indoorgml"},
+    "rosmap": SHARED,
+    "library": SHARED | {"indoorgml", "raster", "rosmap"},
+    "chair": SHARED | {"rosmap"},
+    "sim": SHARED | {"rosmap", "indoorgml", "raster"},
+    "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair"},
+    "cli": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "sim", "ui"},
+}
+
+
+def _package_of(path: Path) -> str:
+    rel = path.relative_to(PKG)
+    return rel.parts[0] if len(rel.parts) > 1 else rel.stem
+
+
+def test_imports_follow_the_data_flow() -> None:
+    wrong = []
+    for path in _modules():
+        own = _package_of(path)
+        allowed = ALLOWED_IMPORTS.get(own)
+        if allowed is None:
+            continue  # errors, progress, fileio, __init__: leaves
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            modules = []
+            if isinstance(node, ast.Import):
+                modules = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                modules = [node.module]
+            for module in modules:
+                parts = module.split(".")
+                if parts[0] != "pmk_nb" or len(parts) < 2:
+                    continue
+                target = parts[1]
+                if target != own and target not in allowed:
+                    wrong.append(f"{_rel(path)}:{node.lineno} imports {module}")
+    assert not wrong, "imports against the data flow (see ARCHITECTURE.md):\n" + "\n".join(wrong)

@@ -8,9 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pmk_nb.errors import IndoorGMLError, LibraryError
+from pmk_nb.errors import AlreadyExists, GridTooLarge, IndoorGMLError, LibraryError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.library.folder import MapsFolder, check_name, default_maps_dir
+from pmk_nb.progress import Progress
 from pmk_nb.rosmap.files import read_map, write_map
 from tests.indoorgml_samples import BROKEN_HTML, ENTITY_BOMB, HTML_PAGE, OTHER_XML, two_rooms
 
@@ -110,8 +111,9 @@ def test_import_with_name_and_overwrite(folder: MapsFolder, gml: Path, tmp_path:
     other = tmp_path / "other.gml"
     other.write_bytes(two_rooms(("F1", "F2")))
     before = snapshot(folder.root)
-    with pytest.raises(LibraryError, match="map 'ward' already exists; pass overwrite=True to replace it"):
+    with pytest.raises(AlreadyExists, match="map 'ward' already exists; pass overwrite=True to replace it") as exists:
         folder.import_file(other, "ward")
+    assert exists.value.name == "ward"
     assert snapshot(folder.root) == before
     entry = folder.import_file(other, "ward", overwrite=True)
     assert entry.source.read_bytes() == other.read_bytes()
@@ -239,17 +241,19 @@ def test_delete_removes_source_and_generated_only(folder: MapsFolder, gml: Path)
 # ---------------------------------------------------------------- convert (real reader + rasteriser)
 def test_convert_one_storey_writes_the_original_file_set(folder: MapsFolder, gml: Path) -> None:
     folder.import_file(gml)
-    steps: list[tuple[str, float]] = []
-    [gm] = folder.convert("clinic", 0.05, progress=lambda s, f: steps.append((s, f)))
+    steps: list[Progress] = []
+    [gm] = folder.convert("clinic", 0.05, progress=steps.append)
     assert sorted(snapshot(folder.root)) == ["clinic-visualization.png", "clinic.gml", "clinic.pgm", "clinic.yaml"]
     assert gm.yaml == folder.root / "clinic.yaml" and gm.storey == "F1" and gm.resolution == 0.05
     grid = read_map(gm.yaml)
     assert grid.meta["map"] == "clinic" and grid.meta["source"] == "clinic.gml"
     assert grid.value_at(2.0, 1.5) == 0  # inside room A
     assert (grid.width, grid.height) == (gm.width, gm.height)
-    assert steps[-1] == ("done", 1.0)
-    fractions = [f for _, f in steps]
-    assert fractions == sorted(fractions)
+    assert steps[-1] == Progress("done", 1.0)
+    fractions = [p.fraction for p in steps]
+    assert fractions == sorted(fractions)  # type: ignore[type-var]
+    order = ["read", "rasterise", "write", "done"]
+    assert [p.step for p in steps] == sorted((p.step for p in steps), key=order.index)
     assert folder.list()[0].status == "converted"
 
 
@@ -284,7 +288,8 @@ def test_convert_errors_are_library_errors_and_leave_files(folder: MapsFolder, g
     assert isinstance(info.value.__cause__, IndoorGMLError)
     with pytest.raises(LibraryError, match="cannot convert map 'clinic'") as info:
         folder.convert("clinic", 1e-5)  # far too many cells
-    assert info.value.__cause__ is not None
+    assert isinstance(info.value.__cause__, GridTooLarge) and info.value.name == "clinic"
+    assert info.value.__cause__.suggested_resolution > 1e-5
     with pytest.raises(LibraryError, match="positive"):
         folder.convert("clinic", -1.0)
     with pytest.raises(LibraryError, match="'pgm' or 'png'"):

@@ -5,15 +5,17 @@ from __future__ import annotations
 
 import socket
 import threading
+import time
 from collections.abc import Iterator
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 
 import pytest
 
-from pmk_nb.errors import LibraryError
+from pmk_nb.errors import DownloadError, LibraryError
 from pmk_nb.library.download import _describe_reason
 from pmk_nb.library.folder import MapsFolder
+from pmk_nb.progress import Progress
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
 GOOD = two_rooms(("F1", "F2"))
@@ -68,6 +70,17 @@ class _Handler(BaseHTTPRequestHandler):
             self._send(200, GOOD, length=300)
         elif path == "/truncated.gml":  # honest length, but the XML stops half-way
             self._send(200, GOOD[: len(GOOD) // 2])
+        elif path == "/trickle.gml":  # a byte every 50 ms: never stalls, never finishes in time
+            self.send_response(200)
+            self.send_header("Content-Type", "application/xml")
+            self.send_header("Content-Length", str(len(GOOD)))
+            self.end_headers()
+            for byte in GOOD[:100]:  # bounded: at most 5 s even if the client never gives up
+                if self.stop.wait(0.05):
+                    break
+                self.wfile.write(bytes([byte]))
+                self.wfile.flush()
+            self.close_connection = True
         elif path == "/to-ftp":
             self.send_response(302)
             self.send_header("Location", "ftp://127.0.0.1/map.gml")
@@ -136,12 +149,13 @@ def closed_port() -> int:
 
 
 def test_download_good_map_with_progress(server: Server, folder: MapsFolder) -> None:
-    seen: list[tuple[int, int | None]] = []
-    entry = folder.download(f"{server}/good.gml?probe=good", "clinic", progress=lambda d, t: seen.append((d, t)))
+    seen: list[Progress] = []
+    entry = folder.download(f"{server}/good.gml?probe=good", "clinic", progress=seen.append)
     assert "/good.gml?probe=good" in server.requested
     assert entry.source == folder.root / "clinic.gml"
     assert entry.source.read_bytes() == GOOD
-    assert seen[0] == (0, len(GOOD)) and seen[-1] == (len(GOOD), len(GOOD))
+    assert (seen[0].step, seen[0].fraction, seen[-1].fraction) == ("download", 0.0, 1.0)
+    assert seen[-1].message == f"{len(GOOD)} bytes of {len(GOOD)} bytes"
     assert sorted(snapshot(folder.root)) == ["clinic.gml", "keep.gml", "keep.yaml"]
 
 
@@ -182,6 +196,18 @@ def test_download_failures_leave_folder_untouched(
         with pytest.raises(LibraryError, match=message):
             folder.download(f"{server}{path}", name, overwrite=overwrite, **kwargs)  # type: ignore[arg-type]
         assert snapshot(folder.root) == before
+
+
+def test_overall_deadline_cuts_off_a_trickling_server(server: str, folder: MapsFolder) -> None:
+    before = snapshot(folder.root)
+    url = f"{server}/trickle.gml"
+    started = time.monotonic()
+    with pytest.raises(DownloadError, match="deadline") as info:
+        folder.download(url, "slowpoke", timeout=2.0, deadline=0.5)
+    elapsed = time.monotonic() - started
+    assert info.value.url == url and info.value.hint
+    assert 0.5 <= elapsed < 2.0  # the per-read timeout alone would never fire: bytes keep coming
+    assert snapshot(folder.root) == before
 
 
 def test_connection_refused(folder: MapsFolder) -> None:

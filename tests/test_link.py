@@ -1,4 +1,4 @@
-"""The chair link with the real roslibpy client against the simulator (ROS 1 and ROS 2 flavours)."""
+"""The chair link with the real roslibpy client against the simulator (ROS 1 and ROS 2)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from pmk_nb.chair.link.registry import open_links
 from pmk_nb.sim import SimChair
 from tests.fixtures_sim import wait_until
 
-FLAVOURS = ["ros1", "ros2"]
+ROS_VERSIONS = ["ros1", "ros2"]
 
 
 @pytest.fixture
@@ -38,9 +38,9 @@ def _io_threads() -> list[threading.Thread]:
     return [t for t in threading.enumerate() if t.name.startswith("pmk-link-")]
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_connection_report_matches_the_published_map(sim_factory, links, flavour: str) -> None:
-    sim = sim_factory(flavour=flavour)
+@pytest.mark.parametrize("ros", ROS_VERSIONS)
+def test_connection_report_matches_the_published_map(sim_factory, links, ros: str) -> None:
+    sim = sim_factory(ros=ros)
     link = links(sim)
     report = link.test_connection(timeout=5.0)
     assert report.ok, report.reason
@@ -50,15 +50,15 @@ def test_connection_report_matches_the_published_map(sim_factory, links, flavour
     assert (report.map_info.width, report.map_info.height) == (grid.width, grid.height)
     assert report.map_info.resolution == pytest.approx(grid.resolution)
     assert report.map_info.origin[:2] == pytest.approx(grid.origin[:2])
-    assert report.ros_version == (2 if flavour == "ros2" else 1)
+    assert report.ros_version == (2 if ros == "ros2" else 1)
     assert report.elapsed < 5.0
     assert link.state is LinkState.CONNECTED
     assert link.map_info(timeout=3.0) == report.map_info
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_streams_flow_at_throttled_rates(sim_factory, links, flavour: str) -> None:
-    sim = sim_factory(flavour=flavour, odom_rate=50.0, scan_rate=20.0, rays=360, start_pose=(2.0, 1.5, 0.7))
+@pytest.mark.parametrize("ros", ROS_VERSIONS)
+def test_streams_flow_at_throttled_rates(sim_factory, links, ros: str) -> None:
+    sim = sim_factory(ros=ros, odom_rate=50.0, scan_rate=20.0, rays=360, start_pose=(2.0, 1.5, 0.7))
     link = links(sim, throttle_ms={"odom": 40, "scan": 50})
     link.connect(timeout=5.0)
     link.start_streams()
@@ -86,9 +86,9 @@ def test_streams_flow_at_throttled_rates(sim_factory, links, flavour: str) -> No
     assert pose is not None and pose.frame == "odom" and pose.x == pytest.approx(odom.x, abs=0.2)
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_pose_from_tf_is_in_the_map_frame(sim_factory, links, flavour: str) -> None:
-    sim = sim_factory(flavour=flavour, start_pose=(3.0, 2.0, -0.5))
+@pytest.mark.parametrize("ros", ROS_VERSIONS)
+def test_pose_from_tf_is_in_the_map_frame(sim_factory, links, ros: str) -> None:
+    sim = sim_factory(ros=ros, start_pose=(3.0, 2.0, -0.5))
     link = links(sim, pose_source="tf")
     link.connect()
     link.start_streams()
@@ -100,11 +100,11 @@ def test_pose_from_tf_is_in_the_map_frame(sim_factory, links, flavour: str) -> N
 
 
 @pytest.mark.parametrize(
-    ("flavour", "type_name"),
+    ("ros", "type_name"),
     [("ros1", "geometry_msgs/PoseWithCovarianceStamped"), ("ros2", "geometry_msgs/msg/PoseStamped")],
 )
-def test_pose_from_a_pose_topic(sim_factory, links, ros_factory, flavour: str, type_name: str) -> None:
-    sim = sim_factory(flavour=flavour)
+def test_pose_from_a_pose_topic(sim_factory, links, ros_factory, ros: str, type_name: str) -> None:
+    sim = sim_factory(ros=ros)
     other = ros_factory(sim)
     pub = roslibpy.Topic(other, "/amcl_pose", type_name)
     pub.advertise()
@@ -112,7 +112,7 @@ def test_pose_from_a_pose_topic(sim_factory, links, ros_factory, flavour: str, t
     link.start_streams()  # before connect: subscribed (with the type from rosapi) on connect
     link.connect()
     pose = {"position": {"x": 4.0, "y": -1.0, "z": 0.0}, "orientation": {"x": 0, "y": 0, "z": 1.0, "w": 0}}
-    stamp = {"sec": 1, "nanosec": 0} if flavour == "ros2" else {"secs": 1, "nsecs": 0}
+    stamp = {"sec": 1, "nanosec": 0} if ros == "ros2" else {"secs": 1, "nsecs": 0}
     body = {"pose": pose, "covariance": [0.0] * 36} if "Covariance" in type_name else pose
     msg = {"header": {"frame_id": "map", "stamp": stamp}, "pose": body}
 
@@ -156,9 +156,9 @@ def test_stale_when_the_chair_stops_publishing(sim_chair, links) -> None:
     assert len(seen) == count  # no callback after unsubscribing
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_reconnects_and_resubscribes_after_the_chair_restarts(sim_factory, links, flavour: str) -> None:
-    sim = sim_factory(flavour=flavour)
+@pytest.mark.parametrize("ros", ROS_VERSIONS)
+def test_reconnects_and_resubscribes_after_the_chair_restarts(sim_factory, links, ros: str) -> None:
+    sim = sim_factory(ros=ros)
     link = links(sim, reconnect_initial=0.2, reconnect_max=1.0)
     seen: list[LinkState] = []
     link.on_state_change(seen.append)
@@ -177,9 +177,9 @@ def test_reconnects_and_resubscribes_after_the_chair_restarts(sim_factory, links
     assert LinkState.CONNECTING in seen and seen[-1] is LinkState.CONNECTED
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_discovery_in_both_spellings(sim_factory, links, flavour: str) -> None:
-    sim = sim_factory(flavour=flavour)
+@pytest.mark.parametrize("ros", ROS_VERSIONS)
+def test_discovery_in_both_spellings(sim_factory, links, ros: str) -> None:
+    sim = sim_factory(ros=ros)
     link = links(sim)
     link.connect()
     for spelling in ("nav_msgs/Odometry", "nav_msgs/msg/Odometry"):
@@ -188,11 +188,11 @@ def test_discovery_in_both_spellings(sim_factory, links, flavour: str) -> None:
     assert link.topics_of_type("nav_msgs/NoSuchType") == []
     services = link.services()
     assert "/rosapi/topics" in services and "/static_map" in services
-    assert link.discovery.ros_version() == (2 if flavour == "ros2" else 1)
+    assert link.discovery.ros_version() == (2 if ros == "ros2" else 1)
 
 
 @pytest.mark.parametrize(
-    ("flavour", "only", "name", "kind"),
+    ("ros", "only", "name", "kind"),
     [
         ("ros1", "change_map", "/change_map", "ros1"),
         ("ros2", "load_map", "/map_server/load_map", "nav2"),
@@ -200,12 +200,12 @@ def test_discovery_in_both_spellings(sim_factory, links, flavour: str) -> None:
         ("ros2", "map_update", "/map_update", "mapupdate"),
     ],
 )
-def test_detects_the_only_reload_service(sim_factory, links, flavour, only, name, kind) -> None:
-    sim = sim_factory(flavour=flavour, reload_services=[only])
+def test_detects_the_only_reload_service(sim_factory, links, ros, only, name, kind) -> None:
+    sim = sim_factory(ros=ros, reload_services=[only])
     link = links(sim)
     link.connect()
     found = link.detect_reload_service()
-    assert found is not None and (found.name, found.flavour) == (name, kind)
+    assert found is not None and (found.name, found.kind) == (name, kind)
 
 
 def test_detection_prefers_change_map_and_reports_none(sim_factory, links) -> None:
@@ -265,11 +265,11 @@ def test_commands_reach_the_chair(sim_factory, links) -> None:
     assert wait_until(lambda: sim.goal_status != "idle", 3.0)
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_fetch_map_returns_the_published_grid(sim_factory, links, tmp_path, flavour: str) -> None:
+@pytest.mark.parametrize("ros", ROS_VERSIONS)
+def test_fetch_map_returns_the_published_grid(sim_factory, links, tmp_path, ros: str) -> None:
     from pmk_nb.rosmap.files import read_map, write_map
 
-    sim = sim_factory(flavour=flavour)
+    sim = sim_factory(ros=ros)
     link = links(sim)
     link.connect()
     grid = link.fetch_map(timeout=10.0)

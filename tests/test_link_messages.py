@@ -215,8 +215,8 @@ def test_reload_detection_prefers_change_map_then_nav2_then_mapupdate() -> None:
     assert reload.detect(everything[1:], types.get) == reload.ReloadService("/map_server/load_map", "nav2")
     assert reload.detect(everything[2:], types.get) == reload.ReloadService("/map_update", "mapupdate")
     # an unusual name is found by its type; a type from rosapi beats the name
-    assert reload.detect(["/foo/reload_map"], {"/foo/reload_map": "pmk/MapUpdate"}.get).flavour == "mapupdate"
-    assert reload.detect(["/change_map"], {"/change_map": "nav2_msgs/srv/LoadMap"}.get).flavour == "nav2"
+    assert reload.detect(["/foo/reload_map"], {"/foo/reload_map": "pmk/MapUpdate"}.get).kind == "mapupdate"
+    assert reload.detect(["/change_map"], {"/change_map": "nav2_msgs/srv/LoadMap"}.get).kind == "nav2"
     # no rosapi types: guessed from names
     assert reload.detect(["/chair/map_server/load_map"], lambda _n: None) == reload.ReloadService(
         "/chair/map_server/load_map", "nav2"

@@ -11,9 +11,10 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import LineString, Polygon, box
 
-from pmk_nb.errors import OccupancyError
+from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.indoorgml.model import Boundary, CellKind
+from pmk_nb.progress import Progress
 from pmk_nb.raster.scanline import Frame, fill_polygon, line_segments, supercover_cells
 from pmk_nb.raster.storey import plan_storey, rasterise, rasterise_storey
 from tests.helpers import building, cells_in, flood, reachable, room
@@ -226,11 +227,13 @@ def test_door_is_free_on_the_preview_of_real_doors() -> None:
 
 def test_budget_error_names_a_resolution_that_fits() -> None:
     b = building([room("R", box(0, 0, 200, 200))])
-    with pytest.raises(OccupancyError) as info:
+    with pytest.raises(GridTooLarge) as info:
         plan_storey(b, "F1", 0.005, max_cells=4_000_000)
     msg = str(info.value)
-    assert "0.005" in msg and "x" in msg and "--resolution" in msg
-    suggested = float(msg.split("--resolution ")[1].split()[0])
+    assert "0.005" in msg and "x" in msg
+    assert info.value.limit == 4_000_000 and info.value.cells > 4_000_000
+    suggested = info.value.suggested_resolution
+    assert f"{suggested:g}" in info.value.hint
     frame = plan_storey(b, "F1", suggested, max_cells=4_000_000)
     assert frame.width * frame.height <= 4_000_000
     assert suggested <= 0.11  # the finest that fits, not just any
@@ -238,9 +241,10 @@ def test_budget_error_names_a_resolution_that_fits() -> None:
 
 def test_nav2_side_limit() -> None:
     b = building([room("R", box(0, 0, 400, 10))])
-    with pytest.raises(OccupancyError, match="32767") as info:
+    with pytest.raises(GridTooLarge, match="32767") as info:
         plan_storey(b, "F1", 0.01)
-    suggested = float(str(info.value).split("--resolution ")[1].split()[0])
+    assert info.value.limit == 32767 and info.value.cells > 32767
+    suggested = info.value.suggested_resolution
     assert plan_storey(b, "F1", suggested).width <= 32767
     assert plan_storey(b, "F1", 0.01, allow_large=True).width > 32767
 
@@ -277,8 +281,8 @@ def test_unknown_storey_and_empty_storey() -> None:
 
 def test_rasterise_all_storeys_meta_and_progress() -> None:
     cells = [room("A", box(0, 0, 5, 4), storey="F1"), room("B", box(10, 10, 12, 13), storey="F2")]
-    seen: list[tuple[int, int]] = []
-    grids = rasterise(building(cells), 0.1, progress=lambda d, t: seen.append((d, t)))
+    seen: list[Progress] = []
+    grids = rasterise(building(cells), 0.1, progress=seen.append)
     assert list(grids) == ["F1", "F2"]
     f1 = grids["F1"]
     assert f1.meta["storey"] == "F1" and f1.meta["source_sha256"] == "ab" * 32
@@ -289,16 +293,18 @@ def test_rasterise_all_storeys_meta_and_progress() -> None:
     assert f1.origin[0] == pytest.approx(-0.2) and f1.origin[1] == pytest.approx(-0.2)
     assert f1.value_at(2.5, 2.0) == 0
     assert grids["F2"].value_at(11.0, 11.5) == 0
-    dones = [d for d, _ in seen]
-    assert dones == sorted(dones) and seen[-1][0] == seen[-1][1]
+    dones = [p.fraction for p in seen]
+    assert dones == sorted(dones) and seen[-1].fraction == 1.0  # type: ignore[type-var]
+    assert {p.step for p in seen} == {"rasterise"} and any(p.message == "storey F2" for p in seen)
+    assert any(0.4 < f < 0.6 for f in dones)  # type: ignore[operator]  # F1 ends half-way
     assert list(rasterise(building(cells), 0.1, storeys=["F2"])) == ["F2"]
 
 
 def test_oversize_storey_fails_before_any_work() -> None:
     cells = [room("A", box(0, 0, 5, 4), storey="F1"), room("B", box(0, 0, 500, 500), storey="F2")]
-    calls: list[int] = []
-    with pytest.raises(OccupancyError, match="F2"):
-        rasterise(building(cells), 0.01, max_cells=10_000_000, progress=lambda d, t: calls.append(d))
+    calls: list[Progress] = []
+    with pytest.raises(GridTooLarge, match="F2"):
+        rasterise(building(cells), 0.01, max_cells=10_000_000, progress=calls.append)
     assert calls == []
 
 

@@ -23,7 +23,7 @@ from tests.shared_data import MAP_SERVER_DATA
 DATA = MAP_SERVER_DATA
 ROS1 = DATA / "ros1_map_server"
 NAV2 = DATA / "nav2_map_server"
-FLAVOURS = ["ros1", "nav2_humble", "nav2_jazzy"]
+READERS = ["ros1", "nav2_humble", "nav2_jazzy"]
 SPECTRUM_CSV = {
     "ros1": ROS1 / "expected" / "spectrum_{}_occ0.65_free0.1_derived_ros1.csv",
     "nav2_humble": NAV2 / "expected" / "spectrum_{}_occ0.65_free0.1_derived_nav2_humble.csv",
@@ -38,21 +38,21 @@ def csv_grid(path: Path) -> np.ndarray:
 
 
 def load(
-    path: Path, flavour: str, mode: str = "trinary", negate: bool = False, occ: float = 0.65, free: float = 0.196
+    path: Path, reader: str, mode: str = "trinary", negate: bool = False, occ: float = 0.65, free: float = 0.196
 ) -> np.ndarray:
     """Grid rows (row 0 = bottom) for an image loaded with explicit parameters (like loadMapFromFile)."""
     img = decode_image(path)
-    data = image_to_data(img, flavour=flavour, mode=mode, negate=negate, occupied_thresh=occ, free_thresh=free)
+    data = image_to_data(img, reader=reader, mode=mode, negate=negate, occupied_thresh=occ, free_thresh=free)
     return data[::-1]
 
 
 # --- 1. testmap.yaml ------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
+@pytest.mark.parametrize("reader", READERS)
 @pytest.mark.parametrize("yaml_path", [ROS1 / "testmap.yaml", NAV2 / "testmap.yaml"])
-def test_testmap_yaml_matches_upstream_array(yaml_path: Path, flavour: str) -> None:
-    grid = read_map(yaml_path, flavour=flavour)
+def test_testmap_yaml_matches_upstream_array(yaml_path: Path, reader: str) -> None:
+    grid = read_map(yaml_path, reader=reader)
     expected = csv_grid(ROS1 / "expected" / "testmap_g_valid_image_content.csv")
     assert (grid.width, grid.height) == (10, 10)
     assert grid.resolution == pytest.approx(0.1)
@@ -62,15 +62,15 @@ def test_testmap_yaml_matches_upstream_array(yaml_path: Path, flavour: str) -> N
     np.testing.assert_array_equal(expected, csv_grid(NAV2 / "expected" / "testmap_g_valid_image_content.csv"))
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
+@pytest.mark.parametrize("reader", READERS)
 @pytest.mark.parametrize(
     "image",
     [ROS1 / "testmap.png", ROS1 / "testmap.bmp", NAV2 / "testmap.png", NAV2 / "testmap.bmp", NAV2 / "testmap.pgm"],
 )
 @pytest.mark.parametrize("free", [0.1, 0.196])
-def test_testmap_images_load_same_grid(image: Path, flavour: str, free: float) -> None:
+def test_testmap_images_load_same_grid(image: Path, reader: str, free: float) -> None:
     expected = csv_grid(ROS1 / "expected" / "testmap_g_valid_image_content.csv")
-    np.testing.assert_array_equal(load(image, flavour, free=free), expected)
+    np.testing.assert_array_equal(load(image, reader, free=free), expected)
 
 
 def test_pillow_decodes_png_and_bmp_to_identical_bytes() -> None:
@@ -87,9 +87,9 @@ def test_pillow_decodes_png_and_bmp_to_identical_bytes() -> None:
 # --- 2. testmap2 (negate 1) ----------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_testmap2_negate(flavour: str) -> None:
-    grid = read_map(ROS1 / "testmap2.yaml", flavour=flavour)
+@pytest.mark.parametrize("reader", READERS)
+def test_testmap2_negate(reader: str) -> None:
+    grid = read_map(ROS1 / "testmap2.yaml", reader=reader)
     assert (grid.width, grid.height) == (12, 12)
     assert grid.origin == (-2.0, -3.0, -1.0)
     np.testing.assert_array_equal(grid.data, csv_grid(ROS1 / "expected" / "testmap2_tmap2_g_valid_image_content.csv"))
@@ -98,26 +98,26 @@ def test_testmap2_negate(flavour: str) -> None:
 # --- 3. spectrum.png ------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
+@pytest.mark.parametrize("reader", READERS)
 @pytest.mark.parametrize("mode", ["trinary", "scale", "raw"])
-def test_spectrum_per_cell(flavour: str, mode: str) -> None:
-    data = load(ROS1 / "spectrum.png", flavour, mode=mode, free=0.1)
-    np.testing.assert_array_equal(data, csv_grid(Path(str(SPECTRUM_CSV[flavour]).format(mode))))
+def test_spectrum_per_cell(reader: str, mode: str) -> None:
+    data = load(ROS1 / "spectrum.png", reader, mode=mode, free=0.1)
+    np.testing.assert_array_equal(data, csv_grid(Path(str(SPECTRUM_CSV[reader]).format(mode))))
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_spectrum_counts(flavour: str) -> None:
+@pytest.mark.parametrize("reader", READERS)
+def test_spectrum_counts(reader: str) -> None:
     spectrum = ROS1 / "spectrum.png"
-    tri = load(spectrum, flavour, free=0.1)
+    tri = load(spectrum, reader, free=0.1)
     assert (np.sum(tri == 100), np.sum(tri == 0), np.sum(tri == -1)) == (90, 26, 140)
-    scale = load(spectrum, flavour, mode="scale", free=0.1)
+    scale = load(spectrum, reader, mode="scale", free=0.1)
     mid = np.sum((scale >= 1) & (scale <= 99))
-    if flavour == "ros1":
+    if reader == "ros1":
         assert (np.sum(scale == 100), np.sum(scale == 0), mid) == (90, 26, 140)
     else:
         assert (np.sum(scale == 100), np.sum(scale == 0), mid) == (90, 27, 139)
-    raw = load(spectrum, flavour, mode="raw", free=0.1).reshape(-1)
-    if flavour == "ros1":
+    raw = load(spectrum, reader, mode="raw", free=0.1).reshape(-1)
+    if reader == "ros1":
         np.testing.assert_array_equal(raw.view(np.uint8), np.arange(256))
     else:
         np.testing.assert_array_equal(raw[:101], np.arange(101))
@@ -152,10 +152,10 @@ def gray_table() -> dict[str, list[int]]:
     return {key: [int(r[key]) for r in rows] for key in rows[0]}
 
 
-@pytest.mark.parametrize(("column", "flavour", "mode", "free"), GRAY_COLUMNS)
+@pytest.mark.parametrize(("column", "reader", "mode", "free"), GRAY_COLUMNS)
 @pytest.mark.parametrize("fmt", ["png", "pgm", "bmp"])
 def test_every_gray_value(
-    tmp_path: Path, gray_table: dict[str, list[int]], column: str, flavour: str, mode: str, free: float, fmt: str
+    tmp_path: Path, gray_table: dict[str, list[int]], column: str, reader: str, mode: str, free: float, fmt: str
 ) -> None:
     pixels = np.arange(256, dtype=np.uint8).reshape(1, 256)
     path = tmp_path / f"gray.{fmt}"
@@ -165,7 +165,7 @@ def test_every_gray_value(
         else Image.fromarray(np.repeat(pixels[..., None], 3, axis=2), mode="RGB")
     )
     image.save(path)
-    got = load(path, flavour, mode=mode, free=free).reshape(-1).astype(int).tolist()
+    got = load(path, reader, mode=mode, free=free).reshape(-1).astype(int).tolist()
     assert got == gray_table[column]
 
 
@@ -177,10 +177,10 @@ def test_gray_205_is_free_with_free_thresh_025(gray_table: dict[str, list[int]])
 # --- 5. errors with Nav2 LoadMap codes --------------------------------------------------------------
 
 
-@pytest.mark.parametrize("flavour", FLAVOURS)
-def test_invalid_image_yaml_is_code_2(flavour: str) -> None:
+@pytest.mark.parametrize("reader", READERS)
+def test_invalid_image_yaml_is_code_2(reader: str) -> None:
     with pytest.raises(MapLoadError) as info:
-        read_map(NAV2 / "invalid_image.yaml", flavour=flavour)
+        read_map(NAV2 / "invalid_image.yaml", reader=reader)
     assert info.value.code == rosmap.INVALID_MAP_DATA == 2
     assert "invalid.png" in str(info.value)
     assert isinstance(info.value, MapFormatError)
@@ -258,7 +258,7 @@ def test_image_path_relative_and_absolute(tmp_path: Path) -> None:
     assert grid.meta["lla_origin"] == [1.5, 2.5, 3.0]
 
 
-def test_alpha_semantics_per_flavour(tmp_path: Path) -> None:
+def test_alpha_semantics_per_reader(tmp_path: Path) -> None:
     # one white pixel fully transparent, one white opaque, one black half transparent
     rgba = np.array([[[255, 255, 255, 0], [255, 255, 255, 255], [0, 0, 0, 128]]], dtype=np.uint8)
     path = tmp_path / "a.png"
@@ -319,8 +319,8 @@ def test_write_read_round_trip_and_files(tmp_path: Path) -> None:
     assert doc["lla_origin"] == [45.801324, 9.092891, -151.3]
     assert doc["generator"].startswith("pmk_nb ")
     assert doc["preview"] == "house-visualization.png" and doc["preview_px_per_m"] == pytest.approx(10.0)
-    for flavour in FLAVOURS:
-        back = read_map(files.yaml, flavour=flavour)
+    for reader in READERS:
+        back = read_map(files.yaml, reader=reader)
         np.testing.assert_array_equal(back.data, grid.data)
         assert back.resolution == grid.resolution and back.origin == grid.origin
         assert back.meta["storey"] == "F1"
@@ -335,7 +335,7 @@ def test_write_png_format(tmp_path: Path) -> None:
     assert files.image.name == "m.png" and files.preview is None
     with Image.open(files.image) as im:
         assert im.mode == "L"
-    np.testing.assert_array_equal(read_map(files.yaml, flavour="nav2_jazzy").data, data)
+    np.testing.assert_array_equal(read_map(files.yaml, reader="nav2_jazzy").data, data)
 
 
 @settings(max_examples=40, deadline=None)
@@ -356,8 +356,8 @@ def test_round_trip_random_grids(
     folder = tmp_path_factory.mktemp("rt")
     grid = OccupancyGrid(data=data, resolution=resolution, origin=(resolution * 3.3, -7.1, 0.0))
     files = write_map(grid, folder, "r", image_format=fmt)
-    for flavour in FLAVOURS:
-        back = read_map(files.yaml, flavour=flavour)
+    for reader in READERS:
+        back = read_map(files.yaml, reader=reader)
         np.testing.assert_array_equal(back.data, data)
         assert back.resolution == resolution
         assert back.origin == grid.origin

@@ -26,7 +26,7 @@ def test_defaults_match_the_original_app(tmp_path: Path) -> None:
     p = chair()
     p.validate()
     assert (p.port, p.ssh_port, p.remote_maps_dir) == (9090, 22, "~/ALMA_MAPS")
-    assert (p.reload_service, p.reload_flavour, p.pose_source) == ("auto", "auto", "odometry")
+    assert (p.reload_service, p.reload_kind, p.pose_source) == ("auto", "auto", "odometry")
     assert p.known_hosts_path == default_known_hosts() == tmp_path / "cfg" / "known_hosts"
     assert config_dir() == tmp_path / "cfg"
 
@@ -50,7 +50,7 @@ def test_defaults_match_the_original_app(tmp_path: Path) -> None:
         ("footprint_radius", -0.1),
         ("footprint_radius", float("nan")),
         ("auth", "token"),
-        ("reload_flavour", "ros3"),
+        ("reload_kind", "ros3"),
         ("reload_service", "change map"),
         ("host_key_check", "never"),
         ("ssh_user", "pmk user"),
@@ -107,14 +107,29 @@ def test_invalid_profile_is_not_saved() -> None:
 def test_passwords_never_written_to_disk() -> None:
     store = ProfileStore(secrets=False)
     store.save(chair("a"))
-    store.set_password("a", "s3cret-pw")
-    assert store.get_password("a") == "s3cret-pw"
+    store.set_password(chair("a"), "s3cret-pw")
+    assert store.get_password(chair("a")) == "s3cret-pw"
     store.save(chair("a", port=9092))
+    assert store.get_password(chair("a", port=9092)) == "s3cret-pw"  # same SSH account: rosbridge port is not part
     assert b"s3cret-pw" not in store.path.read_bytes()
     assert "session" in store.password_storage and not store.passwords_persist
-    assert ProfileStore(secrets=False).get_password("a") is None  # next session asks again
+    assert ProfileStore(secrets=False).get_password(chair("a")) is None  # next session asks again
     store.delete("a")
-    assert store.get_password("a") is None
+    assert store.get_password(chair("a")) is None
+
+
+@pytest.mark.parametrize("change", [{"host": "192.168.1.99"}, {"ssh_user": "root"}, {"ssh_port": 2222}])
+def test_a_password_stays_with_the_ssh_account_it_was_typed_for(change: dict[str, object]) -> None:
+    ring = DictKeyring()
+    for store in (ProfileStore(secrets=False), ProfileStore(secrets=ring)):
+        store.save(chair("a"))
+        store.set_password(chair("a"), "old-chair-pw")
+        moved = chair("a", **change)
+        store.save(moved)  # same profile name, another chair or account
+        assert store.get_password(moved) is None
+        assert store.get_password(chair("b")) == "old-chair-pw"  # another name, the same account
+        store.set_password(moved, "new-chair-pw")
+        assert (store.get_password(moved), store.get_password(chair("a"))) == ("new-chair-pw", "old-chair-pw")
 
 
 class DictKeyring:
@@ -137,9 +152,9 @@ def test_keyring_backend_persists_across_stores() -> None:
     ring = DictKeyring()
     store = ProfileStore(secrets=ring)
     store.save(chair("a"))
-    store.set_password("a", "pw1")
-    assert ring.data == {("pmk_nb", "a"): "pw1"}
-    assert ProfileStore(secrets=ring).get_password("a") == "pw1"
+    store.set_password(chair("a"), "pw1")
+    assert ring.data == {("pmk_nb", "pmk@192.168.1.20:22"): "pw1"}
+    assert ProfileStore(secrets=ring).get_password(chair("a")) == "pw1"
     assert store.passwords_persist and "keyring" in store.password_storage
     assert b"pw1" not in store.path.read_bytes()
 
@@ -153,8 +168,8 @@ def test_autodetect_without_keyring_package_falls_back_to_memory() -> None:
         assert "keyring package is not installed" in store.password_storage
     else:
         assert store.password_storage  # a described backend either way
-    store.set_password("x", "pw")
-    assert store.get_password("x") == "pw"
+    store.set_password(chair("x"), "pw")
+    assert store.get_password(chair("x")) == "pw"
 
 
 def test_hand_edited_bad_value_names_file_profile_and_field() -> None:

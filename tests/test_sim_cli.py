@@ -43,7 +43,7 @@ def start_cli(*args: str) -> tuple[subprocess.Popen[str], list[str]]:
 
 def test_cli_serves_and_stops_on_sigterm(tmp_path):
     yaml = write_test_map(room_grid(5.0, 4.0), tmp_path, "room")
-    proc, lines = start_cli("--sftp-port", "0", "--map", str(yaml), "--maps-dir", str(tmp_path), "--flavour", "ros2")
+    proc, lines = start_cli("--sftp-port", "0", "--map", str(yaml), "--maps-dir", str(tmp_path), "--ros", "ros2")
     try:
         text = "\n".join(lines)
         url = re.search(r"ws://127\.0\.0\.1:\d+", text)
@@ -190,3 +190,11 @@ def test_cli_bad_sftp_auth_options_are_clear_errors(tmp_path, extra, needle):
     )
     assert proc.returncode == 2, proc.stderr
     assert subst.get(needle, needle) in proc.stderr
+
+
+@pytest.mark.parametrize("option", ["--ros", "--flavour"])
+def test_cli_ros_version_option_and_its_old_name(option):
+    from pmk_nb.cli import build_parser
+
+    assert build_parser("sim").parse_args(["sim", option, "ros2"]).ros == "ros2"
+    assert build_parser("sim").parse_args(["sim"]).ros == "ros1"

@@ -1,4 +1,4 @@
-"""Map server hot reload (all three dialects), rosapi discovery and the ROS 1 / ROS 2 flavours."""
+"""Map server hot reload (all three dialects), rosapi discovery and the ROS 1 / ROS 2 message spellings."""
 
 from __future__ import annotations
 
@@ -58,11 +58,11 @@ def test_change_map_ros1(sim_factory, ros_factory, maps):
 
 @pytest.mark.parametrize(
     ("url", "code"),
-    [("small.yaml", 0), ("", 1), ("broken.yaml", 2), ("missing.yaml", 3), ("~/ALMA_MAPS/walled.yaml", 0)],
+    [("small.yaml", 0), ("", 1), ("broken.yaml", 2), ("missing.yaml", 3), ("/home/pmk/ALMA_MAPS/walled.yaml", 0), ("~/ALMA_MAPS/walled.yaml", 3)],
 )
 def test_load_map_nav2_codes(sim_factory, ros_factory, maps, url, code):
     folder, _, _ = maps
-    sim = sim_factory(flavour="ros2", maps_dir=folder, grid=room_grid(3.0, 3.0))
+    sim = sim_factory(ros="ros2", maps_dir=folder, grid=room_grid(3.0, 3.0))
     ros = ros_factory(sim)
     reply = call(ros, "/map_server/load_map", "nav2_msgs/srv/LoadMap", {"map_url": url})
     assert reply["result"] == code
@@ -131,8 +131,8 @@ def test_rosapi_discovery_ros1(sim_chair, ros_factory):
     assert now.secs > 1_600_000_000
 
 
-def test_flavour_ros2_names_and_stamps(sim_factory, ros_factory):
-    sim = sim_factory(flavour="ros2")
+def test_ros2_names_and_stamps(sim_factory, ros_factory):
+    sim = sim_factory(ros="ros2")
     ros = ros_factory(sim)
     assert ros.get_topic_type("/odom") == "nav_msgs/msg/Odometry"
     assert ros.get_service_type("/map_server/load_map") == "nav2_msgs/srv/LoadMap"

@@ -99,7 +99,7 @@ def test_odometry_keeps_flowing_during_a_big_reload(sim_factory, ros_factory, tm
 
 def test_static_map_and_late_subscriber_get_the_same_encoding(sim_factory, tmp_path):
     grid = big_floor(400)
-    sim = sim_factory(grid=grid, start_pose=(1.0, 1.0, 0.0), flavour="ros2")
+    sim = sim_factory(grid=grid, start_pose=(1.0, 1.0, 0.0), ros="ros2")
     with connect(sim.url, open_timeout=5, max_size=None) as ws:
         ws.send(json.dumps({"op": "call_service", "id": "s", "service": "/map_server/map"}))
         reply = recv_until(ws, lambda raw: '"service_response"' in raw[:40], 10.0)

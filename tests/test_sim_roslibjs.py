@@ -6,7 +6,7 @@ script ``tests/js/roslib_client.mjs`` connects, subscribes /odom, /scan and latc
 png-compressed, /odom with cbor which must fall back to JSON, and the relative name ``odom``),
 publishes /cmd_vel, calls rosapi, the reload service with bad paths, an unknown service, a
 service another roslibjs socket provides, and the ``ROSLIB.Ros`` helpers, then prints one JSON
-line. One run per flavour (module scope) feeds all the tests below.
+line. One run per ROS version (module scope) feeds all the tests below.
 
 Node >= 20 and npm are required; the npm packages are installed from ``tests/js/package-lock.json``
 (``npm ci``) on first use when ``tests/js/node_modules`` is missing or stale.
@@ -94,7 +94,7 @@ def node_client() -> Path:
 
 def run_client(script: Path, sim: SimChair, missing_map: Path) -> dict[str, Any]:
     cmd = [
-        shutil.which("node") or "node", str(script), "--url", sim.url, "--flavour", sim.flavour,
+        shutil.which("node") or "node", str(script), "--url", sim.url, "--flavour", sim.ros,
         "--seconds", str(WINDOW_S), "--missing-map", str(missing_map), "--timeout", "5",
     ]  # fmt: skip
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
@@ -107,15 +107,15 @@ def run_client(script: Path, sim: SimChair, missing_map: Path) -> dict[str, Any]
 
 @pytest.fixture(scope="module", params=["ros1", "ros2"])
 def run(request: pytest.FixtureRequest, node_client: Path, tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict]:
-    """One roslibjs session against a fresh chair of each flavour; the result plus the chair's view."""
-    flavour = request.param
-    tmp = tmp_path_factory.mktemp(f"roslibjs-{flavour}")
-    sim = SimChair(flavour=flavour, maps_dir=tmp / "ALMA_MAPS").start()
+    """One roslibjs session against a fresh chair of each ROS version; the result plus the chair's view."""
+    ros = request.param
+    tmp = tmp_path_factory.mktemp(f"roslibjs-{ros}")
+    sim = SimChair(ros=ros, maps_dir=tmp / "ALMA_MAPS").start()
     try:
         start = sim.pose
         result = run_client(node_client, sim, tmp / "no_such_map.yaml")
         yield {
-            "flavour": flavour,
+            "ros": ros,
             "result": result,
             "start_pose": start,
             "end_pose": sim.pose,
@@ -128,8 +128,8 @@ def run(request: pytest.FixtureRequest, node_client: Path, tmp_path_factory: pyt
         sim.stop()
 
 
-def _stamp_keys(flavour: str) -> list[str]:
-    return ["nsecs", "secs"] if flavour == "ros1" else ["nanosec", "sec"]
+def _stamp_keys(ros: str) -> list[str]:
+    return ["nsecs", "secs"] if ros == "ros1" else ["nanosec", "sec"]
 
 
 def test_roslib_version_and_connection(run: dict) -> None:
@@ -145,8 +145,8 @@ def test_odom_stream(run: dict) -> None:
     # wide bands: this checks the stream is the configured one, not timing (2 shared cores under load)
     assert odom["count"] >= 0.3 * run["sim_odom_rate"] * WINDOW_S, odom
     assert 0.4 * run["sim_odom_rate"] <= odom["rate"] <= 1.6 * run["sim_odom_rate"], odom
-    assert odom["stampKeys"] == _stamp_keys(run["flavour"])
-    assert ("seq" in odom["headerKeys"]) == (run["flavour"] == "ros1")  # Header.seq is ROS 1 only
+    assert odom["stampKeys"] == _stamp_keys(run["ros"])
+    assert ("seq" in odom["headerKeys"]) == (run["ros"] == "ros1")  # Header.seq is ROS 1 only
     assert (odom["frameId"], odom["childFrameId"]) == ("odom", "base_link")
     assert odom["extraAfterUnsubscribe"] == 0  # unsubscribe by roslibjs' id stops the stream
 
@@ -155,7 +155,7 @@ def test_scan_stream(run: dict) -> None:
     scan = run["result"]["scan"]
     assert scan["count"] >= 5, scan
     assert scan["ranges"] == run["sim_rays"] == 720
-    assert scan["stampKeys"] == _stamp_keys(run["flavour"])
+    assert scan["stampKeys"] == _stamp_keys(run["ros"])
     span = scan["angleMax"] - scan["angleMin"]
     assert span == pytest.approx(scan["angleIncrement"] * (scan["ranges"] - 1), rel=1e-9)
     assert span == pytest.approx(4.712, abs=0.02)  # 270 degrees
@@ -169,7 +169,7 @@ def test_latched_map_plain_and_png(run: dict) -> None:
         assert (m["width"], m["height"]) == (grid.width, grid.height), key
         assert m["resolution"] == pytest.approx(grid.resolution)
         assert m["dataLength"] == grid.width * grid.height
-        assert m["stampKeys"] == _stamp_keys(run["flavour"])
+        assert m["stampKeys"] == _stamp_keys(run["ros"])
         assert m["frameId"] == "map"
 
 
@@ -190,7 +190,7 @@ def test_rosapi_topics_by_absolute_name(run: dict) -> None:
     call = run["result"]["calls"]["rosapiTopics"]
     assert call["ok"], call
     topics = dict(zip(call["value"]["topics"], call["value"]["types"], strict=True))
-    odom_type = "nav_msgs/Odometry" if run["flavour"] == "ros1" else "nav_msgs/msg/Odometry"
+    odom_type = "nav_msgs/Odometry" if run["ros"] == "ros1" else "nav_msgs/msg/Odometry"
     assert topics["/odom"] == odom_type
     assert {"/scan", "/map", "/cmd_vel"} <= topics.keys()
 
@@ -199,7 +199,7 @@ def test_reload_with_missing_and_empty_path_fails_with_code(run: dict) -> None:
     calls = run["result"]["calls"]
     missing, empty = calls["reload"], calls["reloadEmpty"]
     assert missing["ok"] and empty["ok"], (missing, empty)  # the service ran; the failure is in the result
-    if run["flavour"] == "ros1":  # Noetic map_server: success or RESULT_UNDEFINED_FAILURE only
+    if run["ros"] == "ros1":  # Noetic map_server: success or RESULT_UNDEFINED_FAILURE only
         assert missing["service"] == "/change_map"
         assert missing["value"]["result"] == empty["value"]["result"] == 255
     else:  # Nav2: yaml missing -> INVALID_MAP_METADATA, empty url -> MAP_DOES_NOT_EXIST
@@ -231,7 +231,7 @@ def test_ros_helpers_with_relative_rosapi_names(run: dict) -> None:
     calls = run["result"]["calls"]
     for key in ("getTopics", "getServices", "topicType", "topicTypeUnknown", "topicsForType", "serviceType"):
         assert calls[key]["ok"], (key, calls[key])
-    odom_type = "nav_msgs/Odometry" if run["flavour"] == "ros1" else "nav_msgs/msg/Odometry"
+    odom_type = "nav_msgs/Odometry" if run["ros"] == "ros1" else "nav_msgs/msg/Odometry"
     assert "/odom" in calls["getTopics"]["value"]["topics"]
     reload = calls["reload"]["service"]
     assert {"/rosapi/topics", reload} <= set(calls["getServices"]["value"])

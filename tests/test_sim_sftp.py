@@ -12,19 +12,7 @@ import pytest
 import roslibpy
 
 from pmk_nb.grid import OccupancyGrid
-from tests.fixtures_sim import room_grid, wait_until, write_test_map
-
-
-def paramiko_sftp(sim, **auth) -> tuple[paramiko.SSHClient, paramiko.SFTPClient]:
-    client = paramiko.SSHClient()
-    key_type, key_b64 = sim.sftp_host_key.split()[:2]
-    host_key = paramiko.Ed25519Key(data=base64.b64decode(key_b64))
-    client.get_host_keys().add(f"[127.0.0.1]:{sim.sftp_port}", key_type, host_key)
-    client.set_missing_host_key_policy(paramiko.RejectPolicy())
-    client.connect(
-        "127.0.0.1", sim.sftp_port, username=sim.sftp_user, allow_agent=False, look_for_keys=False, timeout=10, **auth
-    )
-    return client, client.open_sftp()
+from tests.fixtures_sim import paramiko_sftp, room_grid, wait_until, write_test_map
 
 
 def test_fingerprint_matches_host_key(sim_factory):

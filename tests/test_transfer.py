@@ -17,6 +17,7 @@ from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.chair.transfer import check_ssh, upload, upload_map
 from pmk_nb.errors import TransferError
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.progress import Progress
 from pmk_nb.rosmap.files import MapFiles, write_map
 from tests.fixtures_ssh import SshdServer, profile_for
 
@@ -38,8 +39,8 @@ def test_key_auth_upload_creates_folder_and_trusts_on_first_use(
 ) -> None:
     files = make_map(tmp_path / "maps", "hall")
     profile = profile_for(sshd_server, tmp_path, remote_maps_dir)
-    seen: list[tuple[int, int]] = []
-    result = upload(files, profile, progress=lambda done, total: seen.append((done, total)))
+    seen: list[Progress] = []
+    result = upload(files, profile, progress=seen.append)
 
     expected_dir = sshd_server.home / remote_maps_dir.removeprefix("~/")
     assert result.remote_yaml == str(expected_dir / "hall.yaml")  # "~" expanded to the real home
@@ -52,10 +53,12 @@ def test_key_auth_upload_creates_folder_and_trusts_on_first_use(
     assert result.host_key.newly_trusted
     assert result.host_key.fingerprint == sshd_server.host_key_fingerprint
     assert (tmp_path / "known_hosts").read_text() == sshd_server.known_hosts_line()
-    # progress: monotonic, ends at the total
+    # progress: the upload step, monotonic, ends at the whole of both files
     total = files.image.stat().st_size + files.yaml.stat().st_size
-    assert seen[-1] == (total, total)
-    assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+    assert {p.step for p in seen} == {"upload"}
+    assert seen[-1] == Progress("upload", 1.0, f"{total // 1024} / {total // 1024} KiB")
+    fractions = [p.fraction for p in seen]
+    assert fractions == sorted(fractions) and len(seen) > 2
 
 
 def test_password_auth_upload_and_known_key_accepted(
@@ -151,8 +154,8 @@ def test_cut_connection_leaves_previous_files_intact(
     new = make_map(tmp_path / "new", "big", width=2000, height=2000, seed=5)  # 4 MB: many chunks
     killed = threading.Event()
 
-    def cut_after_first_chunk(done: int, total: int) -> None:
-        if done > 0 and not killed.is_set():
+    def cut_after_first_chunk(progress: Progress) -> None:
+        if progress.fraction and not killed.is_set():
             killed.set()
             for pid in sshd_server.session_pids():  # the real connection dies, like a Wi-Fi drop
                 os.kill(pid, signal.SIGKILL)

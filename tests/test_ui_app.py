@@ -16,10 +16,12 @@ from typing import Any
 import ipywidgets as w
 import pytest
 
+from pmk_nb.chair.link.registry import open_links
 from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.cli.voila import DASHBOARD_SOURCE, dashboard_notebook, voila_command
 from pmk_nb.errors import LibraryError
 from pmk_nb.library.folder import MapsFolder
+from pmk_nb.progress import Progress
 from pmk_nb.ui import build_app
 from pmk_nb.ui.app import SCREENS, Dashboard
 from pmk_nb.ui.context import STATE_FILE, AppContext, CurrentMap
@@ -130,23 +132,25 @@ def test_current_map_persists_and_notifies(tmp_path: Path, ctx: AppContext) -> N
 def test_password_lookup_prefers_session_then_store(ctx: AppContext) -> None:
     chair = ChairProfile(name="Real chair", host="10.0.0.2")
     assert ctx.ssh_password(chair) is None
-    ctx.profiles.set_password("Real chair", "stored")
+    ctx.profiles.set_password(chair, "stored")
     assert ctx.ssh_password(chair) == "stored"
-    ctx.remember_password("Real chair", "typed")
+    ctx.remember_password(chair, "typed")
     assert ctx.ssh_password(chair) == "typed"
 
 
-def test_progress_adapter_accepts_core_shapes() -> None:
+def test_progress_adapter_takes_progress_reports() -> None:
     bar = progress_bar("x")
-    update = progress_callback(bar)
-    update(50, 200)
+    label = w.HTML("")
+    update = progress_callback(bar, label)
+    update(Progress("download", 0.25, "1 of 4 MiB"))
     assert bar.value == pytest.approx(0.25) and bar.layout.visibility == "visible"
-    update("rasterising F1", 0.6)
-    assert bar.value == pytest.approx(0.6)
-    update(10, None)  # unknown total: still moves, stays below 1
-    assert 0 < bar.value < 1
-    update(float("nan"))
-    assert bar.value == 0.0
+    assert label.value == "Downloading 1 of 4 MiB…"
+    update(Progress("rasterise", 0.6, "storey <F1>"))
+    assert bar.value == pytest.approx(0.6) and label.value == "Rasterising storey &lt;F1&gt;…"
+    update(Progress("download", None))  # unknown total: still moves, stays below 1
+    first = bar.value
+    update(Progress("download", None))
+    assert 0 < first < bar.value < 1
 
 
 def test_repo_notebook_matches_kiosk_notebook() -> None:
@@ -200,7 +204,7 @@ def test_ssh_password_never_comes_from_the_environment(ctx: AppContext, monkeypa
     monkeypatch.setenv("PMK_SIM_PASSWORD", "s3cret")
     profile = ChairProfile(name="Simulated chair", host="127.0.0.1")
     assert ctx.ssh_password(profile) is None
-    ctx.remember_password(profile.name, "typed")
+    ctx.remember_password(profile, "typed")
     assert ctx.ssh_password(profile) == "typed"
 
 
@@ -271,7 +275,7 @@ def test_leaving_home_stops_the_preview(ctx: AppContext, sim_factory: Any, tmp_p
 
 @pytest.mark.slow
 def test_pmk_dashboard_serves_and_stops(tmp_path: Path) -> None:
-    from pmk_nb.cli.dashboard import free_port, wait_for_port
+    from pmk_nb.cli.procs import free_port, wait_for_port
 
     port = free_port()
     env = {**os.environ, "PMK_MAPS_DIR": str(tmp_path / "m"), "PMK_CONFIG_DIR": str(tmp_path / "c")}
@@ -352,4 +356,4 @@ def test_one_chair_connection_per_page(ctx: AppContext) -> None:
     ctx.profiles.save(ChairProfile(name="b", host="127.0.0.1", port=9102))
     second = ctx.link()
     assert second is not first and second.port == 9102
-    assert ctx._links == {("127.0.0.1", 9102): second}
+    assert first not in open_links() and second in open_links()  # the old chair's link was dropped

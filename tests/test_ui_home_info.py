@@ -6,35 +6,46 @@ import socket
 import time
 from pathlib import Path
 
+from pmk_nb.chair.link.state import LinkState
 from pmk_nb.chair.messages import Odometry, Pose2D
+from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.context import CurrentMap
 from pmk_nb.ui.home_checks import preview_image_path, preview_image_problem, probe_chair
-from pmk_nb.ui.home_info import STALE_AFTER, connection_state, info_texts
-
-
-class Link:
-    """The two things connection_state reads from a ChairLink: its state and the latest odometry."""
-
-    def __init__(self, odom: Odometry | None, state: str = "connected") -> None:
-        self.odom, self.state = odom, state
-
-    def latest_odom(self) -> Odometry | None:
-        return self.odom
+from pmk_nb.ui.home_info import (
+    STALE_AFTER,
+    STOPPED,
+    PreviewSnapshot,
+    connection_state,
+    info_texts,
+    unreachable_text,
+    warning_html,
+)
 
 
 def test_connection_states_and_no_data_age() -> None:
     now = time.monotonic()
     fresh = Odometry(1.0, 2.0, 0.0, 0.5, 0.0, None, now - 0.1)
     old = Odometry(1.0, 2.0, 0.0, 0.5, 0.0, None, now - (STALE_AFTER + 3.0))
-    assert connection_state(None, None, now, now) == ("off", None)
-    assert connection_state(Link(fresh), "refused", now, now) == ("unreachable", None)
-    assert connection_state(Link(None), None, now - 1.0, now) == ("connecting", None)
-    state, age = connection_state(Link(None), None, now - 60.0, now)
+    up = LinkState.CONNECTED
+    assert connection_state(STOPPED, now) == ("off", None)
+    assert connection_state(PreviewSnapshot(up, fresh, fresh, "refused", now), now) == ("unreachable", None)
+    assert connection_state(PreviewSnapshot(up, None, None, None, now - 1.0), now) == ("connecting", None)
+    state, age = connection_state(PreviewSnapshot(up, None, None, None, now - 60.0), now)
     assert state == "stale" and age is not None and age >= 59  # connected but nothing ever came
-    state, age = connection_state(Link(old), None, now - 60.0, now)
+    state, age = connection_state(PreviewSnapshot(up, old, old, None, now - 60.0), now)
     assert state == "stale" and age is not None and age > STALE_AFTER
-    assert connection_state(Link(fresh, "stale"), None, now, now)[0] == "stale"  # the link's own verdict
-    assert connection_state(Link(fresh), None, now, now)[0] == "live"
+    stale = PreviewSnapshot(LinkState.STALE, fresh, fresh, None, now)
+    assert connection_state(stale, now)[0] == "stale"  # the link's own verdict
+    assert connection_state(PreviewSnapshot(up, fresh, fresh, None, now), now)[0] == "live"
+
+
+def test_unreachable_text_names_the_address_once() -> None:
+    named = ChairLinkError("Cannot connect to the chair at 10.0.0.5:9090: refused", host="10.0.0.5", port=9090)
+    assert unreachable_text(named, "10.0.0.5", 9090) == f"The chair is unreachable: {named}"
+    text = unreachable_text(OSError("network is down"), "10.0.0.5", 9090)
+    assert text == "The chair at 10.0.0.5:9090 is unreachable: network is down"
+    assert unreachable_text(ChairLinkError("rosbridge hung up"), "h", 1).startswith("The chair at h:1 ")
+    assert "&lt;b&gt;" in warning_html("<b>") and warning_html("") == ""
 
 
 def test_info_texts_name_the_position_source_and_the_no_data_state() -> None:

@@ -101,6 +101,20 @@ def test_bad_resolution_blocks_convert(screen: MapsScreen, ctx: AppContext) -> N
     assert not list(ctx.maps.root.glob("*.yaml"))
 
 
+def test_too_fine_resolution_suggests_one_that_fits(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.import_bytes("house.gml", two_rooms())
+    screen.resolution.value = "0.0001"  # a valid number, but billions of cells for a house
+    thread = screen.convert()
+    assert thread is not None
+    thread.join(60)
+    suggestion = screen.resolution_error.value
+    assert "Too fine" in suggestion
+    suggested = float(suggestion.split("use ")[1].split(" m")[0])
+    assert 0.0001 < suggested <= 0.05  # the finest resolution that fits the budget, not any
+    assert screen.convert_progress.bar_style == "danger" and errors(ctx)
+    assert not list(ctx.maps.root.glob("*.yaml"))
+
+
 def test_convert_requires_a_selection(screen: MapsScreen, ctx: AppContext) -> None:
     screen.convert_button.click()
     assert any("Select a map" in e for e in errors(ctx))
@@ -204,8 +218,8 @@ def test_send_to_a_closed_port_reports_failure(screen: MapsScreen, ctx: AppConte
     screen.convert_button.click()
     wait_until(lambda: send_buttons(screen), what="conversion")
     port = _closed_port()
-    ctx.profiles.save(ChairProfile(name="gone", host="127.0.0.1", port=port, ssh_port=port, ssh_user="pmk"))
-    ctx.profiles.set_password("gone", "x")
+    ctx.profiles.save(gone := ChairProfile(name="gone", host="127.0.0.1", port=port, ssh_port=port, ssh_user="pmk"))
+    ctx.profiles.set_password(gone, "x")
     send_buttons(screen)[0].click()
     wait_until(lambda: errors(ctx), timeout=60, what="the failure message")
     assert "pmk-field-error" in screen.status.value and ctx.current_map is None
@@ -316,13 +330,15 @@ def test_selecting_an_unconverted_two_storey_map_shows_its_storeys(screen: MapsS
 def test_a_changed_file_has_its_storeys_read_again(screen: MapsScreen, ctx: AppContext) -> None:
     screen.import_bytes("house.gml", two_rooms(("A", "B", "C")))
     wait_until(lambda: "C" in screen.storeys_panel.table.value, what="storeys of the imported map")
+    reads = ctx.maps.storey_reads
     (ctx.maps.root / "house.gml").write_bytes(two_rooms(("A",), width=9.0))  # changed behind our back
-    screen.refresh()
-    entry = screen.entries["house"]
-    thread = screen.storeys_panel.show(entry)
-    assert thread is not None  # the cached storeys are stale: read again
-    thread.join(10)
-    assert "<td>A</td>" in screen.storeys_panel.table.value and "<td>B</td>" not in screen.storeys_panel.table.value
+    screen.refresh()  # shows the selected map again: its cached storeys are stale, so they are read again
+    thread = screen.storeys_panel.show(screen.entries["house"])  # None if refresh's read already finished
+    if thread is not None:
+        thread.join(10)
+    wait_until(lambda: "<td>B</td>" not in screen.storeys_panel.table.value, what="the new storeys")
+    assert "<td>A</td>" in screen.storeys_panel.table.value
+    assert ctx.maps.storey_reads > reads  # read from the changed file, not served from the stale cache
     assert screen.storeys_panel.choice_box.layout.display == "none"  # one storey: nothing to choose
 
 

@@ -10,16 +10,18 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
-import yaml
 from PIL import Image
 
-from pmk_nb.chair.transfer import HostKeyInfo, upload
+from pmk_nb.chair import reload
+from pmk_nb.chair.transfer import HostKeyInfo, UploadResult, image_beside, upload
 from pmk_nb.errors import DeployError, PmkError
+from pmk_nb.progress import ProgressCallback, emit, sub_range
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile
@@ -28,22 +30,18 @@ if TYPE_CHECKING:
 STEPS = ("upload", "detect", "reload", "confirm")
 # Share of the overall progress bar each step covers (upload dominates on real links).
 STEP_SPANS = {"upload": (0.0, 0.70), "detect": (0.70, 0.75), "reload": (0.75, 0.90), "confirm": (0.90, 1.0)}
-StepProgress = Callable[[str, float, str], None]  # (step, overall fraction 0..1, message)
 DATA_CHECK_MAX_CELLS = 1_000_000
 
 
-class DeployStepError(DeployError):
-    """A deploy step failed; ``step`` is one of STEPS, the cause is chained."""
-
-    def __init__(self, step: str, message: str) -> None:
-        super().__init__(f"{step}: {message}")
-        self.step = step
-
-
 class Link(Protocol):
-    """What deploy needs from ``pmk_nb.chair.link.client.ChairLink``."""
+    """What deploy needs from ``pmk_nb.chair.link.client.ChairLink``.
 
-    def detect_reload_service(self) -> Any: ...
+    ``discovery`` answers ``services()`` and ``service_type(name)`` (rosapi); ``fetch_map``,
+    ``is_connected`` and ``connect`` are used when the link has them.
+    """
+
+    discovery: Any
+
     def reload_map(self, remote_yaml_path: str, *args: Any, **kwargs: Any) -> Any: ...
     def map_info(self, timeout: float = ...) -> Any: ...
 
@@ -75,7 +73,7 @@ class ExpectedMap:
 @dataclass
 class DeployReport:
     remote_yaml: str
-    service: Any  # ReloadService(name, flavour)
+    service: Any  # ReloadService(name, kind)
     map_info: Any  # MapInfo the chair now publishes
     expected: ExpectedMap
     host_key: HostKeyInfo
@@ -88,61 +86,123 @@ class DeployReport:
         return sum(self.timings.values())
 
 
+def _cause_text(err: BaseException) -> str:
+    """What went wrong, without a keeps-its-map sentence (the DeployError states that from its field)."""
+    if isinstance(err, reload.MapReloadError):
+        return err.detail
+    if isinstance(err, PmkError):
+        return str(err)
+    return f"{type(err).__name__}: {err}"
+
+
+def step_failed(step: str, cause: BaseException | str, *, keeps_old_map: bool | None, then: str = "") -> DeployError:
+    """The DeployError of ``step``: the cause, what already happened (``then``), whether the old map stays."""
+    text = cause if isinstance(cause, str) else _cause_text(cause)
+    parts = [text, then, reload.KEEPS_OLD_MAP if keeps_old_map else ""]
+    return DeployError(" ".join(p for p in parts if p), step=step, keeps_old_map=keeps_old_map)
+
+
 def expected_map(files: MapFiles) -> ExpectedMap:
-    """Read what the chair should publish from our YAML and the image header (no full decode)."""
+    """Read what the chair should publish from our YAML and the image header (no full decode).
+
+    The image is the one ``upload`` will send (beside the YAML), so a YAML that names another file
+    fails here, before anything is sent.
+    """
     try:
-        doc = yaml.safe_load(Path(files.yaml).read_text(encoding="utf-8"))
-        ref = Path(str(doc["image"])).expanduser()
-        image = ref if ref.is_absolute() else Path(files.yaml).parent / ref
+        doc, image = image_beside(Path(files.yaml))
         with Image.open(image) as img:
             width, height = img.size
-        origin = doc.get("origin", [0.0, 0.0, 0.0])
-        return ExpectedMap(int(width), int(height), float(doc["resolution"]), (float(origin[0]), float(origin[1])))
-    except (OSError, KeyError, TypeError, ValueError, IndexError, yaml.YAMLError) as err:
-        raise DeployStepError("upload", f"{files.yaml}: cannot read the map to send ({err})") from err
+    except PmkError as err:
+        raise step_failed("upload", err, keeps_old_map=True) from err
+    except (OSError, ValueError) as err:  # Pillow: unreadable image
+        raise step_failed("upload", f"{files.yaml}: cannot read its image ({err})", keeps_old_map=True) from err
+    return ExpectedMap(int(width), int(height), doc.resolution, (doc.origin[0], doc.origin[1]))
 
 
-def _resolve_service(link: Link, profile: ChairProfile) -> Any:
-    """The service to call: the profile's (flavour from the profile, rosapi or its name) or detected."""
-    from pmk_nb.chair import reload as reload_mod
+class _Steps:
+    """One deploy run: progress per step (mapped onto STEP_SPANS) and each step's duration."""
 
-    if profile.reload_service != "auto":
-        name = profile.reload_service if profile.reload_service.startswith("/") else "/" + profile.reload_service
-        flavour = profile.reload_flavour if profile.reload_flavour != "auto" else None
-        discovery = getattr(link, "discovery", None)
-        if flavour is None and discovery is not None:
-            if name not in discovery.services():
-                raise DeployStepError(
-                    "detect", f"the chair has no service {name} (reload_service in the chair profile)"
-                )
-            flavour = reload_mod.flavour_from_type(discovery.service_type(name))
-        flavour = flavour or reload_mod.flavour_from_name(name)
-        if flavour is None:
-            raise DeployStepError(
-                "detect", f"cannot tell the kind of {name}: set reload_flavour (ros1, nav2 or mapupdate)"
+    def __init__(self, progress: ProgressCallback | None) -> None:
+        self.progress = progress
+        self.timings: dict[str, float] = {}
+
+    def say(self, step: str, within: float, message: str) -> None:
+        lo, hi = STEP_SPANS[step]
+        emit(self.progress, step, lo + (hi - lo) * min(max(within, 0.0), 1.0), message)
+
+    def within(self, step: str) -> ProgressCallback | None:
+        """A callback for a sub-operation of ``step`` reporting 0..1."""
+        return sub_range(self.progress, *STEP_SPANS[step])
+
+    @contextmanager
+    def timed(self, step: str) -> Iterator[None]:
+        start = time.monotonic()
+        yield
+        self.timings[step] = time.monotonic() - start
+
+
+def upload_step(
+    run: _Steps, files: MapFiles, profile: ChairProfile, password: str | None, timeout: float
+) -> UploadResult:
+    """Copy the YAML and image into the chair's maps folder; nothing is reloaded yet."""
+    with run.timed("upload"):
+        run.say("upload", 0.0, f"connecting to {profile.ssh_user}@{profile.host}:{profile.ssh_port}")
+        try:
+            sent = upload(files, profile, password=password, timeout=timeout, progress=run.within("upload"))
+        except PmkError as err:
+            raise step_failed("upload", err, keeps_old_map=True) from err
+    run.say("upload", 1.0, f"sent {sent.remote_yaml}")
+    return sent
+
+
+def detect_step(run: _Steps, link: Link | None, profile: ChairProfile, sent: UploadResult, timeout: float) -> Any:
+    """Connect to rosbridge and pick the reload service (the profile's, else the detected one).
+
+    Returns ``(link, service, map_info before the reload or None)``.
+    """
+    with run.timed("detect"):
+        run.say("detect", 0.0, f"connecting to rosbridge at {profile.host}:{profile.port}")
+        try:
+            if link is None:
+                link = link_for(profile)
+            if not getattr(link, "is_connected", True):
+                link.connect(timeout=timeout)  # type: ignore[attr-defined]
+            discovery = link.discovery
+            service = reload.resolve(
+                discovery.services(),
+                discovery.service_type,
+                service=None if profile.reload_service == "auto" else profile.reload_service,
+                kind=None if profile.reload_kind == "auto" else profile.reload_kind,
+                where=f"the chair at {profile.host}:{profile.port}",
             )
-        return reload_mod.ReloadService(name, flavour)
-    detected = link.detect_reload_service()
-    if detected is None:
-        raise DeployStepError(
-            "detect",
-            "the chair offers no map reload service (/change_map, /map_server/load_map or /map_update); "
-            "start a map server that has one, or set reload_service in the chair profile. "
-            "The chair keeps its previous map.",
-        )
-    if profile.reload_flavour not in ("auto", detected.flavour):
-        raise DeployStepError(
-            "detect",
-            f"the profile asks for a {profile.reload_flavour} reload but the chair offers {detected.name} "
-            f"({detected.flavour}); set reload_flavour to auto or name the service in reload_service",
-        )
-    return detected
+            before = _safe_map_info(link)
+        except PmkError as err:
+            raise step_failed(
+                "detect", err, keeps_old_map=True, then=f"The map was uploaded to {sent.remote_yaml}."
+            ) from err
+    run.say("detect", 1.0, f"reload service {service.name} ({service.kind})")
+    return link, service, before
 
 
-def _confirm(link: Link, expected: ExpectedMap, before: Any, files: MapFiles, timeout: float) -> tuple[Any, str]:
-    """Poll map_info until it matches; when the old map had the same metadata, compare the cells."""
-    deadline = time.monotonic() + timeout
-    info: Any = None
+def reload_step(run: _Steps, link: Link, service: Any, remote_yaml: str, timeout: float) -> None:
+    """Ask the map server to load the uploaded YAML.
+
+    A refusal means the chair keeps its old map; a lost answer (timeout, link down) means nobody
+    can tell, so ``keeps_old_map`` is None then.
+    """
+    with run.timed("reload"):
+        run.say("reload", 0.0, f"asking {service.name} to load {remote_yaml}")
+        try:
+            link.reload_map(remote_yaml, kind=service.kind, service=service.name, timeout=timeout)
+        except reload.MapReloadError as err:
+            raise step_failed("reload", err, keeps_old_map=err.keeps_old_map) from err
+        except PmkError as err:
+            raise step_failed("reload", err, keeps_old_map=None) from err
+    run.say("reload", 1.0, "map server answered: loaded")
+
+
+def _wait_for_map(link: Link, expected: ExpectedMap, deadline: float, timeout: float) -> Any:
+    """Poll map_info until it matches ``expected`` or the deadline passes."""
     while True:
         remaining = deadline - time.monotonic()
         try:
@@ -150,15 +210,22 @@ def _confirm(link: Link, expected: ExpectedMap, before: Any, files: MapFiles, ti
         except PmkError:
             info = None
         if info is not None and expected.matches(info):
-            break
+            return info
         if time.monotonic() >= deadline:
             got = f"{info.width}x{info.height} at {info.resolution:g} m" if info is not None else "no map"
-            raise DeployStepError(
+            raise step_failed(
                 "confirm",
                 f"the chair still publishes {got} after {timeout:g} s, expected {expected.describe()}; "
                 "the reload may not have taken effect (is the map server the one that was reloaded?)",
+                keeps_old_map=None,
             )
         time.sleep(0.2)
+
+
+def _confirm(link: Link, expected: ExpectedMap, before: Any, files: MapFiles, timeout: float) -> tuple[Any, str]:
+    """Wait for the new metadata; when the old map had the same metadata, compare the cells."""
+    deadline = time.monotonic() + timeout
+    info = _wait_for_map(link, expected, deadline, timeout)
     if before is None or not expected.matches(before):
         return info, "metadata"
     if expected.width * expected.height > DATA_CHECK_MAX_CELLS or not hasattr(link, "fetch_map"):
@@ -168,10 +235,23 @@ def _confirm(link: Link, expected: ExpectedMap, before: Any, files: MapFiles, ti
     ours = read_map(files.yaml)
     theirs = link.fetch_map(timeout=max(2.0, deadline - time.monotonic()))
     if theirs.data.shape != ours.data.shape or not (theirs.data == ours.data).all():
-        raise DeployStepError(
-            "confirm", "the chair publishes a map of the same size but different cells: the reload did not take"
+        raise step_failed(
+            "confirm",
+            "the chair publishes a map of the same size but different cells: the reload did not take",
+            keeps_old_map=None,
         )
     return info, "cells"
+
+
+def confirm_step(
+    run: _Steps, link: Link, expected: ExpectedMap, before: Any, files: MapFiles, timeout: float
+) -> tuple[Any, str]:
+    """Check the chair publishes the map we sent. Returns ``(map_info, how it was confirmed)``."""
+    with run.timed("confirm"):
+        run.say("confirm", 0.0, f"waiting for the chair to publish {expected.describe()}")
+        info, how = _confirm(link, expected, before, files, timeout)
+    run.say("confirm", 1.0, f"chair publishes {expected.describe()}")
+    return info, how
 
 
 def deploy(
@@ -180,7 +260,7 @@ def deploy(
     *,
     password: str | None = None,
     link: Link | None = None,
-    progress: StepProgress | None = None,
+    progress: ProgressCallback | None = None,
     timeout: float = 15.0,
     reload_timeout: float = 60.0,
     confirm_timeout: float = 10.0,
@@ -190,78 +270,28 @@ def deploy(
     Args:
         link: a ChairLink (connected here if it is not); default the kernel's shared link for the
             profile (``get_link``).
-        progress: called as ``(step, overall_fraction, message)``; steps are STEPS in order and the
-            fraction never goes back (STEP_SPANS gives each step's share).
+        progress: gets a :class:`~pmk_nb.progress.Progress` per event; ``step`` is one of STEPS in
+            order and ``fraction`` (of the whole deploy, STEP_SPANS gives each step's share) never
+            goes back. During the upload the fraction follows the bytes sent.
         timeout: SSH and rosbridge connect/answer timeout in seconds.
         reload_timeout: how long the map server may take to load (LoadMap replies carry the whole map).
         confirm_timeout: how long to wait for the chair to publish the new map.
 
     Raises:
-        DeployStepError: ``.step`` says which step failed; the original error is chained.
+        DeployError: ``step`` says which step failed, ``keeps_old_map`` whether the chair surely
+            still runs its previous map; the original error is chained.
     """
-    report_to = progress or (lambda step, fraction, message: None)
-
-    def say(step: str, within: float, message: str) -> None:
-        lo, hi = STEP_SPANS[step]
-        report_to(step, lo + (hi - lo) * min(max(within, 0.0), 1.0), message)
-
-    timings: dict[str, float] = {}
+    run = _Steps(progress)
     expected = expected_map(files)
-    start = time.monotonic()
-    say("upload", 0.0, f"connecting to {profile.ssh_user}@{profile.host}:{profile.ssh_port}")
-    try:
-        sent = upload(
-            files,
-            profile,
-            password=password,
-            timeout=timeout,
-            progress=lambda done, total: say("upload", done / max(total, 1), f"{done // 1024} / {total // 1024} KiB"),
-        )
-    except PmkError as err:
-        raise DeployStepError("upload", str(err)) from err
-    timings["upload"] = time.monotonic() - start
+    sent = upload_step(run, files, profile, password, timeout)
     notes = []
     if sent.host_key.newly_trusted:
         notes.append(f"trusted the chair's SSH host key {sent.host_key.fingerprint} (first connection)")
-    say("upload", 1.0, f"sent {sent.remote_yaml}")
-
-    start = time.monotonic()
-    say("detect", 0.0, f"connecting to rosbridge at {profile.host}:{profile.port}")
-    try:
-        if link is None:
-            link = link_for(profile)
-        if not getattr(link, "is_connected", True):
-            link.connect(timeout=timeout)  # type: ignore[attr-defined]
-        service = _resolve_service(link, profile)
-        before = _safe_map_info(link)
-    except DeployStepError:
-        raise
-    except PmkError as err:
-        raise DeployStepError(
-            "detect", f"{err}. The map was uploaded to {sent.remote_yaml}; the chair keeps its previous map."
-        ) from err
-    timings["detect"] = time.monotonic() - start
-    say("detect", 1.0, f"reload service {service.name} ({service.flavour})")
-
-    start = time.monotonic()
-    say("reload", 0.0, f"asking {service.name} to load {sent.remote_yaml}")
-    try:
-        link.reload_map(sent.remote_yaml, flavour=service.flavour, service=service.name, timeout=reload_timeout)
-    except PmkError as err:
-        message = str(err)
-        if "previous map" not in message:
-            message += ". The chair keeps its previous map."
-        raise DeployStepError("reload", message) from err
-    timings["reload"] = time.monotonic() - start
-    say("reload", 1.0, "map server answered: loaded")
-
-    start = time.monotonic()
-    say("confirm", 0.0, f"waiting for the chair to publish {expected.describe()}")
-    info, how = _confirm(link, expected, before, files, confirm_timeout)
-    timings["confirm"] = time.monotonic() - start
+    link, service, before = detect_step(run, link, profile, sent, timeout)
+    reload_step(run, link, service, sent.remote_yaml, reload_timeout)
+    info, how = confirm_step(run, link, expected, before, files, confirm_timeout)
     notes.append(f"confirmed by {how}")
-    say("confirm", 1.0, f"chair publishes {expected.describe()}")
-    return DeployReport(sent.remote_yaml, service, info, expected, sent.host_key, sent.bytes_sent, timings, notes)
+    return DeployReport(sent.remote_yaml, service, info, expected, sent.host_key, sent.bytes_sent, run.timings, notes)
 
 
 def link_for(profile: ChairProfile) -> Any:

@@ -3,33 +3,32 @@
 The original app kept one set of values in Android shared preferences (IP, port, topics, user,
 password) and pre-filled the Settings screen with the last used ones. Here several named profiles
 live in ``profiles.json`` under the user config dir (``PMK_CONFIG_DIR`` overrides it); the last saved
-one is the default. Passwords never reach that file: they go to the system keyring when one works,
-otherwise they live in memory for this session only and the UI asks again next time.
+one is the default. Passwords never reach that file: :mod:`pmk_nb.chair.secrets` keeps them (the
+system keyring when one works, otherwise memory for this session only), bound to the SSH account.
 """
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import json
 import os
 import re
 import shutil
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 import platformdirs
 
+from pmk_nb.chair.secrets import PasswordCache, SecretBackend, SshAccount
 from pmk_nb.errors import SettingsError
+from pmk_nb.fileio import atomic_write
 
 POSE_SOURCES = ("odometry", "pose_topic", "tf")
 AUTH_METHODS = ("password", "key")
-RELOAD_FLAVOURS = ("auto", "ros1", "nav2", "mapupdate")
+RELOAD_KINDS = ("auto", "ros1", "nav2", "mapupdate")
 HOST_KEY_CHECKS = ("tofu", "strict")
-KEYRING_SERVICE = "pmk_nb"
 PROFILES_FILE = "profiles.json"
 FORMAT_VERSION = 1
 
@@ -65,7 +64,7 @@ class ChairProfile:
     key_file: str | None = None
     remote_maps_dir: str = "~/ALMA_MAPS"
     reload_service: str = "auto"
-    reload_flavour: str = "auto"
+    reload_kind: str = "auto"
     footprint_radius: float = 0.35
     known_hosts: str | None = None
     host_key_check: str = "tofu"
@@ -109,8 +108,8 @@ class ChairProfile:
             _bad("remote_maps_dir", self.remote_maps_dir, "give a folder such as ~/ALMA_MAPS")
         if self.reload_service != "auto" and not _SERVICE_RE.match(self.reload_service):
             _bad("reload_service", self.reload_service, "use 'auto' or a ROS service name like /change_map")
-        if self.reload_flavour not in RELOAD_FLAVOURS:
-            _bad("reload_flavour", self.reload_flavour, f"use one of {', '.join(RELOAD_FLAVOURS)}")
+        if self.reload_kind not in RELOAD_KINDS:
+            _bad("reload_kind", self.reload_kind, f"use one of {', '.join(RELOAD_KINDS)}")
         radius = self.footprint_radius
         if isinstance(radius, bool) or not isinstance(radius, int | float) or not 0 <= radius < 10:
             _bad("footprint_radius", radius, "give the chair radius in metres (0 to 10)")
@@ -125,6 +124,8 @@ class ChairProfile:
         """Build and validate; unknown keys are an error (a typo would otherwise be silently ignored)."""
         if not isinstance(raw, dict):
             raise SettingsError(f"a profile must be a mapping of field names to values, got {raw!r}")
+        if "reload_flavour" in raw:  # the name before 0.2: saved profiles keep working
+            raw = {**{k: v for k, v in raw.items() if k != "reload_flavour"}, "reload_kind": raw["reload_flavour"]}
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(raw) - names)
         if unknown:
@@ -138,7 +139,7 @@ class ChairProfile:
 
 
 def _bad(field: str, value: object, hint: str) -> None:
-    raise SettingsError(f"{field}: invalid value {value!r}: {hint}")
+    raise SettingsError(f"{field}: invalid value {value!r}: {hint}", field=field)
 
 
 def _check_host(host: object) -> None:
@@ -164,34 +165,8 @@ def _check_topic(field: str, topic: object) -> None:
         _bad(field, topic, "a ROS topic name has no spaces, e.g. /scan")
 
 
-class SecretBackend(Protocol):
-    """The part of the ``keyring`` module API we use."""
-
-    def get_password(self, service: str, username: str) -> str | None: ...
-    def set_password(self, service: str, username: str, password: str) -> None: ...
-    def delete_password(self, service: str, username: str) -> None: ...
-
-
-def detect_keyring() -> tuple[SecretBackend | None, str]:
-    """The keyring module when it is installed and has a real backend; else (None, why not)."""
-    try:
-        import keyring  # type: ignore[import-not-found]
-        import keyring.backends.fail  # type: ignore[import-not-found]
-    except Exception:
-        return None, "the keyring package is not installed"
-    try:
-        backend = keyring.get_keyring()
-    except Exception as err:
-        return None, f"keyring has no usable backend ({err})"
-    if isinstance(backend, keyring.backends.fail.Keyring) or getattr(backend, "priority", 1) <= 0:
-        return None, "keyring has no usable backend"
-    if type(backend).__name__ == "ChainerBackend" and not getattr(backend, "backends", None):
-        return None, "keyring has no usable backend"
-    return keyring, f"system keyring ({type(backend).__name__})"
-
-
 class ProfileStore:
-    """Named chair profiles in one JSON file, plus the session's passwords.
+    """Named chair profiles in one JSON file, plus the session's password cache (:attr:`passwords`).
 
     Args:
         path: the profiles file; default ``config_dir()/profiles.json``.
@@ -201,16 +176,8 @@ class ProfileStore:
 
     def __init__(self, path: Path | str | None = None, *, secrets: SecretBackend | bool | None = None) -> None:
         self.path = Path(path) if path is not None else config_dir() / PROFILES_FILE
-        self._session_passwords: dict[str, str] = {}
+        self.passwords = PasswordCache(secrets)
         self.backup_of_corrupt: Path | None = None
-        if secrets is False:
-            self._secrets: SecretBackend | None = None
-            self._secrets_where = "memory (this session only: asked again next session)"
-        elif secrets is None or secrets is True:
-            self._secrets, why = detect_keyring()
-            self._secrets_where = why if self._secrets else f"memory (this session only: {why})"
-        else:
-            self._secrets, self._secrets_where = secrets, f"keyring ({type(secrets).__name__})"
 
     # -- file --------------------------------------------------------------------------------------
     def _read(self) -> dict[str, Any]:
@@ -242,20 +209,7 @@ class ProfileStore:
         return raw
 
     def _write(self, data: dict[str, Any]) -> None:
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.name}.", suffix=".tmp")
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                json.dump(data, fh, indent=2)
-                fh.write("\n")
-                fh.flush()
-                os.fsync(fh.fileno())
-            os.chmod(tmp, 0o600)
-            os.replace(tmp, self.path)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
+        atomic_write(self.path, json.dumps(data, indent=2) + "\n", mode=0o600, mkdir=True)
 
     def _read_for_update(self) -> dict[str, Any]:
         """Current content; a broken file is moved aside to ``.bak`` (never silently overwritten)."""
@@ -308,14 +262,14 @@ class ProfileStore:
         self._write(data)
 
     def delete(self, name: str) -> None:
+        """Remove the profile and forget the password of its SSH account."""
+        profile = self.get(name)
         data = self._read()
-        if name not in [p["name"] for p in data["profiles"]]:
-            raise SettingsError(f"no chair profile named {name!r} in {self.path}")
         data["profiles"] = [p for p in data["profiles"] if p["name"] != name]
         if data.get("last_used") == name:
             data["last_used"] = data["profiles"][-1]["name"] if data["profiles"] else None
         self._write(data)
-        self.forget_password(name)
+        self.forget_password(profile)
 
     def last_used(self) -> ChairProfile | None:
         data = self._read()
@@ -329,34 +283,19 @@ class ProfileStore:
     @property
     def password_storage(self) -> str:
         """Where passwords go, in words for the Settings screen."""
-        return self._secrets_where
+        return self.passwords.where
 
     @property
     def passwords_persist(self) -> bool:
-        return self._secrets is not None
+        return self.passwords.persists
 
-    def set_password(self, name: str, password: str) -> None:
-        if self._secrets is not None:
-            try:
-                self._secrets.set_password(KEYRING_SERVICE, name, password)
-                return
-            except Exception as err:
-                self._secrets_where = f"memory (this session only: keyring failed: {err})"
-                self._secrets = None
-        self._session_passwords[name] = password
+    def set_password(self, profile: ChairProfile, password: str) -> None:
+        """Keep the password of ``profile``'s SSH account (keyring when it works, else this session)."""
+        self.passwords.store(SshAccount.of(profile), password)
 
-    def get_password(self, name: str) -> str | None:
-        if name in self._session_passwords:
-            return self._session_passwords[name]
-        if self._secrets is not None:
-            try:
-                return self._secrets.get_password(KEYRING_SERVICE, name)
-            except Exception:
-                return None
-        return None
+    def get_password(self, profile: ChairProfile) -> str | None:
+        """The password entered for ``profile``'s SSH account (user, host, port), or None."""
+        return self.passwords.lookup(SshAccount.of(profile))
 
-    def forget_password(self, name: str) -> None:
-        self._session_passwords.pop(name, None)
-        if self._secrets is not None:
-            with contextlib.suppress(Exception):
-                self._secrets.delete_password(KEYRING_SERVICE, name)
+    def forget_password(self, profile: ChairProfile) -> None:
+        self.passwords.forget(SshAccount.of(profile))

@@ -15,11 +15,12 @@ from typing import Any, Literal
 from pmk_nb.chair.messages import normalise_type
 from pmk_nb.errors import ChairLinkError
 
-Flavour = Literal["ros1", "nav2", "mapupdate"]
-FLAVOURS: tuple[str, ...] = ("ros1", "nav2", "mapupdate")
+# Which reload protocol a service speaks (the simulator's ROS 1/ROS 2 choice is its RosVersion).
+ReloadKind = Literal["ros1", "nav2", "mapupdate"]
+RELOAD_KINDS: tuple[str, ...] = ("ros1", "nav2", "mapupdate")
 
 # Preferred names, in the order the detection tries them.
-PREFERRED: tuple[tuple[str, Flavour], ...] = (
+PREFERRED: tuple[tuple[str, ReloadKind], ...] = (
     ("/change_map", "ros1"),
     ("/map_server/load_map", "nav2"),
     ("/map_update", "mapupdate"),
@@ -44,12 +45,36 @@ KEEPS_OLD_MAP = "The chair keeps its previous map."
 
 
 class MapReloadError(ChairLinkError):
-    """A reload service answered "failed"; ``code`` is its result code (None for MapUpdate/transport)."""
+    """A map reload did not happen.
 
-    def __init__(self, message: str, *, code: int | None = None, service: str = "") -> None:
-        super().__init__(message)
+    Attributes:
+        code: the LoadMap result code (None for MapUpdate, a missing service or a transport failure).
+        service: the service that was (or would have been) called.
+        keeps_old_map: True when the chair certainly still runs its previous map (the service
+            answered "failed", or none was called); None when the answer was lost. The text says so.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        code: int | None = None,
+        service: str = "",
+        keeps_old_map: bool | None = None,
+        hint: str = "",
+    ) -> None:
+        super().__init__(message, hint=hint)
         self.code = code
         self.service = service
+        self.keeps_old_map = keeps_old_map
+
+    @property
+    def detail(self) -> str:
+        """The text without the keeps-its-map sentence (callers that state it themselves use this)."""
+        return super().__str__()
+
+    def __str__(self) -> str:
+        return f"{self.detail} {KEEPS_OLD_MAP}" if self.keeps_old_map else self.detail
 
 
 @dataclass(frozen=True)
@@ -57,15 +82,15 @@ class ReloadService:
     """A map reload service on the chair and the protocol it speaks."""
 
     name: str
-    flavour: Flavour
+    kind: ReloadKind
 
     @property
     def service_type(self) -> str:
-        return SERVICE_TYPES[self.flavour]
+        return SERVICE_TYPES[self.kind]
 
 
-def flavour_from_type(service_type: str | None) -> Flavour | None:
-    """Flavour from a rosapi service type (either ROS spelling), None when unknown."""
+def kind_from_type(service_type: str | None) -> ReloadKind | None:
+    """ReloadKind from a rosapi service type (either ROS spelling), None when unknown."""
     if not service_type:
         return None
     t = normalise_type(service_type)
@@ -78,7 +103,7 @@ def flavour_from_type(service_type: str | None) -> Flavour | None:
     return None
 
 
-def flavour_from_name(name: str) -> Flavour | None:
+def kind_from_name(name: str) -> ReloadKind | None:
     """Best guess from a service name when rosapi cannot tell the type."""
     base = name.rstrip("/").rsplit("/", 1)[-1]
     if base == "change_map":
@@ -97,53 +122,114 @@ def detect(services: list[str], service_type: Callable[[str], str | None]) -> Re
     present = set(services)
     for name, default in PREFERRED:
         if name in present:
-            return ReloadService(name, flavour_from_type(service_type(name)) or default)
+            return ReloadService(name, kind_from_type(service_type(name)) or default)
     # Namespaced or renamed servers: check the types of map-looking services only, so a chair
     # with hundreds of services does not cost hundreds of rosapi calls.
     for name in sorted(s for s in services if "map" in s.lower())[:20]:
-        flavour = flavour_from_type(service_type(name))
-        if flavour is not None:
-            return ReloadService(name, flavour)
+        kind = kind_from_type(service_type(name))
+        if kind is not None:
+            return ReloadService(name, kind)
     for name in services:
-        flavour = flavour_from_name(name)
-        if flavour is not None:
-            return ReloadService(name, flavour)
+        kind = kind_from_name(name)
+        if kind is not None:
+            return ReloadService(name, kind)
     return None
 
 
-def build_request(flavour: Flavour, remote_yaml_path: str) -> dict[str, Any]:
-    """LoadMap (both flavours) takes ``map_url`` (a plain path is accepted); MapUpdate takes ``path``."""
-    if flavour == "mapupdate":
+def resolve(
+    services: list[str],
+    service_type: Callable[[str], str | None],
+    *,
+    service: str | None = None,
+    kind: str | None = None,
+    where: str = "the chair",
+) -> ReloadService:
+    """The reload service to call: the one named (its kind given, from rosapi or from its name), else
+    the detected one, which must be of ``kind`` when a kind is asked for. The one resolver used by
+    both ``ChairLink.reload_map`` and ``deploy``.
+
+    Raises:
+        MapReloadError: (``keeps_old_map=True``: nothing was called) naming what is missing.
+    """
+    if kind is not None and kind not in RELOAD_KINDS:
+        raise MapReloadError(
+            f"unknown reload kind {kind!r}; use {', '.join(RELOAD_KINDS)}", service=service or "", keeps_old_map=True
+        )
+    if service is not None:
+        name = service if service.startswith("/") else "/" + service
+        if name not in services:
+            raise MapReloadError(
+                f"{where} has no service {name} (check reload_service in the chair profile)",
+                service=name,
+                keeps_old_map=True,
+            )
+        found_kind = kind or kind_from_type(service_type(name)) or kind_from_name(name)
+        if found_kind is None:
+            raise MapReloadError(
+                f"cannot tell which reload protocol {name} speaks: set the reload kind ({', '.join(RELOAD_KINDS)})",
+                service=name,
+                keeps_old_map=True,
+            )
+        return ReloadService(name, found_kind)  # type: ignore[arg-type]
+    if kind is not None:
+        wanted = [name for name, preferred in PREFERRED if preferred == kind and name in services]
+        if wanted:
+            return ReloadService(wanted[0], kind)  # type: ignore[arg-type]
+    detected = detect(services, service_type)
+    if detected is None:
+        raise MapReloadError(
+            f"{where} offers no map reload service (looked for /change_map, /map_server/load_map, "
+            "/map_update and MapUpdate types)",
+            hint="Start a map server that has one, or set reload_service in the chair profile.",
+            keeps_old_map=True,
+        )
+    if kind is not None and detected.kind != kind:
+        usual = next(name for name, preferred in PREFERRED if preferred == kind)
+        raise MapReloadError(
+            f"{where} offers no {kind} reload service such as {usual}; it offers {detected.name} ({detected.kind})",
+            hint="Set the reload kind to auto, or name the service in reload_service.",
+            service=detected.name,
+            keeps_old_map=True,
+        )
+    return detected
+
+
+def build_request(kind: ReloadKind, remote_yaml_path: str) -> dict[str, Any]:
+    """LoadMap (both kinds) takes ``map_url`` (a plain path is accepted); MapUpdate takes ``path``."""
+    if kind == "mapupdate":
         return {"path": remote_yaml_path}
     return {"map_url": remote_yaml_path}
 
 
 def check_response(service: ReloadService, remote_yaml_path: str, response: dict[str, Any]) -> None:
     """Raise :class:`MapReloadError` unless the response says the map was loaded."""
-    where = f"{service.name} ({service.flavour})"
-    if service.flavour == "mapupdate":
+    where = f"{service.name} ({service.kind})"
+    if service.kind == "mapupdate":
         done = response.get("done")
         if done is True:
             return
         raise MapReloadError(
-            f"{where} answered done={done!r} for {remote_yaml_path}: the map was not loaded. {KEEPS_OLD_MAP}",
+            f"{where} answered done={done!r} for {remote_yaml_path}: the map was not loaded.",
             service=service.name,
+            keeps_old_map=True,
         )
     raw = response.get("result")
     try:
         code = int(raw)
     except (TypeError, ValueError):
         raise MapReloadError(
-            f"{where} gave no result code for {remote_yaml_path} (answer: {str(response)[:120]}). {KEEPS_OLD_MAP}",
+            f"{where} gave no result code for {remote_yaml_path} (answer: {str(response)[:120]}): "
+            "cannot tell whether it loaded the map.",
             service=service.name,
         ) from None
     if code == 0:
         return
     meaning = LOADMAP_RESULTS.get(code, "unknown result code")
-    if service.flavour == "ros1" and code == 255:
+    if service.kind == "ros1" and code == 255:
         meaning = "map_server could not load it (missing file, bad YAML or image?)"
     raise MapReloadError(
-        f"{where} failed to load {remote_yaml_path}: code {code}, {meaning}. {KEEPS_OLD_MAP}",
+        f"{where} failed to load {remote_yaml_path}: code {code}, {meaning}.",
         code=code,
         service=service.name,
+        keeps_old_map=True,
     )

@@ -12,18 +12,18 @@ import base64
 import contextlib
 import errno
 import hashlib
-import os
 import posixpath
 import socket
-import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import paramiko
+from paramiko.sftp import SFTP_OP_UNSUPPORTED
 
 from pmk_nb.errors import TransferError
+from pmk_nb.fileio import atomic_write
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile
@@ -75,21 +75,31 @@ class VerifyingHostKeyPolicy(paramiko.MissingHostKeyPolicy):
 
 
 def append_known_host(path: Path, hostname: str, key: paramiko.PKey) -> None:
-    """Add one line to a known_hosts file atomically (temp file + replace), keeping other entries."""
-    path.parent.mkdir(parents=True, exist_ok=True)
+    """Add one line to a known_hosts file atomically, keeping other entries (0600, like ssh's own)."""
     old = path.read_text(encoding="utf-8") if path.exists() else ""
     if old and not old.endswith("\n"):
         old += "\n"
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(old + f"{hostname} {key.get_name()} {key.get_base64()}\n")
-        os.chmod(tmp, 0o600)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
+    atomic_write(path, old + f"{hostname} {key.get_name()} {key.get_base64()}\n", mode=0o600, mkdir=True)
+
+
+class SftpUnsupported(OSError):
+    """The SFTP server answered SSH_FX_OP_UNSUPPORTED (e.g. no posix-rename extension)."""
+
+
+class StatusSFTPClient(paramiko.SFTPClient):
+    """paramiko's SFTP client, except that an "operation unsupported" status raises SftpUnsupported.
+
+    paramiko turns every status it has no errno for into a bare IOError carrying only the server's
+    text; the status code is the reliable part, so it is read here before paramiko drops it.
+    """
+
+    def _convert_status(self, msg: Any) -> None:
+        start = msg.packet.tell()
+        code = msg.get_int()
+        if code == SFTP_OP_UNSUPPORTED:
+            raise SftpUnsupported(errno.EOPNOTSUPP, msg.get_text())
+        msg.packet.seek(start)
+        super()._convert_status(msg)
 
 
 @dataclass
@@ -148,7 +158,8 @@ def _load_key(profile: ChairProfile, passphrase: str | None) -> paramiko.PKey:
         raise TransferError(f"{path}: cannot read the private key ({err.strerror})") from err
 
 
-def _connect_error(err: BaseException, profile: ChairProfile, timeout: float) -> TransferError:
+def _connect_error(err: BaseException, profile: ChairProfile, timeout: float, *, greeted: bool) -> TransferError:
+    """The TransferError for a failed connect; ``greeted``: the server sent its SSH version line."""
     where = f"{profile.ssh_user}@{profile.host}:{profile.ssh_port}"
     method = "key file " + str(profile.key_file) if profile.auth == "key" else "password"
     if isinstance(err, paramiko.BadAuthenticationType):
@@ -181,7 +192,7 @@ def _connect_error(err: BaseException, profile: ChairProfile, timeout: float) ->
         return TransferError(f"{where}: connection refused: check ssh_port and that sshd runs on the chair")
     if isinstance(err, OSError) and err.errno in (errno.EHOSTUNREACH, errno.ENETUNREACH):
         return TransferError(f"{where}: host unreachable ({err.strerror}): join the chair's network and retry")
-    if isinstance(err, paramiko.SSHException) and ("banner" in str(err) or str(err) == "No existing session"):
+    if isinstance(err, paramiko.SSHException) and not greeted:
         return TransferError(
             f"{where}: no SSH greeting within {timeout:g} s: is port {profile.ssh_port} an SSH server? "
             "is the chair overloaded?"
@@ -234,19 +245,22 @@ def open_sftp(profile: ChairProfile, *, password: str | None = None, timeout: fl
             f"new fingerprint on it, then run: ssh-keygen -R '{name}' -f {known}"
         ) from err
     except (OSError, EOFError, paramiko.SSHException) as err:
-        # paramiko may report "No existing session" while the real cause (banner timeout...) sits
-        # in the transport thread's saved exception
+        # when negotiation outlives ``timeout`` paramiko goes on and fails with a vague SSHException,
+        # while the transport thread is about to record the real cause (banner timeout...)
         transport = client.get_transport()
-        if transport is not None and str(err) == "No existing session":
-            transport.join(1.0)  # negotiation timed out: let the thread record why
+        if transport is not None and transport.is_alive() and not transport.initial_kex_done:
+            transport.join(1.0)  # let the thread finish and record why
         cause = getattr(transport, "saved_exception", None) or err
+        greeted = transport is not None and bool(transport.remote_version)
         client.close()
-        raise _connect_error(cause, profile, timeout) from err
+        raise _connect_error(cause, profile, timeout, greeted=greeted) from err
     where = f"{profile.ssh_user}@{profile.host}:{profile.ssh_port}"
     try:
         server_key = client.get_transport().get_remote_server_key()  # type: ignore[union-attr]
         host_key = policy.recorded or HostKeyInfo(name, server_key.get_name(), fingerprint(server_key), False, known)
-        sftp = client.open_sftp()
+        sftp = StatusSFTPClient.from_transport(client.get_transport())
+        if sftp is None:
+            raise paramiko.SSHException("the chair refused to open an SFTP channel")
         sftp.get_channel().settimeout(timeout)  # type: ignore[union-attr]
         home = sftp.normalize(".")
     except (OSError, EOFError, paramiko.SSHException) as err:

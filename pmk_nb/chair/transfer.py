@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import posixpath
 import re
 import secrets
@@ -28,16 +29,18 @@ import yaml
 from pmk_nb.chair.ssh import (
     HostKeyInfo,
     SftpSession,
+    SftpUnsupported,
     VerifyingHostKeyPolicy,
     fingerprint,
     known_hosts_name,
     open_sftp,
 )
-from pmk_nb.errors import TransferError
+from pmk_nb.errors import MapFormatError, TransferError, UnsupportedOperation
+from pmk_nb.progress import ProgressCallback, emit
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.rosmap.files import MapFiles, MapYaml
 
 __all__ = [
     "HostKeyInfo",
@@ -46,13 +49,14 @@ __all__ = [
     "VerifyingHostKeyPolicy",
     "check_ssh",
     "fingerprint",
+    "image_beside",
     "known_hosts_name",
     "open_sftp",
     "upload",
     "upload_map",
 ]
 
-ByteProgress = Callable[[int, int], None]  # (bytes sent so far, total bytes)
+ByteCallback = Callable[[int, int], None]  # paramiko's (bytes sent of this file, its size)
 
 
 @dataclass(frozen=True)
@@ -64,30 +68,65 @@ class UploadResult:
     elapsed: float
 
 
+def image_beside(yaml_path: Path) -> tuple[MapYaml, Path]:
+    """The map YAML and its image, which must sit in the YAML's own folder.
+
+    Only that image is ever sent: a YAML naming an absolute path elsewhere, a ``..`` path or a
+    symlink leading out of the folder would otherwise copy any local file to the chair.
+
+    Raises:
+        TransferError: (``path`` = the YAML) the YAML is unreadable, or its image is elsewhere or missing.
+    """
+    from pmk_nb.rosmap.files import read_map_yaml
+
+    try:
+        doc = read_map_yaml(yaml_path)
+    except MapFormatError as err:
+        raise TransferError(f"{yaml_path}: cannot read the map YAML ({err})", path=str(yaml_path)) from err
+    image = doc.image
+    folder = Path(os.path.abspath(yaml_path)).parent
+    lexically_beside = ".." not in image.parts and Path(os.path.abspath(image)).parent == folder
+    if not lexically_beside or image.resolve().parent != folder.resolve():
+        raise TransferError(
+            f"{yaml_path}: its image {image} is not in the YAML's folder; only an image beside the YAML "
+            "(a plain file name, no '..', no symlink out of the folder) is sent to the chair",
+            path=str(yaml_path),
+        )
+    if not image.is_file():
+        raise TransferError(f"{yaml_path}: its image {image.name} does not exist ({image})", path=str(yaml_path))
+    return doc, image
+
+
 def _yaml_for_upload(yaml_path: Path) -> tuple[bytes, Path]:
-    """The YAML bytes to send and the image it references (rewritten to a bare file name if needed)."""
+    """The YAML bytes to send and its image; the image entry becomes the bare file name if needed
+    (the chair has both files side by side)."""
+    doc, image = image_beside(yaml_path)
     try:
         text = yaml_path.read_text(encoding="utf-8")
-        doc = yaml.safe_load(text)
-    except (OSError, yaml.YAMLError) as err:
-        raise TransferError(f"{yaml_path}: cannot read the map YAML ({err})") from err
-    if not isinstance(doc, dict) or not isinstance(doc.get("image"), str) or not doc["image"].strip():
-        raise TransferError(f"{yaml_path}: the map YAML has no 'image' entry")
-    ref = Path(doc["image"]).expanduser()
-    image = ref if ref.is_absolute() else yaml_path.parent / ref
-    if not image.is_file():
-        raise TransferError(f"{yaml_path}: its image {doc['image']} does not exist ({image})")
-    if doc["image"] != image.name:  # the chair has both files side by side: point at the bare name
-        new, count = re.subn(r"(?m)^image\s*:.*$", f"image: {image.name}", text, count=1)
-        text = new if count else yaml.safe_dump({**doc, "image": image.name}, sort_keys=False)
-    return text.encode("utf-8"), image
+    except (OSError, UnicodeDecodeError) as err:
+        raise TransferError(f"{yaml_path}: cannot read the map YAML ({err})", path=str(yaml_path)) from err
+    new, count = re.subn(r"(?m)^image\s*:.*$", f"image: {image.name}", text, count=1)
+    if count:
+        return new.encode("utf-8"), image
+    # flow-style YAML ({image: ..., ...}): write it out again from the parsed fields
+    fields = {
+        "image": image.name,
+        "resolution": doc.resolution,
+        "origin": list(doc.origin),
+        "negate": int(doc.negate),
+        "occupied_thresh": doc.occupied_thresh,
+        "free_thresh": doc.free_thresh,
+        "mode": doc.mode,
+        **doc.extras,
+    }
+    return yaml.safe_dump(fields, sort_keys=False).encode("utf-8"), image
 
 
 def _temp_name(remote_dir: str, name: str) -> str:
     return posixpath.join(remote_dir, f".{name}.part-{secrets.token_hex(4)}")
 
 
-def _put_temp(session: SftpSession, data: io.BufferedIOBase, size: int, tmp: str, on_bytes: ByteProgress) -> None:
+def _put_temp(session: SftpSession, data: io.BufferedIOBase, size: int, tmp: str, on_bytes: ByteCallback) -> None:
     """Write to the hidden temporary path ``tmp`` and check its size on the chair."""
     session.sftp.putfo(data, tmp, file_size=size, callback=on_bytes, confirm=False)
     got = session.sftp.stat(tmp).st_size
@@ -95,13 +134,25 @@ def _put_temp(session: SftpSession, data: io.BufferedIOBase, size: int, tmp: str
         raise TransferError(f"{session.where}: {tmp}: wrote {got} of {size} bytes; the chair's disk may be full")
 
 
-def _commit(session: SftpSession, tmp: str, final: str) -> None:
-    """Rename over the final name in one step (posix-rename); plain rename on servers without it."""
+def _posix_rename(session: SftpSession, tmp: str, final: str) -> None:
+    """Rename over ``final`` in one step (OpenSSH's posix-rename extension).
+
+    Raises:
+        UnsupportedOperation: (``operation="posix-rename"``) the server answered "unsupported".
+    """
     try:
         session.sftp.posix_rename(tmp, final)
-    except OSError as err:
-        if "unsupported" not in str(err).lower() and "not supported" not in str(err).lower():
-            raise
+    except SftpUnsupported as err:
+        raise UnsupportedOperation(
+            f"{session.where}: the SFTP server has no posix-rename", operation="posix-rename"
+        ) from err
+
+
+def _commit(session: SftpSession, tmp: str, final: str) -> None:
+    """Rename over the final name in one step (posix-rename); remove + rename on servers without it."""
+    try:
+        _posix_rename(session, tmp, final)
+    except UnsupportedOperation:
         with contextlib.suppress(FileNotFoundError):  # no posix-rename extension: short window
             session.sftp.remove(final)
         session.sftp.rename(tmp, final)
@@ -137,15 +188,22 @@ def _upload_error(err: BaseException, session: SftpSession, remote_dir: str) -> 
     )
 
 
+def _bytes_progress(progress: ProgressCallback | None, done: int, total: int) -> None:
+    emit(progress, "upload", done / max(total, 1), f"{done // 1024} / {total // 1024} KiB")
+
+
 def upload(
     files: MapFiles,
     profile: ChairProfile,
     *,
     password: str | None = None,
-    progress: ByteProgress | None = None,
+    progress: ProgressCallback | None = None,
     timeout: float = 15.0,
 ) -> UploadResult:
     """Upload a map's YAML and image into ``profile.remote_maps_dir`` (created if missing).
+
+    ``progress`` gets ``Progress("upload", bytes sent / total, "120 / 480 KiB")``; the image sent is
+    always the one beside the YAML (see :func:`image_beside`).
 
     Raises:
         TransferError: with the host and what to do (auth, refused, timeout, host key, permissions...).
@@ -160,8 +218,7 @@ def upload(
         done = 0
 
         def on_bytes(sent: int, _size: int) -> None:
-            if progress is not None:
-                progress(done + sent, total)
+            _bytes_progress(progress, done + sent, total)
 
         remote_image = posixpath.join(remote_dir, image.name)
         remote_yaml = posixpath.join(remote_dir, Path(files.yaml).name)
@@ -183,8 +240,7 @@ def upload(
                 raise _upload_error(err, session, remote_dir) from err
             raise
         _remove_stale_parts(session, remote_dir, (image.name, Path(files.yaml).name))
-        if progress is not None:
-            progress(total, total)
+        _bytes_progress(progress, total, total)
         return UploadResult(remote_yaml, remote_image, total, session.host_key, time.monotonic() - started)
 
 
@@ -193,7 +249,7 @@ def upload_map(
     profile: ChairProfile,
     *,
     password: str | None = None,
-    progress: ByteProgress | None = None,
+    progress: ProgressCallback | None = None,
     timeout: float = 15.0,
 ) -> str:
     """Like ``upload`` but returns only the absolute remote YAML path (what the reload service needs)."""

@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 from pmk_nb.errors import PmkError
+from pmk_nb.fileio import atomic_write
 
 AREAS = ("convert", "deploy", "sim", "link", "live")
 
@@ -47,9 +48,10 @@ def merge_results(folder: Path) -> Path:
     ]
     body = [p.read_text(encoding="utf-8").rstrip() + "\n" for p in parts]
     out = folder / "results.md"
-    tmp = out.with_suffix(".md.tmp")
-    tmp.write_text("\n".join(head) + "\n" + "\n".join(body), encoding="utf-8")
-    os.replace(tmp, out)
+    try:
+        atomic_write(out, "\n".join(head) + "\n" + "\n".join(body))
+    except OSError as err:
+        raise PmkError(f"cannot write {out}: {err.strerror or err}") from err
     return out
 
 

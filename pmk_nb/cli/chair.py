@@ -23,7 +23,7 @@ _FIELDS: list[tuple[str, type, str]] = [
     ("key-file", str, "private key file when auth is key"),
     ("remote-maps-dir", str, "maps folder on the chair (~/ALMA_MAPS)"),
     ("reload-service", str, "auto or a service name like /change_map"),
-    ("reload-flavour", str, "auto | ros1 | nav2 | mapupdate"),
+    ("reload-kind", str, "auto | ros1 | nav2 | mapupdate"),
     ("footprint-radius", float, "chair radius in metres (0.35)"),
     ("known-hosts", str, "known_hosts file for the chair's SSH key"),
     ("host-key-check", str, "tofu (trust on first use) | strict"),
@@ -104,7 +104,7 @@ def run_add(args: argparse.Namespace) -> int:
     if args.password_stdin:
         import sys
 
-        store.set_password(profile.name, sys.stdin.readline().rstrip("\r\n"))
+        store.set_password(profile, sys.stdin.readline().rstrip("\r\n"))
         print(f"password kept in {store.password_storage}")
     print(f"saved chair profile {profile.name!r} in {store.path} (now the default)")
     if store.backup_of_corrupt is not None:
@@ -161,7 +161,7 @@ def run_test(args: argparse.Namespace) -> int:
                 f"{check.host_key.fingerprint}{trusted}; {check.remote_dir} {state}"
             )
             if password is not None and profile.auth == "password":
-                store.set_password(profile.name, password)
+                store.set_password(profile, password)
         except PmkError as err:
             failures += 1
             print(f"ssh {profile.ssh_user}@{profile.host}:{profile.ssh_port}: FAILED: {err}")

@@ -1,7 +1,8 @@
 """`pmk convert FILE --resolution R`: IndoorGML -> one map_server set (YAML + image + preview) per storey.
 
-Everything that can fail on bad input (parsing, unit, storey names, the size budget of every storey)
-is checked before the first file is written; each storey's set is then written atomically.
+The work is :func:`pmk_nb.library.convert.convert_plan`, the same pipeline the Maps screen runs:
+everything that can fail on bad input (parsing, unit, storey names, the size budget of every
+storey) fails before the first file is written, and the sets are written all or nothing.
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ import time
 from pathlib import Path
 from typing import TextIO
 
-from pmk_nb.errors import OccupancyError
+from pmk_nb.errors import GridTooLarge, PmkError
+from pmk_nb.progress import Progress
 
 _BIG_FILE = 5 * 1024 * 1024  # show a progress bar for files above this size (or on a terminal)
 
@@ -20,25 +22,22 @@ _BIG_FILE = 5 * 1024 * 1024  # show a progress bar for files above this size (or
 class TextProgress:
     """A one-line text progress bar on a stream, redrawn at most every ``interval`` seconds."""
 
-    def __init__(self, stream: TextIO, label: str, *, enabled: bool = True, interval: float = 0.2) -> None:
-        self.stream, self.label, self.enabled, self.interval = stream, label, enabled, interval
+    def __init__(self, stream: TextIO, *, enabled: bool = True, interval: float = 0.2) -> None:
+        self.stream, self.enabled, self.interval = stream, enabled, interval
         self._last = 0.0
         self._shown = False
 
-    def stage(self, label: str) -> None:
-        self.label = label
-        self._last = 0.0
-
-    def __call__(self, done: int, total: int) -> None:
+    def __call__(self, p: Progress) -> None:
         if not self.enabled:
             return
         now = time.monotonic()
-        if done < total and now - self._last < self.interval:
+        frac = p.fraction or 0.0
+        if frac < 1.0 and now - self._last < self.interval:
             return
         self._last = now
-        frac = 0.0 if total <= 0 else min(1.0, done / total)
         bar = "#" * int(frac * 30)
-        self.stream.write(f"\r{self.label:<24} [{bar:<30}] {frac * 100:5.1f}%")
+        label = f"{p.step} {p.message}".strip()[:24]
+        self.stream.write(f"\r{label:<24} [{bar:<30}] {frac * 100:5.1f}%")
         self.stream.flush()
         self._shown = True
 
@@ -79,55 +78,37 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.indoorgml import read_building
-    from pmk_nb.library.naming import safe_file_part, storey_map_names
-    from pmk_nb.raster.storey import DEFAULT_MAX_CELLS, plan_storey, rasterise_storey
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.library.convert import ConvertOptions, convert_plan
+    from pmk_nb.library.naming import safe_file_part
+    from pmk_nb.raster.storey import DEFAULT_MAX_CELLS
 
     path: Path = args.file
-    out_dir: Path = args.out if args.out is not None else path.parent
-    base = safe_file_part(args.name if args.name else path.stem)
     show = args.progress
     if show is None:
         size = path.stat().st_size if path.is_file() else 0
         show = sys.stderr.isatty() or size > _BIG_FILE
-    bar = TextProgress(sys.stderr, "reading", enabled=bool(show))
+    options = ConvertOptions(
+        unit=args.unit, storeys=args.storeys, wall_thickness=args.wall_thickness, max_wall_gap=args.max_wall_gap,
+        outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
+        max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large,
+    )  # fmt: skip
+    bar = TextProgress(sys.stderr, enabled=bool(show))
     try:
-        building = read_building(path, unit=args.unit, progress=bar)
-        bar.close()
-        names = [s.name for s in building.storeys]
-        storeys = list(dict.fromkeys(args.storeys)) if args.storeys else names
-        unknown = [s for s in storeys if s not in names]
-        if unknown:
-            raise OccupancyError(
-                f"{path}: no storey named {', '.join(map(repr, unknown))}; storeys are: {', '.join(names)}"
-            )
-        kw = {
-            "wall_thickness": args.wall_thickness,
-            "max_cells": args.max_cells or DEFAULT_MAX_CELLS,
-            "allow_large": args.allow_large,
-        }
-        for storey in storeys:  # every storey's size is checked before anything is written
-            plan_storey(building, storey, args.resolution, **kw)
-        file_names = storey_map_names(base, storeys, several=len(names) > 1)
-        print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(storeys)} storey(s)")
-        for storey in storeys:
-            bar.stage(f"storey {storey}")
-            grid = rasterise_storey(
-                building, storey, args.resolution, outside=args.outside, max_wall_gap=args.max_wall_gap,
-                progress=bar, **kw,
-            )  # fmt: skip
-            bar.close()
-            files = write_map(
-                grid, out_dir, file_names[storey], image_format=args.image_format,
-                preview=not args.no_preview, allow_large=args.allow_large,
-            )  # fmt: skip
-            w_m, h_m = grid.size_m
-            extra = f", {files.preview.name}" if files.preview else ""
-            print(
-                f"  storey {storey}: {files.yaml} (+ {files.image.name}{extra}) "
-                f"{grid.width} x {grid.height} cells = {w_m:.2f} x {h_m:.2f} m at {grid.resolution:g} m/cell"
-            )
+        result = convert_plan(
+            path, args.out if args.out is not None else path.parent, safe_file_part(args.name or path.stem),
+            args.resolution, options, progress=bar,
+        )  # fmt: skip
+    except GridTooLarge as err:  # the CLI's words for the way out: the option to change
+        raise PmkError(err.message, hint=f"use --resolution {err.suggested_resolution:g} or coarser") from err
     finally:
         bar.close()
+    building = result.building
+    print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(result.maps)} storey(s)")
+    for m in result.maps:
+        w_m, h_m = m.size_m
+        extra = f", {m.files.preview.name}" if m.files.preview else ""
+        print(
+            f"  storey {m.storey}: {m.files.yaml} (+ {m.files.image.name}{extra}) "
+            f"{m.width} x {m.height} cells = {w_m:.2f} x {h_m:.2f} m at {m.resolution:g} m/cell"
+        )
     return 0

@@ -13,7 +13,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.cli.dashboard import check_port_number, serve, server_options, sigterm_as_interrupt
+from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
+from pmk_nb.cli.voila import serve, server_options
 
 
 def add_parser(subparsers: Any) -> None:

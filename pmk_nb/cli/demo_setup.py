@@ -18,13 +18,14 @@ import contextlib
 import os
 import subprocess
 import sys
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import pmk_nb
+from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.errors import PmkError
+from pmk_nb.fileio import atomic_write
 from pmk_nb.ui.context import AUTOSTART_ENV
 
 DEMO_PROFILE = "Simulated chair"
@@ -56,8 +57,6 @@ class DemoWorld:
     _log: Any = field(default=None, repr=False)
 
     def stop(self) -> None:
-        from pmk_nb.cli.dashboard import stop_process
-
         stop_process(self.sim)
         if self._log is not None:
             with contextlib.suppress(OSError):
@@ -80,18 +79,6 @@ def sim_command(map_yaml: Path, ros_port: int, sftp_port: int, chair_dir: Path, 
     ]  # fmt: skip
 
 
-def _write_atomic(path: Path, data: bytes, mode: int) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        os.fchmod(fd, mode)
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
     """A new ed25519 key pair: ``directory/name`` (OpenSSH private key, 0600) and ``name.pub``.
 
@@ -108,8 +95,8 @@ def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
     public = key.public_key().public_bytes(serialization.Encoding.OpenSSH, serialization.PublicFormat.OpenSSH)
     directory.mkdir(parents=True, exist_ok=True)
     private_path, public_path = directory / name, directory / f"{name}.pub"
-    _write_atomic(private_path, private, 0o600)
-    _write_atomic(public_path, public + b" pmk-demo\n", 0o644)
+    atomic_write(private_path, private, mode=0o600)
+    atomic_write(public_path, public + b" pmk-demo\n", mode=0o644)
     return private_path, public_path
 
 
@@ -120,7 +107,6 @@ def prepare_demo(root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1") 
         PmkError: the sample is missing, conversion fails or the simulator does not start.
     """
     from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
-    from pmk_nb.cli.dashboard import free_port, stop_process, wait_for_port
     from pmk_nb.library.folder import MapsFolder
     from pmk_nb.ui.context import AppContext
 

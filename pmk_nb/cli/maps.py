@@ -12,6 +12,8 @@ import sys
 from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
+from pmk_nb.progress import Progress
+
 if TYPE_CHECKING:
     from pmk_nb.library.folder import GeneratedMap, MapEntry, MapsFolder
 
@@ -41,6 +43,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     dl.add_argument("name", help="name to save the map under")
     dl.add_argument("--overwrite", action="store_true", help="replace a map with the same name")
     dl.add_argument("--timeout", type=float, default=30.0, help="seconds without data before giving up")
+    dl.add_argument("--deadline", type=float, default=120.0, help="seconds the whole download may take")
     dl.add_argument("--max-mb", type=float, default=50.0, help="refuse files larger than this (MiB)")
 
     cv = sub.add_parser(
@@ -130,14 +133,15 @@ def _status_line() -> Iterator[Callable[[str], None]]:
 def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
     with _status_line() as show:
 
-        def progress(done: int, total: int | None) -> None:
-            show(f"downloading: {f'{done}/{total}' if total else done} bytes")
+        def progress(p: Progress) -> None:
+            show(f"downloading: {p.message}")
 
         entry = folder.download(
             args.url,
             args.name,
             overwrite=args.overwrite,
             timeout=args.timeout,
+            deadline=args.deadline,
             max_bytes=int(args.max_mb * 1024 * 1024),
             progress=progress,
         )
@@ -148,8 +152,8 @@ def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
 def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
     with _status_line() as show:
 
-        def progress(step: str, fraction: float) -> None:
-            show(f"{fraction * 100:5.1f}% {step:<50}")
+        def progress(p: Progress) -> None:
+            show(f"{(p.fraction or 0.0) * 100:5.1f}% {f'{p.step} {p.message}':<50}")
 
         maps = folder.convert(
             args.name,

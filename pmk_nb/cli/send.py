@@ -5,10 +5,12 @@ from __future__ import annotations
 import argparse
 import getpass
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.errors import DeployError, LibraryError, PmkError, SettingsError
+from pmk_nb.errors import DeployError, LibraryError, SettingsError
+from pmk_nb.progress import Progress
 
 
 def add_parser(subparsers: Any) -> None:
@@ -68,7 +70,7 @@ def ask_password(profile: Any, store: Any, from_stdin: bool) -> str | None:
         if not line:
             raise SettingsError("--password-stdin given but standard input is empty")
         return line.rstrip("\r\n")
-    saved = store.get_password(profile.name)
+    saved = store.get_password(profile)
     if saved is not None or profile.auth == "key":
         return saved  # a key without passphrase needs none
     if not sys.stdin.isatty():
@@ -78,8 +80,50 @@ def ask_password(profile: Any, store: Any, from_stdin: bool) -> str | None:
     return getpass.getpass(f"SSH password for {profile.ssh_user}@{profile.host}: ")
 
 
+def upload_quarters() -> Callable[[Progress], bool]:
+    """Whether to print a progress event: every event, except that the upload's many byte counts
+    print once per quarter of the upload (and at its end)."""
+    from pmk_nb.chair.deploy import STEP_SPANS
+
+    lo, hi = STEP_SPANS["upload"]
+    last_quarter = [-1]
+
+    def wanted(p: Progress) -> bool:
+        if p.step != "upload" or p.fraction is None:
+            return True
+        within = (p.fraction - lo) / (hi - lo)
+        quarter = int(within * 4)
+        if quarter == last_quarter[0] and within < 1.0:
+            return False
+        last_quarter[0] = quarter
+        return True
+
+    return wanted
+
+
+def print_progress() -> Callable[[Progress], None]:
+    """The terminal's progress lines: ``[step   ]  42.0%  message``."""
+    wanted = upload_quarters()
+
+    def show(p: Progress) -> None:
+        if wanted(p):
+            percent = f"{p.fraction * 100:5.1f}%" if p.fraction is not None else "     "
+            print(f"[{p.step:7}] {percent}  {p.message}", flush=True)
+
+    return show
+
+
+def deploy_failure(err: DeployError) -> str:
+    """The words the terminal uses for a failed send (the one place the CLI phrases deploy errors)."""
+    step = f"{err.step}: " if err.step else ""
+    after = ""
+    if err.keeps_old_map is None and err.step in ("reload", "confirm"):
+        after = " Whether the chair switched to the new map is unknown: look at its live map before sending again."
+    return f"{step}{err}{after}"
+
+
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.chair.deploy import STEP_SPANS, close_links, deploy
+    from pmk_nb.chair.deploy import close_links, deploy
     from pmk_nb.chair.profiles import ProfileStore
 
     store = ProfileStore()
@@ -93,40 +137,29 @@ def run(args: argparse.Namespace) -> int:
     files = pick_map(args.name, args.maps_dir, args.storey)
     password = ask_password(profile, store, args.password_stdin)
     print(f"sending {files.yaml.name} to {profile.name} ({profile.host})")
-    last_bucket = [-1]
-
-    def progress(step: str, fraction: float, message: str) -> None:
-        if step == "upload" and message.endswith("KiB"):  # byte counts: one line per quarter of the upload
-            bucket = int(fraction / STEP_SPANS["upload"][1] * 4)
-            if bucket == last_bucket[0]:
-                return
-            last_bucket[0] = bucket
-        print(f"[{step:7}] {fraction * 100:5.1f}%  {message}", flush=True)
-
     try:
         report = deploy(
             files,
             profile,
             password=password,
-            progress=progress,
+            progress=print_progress(),
             timeout=args.timeout,
             reload_timeout=args.reload_timeout,
             confirm_timeout=args.confirm_timeout,
         )
-    except DeployError:
-        raise
-    except PmkError as err:
-        raise DeployError(str(err)) from err
+    except DeployError as err:
+        print(f"pmk send: error: {deploy_failure(err)}", file=sys.stderr)
+        return 2
     finally:
         close_links()
     if password is not None and profile.auth == "password":
-        store.set_password(profile.name, password)
+        store.set_password(profile, password)
     store.mark_used(profile.name)
     for note in report.notes:
         print(f"note: {note}")
     info = report.map_info
     print(
         f"done in {report.elapsed:.1f} s: {report.remote_yaml} loaded by {report.service.name} "
-        f"({report.service.flavour}); chair publishes {info.width}x{info.height} at {info.resolution:g} m"
+        f"({report.service.kind}); chair publishes {info.width}x{info.height} at {info.resolution:g} m"
     )
     return 0

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.sim.demo import sample_floor
+from pmk_nb.sim.messages import ROS_VERSIONS
 from pmk_nb.sim.server import SimChair, SimError
 
 READY_LINE = "pmk sim: ready"
@@ -47,7 +48,14 @@ def add_parser(subparsers: Any) -> None:
         help="refuse password login (key only, like a hardened chair); needs --sftp-authorized-key, "
         "conflicts with --sftp-password",
     )
-    p.add_argument("--flavour", choices=("ros1", "ros2"), default="ros1")
+    p.add_argument(
+        "--ros",
+        "--flavour",
+        dest="ros",
+        choices=ROS_VERSIONS,
+        default="ros1",
+        help="message spelling the chair speaks (default ros1; --flavour is the old name)",
+    )
     p.add_argument("--odom-rate", type=float, default=50.0, help="Hz")
     p.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
     p.add_argument("--rays", type=int, default=720, help="laser rays over 270 degrees")
@@ -61,7 +69,7 @@ def describe(sim: SimChair) -> list[str]:
     assert bridge is not None and sim.grid is not None
     grid = sim.grid
     lines = [
-        f"pmk sim: rosbridge v2 ({sim.flavour}) at {sim.url}",
+        f"pmk sim: rosbridge v2 ({sim.ros}) at {sim.url}",
         f"  map: {_map_name(sim)} ({grid.width}x{grid.height} cells, {grid.resolution:.3f} m/cell)",
         "  chair at x={:.2f} y={:.2f} theta={:.2f}".format(*sim.pose),
         f"  maps dir (chair ~/ALMA_MAPS): {sim.maps_dir}",
@@ -105,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
         grid=grid,
         host=args.host,
         port=args.port,
-        flavour=args.flavour,
+        ros=args.ros,
         odom_rate=args.odom_rate,
         scan_rate=args.scan_rate,
         rays=args.rays,

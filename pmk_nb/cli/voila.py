@@ -1,4 +1,4 @@
-"""How the dashboard is served as a Voilà kiosk page: the notebook it runs and the server options.
+"""How the dashboard is served as a Voilà kiosk page: the notebook it runs, the server options, serve().
 
 The kiosk notebook is generated (a pip-installed package has no ``notebooks/`` folder) with the same
 two lines as ``notebooks/dashboard.ipynb``; a test keeps the two identical.
@@ -15,9 +15,14 @@ Server choices, and why:
 
 from __future__ import annotations
 
+import argparse
 import json
+import subprocess
 import sys
 from pathlib import Path
+
+from pmk_nb.cli.procs import stop_process, wait_children, wait_for_port
+from pmk_nb.fileio import atomic_write
 
 DASHBOARD_SOURCE = "from pmk_nb.ui import build_app\n\nbuild_app()"
 DASHBOARD_TITLE = "PMK Wheelchair"
@@ -25,6 +30,7 @@ CULL_IDLE_TIMEOUT = 600
 CULL_INTERVAL = 60
 DEFAULT_PORT = 8866
 DEFAULT_IP = "127.0.0.1"
+VOILA_START_TIMEOUT = 120.0
 
 
 def dashboard_notebook() -> dict[str, object]:
@@ -52,11 +58,8 @@ def dashboard_notebook() -> dict[str, object]:
 
 def write_dashboard_notebook(directory: Path) -> Path:
     """Write ``dashboard.ipynb`` into ``directory`` (created) and return its path."""
-    directory.mkdir(parents=True, exist_ok=True)
     path = directory / "dashboard.ipynb"
-    tmp = path.with_suffix(".ipynb.tmp")
-    tmp.write_text(json.dumps(dashboard_notebook(), indent=1) + "\n", encoding="utf-8")
-    tmp.replace(path)
+    atomic_write(path, json.dumps(dashboard_notebook(), indent=1) + "\n", mkdir=True)
     return path
 
 
@@ -87,3 +90,32 @@ def voila_command(
     if not open_browser:
         cmd.append("--no-browser")
     return cmd
+
+
+def server_options(p: argparse.ArgumentParser) -> None:
+    """``--port``, ``--ip``, ``--no-browser``: the options of every command that serves the dashboard."""
+    p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"HTTP port (default {DEFAULT_PORT})")
+    p.add_argument(
+        "--ip",
+        default=DEFAULT_IP,
+        help=f"address to listen on (default {DEFAULT_IP}; use 0.0.0.0 to serve a tablet on the LAN)",
+    )
+    p.add_argument("--no-browser", action="store_true", help="do not open a browser")
+
+
+def _local_host(ip: str) -> str:
+    """Where this machine reaches a server listening on ``ip`` (all interfaces -> loopback)."""
+    return "127.0.0.1" if ip in ("0.0.0.0", "") else ip
+
+
+def serve(args: argparse.Namespace, env: dict[str, str], workdir: Path) -> int:
+    """Start Voilà on the generated notebook, print the URL, wait until it ends or we are stopped."""
+    notebook = write_dashboard_notebook(workdir)
+    cmd = voila_command(notebook, port=args.port, ip=args.ip, open_browser=not args.no_browser)
+    voila = subprocess.Popen(cmd, env=env, cwd=workdir)
+    try:
+        wait_for_port(_local_host(args.ip), args.port, voila, "Voilà", VOILA_START_TIMEOUT)
+        print(f"PMK dashboard: http://{_local_host(args.ip)}:{args.port}/  (Ctrl-C to stop)", flush=True)
+        return wait_children([voila])
+    finally:
+        stop_process(voila)

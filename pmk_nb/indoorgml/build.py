@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from dataclasses import dataclass
 
 import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
-from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint, cell_footprint
+from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint
+from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.model import (
     Boundary,
     Building,
@@ -24,7 +24,7 @@ from pmk_nb.indoorgml.model import (
     Transition,
 )
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
-from pmk_nb.indoorgml.storeys import CellZ, plan_storeys
+from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys
 from pmk_nb.indoorgml.units import UNIT_SCALE, choose_unit
 
 MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
@@ -40,14 +40,6 @@ KIND_BY_NAME = {
     "nonnavigablespace": CellKind.NON_NAVIGABLE,
     "obstacle": CellKind.NON_NAVIGABLE,
 }
-GEOMETRY_LAYER_WORDS = ("base", "primal", "topographic", "geometry", "physical")
-
-
-@dataclass
-class _Cell:
-    raw: RawCell
-    fp: Footprint
-    layer: str
 
 
 def detect_alma(doc: RawDocument) -> str:
@@ -87,63 +79,6 @@ def _kind(raw: RawCell, alma: bool) -> CellKind:
     return CellKind.NON_NAVIGABLE if alma else CellKind.NAVIGABLE
 
 
-def _cell_layers(doc: RawDocument) -> dict[str, str]:
-    """Layer of each cell: the SpaceLayer it sits in, else the layer of its dual State."""
-    state_layer = {s.id: s.layer for s in doc.states}
-    layer_of: dict[str, str] = {}
-    for s in doc.states:
-        if s.cell and s.layer:
-            layer_of.setdefault(s.cell, s.layer)
-    for c in doc.cells:
-        if c.layer:
-            layer_of[c.id] = c.layer
-        elif c.id not in layer_of and c.duality in state_layer:
-            layer_of[c.id] = state_layer[c.duality]
-    return layer_of
-
-
-def _select_layers(cells: list[_Cell], doc: RawDocument, alma: str, warnings: list[str]) -> list[_Cell]:
-    """Keep the geometry layer(s); drop layers that only repeat/subdivide the same space."""
-    by_layer: dict[str, list[_Cell]] = defaultdict(list)
-    for c in cells:
-        by_layer[c.layer].append(c)
-    order = [layer.id for layer in doc.layers if layer.id in by_layer]
-    if len(order) <= 1:
-        return cells
-    info = {layer.id: layer for layer in doc.layers}
-    if alma:
-        geo = [
-            lid for lid in order
-            if lid == "L1" or (info[lid].cls.upper() == "TOPOGRAPHIC" and info[lid].usage.lower() == "geometry")
-        ]  # fmt: skip
-        keep = geo[:1] or order[:1]
-        dropped = [lid for lid in order if lid not in keep]
-        warnings.append(f"ALMA style: geometry from layer {keep[0]!r} only; ignored layers {dropped}")
-        return [c for c in cells if c.layer in keep or c.layer == ""]
-
-    def rank(lid: str) -> int:
-        text = f"{lid} {info[lid].cls} {info[lid].usage}".lower()
-        return 0 if any(w in text for w in GEOMETRY_LAYER_WORDS) else 1
-
-    primary = min(order, key=lambda lid: (rank(lid), order.index(lid)))
-    kept = {primary, ""}
-    base = [c.fp.geometry for c in by_layer[primary] + by_layer.get("", []) if c.fp.geometry is not None]
-    for lid in order:
-        if lid == primary:
-            continue
-        geoms = [c.fp.geometry for c in by_layer[lid] if c.fp.geometry is not None]
-        share = doorlib.overlap_fraction(geoms, base)
-        if share > 0.5:
-            warnings.append(
-                f"layer {lid!r}: {len(by_layer[lid])} cells lie inside layer {primary!r} "
-                f"({share:.0%} overlap) - ignored to avoid double-counting; geometry from {primary!r}"
-            )
-        else:
-            kept.add(lid)
-            base.extend(geoms)
-    return [c for c in cells if c.layer in kept]
-
-
 def _scale(geom: BaseGeometry | None, s: float) -> BaseGeometry | None:
     if geom is None or s == 1.0:
         return geom
@@ -162,60 +97,77 @@ def _zs(v: float | None, s: float) -> float | None:
 
 
 def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
-    """Interpret ``doc``; see the package docstring for the rules."""
+    """Interpret ``doc``: cells -> kinds -> boundaries and doors -> unit -> storeys -> the model."""
     warnings: list[str] = []
-    path = doc.path
     alma = detect_alma(doc)
-    layer_of = _cell_layers(doc)
-    cells: list[_Cell] = []
-    no_geom = 0
-    for raw in doc.cells:
-        if not raw.polygons:
-            no_geom += 1
-            continue
-        fp = cell_footprint(raw.polygons)
-        if fp.geometry is None:
-            warnings.append(f"cell {raw.id!r} (line {raw.line}): zero-area footprint - skipped")
-            continue
-        if fp.repaired:
-            warnings.append(f"cell {raw.id!r} (line {raw.line}): invalid/self-intersecting polygon repaired")
-        cells.append(_Cell(raw, fp, layer_of.get(raw.id, "")))
-    if no_geom:
-        warnings.append(f"{no_geom} cells have no geometry (skipped)")
-    if not cells:
-        raise IndoorGMLError(
-            f"{path}: no usable cell: {len(doc.cells)} cell elements, none with a non-empty 2D/3D geometry"
-        )
-    cells = _select_layers(cells, doc, alma, warnings)
-    kinds = {c.raw.id: _kind(c.raw, bool(alma)) for c in cells}
+    cells = select_layers(usable_cells(doc, warnings), doc, alma, warnings)
+    kinds = _kinds(cells, bool(alma), warnings)
+    bfps = _classify_boundaries(doc, cells, warnings)
+    unit, reason = _choose_unit(doc, cells, unit, alma, _door_widths(bfps, cells, kinds))
+    s = UNIT_SCALE[unit]
+    plan = plan_storeys(
+        [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
+    )
+    warnings.extend(plan.notes)
+    model_cells = _model_cells(cells, kinds, plan, s, warnings)
+    storeys = [
+        Storey(n, plan.elevation[n], [i for i, c in model_cells.items() if c.storey == n], plan.source[n])
+        for n in plan.names
+    ]
+    _stats_warnings(doc, warnings)
+    return Building(
+        source=str(doc.path), sha256=sha256, version=_version(doc, alma), namespaces=doc.namespaces,
+        unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells,
+        boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
+        graph=_graph(doc, model_cells, s), georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
+        warnings=warnings,
+    )  # fmt: skip
+
+
+def _kinds(cells: list[KeptCell], alma: bool, warnings: list[str]) -> dict[str, CellKind]:
+    kinds = {c.raw.id: _kind(c.raw, alma) for c in cells}
     named_doors = sum(1 for c in cells if kinds[c.raw.id] is CellKind.CONNECTION and c.raw.kind_name == "cellspace")
     if named_doors:
         warnings.append(f"{named_doors} plain CellSpaces named 'door' treated as connection (door) cells")
+    return kinds
 
-    # boundaries and door evidence (file units; every door rule is scale-free)
+
+def _boundary_refs(cells: list[KeptCell]) -> dict[str, list[str]]:
+    """Boundary id -> ids of the kept cells that name it."""
     refs: dict[str, list[str]] = defaultdict(list)
     for c in cells:
         for r in c.raw.boundary_refs:
             refs[r].append(c.raw.id)
-    trans_dual = {t.duality for t in doc.transitions if t.duality}
-    trans_ids = {t.id for t in doc.transitions}
-    geom_of = {c.raw.id: c.fp.geometry for c in cells}
-    cell_geoms = [c.fp.geometry for c in cells]
-    cell_tree = shapely.STRtree(cell_geoms)  # boundary -> nearby cells without an O(B x C) scan
-    raw_refs: dict[str, list[str]] = defaultdict(list)
+    return refs
+
+
+def _owners(doc: RawDocument) -> dict[str, set[str]]:
+    """Boundary id -> every cell (of any layer) that names it or whose transition it is dual to."""
+    owners: dict[str, set[str]] = defaultdict(set)
     for raw in doc.cells:
         for r in raw.boundary_refs:
-            raw_refs[r].append(raw.id)
+            owners[r].add(raw.id)
     state_cell = {st.id: st.cell for st in doc.states}
     state_cell.update({raw.duality: raw.id for raw in doc.cells if raw.alma_inline and raw.duality})
-    dual_cells: dict[str, set[str]] = defaultdict(set)
     for t in doc.transitions:
         if t.duality:
-            dual_cells[t.duality].update(c for c in (state_cell.get(x) for x in t.connects) if c)
-    dropped_b = 0
+            owners[t.duality].update(c for c in (state_cell.get(x) for x in t.connects) if c)
+    return owners
+
+
+def _classify_boundaries(
+    doc: RawDocument, cells: list[KeptCell], warnings: list[str]
+) -> dict[str, tuple[Footprint, bool]]:
+    """Footprint and door flag of each boundary that belongs to a kept cell (file units; scale-free rules)."""
+    trans_dual = {t.duality for t in doc.transitions if t.duality}
+    trans_ids = {t.id for t in doc.transitions}
+    kept = {c.raw.id for c in cells}
+    cell_geoms = [c.fp.geometry for c in cells]
+    cell_tree = shapely.STRtree(cell_geoms)  # boundary -> nearby cells without an O(B x C) scan
+    owners = _owners(doc)
     bfps: dict[str, tuple[Footprint, bool]] = {}
     seen: set[tuple[tuple[float, ...], ...]] = set()
-    dupes = 0
+    dropped = dupes = 0
     for rb in doc.boundaries:
         fp = boundary_footprint(rb.polygons, rb.lines)
         if fp.geometry is not None:
@@ -224,9 +176,8 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
                 dupes += 1
                 continue
             seen.add(key)
-        owners = set(raw_refs.get(rb.id, [])) | dual_cells.get(rb.id, set())
-        if owners and not owners & set(geom_of):
-            dropped_b += 1
+        if owners.get(rb.id) and not owners[rb.id] & kept:
+            dropped += 1
             continue
         near: list[BaseGeometry] = []
         if fp.geometry is not None:
@@ -240,26 +191,36 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
             or (fp.geometry is not None and doorlib.partial_edge(fp.geometry, near))
         )
         bfps[rb.id] = (fp, is_door)
-    if dropped_b:
-        warnings.append(f"{dropped_b} boundaries belong only to cells of ignored layers - dropped")
+    if dropped:
+        warnings.append(f"{dropped} boundaries belong only to cells of ignored layers - dropped")
     if dupes:
         warnings.append(f"{dupes} boundaries repeat another one's geometry (e.g. '-REVERSE' copies) - merged")
-    door_widths = [
+    return bfps
+
+
+def _door_widths(
+    bfps: dict[str, tuple[Footprint, bool]], cells: list[KeptCell], kinds: dict[str, CellKind]
+) -> list[float]:
+    """Widths of door lines and door cells in file units: the evidence for the unit guess."""
+    widths = [
         fp.geometry.length
         for fp, d in bfps.values()
         if d and fp.geometry is not None and fp.geometry.geom_type == "LineString"
     ]
     for c in cells:
         if kinds[c.raw.id] in (CellKind.CONNECTION, CellKind.ANCHOR) and c.fp.geometry is not None:
-            rect = c.fp.geometry.minimum_rotated_rectangle
-            xy = shapely.get_coordinates(rect)
+            xy = shapely.get_coordinates(c.fp.geometry.minimum_rotated_rectangle)
             sides = [math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1))]
             if sides:
-                door_widths.append(max(sides))
+                widths.append(max(sides))
+    return widths
 
-    # units
-    all_geom = shapely.union_all([c.fp.geometry for c in cells])
-    minx, miny, maxx, maxy = all_geom.bounds
+
+def _choose_unit(
+    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, door_widths: list[float]
+) -> tuple[str, str]:
+    """The unit (given, or guessed from door widths and extent) and why; refuses absurd coordinates."""
+    minx, miny, maxx, maxy = shapely.union_all([c.fp.geometry for c in cells]).bounds
     if unit == "auto":
         unit, reason = choose_unit(
             alma=bool(alma), alma_why=alma, door_widths=door_widths, extent=max(maxx - minx, maxy - miny)
@@ -267,29 +228,31 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
     elif unit in UNIT_SCALE:
         reason = f"given: {unit}"
     else:
-        raise IndoorGMLError(f"{path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}")
-    s = UNIT_SCALE[unit]
-    if max(abs(minx), abs(miny), abs(maxx), abs(maxy)) * s > MAX_COORD_M:
+        raise IndoorGMLError(
+            f"{doc.path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}", path=str(doc.path)
+        )
+    if max(abs(minx), abs(miny), abs(maxx), abs(maxy)) * UNIT_SCALE[unit] > MAX_COORD_M:
         worst = max(cells, key=lambda c: max(abs(v) for v in c.fp.geometry.bounds))
         raise IndoorGMLError(
-            f"{path}: cell {worst.raw.id!r} (line {worst.raw.line}) has coordinates beyond 1e7 m "
+            f"{doc.path}: cell {worst.raw.id!r} (line {worst.raw.line}) has coordinates beyond 1e7 m "
             f"({max(abs(v) for v in worst.fp.geometry.bounds):.3g} {unit}); the file is corrupt or uses a "
-            "geographic/other CRS"
-        )
+            "geographic/other CRS",
+            path=str(doc.path), element=worst.raw.id,
+        )  # fmt: skip
+    return unit, reason
 
-    # storeys (metres)
-    plan = plan_storeys(
-        [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
-    )
-    warnings.extend(plan.notes)
+
+def _model_cells(
+    cells: list[KeptCell], kinds: dict[str, CellKind], plan: StoreyPlan, s: float, warnings: list[str]
+) -> dict[str, Cell]:
+    """The model's cells in metres, on their storeys; raised free cells (windows, sills) become non-navigable."""
     model_cells: dict[str, Cell] = {}
     raised: list[str] = []
     for c in cells:
         storey = plan.of_cell[c.raw.id]
         kind = kinds[c.raw.id]
         z_min, z_max = _zs(c.fp.z_min, s), _zs(c.fp.z_max, s)
-        floor = plan.elevation.get(storey)
-        if kind.is_free and _raised(z_min, z_max, floor):
+        if kind.is_free and _raised(z_min, z_max, plan.elevation.get(storey)):
             kind = CellKind.NON_NAVIGABLE
             raised.append(c.raw.id)
         model_cells[c.raw.id] = Cell(
@@ -301,28 +264,24 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
             f"{len(raised)} cells start more than {RAISED} m above their storey floor (windows/sills): "
             f"treated as non-navigable: {raised[:8]}"
         )
-    storeys = [
-        Storey(n, plan.elevation[n], [i for i, c in model_cells.items() if c.storey == n], plan.source[n])
-        for n in plan.names
-    ]
-    boundaries = _boundaries(doc, bfps, refs, model_cells, storeys, s)
-    graph = _graph(doc, model_cells, s)
-    georef = Georeference(
+    return model_cells
+
+
+def _georef(doc: RawDocument, s: float) -> Georeference:
+    return Georeference(
         translation=(doc.translation[0] * s, doc.translation[1] * s) if doc.translation else (0.0, 0.0),
         rotation=doc.rotation or 0.0,
         lla=doc.lla,
         srs_name=doc.srs_name,
     )
+
+
+def _stats_warnings(doc: RawDocument, warnings: list[str]) -> None:
     st = doc.stats
     if st.unclosed:
         warnings.append(f"{st.unclosed} rings were not closed (closed them)")
     if st.repeated:
         warnings.append(f"{st.repeated} repeated consecutive points dropped")
-    return Building(
-        source=str(path), sha256=sha256, version=_version(doc, alma), namespaces=doc.namespaces,
-        unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells, boundaries=boundaries,
-        graph=graph, georef=georef, layers=[layer.id for layer in doc.layers], warnings=warnings,
-    )  # fmt: skip
 
 
 def _boundaries(

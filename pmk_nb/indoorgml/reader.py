@@ -11,7 +11,7 @@ from pmk_nb.indoorgml.build import build_building
 from pmk_nb.indoorgml.model import Building
 from pmk_nb.indoorgml.scan import scan
 from pmk_nb.indoorgml.units import UNIT_CHOICES
-from pmk_nb.indoorgml.xmlsafe import ProgressFn
+from pmk_nb.progress import ProgressCallback
 
 
 def _sha256(path: Path) -> str:
@@ -22,13 +22,15 @@ def _sha256(path: Path) -> str:
     return digest.hexdigest()
 
 
-def read_building(path: str | os.PathLike[str], *, unit: str = "auto", progress: ProgressFn | None = None) -> Building:
+def read_building(
+    path: str | os.PathLike[str], *, unit: str = "auto", progress: ProgressCallback | None = None
+) -> Building:
     """Read an IndoorGML file (1.0, 1.0.x, 1.1, 2.0 drafts, ALMA style) into a :class:`Building`.
 
     Args:
         path: the .gml file.
         unit: "m", "dm", "cm", "mm", or "auto" (see :mod:`pmk_nb.indoorgml.units`).
-        progress: called as ``progress(bytes_read, total_bytes)`` while the file streams in.
+        progress: ``read`` reports (fraction of the file's bytes) while the file streams in.
 
     Returns:
         The building, all coordinates in metres.
@@ -39,8 +41,8 @@ def read_building(path: str | os.PathLike[str], *, unit: str = "auto", progress:
     """
     p = Path(path)
     if unit not in UNIT_CHOICES:
-        raise IndoorGMLError(f"{p}: unknown unit {unit!r}; use one of {', '.join(UNIT_CHOICES)}")
+        raise IndoorGMLError(f"{p}: unknown unit {unit!r}; use one of {', '.join(UNIT_CHOICES)}", path=str(p))
     if not p.is_file():
-        raise IndoorGMLError(f"{p}: no such file")
+        raise IndoorGMLError(f"{p}: no such file", path=str(p))
     doc = scan(p, progress)
     return build_building(doc, _sha256(p), unit)

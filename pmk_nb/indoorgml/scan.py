@@ -17,7 +17,8 @@ from lxml import etree
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import gml
 from pmk_nb.indoorgml.gml import Coord, CoordError, PolygonZ, RingStats, local
-from pmk_nb.indoorgml.xmlsafe import ProgressFn, iter_events
+from pmk_nb.indoorgml.xmlsafe import iter_events
+from pmk_nb.progress import ProgressCallback
 
 GML_ID = "{http://www.opengis.net/gml/3.2}id"
 XLINK_HREF = "{http://www.w3.org/1999/xlink}href"
@@ -290,7 +291,7 @@ def _is_number(tok: str) -> bool:
     return True
 
 
-def scan(path: str | os.PathLike[str], progress: ProgressFn | None = None) -> RawDocument:
+def scan(path: str | os.PathLike[str], progress: ProgressCallback | None = None) -> RawDocument:
     """Stream ``path`` once and return its raw records.
 
     Raises:

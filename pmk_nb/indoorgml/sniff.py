@@ -3,7 +3,8 @@
 The original app saved whatever the URL returned; here a download or import is refused unless it is
 well-formed XML whose root is an IndoorGML element, so an HTML error page or a truncated transfer
 never replaces a good map. The check streams the file (constant memory), never resolves entities,
-never touches the network and refuses DTDs that declare entities (billion-laughs, XXE).
+never touches the network and refuses what the reader refuses: a DOCTYPE declaring entities or naming
+an external DTD (one parser factory and one rule, both from :mod:`pmk_nb.indoorgml.xmlsafe`).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from typing import TYPE_CHECKING
 from lxml import etree
 
 from pmk_nb.errors import LibraryError
+from pmk_nb.indoorgml.xmlsafe import doctype_problem, pull_parser
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -39,17 +41,6 @@ def is_indoorgml_root(local_name: str, namespace: str) -> bool:
     return local_name in INDOORGML_ROOTS or bool(_CORE_NS.match(namespace))
 
 
-def _parser() -> etree.XMLPullParser:
-    return etree.XMLPullParser(
-        events=("start", "end"),
-        resolve_entities=False,
-        no_network=True,
-        load_dtd=False,
-        huge_tree=False,
-        remove_comments=True,
-    )
-
-
 def check_indoorgml(path: Path, *, what: str | None = None) -> SniffResult:
     """Check that ``path`` is a well-formed IndoorGML XML document.
 
@@ -65,7 +56,7 @@ def check_indoorgml(path: Path, *, what: str | None = None) -> SniffResult:
             entities, or XML whose root is not an IndoorGML element (e.g. an HTML page).
     """
     label = what or str(path)
-    parser = _parser()
+    parser = pull_parser()
     root: SniffResult | None = None
     seen_any = False
     try:
@@ -117,16 +108,8 @@ def _judge_root(elem: etree._Element, label: str) -> SniffResult:
             f"{label} is XML but not IndoorGML: its root element is <{shown}>{hint}; expected "
             "IndoorFeatures, MultiLayeredGraph or PrimalSpaceFeatures in an IndoorGML namespace"
         )
-    # entities are never expanded here (resolve_entities=False), but the reader refuses such
-    # files, so they must not enter the folder either
-    info = elem.getroottree().docinfo
-    dtd = info.internalDTD
-    if dtd is not None and any(True for _ in dtd.iterentities()):
-        raise LibraryError(
-            f"{label} declares XML entities in its DOCTYPE; refused for safety (IndoorGML files need none)"
-        )
-    if info.system_url:
-        raise LibraryError(
-            f"{label} refers to an external DTD ({info.system_url}); refused for safety (IndoorGML files need none)"
-        )
+    # entities are never expanded here, but the reader refuses such files: they must not enter the folder
+    why = doctype_problem(elem.getroottree().docinfo)
+    if why:
+        raise LibraryError(f"{label} is refused for safety: {why}; IndoorGML files need none")
     return SniffResult(root=qname.localname, namespace=namespace)

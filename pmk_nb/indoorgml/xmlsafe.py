@@ -1,24 +1,41 @@
 """Safe, streaming XML event source for IndoorGML files.
 
 Building plans arrive from URLs typed by users, so the parser must never expand entities, fetch
-DTDs or touch the network/local files (XXE), and must not be made to hang (billion laughs). We
-refuse any DOCTYPE that declares entities before lxml sees the document, and parse with
-``resolve_entities=False, no_network=True, load_dtd=False, huge_tree=False``.
+DTDs or touch the network/local files (XXE), and must not be made to hang (billion laughs).
+
+Two layers, both used by the reader and by :mod:`pmk_nb.indoorgml.sniff` so they always agree:
+
+* the parser itself: :data:`SAFE_PARSER_OPTIONS` (``resolve_entities=False, no_network=True,
+  load_dtd=False, huge_tree=False``) through :func:`pull_parser` / :func:`iterparse`;
+* one DOCTYPE rule, :func:`doctype_problem`: a document declaring entities or naming an external
+  DTD (``SYSTEM`` or ``PUBLIC``) is refused. The reader also applies it to the raw prolog
+  (:func:`check_prolog`) before lxml sees a byte.
 """
 
 from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
-from typing import BinaryIO
+from typing import IO, Any, BinaryIO
 
 from lxml import etree
 
 from pmk_nb.errors import IndoorGMLError
+from pmk_nb.progress import ProgressCallback, emit
 
-ProgressFn = Callable[[int, int], None]
+#: The lxml options every parse of a building plan uses (reader and sniff alike).
+SAFE_PARSER_OPTIONS: dict[str, Any] = {
+    "resolve_entities": False,
+    "no_network": True,
+    "load_dtd": False,
+    "huge_tree": False,
+    "remove_comments": True,
+    "remove_pis": True,
+    "dtd_validation": False,
+}
+_EVENTS = ("start", "end")
 
 PROLOG_LIMIT = 1 << 20  # a DOCTYPE/prolog longer than 1 MiB is not a building plan
 _ROOT_START = re.compile(rb"<(?![?!])")
@@ -26,10 +43,33 @@ _ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
 _COMMENT = re.compile(rb"<!--.*?-->", re.DOTALL)
 
 
+def pull_parser() -> etree.XMLPullParser:
+    """A feed parser with :data:`SAFE_PARSER_OPTIONS` yielding ``start``/``end`` events."""
+    return etree.XMLPullParser(events=_EVENTS, **SAFE_PARSER_OPTIONS)
+
+
+def iterparse(source: IO[bytes]) -> Any:
+    """``lxml.etree.iterparse`` over a binary file with :data:`SAFE_PARSER_OPTIONS`."""
+    return etree.iterparse(source, events=_EVENTS, **SAFE_PARSER_OPTIONS)
+
+
+def doctype_problem(docinfo: Any) -> str | None:
+    """The one DOCTYPE rule: why a document must be refused (entities, external DTD), or None.
+
+    ``docinfo`` is ``element.getroottree().docinfo`` once the root element has started.
+    """
+    dtd = docinfo.internalDTD
+    if dtd is not None and any(True for _ in dtd.iterentities()):
+        return "its DOCTYPE declares XML entities"
+    if docinfo.system_url or docinfo.public_id:
+        return f"it refers to an external DTD ({docinfo.system_url or docinfo.public_id})"
+    return None
+
+
 class _CountingReader:
     """File wrapper that reports progress as lxml pulls bytes."""
 
-    def __init__(self, fh: BinaryIO, total: int, progress: ProgressFn | None) -> None:
+    def __init__(self, fh: BinaryIO, total: int, progress: ProgressCallback | None) -> None:
         self._fh = fh
         self._total = total
         self._progress = progress
@@ -38,8 +78,8 @@ class _CountingReader:
     def read(self, size: int = -1) -> bytes:
         data = self._fh.read(size)
         self.bytes_read += len(data)
-        if self._progress is not None and data:
-            self._progress(self.bytes_read, self._total)
+        if data:
+            emit(self._progress, "read", self.bytes_read / max(self._total, 1), f"{self.bytes_read} bytes")
         return data
 
 
@@ -62,18 +102,25 @@ def check_prolog(path: Path, head: bytes) -> None:
     text = _COMMENT.sub(b"", _decode_prolog(head))
     m = _ROOT_START.search(text)
     if m is None and len(head) >= PROLOG_LIMIT:
-        raise IndoorGMLError(f"{path}: no root element in the first MiB (prolog too long)")
+        raise IndoorGMLError(f"{path}: no root element in the first MiB (prolog too long)", path=str(path))
     prolog = text if m is None else text[: m.start()]
     doctype = prolog.upper().find(b"<!DOCTYPE")
-    if doctype >= 0 and (_ENTITY_DECL.search(prolog, doctype) or b"SYSTEM" in prolog[doctype:].upper()):
-        raise IndoorGMLError(
-            f"{path}: refused: the DOCTYPE declares entities or an external DTD (possible XXE / "
-            "entity-expansion attack); IndoorGML files never need one - remove the DOCTYPE"
-        )
+    if doctype < 0:
+        return
+    external = any(word in prolog[doctype:].upper() for word in (b"SYSTEM", b"PUBLIC"))
+    if _ENTITY_DECL.search(prolog, doctype) or external:
+        raise _refused(path, "the DOCTYPE declares entities or an external DTD")
+
+
+def _refused(path: Path, why: str) -> IndoorGMLError:
+    return IndoorGMLError(
+        f"{path}: refused: {why} (possible XXE / entity-expansion attack)",
+        path=str(path), element="DOCTYPE", hint="IndoorGML files never need one - remove the DOCTYPE",
+    )  # fmt: skip
 
 
 def iter_events(
-    path: str | os.PathLike[str], progress: ProgressFn | None = None
+    path: str | os.PathLike[str], progress: ProgressCallback | None = None
 ) -> Iterator[tuple[str, etree._Element]]:
     """Yield lxml ``("start"|"end", element)`` events; errors become IndoorGMLError.
 
@@ -84,30 +131,22 @@ def iter_events(
         total = p.stat().st_size
         fh = p.open("rb")
     except OSError as err:
-        raise IndoorGMLError(f"{p}: cannot open: {err.strerror or err}") from err
+        raise IndoorGMLError(f"{p}: cannot open: {err.strerror or err}", path=str(p)) from err
     with fh:
         if total == 0:
-            raise IndoorGMLError(f"{p}: the file is empty (expected an IndoorGML document)")
+            raise IndoorGMLError(f"{p}: the file is empty (expected an IndoorGML document)", path=str(p))
         head = fh.read(PROLOG_LIMIT)
         check_prolog(p, head)
         fh.seek(0)
         reader = _CountingReader(fh, total, progress)
-        events = etree.iterparse(
-            reader,
-            events=("start", "end"),
-            resolve_entities=False,
-            no_network=True,
-            load_dtd=False,
-            huge_tree=False,
-            remove_comments=True,
-            remove_pis=True,
-            dtd_validation=False,
-        )
+        events = iterparse(reader)
         open_tags: list[str] = []
         last_id: list[str | None] = []
         try:
             for event, elem in events:
                 if event == "start":
+                    if not open_tags and (why := doctype_problem(elem.getroottree().docinfo)):
+                        raise _refused(p, why)
                     open_tags.append(_short(elem))
                     last_id.append(elem.get("{http://www.opengis.net/gml/3.2}id"))
                 else:
@@ -122,9 +161,9 @@ def iter_events(
                 inside = f" inside <{open_tags[-1]}>" + (f" (near gml:id={ident!r})" if ident else "")
             kind = "not XML" if not open_tags and reader.bytes_read <= len(head) else "malformed XML"
             msg = err.msg or str(err)
-            raise IndoorGMLError(f"{p}: {kind} at {where}{inside}: {msg}") from err
-        if progress is not None:
-            progress(total, total)
+            element = open_tags[-1] if open_tags else None
+            raise IndoorGMLError(f"{p}: {kind} at {where}{inside}: {msg}", path=str(p), element=element) from err
+        emit(progress, "read", 1.0, f"{total} bytes")
 
 
 def _short(elem: etree._Element) -> str:

@@ -1,4 +1,4 @@
-"""HTTP(S) download with a stall timeout, a size cap and errors a user can act on.
+"""HTTP(S) download with a stall timeout, an overall deadline, a size cap and errors a user can act on.
 
 The original app (thesis 4.2.1.3 a) fetched the whole body into memory and showed one generic
 "check your connection" dialog. Here the body streams to a file the caller owns, the size is capped
@@ -11,21 +11,21 @@ from __future__ import annotations
 import http.client
 import socket
 import ssl
+import time
 import urllib.error
 import urllib.request
-from collections.abc import Callable
 from typing import IO, Any
 from urllib.parse import urlsplit
 
 from pmk_nb import __version__
-from pmk_nb.errors import LibraryError
+from pmk_nb.errors import DownloadError, LibraryError
+from pmk_nb.progress import ProgressCallback, emit
 
-DEFAULT_TIMEOUT = 30.0
+DEFAULT_TIMEOUT = 30.0  # seconds without any data (a stall)
+DEFAULT_DEADLINE = 120.0  # seconds for the whole download, however steadily it trickles
 DEFAULT_MAX_BYTES = 50 * 1024 * 1024
 _CHUNK = 64 * 1024
 _SCHEMES = ("http", "https")
-
-Progress = Callable[[int, int | None], None]
 
 
 def check_url(url: str) -> tuple[str, str]:
@@ -53,7 +53,9 @@ class _HttpOnlyRedirects(urllib.request.HTTPRedirectHandler):
 
     def redirect_request(self, req: Any, fp: Any, code: int, msg: str, headers: Any, newurl: str) -> Any:
         if urlsplit(newurl).scheme.lower() not in _SCHEMES:
-            raise LibraryError(f"download of {req.full_url} refused: the server redirects to {newurl!r}")
+            raise DownloadError(
+                f"download of {req.full_url} refused: the server redirects to {newurl!r}", url=req.full_url
+            )
         return super().redirect_request(req, fp, code, msg, headers, newurl)
 
 
@@ -78,72 +80,93 @@ def fetch(
     out: IO[bytes],
     *,
     timeout: float = DEFAULT_TIMEOUT,
+    deadline: float = DEFAULT_DEADLINE,
     max_bytes: int = DEFAULT_MAX_BYTES,
-    progress: Progress | None = None,
+    progress: ProgressCallback | None = None,
 ) -> int:
     """Stream the body of ``url`` into ``out``.
 
     Args:
         url: an http:// or https:// URL (redirects are followed, only to http(s)).
         out: a binary file the caller opened (and removes if this raises).
-        timeout: seconds to wait for the connection and for each piece of data (a stall timeout,
-            so a slow but steady big download still completes).
+        timeout: seconds to wait for the connection and for each piece of data (a stall timeout).
+        deadline: seconds the whole download may take: a server trickling bytes just fast enough to
+            beat ``timeout`` is cut off here.
         max_bytes: the download is refused past this many bytes.
-        progress: called as ``progress(bytes_so_far, total_or_None)``.
+        progress: ``download`` reports; the fraction is None when the server sends no Content-Length.
 
     Returns:
         The number of bytes written.
 
     Raises:
-        LibraryError: naming the cause (URL, DNS, refused, HTTP status, timeout, size, short body).
+        DownloadError: naming the cause (redirect, DNS, refused, HTTP status, timeout, deadline, size,
+            short body); LibraryError for a malformed URL.
     """
     _, host = check_url(url)
     opener = urllib.request.build_opener(_HttpOnlyRedirects)
     request = urllib.request.Request(
         url.strip(), headers={"User-Agent": f"pmk-nb/{__version__}", "Accept": "application/xml, text/xml, */*"}
     )
+    ends_at = time.monotonic() + deadline
     try:
-        with opener.open(request, timeout=timeout) as response:
-            return _copy_body(response, out, url=url, max_bytes=max_bytes, progress=progress)
+        with opener.open(request, timeout=min(timeout, deadline)) as response:
+            return _copy_body(response, out, url=url, max_bytes=max_bytes, ends_at=ends_at, progress=progress)
     except urllib.error.HTTPError as err:
         hint = "; check the URL" if err.code in (400, 403, 404, 410) else ""
-        raise LibraryError(f"download of {url} failed: the server answered HTTP {err.code} {err.reason}{hint}") from err
+        msg = f"download of {url} failed: the server answered HTTP {err.code} {err.reason}{hint}"
+        raise DownloadError(msg, url=url) from err
     except urllib.error.URLError as err:
-        raise LibraryError(f"download of {url} failed: {_describe_reason(err.reason, host, timeout)}") from err
+        why = _describe_reason(err.reason, host, timeout)
+        raise DownloadError(f"download of {url} failed: {why}", url=url) from err
     except TimeoutError as err:
-        raise LibraryError(
-            f"download of {url} failed: no data from {host} for {timeout:g} s (timed out); try again "
-            "or raise the timeout"
-        ) from err
+        raise DownloadError(
+            f"download of {url} failed: no data from {host} for {timeout:g} s (timed out)",
+            url=url, hint="try again or raise the timeout",
+        ) from err  # fmt: skip
     except (http.client.HTTPException, OSError) as err:
-        raise LibraryError(f"download of {url} failed: the connection to {host} broke ({err!r})") from err
+        raise DownloadError(f"download of {url} failed: the connection to {host} broke ({err!r})", url=url) from err
 
 
 def _copy_body(
-    response: http.client.HTTPResponse, out: IO[bytes], *, url: str, max_bytes: int, progress: Progress | None
+    response: http.client.HTTPResponse,
+    out: IO[bytes],
+    *,
+    url: str,
+    max_bytes: int,
+    ends_at: float,
+    progress: ProgressCallback | None,
 ) -> int:
     total = _content_length(response)
     if total is not None and total > max_bytes:
-        raise LibraryError(
-            f"download of {url} refused: the file is {_mib(total)}, more than the limit of {_mib(max_bytes)}"
+        raise DownloadError(
+            f"download of {url} refused: the file is {_mib(total)}, more than the limit of {_mib(max_bytes)}", url=url
         )
     done = 0
-    if progress:
-        progress(0, total)
-    while chunk := response.read(_CHUNK):
+    emit(progress, "download", 0.0 if total else None, _amount(0, total))
+    while chunk := response.read1(_CHUNK):
         done += len(chunk)
         if done > max_bytes:
-            raise LibraryError(f"download of {url} aborted: more than the limit of {_mib(max_bytes)} received")
+            msg = f"download of {url} aborted: more than the limit of {_mib(max_bytes)} received"
+            raise DownloadError(msg, url=url)
         out.write(chunk)
-        if progress:
-            progress(done, total)
+        emit(progress, "download", done / total if total else None, _amount(done, total))
+        if time.monotonic() > ends_at:
+            raise DownloadError(
+                f"download of {url} aborted: not finished within the deadline ({_mib(done)} received)",
+                url=url, hint="the server is too slow; try again later or raise the deadline",
+            )  # fmt: skip
     if total is not None and done < total:
         # http.client returns a short body silently when the server closes early
-        raise LibraryError(
-            f"download of {url} incomplete: the connection closed after {done} of {total} bytes; try again"
-        )
+        raise DownloadError(
+            f"download of {url} incomplete: the connection closed after {done} of {total} bytes",
+            url=url, hint="try again",
+        )  # fmt: skip
     out.flush()
     return done
+
+
+def _amount(done: int, total: int | None) -> str:
+    return f"{_mib(done)} of {_mib(total)}" if total else _mib(done)
 
 
 def _content_length(response: http.client.HTTPResponse) -> int | None:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import math
 import os
 import re
 import shutil
@@ -18,24 +17,25 @@ import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import TYPE_CHECKING, BinaryIO
 
-from pmk_nb.errors import IndoorGMLError, LibraryError, MapFormatError, OccupancyError
+from pmk_nb.errors import AlreadyExists, IndoorGMLError, LibraryError, MapFormatError, OccupancyError
+from pmk_nb.fileio import atomic_write
 from pmk_nb.indoorgml.sniff import check_indoorgml
-from pmk_nb.library.download import DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
+from pmk_nb.library.convert import ConvertOptions, convert_plan
+from pmk_nb.library.download import DEFAULT_DEADLINE, DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
 from pmk_nb.library.info import StoreyCache, StoreyInfo
-from pmk_nb.library.naming import storey_map_names
 from pmk_nb.library.scan import GeneratedMap, scan_generated
+from pmk_nb.progress import ProgressCallback
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building
+    pass
 
 __all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "StoreyInfo", "check_name", "default_maps_dir"]
 
 SOURCE_SUFFIXES = (".gml", ".xml")
 MAX_NAME_LENGTH = 100
 _NAME_RE = re.compile(r"^[\w .-]+$")
-ConvertProgress = Callable[[str, float], None]
 
 
 def default_maps_dir() -> Path:
@@ -207,34 +207,31 @@ class MapsFolder:
 
     def _refuse_existing(self, name: str, overwrite: bool) -> None:
         if not overwrite and self.exists(name):
-            raise LibraryError(f"map {name!r} already exists; pass overwrite=True to replace it")
+            raise AlreadyExists(f"map {name!r} already exists; pass overwrite=True to replace it", name=name)
 
     def _add_source(
         self, name: str, overwrite: bool, suffix: str, write: Callable[[BinaryIO], None], *, what: str, failure: str
     ) -> MapEntry:
-        """Add map ``name`` via a temp file that ``write`` fills, checked to be IndoorGML before it is
-        renamed into place: a failure leaves an existing map untouched. ``failure`` prefixes OS errors."""
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{name}.", suffix=suffix, dir=self.root)
-        tmp = Path(tmp_name)
+        """Add map ``name``: ``write`` fills a scratch file that is checked to be IndoorGML, then its
+        checked bytes replace NAME.gml atomically, so a failure leaves an existing map untouched.
+        ``failure`` prefixes OS errors."""
         try:
-            with os.fdopen(fd, "wb") as out:
-                write(out)
-                out.flush()
-                os.fsync(out.fileno())
-            check_indoorgml(tmp, what=what)  # check the copy: what is installed is what was checked
-            self._refuse_existing(name, overwrite)  # another writer may have taken the name meanwhile
-            return self._install(tmp, name)
+            with tempfile.NamedTemporaryFile(prefix=f".{name}.", suffix=suffix, dir=self.root) as scratch:
+                write(scratch)
+                scratch.flush()
+                check_indoorgml(Path(scratch.name), what=what)  # what is installed is what was checked
+                self._refuse_existing(name, overwrite)  # another writer may have taken the name meanwhile
+                scratch.seek(0)
+                return self._install(scratch, name)
         except OSError as err:
-            raise LibraryError(f"{failure}: {err.strerror or err}") from err
-        finally:
-            tmp.unlink(missing_ok=True)
+            raise LibraryError(f"{failure}: {err.strerror or err}", name=name) from err
 
-    def _install(self, tmp: Path, name: str) -> MapEntry:
-        """Move a checked temp file into place as NAME.gml; drops a NAME.xml it replaces."""
+    def _install(self, checked: BinaryIO, name: str) -> MapEntry:
+        """Write the checked file as NAME.gml (0644: the folder is shared like the original ALMA_MAPS);
+        drops a NAME.xml it replaces."""
         target = self.root / f"{name}.gml"
         old = self._sources().get(name)
-        os.chmod(tmp, 0o644)  # mkstemp makes 0600; the folder is shared like the original ALMA_MAPS
-        os.replace(tmp, target)
+        atomic_write(target, lambda out: shutil.copyfileobj(checked, out, 1 << 20))
         if old is not None and old != target:
             old.unlink(missing_ok=True)
         return self.entry(name)
@@ -272,7 +269,8 @@ class MapsFolder:
         overwrite: bool = False,
         timeout: float = DEFAULT_TIMEOUT,
         max_bytes: int = DEFAULT_MAX_BYTES,
-        progress: Callable[[int, int | None], None] | None = None,
+        deadline: float = DEFAULT_DEADLINE,
+        progress: ProgressCallback | None = None,
     ) -> MapEntry:
         """Download an IndoorGML map from an http(s) URL into ``NAME.gml`` (thesis 3.2.1).
 
@@ -290,7 +288,7 @@ class MapsFolder:
         self._ensure_root()
 
         def save(out: BinaryIO) -> None:
-            fetch(url, out, timeout=timeout, max_bytes=max_bytes, progress=progress)
+            fetch(url, out, timeout=timeout, deadline=deadline, max_bytes=max_bytes, progress=progress)
 
         failure = f"cannot save the download as {name!r} in {self.root}"
         return self._add_source(name, overwrite, ".part", save, what=f"the file at {url}", failure=failure)
@@ -305,113 +303,51 @@ class MapsFolder:
         wall_thickness: float = 0.10,
         unit: str = "auto",
         image_format: str = "pgm",
-        progress: ConvertProgress | None = None,
+        progress: ProgressCallback | None = None,
         max_wall_gap: float = 0.5,
     ) -> list[GeneratedMap]:
         """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2).
 
-        All new files are written to a staging folder first and renamed into place only when every
-        storey succeeded; then files of storeys that no longer exist are removed.
+        Runs :func:`pmk_nb.library.convert.convert_plan` (all storeys or none are written), then
+        removes the files of storeys that no longer exist.
 
         Args:
             resolution: metres per cell (e.g. 0.05).
             storeys: storey names to convert; default all.
             max_wall_gap: gaps between cells up to this many metres wide are walls the file left
                 out, drawn occupied (0 turns this off).
-            progress: called as ``progress(step_description, fraction_done_0_to_1)``.
+            progress: :class:`~pmk_nb.progress.Progress` reports (read, rasterise, write, done).
 
         Raises:
             LibraryError: unknown map, bad arguments, or any reader / rasteriser / writer error
-                (chained, with its message).
+                (chained as ``__cause__``, e.g. a :class:`~pmk_nb.errors.GridTooLarge`, with its message).
         """
         entry = self.entry(name)
-        if not (isinstance(resolution, int | float) and math.isfinite(resolution) and resolution > 0):
-            raise LibraryError(f"resolution must be a positive number of metres per cell, got {resolution!r}")
-        if not (isinstance(wall_thickness, int | float) and math.isfinite(wall_thickness) and wall_thickness >= 0):
-            raise LibraryError(f"wall thickness must be a number of metres >= 0, got {wall_thickness!r}")
-        if not (isinstance(max_wall_gap, int | float) and math.isfinite(max_wall_gap) and max_wall_gap >= 0):
-            raise LibraryError(f"max wall gap must be a number of metres >= 0, got {max_wall_gap!r}")
-        if image_format not in ("pgm", "png"):
-            raise LibraryError(f"image format must be 'pgm' or 'png', got {image_format!r}")
-        report = progress or (lambda _step, _frac: None)
+        options = ConvertOptions(
+            unit=unit, storeys=storeys, wall_thickness=wall_thickness, max_wall_gap=max_wall_gap,
+            image_format=image_format,
+        )  # fmt: skip
+        self._ensure_root()
+        st = entry.source.stat()
+        old = scan_generated(self.root, self._sources()).get(entry.name, [])
         try:
-            building = self._read(entry, unit, report)
-            return self._convert_building(
-                entry, building, float(resolution), storeys, image_format, report,
-                wall_thickness=wall_thickness, max_wall_gap=float(max_wall_gap),
+            result = convert_plan(
+                entry.source, self.root, entry.name, resolution, options,
+                extra_meta={"map": entry.name, "source": entry.source.name}, progress=progress,
             )  # fmt: skip
         except (IndoorGMLError, OccupancyError, MapFormatError) as err:
-            raise LibraryError(f"cannot convert map {entry.name!r}: {err}") from err
+            raise LibraryError(f"cannot convert map {entry.name!r}: {err}", name=entry.name) from err
         except MemoryError as err:
             raise LibraryError(
-                f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell; "
-                "use a coarser resolution (a larger number)"
-            ) from err
-        except OSError as err:
-            raise LibraryError(
-                f"cannot write the maps of {entry.name!r} in {self.root}: {err.strerror or err}"
-            ) from err
-
-    def _read(self, entry: MapEntry, unit: str, report: ConvertProgress) -> Building:
-        from pmk_nb.indoorgml import read_building
-
-        label = f"reading {entry.source.name}"
-        report(label, 0.0)
-        st = entry.source.stat()
-        building = read_building(
-            entry.source, unit=unit, progress=lambda done, total: report(label, 0.3 * done / max(total, 1))
-        )
+                f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell",
+                name=entry.name, hint="use a coarser resolution (a larger number)",
+            ) from err  # fmt: skip
         if unit == "auto":  # what storeys() reads too: the list learns them for free
-            self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), building)
-        return building
-
-    def _convert_building(
-        self,
-        entry: MapEntry,
-        building: Building,
-        resolution: float,
-        storeys: list[str] | None,
-        image_format: str,
-        report: ConvertProgress,
-        **raster_kw: float,
-    ) -> list[GeneratedMap]:
-        from pmk_nb.raster.storey import rasterise_storey
-        from pmk_nb.rosmap.files import write_map
-
-        all_storeys = [s.name for s in building.storeys]
-        wanted = list(dict.fromkeys(storeys)) if storeys else all_storeys
-        for s in wanted:
-            building.storey(s)  # IndoorGMLError naming the known storeys
-        stems = storey_map_names(entry.name, all_storeys)
-        self._ensure_root()
-        staging = Path(tempfile.mkdtemp(prefix=f".{entry.name}.convert-", dir=self.root))
-        try:
-            staged: list[Path] = []
-            span = 0.6 / len(wanted)
-            for i, storey in enumerate(wanted):
-                step, base = f"rasterising storey {storey}", 0.3 + span * i
-                report(step, base)
-                grid = rasterise_storey(
-                    building,
-                    storey,
-                    resolution,
-                    **raster_kw,
-                    progress=lambda done, total, step=step, base=base: report(step, base + span * done / max(total, 1)),
-                )
-                grid.meta.update(_meta(entry, building, storey))
-                files = write_map(grid, staging, stems[storey], image_format=image_format)
-                staged += [p for p in (files.yaml, files.image, files.preview) if p is not None]
-            report("saving", 0.95)
-            old = scan_generated(self.root, self._sources()).get(entry.name, [])
-            new_names = {p.name for p in staged}
-            for path in staged:  # each rename is atomic; all files are complete before the first one
-                os.replace(path, self.root / path.name)
-            self._remove_superseded(old, new_names, {stems[s] for s in all_storeys})
-        finally:
-            shutil.rmtree(staging, ignore_errors=True)
-        report("done", 1.0)
-        result = self.entry(entry.name).generated
-        return [g for g in result if g.yaml.stem in {stems[s] for s in wanted}]
+            self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
+        new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview) if p}
+        self._remove_superseded(old, new_names, set(result.stems.values()))
+        wanted = {m.files.yaml.stem for m in result.maps}
+        return [g for g in self.entry(entry.name).generated if g.yaml.stem in wanted]
 
     def _remove_superseded(self, old: list[GeneratedMap], new_names: set[str], current_stems: set[str]) -> None:
         """Delete old files the new set does not reuse: other image formats, storeys now gone.
@@ -456,7 +392,3 @@ def _lookup_name(name: str) -> str:
         raise LibraryError(f"invalid map name {name!r}")
     return name[:-4] if name.lower().endswith(SOURCE_SUFFIXES) else name
 
-
-def _meta(entry: MapEntry, building: Building, storey: str) -> dict[str, Any]:
-    """Extras written into each YAML: how list() finds the map's source and whether it is stale."""
-    return {"map": entry.name, "storey": storey, "source": entry.source.name, "source_sha256": building.sha256}

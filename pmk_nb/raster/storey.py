@@ -23,13 +23,16 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
-from pmk_nb.errors import OccupancyError
+from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, nice_ceil
+from pmk_nb.progress import ProgressCallback, emit, sub_range
 from pmk_nb.raster.scanline import (
     Frame,
     fill_geometry,
@@ -60,7 +63,6 @@ NAV2_MAX_CELLS_PER_SIDE = 32767
 _WALL = 101  # transient markers while drawing: a wall cell that a door may still open,
 _OUTSIDE = 102  # and a cell outside every cell (unknown or occupied once finished)
 _MAX_DOOR_GAP = 1.0  # metres between a door line and the rooms it joins, at most (walls modelled as gaps)
-Progress = Callable[[int, int], None]
 
 
 def _check_number(name: str, value: float, *, positive: bool) -> float:
@@ -102,8 +104,9 @@ def plan_storey(
     """The grid frame a storey needs, checked against the memory budget and the Nav2 size limit.
 
     Raises:
-        OccupancyError: the grid would exceed ``max_cells`` or 32767 cells per side (unless
-            ``allow_large``); the message names the finest resolution that fits.
+        GridTooLarge: the grid would exceed ``max_cells`` or 32767 cells per side (unless
+            ``allow_large``); ``suggested_resolution`` is the finest resolution that fits.
+        OccupancyError: bad numbers or an empty storey.
     """
     res = _check_number("resolution", resolution, positive=True)
     thick = _check_number("wall thickness", wall_thickness, positive=False)
@@ -142,9 +145,12 @@ def plan_storey(
         if too_many
         else f"wider or taller than the {NAV2_MAX_CELLS_PER_SIDE} cells Nav2 (Jazzy and later) accepts"
     )
-    raise OccupancyError(
-        f"storey {storey!r}: grid would be {frame.width} x {frame.height} cells ({what}) at {res:g} m; "
-        f"use --resolution {fit:g} or coarser"
+    raise GridTooLarge(
+        f"storey {storey!r}: grid would be {frame.width} x {frame.height} cells ({what}) at {res:g} m",
+        cells=total if too_many else max(frame.width, frame.height),
+        limit=max_cells if too_many else NAV2_MAX_CELLS_PER_SIDE,
+        suggested_resolution=fit,
+        hint=f"use a resolution of {fit:g} m or coarser",
     )
 
 
@@ -176,6 +182,108 @@ def _draw_lines(grid: np.ndarray, frame: Frame, segments: np.ndarray, value: int
         grid[rows[ok], cols[ok]] = value
 
 
+@dataclass
+class _Plan:
+    """What one storey's rasterisation works on: the frame, the cells by role and the door geometry."""
+
+    frame: Frame
+    half: float  # half the wall thickness, metres
+    max_gap: float
+    cells: list[Cell]
+    rooms: list[BaseGeometry]
+    blocked: list[BaseGeometry]
+    door_polys: list[BaseGeometry]
+    door_lines: list[BaseGeometry]
+
+    @property
+    def steps(self) -> int:
+        return len(self.cells) + len(self.door_polys) + len(self.door_lines) + 2
+
+
+class _Ticker:
+    """Counts finished pieces of work and reports them as ``rasterise`` progress."""
+
+    def __init__(self, progress: ProgressCallback | None, total: int, storey: str) -> None:
+        self.progress, self.total, self.done, self.storey = progress, total, 0, storey
+
+    def __call__(self, n: int = 1) -> None:
+        self.done += n
+        emit(self.progress, "rasterise", self.done / max(self.total, 1), f"storey {self.storey}")
+
+
+def _plan(building: Building, storey: str, resolution: float, wall_thickness: float, max_wall_gap: float,
+          **plan_kw: Any) -> _Plan:  # fmt: skip
+    """Step 1: the frame (budget-checked) and the storey's cells sorted into rooms, blocked and doors."""
+    max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
+    frame = plan_storey(building, storey, resolution, wall_thickness=wall_thickness, **plan_kw)
+    cells = _storey_cells(building, storey)
+    door_polys, door_lines = door_geometry(building, storey, cells)
+    return _Plan(
+        frame=frame, half=float(wall_thickness) / 2, max_gap=max_gap, cells=cells,
+        rooms=[c.footprint for c in cells if c.kind.is_free and not c.kind.is_door],
+        blocked=[c.footprint for c in cells if not c.kind.is_free],
+        door_polys=door_polys, door_lines=door_lines,
+    )  # fmt: skip
+
+
+def _fill_cells(plan: _Plan, storey: str, tick: _Ticker) -> np.ndarray:
+    """Step 2: a grid of "outside" with free spaces (and door cells) free and non-navigable cells occupied."""
+    frame = plan.frame
+    try:
+        grid = np.full((frame.height, frame.width), _OUTSIDE, np.int8)
+    except MemoryError as err:
+        raise OccupancyError(
+            f"storey {storey!r}: not enough memory for {frame.width} x {frame.height} cells; use a coarser resolution"
+        ) from err
+    for geom in plan.rooms + plan.door_polys:
+        fill_geometry(grid, frame, geom, _setter(FREE))
+        tick()
+    for geom in plan.blocked:
+        fill_geometry(grid, frame, geom, _setter(OCCUPIED))
+        tick()
+    return grid
+
+
+def _draw_walls(grid: np.ndarray, plan: _Plan, tick: _Ticker) -> np.ndarray:
+    """Step 3: wall gaps the file left out, then every room's outline as a wall band; returns the door gaps."""
+    frame, res = plan.frame, plan.frame.resolution
+    tol = max(0.01, 0.25 * res)
+    gaps = door_gaps(plan.door_lines, plan.rooms, max_gap=max(_MAX_DOOR_GAP, plan.max_gap))
+    gap_fill = gap_walls([c.footprint for c in plan.cells] + plan.door_polys, plan.door_lines, gaps, plan.max_gap, tol)
+    fill_geometry(grid, frame, gap_fill, _setter(_WALL, keep=(FREE, OCCUPIED)))
+    segments = line_segments(wall_lines(plan.rooms, plan.door_polys, plan.door_lines, gaps, tol))
+    fill_segment_bands(grid, frame, segments, plan.half, _WALL, (OCCUPIED,))
+    _draw_lines(grid, frame, segments, _WALL, (OCCUPIED,))
+    tick()
+    return gaps
+
+
+def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) -> None:
+    """Step 4: door cells and door lines clear the wall across their width, plus a passage through it."""
+    frame, res = plan.frame, plan.frame.resolution
+    opener = _setter(FREE, keep=(OCCUPIED,))
+    reach = plan.half + res
+    for geom in plan.door_polys:
+        fill_geometry(grid, frame, geom, opener)
+        tick()
+    door_segs, owner = segments_with_owner(plan.door_lines)
+    door_reach = reach + gaps[owner]
+    fill_segment_bands(grid, frame, door_segs, door_reach, FREE, (OCCUPIED,), caps=False)
+    _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, (OCCUPIED,))
+    tick(len(plan.door_lines))
+    _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach), FREE, (OCCUPIED,))
+
+
+def _finish(grid: np.ndarray, outside: str, tick: _Ticker) -> None:
+    """Step 5: walls become occupied, outside cells unknown (or occupied), in chunks (no full-size temporary)."""
+    outside_value = OCCUPIED if outside == "occupied" else UNKNOWN
+    for start in range(0, grid.shape[0], 1024):
+        block = grid[start : start + 1024]
+        block[block == _WALL] = OCCUPIED
+        block[block == _OUTSIDE] = outside_value
+    tick()
+
+
 def rasterise_storey(
     building: Building,
     storey: str,
@@ -187,77 +295,30 @@ def rasterise_storey(
     max_cells: int = DEFAULT_MAX_CELLS,
     margin: float | None = None,
     allow_large: bool = False,
-    progress: Progress | None = None,
+    progress: ProgressCallback | None = None,
 ) -> OccupancyGrid:
     """One storey as an OccupancyGrid (-1 unknown, 0 free, 100 occupied; row 0 = bottom).
 
+    Steps: plan -> cells -> walls -> doors -> grid (see the module docstring for the rules).
+    ``progress`` gets ``rasterise`` reports, 0..1 for this storey.
+
     Raises:
-        OccupancyError: bad parameters, an empty storey, or a grid over budget (see plan_storey).
+        OccupancyError: bad parameters or an empty storey; GridTooLarge over budget (see plan_storey).
     """
     if outside not in ("unknown", "occupied"):
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {outside!r}")
-    max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
-    frame = plan_storey(
-        building, storey, resolution, wall_thickness=wall_thickness, margin=margin,
-        max_cells=max_cells, allow_large=allow_large,
+    plan = _plan(
+        building, storey, resolution, wall_thickness, max_wall_gap,
+        margin=margin, max_cells=max_cells, allow_large=allow_large,
     )  # fmt: skip
-    res, half = frame.resolution, float(wall_thickness) / 2
-    cells = _storey_cells(building, storey)
-    rooms = [c.footprint for c in cells if c.kind.is_free and not c.kind.is_door]
-    blocked = [c.footprint for c in cells if not c.kind.is_free]
-    door_polys, door_lines = door_geometry(building, storey, cells)
-    total = len(cells) + len(door_polys) + len(door_lines) + 2
-    done = 0
-
-    def tick(n: int = 1) -> None:
-        nonlocal done
-        done += n
-        if progress is not None:
-            progress(done, total)
-
-    try:
-        grid = np.full((frame.height, frame.width), _OUTSIDE, np.int8)
-    except MemoryError as err:
-        raise OccupancyError(
-            f"storey {storey!r}: not enough memory for {frame.width} x {frame.height} cells; use a coarser resolution"
-        ) from err
-    for geom in rooms + door_polys:
-        fill_geometry(grid, frame, geom, _setter(FREE))
-        tick()
-    for geom in blocked:
-        fill_geometry(grid, frame, geom, _setter(OCCUPIED))
-        tick()
-
-    tol = max(0.01, 0.25 * res)
-    gaps = door_gaps(door_lines, rooms, max_gap=max(_MAX_DOOR_GAP, max_gap))
-    gap_fill = gap_walls([c.footprint for c in cells] + door_polys, door_lines, gaps, max_gap, tol)
-    fill_geometry(grid, frame, gap_fill, _setter(_WALL, keep=(FREE, OCCUPIED)))
-    walls = wall_lines(rooms, door_polys, door_lines, gaps, tol)
-    segments = line_segments(walls)
-    fill_segment_bands(grid, frame, segments, half, _WALL, (OCCUPIED,))
-    _draw_lines(grid, frame, segments, _WALL, (OCCUPIED,))
-    tick()
-
-    opener = _setter(FREE, keep=(OCCUPIED,))
-    reach = half + res
-    for geom in door_polys:
-        fill_geometry(grid, frame, geom, opener)
-        tick()
-    door_segs, owner = segments_with_owner(door_lines)
-    door_reach = reach + gaps[owner]
-    fill_segment_bands(grid, frame, door_segs, door_reach, FREE, (OCCUPIED,), caps=False)
-    _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, (OCCUPIED,))
-    tick(len(door_lines))
-    _draw_lines(grid, frame, passages(door_polys, door_segs, door_reach, reach), FREE, (OCCUPIED,))
-    outside_value = OCCUPIED if outside == "occupied" else UNKNOWN
-    for start in range(0, frame.height, 1024):  # finalise in chunks: no full-size temporary
-        block = grid[start : start + 1024]
-        block[block == _WALL] = OCCUPIED
-        block[block == _OUTSIDE] = outside_value
-    tick()
+    tick = _Ticker(progress, plan.steps, storey)
+    grid = _fill_cells(plan, storey, tick)
+    gaps = _draw_walls(grid, plan, tick)
+    _open_doors(grid, plan, gaps, tick)
+    _finish(grid, outside, tick)
     return OccupancyGrid(
-        data=grid, resolution=res, origin=(frame.x0, frame.y0, 0.0), frame_id="map",
-        meta=_meta(building, storey, float(wall_thickness), outside, max_gap),
+        data=grid, resolution=plan.frame.resolution, origin=(plan.frame.x0, plan.frame.y0, 0.0), frame_id="map",
+        meta=_meta(building, storey, float(wall_thickness), outside, plan.max_gap),
     )  # fmt: skip
 
 
@@ -283,13 +344,13 @@ def rasterise(
     resolution: float,
     *,
     storeys: Iterable[str] | None = None,
-    progress: Progress | None = None,
+    progress: ProgressCallback | None = None,
     **kwargs: Any,
 ) -> dict[str, OccupancyGrid]:
     """One grid per storey (all storeys, or those named), in building order.
 
     Every storey is planned (budget-checked) before any is rasterised, so an oversize storey fails
-    fast. ``progress(done, total)`` counts storeys.
+    fast. ``progress`` gets ``rasterise`` reports, 0..1 over all storeys.
 
     Raises:
         OccupancyError: see rasterise_storey.
@@ -302,13 +363,7 @@ def rasterise(
         plan_storey(building, name, resolution, **plan_kwargs)
     grids: dict[str, OccupancyGrid] = {}
     for i, name in enumerate(names):
-
-        def sub(done: int, total: int, i: int = i) -> None:
-            if progress is not None:
-                progress_frac = i + done / max(1, total)
-                progress(int(progress_frac * 1000), len(names) * 1000)
-
+        sub = sub_range(progress, i / len(names), (i + 1) / len(names))
         grids[name] = rasterise_storey(building, name, resolution, progress=sub, **kwargs)
-    if progress is not None:
-        progress(len(names) * 1000, len(names) * 1000)
+    emit(progress, "rasterise", 1.0, f"{len(names)} storeys")
     return grids

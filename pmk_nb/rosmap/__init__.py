@@ -1,7 +1,7 @@
 """ROS map_server files: write and read ``NAME.yaml`` + image exactly as ROS 1 map_server and Nav2 do.
 
 ``files`` is the YAML + image pair (read, write, the map set on disk); ``image`` decodes and encodes
-the image itself (PGM/PNG/BMP, trinary/scale/raw, the three reader dialects).
+the image itself (PGM/PNG/BMP, trinary/scale/raw, the three map server readers, ``READERS``).
 """
 
 from __future__ import annotations
@@ -11,6 +11,8 @@ from pmk_nb.rosmap.files import (
     INVALID_MAP_METADATA,
     MAP_DOES_NOT_EXIST,
     NAV2_MAX_CELLS_PER_SIDE,
+    READERS,
+    ImageReader,
     MapFiles,
     MapLoadError,
     MapYaml,
@@ -25,6 +27,8 @@ __all__ = [
     "INVALID_MAP_METADATA",
     "MAP_DOES_NOT_EXIST",
     "NAV2_MAX_CELLS_PER_SIDE",
+    "READERS",
+    "ImageReader",
     "MapFiles",
     "MapLoadError",
     "MapYaml",

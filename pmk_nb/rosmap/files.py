@@ -11,24 +11,23 @@ The writer emits the one encoding every loader reads alike (8-bit P5 PGM, 0 / 25
 
 from __future__ import annotations
 
-import contextlib
 import io
 import math
 import os
-import tempfile
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import Any
 
 import numpy as np
 
 from pmk_nb import __version__
 from pmk_nb.errors import MapFormatError
+from pmk_nb.fileio import Content, replace_all
 from pmk_nb.grid import OccupancyGrid, nice_ceil
 from pmk_nb.rosmap.image import (
-    FLAVOURS,
     MODES,
+    READERS,
+    ImageReader,
     decode_image,
     grid_to_gray,
     image_to_data,
@@ -41,6 +40,8 @@ __all__ = [
     "INVALID_MAP_METADATA",
     "MAP_DOES_NOT_EXIST",
     "NAV2_MAX_CELLS_PER_SIDE",
+    "READERS",
+    "ImageReader",
     "MapFiles",
     "MapLoadError",
     "MapYaml",
@@ -59,21 +60,27 @@ NAV2_MAX_CELLS_PER_SIDE = 32767
 PREVIEW_MAX_SIDE = 4096
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.196
-Writer = Callable[[BinaryIO], object]  # writes one file's content to an open binary file
 _STANDARD_KEYS = ("image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode")
 
 
 class MapLoadError(MapFormatError):
     """A map could not be loaded; ``code`` is the Nav2 LoadMap result a map server would return."""
 
-    def __init__(self, message: str, code: int) -> None:
-        super().__init__(message)
+    def __init__(self, message: str, code: int, *, path: str | None = None) -> None:
+        super().__init__(message, path=path)
         self.code = code
 
 
 @dataclass
 class MapYaml:
-    """The fields of a map_server YAML file (``image`` resolved against the YAML's folder)."""
+    """The fields of a map_server YAML file: THE reader every module uses (simulator, deploy, transfer).
+
+    Attributes:
+        path: the YAML file.
+        image: the image path resolved against the YAML's folder (what a map server opens).
+        image_text: the ``image`` entry exactly as written in the YAML.
+        extras: every key that is not a standard map_server key (our ``storey``, ``source`` ...).
+    """
 
     path: Path
     image: Path
@@ -84,6 +91,27 @@ class MapYaml:
     free_thresh: float
     mode: str = "trinary"
     extras: dict[str, Any] = field(default_factory=dict)
+    image_text: str = ""
+
+    @property
+    def image_is_beside(self) -> bool:
+        """True when the image is a plain file in the YAML's own folder (no ``..``, no symlink out of it)."""
+        folder = Path(os.path.abspath(self.path)).parent
+        lexically = ".." not in self.image.parts and Path(os.path.abspath(self.image)).parent == folder
+        return lexically and self.image.resolve().parent == folder.resolve()
+
+    def fields(self, *, image: str | None = None) -> dict[str, Any]:
+        """The YAML as a mapping (standard keys first, then the extras), ``image`` replaced if given."""
+        return {
+            "image": self.image_text if image is None else image,
+            "resolution": self.resolution,
+            "origin": list(self.origin),
+            "negate": int(self.negate),
+            "occupied_thresh": self.occupied_thresh,
+            "free_thresh": self.free_thresh,
+            "mode": self.mode,
+            **self.extras,
+        }
 
 
 @dataclass
@@ -96,7 +124,7 @@ class MapFiles:
 
 
 def _meta_error(path: Path | str, reason: str) -> MapLoadError:
-    return MapLoadError(f"{path}: invalid map YAML: {reason}", INVALID_MAP_METADATA)
+    return MapLoadError(f"{path}: invalid map YAML: {reason}", INVALID_MAP_METADATA, path=str(path))
 
 
 def _number(doc: dict[str, Any], key: str, path: Path) -> float:
@@ -168,11 +196,12 @@ def read_map_yaml(yaml_path: str | Path) -> MapYaml:
         free_thresh=free,
         mode=mode,
         extras=extras,
+        image_text=image,
     )
 
 
-def read_map(yaml_path: str | Path, *, flavour: str = "ros1") -> OccupancyGrid:
-    """Load a map as ``flavour`` ("ros1", "nav2_humble", "nav2_jazzy") would publish it.
+def read_map(yaml_path: str | Path, *, reader: ImageReader = "ros1") -> OccupancyGrid:
+    """Load a map as the map server ``reader`` ("ros1", "nav2_humble", "nav2_jazzy") would publish it.
 
     Returns an OccupancyGrid (row 0 = bottom) whose ``meta`` holds the YAML's extra keys.
 
@@ -180,25 +209,28 @@ def read_map(yaml_path: str | Path, *, flavour: str = "ros1") -> OccupancyGrid:
         MapLoadError: code 3 for YAML problems, 2 when the image is missing or unreadable (or, for
             nav2_jazzy, wider/taller than 32767 cells).
     """
-    if flavour not in FLAVOURS:
-        raise ValueError(f"unknown flavour {flavour!r}; use one of {', '.join(FLAVOURS)}")
+    if reader not in READERS:
+        raise ValueError(f"unknown map reader {reader!r}; use one of {', '.join(READERS)}")
     info = read_map_yaml(yaml_path)
     try:
         img = decode_image(info.image)
     except FileNotFoundError as err:
-        raise MapLoadError(f"{info.path}: image file {info.image} not found", INVALID_MAP_DATA) from err
+        msg = f"{info.path}: image file {info.image} not found"
+        raise MapLoadError(msg, INVALID_MAP_DATA, path=str(info.image)) from err
     except Exception as err:  # Pillow raises many types for corrupt files
-        raise MapLoadError(f"{info.path}: cannot read image {info.image}: {err}", INVALID_MAP_DATA) from err
+        msg = f"{info.path}: cannot read image {info.image}: {err}"
+        raise MapLoadError(msg, INVALID_MAP_DATA, path=str(info.image)) from err
     height, width = img.rgba.shape[:2]
-    if flavour == "nav2_jazzy" and max(width, height) > NAV2_MAX_CELLS_PER_SIDE:
+    if reader == "nav2_jazzy" and max(width, height) > NAV2_MAX_CELLS_PER_SIDE:
         raise MapLoadError(
             f"{info.image}: {width}x{height} pixels; Nav2 Jazzy+ rejects maps wider or taller than "
             f"{NAV2_MAX_CELLS_PER_SIDE} cells",
             INVALID_MAP_DATA,
+            path=str(info.image),
         )
     data = image_to_data(
         img,
-        flavour=flavour,
+        reader=reader,
         mode=info.mode,
         negate=info.negate,
         occupied_thresh=info.occupied_thresh,
@@ -298,54 +330,35 @@ def write_map(
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as err:
-        raise MapFormatError(f"cannot create map folder {folder}: {err}") from err
+        raise MapFormatError(f"cannot create map folder {folder}: {err}", path=str(folder)) from err
 
     image_name = f"{name}.{image_format}"
     preview_name = f"{name}-visualization.png"
-    contents: list[tuple[str, Writer]] = []
+    contents: list[tuple[str, Content]] = []
     if image_format == "pgm":
         contents.append((image_name, lambda fh: write_pgm(grid, fh)))
     else:
         png = _png_bytes(grid_to_gray(grid))
-        contents.append((image_name, lambda fh: fh.write(png)))
+        contents.append((image_name, png))
     # facts about this file set are ours to state; None values are left out of the YAML
     extras = {k: v for k, v in grid.meta.items() if v is not None and k not in ("preview", "preview_px_per_m")}
     extras["generator"] = f"pmk_nb {__version__}"
     if preview:
         pv, used_px_per_m = preview_image(grid, preview_px_per_m, PREVIEW_MAX_SIDE)
         pv_png = _png_bytes(pv)
-        contents.append((preview_name, lambda fh: fh.write(pv_png)))
+        contents.append((preview_name, pv_png))
         extras["preview"] = preview_name
         extras["preview_px_per_m"] = float(used_px_per_m)
-    text = _yaml_text(grid, image_name, extras).encode("utf-8")
-    contents.append((f"{name}.yaml", lambda fh: fh.write(text)))
-    _replace_all(folder, contents)
+    contents.append((f"{name}.yaml", _yaml_text(grid, image_name, extras)))
+    try:
+        replace_all(folder, contents)
+    except IsADirectoryError as err:
+        raise MapFormatError(f"cannot write {err.filename}: a folder has that name", path=err.filename) from err
+    except OSError as err:
+        raise MapFormatError(f"cannot write map files in {folder}: {err}", path=str(folder)) from err
     return MapFiles(
         yaml=folder / f"{name}.yaml",
         image=folder / image_name,
         preview=folder / preview_name if preview else None,
     )
 
-
-def _replace_all(folder: Path, contents: list[tuple[str, Writer]]) -> None:
-    """Write every (file name, writer) to a temp file, then rename all into place in order."""
-    for file_name, _ in contents:
-        if (folder / file_name).is_dir():
-            raise MapFormatError(f"cannot write {folder / file_name}: a folder has that name")
-    temps: list[tuple[Path, Path]] = []
-    try:
-        for file_name, write in contents:
-            fd, tmp = tempfile.mkstemp(prefix=f".{file_name}.", suffix=".tmp", dir=folder)
-            temps.append((Path(tmp), folder / file_name))
-            os.chmod(tmp, 0o644)  # mkstemp makes 0600; maps are shared with the map server user
-            with os.fdopen(fd, "wb") as fh:
-                write(fh)
-                fh.flush()
-                os.fsync(fh.fileno())
-        for tmp, final in temps:
-            os.replace(tmp, final)
-    except OSError as err:
-        for tmp, _ in temps:
-            with contextlib.suppress(OSError):
-                tmp.unlink()
-        raise MapFormatError(f"cannot write map files in {folder}: {err}") from err

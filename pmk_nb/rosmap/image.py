@@ -21,13 +21,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import BinaryIO
+from typing import BinaryIO, Literal
 
 import numpy as np
 
 from pmk_nb.grid import OccupancyGrid
 
-FLAVOURS = ("ros1", "nav2_humble", "nav2_jazzy")
+#: The map server image readers copied here; ``read_map(..., reader=...)`` picks one.
+ImageReader = Literal["ros1", "nav2_humble", "nav2_jazzy"]
+READERS: tuple[ImageReader, ...] = ("ros1", "nav2_humble", "nav2_jazzy")
 MODES = ("trinary", "scale", "raw")
 GRAY_OCCUPIED = 0
 GRAY_FREE = 254
@@ -92,20 +94,20 @@ def decode_image(path: Path) -> DecodedImage:
 def image_to_data(
     img: DecodedImage,
     *,
-    flavour: str,
+    reader: str,
     mode: str,
     negate: bool,
     occupied_thresh: float,
     free_thresh: float,
 ) -> np.ndarray:
-    """Occupancy values (int8, image row order: row 0 = top) exactly as ``flavour`` computes them."""
-    if flavour == "ros1":
+    """Occupancy values (int8, image row order: row 0 = top) exactly as ``reader`` computes them."""
+    if reader == "ros1":
         return _ros1(img, mode, negate, occupied_thresh, free_thresh)
-    if flavour == "nav2_humble":
+    if reader == "nav2_humble":
         return _nav2_humble(img, mode, negate, occupied_thresh, free_thresh)
-    if flavour == "nav2_jazzy":
+    if reader == "nav2_jazzy":
         return _nav2_jazzy(img, mode, negate, occupied_thresh, free_thresh)
-    raise ValueError(f"unknown map_server flavour {flavour!r}; use one of {', '.join(FLAVOURS)}")
+    raise ValueError(f"unknown map reader {reader!r}; use one of {', '.join(READERS)}")
 
 
 def _ros1(img: DecodedImage, mode: str, negate: bool, occ_th: float, free_th: float) -> np.ndarray:

@@ -30,7 +30,8 @@ if TYPE_CHECKING:
     from pathlib import Path
 
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.sim.messages import Names
+    from pmk_nb.rosmap.files import ImageReader
+    from pmk_nb.sim.messages import Names, RosVersion
     from pmk_nb.sim.paths import ChairFS
     from pmk_nb.sim.protocol import Bridge
 
@@ -41,6 +42,11 @@ DEFAULT_RELOAD: dict[str, tuple[str, ...]] = {
 }
 SERVICE_NAMES = {"change_map": "/change_map", "load_map": "/map_server/load_map", "map_update": "/map_update"}
 UNDEFINED_FAILURE = 255
+
+
+def image_reader(ros: RosVersion) -> ImageReader:
+    """How this chair's map server turns map images into cells: Noetic's for ROS 1, Nav2 Humble's for ROS 2."""
+    return "ros1" if ros == "ros1" else "nav2_humble"
 
 
 class MapServer:
@@ -58,7 +64,7 @@ class MapServer:
         self.names = names
         self.fs = fs
         self._install = install
-        chosen = tuple(reload_services) if reload_services is not None else DEFAULT_RELOAD[names.flavour]
+        chosen = tuple(reload_services) if reload_services is not None else DEFAULT_RELOAD[names.ros]
         unknown = [s for s in chosen if s not in RELOAD_SERVICES]
         if unknown:
             raise ValueError(f"unknown reload service(s) {unknown}; choose from {', '.join(RELOAD_SERVICES)}")
@@ -71,15 +77,15 @@ class MapServer:
         self._lock = asyncio.Lock()
 
     @property
-    def read_flavour(self) -> str:
-        return "ros1" if self.names.flavour == "ros1" else "nav2_humble"
+    def image_reader(self) -> ImageReader:
+        return image_reader(self.names.ros)
 
     def register(self) -> None:
         n, b = self.names, self.bridge
         b.advertise_internal("/map", n.msg("nav_msgs", "OccupancyGrid"), latched=True)
         b.advertise_internal("/map_metadata", n.msg("nav_msgs", "MapMetaData"), latched=True)
         b.add_service("/static_map", n.srv("nav_msgs", "GetMap"), self._static_map)
-        if n.flavour == "ros2":
+        if n.ros == "ros2":
             b.add_service("/map_server/map", n.srv("nav_msgs", "GetMap"), self._static_map)
         handlers = {
             "change_map": (n.srv("nav_msgs", "LoadMap"), self._change_map),
@@ -113,7 +119,7 @@ class MapServer:
         host_path = self.fs.map_server_path(path)
         async with self._lock:
             try:
-                grid = await asyncio.to_thread(read_map, host_path, flavour=self.read_flavour)
+                grid = await asyncio.to_thread(read_map, host_path, reader=self.image_reader)
                 await self.set_grid(grid, host_path)
             except MapLoadError as err:
                 return err.code, str(err)

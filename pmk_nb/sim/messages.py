@@ -1,6 +1,6 @@
-"""ROS message dicts as rosbridge sends them, for ROS 1 and ROS 2 flavours.
+"""ROS message dicts as rosbridge sends them, for ROS 1 and ROS 2.
 
-The two flavours differ in exactly the places a client has to care about: type names
+The two ROS versions differ in exactly the places a client has to care about: type names
 (``nav_msgs/Odometry`` vs ``nav_msgs/msg/Odometry``), stamps (``secs/nsecs`` vs ``sec/nanosec``)
 and ``Header.seq`` (ROS 1 only). Everything else is built once here so the simulator, the map
 server and rosapi agree on names.
@@ -19,8 +19,8 @@ from pmk_nb.sim.jsonfast import RawJSON, int8_array_json
 if TYPE_CHECKING:
     from pmk_nb.grid import OccupancyGrid
 
-Flavour = Literal["ros1", "ros2"]
-FLAVOURS: tuple[str, ...] = ("ros1", "ros2")
+RosVersion = Literal["ros1", "ros2"]
+ROS_VERSIONS: tuple[str, ...] = ("ros1", "ros2")
 
 _ZERO36 = [0.0] * 36
 
@@ -40,30 +40,30 @@ def is_type_name(type_name: str) -> bool:
 
 @dataclass(frozen=True)
 class Names:
-    """Type names and stamp layout for one flavour."""
+    """Type names and stamp layout for one ROS version."""
 
-    flavour: Flavour
+    ros: RosVersion
 
     @property
     def ros_version(self) -> int:
-        return 1 if self.flavour == "ros1" else 2
+        return 1 if self.ros == "ros1" else 2
 
     def msg(self, pkg: str, name: str) -> str:
-        return f"{pkg}/{name}" if self.flavour == "ros1" else f"{pkg}/msg/{name}"
+        return f"{pkg}/{name}" if self.ros == "ros1" else f"{pkg}/msg/{name}"
 
     def srv(self, pkg: str, name: str) -> str:
-        return f"{pkg}/{name}" if self.flavour == "ros1" else f"{pkg}/srv/{name}"
+        return f"{pkg}/{name}" if self.ros == "ros1" else f"{pkg}/srv/{name}"
 
     def stamp(self, t: float) -> dict[str, int]:
         secs = math.floor(t)
         nsecs = min(round((t - secs) * 1e9), 999_999_999)
-        if self.flavour == "ros1":
+        if self.ros == "ros1":
             return {"secs": secs, "nsecs": nsecs}
         return {"sec": secs, "nanosec": nsecs}
 
     def header(self, frame_id: str, t: float, seq: int = 0) -> dict[str, Any]:
         h: dict[str, Any] = {"stamp": self.stamp(t), "frame_id": frame_id}
-        if self.flavour == "ros1":
+        if self.ros == "ros1":
             h = {"seq": seq, **h}
         return h
 

@@ -5,14 +5,16 @@ is ``maps_dir`` on the host, and the chair user's home is the virtual ``/home/<u
 uploaded over SFTP to ``ALMA_MAPS/x.yaml``, ``~/ALMA_MAPS/x.yaml`` or ``/home/<user>/ALMA_MAPS/x.yaml``
 is the same file the map server loads for any of those paths.
 
-Map server only (the sim runs on the host, tests hand it real files): a relative path that does
-not start with ``ALMA_MAPS`` and a ``~/`` path outside ``~/ALMA_MAPS`` resolve against
-``maps_dir``, and an absolute host path outside the virtual maps folder is used as it is.
+Map server only (the sim runs on the host, tests hand it real files): a relative path resolves
+against ``maps_dir`` (its working folder), ``~`` is not expanded (real map servers do not), and an
+absolute host path outside the virtual maps folder is used as it is.
 """
 
 from __future__ import annotations
 
+import os
 import posixpath
+from collections.abc import Iterable
 from pathlib import Path
 
 MAPS_FOLDER = "ALMA_MAPS"
@@ -53,14 +55,25 @@ class ChairFS:
         return self.maps_virtual if str(rel) == "." else f"{self.maps_virtual}/{rel.as_posix()}"
 
     def map_server_path(self, path: str) -> Path:
-        """Where the map server reads ``path`` (a YAML path from a reload service request)."""
+        """Where the map server reads ``path`` (a YAML path from a reload service request).
+
+        Like ROS 1 map_server and Nav2: no ``~`` expansion, and a relative path is read from the
+        server's working folder (here ``maps_dir``), so ``~/ALMA_MAPS/x.yaml`` is not found, as on a
+        real chair.
+        """
         raw = path.strip()
-        if raw.startswith("~") or raw.split("/", 1)[0] == MAPS_FOLDER:
-            virtual = self.virtual(raw)
-            found = self.in_maps(virtual)
-            # home files outside ALMA_MAPS: the map server's home collapses onto maps_dir
-            return found if found is not None else self.maps_dir / posixpath.relpath(virtual, self.home)
         if raw.startswith("/"):
             found = self.in_maps(posixpath.normpath(raw))
             return found if found is not None else Path(raw)
         return self.maps_dir / raw
+
+
+def inside_roots(host: Path, roots: Iterable[Path]) -> bool:
+    """True if the REAL path of ``host`` (every symlink followed) is one of ``roots`` or below one.
+
+    A path that does not exist yet resolves through its existing parents, so a new file is checked
+    by the folder it would land in; a symlink, even a dangling one, is checked by its target.
+    ``roots`` must already be real paths (resolved).
+    """
+    real = Path(os.path.realpath(host))
+    return any(real == root or real.is_relative_to(root) for root in roots)

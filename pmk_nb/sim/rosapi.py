@@ -21,7 +21,7 @@ NODES = ("/rosbridge_websocket", "/rosapi", "/map_server", "/pmk_sim")
 
 
 def register_rosapi(bridge: Bridge, names: Names, clock: Callable[[], float]) -> None:
-    pkg = "rosapi" if names.flavour == "ros1" else "rosapi_msgs"
+    pkg = "rosapi" if names.ros == "ros1" else "rosapi_msgs"
 
     def add(service: str, type_name: str, answer: Callable[[dict[str, Any]], dict[str, Any]]) -> None:
         async def handler(args: dict[str, Any]) -> tuple[dict[str, Any], bool]:

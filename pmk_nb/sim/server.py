@@ -28,8 +28,8 @@ from pmk_nb.sim.chair import DriveLimits
 from pmk_nb.sim.demo import demo_grid
 from pmk_nb.sim.engine import Engine
 from pmk_nb.sim.laser import Laser
-from pmk_nb.sim.mapserver import RELOAD_SERVICES, MapServer
-from pmk_nb.sim.messages import FLAVOURS, Flavour, Names
+from pmk_nb.sim.mapserver import RELOAD_SERVICES, MapServer, image_reader
+from pmk_nb.sim.messages import ROS_VERSIONS, Names, RosVersion
 from pmk_nb.sim.paths import ChairFS
 from pmk_nb.sim.protocol import Bridge
 from pmk_nb.sim.rosapi import register_rosapi
@@ -49,7 +49,7 @@ class SimChair:
         grid: OccupancyGrid | None = None,
         host: str = "127.0.0.1",
         port: int = 0,
-        flavour: Flavour = "ros1",
+        ros: RosVersion = "ros1",
         odom_rate: float = 50.0,
         scan_rate: float = 20.0,
         rays: int = 720,
@@ -68,52 +68,23 @@ class SimChair:
         seed: int = 0,
         client_queue: int = 200,
     ) -> None:
-        if flavour not in FLAVOURS:
-            raise SimError(f"unknown flavour {flavour!r}: use 'ros1' or 'ros2'")
+        """``ros``: "ros1" or "ros2" message spelling."""
+        if ros not in ROS_VERSIONS:
+            raise SimError(f"unknown ROS version {ros!r}: use 'ros1' or 'ros2'")
         if odom_rate <= 0 or scan_rate <= 0:
             raise SimError(f"rates must be positive (odom_rate={odom_rate}, scan_rate={scan_rate})")
         self.map_yaml = Path(map_yaml) if map_yaml is not None else None
         self._initial_grid = grid
         self.host = host
         self._port = port
-        self.flavour: Flavour = flavour
-        self.names = Names(flavour)
+        self.ros: RosVersion = ros
+        self.names = Names(ros)
         self.odom_rate = odom_rate
         self.scan_rate = scan_rate
         self.laser = Laser(rays=rays, range_max=range_max)
-        self.sftp_user = sftp_user
-        if not sftp_password_login and (sftp_authorized_key is None or sftp_password):
-            raise SimError(
-                "SFTP password login off needs an authorized key and no password "
-                f"(sftp_authorized_key={sftp_authorized_key!r}, sftp_password given: {bool(sftp_password)})"
-            )
-        # None = password login refused (key only)
-        self.sftp_password: str | None = (sftp_password or _random_password()) if sftp_password_login else None
-        self.sftp_authorized_key = sftp_authorized_key
-        self._sftp_keys: list[Any] = []
-        if sftp_authorized_key is not None:
-            from pmk_nb.sim.sftp import load_authorized_keys
-
-            try:
-                self._sftp_keys = load_authorized_keys(sftp_authorized_key)
-            except ValueError as err:
-                raise SimError(str(err)) from err
-        self._sftp_port_wanted = sftp_port
-        self.sftp_port: int | None = None
-        self.sftp_host_key_fingerprint: str | None = None  # "SHA256:..." as OpenSSH prints it
-        self.sftp_host_key: str | None = None  # OpenSSH public key line, for known_hosts
-        self._sftp_host_key: Any = None
-        if maps_dir is None:
-            maps_dir = tempfile.mkdtemp(prefix="pmk-sim-maps-")
-            self._cleanup = weakref.finalize(self, shutil.rmtree, maps_dir, True)
-        self.maps_dir = Path(maps_dir)
-        self.maps_dir.mkdir(parents=True, exist_ok=True)
-        self.fs = ChairFS(self.maps_dir, sftp_user)
+        self._init_sftp(sftp_port, sftp_user, sftp_password, sftp_authorized_key, sftp_password_login)
+        self._init_maps(maps_dir, reload_services)
         self.footprint_radius = footprint_radius
-        self.reload_services = tuple(reload_services) if reload_services is not None else None
-        unknown = [s for s in self.reload_services or () if s not in RELOAD_SERVICES]
-        if unknown:
-            raise SimError(f"unknown reload service(s) {unknown}: choose from {', '.join(RELOAD_SERVICES)}")
         self.limits = limits or DriveLimits()
         self.client_queue = client_queue  # topic messages buffered per client before the oldest drop
         self._thread: threading.Thread | None = None
@@ -133,6 +104,46 @@ class SimChair:
             patrol=patrol,
             rng=np.random.default_rng(seed),
         )
+
+    def _init_sftp(
+        self, port: int | None, user: str, password: str | None, authorized_key: str | Path | None, password_login: bool
+    ) -> None:
+        """SFTP settings, checked now so a bad key or login combination fails before start()."""
+        self.sftp_user = user
+        if not password_login and (authorized_key is None or password):
+            raise SimError(
+                "SFTP password login off needs an authorized key and no password "
+                f"(sftp_authorized_key={authorized_key!r}, sftp_password given: {bool(password)})"
+            )
+        # None = password login refused (key only)
+        self.sftp_password: str | None = (password or _random_password()) if password_login else None
+        self.sftp_authorized_key = authorized_key
+        self._sftp_keys: list[Any] = []
+        if authorized_key is not None:
+            from pmk_nb.sim.sftp import load_authorized_keys
+
+            try:
+                self._sftp_keys = load_authorized_keys(authorized_key)
+            except ValueError as err:
+                raise SimError(str(err)) from err
+        self._sftp_port_wanted = port
+        self.sftp_port: int | None = None
+        self.sftp_host_key_fingerprint: str | None = None  # "SHA256:..." as OpenSSH prints it
+        self.sftp_host_key: str | None = None  # OpenSSH public key line, for known_hosts
+        self._sftp_host_key: Any = None
+
+    def _init_maps(self, maps_dir: Path | str | None, reload_services: Iterable[str] | None) -> None:
+        """The chair's ALMA_MAPS folder (a temporary one, removed with the object, if none given)."""
+        if maps_dir is None:
+            maps_dir = tempfile.mkdtemp(prefix="pmk-sim-maps-")
+            self._cleanup = weakref.finalize(self, shutil.rmtree, maps_dir, True)
+        self.maps_dir = Path(maps_dir)
+        self.maps_dir.mkdir(parents=True, exist_ok=True)
+        self.fs = ChairFS(self.maps_dir, self.sftp_user)
+        self.reload_services = tuple(reload_services) if reload_services is not None else None
+        unknown = [s for s in self.reload_services or () if s not in RELOAD_SERVICES]
+        if unknown:
+            raise SimError(f"unknown reload service(s) {unknown}: choose from {', '.join(RELOAD_SERVICES)}")
 
     # -- lifecycle --------------------------------------------------------------------------------
 
@@ -274,7 +285,7 @@ class SimChair:
         if self.map_yaml is not None:
             from pmk_nb.rosmap.files import read_map
 
-            return read_map(self.map_yaml, flavour="ros1" if self.flavour == "ros1" else "nav2_humble")
+            return read_map(self.map_yaml, reader=image_reader(self.ros))
         return demo_grid()
 
     def _run(self, grid: OccupancyGrid, ready: threading.Event) -> None:

@@ -3,7 +3,13 @@
 Paths are mapped through :class:`pmk_nb.sim.paths.ChairFS`, the same mapping the map server uses,
 so ``put(x.yaml, "ALMA_MAPS/x.yaml")`` followed by a reload of ``~/ALMA_MAPS/x.yaml`` (or
 ``/home/<user>/ALMA_MAPS/x.yaml``) loads that file. Everything outside ``~/ALMA_MAPS`` lives in a
-private scratch folder, so a client can never reach the rest of the host file system.
+private scratch folder.
+
+Confinement: the endpoint refuses to create symlinks (they let a client build a relative path that
+escapes), and every path a client names is checked by its real path (symlinks followed; for a new
+file, its parent folder) against the two roots, maps_dir and the scratch folder. A symlink someone
+put on disk inside a root that points outside is therefore refused too. What is not covered: a
+local user swapping a folder for a symlink between that check and the open (clients cannot).
 Auth: the configured user with its password (unless password login is off), or with any of the
 authorized public keys if given (an OpenSSH public key line, or a file of them like authorized_keys).
 The ed25519 host key is generated once per SimChair and kept across restarts.
@@ -19,25 +25,35 @@ from typing import TYPE_CHECKING, Any
 
 import asyncssh
 
+from pmk_nb.sim.paths import inside_roots
+
 if TYPE_CHECKING:
     from pmk_nb.sim.paths import ChairFS
     from pmk_nb.sim.server import SimChair
 
 
 class ChairSFTPServer(asyncssh.SFTPServer):
-    """SFTP server whose file system is ChairFS: ALMA_MAPS -> maps_dir, the rest -> scratch."""
+    """SFTP server whose file system is ChairFS: ALMA_MAPS -> maps_dir, the rest -> scratch; no symlinks."""
 
     def __init__(self, chan: asyncssh.SSHServerChannel, fs: ChairFS, scratch: Path) -> None:
         super().__init__(chan)
         self._fs = fs
         self._scratch = scratch
+        self._roots = (fs.maps_dir, scratch)  # both already resolved
 
     def map_path(self, path: bytes) -> bytes:
+        """Host path for a client path; every asyncssh file operation goes through here."""
         virtual = self._fs.virtual(os.fsdecode(path))
         host = self._fs.in_maps(virtual)
         if host is None:
             host = self._scratch / virtual.lstrip("/")
+        if not inside_roots(host, self._roots):
+            raise asyncssh.SFTPPermissionDenied(f"{virtual}: leads outside the chair's folders")
         return os.fsencode(host)
+
+    def symlink(self, oldpath: bytes, newpath: bytes) -> None:
+        """Refused: a link made through another link can point anywhere (the chair needs none)."""
+        raise asyncssh.SFTPPermissionDenied("symbolic links cannot be created on this chair")
 
     def reverse_map_path(self, path: bytes) -> bytes:
         host = Path(os.fsdecode(path)).resolve()

@@ -31,27 +31,6 @@ class Screen(Protocol):
     def close(self) -> None: ...
 
 
-class _PlaceholderScreen:
-    """Stands in for a screen whose module is missing from this build."""
-
-    def __init__(self, message: str) -> None:
-        self.widget = w.HTML(f"<p>{escape(message)}</p>")
-        self.info_widget = w.HTML("")
-
-    def close(self) -> None:
-        return None
-
-
-def _home_screen(ctx: AppContext, autostart: bool) -> Any:
-    try:
-        from pmk_nb.ui.home import HomeScreen
-    except ModuleNotFoundError as err:
-        if err.name and err.name.startswith("pmk_nb.ui.home"):
-            return _PlaceholderScreen("The live preview is not installed in this build.")
-        raise
-    return HomeScreen(ctx, autostart=autostart)
-
-
 class Dashboard(w.HBox):
     """The whole app as one widget; ``show(name)`` switches screens like the navigation buttons.
 
@@ -65,12 +44,13 @@ class Dashboard(w.HBox):
     """
 
     def __init__(self, ctx: AppContext, *, autostart_preview: bool = False) -> None:
+        from pmk_nb.ui.home import HomeScreen
         from pmk_nb.ui.maps_screen import MapsScreen
         from pmk_nb.ui.settings_screen import SettingsScreen
 
         self.ctx = ctx
         self.screens: dict[str, Any] = {
-            "home": _home_screen(ctx, autostart_preview),
+            "home": HomeScreen(ctx, autostart=autostart_preview),
             "maps": MapsScreen(ctx),
             "settings": SettingsScreen(ctx),
         }
@@ -111,9 +91,7 @@ class Dashboard(w.HBox):
             raise ValueError(f"unknown screen {name!r}; expected one of {', '.join(SCREENS)}")
         previous = self.current
         if previous == "home" and name != "home":
-            stop = getattr(self.screens["home"], "stop_preview", None)
-            if stop is not None:
-                stop()
+            self.screens["home"].stop_preview()
         screen = self.screens[name]
         self.current = name
         self.content.children = (screen.widget,)

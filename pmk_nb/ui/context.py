@@ -12,12 +12,13 @@ from __future__ import annotations
 import json
 import logging
 import os
-import tempfile
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
+
+from pmk_nb.fileio import atomic_write
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.client import ChairLink
@@ -64,15 +65,7 @@ class Notification:
 
 
 def _atomic_write_json(path: Path, data: object) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            json.dump(data, fh, indent=2)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    atomic_write(path, json.dumps(data, indent=2), mode=0o600, mkdir=True)
 
 
 class AppContext:
@@ -91,12 +84,12 @@ class AppContext:
         self._lock = threading.RLock()
         self._map_observers: list[Callable[[CurrentMap | None], None]] = []
         self._note_observers: list[Callable[[Notification], None]] = []
-        self._links: dict[tuple[str, int], ChairLink] = {}
-        self._session_passwords: dict[str, str] = {}
+        # The chair this page talks to; its link lives in the kernel's link registry, not here.
+        self._chair: tuple[str, int] | None = None
         self.notifications: list[Notification] = []
         self._current_map = self._load_current_map()
         self._closed = False
-        self._profile_error = ""
+        self._profile_unreadable = False  # reported once per breakage, not on every poll
 
     # -- chair -------------------------------------------------------------------------------------
     def profile(self) -> ChairProfile | None:
@@ -104,57 +97,42 @@ class AppContext:
         try:
             profile = self.profiles.last_used()
         except Exception as err:  # a corrupt profile file must not break the whole app
-            message = f"Cannot read chair settings: {err}"
-            if message != self._profile_error:  # say it once, not on every poll
-                self._profile_error = message
-                self.notify(message, "error")
+            if not self._profile_unreadable:
+                self._profile_unreadable = True
+                self.notify(f"Cannot read chair settings: {err}", "error")
             return None
-        self._profile_error = ""
+        self._profile_unreadable = False
         return profile
 
     def link(self) -> ChairLink:
-        """The rosbridge link for the current profile (the kernel's link from ``get_link``).
+        """The rosbridge link for the current profile (the kernel's link from the link registry).
 
-        When the profile now points at another chair, the link to the previous one is closed: a
-        page holds one chair connection.
+        When the profile now points at another chair, the link to the previous one is closed
+        (:func:`~pmk_nb.chair.link.registry.use_only`): a page holds one chair connection.
 
         Raises:
             SettingsError: when no chair profile has been saved yet.
         """
-        from pmk_nb.chair.link.client import get_link
+        from pmk_nb.chair.link.registry import use_only
         from pmk_nb.errors import SettingsError
 
         profile = self.profile()
         if profile is None:
             raise SettingsError("No wheelchair configured yet: fill in and save the Settings screen first.")
-        key = (profile.host, int(profile.port))
         with self._lock:
-            link = get_link(profile.host, int(profile.port), **profile.link_options())
-            stale = [old for k, old in self._links.items() if k != key and old is not link]
-            self._links = {key: link}
-        for old in stale:
-            try:
-                old.close()
-            except Exception as err:
-                log.warning("closing the previous chair link failed: %s", err)
+            link = use_only(profile.host, int(profile.port), **profile.link_options())
+            self._chair = (link.host, link.port)
         return link
 
     def ssh_password(self, profile: ChairProfile) -> str | None:
-        """Password for SFTP: entered this session, else stored (keyring)."""
-        with self._lock:
-            if profile.name in self._session_passwords:
-                return self._session_passwords[profile.name]
-        try:
-            stored = self.profiles.get_password(profile.name)
-        except Exception as err:
-            log.warning("password lookup failed for %s: %s", profile.name, err)
-            stored = None
-        return stored or None
+        """Password for SFTP to ``profile``'s SSH account: typed this session, else stored (keyring)."""
+        return self.profiles.get_password(profile)
 
-    def remember_password(self, profile_name: str, password: str) -> None:
+    def remember_password(self, profile: ChairProfile, password: str) -> None:
         """Keep a password typed in a dialog for this session only (never written to disk)."""
-        with self._lock:
-            self._session_passwords[profile_name] = password
+        from pmk_nb.chair.secrets import SshAccount
+
+        self.profiles.passwords.remember(SshAccount.of(profile), password)
 
     # -- current map -------------------------------------------------------------------------------
     @property
@@ -228,18 +206,19 @@ class AppContext:
 
     # -- lifecycle ---------------------------------------------------------------------------------
     def close(self) -> None:
-        """Close the chair links this session opened (called when the kernel goes away)."""
+        """Close the chair link this session used (called when the kernel goes away)."""
+        from pmk_nb.chair.link.registry import forget_link
+
         with self._lock:
             if self._closed:
                 return
             self._closed = True
-            links = list(self._links.values())
-            self._links.clear()
+            chair, self._chair = self._chair, None
             self._map_observers.clear()
             self._note_observers.clear()
-        for link in links:
+        if chair is not None:
             try:
-                link.close()
+                forget_link(*chair)
             except Exception as err:
                 log.warning("closing chair link failed: %s", err)
 

@@ -8,6 +8,8 @@ the checks behind those warnings, kept free of widgets so they are tested on the
 from __future__ import annotations
 
 import socket
+import threading
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -56,3 +58,38 @@ def probe_chair(host: str, port: int, timeout: float = PROBE_TIMEOUT) -> str | N
         return err.strerror or str(err)
     except (ValueError, OverflowError) as err:  # bad port number from a hand-edited profile
         return str(err)
+
+
+class ChairProbe:
+    """Runs :func:`probe_chair` in a thread; only the newest check reports.
+
+    ``report(host, port, problem)`` is called from the probe thread with None when the chair
+    answers; a check superseded by a newer one or by :meth:`cancel` (the preview's own connection
+    reports on the chair from then on) says nothing.
+    """
+
+    def __init__(self, report: Callable[[str, int, str | None], None]) -> None:
+        self._report = report
+        self._lock = threading.Lock()
+        self._generation = 0
+
+    def cancel(self) -> None:
+        """Silence the checks under way."""
+        with self._lock:
+            self._generation += 1
+
+    def check(self, host: str, port: int) -> threading.Thread:
+        with self._lock:
+            self._generation += 1
+            generation = self._generation
+
+        def probe() -> None:
+            problem = probe_chair(host, port)
+            with self._lock:
+                if generation != self._generation:
+                    return
+            self._report(host, port, problem)
+
+        thread = threading.Thread(target=probe, name="pmk-home-probe", daemon=True)
+        thread.start()
+        return thread

@@ -1,8 +1,9 @@
-"""What the Home screen's information panel says: connection state, position, speed, zoom.
+"""What the Home screen says: connection state, position, speed, zoom, and its warnings.
 
-Pure functions of the chair link's latest messages (no widgets), so the texts and the "no data
-for N s" rule are tested without a page; :class:`pmk_nb.ui.home.HomeScreen` only copies them into
-its HTML widgets.
+Pure functions of a :class:`PreviewSnapshot` (the preview's chair link state and latest messages,
+taken by :class:`pmk_nb.ui.preview_controller.PreviewController`), so the texts and the "no data
+for N s" rule are tested without a page or a chair; :class:`pmk_nb.ui.home.HomeScreen` only copies
+them into its HTML widgets.  All user-facing text of the Home screen is made here.
 """
 
 from __future__ import annotations
@@ -10,9 +11,14 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
+from pmk_nb.chair.messages import Odometry, Pose2D
+from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.widgets import escape
+
+if TYPE_CHECKING:  # the link package pulls in roslibpy: imported when a preview starts, not before
+    from pmk_nb.chair.link.state import LinkState
 
 STALE_AFTER = 2.0  # s without odometry before the "no data" state
 CONNECT_TIMEOUT = 5.0  # s the preview waits for the chair's rosbridge
@@ -26,6 +32,28 @@ _STATE_TEXTS = {
 
 
 @dataclass(frozen=True)
+class PreviewSnapshot:
+    """The preview's link at one refresh.
+
+    Attributes:
+        link_state: the link's state; None when the preview is stopped (no link).
+        odom: the latest odometry.
+        pose: the latest pose from the profile's pose source, else the odometry.
+        connect_error: why connecting failed, if it did.
+        started: ``time.monotonic()`` when the preview started.
+    """
+
+    link_state: LinkState | None
+    odom: Odometry | None = None
+    pose: Pose2D | Odometry | None = None
+    connect_error: str | None = None
+    started: float = 0.0
+
+
+STOPPED = PreviewSnapshot(None)
+
+
+@dataclass(frozen=True)
 class InfoTexts:
     """HTML for each line of the panel; ``status`` None means "leave the page's status line as is"."""
 
@@ -36,38 +64,34 @@ class InfoTexts:
     status: str | None
 
 
-def connection_state(
-    link: Any, error: str | None, started: float, now: float | None = None
-) -> tuple[str, float | None]:
+def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[str, float | None]:
     """("off"|"connecting"|"live"|"stale"|"unreachable", seconds since the last odometry or None).
 
-    Args:
-        link: the preview's chair link (None when the preview is stopped).
-        error: why connecting failed, if it did.
-        started: ``time.monotonic()`` when the preview started.
+    "stale" when the link says so (``LinkState.STALE``, a str enum) or odometry stopped coming.
     """
-    if link is None:
+    if snap.link_state is None:
         return "off", None
-    if error is not None:
+    if snap.connect_error is not None:
         return "unreachable", None
     now = time.monotonic() if now is None else now
-    odom = call(link, "latest_odom")
+    odom = snap.odom
     age = now - float(odom.received) if odom is not None else None
-    state = str(getattr(getattr(link, "state", None), "value", getattr(link, "state", ""))).lower()
-    if state.endswith("stale") or (age is not None and age > STALE_AFTER):
+    if snap.link_state == "stale" or (age is not None and age > STALE_AFTER):
         return "stale", age
     if odom is None:
-        waited = now - started
+        waited = now - snap.started
         return ("stale", waited) if waited > STALE_AFTER + CONNECT_TIMEOUT else ("connecting", None)
     return "live", age
 
 
-def info_texts(state: str, age: float | None, pose: Any, odom: Any, zoom: int, zoom_factor: float) -> InfoTexts:
+def info_texts(
+    state: str, age: float | None, pose: Pose2D | Odometry | None, odom: Odometry | None, zoom: int, zoom_factor: float
+) -> InfoTexts:
     """The panel's lines for one refresh (all escaped HTML)."""
     if pose is not None:
         # say which frame the position is in: the map (tf, AMCL) or odometry (which drifts); Home
         # falls back to odometry while the chosen pose source sends nothing
-        frame = getattr(pose, "frame", None) or "odom"
+        frame = pose.frame or "odom"
         pos = f"x {pose.x:.2f} m, y {pose.y:.2f} m, heading {math.degrees(pose.theta):.0f}° ({frame} frame)"
     else:
         pos = "Position: –"
@@ -94,31 +118,28 @@ def info_texts(state: str, age: float | None, pose: Any, odom: Any, zoom: int, z
     )
 
 
-def note(message: str) -> str:
-    """A warning line for the page."""
-    return f"<div class='pmk-msg-warning'>⚠ {escape(message)}</div>"
+def warning_html(message: str) -> str:
+    """A warning line for the page ("" for no warning)."""
+    return f"<div class='pmk-msg-warning'>⚠ {escape(message)}</div>" if message else ""
 
 
-def set_html(widget: Any, value: str) -> None:
-    """Assign only when changed: each assignment is a message to the page."""
-    if widget.value != value:
-        widget.value = value
+def unreachable_text(err: BaseException, host: str, port: int) -> str:
+    """Why the preview's chair cannot be reached, naming its address once.
+
+    A :class:`ChairLinkError` that carries the chair's address (``host``) was worded by the link,
+    which names the address itself; any other failure gets it added here.
+    """
+    if isinstance(err, ChairLinkError) and err.host is not None:
+        return f"The chair is unreachable: {err}"
+    return f"The chair at {host}:{port} is unreachable: {err}"
 
 
-def call(obj: Any, name: str) -> Any:
-    """``obj.name()``, or None when that fails (a link going away mid-refresh)."""
-    try:
-        return getattr(obj, name)()
-    except Exception:
-        return None
+def chair_silent_text(host: str, port: int, problem: str) -> str:
+    """The up-front warning when the chair's rosbridge port does not answer a probe."""
+    return (
+        f"The chair at {host}:{port} does not answer ({problem}). Check that it is switched on, "
+        "that this device is on the chair's network, and the Settings screen."
+    )
 
 
-def subscribe_state(link: Any, cb: Any) -> Any:
-    """``link.on_state_change(cb)`` when the link has it; returns the unsubscribe callable or None."""
-    subscribe = getattr(link, "on_state_change", None)
-    if subscribe is None:
-        return None
-    try:
-        return subscribe(cb)
-    except Exception:
-        return None
+NO_PROFILE_TEXT = "No wheelchair configured yet: fill in and save the Settings screen."

@@ -1,62 +1,48 @@
 """The live preview canvas: the map, the chair, its heading/velocity and the laser scan (ipycanvas).
 
-Two layers in a ``MultiCanvas``: the map layer is a NumPy crop of the map image (nearest
-neighbour, canvas size) sent with ``put_image_data`` only when the view changes (zoom, a pan of
-at least one pixel, a new map, a new client); the dynamic layer is cleared and redrawn every frame
-with batched calls (one ``stroke_line_segments`` per ray kind, one ``fill_styled_circles``), all in
-one ``hold_canvas`` so a frame is one comm message.  A :class:`RenderLoop` draws at most ``fps``
-frames a second from the *latest* messages the chair link has stored, so a 50 Hz odometry or 40 Hz
-scan never queues drawing work, and frames whose inputs did not change are skipped.
+Two layers in a ``MultiCanvas``: the map layer (:mod:`pmk_nb.ui.live_map_layer`) is sent only
+when the view changes (zoom, a pan of at least one pixel, a new map, a new client); the dynamic
+layer (:mod:`pmk_nb.ui.live_chair_layer`) is cleared and redrawn every frame with batched calls,
+all in one ``hold_canvas`` so a frame is one comm message.  A :class:`RenderLoop` draws at most
+``fps`` frames a second from the *latest* messages the chair link has stored, so a 50 Hz odometry
+or 40 Hz scan never queues drawing work, and frames whose inputs did not change are skipped.
+Zoom comes from the buttons (:meth:`LiveView.zoom_in`), the wheel and pinches
+(:mod:`pmk_nb.ui.live_gestures`).
 """
 
 from __future__ import annotations
 
 import contextlib
-import logging
-import math
 import threading
 import time
-from collections import deque
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import Protocol
 
 import numpy as np
 from ipycanvas import MultiCanvas
 
-from pmk_nb.ui.frame_metrics import FrameMetrics, measured_hold
+from pmk_nb.chair.messages import Odometry, Pose2D, Scan
+from pmk_nb.grid import OccupancyGrid
+from pmk_nb.ui.canvas_fix import make_messages_name_their_layer
+from pmk_nb.ui.frame_metrics import FrameMetrics, install_byte_meter, measured_hold
+from pmk_nb.ui.live_chair_layer import ChairLook, PoseHistory, draw_chair_layer, pose_tuple
+from pmk_nb.ui.live_gestures import ZoomGestures
+from pmk_nb.ui.live_map_layer import draw_map_layer
 from pmk_nb.ui.render_loop import RenderLoop
-from pmk_nb.viewport import Viewport, fit_canvas, heading_point, laser_segments
+from pmk_nb.viewport import Viewport, fit_canvas
 
-log = logging.getLogger(__name__)
-
-CHAIR_RGB = (31, 111, 235)  # blue
-HEADING_RGB = (245, 196, 0)  # yellow
-STALE_RGB = (140, 140, 140)  # grey: the last known pose, no fresh data
-HIT_STYLE = "rgba(220, 20, 20, 0.6)"  # red: the ray ended on an obstacle
-MAX_STYLE = "rgba(220, 20, 20, 0.15)"  # faint red: nothing seen up to the sensor's range
 RAY_SPACING_PX = 2.0  # thin out rays that would end closer than this on screen
-WHEEL_INTERVAL = 0.15  # s between two wheel zoom steps (trackpads send bursts of events)
 #: After a canvas resize the page may apply the new size after the first frame's drawing (size and
 #: drawing travel on different comms) and that frame would be wiped: send everything again this late.
 RESIZE_RESEND_S = 0.5
-#: Rays are drawn from the pose the chair had when the scan arrived, if one seen is this close in
-#: time; the newest pose otherwise.  A turning chair's scan drawn from the newer heading would
-#: show rays going through walls (38 deg/s x 0.1 s = 4 deg, half a metre at 8 m).
-SCAN_POSE_MATCH_S = 0.25
 
 
 class LiveSource(Protocol):
     """What the live view reads: the chair link's latest messages (never blocking)."""
 
-    def latest_pose(self) -> Any: ...
-    def latest_odom(self) -> Any: ...
-    def latest_scan(self) -> Any: ...
-
-
-def _pose_tuple(pose: Any) -> tuple[float, ...] | None:
-    if pose is None:
-        return None
-    return (float(pose.x), float(pose.y), float(pose.theta), float(getattr(pose, "received", 0.0)))
+    def latest_pose(self) -> Pose2D | None: ...
+    def latest_odom(self) -> Odometry | None: ...
+    def latest_scan(self) -> Scan | None: ...
 
 
 class LiveView:
@@ -87,10 +73,12 @@ class LiveView:
         self.canvas = MultiCanvas(2, width=int(width), height=int(height))
         self.canvas.layout.max_width = "100%"
         self.canvas.add_class("pmk-live-canvas")
+        make_messages_name_their_layer(self.canvas)
+        install_byte_meter(self.canvas)
         self.max_size = (int(width), int(height))
         self.fit_to_map = bool(fit_to_map)
         self._resend_at: float | None = None
-        self._pose_hist: deque[tuple[float, ...]] = deque(maxlen=32)  # (x, y, theta, received)
+        self.poses = PoseHistory()
         self.map_layer = self.canvas[0]
         self.dyn_layer = self.canvas[1]
         self._lock = threading.RLock()
@@ -107,24 +95,17 @@ class LiveView:
         self._map_key: tuple[object, ...] | None = None
         self._last_inputs: tuple[object, ...] | None = None
         self._force = True
-        self._last_recorded: tuple[Any, Any] = (None, None)
-        self._hits = self._max_rays = 0
+        self._rays = (0, 0)  # (hits, max-range rays) of the last frame drawn
         self._zoom_listeners: list[Callable[[int], None]] = []
         self._error_listeners: list[Callable[[BaseException], None]] = []
-        self._pinch: tuple[float, int] | None = None
-        self._last_wheel = 0.0
         self.metrics = FrameMetrics()
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error)
         self.canvas.on_client_ready(self._on_client_ready)
-        self.canvas.on_mouse_wheel(self._on_wheel)
-        self.canvas.on_touch_start(self._on_touch)
-        self.canvas.on_touch_move(self._on_touch)
-        self.canvas.on_touch_end(self._on_touch_end)
-        self.canvas.on_touch_cancel(self._on_touch_end)
+        self.gestures = ZoomGestures(self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom)
 
     # -- setup ---------------------------------------------------------------------------------------
-    def set_map(self, grid: Any, gray: np.ndarray | None = None) -> None:
-        """Show ``grid`` (an OccupancyGrid); ``gray`` is its uint8 image (row 0 = top) if already made."""
+    def set_map(self, grid: OccupancyGrid, gray: np.ndarray | None = None) -> None:
+        """Show ``grid``; ``gray`` is its uint8 image (row 0 = top) if already made."""
         if gray is None:
             from pmk_nb.rosmap.files import grid_to_gray
 
@@ -156,7 +137,7 @@ class LiveView:
         """Read poses and scans from ``source`` (a ChairLink); None shows the map alone."""
         with self._lock:
             self._source = source
-            self._pose_hist.clear()
+            self.poses.clear()
             self._force = True
 
     def start(self, source: LiveSource | None = None) -> str:
@@ -207,45 +188,9 @@ class LiveView:
     def zoom_out(self) -> int:
         return self.set_zoom(self.zoom - 1)
 
-    def _on_wheel(self, dx: object, dy: object) -> None:
-        try:
-            delta = float(dy)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
-            return
-        now = time.monotonic()
-        if not math.isfinite(delta) or delta == 0 or now - self._last_wheel < WHEEL_INTERVAL:
-            return
-        self._last_wheel = now
-        self.set_zoom(self.zoom + (1 if delta < 0 else -1))  # wheel up (negative delta) zooms in
-
-    @staticmethod
-    def _pinch_distance(touches: object) -> float | None:
-        try:
-            (x0, y0), (x1, y1) = list(touches)[:2]  # type: ignore[call-overload]
-            d = math.hypot(float(x1) - float(x0), float(y1) - float(y0))
-        except (TypeError, ValueError):
-            return None
-        return d if math.isfinite(d) and d > 0 else None
-
-    def _on_touch(self, touches: object) -> None:
-        """Two fingers: the zoom follows the ratio of finger distances since the pinch began."""
-        dist = self._pinch_distance(touches)
-        if dist is None or self.viewport is None:
-            self._pinch = None
-            return
-        if self._pinch is None:
-            self._pinch = (dist, self.zoom)
-            return
-        start_dist, start_zoom = self._pinch
-        self.set_zoom(self.viewport.zoom_for_pinch(start_zoom, dist / start_dist))
-
-    def _on_touch_end(self, touches: object) -> None:
-        try:
-            fingers = len(list(touches))  # type: ignore[call-overload]
-        except TypeError:
-            fingers = 0
-        if fingers < 2:
-            self._pinch = None
+    def _pinch_zoom(self, start_zoom: int, ratio: float) -> int | None:
+        view = self.viewport
+        return view.zoom_for_pinch(start_zoom, ratio) if view is not None else None
 
     # -- drawing -------------------------------------------------------------------------------------
     def request_redraw(self) -> None:
@@ -270,59 +215,51 @@ class LiveView:
             with contextlib.suppress(Exception):
                 cb(err)
 
+    def _read_source(self) -> tuple[Pose2D | Odometry | None, Odometry | None, Scan | None]:
+        source = self._source
+        if source is None:
+            return None, None, None
+        odom = source.latest_odom()
+        pose = source.latest_pose() or odom
+        scan = source.latest_scan() if self.show_laser else None
+        return pose, odom, scan
+
     def render_frame(self) -> bool:
         """Draw one frame from the latest messages; returns False when nothing changed (skipped)."""
         with self._lock:
-            view, gray, source = self.viewport, self._gray, self._source
+            view, gray = self.viewport, self._gray
             if view is None or gray is None:
                 return False
             if self._resend_at is not None and time.monotonic() >= self._resend_at:
                 self._resend_at = None
                 self._force, self._map_key = True, None
-            pose = odom = scan = None
-            if source is not None:
-                odom = source.latest_odom()
-                pose = source.latest_pose() or odom
-                scan = source.latest_scan() if self.show_laser else None
+            pose, odom, scan = self._read_source()
             if pose is not None:
                 view.follow(pose.x, pose.y)
-                self._remember(pose)
+                self.poses.remember(pose)
             key = view.state_key()
             inputs = (key, pose, odom, scan, self.show_laser, self.footprint_radius, self.stale)
             if not self._force and self._same_inputs(inputs):
                 self.metrics.skipped += 1
                 return False
-            t0 = time.perf_counter()
+            started = time.perf_counter()
             draw_map = self._map_key is None or key != self._map_key
             with measured_hold(self.canvas) as sent:
                 if draw_map:
-                    self._draw_map(view, gray)
+                    draw_map_layer(self.map_layer, view, gray)
                 self._draw_dynamic(view, pose, odom, scan)
-            t_sent = time.monotonic()
             self._force = False
             self._last_inputs = inputs
             self._map_key = key
-            self._record(t0, t_sent, sent[0], draw_map, pose, odom, scan)
+            self.metrics.record(started, time.monotonic(), sent[0], draw_map, pose, odom, scan)
+            self.metrics.last_hits, self.metrics.last_max_rays = self._rays
             return True
 
-    def _remember(self, pose: Any) -> None:
-        tup = _pose_tuple(pose)
-        if tup is not None and (not self._pose_hist or self._pose_hist[-1] != tup):
-            self._pose_hist.append(tup)
-
-    def scan_pose(self, pose: Any, scan: Any) -> tuple[float, float, float]:
+    def scan_pose(self, pose: Pose2D | Odometry, scan: Scan) -> tuple[float, float, float]:
         """Where the rays start: the remembered pose nearest the scan's arrival, else ``pose``."""
-        received = float(getattr(scan, "received", math.nan))
-        best: tuple[float, ...] | None = None
-        if math.isfinite(received) and self._pose_hist:
-            best = min(self._pose_hist, key=lambda p: abs(p[3] - received))
-            if abs(best[3] - received) > SCAN_POSE_MATCH_S:
-                best = None
-        if best is None:
-            return float(pose.x), float(pose.y), float(pose.theta)
-        return best[0], best[1], best[2]
+        return self.poses.scan_pose(pose, scan)
 
-    def _same_inputs(self, inputs: tuple[Any, ...]) -> bool:
+    def _same_inputs(self, inputs: tuple[object, ...]) -> bool:
         last = self._last_inputs
         if last is None:
             return False
@@ -332,74 +269,18 @@ class LiveView:
         # rebuilt on every call (from odometry or tf), so it compares by value
         return (
             key == last_key
-            and _pose_tuple(pose) == _pose_tuple(last_pose)
+            and pose_tuple(pose) == pose_tuple(last_pose)  # type: ignore[arg-type]
             and odom is last_odom
             and scan is last_scan
             and rest == last_rest
         )
 
-    def _draw_map(self, view: Viewport, gray: np.ndarray) -> None:
-        img, inside = view.image_window(gray)
-        if not inside.all():  # letterbox: transparent outside the map (RGBA is lossless PNG)
-            rgba = np.empty((*img.shape, 4), dtype=np.uint8)
-            rgba[..., :3] = img[..., None]
-            rgba[..., 3] = np.where(inside, 255, 0)
-            img = rgba
-        self.map_layer.clear()
-        self.map_layer.put_image_data(img, 0, 0)
-
-    def _draw_dynamic(self, view: Viewport, pose: Any, odom: Any, scan: Any) -> None:
-        layer = self.dyn_layer
-        layer.clear()
-        self._hits = self._max_rays = 0
-        if pose is None:
-            return
-        x, y, theta = float(pose.x), float(pose.y), float(pose.theta)
-        if scan is not None:
-            segs = laser_segments(
-                view,
-                self.scan_pose(pose, scan),
-                float(scan.angle_min),
-                float(scan.angle_increment),
-                scan.ranges,
-                getattr(scan, "at_max", None),
-                float(getattr(scan, "range_max", math.nan)),
-                min_spacing_px=self.ray_spacing_px,
-            )
-            layer.line_width = 1
-            if segs.max_rays.shape[0]:
-                layer.stroke_style = MAX_STYLE
-                layer.stroke_line_segments(segs.max_rays)
-            if segs.hits.shape[0]:
-                layer.stroke_style = HIT_STYLE
-                layer.stroke_line_segments(segs.hits)
-            self._hits, self._max_rays = segs.hits.shape[0], segs.max_rays.shape[0]
-        v = float(getattr(odom, "v", 0.0)) if odom is not None else 0.0
-        hx, hy = heading_point(x, y, theta, v, self.footprint_radius)
-        px, py = view.world_to_pixel(np.array([x, hx]), np.array([y, hy]))
-        radius = view.chair_radius_px(self.footprint_radius)
-        layer.fill_styled_circles(
-            px.astype(np.float32),
-            py.astype(np.float32),
-            np.array([radius, view.dot_radius_px(self.footprint_radius)], dtype=np.float32),
-            np.array([STALE_RGB if self.stale else CHAIR_RGB, HEADING_RGB], dtype=np.uint8),
-        )
-
-    def _record(self, t0: float, t_sent: float, nbytes: int, drew_map: bool, pose: Any, odom: Any, scan: Any) -> None:
-        m = self.metrics
-        m.frames += 1
-        m.map_draws += int(drew_map)
-        m.frame_ms.append((time.perf_counter() - t0) * 1000.0)
-        m.frame_bytes.append(nbytes)
-        m.frame_sent.append(t_sent)
-        last_odom, last_scan = self._last_recorded
-        if odom is not None and odom is not last_odom:
-            m.odom_delay_ms.append((t_sent - float(odom.received)) * 1000.0)
-        if scan is not None and scan is not last_scan:
-            m.scan_delay_ms.append((t_sent - float(scan.received)) * 1000.0)
-        self._last_recorded = (odom, scan)
-        m.last_pose = (float(pose.x), float(pose.y), float(pose.theta)) if pose is not None else None
-        m.last_hits, m.last_max_rays = self._hits, self._max_rays
+    def _draw_dynamic(
+        self, view: Viewport, pose: Pose2D | Odometry | None, odom: Odometry | None, scan: Scan | None
+    ) -> None:
+        """The dynamic layer (a method so a subclass, e.g. the benchmark's, can draw more on it)."""
+        look = ChairLook(self.footprint_radius, self.stale, self.ray_spacing_px)
+        self._rays = draw_chair_layer(self.dyn_layer, view, pose, odom, scan, look, self.poses)
 
     def close(self) -> None:
         self.stop()

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import ipywidgets as w
 
+from pmk_nb.errors import AlreadyExists
 from pmk_nb.ui.widgets import (
     ConfirmBox,
     button,
@@ -86,10 +87,16 @@ class DownloadPanel:
             "Downloading",
             work,
             on_done=done,
-            on_error=show_failure(self.progress, self.status),
+            on_error=self._failed,
             busy=[self.button],
             exclusive=self._lock,
         )
+
+    def _failed(self, err: BaseException) -> None:
+        show_failure(self.progress, self.status)(err)
+        if isinstance(err, AlreadyExists):  # taken meanwhile (another tab, a drop-in file): offer to replace
+            name = err.name or self.name.value
+            self.confirm.ask(f"A map named '{name}' exists. Replace it?", lambda: self.download(overwrite=True))
 
     def close(self) -> None:
         self.widget.close()

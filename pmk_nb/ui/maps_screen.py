@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.errors import LibraryError, PmkError
+from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
 from pmk_nb.ui.maps_cards import generated_card, map_label
 from pmk_nb.ui.maps_download import DownloadPanel
 from pmk_nb.ui.maps_storeys import StoreysPanel
@@ -258,10 +258,19 @@ class MapsScreen:
             "Converting",
             work,
             on_done=done,
-            on_error=show_failure(self.convert_progress, self.status),
+            on_error=self._convert_failed,
             busy=[self.convert_button],
             exclusive=self._files_lock,
         )
+
+    def _convert_failed(self, err: BaseException) -> None:
+        """Red bar and message; a grid too large for the resolution gets the way out under the field."""
+        show_failure(self.convert_progress, self.status)(err)
+        cause = err if isinstance(err, GridTooLarge) else err.__cause__
+        if isinstance(cause, GridTooLarge):
+            self.resolution_error.value = escape(
+                f"Too fine for this building: use {cause.suggested_resolution:g} m per cell or coarser."
+            )
 
     # -- send --------------------------------------------------------------------------------------
     def send(self, gm: GeneratedMap, password: str | None = None) -> Any:
@@ -327,7 +336,7 @@ class MapsScreen:
             raise PmkError("Type the SSH password first.")
         profile = self.ctx.profile()
         if profile is not None:
-            self.ctx.profiles.set_password(profile.name, password)
+            self.ctx.profiles.set_password(profile, password)
         self._pending_send = None
         self.password.value = ""
         return self.send(gm, password=password)

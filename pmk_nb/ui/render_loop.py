@@ -34,7 +34,8 @@ class RenderLoop:
     """Call ``step()`` at most ``fps`` times a second until :meth:`stop`.
 
     Args:
-        step: draws one frame; its exceptions are logged and counted, never propagated.
+        step: draws one frame; its exceptions are counted, never propagated; the first of a run
+            of failing steps is logged with its traceback.
         fps: frame-rate cap, clamped to 1..60.
         on_error: called with the exception when a step fails (e.g. to show it in the UI).
         max_errors: consecutive failing steps after which the loop stops itself.
@@ -126,7 +127,8 @@ class RenderLoop:
             self._consecutive_errors = 0
         except Exception as err:
             self._consecutive_errors += 1
-            log.exception("render step failed")
+            if self._consecutive_errors == 1:  # the traceback once per run of failures, not per frame
+                log.exception("render step failed")
             if self._on_error is not None:
                 with contextlib.suppress(Exception):
                     self._on_error(err)

@@ -50,7 +50,9 @@ def _parse_port(field: str, raw: object) -> int:
     try:
         port = int(str(raw).strip())
     except ValueError:
-        raise SettingsError(f"{field}: invalid value {raw!r}: give a port number between 1 and 65535") from None
+        raise SettingsError(
+            f"{field}: invalid value {raw!r}: give a port number between 1 and 65535", field=field
+        ) from None
     return port
 
 
@@ -171,7 +173,7 @@ class SettingsScreen:
         values = {name: self.fields[name].value for name in self.fields if name != "password"}
         for name, value in values.items():
             if not isinstance(value, str):
-                raise SettingsError(f"{name}: invalid value {value!r}: expected text")
+                raise SettingsError(f"{name}: invalid value {value!r}: expected text", field=name)
         values = {k: v.strip() for k, v in values.items()}
         base = getattr(self, "_loaded", None)
         profile = ChairProfile(
@@ -191,17 +193,16 @@ class SettingsScreen:
         if base is not None and base.name == profile.name:
             keep = {
                 f: getattr(base, f)
-                for f in ("reload_service", "reload_flavour", "footprint_radius", "known_hosts", "host_key_check")
+                for f in ("reload_service", "reload_kind", "footprint_radius", "known_hosts", "host_key_check")
             }
             profile = dataclasses.replace(profile, **keep)
         profile.validate()
         return profile
 
     def _show_field_error(self, err: SettingsError) -> None:
-        field, _, rest = str(err).partition(":")
-        target = self.errors.get(field.strip())
+        target = self.errors.get(err.field) if err.field is not None else None
         if target is not None:
-            target.value = escape(rest.strip() or err)
+            target.value = escape(err)
         self.message.value = f"<span class='pmk-field-error'>Not saved: {escape(err)}</span>"
 
     # -- actions -----------------------------------------------------------------------------------
@@ -223,7 +224,7 @@ class SettingsScreen:
         self.ctx.profiles.save(profile)
         password = self.fields["password"].value
         if profile.auth == "password" and isinstance(password, str) and password:
-            self.ctx.profiles.set_password(profile.name, password)
+            self.ctx.profiles.set_password(profile, password)
         self.message.value = (
             f"Saved {escape(profile.name)}. Passwords are kept in {escape(self.ctx.profiles.password_storage)}."
         )

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import ipywidgets as w
 
 from pmk_nb.errors import PmkError
+from pmk_nb.progress import Progress, ProgressCallback
 
 if TYPE_CHECKING:
     from pmk_nb.ui.context import AppContext
@@ -162,27 +163,34 @@ def set_progress(bar: w.FloatProgress, fraction: float | None, *, style: str = "
     bar.layout.visibility = "visible"
 
 
-def progress_callback(bar: w.FloatProgress, label: w.HTML | None = None) -> Callable[..., None]:
-    """Adapt the core's progress callbacks to a bar (and the step's message to ``label``).
+#: How the dashboard names the core's progress steps (other steps are shown capitalised).
+STEP_WORDS = {"read": "Reading", "rasterise": "Rasterising", "write": "Saving", "done": "Done",
+              "download": "Downloading", "upload": "Uploading"}  # fmt: skip
 
-    Accepted shapes: ``(done, total)`` (bytes; ``total`` None when unknown), ``(step, fraction)``
-    (conversion), ``(step, fraction, message)`` (deploy) and ``(fraction,)``.
+
+def progress_text(p: Progress) -> str:
+    """A progress report in the dashboard's words: "Rasterising storey F1"."""
+    word = STEP_WORDS.get(p.step, p.step.capitalize())
+    return f"{word} {p.message}".strip()
+
+
+def progress_callback(bar: w.FloatProgress, label: w.HTML | None = None) -> ProgressCallback:
+    """A :data:`~pmk_nb.progress.ProgressCallback` that moves ``bar`` (and shows the step in ``label``).
+
+    A report without a fraction (e.g. a download of unknown size) creeps the bar towards the end, one
+    step per report, so the user still sees activity.
     """
+    unknown = [0]
 
-    def update(*args: Any, **_kw: Any) -> None:
+    def update(p: Progress) -> None:
         try:
-            if len(args) >= 2 and isinstance(args[0], str):
-                set_progress(bar, float(args[1]))
-                if label is not None:
-                    label.value = escape(args[2] if len(args) > 2 and args[2] else args[0]) + "…"
-            elif len(args) >= 2 and isinstance(args[0], int | float):
-                total = args[1]
-                if isinstance(total, int | float) and total > 0:
-                    set_progress(bar, float(args[0]) / float(total))
-                else:  # unknown size: creep towards the end so the user sees activity
-                    set_progress(bar, 0.9 - 0.8 / (1.0 + float(args[0]) / 1e6))
-            elif args and isinstance(args[0], int | float):
-                set_progress(bar, float(args[0]))
+            if p.fraction is None:
+                unknown[0] += 1
+                set_progress(bar, 0.9 - 0.8 / (1.0 + unknown[0] / 20))
+            else:
+                set_progress(bar, p.fraction)
+            if label is not None:
+                label.value = escape(progress_text(p)) + "…"
         except Exception:  # progress is cosmetic: never let it break the work
             log.debug("progress update failed", exc_info=True)
 

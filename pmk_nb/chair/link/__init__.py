@@ -1,15 +1,16 @@
 """The rosbridge link to one chair (roslibpy): connection test, streams, discovery, map, services.
 
-``client`` holds :class:`ChairLink`, the chair-level verbs; underneath, ``transport`` (roslibpy on a
-private asyncio loop), ``probe`` (is it a rosbridge server?), ``streams`` (odometry, scan, pose, tf;
-callbacks only store), ``discovery`` (rosapi), ``mapread`` (the published map), ``state`` and
-``registry`` (one link per chair per kernel).
+``client`` holds :class:`ChairLink`, the chair-level verbs; underneath, ``transport`` and ``factory``
+(roslibpy on a private asyncio loop), ``probe`` (is it a rosbridge server?), ``connectivity`` (the
+connection test), ``streams`` (odometry, scan, pose, tf; callbacks only store), ``publish``
+(commands, goals), ``services`` (one blocking call), ``discovery`` (rosapi), ``mapread`` (the
+published map), ``state`` and ``registry`` (the kernel's only set of links: one per chair).
 """
 
 from __future__ import annotations
 
 from pmk_nb.chair.link.client import ChairLink, ConnectionReport
-from pmk_nb.chair.link.registry import close_all_links, forget_link, get_link, open_links
+from pmk_nb.chair.link.registry import close_all_links, forget_link, get_link, open_links, use_only
 from pmk_nb.chair.link.state import LinkState
 
 __all__ = [
@@ -20,4 +21,5 @@ __all__ = [
     "forget_link",
     "get_link",
     "open_links",
+    "use_only",
 ]

@@ -18,7 +18,8 @@ Typical notebook use::
     report = link.test_connection(timeout=5.0)                 # ok + map facts, or why not
     link.start_streams()
     link.latest_pose(), link.latest_scan()                      # never block
-    link.reload_map("~/ALMA_MAPS/floor2.yaml")                  # raises MapReloadError(code=...)
+    link.reload_map("/home/pmk/ALMA_MAPS/floor2.yaml")          # an absolute path on the chair;
+                                                                # raises MapReloadError(code=...)
 """
 
 from __future__ import annotations
@@ -27,63 +28,33 @@ import dataclasses
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import roslibpy
-from roslibpy.core import RosTimeoutError, ServiceException
 
+from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
 from pmk_nb.chair.link.mapread import MapReader
 from pmk_nb.chair.link.probe import probe_rosbridge
+from pmk_nb.chair.link.publish import Publishers
 from pmk_nb.chair.link.registry import close_all_links, get_link
+from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
 from pmk_nb.chair.link.streams import PoseSource, StreamConfig, StreamHub
 from pmk_nb.chair.link.transport import LinkRos
-from pmk_nb.chair.messages import (
-    MapInfo,
-    Odometry,
-    Pose2D,
-    Scan,
-    make_stamp,
-    quaternion_from_yaw,
-    spell_type,
-)
+from pmk_nb.chair.messages import MapInfo, Odometry, Pose2D, Scan
 from pmk_nb.chair.reload import (
-    KEEPS_OLD_MAP,
-    Flavour,
     MapReloadError,
+    ReloadKind,
     ReloadService,
     build_request,
     check_response,
 )
-from pmk_nb.errors import ChairLinkError
+from pmk_nb.errors import ChairLinkError, ChairTimeout
 from pmk_nb.grid import OccupancyGrid
 
-__all__ = [
-    "ChairLink",
-    "ConnectionReport",
-    "LinkState",
-    "MapInfo",
-    "MapReloadError",
-    "Odometry",
-    "Pose2D",
-    "ReloadService",
-    "Scan",
-    "close_all_links",
-    "get_link",
-]
-
-
-@dataclass(frozen=True)
-class ConnectionReport:
-    """What "Test connection" shows: ok + map facts, or the precise reason it failed."""
-
-    ok: bool
-    reason: str
-    map_info: MapInfo | None
-    ros_version: int | None
-    elapsed: float
+__all__ = ["ChairLink", "ConnectionReport", "LinkState", "MapInfo", "MapReloadError", "Odometry", "Pose2D"]
+__all__ += ["ReloadService", "Scan", "close_all_links", "get_link"]
 
 
 class ChairLink:
@@ -114,7 +85,7 @@ class ChairLink:
             raise ValueError(f"stale_after must be > 0 s, got {stale_after}")
         self.host, self.port = host, int(port)
         self.stale_after = float(stale_after)
-        self.cmd_vel_topic, self.goal_topic = cmd_vel_topic, goal_topic
+        self._publish = Publishers(cmd_vel_topic, goal_topic)
         self.reconnect_initial, self.reconnect_max = reconnect_initial, reconnect_max
         self.rosapi_timeout = rosapi_timeout
         # Websocket pings find half-open sockets (chair out of Wi-Fi range) and force a reconnect.
@@ -127,7 +98,6 @@ class ChairLink:
         self._connected_at = 0.0
         self._streams_wanted = False
         self._streams_since = 0.0
-        self._publishers: dict[str, roslibpy.Topic] = {}
         self._lock = threading.RLock()  # connect / close / streams bookkeeping
         self._watch = StateWatch(lambda: self.state, f"pmk-link-watchdog-{self.host}:{self.port}")
         self.discovery = Discovery(self._call)
@@ -187,16 +157,27 @@ class ChairLink:
         return self._ros_version or self._hub.ros_version_seen
 
     def connect(self, timeout: float = 5.0) -> None:
-        """Connect (no-op when already connected). Raises ChairLinkError with the precise reason."""
+        """Connect (no-op when already connected).
+
+        Raises:
+            ChairTimeout: the websocket did not open within ``timeout`` s.
+            ChairLinkError: the chair cannot be reached; the message says precisely why.
+        """
+        failure = self.try_connect(timeout)
+        if failure is not None:
+            raise failure.error(self.host, self.port)
+
+    def try_connect(self, timeout: float = 5.0) -> ConnectFailure | None:
+        """Connect; returns why not instead of raising (None when connected)."""
         deadline = time.monotonic() + timeout
         with self._lock:
             if self.is_connected:
-                return
+                return None
             if self._ros is not None:  # half-way (reconnecting): start over cleanly
                 self._teardown_ros()
             probe = probe_rosbridge(self.host, self.port, max(0.05, deadline - time.monotonic()))
             if not probe.ok:
-                raise ChairLinkError(f"Cannot connect to the chair at {self.host}:{self.port}: {probe.reason}")
+                return ConnectFailure(probe.reason)
             self._ros_version = probe.ros_version
             ros = LinkRos(
                 self.host,
@@ -213,16 +194,14 @@ class ChairLink:
             ros.connect()
             if not ready.wait(max(0.05, deadline - time.monotonic())):
                 ros.shutdown(1.0)
-                raise ChairLinkError(
-                    f"Cannot connect to the chair at {self.host}:{self.port}: timed out opening the "
-                    f"rosbridge websocket within {timeout:.1f} s"
-                )
+                return ConnectFailure(f"timed out opening the rosbridge websocket within {timeout:.1f} s", timeout)
             self._ros = ros
             self._connected_at = time.monotonic()
-            self._publishers = {}
+            self._publish.reset()
             if self._streams_wanted:
                 self._subscribe_streams(ros)
             self._watch.start()
+        return None
 
     def _on_ready(self, _proto: Any) -> None:  # I/O thread, on every (re)connect
         self._connected_at = time.monotonic()
@@ -244,10 +223,8 @@ class ChairLink:
             return
         try:
             self._hub.unsubscribe()
-            for topic in self._publishers.values():
-                topic.unadvertise()
+            self._publish.unadvertise_all()
         finally:
-            self._publishers = {}
             ros.shutdown()
 
     def __enter__(self) -> ChairLink:
@@ -260,23 +237,7 @@ class ChairLink:
         """Connect and read the published map's metadata; never raises for network trouble and
         never takes (much) longer than ``timeout``. Leaves the link connected on success.
         """
-        t0 = time.monotonic()
-        deadline = t0 + timeout
-
-        def report(ok: bool, reason: str, info: MapInfo | None = None) -> ConnectionReport:
-            return ConnectionReport(ok, reason, info, self.ros_version, time.monotonic() - t0)
-
-        try:
-            self.connect(timeout)
-        except ChairLinkError as err:
-            reason = str(err).split(": ", 1)[-1]
-            return report(False, reason)
-        remaining = deadline - time.monotonic()
-        try:
-            info = self._maps.map_info(max(0.1, remaining))
-        except ChairLinkError:
-            return report(False, f"connected but no map published within {timeout:.1f} s")
-        return report(True, "connected", info)
+        return run_connection_test(self, timeout)
 
     # -- state -------------------------------------------------------------------------------------
     @property
@@ -349,67 +310,35 @@ class ChairLink:
         return dict(self._hub.counts)
 
     # -- publishing --------------------------------------------------------------------------------
-    def _publisher(self, name: str, type_name: str) -> roslibpy.Topic | None:
-        ros = self._ros
-        if ros is None or not ros.is_connected:
-            return None
-        topic = self._publishers.get(name)
-        if topic is None:
-            topic = roslibpy.Topic(ros, name, spell_type(type_name, self.ros_version), queue_size=1)
-            self._publishers[name] = topic
-        return topic
-
     def publish_cmd_vel(self, v: float, w: float) -> bool:
         """Send one velocity command. Returns False (and sends nothing) when not connected: a
         motion command must never be queued and delivered late after a reconnect.
         """
-        topic = self._publisher(self.cmd_vel_topic, "geometry_msgs/Twist")
-        if topic is None:
-            return False
-        topic.publish(
-            roslibpy.Message(
-                {"linear": {"x": float(v), "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": float(w)}}
-            )
-        )
-        return True
+        return self._publish.cmd_vel(self._ros, self.ros_version, v, w)
 
     def send_goal(self, x: float, y: float, theta: float, frame: str = "map") -> bool:
         """Publish a navigation goal (PoseStamped). False when not connected (nothing queued)."""
-        topic = self._publisher(self.goal_topic, "geometry_msgs/PoseStamped")
-        if topic is None:
-            return False
-        header = {"frame_id": frame, "stamp": make_stamp(time.time(), self.ros_version)}
-        if self.ros_version != 2:
-            header["seq"] = 0
-        pose = {"position": {"x": float(x), "y": float(y), "z": 0.0}, "orientation": quaternion_from_yaw(theta)}
-        topic.publish(roslibpy.Message({"header": header, "pose": pose}))
-        return True
+        return self._publish.goal(self._ros, self.ros_version, x, y, theta, frame)
 
     # -- services ------------------------------------------------------------------------------------
     def _require_ros(self) -> LinkRos:
         ros = self._ros
         if ros is None or not ros.is_connected:
             raise ChairLinkError(
-                f"Not connected to the chair at {self.host}:{self.port} (state: {self.state.value}); connect first"
+                f"Not connected to the chair at {self.host}:{self.port} (state: {self.state.value}); connect first",
+                host=self.host,
+                port=self.port,
             )
         if threading.current_thread() is ros.loop_thread:
-            raise ChairLinkError("blocking chair-link call from the link's I/O thread (a topic callback)")
+            raise ChairLinkError(
+                "blocking chair-link call from the link's I/O thread (a topic callback)", host=self.host, port=self.port
+            )
         return ros
 
     def _call(self, name: str, type_name: str, args: dict[str, Any], timeout: float | None) -> dict[str, Any]:
         """Blocking service call; not connected -> error at once (never queued for a later reconnect)."""
-        ros = self._require_ros()
-        service = roslibpy.Service(ros, name, type_name)
-        try:
-            result = service.call(roslibpy.ServiceRequest(args), timeout=timeout or self.rosapi_timeout)
-        except RosTimeoutError:
-            raise ChairLinkError(
-                f"timed out: {name} on {self.host}:{self.port} did not answer within "
-                f"{timeout or self.rosapi_timeout:.1f} s"
-            ) from None
-        except ServiceException as err:
-            raise ChairLinkError(f"{name} on {self.host}:{self.port} failed: {err}") from err
-        return dict(result)
+        seconds = timeout or self.rosapi_timeout
+        return call_service(self._require_ros(), (self.host, self.port), name, type_name, args, seconds)
 
     def topics_of_type(self, msg_type: str) -> list[str]:
         """Topics of a message type, in either ROS spelling (``nav_msgs/Odometry`` finds both)."""
@@ -425,29 +354,40 @@ class ChairLink:
     def reload_map(
         self,
         remote_yaml_path: str,
-        flavour: Flavour | str | None = None,
+        kind: ReloadKind | str | None = None,
         service: str | None = None,
         timeout: float = 30.0,
     ) -> None:
-        """Ask the chair's map server to load ``remote_yaml_path`` (a path on the chair).
+        """Ask the chair's map server to load ``remote_yaml_path`` (an absolute path on the chair).
 
-        ``flavour``/``service`` default to detection ("auto" means the same). Raises
+        Map servers do not expand ``~`` and read relative paths from their own working folder
+        (Noetic answers 255, Nav2 "map does not exist"), so such a path is refused here before
+        anything is sent; :func:`pmk_nb.chair.deploy.deploy` works the absolute path out over SFTP.
+        ``kind``/``service`` default to detection ("auto" means the same). Raises
         :class:`MapReloadError` (a ChairLinkError with ``code``) when the server refuses.
         """
-        flavour = None if flavour in (None, "auto") else flavour
+        if not remote_yaml_path.startswith("/"):
+            raise MapReloadError(
+                f"{remote_yaml_path!r} is not an absolute path on the chair: map servers do not expand '~' "
+                "and read relative paths from their own working folder",
+                keeps_old_map=True,
+                hint="Give the full path, e.g. /home/<ssh user>/ALMA_MAPS/<map>.yaml (deploy() finds it over SFTP).",
+            )
+        kind = None if kind in (None, "auto") else kind
         service = None if service in (None, "", "auto") else service
-        target = self.discovery.reload_target(flavour, service, f"{self.host}:{self.port}")
+        target = self.discovery.reload_target(kind, service, f"{self.host}:{self.port}")
         try:
             response = self._call(
-                target.name, target.service_type, build_request(target.flavour, remote_yaml_path), timeout
+                target.name, target.service_type, build_request(target.kind, remote_yaml_path), timeout
             )
+        except ChairTimeout as err:
+            raise MapReloadError(
+                f"{err}. The chair may still be loading {remote_yaml_path}; check map_info() before retrying.",
+                service=target.name,
+            ) from err
         except ChairLinkError as err:
-            if str(err).startswith("timed out"):
-                raise MapReloadError(
-                    f"{err}. The chair may still be loading {remote_yaml_path}; check map_info() before retrying.",
-                    service=target.name,
-                ) from err
-            raise MapReloadError(f"{err}. {KEEPS_OLD_MAP}", service=target.name) from err
+            # the request may or may not have reached the map server: nobody can say which map runs
+            raise MapReloadError(f"{err}", service=target.name, keeps_old_map=None) from err
         check_response(target, remote_yaml_path, response)
 
     # -- maps ----------------------------------------------------------------------------------------

@@ -10,7 +10,7 @@ from typing import Any
 
 from pmk_nb.chair import reload
 from pmk_nb.chair.messages import normalise_type, type_ros_version, type_spellings
-from pmk_nb.chair.reload import MapReloadError, ReloadService
+from pmk_nb.chair.reload import ReloadService
 from pmk_nb.errors import ChairLinkError
 
 Caller = Callable[[str, str, dict[str, Any], "float | None"], dict[str, Any]]
@@ -71,22 +71,8 @@ class Discovery:
             return None
         return max(type_ros_version(t) for t in types)
 
-    def reload_target(self, flavour: str | None, service: str | None, where: str) -> ReloadService:
-        """The service ``reload_map`` calls: the named one, the preferred one of a flavour, or detected."""
-        if service is not None:
-            fl = flavour or reload.flavour_from_type(self.service_type(service)) or reload.flavour_from_name(service)
-            if fl is None:
-                raise MapReloadError(f"Cannot tell which reload protocol {service} speaks; pass flavour=")
-            return ReloadService(service, fl)  # type: ignore[arg-type]
-        if flavour is not None:
-            for name, fl in reload.PREFERRED:
-                if fl == flavour:
-                    return ReloadService(name, fl)
-            raise MapReloadError(f"Unknown reload flavour {flavour!r}; use ros1, nav2 or mapupdate")
-        found = self.detect_reload_service()
-        if found is None:
-            raise MapReloadError(
-                f"The chair at {where} offers no map reload service (looked for /change_map, "
-                f"/map_server/load_map, /map_update and MapUpdate types). {reload.KEEPS_OLD_MAP}"
-            )
-        return found
+    def reload_target(self, kind: str | None, service: str | None, where: str) -> ReloadService:
+        """The service ``reload_map`` calls : see :func:`reload.resolve`."""
+        return reload.resolve(
+            self.services(), self.service_type, service=service, kind=kind, where=f"the chair at {where}"
+        )

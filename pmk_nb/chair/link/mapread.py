@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import roslibpy
 
 from pmk_nb.chair.messages import MapInfo, parse_map_metadata, spell_type
-from pmk_nb.errors import ChairLinkError
+from pmk_nb.errors import ChairLinkError, ChairTimeout
 from pmk_nb.grid import OccupancyGrid
 
 if TYPE_CHECKING:
@@ -94,9 +94,13 @@ class MapReader:
             plan = [(self.map_topic, "nav_msgs/OccupancyGrid", 0.0)]
         first = self._first(plan, deadline)
         if first is None:
-            raise ChairLinkError(
+            raise ChairTimeout(
                 f"connected but no map published within {timeout:.1f} s on {self.metadata_topic} or {self.map_topic} "
-                "(is map_server running on the chair?)"
+                "(is map_server running on the chair?)",
+                operation="read the map metadata",
+                seconds=timeout,
+                host=self._link.host,
+                port=self._link.port,
             )
         name, msg = first
         return parse_map_metadata(msg if name == self.metadata_topic else msg["info"])
@@ -115,13 +119,19 @@ class MapReader:
             if name in services and remaining > 0:
                 r = self._link._call(name, "nav_msgs/GetMap", {}, remaining)
                 return self._grid(r.get("map") or {})
-        raise ChairLinkError(
+        raise ChairTimeout(
             f"no map from the chair within {timeout:.1f} s: nothing on {self.map_topic} and no GetMap service "
-            f"({', '.join(GETMAP_SERVICES)})"
+            f"({', '.join(GETMAP_SERVICES)})",
+            operation="fetch the map",
+            seconds=timeout,
+            host=self._link.host,
+            port=self._link.port,
         )
 
     def _grid(self, msg: dict[str, Any]) -> OccupancyGrid:
         try:
             return OccupancyGrid.from_ros_msg(msg)
         except (KeyError, TypeError, ValueError) as err:
-            raise ChairLinkError(f"the chair sent a malformed OccupancyGrid: {err}") from err
+            raise ChairLinkError(
+                f"the chair sent a malformed OccupancyGrid: {err}", host=self._link.host, port=self._link.port
+            ) from err

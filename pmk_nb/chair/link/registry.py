@@ -2,16 +2,20 @@
 
 This module-level registry is deliberate process state (the one exception to "no global mutable
 state"): a Jupyter kernel re-executes cells, and each execution creating a fresh rosbridge
-connection would leak sockets and threads and double the chair's rosbridge load.
+connection would leak sockets and threads and double the chair's rosbridge load. It is the only
+place that holds links: the dashboard asks it through :func:`use_only` rather than keeping its own.
 """
 
 from __future__ import annotations
 
+import logging
 import threading
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.client import ChairLink
+
+log = logging.getLogger(__name__)
 
 _LINKS: dict[tuple[str, int], ChairLink] = {}
 _LOCK = threading.Lock()
@@ -38,6 +42,25 @@ def get_link(host: str, port: int = 9090, **kw: Any) -> ChairLink:
         del changes["throttle_ms"]
     if changes:
         link.reconfigure(**changes)
+    return link
+
+
+def use_only(host: str, port: int = 9090, **kw: Any) -> ChairLink:
+    """The link to ``host:port`` (as :func:`get_link`), after closing and dropping links to other chairs.
+
+    A dashboard page talks to one chair: when its settings now name another one, the old connection
+    must not linger. A failure to close an old link is logged, never raised (the new one matters).
+    """
+    link = get_link(host, port, **kw)
+    with _LOCK:
+        others = [(key, old) for key, old in _LINKS.items() if old is not link]
+        for key, _old in others:
+            del _LINKS[key]
+    for _key, old in others:
+        try:
+            old.close()
+        except Exception as err:  # closing is best effort; the new link is what counts
+            log.warning("closing the link to the previous chair %s:%s failed: %s", old.host, old.port, err)
     return link
 
 

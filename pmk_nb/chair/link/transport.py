@@ -1,66 +1,70 @@
 """A roslibpy ``Ros`` on its own asyncio loop thread, so one link can be closed and reopened.
 
-roslibpy 2.1's asyncio transport shares one process-wide loop between all ``Ros`` objects, and
+roslibpy's asyncio transport shares one process-wide loop between all ``Ros`` objects, and
 ``terminate()`` stops it for everyone (the Twisted transport cannot even restart its reactor). A
 chair link must release its thread on ``close()`` and connect again later in the same kernel, and
-two chairs must not share one I/O thread. So each link builds its factory on a private
-:class:`AsyncioEventLoopManager`; the rest of roslibpy (topics, services, reconnect) is unchanged.
+two chairs must not share one I/O thread. So each link builds roslibpy's own factory on a private
+loop manager (:mod:`pmk_nb.chair.link.factory`); topics, services and reconnects are roslibpy's.
 
-The factory below re-does the few lines of ``AsyncioRosBridgeClientFactory.__init__`` that bind
-the shared loop; ``tests/test_link.py`` exercises this against the simulator so a roslibpy change
-that breaks it fails loudly.
+Transport choice: Autobahn (under both of roslibpy's transports) can use only one of Twisted and
+asyncio per process, and plain ``roslibpy.Ros(host, port)`` picks Twisted unless told otherwise.
+Importing this module therefore makes asyncio roslibpy's default through its public
+``set_default_transport`` (unless Twisted is already in use, or ``ROSLIBPY_TRANSPORT`` decides), so
+user code with plain ``roslibpy.Ros`` and our links share the process. Nothing binds the framework
+until a link connects: a process that chose Twisted keeps working, and only its links fail, with a
+:class:`ChairLinkError` that says why.
+
+roslibpy internals touched (pinned version, checked by ``tests/test_roslibpy_seam.py``):
+
+* ``Ros._id_counter``: ``Ros.__init__`` is not called, because it builds its factory on the
+  process-wide loop (starting that loop's thread) and connects at once; this sets the one private
+  field it would set (``factory`` and ``is_connecting`` are public).
+* ``AsyncioRosBridgeClientFactory._manager`` and ``._stop``: see :mod:`pmk_nb.chair.link.factory`.
 """
 
 from __future__ import annotations
 
 import asyncio
+import os
+import sys
 import threading
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import roslibpy
-from roslibpy.comm.comm_asyncio import AsyncioEventLoopManager, AsyncioRosBridgeClientFactory
+
+from pmk_nb.errors import ChairLinkError
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link.factory import LinkFactory
+
+#: roslibpy's module for its Twisted transport: once imported, asyncio cannot be used any more.
+TWISTED_MODULE = "roslibpy.comm.comm_autobahn"
 
 
-class _LinkFactory(AsyncioRosBridgeClientFactory):
-    """roslibpy's asyncio factory bound to a private loop, with link-specific reconnect backoff."""
+def prefer_asyncio_transport() -> None:
+    """Make asyncio roslibpy's default transport, unless the process already decided otherwise."""
+    if os.environ.get("ROSLIBPY_TRANSPORT") or TWISTED_MODULE in sys.modules:
+        return
+    roslibpy.set_default_transport("asyncio")
 
-    def __init__(
-        self,
-        url: str,
-        manager: AsyncioEventLoopManager,
-        *,
-        initial_delay: float,
-        max_delay: float,
-        ping_interval: float,
-        ping_timeout: float,
-    ) -> None:
-        # Skip AsyncioRosBridgeClientFactory.__init__ (it starts the shared loop) but run the
-        # rest of the MRO (EventEmitterMixin, autobahn's WebSocketClientFactory) on our loop.
-        super(AsyncioRosBridgeClientFactory, self).__init__(url, loop=manager.loop)
-        self._manager = manager
-        self._proto = None
-        self._proto_lock = threading.Lock()
-        self._stop = False
-        self._retry_count = 0
-        # Instance attributes shadow the class-wide roslibpy defaults (1 s x 2.7 up to an hour),
-        # which would leave a chair that rebooted disconnected for minutes.
-        self.initialDelay = initial_delay
-        self.maxDelay = max_delay
-        self.factor = 2.0
-        self.jitter = 0.1
-        self._reconnect_delay = initial_delay
-        # Websocket pings notice half-open sockets (chair left the Wi-Fi) that TCP would keep
-        # "open" for many minutes; rosbridge itself never tells. Each ping must get its pong:
-        # autobahn's "any traffic counts" mode logs a warning for every late pong while streaming.
-        self.setProtocolOptions(
-            closeHandshakeTimeout=1,
-            openHandshakeTimeout=max(2.0, ping_timeout),
-            autoPingInterval=ping_interval,
-            autoPingTimeout=ping_timeout,
-            autoPingRestartOnAnyTraffic=False,
+
+prefer_asyncio_transport()
+
+
+def _factory_module(host: str, port: int) -> Any:
+    """Import the asyncio factory; a process already on Twisted gets a typed error, not txaio's."""
+    if TWISTED_MODULE in sys.modules:
+        raise ChairLinkError(
+            f"Cannot connect to the chair at {host}:{port}: roslibpy's Twisted transport is already in use "
+            "in this process, and the chair link needs its asyncio transport",
+            host=host,
+            port=port,
+            hint="Import pmk_nb before creating any roslibpy.Ros, or set ROSLIBPY_TRANSPORT=asyncio.",
         )
-        self._configure_compression()
+    from pmk_nb.chair.link import factory
+
+    return factory
 
 
 class LinkRos(roslibpy.Ros):
@@ -80,16 +84,11 @@ class LinkRos(roslibpy.Ros):
         ping_interval: float = 5.0,
         ping_timeout: float = 5.0,
     ) -> None:
-        # Deliberately not calling roslibpy.Ros.__init__: it would pick the shared factory.
-        self._id_counter = 0
-        self.manager = AsyncioEventLoopManager()
-        self.manager.run()
-        if self.manager.loop is None:  # pragma: no cover - run() waits for the loop
-            raise RuntimeError("roslibpy event loop did not start")
-        self.manager._thread.name = thread_name  # type: ignore[union-attr]
-        url = _LinkFactory.create_url(host, port, False)
-        self.factory = _LinkFactory(
-            url,
+        factory_module = _factory_module(host, port)
+        self._id_counter = 0  # what Ros.__init__ would set (see the module docstring)
+        self.manager, self.loop_thread = factory_module.start_private_loop(thread_name)
+        self.factory: LinkFactory = factory_module.LinkFactory(
+            factory_module.LinkFactory.create_url(host, port, False),
             self.manager,
             initial_delay=initial_delay,
             max_delay=max_delay,
@@ -97,29 +96,29 @@ class LinkRos(roslibpy.Ros):
             ping_timeout=ping_timeout,
         )
         self.is_connecting = False
+        self.protocol: Any = None  # the open websocket protocol, from the factory's events
+        self.factory.on("ready", self._track_protocol)
+        self.factory.on("close", self._drop_protocol)
 
-    @property
-    def loop_thread(self) -> threading.Thread | None:
-        return self.manager._thread
+    def _track_protocol(self, proto: Any) -> None:
+        self.protocol = proto
+
+    def _drop_protocol(self, proto: Any) -> None:
+        if self.protocol is proto:
+            self.protocol = None
 
     def shutdown(self, timeout: float = 2.0) -> None:
         """Stop reconnecting, close the websocket, stop and join the loop thread (bounded by ``timeout``)."""
         deadline = time.monotonic() + timeout
-        factory: Any = self.factory
-        factory._stop = True  # no reconnect after the close below
+        self.factory.stop_reconnecting()  # no reconnect after the close below
         loop = self.manager.loop
         if loop is None or loop.is_closed():
             return
-        proto = factory._proto
+        proto = self.protocol
         if proto is not None:
             closed = threading.Event()
-            factory.once("close", lambda *_: closed.set())
-
-            def _close() -> None:
-                proto._manual_disconnect = True
-                proto.sendClose()
-
-            loop.call_soon_threadsafe(_close)
+            self.factory.once("close", lambda *_: closed.set())
+            proto.send_close()
             # A half-open peer never answers the close handshake: do not wait for it long.
             closed.wait(max(0.0, min(deadline - time.monotonic(), timeout / 2)))
         self._run_on_loop(_abort_and_cancel, deadline)
@@ -144,8 +143,7 @@ class LinkRos(roslibpy.Ros):
 
 def _abort_and_cancel(ros: LinkRos) -> None:
     """On the loop: drop a socket still open and cancel pending connect attempts."""
-    proto: Any = ros.factory._proto
-    transport = getattr(proto, "transport", None)
+    transport = getattr(ros.protocol, "transport", None)
     if transport is not None and not transport.is_closing():
         transport.abort()
     for task in asyncio.all_tasks():

@@ -1,0 +1,90 @@
+"""roslibpy's asyncio connection factory, bound to one link's private event loop.
+
+Importing this module imports ``roslibpy.comm.comm_asyncio``, which binds Autobahn's txaio layer to
+asyncio for the whole process; :mod:`pmk_nb.chair.link.transport` therefore imports it only when a
+link opens its first connection.
+
+roslibpy internals touched here (pinned and checked by ``tests/test_roslibpy_seam.py``):
+
+* ``AsyncioRosBridgeClientFactory._manager``: the constructor assigns the process-wide loop manager
+  to it and starts that manager. A read-only property on the subclass turns the assignment into a
+  no-op, so the real constructor runs entirely on the link's own manager and loop.
+* ``AsyncioRosBridgeClientFactory._stop``: set by :meth:`LinkFactory.stop_reconnecting`; roslibpy
+  has no public way to stop the reconnect loop of a connection that is not open.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+from roslibpy.comm.comm_asyncio import AsyncioEventLoopManager, AsyncioRosBridgeClientFactory
+
+
+class LinkFactory(AsyncioRosBridgeClientFactory):
+    """roslibpy's asyncio factory on a private loop, with link-specific reconnect backoff."""
+
+    def __init__(
+        self,
+        url: str,
+        manager: AsyncioEventLoopManager,
+        *,
+        initial_delay: float,
+        max_delay: float,
+        ping_interval: float,
+        ping_timeout: float,
+    ) -> None:
+        self.link_manager = manager
+        # Instance attributes shadow the class-wide roslibpy defaults (1 s x 2.7 up to an hour),
+        # which would leave a chair that rebooted disconnected for minutes. Set before the
+        # constructor, which derives the first reconnect delay from them.
+        self.initialDelay = initial_delay
+        self.maxDelay = max_delay
+        self.factor = 2.0
+        self.jitter = 0.1
+        super().__init__(url, loop=manager.loop)
+        # Websocket pings notice half-open sockets (chair left the Wi-Fi) that TCP would keep
+        # "open" for many minutes; rosbridge itself never tells. Each ping must get its pong:
+        # autobahn's "any traffic counts" mode logs a warning for every late pong while streaming.
+        self.setProtocolOptions(
+            closeHandshakeTimeout=1,
+            openHandshakeTimeout=max(2.0, ping_timeout),
+            autoPingInterval=ping_interval,
+            autoPingTimeout=ping_timeout,
+            autoPingRestartOnAnyTraffic=False,
+        )
+
+    @property  # type: ignore[override]
+    def _manager(self) -> AsyncioEventLoopManager:
+        return self.link_manager
+
+    @_manager.setter
+    def _manager(self, _shared: Any) -> None:
+        """roslibpy's constructor offers the process-wide manager here: keep the private one."""
+
+    def stop_reconnecting(self) -> None:
+        """No further reconnect attempts (roslibpy has no public switch; see the seam test)."""
+        self._stop = True
+
+
+def start_private_loop(thread_name: str, timeout: float = 5.0) -> tuple[AsyncioEventLoopManager, threading.Thread]:
+    """A running roslibpy loop manager of our own, its thread renamed to ``thread_name``."""
+    manager = AsyncioEventLoopManager()
+    manager.run()
+    loop = manager.loop
+    if loop is None:  # pragma: no cover - run() waits for the loop
+        raise RuntimeError("roslibpy event loop did not start")
+    box: list[threading.Thread] = []
+    named = threading.Event()
+
+    def _name_thread() -> None:
+        thread = threading.current_thread()
+        thread.name = thread_name
+        box.append(thread)
+        named.set()
+
+    loop.call_soon_threadsafe(_name_thread)
+    if not named.wait(timeout):  # pragma: no cover - a fresh loop runs callbacks at once
+        manager.terminate()
+        raise RuntimeError("roslibpy event loop did not run")
+    return manager, box[0]

@@ -1,0 +1,218 @@
+"""The one convert pipeline: building plan -> one map_server set per storey, written all or nothing.
+
+``pmk convert``, :meth:`pmk_nb.library.folder.MapsFolder.convert` and notebook 01 all call
+:func:`convert_plan`, so the command line, the dashboard and the notebook make the same files.
+Every storey is planned (size-checked) before any is rasterised; each storey's set is staged in a
+hidden folder and the whole batch is moved into place with :func:`pmk_nb.fileio.replace_all`
+(images first, YAMLs last), so a failure leaves the output folder as it was.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, BinaryIO
+
+from pmk_nb.errors import MapFormatError, OccupancyError
+from pmk_nb.fileio import Content, replace_all
+from pmk_nb.library.naming import storey_map_names
+from pmk_nb.progress import ProgressCallback, emit, sub_range
+from pmk_nb.raster.storey import (
+    DEFAULT_MAX_CELLS,
+    DEFAULT_MAX_WALL_GAP,
+    DEFAULT_WALL_THICKNESS,
+    plan_storey,
+    rasterise_storey,
+)
+
+if TYPE_CHECKING:
+    from pmk_nb.indoorgml.model import Building
+    from pmk_nb.rosmap.files import MapFiles
+
+__all__ = ["ConvertOptions", "ConvertResult", "StoreyMap", "convert_plan"]
+
+_READ_END = 0.3  # share of the progress bar for reading the plan
+_RASTER_END = 0.9  # ... and for rasterising every storey; the rest is writing
+
+
+@dataclass(frozen=True)
+class ConvertOptions:
+    """How to rasterise and write (defaults are the dashboard's)."""
+
+    unit: str = "auto"
+    storeys: Sequence[str] | None = None
+    wall_thickness: float = DEFAULT_WALL_THICKNESS
+    max_wall_gap: float = DEFAULT_MAX_WALL_GAP
+    outside: str = "unknown"
+    image_format: str = "pgm"
+    preview: bool = True
+    max_cells: int = DEFAULT_MAX_CELLS
+    allow_large: bool = False
+
+
+@dataclass(frozen=True)
+class StoreyMap:
+    """One storey's written map set and its grid size."""
+
+    storey: str
+    files: MapFiles
+    width: int
+    height: int
+    resolution: float
+
+    @property
+    def size_m(self) -> tuple[float, float]:
+        return self.width * self.resolution, self.height * self.resolution
+
+
+@dataclass(frozen=True)
+class ConvertResult:
+    """What :func:`convert_plan` did: the building it read, the maps it wrote and every storey's stem."""
+
+    building: Building
+    maps: list[StoreyMap]
+    stems: dict[str, str]  # file stem of every storey of the building, converted or not
+
+
+def _check_options(resolution: float, opts: ConvertOptions) -> float:
+    """Refuse bad numbers before the (possibly slow) read."""
+    for label, value, positive in (
+        ("resolution", resolution, True),
+        ("wall thickness", opts.wall_thickness, False),
+        ("max wall gap", opts.max_wall_gap, False),
+    ):
+        ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+        if not ok or value < 0 or (positive and value == 0):
+            need = "a positive" if positive else "a non-negative"
+            raise OccupancyError(f"{label} must be {need} number of metres, got {value!r}")
+    if opts.image_format not in ("pgm", "png"):
+        raise MapFormatError(f"image format must be 'pgm' or 'png', got {opts.image_format!r}")
+    if opts.outside not in ("unknown", "occupied"):
+        raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {opts.outside!r}")
+    return float(resolution)
+
+
+def _wanted_storeys(building: Building, storeys: Sequence[str] | None) -> list[str]:
+    wanted = list(dict.fromkeys(storeys)) if storeys else [s.name for s in building.storeys]
+    for name in wanted:
+        building.storey(name)  # IndoorGMLError naming the known storeys
+    return wanted
+
+
+def _copy_of(path: Path) -> Content:
+    def write(out: BinaryIO) -> None:
+        with path.open("rb") as inp:
+            shutil.copyfileobj(inp, out, 1 << 20)
+
+    return write
+
+
+def _stage_storeys(
+    building: Building,
+    wanted: list[str],
+    stems: dict[str, str],
+    resolution: float,
+    opts: ConvertOptions,
+    staging: Path,
+    extra_meta: Mapping[str, Any],
+    progress: ProgressCallback | None,
+) -> list[StoreyMap]:
+    """Rasterise and write every wanted storey into ``staging``; returns the maps (paths in staging)."""
+    from pmk_nb.rosmap.files import write_map
+
+    raster_kw = {"wall_thickness": opts.wall_thickness, "max_cells": opts.max_cells, "allow_large": opts.allow_large}
+    for storey in wanted:  # every storey's size is checked before anything is rasterised
+        plan_storey(building, storey, resolution, **raster_kw)
+    span = (_RASTER_END - _READ_END) / len(wanted)
+    staged: list[StoreyMap] = []
+    for i, storey in enumerate(wanted):
+        start = _READ_END + span * i
+        emit(progress, "rasterise", start, f"storey {storey}")
+        grid = rasterise_storey(
+            building, storey, resolution, outside=opts.outside, max_wall_gap=opts.max_wall_gap,
+            progress=sub_range(progress, start, start + span), **raster_kw,
+        )  # fmt: skip
+        grid.meta.update(extra_meta)
+        files = write_map(
+            grid, staging, stems[storey], image_format=opts.image_format, preview=opts.preview,
+            allow_large=opts.allow_large,
+        )  # fmt: skip
+        staged.append(StoreyMap(storey, files, grid.width, grid.height, grid.resolution))
+        del grid  # one storey's grid in memory at a time
+    return staged
+
+
+def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
+    """Move the staged files into ``out_dir`` (images and previews first, YAMLs last)."""
+    from pmk_nb.rosmap.files import MapFiles
+
+    data = [p for m in staged for p in (m.files.image, m.files.preview) if p is not None]
+    yamls = [m.files.yaml for m in staged]
+    contents = [(p.name, _copy_of(p)) for p in data + yamls]
+    try:
+        replace_all(out_dir, contents)
+    except OSError as err:
+        msg = f"cannot write the map files in {out_dir}: {err.strerror or err}"
+        raise MapFormatError(msg, path=str(out_dir)) from err
+    moved = []
+    for m in staged:
+        f = m.files
+        preview = None if f.preview is None else out_dir / f.preview.name
+        files = MapFiles(out_dir / f.yaml.name, out_dir / f.image.name, preview)
+        moved.append(StoreyMap(m.storey, files, m.width, m.height, m.resolution))
+    return moved
+
+
+def convert_plan(
+    source: str | os.PathLike[str],
+    out_dir: str | os.PathLike[str],
+    name: str,
+    resolution: float,
+    options: ConvertOptions | None = None,
+    *,
+    extra_meta: Mapping[str, Any] | None = None,
+    progress: ProgressCallback | None = None,
+) -> ConvertResult:
+    """Read the plan ``source``, rasterise its storeys and write ``NAME[_<storey>].yaml`` + image + preview.
+
+    Args:
+        source: the IndoorGML file.
+        out_dir: the folder the map sets go to (created if missing).
+        name: base name of the files (``NAME`` for a one-storey building, ``NAME_<storey>`` otherwise).
+        resolution: metres per cell.
+        options: what to convert and how (:class:`ConvertOptions`).
+        extra_meta: keys added to every YAML (the maps folder names the map and its source there).
+        progress: steps ``read``, ``rasterise``, ``write``, ``done``.
+
+    Raises:
+        IndoorGMLError: the plan cannot be read, or a storey name is unknown.
+        OccupancyError: bad numbers; :class:`~pmk_nb.errors.GridTooLarge` for a storey over budget.
+        MapFormatError: the files cannot be written (the folder is left as it was).
+    """
+    from pmk_nb.indoorgml import read_building
+
+    opts = options or ConvertOptions()
+    res = _check_options(resolution, opts)
+    emit(progress, "read", 0.0, Path(source).name)
+    building = read_building(source, unit=opts.unit, progress=sub_range(progress, 0.0, _READ_END))
+    wanted = _wanted_storeys(building, opts.storeys)
+    stems = storey_map_names(name, [s.name for s in building.storeys])
+    target = Path(out_dir)
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{name}.convert-", dir=target))
+    except OSError as err:
+        raise MapFormatError(f"cannot create the map folder {target}: {err.strerror or err}", path=str(target)) from err
+    try:
+        staged = _stage_storeys(building, wanted, stems, res, opts, staging, extra_meta or {}, progress)
+        emit(progress, "write", _RASTER_END + 0.05, f"{len(staged)} map set(s)")
+        maps = _install(staged, target)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    emit(progress, "done", 1.0)
+    return ConvertResult(building, maps, stems)

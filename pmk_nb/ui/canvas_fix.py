@@ -1,0 +1,56 @@
+"""Make every ipycanvas message name its layer, so a page that connects late still draws the frames.
+
+The ipycanvas behaviour worked around (ipycanvas 0.14.3, ``.venv/lib/python3.11/site-packages/
+ipycanvas/canvas.py``): all canvases of a kernel share one ``_CanvasManager`` (``_CANVAS_MANAGER``,
+line 262).  Its ``send_command`` (lines 219-244) emits a ``switchCanvas`` command only when the
+target canvas differs from ``self._current_canvas``, the canvas it switched to last, remembered in
+Python for the whole kernel.  The page keeps the matching state in its ``CanvasManagerModel``
+(``currentCanvas``, set only by ``switchCanvas``) and draws each command on that canvas.
+
+A page that did not see the last switch has no current canvas: Voilà drops the messages a kernel
+sends before the page has connected, a reload or a second view starts with fresh models.  The live
+view's frames after the first one draw only the dynamic layer, so the kernel never sends the switch
+again and those frames go nowhere on that page (``this.currentCanvas`` is undefined) until something
+draws on another layer.  ``on_client_ready`` does not cover it: it fires when the page's canvas
+model is created, which may come before or after the frames in flight.
+
+The fix: after each message the manager hands to its comm (``_send_custom``, lines 256-258, the one
+funnel of batched and single commands), forget the current canvas, so the next message starts with
+its own ``switchCanvas``.  A batched frame (``hold_canvas``) then costs one switch command (a few
+bytes); commands within a message still switch only when the layer changes.  Installed once on the
+shared manager, idempotent.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+log = logging.getLogger(__name__)
+
+_MARK = "_pmk_forgets_layer"
+
+
+def make_messages_name_their_layer(canvas: Any) -> bool:
+    """Install the fix on ``canvas``'s (shared) canvas manager; True when it is in place.
+
+    False, with a warning logged, when ipycanvas's internals differ from the version this was
+    written for (the page then may miss frames after a late connect, nothing else changes).
+    """
+    manager = getattr(canvas, "_canvas_manager", None)
+    if manager is None or not hasattr(manager, "_current_canvas") or not hasattr(manager, "_send_custom"):
+        log.warning("ipycanvas internals changed: late-joining pages may miss live frames")
+        return False
+    if getattr(manager._send_custom, _MARK, False):
+        return True
+    send_custom = manager._send_custom
+
+    def send_then_forget_layer(command: Any, buffers: list[Any] | None = None) -> None:
+        try:
+            send_custom(command, [] if buffers is None else buffers)
+        finally:
+            manager._current_canvas = None
+
+    setattr(send_then_forget_layer, _MARK, True)
+    manager._send_custom = send_then_forget_layer
+    return True

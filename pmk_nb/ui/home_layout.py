@@ -1,0 +1,90 @@
+"""The Home screen's widgets and their arrangement; no behaviour beyond showing and hiding.
+
+As in the original app (thesis 4.2.1.1, 5.2.3.4): the map's name as the title, warnings below it,
+one toolbar row with Preview / Disconnect and Show sensors on the left and the zoom buttons at the
+right end, right above the map's upper-right corner, then the live canvas.  The CSS classes
+(``pmk-home-*``) are what the kiosk page's style sheet and the browser test find.
+"""
+
+from __future__ import annotations
+
+import ipywidgets as w
+
+from pmk_nb.ui.widgets import TOUCH_PX, button, heading
+
+
+def _html(css_class: str) -> w.HTML:
+    item = w.HTML("")
+    item.add_class(css_class)
+    return item
+
+
+class HomeInfoPanel:
+    """The Home screen's part of the information panel: map, state, position, speed, zoom."""
+
+    def __init__(self) -> None:
+        self.map = _html("pmk-home-info-map")
+        self.state = _html("pmk-home-info-state")
+        self.pos = _html("pmk-home-info-pos")
+        self.speed = _html("pmk-home-info-speed")
+        self.zoom = _html("pmk-home-info-zoom")
+        self.widget = w.VBox([self.map, self.state, self.pos, self.speed, self.zoom])
+        self.widget.add_class("pmk-home-info")
+
+
+class HomeLayout:
+    """Every widget of the Home screen; ``widget`` is the screen, ``info.widget`` its info panel part.
+
+    Args:
+        canvas: the live view's canvas, placed under the toolbar.
+    """
+
+    def __init__(self, canvas: w.DOMWidget) -> None:
+        self.canvas = canvas
+        self.map_label = _html("pmk-home-map")
+        self.map_note = _html("pmk-home-map-note")
+        self.chair_note = _html("pmk-home-chair-note")
+        self.warning = _html("pmk-home-warning")
+        self.status = _html("pmk-home-status")
+        self.preview_button = button("Preview", "pmk-home-preview", icon="play", style="success")
+        self.disconnect_button = button("Disconnect", "pmk-home-disconnect", icon="stop", style="danger")
+        # a toggle button rather than a checkbox: the whole 56 px control is the touch target
+        self.sensors = w.ToggleButton(value=True, description="Show sensors", icon="check", tooltip="Laser rays")
+        self.sensors.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto", min_width="160px")
+        self.sensors.add_class("pmk-home-sensors")
+        self.zoom_in_button = button("", "pmk-home-zoom-in", icon="search-plus", tooltip="Zoom in", width="64px")
+        self.zoom_out_button = button("", "pmk-home-zoom-out", icon="search-minus", tooltip="Zoom out", width="64px")
+        for btn in (self.zoom_in_button, self.zoom_out_button):
+            btn.layout.min_width = f"{TOUCH_PX}px"
+        self.info = HomeInfoPanel()
+        self.widget = self._arrange()
+
+    def _arrange(self) -> w.VBox:
+        # the toolbar box is as wide as the canvas, which has the map's shape, so nothing floats in
+        # an empty band
+        self.zoom_bar = w.HBox([self.zoom_out_button, self.zoom_in_button], layout=w.Layout(grid_gap="8px"))
+        self.zoom_bar.add_class("pmk-home-zoom")
+        controls = w.HBox(
+            [self.preview_button, self.disconnect_button, self.sensors],
+            layout=w.Layout(align_items="center", grid_gap="12px"),
+        )
+        self.toolbar = w.HBox(
+            [controls, self.zoom_bar],
+            layout=w.Layout(justify_content="space-between", align_items="center", width="100%", grid_gap="12px"),
+        )
+        self.toolbar.add_class("pmk-home-toolbar")
+        self.preview_box = w.VBox([self.toolbar, self.canvas], layout=w.Layout(align_items="flex-start"))
+        self.preview_box.add_class("pmk-home-preview-box")
+        title = w.HBox([heading("Home"), self.map_label], layout=w.Layout(align_items="baseline", grid_gap="24px"))
+        screen = w.VBox([title, self.map_note, self.chair_note, self.warning, self.preview_box, self.status])
+        screen.add_class("pmk-home")
+        return screen
+
+    def show_running(self, running: bool, *, can_preview: bool) -> None:
+        """Preview while stopped (if there is a map to preview); the live controls while running."""
+        self.preview_button.layout.display = "" if not running and can_preview else "none"
+        live = "" if running else "none"
+        self.disconnect_button.layout.display = live
+        self.sensors.layout.display = live
+        self.zoom_bar.layout.display = live
+        self.canvas.layout.display = live
