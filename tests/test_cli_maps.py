@@ -71,7 +71,7 @@ def test_import_list_delete(capsys: pytest.CaptureFixture[str], maps: Path, gml:
 
     code, _, err = pmk(capsys, maps, "import", str(gml), "--name", "ward")
     assert code == 2
-    assert err.strip() == "pmk maps: error: map 'ward' already exists; pass overwrite=True to replace it"
+    assert err.strip() == "pmk maps: error: map 'ward' already exists. Pass --overwrite to replace it."
     assert pmk(capsys, maps, "import", str(gml), "--name", "ward", "--overwrite")[0] == 0
 
     code, out, _ = pmk(capsys, maps, "list")
@@ -124,6 +124,10 @@ def test_convert_and_list_generated(capsys: pytest.CaptureFixture[str], maps: Pa
     assert code == 2 and "resolution must be a positive number" in err
     code, _, err = pmk(capsys, maps, "convert", "clinic", "--storey", "B9")
     assert code == 2 and "no storey named 'B9'" in err
+    code, _, err = pmk(capsys, maps, "convert", "clinic", "-r", "0.00001")
+    assert code == 2 and "grid would be" in err
+    suggested = float(err.split("Use --resolution ")[1].split()[0])
+    assert 0.00001 < suggested < 1
 
 
 def test_dir_accepted_after_the_action(capsys: pytest.CaptureFixture[str], maps: Path, gml: Path) -> None:

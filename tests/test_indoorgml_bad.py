@@ -130,3 +130,19 @@ def test_missing_file_and_bad_unit(tmp_path: Path) -> None:
     _error(tmp_path / "missing.gml", "no such file")
     with pytest.raises(IndoorGMLError, match="unknown unit"):
         read_building(SAMPLE, unit="furlong")
+
+
+@pytest.mark.parametrize(
+    ("text", "element"),
+    [
+        ('<IndoorFeatures xmlns="http://www.opengis.net/indoorgml/1.0/core"><a><b></a></IndoorFeatures>', "b"),
+        ('<html xmlns="http://www.w3.org/1999/xhtml"><body/></html>', "html"),
+        ('<IndoorFeatures xmlns="http://www.opengis.net/indoorgml/1.0/core"/>', "CellSpace"),
+    ],
+)
+def test_errors_name_the_file_and_element(tmp_path: Path, text: str, element: str) -> None:
+    path = tmp_path / "plan.gml"
+    path.write_text(text)
+    with pytest.raises(IndoorGMLError) as info:
+        read_building(path)
+    assert (info.value.path, info.value.element) == (str(path), element)

@@ -20,7 +20,6 @@ from pmk_nb.chair.messages import (
     parse_scan,
     parse_tf_message,
     quaternion_from_yaw,
-    sanitise_ranges,
     spell_type,
     stamp_ros_version,
     stamp_to_sec,
@@ -100,15 +99,17 @@ def test_parse_pose_with_covariance_and_plain_pose_stamped() -> None:
         assert pose.theta == pytest.approx(-1.0)
 
 
-def test_scan_sanitising_masks_invalid_and_marks_no_hit() -> None:
+def test_scan_rays_follow_rep117_and_null_is_unknown() -> None:
+    """NaN, +inf, -inf, out of range and null: only +inf is free, null is never free (issue: null rays)."""
     raw = [0.05, 1.0, None, float("nan"), float("inf"), 30.0, 31.0, float("-inf"), 2.5]
-    ranges, at_max = sanitise_ranges(raw, 0.1, 30.0)
-    assert ranges.dtype == np.float32
-    expected_valid = [False, True, False, False, False, True, False, False, True]
-    assert list(np.isfinite(ranges)) == expected_valid
-    assert ranges[1] == pytest.approx(1.0) and ranges[8] == pytest.approx(2.5)
-    # no hit: at/over range_max, +inf, and null (ROS 2 rosbridge's +inf); not NaN, -inf or too short
-    assert list(at_max) == [False, False, True, False, True, True, True, False, False]
+    scan = parse_scan({"ranges": raw, "range_min": 0.1, "range_max": 30.0, "angle_increment": 0.1}, received=0.0)
+    assert scan.ranges.dtype == np.float32
+    assert list(np.isfinite(scan.ranges)) == [False, True, False, False, False, True, False, False, True]
+    assert scan.ranges[1] == pytest.approx(1.0) and scan.ranges[8] == pytest.approx(2.5)
+    # free up to range_max: +inf only (REP 117); never null, NaN, -inf or a finite value out of range
+    assert list(scan.at_max) == [False, False, False, False, True, False, False, False, False]
+    assert list(scan.blind) == [True, False, True, True, False, False, True, False, False]
+    assert list(scan.too_close) == [False] * 7 + [True, False]
 
 
 def test_parse_scan_fields_and_angles() -> None:
@@ -125,7 +126,8 @@ def test_parse_scan_fields_and_angles() -> None:
     assert scan.stamp == 2.0 and scan.received == 9.0
     np.testing.assert_allclose(scan.angles(), [-1.0, -0.5, 0.0, 0.5, 1.0])
     assert np.isnan(scan.ranges[2:]).all()
-    assert list(scan.at_max) == [False, False, True, True, False]
+    assert not scan.at_max.any(), "null and out-of-range readings are not free space"
+    assert list(scan.blind) == [False, False, True, True, True]
 
 
 def test_parse_scan_empty_ranges() -> None:

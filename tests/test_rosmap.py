@@ -241,6 +241,24 @@ def test_corrupt_image_is_code_2(tmp_path: Path) -> None:
     assert info.value.code == 2
 
 
+def test_map_yaml_gives_the_image_as_written_and_resolved(tmp_path: Path) -> None:
+    shutil.copy(NAV2 / "testmap.png", tmp_path / "img.png")
+    (tmp_path / "elsewhere").mkdir()
+    shutil.copy(NAV2 / "testmap.png", tmp_path / "elsewhere" / "img.png")
+    (tmp_path / "link.png").symlink_to(tmp_path / "elsewhere" / "img.png")
+    rest = "resolution: 0.1\norigin: [1, 2, 0.5]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\nstorey: F1\n"
+    cases = {"img.png": True, "elsewhere/img.png": False, "../x/img.png": False, "link.png": False}
+    for written, beside in cases.items():
+        (tmp_path / "m.yaml").write_text(f"image: {written}\n{rest}")
+        doc = read_map_yaml(tmp_path / "m.yaml")
+        assert doc.image_text == written and doc.image == tmp_path / written
+        assert doc.image_is_beside is beside, written
+    fields = doc.fields(image="new.png")
+    assert list(fields)[:7] == ["image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode"]
+    assert fields["image"] == "new.png" and fields["origin"] == [1.0, 2.0, 0.5] and fields["storey"] == "F1"
+    assert doc.fields()["image"] == "link.png"
+
+
 def test_image_path_relative_and_absolute(tmp_path: Path) -> None:
     info = read_map_yaml(NAV2 / "testmap.yaml")
     assert info.image == NAV2 / "testmap.png"

@@ -85,7 +85,7 @@ def test_scan_shape_and_walls(sim_factory, ros_factory):
     assert all(scan["range_min"] <= r <= scan["range_max"] for r in scan["ranges"])  # closed room: all hit
 
 
-def test_scan_no_return_is_beyond_range_max(sim_factory, ros_factory):
+def test_scan_no_return_and_blind_rays_are_null_like_a_real_bridge(sim_factory, ros_factory):
     sim = sim_factory(grid=room_grid(30.0, 4.0), start_pose=(1.0, 2.0, 0.0), rays=90)
     ros = ros_factory(sim)
     scans = Collector()
@@ -94,7 +94,14 @@ def test_scan_no_return_is_beyond_range_max(sim_factory, ros_factory):
     scan = scans.last()
     assert len(scan["ranges"]) == 90
     ahead = scan["ranges"][45]
-    assert ahead > scan["range_max"], "a wall 28 m away is out of range and must report range_max + 1"
+    assert ahead is None, "a wall 28 m away is out of range: +inf, which rosbridge sends as null"
+    assert all(r is None or scan["range_min"] <= r <= scan["range_max"] for r in scan["ranges"])
+    sim.laser.blind = (math.radians(-100), math.radians(-80))  # a covered sensor to the right
+    time.sleep(0.2)
+    n = len(scans)
+    assert wait_until(lambda: len(scans) > n, 3.0)
+    side = scans.last()["ranges"]
+    assert all(r is None for r in side[12:18]), "blind rays (NaN) are null on the wire"  # -100..-80 deg
 
 
 def test_cmd_vel_moves_and_times_out(sim_factory, ros_factory):

@@ -58,7 +58,14 @@ def test_change_map_ros1(sim_factory, ros_factory, maps):
 
 @pytest.mark.parametrize(
     ("url", "code"),
-    [("small.yaml", 0), ("", 1), ("broken.yaml", 2), ("missing.yaml", 3), ("/home/pmk/ALMA_MAPS/walled.yaml", 0), ("~/ALMA_MAPS/walled.yaml", 3)],
+    [
+        ("small.yaml", 0),
+        ("", 1),
+        ("broken.yaml", 2),
+        ("missing.yaml", 3),
+        ("/home/pmk/ALMA_MAPS/walled.yaml", 0),
+        ("~/ALMA_MAPS/walled.yaml", 3),  # like Nav2: "~" is not expanded
+    ],
 )
 def test_load_map_nav2_codes(sim_factory, ros_factory, maps, url, code):
     folder, _, _ = maps

@@ -99,7 +99,7 @@ def test_asyncssh_client_with_public_key(sim_factory, tmp_path):
 
     names = asyncio.run(asyncio.wait_for(upload(), 20))
     assert "tiny.yaml" in names and "tiny.pgm" in names
-    assert sim.load_map("~/ALMA_MAPS/tiny.yaml") == 0
+    assert sim.load_map("/home/pmk/ALMA_MAPS/tiny.yaml") == 0
     assert sim.grid.width == 60
 
 

@@ -84,7 +84,15 @@ def test_laser_ranges_in_a_room():
 def test_laser_no_return_and_range_min():
     laser = Laser(rays=3, fov=math.pi / 2, range_max=2.0)
     empty = np.zeros((100, 100), dtype=bool)
-    assert np.all(laser.cast(empty, 0.05, (0.0, 0.0), (2.5, 2.5, 0.0)) == pytest.approx(3.0))
+    assert np.all(np.isposinf(laser.cast(empty, 0.05, (0.0, 0.0), (2.5, 2.5, 0.0))))  # REP 117: +inf
+
+
+def test_laser_blind_sector_reports_nan():
+    laser = Laser(rays=91, fov=math.pi / 2, range_max=2.0, blind=(-math.radians(10), math.radians(10)))
+    ranges = laser.cast(np.ones((100, 100), dtype=bool), 0.05, (0.0, 0.0), (2.5, 2.5, 0.0))
+    blind = np.isnan(ranges)
+    assert blind.sum() == 21 and blind[35:56].all()  # rays at -10..+10 degrees
+    assert np.isfinite(ranges[~blind]).all()
 
 
 def test_world_blocks_unknown_and_footprint():

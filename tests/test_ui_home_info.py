@@ -84,3 +84,26 @@ def test_probe_chair_answers_and_refusals() -> None:
     reason = probe_chair("127.0.0.1", port, timeout=2.0)  # closed now
     assert reason and "refused" in reason.lower()
     assert probe_chair("127.0.0.1", 70000, timeout=1.0)  # a hand-edited profile's bad port: a reason, no crash
+
+
+def test_laser_line_says_blind_ahead_and_touching() -> None:
+    """A run of null rays across the heading is summarised as 'laser blind ahead, N°'."""
+    import math
+
+    from pmk_nb.chair.messages import parse_scan
+    from pmk_nb.ui.home_info import laser_text
+
+    def scan(raw: list) -> object:
+        return parse_scan({"ranges": raw, "angle_min": -math.radians(135), "angle_increment": math.radians(1),
+                           "range_min": 0.1, "range_max": 30.0}, received=0.0)  # fmt: skip
+
+    clear = [2.0] * 271
+    assert laser_text(scan(clear)) == "Laser: 271 rays, 0 unknown"
+    blind = [2.0] * 125 + [None] * 40 + [2.0] * 106  # -10°..+29° blind
+    text = laser_text(scan(blind))
+    assert "Laser blind ahead, 40°" in text and "pmk-msg-warning" in text
+    behind = [None] * 40 + [2.0] * 231  # blind only behind the chair's right shoulder
+    assert laser_text(scan(behind)) == "Laser: 271 rays, 40 unknown"
+    touching = [2.0] * 134 + [float("-inf")] * 3 + [2.0] * 134
+    assert "touching the chair ahead (3 rays)" in laser_text(scan(touching))
+    assert laser_text(None) == ""

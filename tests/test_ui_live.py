@@ -129,7 +129,8 @@ def test_frame_is_one_batched_message_with_map_chair_and_rays() -> None:
     assert view.metrics.frames == 1
     got = names(cmds)
     assert got.count("putImageData") == 1  # map layer
-    assert got.count("strokeLineSegments") == 2  # hits + max-range rays, one batch each
+    # hits, max-range rays and grey ticks for the NaN (blind) rays: one batch each
+    assert got.count("strokeLineSegments") == 3
     assert got.count("fillStyledCircles") == 1  # chair + heading dot
     # 360 rays, every 4th at max range, 36 NaN (none of which fall on a max ray: offsets differ)
     n_max = len(range(0, 360, 4))
@@ -137,6 +138,37 @@ def test_frame_is_one_batched_message_with_map_chair_and_rays() -> None:
     assert view.metrics.last_max_rays == n_max
     assert view.metrics.last_hits == 360 - n_max - n_nan
     assert view.metrics.frame_bytes[-1] > 360 * 8  # the float32 segments alone
+    blind = [args for c, args in cmds if c == "strokeLineSegments"]
+    assert len(blind) == 3
+
+
+def test_blind_rays_are_ticks_at_the_chair_never_free_rays() -> None:
+    """JSON null rays (unknown) are drawn as short grey ticks, not as rays across the floor."""
+    from pmk_nb.chair.messages import parse_scan
+    from pmk_nb.ui.live_chair_layer import BLIND_STYLE, TICK_M, draw_rays
+
+    view = LiveView(320, 240)
+    view.set_map(sample_grid())
+    vp = view.viewport
+    raw = [1.5] * 90 + [None] * 60 + [float("inf")] * 30 + [1.5] * 180
+    scan = parse_scan({"ranges": raw, "angle_min": -math.pi, "angle_increment": 2 * math.pi / 360,
+                       "range_min": 0.1, "range_max": 30.0}, received=time.monotonic())  # fmt: skip
+    strokes: list[tuple[str, np.ndarray]] = []
+
+    class Layer:
+        line_width = 1
+        stroke_style = ""
+
+        def stroke_line_segments(self, segs: np.ndarray) -> None:
+            strokes.append((self.stroke_style, np.asarray(segs)))
+
+    hits, free = draw_rays(Layer(), vp, (3.0, 2.0, 0.0), scan, 0.0, radius=0.35)  # type: ignore[arg-type]
+    assert (hits, free) == (270, 30)  # the nulls are neither hits nor free rays
+    ticks = [segs for style, segs in strokes if style == BLIND_STYLE]
+    assert len(ticks) == 1 and ticks[0].shape[0] == 60
+    lengths = np.hypot(*(ticks[0][:, 1] - ticks[0][:, 0]).T) / vp.px_per_m
+    tick_m = max(TICK_M, 6.0 / vp.px_per_m)
+    assert np.allclose(lengths, tick_m, rtol=1e-3), "a blind ray is a short tick, never a ray to range_max"
 
 
 def test_map_layer_is_redrawn_only_when_the_view_changes() -> None:

@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from pmk_nb.chair import ranges as ranges_mod
+
 
 @dataclass(frozen=True)
 class Odometry:
@@ -48,11 +50,12 @@ class Pose2D:
 
 @dataclass(frozen=True)
 class Scan:
-    """A sanitised laser scan.
+    """A laser scan, each ray read as REP 117 says (:mod:`pmk_nb.chair.ranges`).
 
-    ``ranges`` is float32 with NaN for every invalid ray (null, NaN, inf, or outside
-    [range_min, range_max]); ``at_max`` marks rays that hit nothing (at/over range_max or +inf)
-    so a UI can draw them as "free up to max range" instead of as obstacles.
+    ``ranges`` is float32 with a value only for hits (NaN elsewhere); ``kinds`` gives each ray's
+    meaning (``HIT``, ``NO_RETURN``, ``TOO_CLOSE``, ``INVALID``, ``UNKNOWN``); ``at_max`` marks rays
+    that certainly saw nothing up to ``range_max`` (+inf), the only ones a UI may draw as free.
+    A JSON ``null`` is UNKNOWN, never free: rosbridge sends NaN, +inf and -inf all as null.
     """
 
     angle_min: float
@@ -64,10 +67,28 @@ class Scan:
     received: float
     stamp: float | None = None
     frame: str = "laser"
+    kinds: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.kinds is None:  # built by hand (tests, benchmarks): finite = hit, at_max = no return
+            kinds = np.full(self.ranges.shape, ranges_mod.INVALID, dtype=np.uint8)
+            kinds[np.isfinite(self.ranges)] = ranges_mod.HIT
+            kinds[np.asarray(self.at_max, dtype=bool)[: kinds.size]] = ranges_mod.NO_RETURN
+            object.__setattr__(self, "kinds", kinds)
 
     def angles(self) -> np.ndarray:
         """Angle of every ray in the laser frame (radians)."""
         return (self.angle_min + self.angle_increment * np.arange(self.ranges.size)).astype(np.float32)
+
+    @property
+    def blind(self) -> np.ndarray:
+        """Rays that say nothing about the world (unknown or invalid): drawn as a grey tick, never free."""
+        return np.isin(self.kinds, ranges_mod.BLIND_KINDS)
+
+    @property
+    def too_close(self) -> np.ndarray:
+        """Rays that report an object closer than ``range_min`` (-inf)."""
+        return np.asarray(self.kinds) == ranges_mod.TOO_CLOSE
 
 
 @dataclass(frozen=True)
@@ -214,25 +235,8 @@ def parse_pose(msg: dict[str, Any], received: float) -> Pose2D:
     )
 
 
-def sanitise_ranges(raw: Any, range_min: float, range_max: float) -> tuple[np.ndarray, np.ndarray]:
-    """(ranges float32 with NaN for invalid rays, at_max bool) from a JSON ``ranges`` list.
-
-    ``null`` counts as "no return": ROS 2 rosbridge sends +inf (REP 117's out-of-range value)
-    as null, and a phantom obstacle at max range is worse than a missing ray.
-    """
-    values = np.array(raw if raw is not None else [], dtype=np.float64)  # None -> NaN
-    nulls = np.fromiter((v is None for v in raw), bool, len(raw)) if raw and None in raw else None
-    with np.errstate(invalid="ignore"):
-        at_max = (values >= range_max) | np.isposinf(values)
-        if nulls is not None:
-            at_max |= nulls
-        valid = np.isfinite(values) & (values >= range_min) & (values <= range_max)
-    ranges = np.where(valid, values, np.nan).astype(np.float32)
-    return ranges, at_max
-
-
 def parse_scan(msg: dict[str, Any], received: float) -> Scan:
-    """``sensor_msgs/LaserScan`` -> :class:`Scan` with sanitised ranges."""
+    """``sensor_msgs/LaserScan`` -> :class:`Scan`, every ray classified by REP 117 (null = unknown)."""
     header = msg.get("header") or {}
     range_min = _f(msg.get("range_min", 0.0))
     range_max = _f(msg.get("range_max", float("inf")))
@@ -240,14 +244,15 @@ def parse_scan(msg: dict[str, Any], received: float) -> Scan:
         range_min = 0.0
     if math.isnan(range_max):
         range_max = float("inf")
-    ranges, at_max = sanitise_ranges(msg.get("ranges"), range_min, range_max)
+    ranges, kinds = ranges_mod.classify_ranges(msg.get("ranges"), range_min, range_max)
     return Scan(
         angle_min=_f(msg.get("angle_min", 0.0)),
         angle_increment=_f(msg.get("angle_increment", 0.0)),
         range_min=range_min,
         range_max=range_max,
         ranges=ranges,
-        at_max=at_max,
+        at_max=kinds == ranges_mod.NO_RETURN,
+        kinds=kinds,
         received=received,
         stamp=stamp_to_sec(header.get("stamp")),
         frame=normalise_frame(header.get("frame_id") or "laser"),

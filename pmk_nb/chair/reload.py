@@ -194,6 +194,21 @@ def resolve(
     return detected
 
 
+def check_remote_path(remote_yaml_path: str) -> None:
+    """Refuse a path a map server cannot read before anything is sent.
+
+    ROS 1 map_server and Nav2 do not expand ``~`` and read relative paths from their own working
+    folder: Noetic answers 255, Nav2 "map does not exist", and the user learns nothing from either.
+    """
+    if not remote_yaml_path.startswith("/"):
+        raise MapReloadError(
+            f"{remote_yaml_path!r} is not an absolute path on the chair: map servers do not expand '~' "
+            "and read relative paths from their own working folder",
+            keeps_old_map=True,
+            hint="Give the full path, e.g. /home/<ssh user>/ALMA_MAPS/<map>.yaml (deploy() finds it over SFTP).",
+        )
+
+
 def build_request(kind: ReloadKind, remote_yaml_path: str) -> dict[str, Any]:
     """LoadMap (both kinds) takes ``map_url`` (a plain path is accepted); MapUpdate takes ``path``."""
     if kind == "mapupdate":

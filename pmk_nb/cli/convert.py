@@ -99,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
             args.resolution, options, progress=bar,
         )  # fmt: skip
     except GridTooLarge as err:  # the CLI's words for the way out: the option to change
-        raise PmkError(err.message, hint=f"use --resolution {err.suggested_resolution:g} or coarser") from err
+        raise PmkError(err.message, hint=f"Use --resolution {err.suggested_resolution:g} or coarser.") from err
     finally:
         bar.close()
     building = result.building

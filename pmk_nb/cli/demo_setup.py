@@ -18,6 +18,7 @@ import contextlib
 import os
 import subprocess
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -63,8 +64,13 @@ class DemoWorld:
                 self._log.close()
 
 
-def sim_command(map_yaml: Path, ros_port: int, sftp_port: int, chair_dir: Path, public_key: Path) -> list[str]:
-    """``pmk sim`` for the demo: patrolling chair, SFTP by key only (``public_key`` may log in)."""
+def sim_command(
+    map_yaml: Path, ros_port: int, sftp_port: int, chair_dir: Path, public_key: Path, extra: Sequence[str] = ()
+) -> list[str]:
+    """``pmk sim`` for the demo: patrolling chair, SFTP by key only (``public_key`` may log in).
+
+    ``extra`` adds ``pmk sim`` options (e.g. ``--laser-blind=-20:40`` to show a blind laser).
+    """
     return [
         sys.executable, "-m", "pmk_nb.cli", "sim",
         "--map", str(map_yaml),
@@ -76,6 +82,7 @@ def sim_command(map_yaml: Path, ros_port: int, sftp_port: int, chair_dir: Path, 
         "--no-sftp-password",
         "--maps-dir", str(chair_dir),
         "--patrol",
+        *extra,
     ]  # fmt: skip
 
 
@@ -100,7 +107,9 @@ def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
     return private_path, public_path
 
 
-def prepare_demo(root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1") -> DemoWorld:
+def prepare_demo(
+    root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1", sim_args: Sequence[str] = ()
+) -> DemoWorld:
     """Convert the sample, start the simulator, write the profile and current map; return the world.
 
     Raises:
@@ -133,7 +142,7 @@ def prepare_demo(root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1") 
     log_path = root / "sim.log"
     log = log_path.open("ab")
     sim = subprocess.Popen(
-        sim_command(first.yaml, ros_port, sftp_port, chair_dir, public_key),
+        sim_command(first.yaml, ros_port, sftp_port, chair_dir, public_key, sim_args),
         env=env, stdout=log, stderr=subprocess.STDOUT, cwd=root,
     )  # fmt: skip
     world = DemoWorld(root, maps_dir, config_dir, chair_dir, first.yaml, ros_port, sftp_port, env, sim, log_path, log)

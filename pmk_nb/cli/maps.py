@@ -67,6 +67,20 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
 
 
 def run(args: argparse.Namespace) -> int:
+    from pmk_nb.errors import AlreadyExists, GridTooLarge, LibraryError, PmkError
+
+    try:
+        return _run(args)
+    except AlreadyExists as err:  # the CLI's words: the option, not the keyword argument
+        raise PmkError(f"map {err.name!r} already exists.", hint="Pass --overwrite to replace it.") from err
+    except LibraryError as err:
+        cause = err.__cause__
+        if isinstance(cause, GridTooLarge):
+            raise PmkError(err.message, hint=f"Use --resolution {cause.suggested_resolution:g} or coarser.") from err
+        raise
+
+
+def _run(args: argparse.Namespace) -> int:
     from pmk_nb.library.folder import MapsFolder
 
     folder = MapsFolder(args.dir)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import signal
 import threading
 from pathlib import Path
@@ -60,6 +61,13 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
     p.add_argument("--rays", type=int, default=720, help="laser rays over 270 degrees")
     p.add_argument("--patrol", action="store_true", help="drive between random reachable points forever")
+    p.add_argument(
+        "--laser-blind",
+        type=_sector,
+        default=None,
+        metavar="FROM:TO",
+        help="degrees (0 = ahead, + = left) where the laser is blind and reports NaN, e.g. --laser-blind=-20:40",
+    )
     p.set_defaults(run=run)
 
 
@@ -105,6 +113,15 @@ def _check_sftp_args(args: argparse.Namespace) -> None:
         raise SimError("--no-sftp-password and --sftp-password contradict each other: give one of them")
 
 
+def _sector(text: str) -> tuple[float, float]:
+    """``FROM:TO`` in degrees -> (from, to) in radians."""
+    try:
+        lo, hi = (math.radians(float(part)) for part in text.split(":"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: give two angles in degrees as FROM:TO, e.g. -20:40") from None
+    return lo, hi
+
+
 def run(args: argparse.Namespace) -> int:
     _check_sftp_args(args)
     grid = None if args.map is not None else sample_floor()
@@ -118,6 +135,7 @@ def run(args: argparse.Namespace) -> int:
         scan_rate=args.scan_rate,
         rays=args.rays,
         patrol=args.patrol,
+        laser_blind=args.laser_blind,
         sftp_port=None if args.no_sftp else args.sftp_port,
         sftp_user=args.sftp_user,
         sftp_password=args.sftp_password,

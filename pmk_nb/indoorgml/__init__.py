@@ -2,7 +2,7 @@
 
 ``read_building(path, unit="auto", progress=None)`` and ``summarize(building)`` are the API; the
 modules underneath are layered: ``xmlsafe`` (safe streaming XML) -> ``gml`` (coordinates) ->
-``scan`` (raw records) -> ``footprint``/``doors``/``units``/``storeys`` -> ``build`` (the model).
+``scan`` (raw records) -> ``footprint``/``layers``/``doors``/``units``/``storeys`` -> ``build`` (the model).
 """
 
 from __future__ import annotations

@@ -119,7 +119,9 @@ class Building:
         known = ", ".join(s.name for s in self.storeys)
         from pmk_nb.errors import IndoorGMLError
 
-        raise IndoorGMLError(f"{self.source}: no storey named {name!r}; storeys are: {known}")
+        raise IndoorGMLError(
+            f"{self.source}: no storey named {name!r}; storeys are: {known}", path=self.source, element=name
+        )
 
     def cells_of(self, storey: str) -> list[Cell]:
         return [self.cells[c] for c in self.storey(storey).cell_ids]

@@ -170,8 +170,9 @@ class _Scanner:
             if name not in ROOT_NAMES and not any("indoorgml" in v.lower() for v in elem.nsmap.values()):
                 raise IndoorGMLError(
                     f"{self.doc.path}: not an IndoorGML document: the root element is "
-                    f"<{etree.QName(elem).localname}> (expected IndoorFeatures or MultiLayeredGraph)"
-                )
+                    f"<{etree.QName(elem).localname}> (expected IndoorFeatures or MultiLayeredGraph)",
+                    path=str(self.doc.path), element=etree.QName(elem).localname,
+                )  # fmt: skip
         elif not self.doc.srs_name and elem.get("srsName"):
             self.doc.srs_name = elem.get("srsName")
         if name == "primalspacelayer":
@@ -184,7 +185,8 @@ class _Scanner:
             self._end(elem, name)
         except CoordError as err:
             ident = elem.get(GML_ID) or next((i for _, i in reversed(self.stack) if i), None)
-            raise IndoorGMLError(f"{self.doc.path}: line {err.line}: {err} (in {ident or name!r})") from err
+            msg = f"{self.doc.path}: line {err.line}: {err} (in {ident or name!r})"
+            raise IndoorGMLError(msg, path=str(self.doc.path), element=ident or name) from err
         self.stack.pop()
 
     def _end(self, elem: etree._Element, name: str) -> None:
@@ -304,5 +306,5 @@ def scan(path: str | os.PathLike[str], progress: ProgressCallback | None = None)
         else:
             scanner.end(elem)
     if not scanner.doc.root:
-        raise IndoorGMLError(f"{path}: no XML root element found")
+        raise IndoorGMLError(f"{path}: no XML root element found", path=str(path))
     return scanner.doc

@@ -120,8 +120,8 @@ def fetch(
         raise DownloadError(f"download of {url} failed: {why}", url=url) from err
     except TimeoutError as err:
         raise DownloadError(
-            f"download of {url} failed: no data from {host} for {timeout:g} s (timed out)",
-            url=url, hint="try again or raise the timeout",
+            f"download of {url} failed: no data from {host} for {timeout:g} s (timed out).",
+            url=url, hint="Try again or raise the timeout.",
         ) from err  # fmt: skip
     except (http.client.HTTPException, OSError) as err:
         raise DownloadError(f"download of {url} failed: the connection to {host} broke ({err!r})", url=url) from err
@@ -152,14 +152,14 @@ def _copy_body(
         emit(progress, "download", done / total if total else None, _amount(done, total))
         if time.monotonic() > ends_at:
             raise DownloadError(
-                f"download of {url} aborted: not finished within the deadline ({_mib(done)} received)",
-                url=url, hint="the server is too slow; try again later or raise the deadline",
+                f"download of {url} aborted: not finished within the deadline ({_mib(done)} received).",
+                url=url, hint="The server is too slow: try again later or raise the deadline.",
             )  # fmt: skip
     if total is not None and done < total:
         # http.client returns a short body silently when the server closes early
         raise DownloadError(
-            f"download of {url} incomplete: the connection closed after {done} of {total} bytes",
-            url=url, hint="try again",
+            f"download of {url} incomplete: the connection closed after {done} of {total} bytes.",
+            url=url, hint="Try again.",
         )  # fmt: skip
     out.flush()
     return done

@@ -339,8 +339,8 @@ class MapsFolder:
             raise LibraryError(f"cannot convert map {entry.name!r}: {err}", name=entry.name) from err
         except MemoryError as err:
             raise LibraryError(
-                f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell",
-                name=entry.name, hint="use a coarser resolution (a larger number)",
+                f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell.",
+                name=entry.name, hint="Use a coarser resolution (a larger number).",
             ) from err  # fmt: skip
         if unit == "auto":  # what storeys() reads too: the list learns them for free
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)

@@ -146,11 +146,11 @@ def plan_storey(
         else f"wider or taller than the {NAV2_MAX_CELLS_PER_SIDE} cells Nav2 (Jazzy and later) accepts"
     )
     raise GridTooLarge(
-        f"storey {storey!r}: grid would be {frame.width} x {frame.height} cells ({what}) at {res:g} m",
+        f"storey {storey!r}: grid would be {frame.width} x {frame.height} cells ({what}) at {res:g} m.",
         cells=total if too_many else max(frame.width, frame.height),
         limit=max_cells if too_many else NAV2_MAX_CELLS_PER_SIDE,
         suggested_resolution=fit,
-        hint=f"use a resolution of {fit:g} m or coarser",
+        hint=f"Use a resolution of {fit:g} m or coarser.",
     )
 
 

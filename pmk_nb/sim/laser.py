@@ -4,10 +4,10 @@ Each block samples every still-active ray at ``block`` points spaced half a cell
 index into the mask), records the first hit per ray and drops rays that hit or left the grid, so
 a scan in a room costs a few short NumPy passes instead of rays x steps Python work.
 
-Rays that hit nothing within ``range_max`` report ``range_max + 1.0``: REP 117 would say +inf,
-but rosbridge carries JSON and JSON has no Infinity (browsers' JSON.parse rejects it), so we use
-the older "beyond range_max means no return" convention. Clients must treat any value outside
-[range_min, range_max] as "no return".
+Rays that hit nothing within ``range_max`` report ``+inf`` (REP 117). A blind sector (a covered
+or failed sensor: ``blind``, angles relative to the scanner) reports ``NaN``. On the wire both
+become JSON ``null``, exactly as real rosbridge servers send them (JSON has no NaN or Infinity),
+so clients see what they see from a real chair: ``null`` = unknown.
 """
 
 from __future__ import annotations
@@ -15,8 +15,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
-NO_RETURN_OFFSET = 1.0
 
 
 class Laser:
@@ -29,6 +27,7 @@ class Laser:
         range_min: float = 0.05,
         range_max: float = 10.0,
         block: int = 24,
+        blind: tuple[float, float] | None = None,
     ) -> None:
         if rays < 2:
             raise ValueError(f"a laser needs at least 2 rays, got {rays}")
@@ -39,10 +38,22 @@ class Laser:
         self.range_max = range_max
         self.block = block
         self.angles = self.angle_min + self.angle_increment * np.arange(rays)
+        self.blind = blind
 
     @property
-    def no_return(self) -> float:
-        return self.range_max + NO_RETURN_OFFSET
+    def blind(self) -> tuple[float, float] | None:
+        """(start, end) in radians of the rays that report NaN, or None."""
+        return self._blind
+
+    @blind.setter
+    def blind(self, sector: tuple[float, float] | None) -> None:
+        if sector is not None:
+            lo, hi = sorted(float(a) for a in sector)
+            sector = (lo, hi)
+        self._blind = sector
+        self._blind_mask = (
+            None if sector is None else (self.angles >= sector[0] - 1e-9) & (self.angles <= sector[1] + 1e-9)
+        )
 
     def cast(
         self, hit: np.ndarray, resolution: float, origin: tuple[float, float], pose: tuple[float, float, float]
@@ -55,7 +66,7 @@ class Laser:
         gx, gy = (x - origin[0]) / resolution, (y - origin[1]) / resolution
         ang = theta + self.angles
         dx, dy = np.cos(ang) * 0.5, np.sin(ang) * 0.5  # cells per step
-        ranges = np.full(self.rays, self.no_return, dtype=np.float32)
+        ranges = np.full(self.rays, np.inf, dtype=np.float32)
         active = np.arange(self.rays)
         for first in range(0, n_steps, self.block):
             t = np.arange(first, min(first + self.block, n_steps), dtype=np.float64)
@@ -74,4 +85,6 @@ class Laser:
             active = active[keep]
             if active.size == 0:
                 break
+        if self._blind_mask is not None:
+            ranges[self._blind_mask] = np.nan
         return ranges

@@ -102,7 +102,7 @@ class Names:
             "scan_time": scan_time,
             "range_min": range_min,
             "range_max": range_max,
-            "ranges": ranges.astype(np.float64).round(4).tolist(),  # float64: short JSON numbers
+            "ranges": json_ranges(ranges),
             "intensities": [],
         }
 
@@ -213,3 +213,14 @@ def _check(schema: dict[str, Any], value: Any, where: str) -> str | None:
         elif key in ("x", "y", "z", "w") and not isinstance(item, int | float):
             return f"{where}.{key} must be a number"
     return None
+
+
+def json_ranges(ranges: np.ndarray) -> list[float | None]:
+    """Ranges as a JSON list: NaN and ±inf become ``null``, as every rosbridge server sends them."""
+    values = ranges.astype(np.float64).round(4)
+    finite = np.isfinite(values)
+    out: list[float | None] = values.tolist()
+    if not finite.all():
+        for i in np.flatnonzero(~finite):
+            out[i] = None
+    return out

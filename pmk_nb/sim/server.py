@@ -54,6 +54,7 @@ class SimChair:
         scan_rate: float = 20.0,
         rays: int = 720,
         range_max: float = 10.0,
+        laser_blind: tuple[float, float] | None = None,
         patrol: bool = False,
         sftp_port: int | None = None,
         sftp_user: str = "pmk",
@@ -81,7 +82,7 @@ class SimChair:
         self.names = Names(ros)
         self.odom_rate = odom_rate
         self.scan_rate = scan_rate
-        self.laser = Laser(rays=rays, range_max=range_max)
+        self.laser = Laser(rays=rays, range_max=range_max, blind=laser_blind)
         self._init_sftp(sftp_port, sftp_user, sftp_password, sftp_authorized_key, sftp_password_login)
         self._init_maps(maps_dir, reload_services)
         self.footprint_radius = footprint_radius

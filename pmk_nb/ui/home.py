@@ -226,13 +226,14 @@ class HomeScreen:
         """Update position, speed, zoom and state texts (a widget whose text is unchanged sends nothing)."""
         snap = self.preview.snapshot()
         state, age = connection_state(snap)
-        texts = info_texts(state, age, snap.pose, snap.odom, self.live.zoom, self.live.zoom_factor)
+        texts = info_texts(state, age, snap.pose, snap.odom, self.live.zoom, self.live.zoom_factor, snap.scan)
         self.live.stale = state == "stale"  # the loop redraws: the chair turns grey
         info = self.ui.info
         info.state.value = texts.state
         info.pos.value = texts.position
         info.speed.value = texts.speed
         info.zoom.value = texts.zoom
+        info.laser.value = texts.laser
         if texts.status is not None:
             self.ui.status.value = texts.status
 

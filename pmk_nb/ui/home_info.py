@@ -13,7 +13,8 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from pmk_nb.chair.messages import Odometry, Pose2D
+from pmk_nb.chair.messages import Odometry, Pose2D, Scan
+from pmk_nb.chair.ranges import blind_ahead
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.widgets import escape
 
@@ -22,6 +23,8 @@ if TYPE_CHECKING:  # the link package pulls in roslibpy: imported when a preview
 
 STALE_AFTER = 2.0  # s without odometry before the "no data" state
 CONNECT_TIMEOUT = 5.0  # s the preview waits for the chair's rosbridge
+#: A run of blind laser rays across the chair's heading at least this wide (degrees) is reported.
+BLIND_AHEAD_MIN_DEG = 5.0
 
 _STATE_TEXTS = {
     "off": "Preview stopped",
@@ -41,6 +44,7 @@ class PreviewSnapshot:
         pose: the latest pose from the profile's pose source, else the odometry.
         connect_error: why connecting failed, if it did.
         started: ``time.monotonic()`` when the preview started.
+        scan: the latest laser scan.
     """
 
     link_state: LinkState | None
@@ -48,6 +52,7 @@ class PreviewSnapshot:
     pose: Pose2D | Odometry | None = None
     connect_error: str | None = None
     started: float = 0.0
+    scan: Scan | None = None
 
 
 STOPPED = PreviewSnapshot(None)
@@ -62,6 +67,7 @@ class InfoTexts:
     speed: str
     zoom: str
     status: str | None
+    laser: str = ""
 
 
 def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[str, float | None]:
@@ -84,8 +90,34 @@ def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[s
     return "live", age
 
 
+def laser_text(scan: Scan | None) -> str:
+    """The panel's laser line: blind rays counted, and a warning when the laser is blind ahead.
+
+    The forward direction is taken as the laser's 0° (the scanner's mounting yaw is not applied).
+    """
+    if scan is None or scan.kinds is None or scan.kinds.size == 0:
+        return ""
+    sector = blind_ahead(scan.kinds, scan.angles())
+    blind = int(scan.blind.sum())
+    parts = []
+    if sector.too_close:
+        touching = f"Something is touching the chair ahead ({sector.too_close} rays)"
+        parts.append(f"<span class='pmk-msg-warning'>{touching}</span>")
+    if sector.degrees >= BLIND_AHEAD_MIN_DEG:
+        parts.append(f"<span class='pmk-msg-warning'>Laser blind ahead, {sector.degrees:.0f}°</span>")
+    if not parts:
+        parts.append(escape(f"Laser: {scan.kinds.size} rays, {blind} unknown"))
+    return "<br>".join(parts)
+
+
 def info_texts(
-    state: str, age: float | None, pose: Pose2D | Odometry | None, odom: Odometry | None, zoom: int, zoom_factor: float
+    state: str,
+    age: float | None,
+    pose: Pose2D | Odometry | None,
+    odom: Odometry | None,
+    zoom: int,
+    zoom_factor: float,
+    scan: Scan | None = None,
 ) -> InfoTexts:
     """The panel's lines for one refresh (all escaped HTML)."""
     if pose is not None:
@@ -115,6 +147,7 @@ def info_texts(
         speed=escape(speed),
         zoom=escape(f"Zoom: {zoom} (x{zoom_factor:.2g})"),
         status=status,
+        laser=laser_text(scan if state == "live" else None),
     )
 
 

@@ -28,7 +28,8 @@ class HomeInfoPanel:
         self.pos = _html("pmk-home-info-pos")
         self.speed = _html("pmk-home-info-speed")
         self.zoom = _html("pmk-home-info-zoom")
-        self.widget = w.VBox([self.map, self.state, self.pos, self.speed, self.zoom])
+        self.laser = _html("pmk-home-info-laser")
+        self.widget = w.VBox([self.map, self.state, self.pos, self.speed, self.zoom, self.laser])
         self.widget.add_class("pmk-home-info")
 
 

@@ -22,7 +22,13 @@ CHAIR_RGB = (31, 111, 235)  # blue
 HEADING_RGB = (245, 196, 0)  # yellow
 STALE_RGB = (140, 140, 140)  # grey: the last known pose, no fresh data
 HIT_STYLE = "rgba(220, 20, 20, 0.6)"  # red: the ray ended on an obstacle
-MAX_STYLE = "rgba(220, 20, 20, 0.15)"  # faint red: nothing seen up to the sensor's range
+MAX_STYLE = "rgba(220, 20, 20, 0.15)"  # faint red: nothing seen up to the sensor's range (+inf)
+BLIND_STYLE = "rgba(110, 110, 110, 0.9)"  # grey tick at the chair: the sensor says nothing there
+CLOSE_STYLE = "rgba(255, 120, 0, 1.0)"  # orange tick: something closer than the sensor's range_min
+#: Ticks for blind / too-close rays run from the footprint's edge this far out (metres), at least
+#: TICK_MIN_PX on screen so they stay visible on a whole-building view.
+TICK_M = 0.25
+TICK_MIN_PX = 6.0
 #: Rays are drawn from the pose the chair had when the scan arrived, if one seen is this close in
 #: time; the newest pose otherwise.  A turning chair's scan drawn from the newer heading would
 #: show rays going through walls (38 deg/s x 0.1 s = 4 deg, half a metre at 8 m).
@@ -75,9 +81,14 @@ class ChairLook:
 
 
 def draw_rays(
-    layer: Canvas, view: Viewport, origin: tuple[float, float, float], scan: Scan, spacing: float
+    layer: Canvas, view: Viewport, origin: tuple[float, float, float], scan: Scan, spacing: float, radius: float = 0.0
 ) -> tuple[int, int]:
-    """Stroke the scan's rays from ``origin``; returns (hits, max-range rays) drawn."""
+    """Stroke the scan's rays from ``origin``; returns (hits, max-range rays) drawn.
+
+    Blind rays (JSON null, NaN, out of range) are grey ticks at the chair's edge (``radius``) and
+    "too close" rays orange ticks: neither is ever drawn as a free ray across the floor.
+    """
+    tick = max(TICK_M, TICK_MIN_PX / max(view.px_per_m, 1e-9))
     segs = laser_segments(
         view,
         origin,
@@ -87,14 +98,20 @@ def draw_rays(
         scan.at_max,
         float(scan.range_max),
         min_spacing_px=spacing,
+        blind=scan.blind,
+        too_close=scan.too_close,
+        tick=(radius, radius + tick),
     )
     layer.line_width = 1
-    if segs.max_rays.shape[0]:
-        layer.stroke_style = MAX_STYLE
-        layer.stroke_line_segments(segs.max_rays)
-    if segs.hits.shape[0]:
-        layer.stroke_style = HIT_STYLE
-        layer.stroke_line_segments(segs.hits)
+    for style, lines in ((MAX_STYLE, segs.max_rays), (HIT_STYLE, segs.hits), (BLIND_STYLE, segs.blind_ticks)):
+        if lines.shape[0]:
+            layer.stroke_style = style
+            layer.stroke_line_segments(lines)
+    if segs.close_ticks.shape[0]:
+        layer.line_width = 3
+        layer.stroke_style = CLOSE_STYLE
+        layer.stroke_line_segments(segs.close_ticks)
+        layer.line_width = 1
     return segs.hits.shape[0], segs.max_rays.shape[0]
 
 
@@ -114,7 +131,7 @@ def draw_chair_layer(
     x, y, theta = float(pose.x), float(pose.y), float(pose.theta)
     rays = (0, 0)
     if scan is not None:
-        rays = draw_rays(layer, view, history.scan_pose(pose, scan), scan, look.ray_spacing_px)
+        rays = draw_rays(layer, view, history.scan_pose(pose, scan), scan, look.ray_spacing_px, look.footprint_radius)
     v = float(odom.v) if odom is not None else 0.0
     hx, hy = heading_point(x, y, theta, v, look.footprint_radius)
     px, py = view.world_to_pixel(np.array([x, hx]), np.array([y, hy]))

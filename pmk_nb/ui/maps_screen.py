@@ -309,8 +309,9 @@ class MapsScreen:
 
         def done(_report: Any) -> None:
             set_progress(self.send_progress, 1.0, style="success")
-            self.ctx.set_current_map(name, gm.yaml, gm.preview)
+            # the message first: whoever sees the new current map also sees the final status
             self.status.value = f"Sent {escape(name)}: the chair now uses it; it is the current map on Home."
+            self.ctx.set_current_map(name, gm.yaml, gm.preview)
             self.ctx.notify(f"Sent {name} to {profile.name}.")
             self._update_info()
 

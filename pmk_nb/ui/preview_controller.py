@@ -80,7 +80,7 @@ class PreviewController:
         state: LinkState = link.state
         odom = link.latest_odom()
         pose = link.latest_pose() or odom
-        return PreviewSnapshot(state, odom, pose, error, started)
+        return PreviewSnapshot(state, odom, pose, error, started, link.latest_scan())
 
     def _state_changed(self, _state: LinkState) -> None:
         self._on_state()

@@ -18,8 +18,7 @@ Typical notebook use::
     report = link.test_connection(timeout=5.0)                 # ok + map facts, or why not
     link.start_streams()
     link.latest_pose(), link.latest_scan()                      # never block
-    link.reload_map("/home/pmk/ALMA_MAPS/floor2.yaml")          # an absolute path on the chair;
-                                                                # raises MapReloadError(code=...)
+    link.reload_map("/home/pmk/ALMA_MAPS/floor2.yaml")          # absolute, on the chair; MapReloadError
 """
 
 from __future__ import annotations
@@ -48,6 +47,7 @@ from pmk_nb.chair.reload import (
     ReloadKind,
     ReloadService,
     build_request,
+    check_remote_path,
     check_response,
 )
 from pmk_nb.errors import ChairLinkError, ChairTimeout
@@ -366,13 +366,7 @@ class ChairLink:
         ``kind``/``service`` default to detection ("auto" means the same). Raises
         :class:`MapReloadError` (a ChairLinkError with ``code``) when the server refuses.
         """
-        if not remote_yaml_path.startswith("/"):
-            raise MapReloadError(
-                f"{remote_yaml_path!r} is not an absolute path on the chair: map servers do not expand '~' "
-                "and read relative paths from their own working folder",
-                keeps_old_map=True,
-                hint="Give the full path, e.g. /home/<ssh user>/ALMA_MAPS/<map>.yaml (deploy() finds it over SFTP).",
-            )
+        check_remote_path(remote_yaml_path)
         kind = None if kind in (None, "auto") else kind
         service = None if service in (None, "", "auto") else service
         target = self.discovery.reload_target(kind, service, f"{self.host}:{self.port}")
@@ -386,8 +380,9 @@ class ChairLink:
                 service=target.name,
             ) from err
         except ChairLinkError as err:
-            # the request may or may not have reached the map server: nobody can say which map runs
-            raise MapReloadError(f"{err}", service=target.name, keeps_old_map=None) from err
+            # the bridge answered "failed" (no such service, the server's callback raised) or the
+            # link was down before sending: the map server did not switch maps
+            raise MapReloadError(f"{err}", service=target.name, keeps_old_map=True) from err
         check_response(target, remote_yaml_path, response)
 
     # -- maps ----------------------------------------------------------------------------------------

@@ -18,7 +18,6 @@ of the canvas.  The grid's yaw is ignored, as map_server consumers do (see ARCHI
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -33,23 +32,6 @@ STILL_SPEED = 0.05
 MIN_CHAIR_RADIUS_PX = 4.0
 #: Smallest heading dot drawn, in canvas pixels.
 MIN_DOT_RADIUS_PX = 2.0
-
-
-@dataclass(frozen=True)
-class LaserSegments:
-    """Laser rays as canvas-pixel line segments, ready for ``Canvas.stroke_line_segments``.
-
-    Attributes:
-        hits: float32 (n, 2, 2): rays that ended on an obstacle, [[x0, y0], [x1, y1]] each.
-        max_rays: float32 (m, 2, 2): rays that saw nothing up to the sensor's range (drawn faint).
-    """
-
-    hits: np.ndarray
-    max_rays: np.ndarray
-
-    @property
-    def count(self) -> int:
-        return int(self.hits.shape[0] + self.max_rays.shape[0])
 
 
 def _finite(value: float, name: str) -> float:
@@ -340,59 +322,3 @@ def heading_point(
     still = not math.isfinite(v) or abs(v) < STILL_SPEED
     d = abs(footprint_radius) if still else v * horizon
     return x + d * math.cos(theta), y + d * math.sin(theta)
-
-
-def laser_segments(
-    view: Viewport,
-    pose: tuple[float, float, float],
-    angle_min: float,
-    angle_increment: float,
-    ranges: np.ndarray,
-    at_max: np.ndarray | None = None,
-    range_max: float | None = None,
-    min_spacing_px: float = 0.0,
-) -> LaserSegments:
-    """Canvas-pixel segments from the chair to each ray's end; NaN / inf / negative ranges skipped.
-
-    The scanner is taken to sit at the chair's pose (no tf offset).  Rays flagged ``at_max`` are
-    returned separately; when their range is not finite they are drawn ``range_max`` long.
-    With ``min_spacing_px`` > 0 only every k-th ray is kept, k chosen so that neighbouring rays end
-    at least that far apart at the scan's median range: a 1080-ray scan on a whole-map view would
-    otherwise be a solid red fan of sub-pixel lines costing bandwidth and showing nothing more.
-    """
-    r = np.asarray(ranges, dtype=np.float64).ravel()
-    n = r.size
-    flags = np.zeros(n, dtype=bool) if at_max is None else np.asarray(at_max, dtype=bool).ravel()[:n]
-    if flags.size < n:
-        flags = np.concatenate([flags, np.zeros(n - flags.size, dtype=bool)])
-    if range_max is not None and math.isfinite(range_max) and range_max > 0:
-        r = np.where(flags & ~np.isfinite(r), range_max, r)
-    ok = np.isfinite(r) & (r >= 0)
-    stride = ray_stride(view, r[ok], angle_increment, min_spacing_px)
-    if stride > 1:
-        ok &= np.arange(n) % stride == 0
-    x, y, theta = (float(p) for p in pose)
-    ang = theta + angle_min + angle_increment * np.arange(n, dtype=np.float64)
-    ex, ey = view.world_to_pixel(x + r * np.cos(ang), y + r * np.sin(ang))
-    sx, sy = view.world_to_pixel(x, y)
-
-    def segs(mask: np.ndarray) -> np.ndarray:
-        k = int(mask.sum())
-        out = np.empty((k, 2, 2), dtype=np.float32)
-        out[:, 0, 0] = sx
-        out[:, 0, 1] = sy
-        out[:, 1, 0] = ex[mask]
-        out[:, 1, 1] = ey[mask]
-        return out
-
-    return LaserSegments(hits=segs(ok & ~flags), max_rays=segs(ok & flags))
-
-
-def ray_stride(view: Viewport, valid_ranges: np.ndarray, angle_increment: float, min_spacing_px: float) -> int:
-    """Keep every k-th ray so rays end >= ``min_spacing_px`` apart at the median range (1 = all)."""
-    if not (min_spacing_px > 0) or valid_ranges.size == 0:
-        return 1
-    spacing = float(np.median(valid_ranges)) * abs(float(angle_increment)) * view.px_per_m
-    if not (math.isfinite(spacing) and spacing > 0):
-        return 1
-    return max(1, math.ceil(min_spacing_px / spacing))

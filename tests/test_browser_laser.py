@@ -1,0 +1,69 @@
+"""A blind laser on Home, in a real browser: null rays are shown as unknown, and summarised.
+
+The simulated chair's laser is blind from 20° right to 40° left of its heading (``pmk sim
+--laser-blind=-20:40``: NaN readings, sent as JSON null like every rosbridge server does). Home
+must say "Laser blind ahead" and draw no free rays there; the screenshot goes to
+``test-artifacts/kiosk-home-laser-blind.png``.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from pmk_nb.cli.demo_setup import DemoWorld, prepare_demo
+from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
+from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
+from tests.test_browser_kiosk import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT
+
+pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(240)]
+
+
+@pytest.fixture
+def blind_kiosk(tmp_path: Path) -> Iterator[tuple[str, DemoWorld]]:
+    world = prepare_demo(tmp_path / "demo", sim_args=["--laser-blind=-20:40"])
+    port = free_port()
+    notebook = write_dashboard_notebook(tmp_path / "kiosk")
+    log = (tmp_path / "voila.log").open("wb")
+    voila = subprocess.Popen(
+        voila_command(notebook, port=port), env=world.env, cwd=notebook.parent, stdout=log, stderr=subprocess.STDOUT
+    )
+    try:
+        wait_for_port("127.0.0.1", port, voila, "Voilà", 120.0)
+        yield f"http://127.0.0.1:{port}/", world
+    finally:
+        stop_process(voila)
+        world.stop()
+        log.close()
+        ARTIFACTS.mkdir(exist_ok=True)
+        shutil.copy(tmp_path / "voila.log", ARTIFACTS / "laser-blind-voila.log")
+
+
+def test_home_shows_a_blind_laser_sector(blind_kiosk: tuple[str, DemoWorld]) -> None:
+    if not CHROMIUM.exists():
+        pytest.fail(f"{CHROMIUM} is missing: install Debian's chromium package (apt-get install -y chromium)")
+    from playwright.sync_api import expect, sync_playwright
+
+    url, _world = blind_kiosk
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+        try:
+            page = browser.new_page(viewport=VIEWPORT)
+            page.set_default_timeout(60_000)
+            page.goto(url, wait_until="domcontentloaded")
+            expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=120_000)
+            laser = page.locator(".pmk-home-info-laser")
+            expect(laser).to_contain_text("Laser blind ahead", timeout=30_000)
+            degrees = int(laser.inner_text().split("ahead,")[1].strip().rstrip("°"))
+            assert 55 <= degrees <= 65, f"the blind sector is 60° wide, Home says {degrees}°"
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.locator("button.pmk-home-zoom-in").click()
+            page.locator("button.pmk-home-zoom-in").click()
+            page.wait_for_timeout(1500)
+            page.screenshot(path=str(ARTIFACTS / "kiosk-home-laser-blind.png"))
+        finally:
+            browser.close()
