@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.grid import FREE, OCCUPIED, OccupancyGrid
 from pmk_nb.sim import SimChair
 
@@ -143,3 +144,21 @@ def link_factory() -> Iterator[Callable[[Any], Any]]:
     yield make
     for link in links:
         link.close()
+
+
+def sim_profile(sim: Any, tmp_path: Path, **kw: Any) -> ChairProfile:
+    """A validated password-auth chair profile for the simulator (rosbridge + SFTP); ``kw`` overrides."""
+    values: dict[str, Any] = dict(
+        name="sim",
+        host="127.0.0.1",
+        port=sim.port,
+        ssh_user=sim.sftp_user,
+        ssh_port=sim.sftp_port,
+        auth="password",
+        known_hosts=str(tmp_path / "known_hosts"),
+        remote_maps_dir="~/ALMA_MAPS",
+    )
+    values.update(kw)
+    profile = ChairProfile(**values)
+    profile.validate()
+    return profile

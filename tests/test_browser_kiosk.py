@@ -9,11 +9,12 @@ patrols.  Screenshots of every screen go to ``test-artifacts/``.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import shutil
 import subprocess
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -36,9 +37,10 @@ SMALL_VIEWPORT = {"width": 1024, "height": 768}  # an older one
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
 
-@pytest.fixture
-def kiosk(tmp_path: Path) -> Iterator[tuple[str, DemoWorld]]:
-    world = prepare_demo(tmp_path / "demo")
+@contextlib.contextmanager
+def serve_kiosk(tmp_path: Path, sim_args: Sequence[str] = (), label: str = "kiosk") -> Iterator[tuple[str, DemoWorld]]:
+    """The demo world (simulated chair, converted sample, profile) and Voilà serving the dashboard."""
+    world = prepare_demo(tmp_path / "demo", sim_args=sim_args)
     port = free_port()
     notebook = write_dashboard_notebook(tmp_path / "kiosk")
     log = (tmp_path / "voila.log").open("wb")
@@ -53,9 +55,15 @@ def kiosk(tmp_path: Path) -> Iterator[tuple[str, DemoWorld]]:
         world.stop()
         log.close()
         ARTIFACTS.mkdir(exist_ok=True)
-        shutil.copy(tmp_path / "voila.log", ARTIFACTS / "kiosk-voila.log")
+        shutil.copy(tmp_path / "voila.log", ARTIFACTS / f"{label}-voila.log")
         if world.log_path and world.log_path.exists():
-            shutil.copy(world.log_path, ARTIFACTS / "kiosk-sim.log")
+            shutil.copy(world.log_path, ARTIFACTS / f"{label}-sim.log")
+
+
+@pytest.fixture
+def kiosk(tmp_path: Path) -> Iterator[tuple[str, DemoWorld]]:
+    with serve_kiosk(tmp_path) as served:
+        yield served
 
 
 def _pixels(png: bytes) -> np.ndarray:

@@ -8,39 +8,21 @@ must say "Laser blind ahead" and draw no free rays there; the screenshot goes to
 
 from __future__ import annotations
 
-import shutil
-import subprocess
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
-from pmk_nb.cli.demo_setup import DemoWorld, prepare_demo
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
-from tests.test_browser_kiosk import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT
+from pmk_nb.cli.demo_setup import DemoWorld
+from tests.test_browser_kiosk import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(240)]
 
 
 @pytest.fixture
 def blind_kiosk(tmp_path: Path) -> Iterator[tuple[str, DemoWorld]]:
-    world = prepare_demo(tmp_path / "demo", sim_args=["--laser-blind=-20:40"])
-    port = free_port()
-    notebook = write_dashboard_notebook(tmp_path / "kiosk")
-    log = (tmp_path / "voila.log").open("wb")
-    voila = subprocess.Popen(
-        voila_command(notebook, port=port), env=world.env, cwd=notebook.parent, stdout=log, stderr=subprocess.STDOUT
-    )
-    try:
-        wait_for_port("127.0.0.1", port, voila, "Voilà", 120.0)
-        yield f"http://127.0.0.1:{port}/", world
-    finally:
-        stop_process(voila)
-        world.stop()
-        log.close()
-        ARTIFACTS.mkdir(exist_ok=True)
-        shutil.copy(tmp_path / "voila.log", ARTIFACTS / "laser-blind-voila.log")
+    with serve_kiosk(tmp_path, ["--laser-blind=-20:40"], label="laser-blind") as served:
+        yield served
 
 
 def test_home_shows_a_blind_laser_sector(blind_kiosk: tuple[str, DemoWorld]) -> None:

@@ -13,11 +13,11 @@ import pytest
 
 from pmk_nb.chair.deploy import STEPS, deploy
 from pmk_nb.chair.link.client import ChairLink
-from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.errors import DeployError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.progress import Progress
 from pmk_nb.rosmap.files import write_map
+from tests.fixtures_sim import sim_profile
 from tests.fixtures_ssh import SshdServer, profile_for
 
 
@@ -33,21 +33,6 @@ def grid_of(width: int, height: int, seed: int, origin: tuple[float, float] = (-
     return OccupancyGrid(data=data, resolution=0.1, origin=(origin[0], origin[1], 0.0))
 
 
-def sim_profile(sim: Any, tmp_path: Path, **kw: Any) -> ChairProfile:
-    values: dict[str, Any] = dict(
-        name="sim",
-        host="127.0.0.1",
-        port=sim.port,
-        ssh_user=sim.sftp_user,
-        ssh_port=sim.sftp_port,
-        auth="password",
-        known_hosts=str(tmp_path / "known_hosts"),
-        remote_maps_dir="~/ALMA_MAPS",
-    )
-    values.update(kw)
-    profile = ChairProfile(**values)
-    profile.validate()
-    return profile
 
 
 def assert_publishes(link: ChairLink, grid: OccupancyGrid) -> None:

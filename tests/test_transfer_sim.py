@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 import yaml
 
-from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.chair.transfer import upload
 from pmk_nb.errors import TransferError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.rosmap.files import MapFiles, write_map
 from pmk_nb.sim.sftp import ChairSFTPServer
+from tests.fixtures_sim import sim_profile
 
 
 def small_map(folder: Path, name: str, width: int = 30, seed: int = 0) -> MapFiles:
@@ -26,19 +26,6 @@ def small_map(folder: Path, name: str, width: int = 30, seed: int = 0) -> MapFil
     return write_map(OccupancyGrid(data=data, resolution=0.05, origin=(0.0, 0.0, 0.0)), folder, name, preview=False)
 
 
-def profile_of(sim: Any, tmp_path: Path) -> ChairProfile:
-    profile = ChairProfile(
-        name="sim",
-        host="127.0.0.1",
-        port=sim.port,
-        ssh_user=sim.sftp_user,
-        ssh_port=sim.sftp_port,
-        auth="password",
-        known_hosts=str(tmp_path / "known_hosts"),
-        remote_maps_dir="~/ALMA_MAPS",
-    )
-    profile.validate()
-    return profile
 
 
 def point_image_at(files: MapFiles, image: str) -> None:
@@ -72,7 +59,7 @@ def test_yaml_naming_a_file_elsewhere_is_refused(chair: Any, tmp_path: Path, sec
     image = str(secret) if form == "absolute" else f"../private/{secret.name}"
     point_image_at(files, image)
     with pytest.raises(TransferError, match="not in the YAML's folder") as info:
-        upload(files, profile_of(chair, tmp_path), password=chair.sftp_password)
+        upload(files, sim_profile(chair, tmp_path), password=chair.sftp_password)
     assert info.value.path == str(files.yaml)
     assert str(files.yaml) in str(info.value) and secret.name in str(info.value)
     assert on_chair(chair) == before  # nothing sent
@@ -84,14 +71,14 @@ def test_symlink_out_of_the_folder_is_refused(chair: Any, tmp_path: Path, secret
     files.image.unlink()
     files.image.symlink_to(secret)  # same name, beside the YAML, but the content lives elsewhere
     with pytest.raises(TransferError, match="not in the YAML's folder"):
-        upload(files, profile_of(chair, tmp_path), password=chair.sftp_password)
+        upload(files, sim_profile(chair, tmp_path), password=chair.sftp_password)
     assert "linked.yaml" not in on_chair(chair)
 
 
 def test_absolute_path_to_the_image_beside_is_sent_as_a_bare_name(chair: Any, tmp_path: Path) -> None:
     files = small_map(tmp_path / "maps", "abs")
     point_image_at(files, str(files.image.resolve()))
-    result = upload(files, profile_of(chair, tmp_path), password=chair.sftp_password)
+    result = upload(files, sim_profile(chair, tmp_path), password=chair.sftp_password)
     sent = Path(chair.maps_dir) / "abs.yaml"
     assert yaml.safe_load(sent.read_text())["image"] == "abs.pgm"
     assert (Path(chair.maps_dir) / "abs.pgm").read_bytes() == files.image.read_bytes()
@@ -108,7 +95,7 @@ def test_server_without_posix_rename_falls_back_and_replaces(
         raise asyncssh.SFTPOpUnsupported("posix-rename not supported")
 
     monkeypatch.setattr(ChairSFTPServer, "posix_rename", no_posix_rename)
-    profile = profile_of(chair, tmp_path)
+    profile = sim_profile(chair, tmp_path)
     first = small_map(tmp_path / "one", "hall", width=30, seed=1)
     upload(first, profile, password=chair.sftp_password)
     second = small_map(tmp_path / "two", "hall", width=45, seed=2)  # same names: replaced
@@ -130,5 +117,5 @@ def test_other_rename_failures_are_not_mistaken_for_unsupported(
     monkeypatch.setattr(ChairSFTPServer, "posix_rename", refuse)
     files = small_map(tmp_path / "maps", "ro")
     with pytest.raises(TransferError, match="permission denied"):
-        upload(files, profile_of(chair, tmp_path), password=chair.sftp_password)
+        upload(files, sim_profile(chair, tmp_path), password=chair.sftp_password)
     assert "ro.yaml" not in on_chair(chair)

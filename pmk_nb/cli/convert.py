@@ -48,6 +48,18 @@ class TextProgress:
             self._shown = False
 
 
+def add_raster_options(p: argparse.ArgumentParser) -> None:
+    """The rasterising options `pmk convert` and `pmk maps convert` share (one wording for both)."""
+    p.add_argument("--wall-thickness", type=float, default=0.10, help="wall band in metres (default 0.10)")
+    p.add_argument(
+        "--max-wall-gap", type=float, default=0.5, metavar="M",
+        help="gaps between cells up to M metres wide are walls the file left out: occupied (default 0.5, 0 = off)",
+    )  # fmt: skip
+    # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
+    p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
+    p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
+
+
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = subparsers.add_parser(
         "convert",
@@ -60,13 +72,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     p.add_argument("--storey", action="append", dest="storeys", metavar="S", help="only this storey (repeatable)")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: the file's folder)")
     p.add_argument("--name", default=None, help="base name of the map files (default: the file's stem)")
-    p.add_argument("--wall-thickness", type=float, default=0.10, help="wall band in metres (default 0.10)")
-    p.add_argument(
-        "--max-wall-gap", type=float, default=0.5, metavar="M",
-        help="gaps between cells up to M metres wide are walls the file left out: occupied (default 0.5, 0 = off)",
-    )  # fmt: skip
-    p.add_argument("--unit", default="auto", help="coordinate unit: auto, m, dm, cm, mm (default auto)")
-    p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
+    add_raster_options(p)
     p.add_argument("--outside", choices=("unknown", "occupied"), default="unknown", help="value outside all cells")
     p.add_argument("--no-preview", action="store_true", help="skip NAME-visualization.png")
     p.add_argument("--max-cells", type=int, default=None, help="refuse grids with more cells than this")

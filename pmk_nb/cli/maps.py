@@ -12,6 +12,7 @@ import sys
 from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
+from pmk_nb.cli.convert import add_raster_options
 from pmk_nb.progress import Progress
 
 if TYPE_CHECKING:
@@ -52,14 +53,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     cv.add_argument("name")
     cv.add_argument("-r", "--resolution", type=float, default=0.05, help="metres per cell (default 0.05)")
     cv.add_argument("--storey", action="append", dest="storeys", help="convert only this storey (repeatable)")
-    cv.add_argument("--wall-thickness", type=float, default=0.10, help="wall thickness in metres")
-    cv.add_argument(
-        "--max-wall-gap", type=float, default=0.5, metavar="M",
-        help="gaps between cells up to M metres wide are walls the file left out (default 0.5, 0 = off)",
-    )  # fmt: skip
-    # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
-    cv.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
-    cv.add_argument("--format", dest="image_format", default="pgm", choices=("pgm", "png"))
+    add_raster_options(cv)
 
     rm = sub.add_parser("delete", parents=[common], help="delete a map and every file generated from it")
     rm.add_argument("name")

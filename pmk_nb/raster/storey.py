@@ -46,16 +46,6 @@ from pmk_nb.raster.walls import door_gaps, door_geometry, gap_walls, passages, s
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell
 
-__all__ = [
-    "DEFAULT_MAX_CELLS",
-    "DEFAULT_MAX_WALL_GAP",
-    "DEFAULT_WALL_THICKNESS",
-    "NAV2_MAX_CELLS_PER_SIDE",
-    "plan_storey",
-    "rasterise",
-    "rasterise_storey",
-]
-
 DEFAULT_WALL_THICKNESS = 0.10
 DEFAULT_MAX_WALL_GAP = 0.5  # metres: a gap between cells up to this wide is a wall left out of the file
 DEFAULT_MAX_CELLS = 400_000_000  # ~400 MB of int8

@@ -35,22 +35,6 @@ from pmk_nb.rosmap.image import (
     write_pgm,
 )
 
-__all__ = [
-    "INVALID_MAP_DATA",
-    "INVALID_MAP_METADATA",
-    "MAP_DOES_NOT_EXIST",
-    "NAV2_MAX_CELLS_PER_SIDE",
-    "READERS",
-    "ImageReader",
-    "MapFiles",
-    "MapLoadError",
-    "MapYaml",
-    "grid_to_gray",
-    "read_map",
-    "read_map_yaml",
-    "write_map",
-]
-
 # nav2_msgs/srv/LoadMap result codes
 MAP_DOES_NOT_EXIST = 1
 INVALID_MAP_DATA = 2
