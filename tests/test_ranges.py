@@ -70,3 +70,40 @@ def test_too_close_ahead_is_counted() -> None:
     kinds = np.full(angles.size, HIT, np.uint8)
     kinds[135:138] = TOO_CLOSE  # around 0°
     assert blind_ahead(kinds, angles).too_close == 3
+
+
+def test_a_scan_with_every_kind_of_reading_through_the_simulator_bridge(sim_factory, ros_factory) -> None:
+    """NaN, +inf, -inf, out-of-range and normal readings, published to the simulator's rosbridge by
+    a plain roslibpy client and read back by the chair link: null on the wire, unknown on screen."""
+    import time
+
+    import roslibpy
+
+    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.ui.home_info import laser_text
+
+    sim = sim_factory()
+    pub_ros = ros_factory(sim)
+    scan_topic = roslibpy.Topic(pub_ros, "/scan_front", "sensor_msgs/LaserScan")
+    scan_topic.advertise()
+    n = 271  # 1° per ray, -135°..+135°
+    ranges = [2.0] * n
+    ranges[125:165] = [math.nan] * 40  # -10°..+29°: blind ahead
+    ranges[10], ranges[11], ranges[12] = math.inf, -math.inf, 45.0  # no return, too close, beyond range_max
+    msg = {"header": {"frame_id": "laser"}, "angle_min": -math.radians(135), "angle_max": math.radians(135),
+           "angle_increment": math.radians(1), "range_min": 0.1, "range_max": 30.0, "ranges": ranges}  # fmt: skip
+    with ChairLink("127.0.0.1", sim.port, scan_topic="/scan_front") as link:
+        link.connect()
+        link.start_streams()
+        deadline = time.monotonic() + 10.0
+        while link.latest_scan() is None and time.monotonic() < deadline:
+            scan_topic.publish(roslibpy.Message(msg))
+            time.sleep(0.1)
+        scan = link.latest_scan()
+    assert scan is not None, "no scan came back through the simulator's bridge"
+    kinds = scan.kinds
+    assert (kinds[125:165] == UNKNOWN).all(), "NaN travels as null: unknown"
+    assert kinds[10] == UNKNOWN and kinds[11] == UNKNOWN, "±inf travel as null too: unknown, not free"
+    assert kinds[12] == INVALID and not scan.at_max.any()
+    assert (kinds[:10] == HIT).all() and np.isclose(scan.ranges[0], 2.0)
+    assert "Laser blind ahead, 40°" in laser_text(scan)

@@ -10,6 +10,7 @@ kept as :class:`RawJSON`; :func:`dumps` splices it verbatim into each message th
 from __future__ import annotations
 
 import json
+import math
 import secrets
 from typing import Any
 
@@ -58,7 +59,11 @@ def dumps(obj: Any) -> str:
             return f"\x00{token}:{len(raws) - 1}"
         raise TypeError(f"Object of type {type(value).__name__} is not JSON serializable")
 
-    text = json.dumps(obj, default=default)
+    try:
+        text = json.dumps(obj, default=default, allow_nan=False)
+    except ValueError:  # NaN or ±inf somewhere (e.g. a client published them): null, like rosbridge
+        raws.clear()
+        text = json.dumps(_finite_or_null(obj), default=default, allow_nan=False)
     if not raws:
         return text
     out: list[str] = []
@@ -70,3 +75,14 @@ def dumps(obj: Any) -> str:
         pos = at + len(mark)
     out.append(text[pos:])
     return "".join(out)
+
+
+def _finite_or_null(value: Any) -> Any:
+    """``value`` with every NaN / ±inf float replaced by None (JSON has neither; rosbridge sends null)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite_or_null(v) for v in value]
+    return value

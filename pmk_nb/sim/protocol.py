@@ -194,7 +194,7 @@ class Bridge(ServiceOps):
         for listener in list(entry.listeners):
             listener(msg["msg"])
         if entry.subs or entry.latched:
-            text = json.dumps({"op": "publish", "topic": name, "msg": msg["msg"]})
+            text = dumps({"op": "publish", "topic": name, "msg": msg["msg"]})  # NaN / inf -> null
             self._fan_out(entry, text)
 
     def _op_subscribe(self, client: ClientSession, msg: dict[str, Any]) -> None:
