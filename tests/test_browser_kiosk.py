@@ -66,6 +66,24 @@ def kiosk(tmp_path: Path) -> Iterator[tuple[str, DemoWorld]]:
         yield served
 
 
+@contextlib.contextmanager
+def chromium_page(url: str, **page_options: Any) -> Iterator[Any]:
+    """A Playwright page in Debian's Chromium at ``url``; fails (never skips) without Chromium."""
+    if not CHROMIUM.exists():
+        pytest.fail(f"{CHROMIUM} is missing: install Debian's chromium package (apt-get install -y chromium)")
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
+        try:
+            page = browser.new_page(**page_options)
+            page.set_default_timeout(60_000)
+            page.goto(url, wait_until="domcontentloaded")
+            yield page
+        finally:
+            browser.close()
+
+
 def _pixels(png: bytes) -> np.ndarray:
     from PIL import Image
 
@@ -107,98 +125,89 @@ def _check_home_layout(page: Any, size: dict[str, int]) -> None:
 
 
 def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
-    if not CHROMIUM.exists():
-        pytest.fail(f"{CHROMIUM} is missing: install Debian's chromium package (apt-get install -y chromium)")
-    from playwright.sync_api import expect, sync_playwright
+    from playwright.sync_api import expect
 
     url, _world = kiosk
-    with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
-        try:
-            page = browser.new_page(viewport=VIEWPORT, has_touch=True)  # a tablet: touch events on
-            page.set_default_timeout(60_000)
-            page.goto(url, wait_until="domcontentloaded")
-            expect(page.locator("button.pmk-nav-home")).to_be_visible(timeout=120_000)
-            expect(page.locator(".pmk-home-map")).to_contain_text("clinic_floor")
-            # -- a first-time user sees the chair moving without pressing anything (demo autostart)
-            expect(page.locator("button.pmk-home-disconnect")).to_be_visible(timeout=30_000)
-            expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=30_000)
-            assert _canvas_changes(page) >= 1e-4, "the chair does not move on the first page"
-            _shot(page, "1-home")
-            _check_home_layout(page, VIEWPORT)
-            # -- nothing but the app: no notebook code, no traceback
-            assert "build_app" not in page.content()
-            assert page.locator(".jp-OutputArea-output pre").count() == 0
-            # -- an older 1024 x 768 tablet: the map scales down and still fits
-            page.set_viewport_size(SMALL_VIEWPORT)
-            time.sleep(1.0)
-            _shot(page, "1b-home-1024x768")
-            _check_home_layout(page, SMALL_VIEWPORT)
-            page.set_viewport_size(VIEWPORT)
+    with chromium_page(url, viewport=VIEWPORT, has_touch=True) as page:  # a tablet: touch events on
+        expect(page.locator("button.pmk-nav-home")).to_be_visible(timeout=120_000)
+        expect(page.locator(".pmk-home-map")).to_contain_text("clinic_floor")
+        # -- a first-time user sees the chair moving without pressing anything (demo autostart)
+        expect(page.locator("button.pmk-home-disconnect")).to_be_visible(timeout=30_000)
+        expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=30_000)
+        assert _canvas_changes(page) >= 1e-4, "the chair does not move on the first page"
+        _shot(page, "1-home")
+        _check_home_layout(page, VIEWPORT)
+        # -- nothing but the app: no notebook code, no traceback
+        assert "build_app" not in page.content()
+        assert page.locator(".jp-OutputArea-output pre").count() == 0
+        # -- an older 1024 x 768 tablet: the map scales down and still fits
+        page.set_viewport_size(SMALL_VIEWPORT)
+        time.sleep(1.0)
+        _shot(page, "1b-home-1024x768")
+        _check_home_layout(page, SMALL_VIEWPORT)
+        page.set_viewport_size(VIEWPORT)
 
-            # -- Settings: the demo profile is pre-filled; Test connection -> Connected + map info
-            page.locator("button.pmk-nav-settings").click()
-            expect(page.locator(".pmk-settings-name input")).to_have_value("Simulated chair")
-            page.locator("button.pmk-settings-test").click()
-            expect(page.locator(".pmk-settings-status")).to_contain_text("Connected", timeout=30_000)
-            expect(page.locator(".pmk-settings-mapinfo")).to_contain_text("Map width")
-            _shot(page, "2-settings-connected")
+        # -- Settings: the demo profile is pre-filled; Test connection -> Connected + map info
+        page.locator("button.pmk-nav-settings").click()
+        expect(page.locator(".pmk-settings-name input")).to_have_value("Simulated chair")
+        page.locator("button.pmk-settings-test").click()
+        expect(page.locator(".pmk-settings-status")).to_contain_text("Connected", timeout=30_000)
+        expect(page.locator(".pmk-settings-mapinfo")).to_contain_text("Map width")
+        _shot(page, "2-settings-connected")
 
-            # -- Maps: select, convert, send (key login: no password asked)
-            page.locator("button.pmk-nav-maps").click()
-            page.locator(".pmk-maps-list select").select_option(index=0)
-            expect(page.locator(".pmk-maps-details")).to_contain_text("clinic_floor")
-            page.locator(".pmk-maps-resolution input").fill("0.1")
-            page.locator(".pmk-maps-resolution input").press("Enter")
-            page.locator("button.pmk-maps-convert").click()
-            expect(page.locator(".pmk-maps-status")).to_contain_text("Converted", timeout=90_000)
-            expect(page.locator(".pmk-maps-card")).to_contain_text("0.1 m")
-            expect(page.locator(".pmk-maps-preview").first).to_be_visible()
-            _shot(page, "3-maps-converted")
-            page.locator("button.pmk-maps-send").first.click()
-            expect(page.locator(".pmk-maps-status")).to_contain_text("Sent", timeout=90_000)
-            _shot(page, "4-maps-sent")
-            page.get_by_role("tab", name="Download").click()
-            expect(page.locator("button.pmk-maps-download")).to_be_visible()
-            _shot(page, "4b-maps-download")
+        # -- Maps: select, convert, send (key login: no password asked)
+        page.locator("button.pmk-nav-maps").click()
+        page.locator(".pmk-maps-list select").select_option(index=0)
+        expect(page.locator(".pmk-maps-details")).to_contain_text("clinic_floor")
+        page.locator(".pmk-maps-resolution input").fill("0.1")
+        page.locator(".pmk-maps-resolution input").press("Enter")
+        page.locator("button.pmk-maps-convert").click()
+        expect(page.locator(".pmk-maps-status")).to_contain_text("Converted", timeout=90_000)
+        expect(page.locator(".pmk-maps-card")).to_contain_text("0.1 m")
+        expect(page.locator(".pmk-maps-preview").first).to_be_visible()
+        _shot(page, "3-maps-converted")
+        page.locator("button.pmk-maps-send").first.click()
+        expect(page.locator(".pmk-maps-status")).to_contain_text("Sent", timeout=90_000)
+        _shot(page, "4-maps-sent")
+        page.get_by_role("tab", name="Download").click()
+        expect(page.locator("button.pmk-maps-download")).to_be_visible()
+        _shot(page, "4b-maps-download")
 
-            # -- Home: live again by itself; Disconnect stops it, Preview starts it again
-            page.locator("button.pmk-nav-home").click()
-            page.locator("button.pmk-home-disconnect").click()
-            expect(page.locator("button.pmk-home-preview")).to_be_visible()
-            expect(page.locator(".pmk-home-preview-box canvas").last).to_be_hidden()
-            _shot(page, "5-home-stopped")
-            page.locator("button.pmk-home-preview").click()
-            expect(page.locator(".pmk-home-preview-box canvas").last).to_be_visible()
-            time.sleep(3.0)
-            assert _canvas_changes(page) >= 1e-4, "the live canvas did not change while the chair moves"
-            _shot(page, "6-home-moving")
+        # -- Home: live again by itself; Disconnect stops it, Preview starts it again
+        page.locator("button.pmk-nav-home").click()
+        page.locator("button.pmk-home-disconnect").click()
+        expect(page.locator("button.pmk-home-preview")).to_be_visible()
+        expect(page.locator(".pmk-home-preview-box canvas").last).to_be_hidden()
+        _shot(page, "5-home-stopped")
+        page.locator("button.pmk-home-preview").click()
+        expect(page.locator(".pmk-home-preview-box canvas").last).to_be_visible()
+        time.sleep(3.0)
+        assert _canvas_changes(page) >= 1e-4, "the live canvas did not change while the chair moves"
+        _shot(page, "6-home-moving")
 
-            # -- zoom: the buttons, the mouse wheel and a two-finger pinch (real touch events)
-            zoom = page.locator(".pmk-home-info-zoom")
-            page.locator("button.pmk-home-zoom-in").click()
-            expect(zoom).to_contain_text("Zoom: 2")
-            box = page.locator(".pmk-home-preview-box canvas").last.bounding_box()
-            assert box is not None
-            cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-            page.mouse.move(cx, cy)
-            page.mouse.wheel(0, -120)  # wheel up zooms in
-            expect(zoom).to_contain_text("Zoom: 3")
-            time.sleep(1.0)
-            _shot(page, "7-home-zoomed")
-            cdp = page.context.new_cdp_session(page)
+        # -- zoom: the buttons, the mouse wheel and a two-finger pinch (real touch events)
+        zoom = page.locator(".pmk-home-info-zoom")
+        page.locator("button.pmk-home-zoom-in").click()
+        expect(zoom).to_contain_text("Zoom: 2")
+        box = page.locator(".pmk-home-preview-box canvas").last.bounding_box()
+        assert box is not None
+        cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.mouse.move(cx, cy)
+        page.mouse.wheel(0, -120)  # wheel up zooms in
+        expect(zoom).to_contain_text("Zoom: 3")
+        time.sleep(1.0)
+        _shot(page, "7-home-zoomed")
+        cdp = page.context.new_cdp_session(page)
 
-            def touch(kind: str, spread: float | None) -> None:
-                points = [] if spread is None else [{"x": cx - spread, "y": cy}, {"x": cx + spread, "y": cy}]
-                cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
+        def touch(kind: str, spread: float | None) -> None:
+            points = [] if spread is None else [{"x": cx - spread, "y": cy}, {"x": cx + spread, "y": cy}]
+            cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
 
-            touch("touchStart", 40)
-            for spread in (60, 90, 130, 135):  # fingers apart: x3.4 -> three levels in at 1.5 per level
-                touch("touchMove", spread)
-                time.sleep(0.2)
-            touch("touchEnd", None)
-            expect(zoom).to_contain_text("Zoom: 6")
-            page.locator("button.pmk-home-zoom-out").click()
-            expect(zoom).to_contain_text("Zoom: 5")
-        finally:
-            browser.close()
+        touch("touchStart", 40)
+        for spread in (60, 90, 130, 135):  # fingers apart: x3.4 -> three levels in at 1.5 per level
+            touch("touchMove", spread)
+            time.sleep(0.2)
+        touch("touchEnd", None)
+        expect(zoom).to_contain_text("Zoom: 6")
+        page.locator("button.pmk-home-zoom-out").click()
+        expect(zoom).to_contain_text("Zoom: 5")

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.cli.demo_setup import DemoWorld
-from tests.test_browser_kiosk import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT, serve_kiosk
+from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(240)]
 
@@ -26,26 +26,17 @@ def blind_kiosk(tmp_path: Path) -> Iterator[tuple[str, DemoWorld]]:
 
 
 def test_home_shows_a_blind_laser_sector(blind_kiosk: tuple[str, DemoWorld]) -> None:
-    if not CHROMIUM.exists():
-        pytest.fail(f"{CHROMIUM} is missing: install Debian's chromium package (apt-get install -y chromium)")
-    from playwright.sync_api import expect, sync_playwright
+    from playwright.sync_api import expect
 
     url, _world = blind_kiosk
-    with sync_playwright() as pw:
-        browser = pw.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True)
-        try:
-            page = browser.new_page(viewport=VIEWPORT)
-            page.set_default_timeout(60_000)
-            page.goto(url, wait_until="domcontentloaded")
-            expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=120_000)
-            laser = page.locator(".pmk-home-info-laser")
-            expect(laser).to_contain_text("Laser blind ahead", timeout=30_000)
-            degrees = int(laser.inner_text().split("ahead,")[1].strip().rstrip("°"))
-            assert 55 <= degrees <= 65, f"the blind sector is 60° wide, Home says {degrees}°"
-            ARTIFACTS.mkdir(exist_ok=True)
-            page.locator("button.pmk-home-zoom-in").click()
-            page.locator("button.pmk-home-zoom-in").click()
-            page.wait_for_timeout(1500)
-            page.screenshot(path=str(ARTIFACTS / "kiosk-home-laser-blind.png"))
-        finally:
-            browser.close()
+    with chromium_page(url, viewport=VIEWPORT) as page:
+        expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=120_000)
+        laser = page.locator(".pmk-home-info-laser")
+        expect(laser).to_contain_text("Laser blind ahead", timeout=30_000)
+        degrees = int(laser.inner_text().split("ahead,")[1].strip().rstrip("°"))
+        assert 55 <= degrees <= 65, f"the blind sector is 60° wide, Home says {degrees}°"
+        ARTIFACTS.mkdir(exist_ok=True)
+        page.locator("button.pmk-home-zoom-in").click()
+        page.locator("button.pmk-home-zoom-in").click()
+        page.wait_for_timeout(1500)
+        page.screenshot(path=str(ARTIFACTS / "kiosk-home-laser-blind.png"))

@@ -16,6 +16,7 @@ import pytest
 from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen, parse_resolution
+from tests.fixtures_sim import sim_profile
 from tests.helpers import app_context, wait_until
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
@@ -178,16 +179,7 @@ def test_send_with_key_login_to_a_key_only_chair(
     chair_dir = tmp_path / "chair"
     sim = sim_factory(sftp_port=0, maps_dir=chair_dir, sftp_authorized_key=public, sftp_password_login=False)
     assert sim.sftp_password is None
-    profile = ChairProfile(
-        name="keyed",
-        host="127.0.0.1",
-        port=sim.port,
-        ssh_user=sim.sftp_user,
-        ssh_port=sim.sftp_port,
-        auth="key",
-        key_file=str(private),
-        known_hosts=str(tmp_path / "known_hosts"),
-    )
+    profile = sim_profile(sim, tmp_path, name="keyed", auth="key", key_file=str(private))
     ctx.profiles.save(profile)
     send_buttons(screen)[0].click()
     assert screen.password_box.layout.display == "none"  # no password asked for

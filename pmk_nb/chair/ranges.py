@@ -119,21 +119,18 @@ def blind_ahead(
     ahead = np.abs(rel) <= window
     close = int(np.count_nonzero(ahead & (k == TOO_CLOSE)))
     blind = np.isin(k, BLIND_KINDS)
-    best_rays, best_deg = 0, 0.0
-    i, n = 0, k.size
-    while i < n:
-        if not blind[i]:
-            i += 1
-            continue
-        j = i
-        while j + 1 < n and blind[j + 1]:
-            j += 1
-        if ahead[i : j + 1].any():
-            width = abs(math.degrees(a[j] - a[i])) + abs(math.degrees(_step(a)))
-            if j - i + 1 > best_rays:
-                best_rays, best_deg = j - i + 1, width
-        i = j + 1
-    return BlindSector(round(best_deg, 1), best_rays, close)
+    # runs of blind rays as [start, end) index pairs, found with one diff instead of a loop per ray
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], blind.astype(np.int8), [0]))))
+    starts, ends = edges[::2], edges[1::2]
+    ahead_sum = np.concatenate(([0], np.cumsum(ahead)))
+    counted = ahead_sum[ends] - ahead_sum[starts] > 0  # the run has a ray within the window
+    if not counted.any():
+        return BlindSector(0.0, 0, close)
+    lengths = np.where(counted, ends - starts, 0)
+    i = int(np.argmax(lengths))  # the first of the widest, as before
+    first, last = int(starts[i]), int(ends[i]) - 1
+    width = abs(math.degrees(a[last] - a[first])) + abs(math.degrees(_step(a)))
+    return BlindSector(round(width, 1), int(lengths[i]), close)
 
 
 def _step(angles: np.ndarray) -> float:

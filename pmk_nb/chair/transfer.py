@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import os
 import posixpath
 import re
 import secrets
@@ -84,9 +83,7 @@ def image_beside(yaml_path: Path) -> tuple[MapYaml, Path]:
     except MapFormatError as err:
         raise TransferError(f"{yaml_path}: cannot read the map YAML ({err})", path=str(yaml_path)) from err
     image = doc.image
-    folder = Path(os.path.abspath(yaml_path)).parent
-    lexically_beside = ".." not in image.parts and Path(os.path.abspath(image)).parent == folder
-    if not lexically_beside or image.resolve().parent != folder.resolve():
+    if not doc.image_is_beside:
         raise TransferError(
             f"{yaml_path}: its image {image} is not in the YAML's folder; only an image beside the YAML "
             "(a plain file name, no '..', no symlink out of the folder) is sent to the chair",
@@ -109,16 +106,7 @@ def _yaml_for_upload(yaml_path: Path) -> tuple[bytes, Path]:
     if count:
         return new.encode("utf-8"), image
     # flow-style YAML ({image: ..., ...}): write it out again from the parsed fields
-    fields = {
-        "image": image.name,
-        "resolution": doc.resolution,
-        "origin": list(doc.origin),
-        "negate": int(doc.negate),
-        "occupied_thresh": doc.occupied_thresh,
-        "free_thresh": doc.free_thresh,
-        "mode": doc.mode,
-        **doc.extras,
-    }
+    fields = doc.fields(image=image.name)
     return yaml.safe_dump(fields, sort_keys=False).encode("utf-8"), image
 
 
