@@ -20,6 +20,7 @@ from shapely.ops import polylabel
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.model import Building, Cell
 from pmk_nb.library.folder import MapsFolder
+from pmk_nb.raster.openings import plan_openings
 from pmk_nb.raster.storey import DEFAULT_WALL_THICKNESS
 from pmk_nb.rosmap.files import read_map
 from tests.helpers import cells_in, reachable
@@ -56,8 +57,10 @@ def rooms_of(cells: list[Cell]) -> list[Cell]:
 
 
 def door_geometry(building: Building, storey: str, cells: list[Cell]) -> Any:
+    """Door cells, door boundaries and the openings the navigation graph asks for (all may be open)."""
     geoms = [c.footprint for c in cells if c.kind.is_door]
     geoms += [b.geometry for b in building.doors_of(storey) if b.geometry is not None and not b.geometry.is_empty]
+    geoms += [s for o in plan_openings(building, storey).openings for s in o.segments]
     return shapely.union_all(geoms) if geoms else None
 
 

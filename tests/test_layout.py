@@ -14,7 +14,7 @@ MAX_MODULE_LINES = 400
 MAX_FUNCTION_LINES = 80
 # Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
 TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
-PACKAGES = {"chair", "cli", "indoorgml", "library", "raster", "rosmap", "sim", "ui", "viewport"}
+PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -113,12 +113,14 @@ ALLOWED_IMPORTS: dict[str, set[str]] = {
     "grid": set(),
     "indoorgml": SHARED,
     "raster": SHARED | {"indoorgml"},
+    "access": SHARED | {"indoorgml", "raster", "rosmap"},
     "rosmap": SHARED,
-    "library": SHARED | {"indoorgml", "raster", "rosmap"},
+    "library": SHARED | {"indoorgml", "raster", "rosmap", "access"},
     "chair": SHARED | {"rosmap"},
     "sim": SHARED | {"rosmap", "indoorgml", "raster"},
-    "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair"},
-    "cli": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "sim", "ui"},
+    "robot": SHARED | {"rosmap", "sim"},  # chair-side ROS nodes: the map server, the simulator as a node
+    "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "access"},
+    "cli": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "sim", "ui", "robot", "access"},
 }
 
 

@@ -11,7 +11,9 @@ from shapely.geometry.base import BaseGeometry
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint
+from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
+from pmk_nb.indoorgml.levels import RAISED, raised_cells
 from pmk_nb.indoorgml.model import (
     Boundary,
     Building,
@@ -25,10 +27,9 @@ from pmk_nb.indoorgml.model import (
 )
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys
-from pmk_nb.indoorgml.units import UNIT_SCALE, choose_unit
+from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit
 
 MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
-RAISED = 0.5  # metres above its storey floor: a window/sill, not floor space
 
 KIND_BY_NAME = {
     "navigablespace": CellKind.NAVIGABLE,
@@ -85,13 +86,6 @@ def _scale(geom: BaseGeometry | None, s: float) -> BaseGeometry | None:
     return shapely.transform(geom, lambda xy: xy * s)
 
 
-def _raised(z_min: float | None, z_max: float | None, floor: float | None) -> bool:
-    """A 3D cell starting well above its storey floor is a window/sill, not floor space."""
-    if z_min is None or z_max is None or floor is None:
-        return False
-    return z_min - floor > RAISED and z_max > z_min
-
-
 def _zs(v: float | None, s: float) -> float | None:
     return None if v is None else v * s
 
@@ -103,7 +97,10 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
     cells = select_layers(usable_cells(doc, warnings), doc, alma, warnings)
     kinds = _kinds(cells, bool(alma), warnings)
     bfps = _classify_boundaries(doc, cells, warnings)
-    unit, reason = _choose_unit(doc, cells, unit, alma, _door_widths(bfps, cells, kinds))
+    choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
+    unit, reason = choice.unit, choice.reason
+    if choice.conflict:
+        warnings.append(choice.conflict)
     s = UNIT_SCALE[unit]
     plan = plan_storeys(
         [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
@@ -115,12 +112,13 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
         for n in plan.names
     ]
     _stats_warnings(doc, warnings)
+    graph = _graph(doc, model_cells, s)
     return Building(
         source=str(doc.path), sha256=sha256, version=_version(doc, alma), namespaces=doc.namespaces,
         unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
-        graph=_graph(doc, model_cells, s), georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
-        warnings=warnings,
+        graph=graph, georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
+        warnings=warnings, links=resolve_links(graph, model_cells), unit_conflict=choice.conflict,
     )  # fmt: skip
 
 
@@ -157,7 +155,7 @@ def _owners(doc: RawDocument) -> dict[str, set[str]]:
 
 def _classify_boundaries(
     doc: RawDocument, cells: list[KeptCell], warnings: list[str]
-) -> dict[str, tuple[Footprint, bool]]:
+) -> dict[str, tuple[Footprint, str]]:
     """Footprint and door flag of each boundary that belongs to a kept cell (file units; scale-free rules)."""
     trans_dual = {t.duality for t in doc.transitions if t.duality}
     trans_ids = {t.id for t in doc.transitions}
@@ -165,7 +163,7 @@ def _classify_boundaries(
     cell_geoms = [c.fp.geometry for c in cells]
     cell_tree = shapely.STRtree(cell_geoms)  # boundary -> nearby cells without an O(B x C) scan
     owners = _owners(doc)
-    bfps: dict[str, tuple[Footprint, bool]] = {}
+    bfps: dict[str, tuple[Footprint, str]] = {}
     seen: set[tuple[tuple[float, ...], ...]] = set()
     dropped = dupes = 0
     for rb in doc.boundaries:
@@ -183,14 +181,17 @@ def _classify_boundaries(
         if fp.geometry is not None:
             tol = 1e-6 + doorlib.NEAR * fp.geometry.length
             near = [cell_geoms[i] for i in cell_tree.query(fp.geometry, predicate="dwithin", distance=tol)]
-        is_door = (
-            rb.kind_name in doorlib.DOOR_TYPES
-            or rb.id in trans_dual
-            or (rb.duality in trans_ids if rb.duality else False)
-            or doorlib.says_door(rb.id, rb.name, rb.description)
-            or (fp.geometry is not None and doorlib.partial_edge(fp.geometry, near))
-        )
-        bfps[rb.id] = (fp, is_door)
+        if rb.kind_name in doorlib.DOOR_TYPES:
+            evidence = "type"
+        elif doorlib.says_door(rb.id, rb.name, rb.description):
+            evidence = "name"
+        elif fp.geometry is not None and doorlib.partial_edge(fp.geometry, near):
+            evidence = "partial"
+        elif rb.id in trans_dual or (rb.duality in trans_ids if rb.duality else False):
+            evidence = "duality"  # the face a transition crosses: may be a whole wall, not a door
+        else:
+            evidence = ""
+        bfps[rb.id] = (fp, evidence)
     if dropped:
         warnings.append(f"{dropped} boundaries belong only to cells of ignored layers - dropped")
     if dupes:
@@ -199,7 +200,7 @@ def _classify_boundaries(
 
 
 def _door_widths(
-    bfps: dict[str, tuple[Footprint, bool]], cells: list[KeptCell], kinds: dict[str, CellKind]
+    bfps: dict[str, tuple[Footprint, str]], cells: list[KeptCell], kinds: dict[str, CellKind]
 ) -> list[float]:
     """Widths of door lines and door cells in file units: the evidence for the unit guess."""
     widths = [
@@ -216,21 +217,35 @@ def _door_widths(
     return widths
 
 
+def _evidence(cells: list[KeptCell], kinds: dict[str, CellKind], door_widths: list[float]) -> UnitEvidence:
+    """Sizes in file units that say which unit the file uses (see :mod:`pmk_nb.indoorgml.units`)."""
+    minx, miny, maxx, maxy = shapely.union_all([c.fp.geometry for c in cells]).bounds
+    big = sorted(cells, key=lambda c: c.fp.geometry.area)[len(cells) // 2 :]  # rooms, not windows or doors
+    heights = [c.fp.z_max - c.fp.z_min for c in big if c.fp.z_min is not None and c.fp.z_max is not None]
+    corridors, areas = [], []
+    for c in cells:
+        kind = kinds[c.raw.id]
+        if kind is CellKind.TRANSITION and c.fp.geometry.length > 0:
+            corridors.append(2 * c.fp.geometry.area / c.fp.geometry.length)  # mean width of a long shape
+        elif kind.is_free and not kind.is_door and c in big:
+            areas.append(c.fp.geometry.area)
+    return UnitEvidence(door_widths, heights, corridors, areas, max(maxx - minx, maxy - miny))
+
+
 def _choose_unit(
-    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, door_widths: list[float]
-) -> tuple[str, str]:
-    """The unit (given, or guessed from door widths and extent) and why; refuses absurd coordinates."""
+    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence
+) -> UnitChoice:
+    """The unit (given, or judged from the evidence) and why; refuses absurd coordinates."""
     minx, miny, maxx, maxy = shapely.union_all([c.fp.geometry for c in cells]).bounds
     if unit == "auto":
-        unit, reason = choose_unit(
-            alma=bool(alma), alma_why=alma, door_widths=door_widths, extent=max(maxx - minx, maxy - miny)
-        )
+        choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
     elif unit in UNIT_SCALE:
-        reason = f"given: {unit}"
+        choice = UnitChoice(unit, f"given: {unit}")
     else:
         raise IndoorGMLError(
             f"{doc.path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}", path=str(doc.path)
         )
+    unit = choice.unit
     if max(abs(minx), abs(miny), abs(maxx), abs(maxy)) * UNIT_SCALE[unit] > MAX_COORD_M:
         worst = max(cells, key=lambda c: max(abs(v) for v in c.fp.geometry.bounds))
         raise IndoorGMLError(
@@ -239,7 +254,7 @@ def _choose_unit(
             "geographic/other CRS",
             path=str(doc.path), element=worst.raw.id,
         )  # fmt: skip
-    return unit, reason
+    return choice
 
 
 def _model_cells(
@@ -247,12 +262,16 @@ def _model_cells(
 ) -> dict[str, Cell]:
     """The model's cells in metres, on their storeys; raised free cells (windows, sills) become non-navigable."""
     model_cells: dict[str, Cell] = {}
+    raised_ids = raised_cells(
+        [(c.raw.id, c.fp.geometry, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), plan.of_cell[c.raw.id]) for c in cells],
+        touch=0.05 / s,
+    )
     raised: list[str] = []
     for c in cells:
         storey = plan.of_cell[c.raw.id]
         kind = kinds[c.raw.id]
         z_min, z_max = _zs(c.fp.z_min, s), _zs(c.fp.z_max, s)
-        if kind.is_free and _raised(z_min, z_max, plan.elevation.get(storey)):
+        if kind.is_free and c.raw.id in raised_ids:
             kind = CellKind.NON_NAVIGABLE
             raised.append(c.raw.id)
         model_cells[c.raw.id] = Cell(
@@ -261,7 +280,7 @@ def _model_cells(
         )  # fmt: skip
     if raised:
         warnings.append(
-            f"{len(raised)} cells start more than {RAISED} m above their storey floor (windows/sills): "
+            f"{len(raised)} cells start more than {RAISED} m above a cell they touch (windows/sills): "
             f"treated as non-navigable: {raised[:8]}"
         )
     return model_cells
@@ -286,7 +305,7 @@ def _stats_warnings(doc: RawDocument, warnings: list[str]) -> None:
 
 def _boundaries(
     doc: RawDocument,
-    bfps: dict[str, tuple[Footprint, bool]],
+    bfps: dict[str, tuple[Footprint, str]],
     refs: dict[str, list[str]],
     cells: dict[str, Cell],
     storeys: list[Storey],
@@ -298,7 +317,7 @@ def _boundaries(
     for rb in doc.boundaries:
         if rb.id not in bfps:
             continue
-        fp, is_door = bfps[rb.id]
+        fp, evidence = bfps[rb.id]
         geom = _scale(fp.geometry, s)
         storey = next((cells[i].storey for i in refs.get(rb.id, []) if i in cells), None)
         if storey is None and geom is not None:
@@ -308,7 +327,7 @@ def _boundaries(
             storey = touching[0].storey if touching else None
         if storey is None and len(storeys) == 1:
             storey = storeys[0].name
-        out[rb.id] = Boundary(rb.id, is_door, geom, storey, rb.name)
+        out[rb.id] = Boundary(rb.id, bool(evidence), geom, storey, rb.name, rb.virtual, evidence)
     return out
 
 
@@ -324,5 +343,8 @@ def _graph(doc: RawDocument, cells: dict[str, Cell], s: float) -> NavGraph:
         graph.states[rs.id] = State(rs.id, point, cell if cell in cells else None, rs.layer)
     for t in doc.transitions:
         if len(t.connects) >= 2:
-            graph.transitions.append(Transition(t.id, t.connects[0], t.connects[1], t.weight, t.layer))
+            line = None
+            if t.line is not None and len(t.line) >= 2:
+                line = shapely.LineString([(p[0] * s, p[1] * s) for p in t.line])
+            graph.transitions.append(Transition(t.id, t.connects[0], t.connects[1], t.weight, t.layer, line))
     return graph

@@ -19,12 +19,18 @@ from shapely.geometry.base import BaseGeometry
 
 DOOR_TYPES = {"connectionboundary", "anchorboundary", "navigableboundary", "transferboundary"}
 DOOR_WORD = re.compile(r"door|t(?:ü|ue)r|porta|puerta|출입문", re.IGNORECASE)
+CORRIDOR_WORD = re.compile(r"corridor|hall|flur|gang|korridor|diele|lobby|passage|복도|로비|통로", re.IGNORECASE)
 PARTIAL = 0.9  # a boundary shorter than 90 % of the outline edge it sits on is an opening
 NEAR = 0.15  # a boundary within 15 % of its length from an outline lies on it (hand-drawn doors)
 
 
 def says_door(*texts: str) -> bool:
     return any(DOOR_WORD.search(t or "") for t in texts)
+
+
+def says_corridor(*texts: str) -> bool:
+    """A name saying corridor, hall or lobby: a space people pass through, open to its neighbours."""
+    return any(CORRIDOR_WORD.search(t or "") for t in texts)
 
 
 def partial_edge(line: BaseGeometry, cells: Iterable[BaseGeometry]) -> bool:

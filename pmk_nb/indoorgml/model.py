@@ -55,6 +55,8 @@ class Boundary:
     geometry: BaseGeometry | None  # 2D LineString/Polygon footprint in metres, or None
     storey: str | None = None
     name: str = ""
+    virtual: bool = False  # a boundary with no wall (isVirtual), e.g. between pieces of one corridor
+    evidence: str = ""  # why it is a door: type / name / partial (edge) / duality (a transition's face)
 
 
 @dataclass
@@ -72,6 +74,22 @@ class Transition:
     target: str
     weight: float | None = None
     layer: str = ""
+    line: BaseGeometry | None = None  # its own 2D LineString in metres, when the file gives one
+
+
+@dataclass(frozen=True)
+class Link:
+    """A transition resolved to the two cells it joins: the graph's word that a chair may pass."""
+
+    id: str  # the transition's id
+    a: str  # cell ids
+    b: str
+    line: BaseGeometry | None = None
+    storeys: tuple[str, str] = ("", "")
+
+    @property
+    def same_storey(self) -> bool:
+        return self.storeys[0] == self.storeys[1]
 
 
 @dataclass
@@ -111,6 +129,8 @@ class Building:
     georef: Georeference = field(default_factory=Georeference)
     layers: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    links: list[Link] = field(default_factory=list)  # transitions between kept cells, one per pair
+    unit_conflict: str = ""  # plain words when the unit evidence disagrees ('' when it agrees)
 
     def storey(self, name: str) -> Storey:
         for s in self.storeys:
@@ -125,6 +145,10 @@ class Building:
 
     def cells_of(self, storey: str) -> list[Cell]:
         return [self.cells[c] for c in self.storey(storey).cell_ids]
+
+    def links_of(self, storey: str) -> list[Link]:
+        """Links between two cells of ``storey`` (stairs and lifts to other storeys excluded)."""
+        return [k for k in self.links if k.storeys == (storey, storey)]
 
     def doors_of(self, storey: str) -> list[Boundary]:
         return [b for b in self.boundaries.values() if b.is_door and b.storey == storey]

@@ -65,6 +65,7 @@ class RawBoundary:
     lines: list[list[Coord]]
     duality: str | None
     line: int | None
+    virtual: bool = False  # IndoorGML 2.0 isVirtual, or a name/description saying "virtual"
 
 
 @dataclass
@@ -82,6 +83,7 @@ class RawTransition:
     weight: float | None
     duality: str | None
     layer: str
+    line: list[Coord] | None = None  # the transition's own geometry (a LineString), file units
 
 
 @dataclass
@@ -213,9 +215,14 @@ class _Scanner:
                 weight = float(_text(weight_el)) if _text(weight_el) else None
             except ValueError:
                 weight = None
+            geom_el = _child(elem, "geometry")
+            lines = gml.lines_under(geom_el, doc.stats, None) if geom_el is not None else []
             doc.transitions.append(
-                RawTransition(elem.get(GML_ID) or "", connects, weight, _href(_child(elem, "duality")), self._layer())
-            )
+                RawTransition(
+                    elem.get(GML_ID) or "", connects, weight, _href(_child(elem, "duality")), self._layer(),
+                    lines[0] if lines else None,
+                )
+            )  # fmt: skip
         elif name in LAYER_NAMES:
             doc.layers.append(
                 RawLayer(
@@ -272,6 +279,7 @@ class _Scanner:
                 lines=gml.lines_under(elem, self.doc.stats, None),
                 duality=_href(_child(elem, "duality")),
                 line=elem.sourceline,
+                virtual=_says_virtual(elem),
             )
         )
 
@@ -283,6 +291,17 @@ class _Scanner:
             self.doc.rotation = values[0]
         elif name.startswith("lla") and len(values) >= 2:
             self.doc.lla = (values[0], values[1], values[2] if len(values) > 2 else 0.0)
+
+
+def _says_virtual(elem: etree._Element) -> bool:
+    """IndoorGML 2.0's ``isVirtual`` (element or attribute), or a name/description saying "virtual"."""
+    flag = _child(elem, "isvirtual")
+    if flag is not None and _text(flag).strip().lower() in ("true", "1"):
+        return True
+    if any(k.lower().endswith("isvirtual") and v.strip().lower() in ("true", "1") for k, v in elem.attrib.items()):
+        return True
+    words = f"{_text(_child(elem, 'name'))} {_text(_child(elem, 'description'))}".lower()
+    return "virtual" in words
 
 
 def _is_number(tok: str) -> bool:

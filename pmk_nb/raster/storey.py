@@ -33,6 +33,7 @@ from shapely.geometry.base import BaseGeometry
 from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, nice_ceil
 from pmk_nb.progress import ProgressCallback, emit, sub_range
+from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
 from pmk_nb.raster.scanline import (
     Frame,
     fill_geometry,
@@ -184,6 +185,7 @@ class _Plan:
     blocked: list[BaseGeometry]
     door_polys: list[BaseGeometry]
     door_lines: list[BaseGeometry]
+    openings: OpeningPlan
 
     @property
     def steps(self) -> int:
@@ -202,17 +204,20 @@ class _Ticker:
 
 
 def _plan(building: Building, storey: str, resolution: float, wall_thickness: float, max_wall_gap: float,
-          **plan_kw: Any) -> _Plan:  # fmt: skip
-    """Step 1: the frame (budget-checked) and the storey's cells sorted into rooms, blocked and doors."""
+          door_width: float, **plan_kw: Any) -> _Plan:  # fmt: skip
+    """Step 1: the frame (budget-checked), the storey's cells sorted into rooms, blocked and doors, and
+    the openings the navigation graph asks for (door lines between cells it does not join stay shut)."""
     max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
+    width = _check_number("door width", door_width, positive=True)
     frame = plan_storey(building, storey, resolution, wall_thickness=wall_thickness, **plan_kw)
     cells = _storey_cells(building, storey)
-    door_polys, door_lines = door_geometry(building, storey, cells)
+    openings = plan_openings(building, storey, door_width=width, max_gap=max_gap)
+    door_polys, door_lines = door_geometry(building, storey, cells, skip=openings.shut_doors)
     return _Plan(
         frame=frame, half=float(wall_thickness) / 2, max_gap=max_gap, cells=cells,
         rooms=[c.footprint for c in cells if c.kind.is_free and not c.kind.is_door],
         blocked=[c.footprint for c in cells if not c.kind.is_free],
-        door_polys=door_polys, door_lines=door_lines,
+        door_polys=door_polys, door_lines=door_lines, openings=openings,
     )  # fmt: skip
 
 
@@ -262,6 +267,11 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, (OCCUPIED,))
     tick(len(plan.door_lines))
     _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach), FREE, (OCCUPIED,))
+    # the graph's openings: wall cells only (never obstacles or outside), after every wall is drawn
+    clear_walls = _setter(FREE, keep=(OCCUPIED, _OUTSIDE, FREE))
+    for opening in plan.openings.openings:
+        for poly in opening.polygons(reach):
+            fill_geometry(grid, frame, poly, clear_walls)
 
 
 def _finish(grid: np.ndarray, outside: str, tick: _Ticker) -> None:
@@ -285,6 +295,7 @@ def rasterise_storey(
     max_cells: int = DEFAULT_MAX_CELLS,
     margin: float | None = None,
     allow_large: bool = False,
+    door_width: float = DEFAULT_DOOR_WIDTH,
     progress: ProgressCallback | None = None,
 ) -> OccupancyGrid:
     """One storey as an OccupancyGrid (-1 unknown, 0 free, 100 occupied; row 0 = bottom).
@@ -298,7 +309,7 @@ def rasterise_storey(
     if outside not in ("unknown", "occupied"):
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {outside!r}")
     plan = _plan(
-        building, storey, resolution, wall_thickness, max_wall_gap,
+        building, storey, resolution, wall_thickness, max_wall_gap, door_width,
         margin=margin, max_cells=max_cells, allow_large=allow_large,
     )  # fmt: skip
     tick = _Ticker(progress, plan.steps, storey)
@@ -308,7 +319,10 @@ def rasterise_storey(
     _finish(grid, outside, tick)
     return OccupancyGrid(
         data=grid, resolution=plan.frame.resolution, origin=(plan.frame.x0, plan.frame.y0, 0.0), frame_id="map",
-        meta=_meta(building, storey, float(wall_thickness), outside, plan.max_gap),
+        meta={
+            **_meta(building, storey, float(wall_thickness), outside, plan.max_gap),
+            "door_width": float(door_width), "openings": plan.openings.rule_counts(),
+        },
     )  # fmt: skip
 
 

@@ -16,14 +16,19 @@ import shapely
 from pmk_nb.raster.scanline import polygons_of
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building, Cell
+    from pmk_nb.indoorgml.model import Boundary, Building, Cell
 
 
-def door_geometry(building: Building, storey: str, cells: list[Cell]) -> tuple[list[Any], list[Any]]:
-    """(door polygons, door lines) of a storey: door cells and door boundaries."""
+def door_geometry(
+    building: Building, storey: str, cells: list[Cell], skip: list[Boundary] | None = None
+) -> tuple[list[Any], list[Any]]:
+    """(door polygons, door lines) of a storey: door cells and door boundaries, but those in ``skip``."""
     polys = [c.footprint for c in cells if c.kind.is_door]
     lines: list[Any] = []
+    skipped = {b.id for b in skip or []}
     for boundary in building.doors_of(storey):
+        if boundary.id in skipped:
+            continue
         geom = boundary.geometry
         if geom is None or geom.is_empty:
             continue

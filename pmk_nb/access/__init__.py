@@ -1,0 +1,9 @@
+"""Wheelchair accessibility of a written map: passable transitions, narrow doors, unreachable rooms, leaks.
+
+Public API: :func:`check_storey` / :class:`StoreyReport` (:mod:`.report`), :func:`check_plan` and
+:func:`check_map` (:mod:`.check`), and the pixel tools in :mod:`.pixels`.
+"""
+
+from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, LinkCheck, StoreyReport, check_storey, free_width
+
+__all__ = ["DEFAULT_CHAIR_WIDTH", "LinkCheck", "StoreyReport", "check_storey", "free_width"]

@@ -1,0 +1,255 @@
+"""The wheelchair accessibility report: does the written map let a chair go where the graph says?
+
+For each storey, on the grid actually written, for a chair of a given width:
+
+* every link (a transition between two cells of the storey) is *passable* when a free path joins the
+  two cells while staying inside them and the wall between them, for a point (r = 0) and for the
+  chair (free space eroded by its half-width, see :mod:`pmk_nb.access.pixels`);
+* a link passable for a point but not for the chair is a *narrow door*, named by its cells;
+* cells the graph joins to the storey but the chair cannot reach are *unreachable*;
+* two cells with no transition between them that are joined in the map (r = 0) *leak*.
+
+A path may only cross the two cells and the walls and gaps between cells (see :class:`_Regions`), so
+a way round through a third room, or through a door cell between them, does not count.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import shapely
+
+from pmk_nb.access.pixels import disc_radius_px, erode, regions
+from pmk_nb.grid import FREE
+from pmk_nb.raster.scanline import Frame, fill_geometry
+
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
+
+    from pmk_nb.grid import OccupancyGrid
+    from pmk_nb.indoorgml.model import Cell, Link
+    from pmk_nb.raster.openings import Opening
+
+DEFAULT_CHAIR_WIDTH = 0.70  # metres
+
+
+@dataclass(frozen=True)
+class LinkCheck:
+    link: str
+    cells: tuple[str, str]
+    names: tuple[str, str]
+    rule: str
+    width: float  # metres, the planned opening (0 when the cells are apart)
+    point: bool  # passable for a point (r = 0)
+    chair: bool  # passable for the chair
+    free_width: float = 0.0  # metres, the widest free stretch along the opening in the written grid
+
+    def describe(self) -> str:
+        what = f"{self.names[0]} <-> {self.names[1]}"
+        if self.rule == "apart":
+            return f"{what}: the cells do not touch (no shared wall to open)"
+        if not self.point:
+            return f"{what}: no way through in the map (opening by rule '{self.rule}')"
+        return f"{what}: narrower than the chair (opening {self.width:.2f} m)"
+
+
+@dataclass(frozen=True)
+class Leak:
+    cells: tuple[str, str]
+    names: tuple[str, str]
+
+
+@dataclass
+class StoreyReport:
+    storey: str
+    chair_width: float
+    resolution: float
+    graph: bool  # False: the file gives no transitions on this storey; nothing to check against
+    links: list[LinkCheck] = field(default_factory=list)
+    unreachable: list[str] = field(default_factory=list)  # cell names
+    leaks: list[Leak] = field(default_factory=list)
+    rules: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def blocked(self) -> list[LinkCheck]:
+        return [k for k in self.links if not k.chair]
+
+    @property
+    def narrow(self) -> list[LinkCheck]:
+        """Doors a point passes but the chair does not: findings about the building (or a narrow room)."""
+        return [k for k in self.links if k.point and not k.chair]
+
+    @property
+    def ok(self) -> bool:
+        return not self.blocked and not self.unreachable and not self.leaks
+
+    def counts(self) -> dict[str, int]:
+        return {
+            "links": len(self.links),
+            "passable_point": sum(k.point for k in self.links),
+            "passable_chair": sum(k.chair for k in self.links),
+            "narrow": len(self.narrow),
+            "unreachable": len(self.unreachable),
+            "leaks": len(self.leaks),
+        }
+
+    def summary(self) -> str:
+        c = self.counts()
+        if not self.graph:
+            return f"storey {self.storey}: no navigation graph in the file; nothing to check"
+        head = (
+            f"storey {self.storey}: {c['passable_chair']}/{c['links']} transitions passable for a "
+            f"{self.chair_width:.2f} m chair ({c['passable_point']}/{c['links']} for a point)"
+        )
+        extra = [f"{c[k]} {k}" for k in ("narrow", "unreachable", "leaks") if c[k]]
+        return head + (f"; {', '.join(extra)}" if extra else "")
+
+    def to_json(self) -> dict[str, Any]:
+        out = asdict(self)
+        out["counts"] = self.counts()
+        out["ok"] = self.ok
+        return out
+
+
+class _Regions:
+    """Free regions of the written grid that never cross from one cell into another, and how they touch.
+
+    Pixels are owned by the cell whose footprint holds their centre (0: in no cell - walls, gaps and
+    the openings cut in them). Two cells are joined when a chain of touching regions owned by one of
+    them or by no cell leads from one to the other: labelled once per storey, asked per link.
+    """
+
+    def __init__(self, mask: np.ndarray, owner: np.ndarray) -> None:
+        labels, self.owner, edges = regions(mask, owner)
+        self.by_owner: dict[int, list[int]] = {}
+        for lab in np.unique(labels[labels > 0]).tolist():
+            self.by_owner.setdefault(int(self.owner[lab]), []).append(lab)
+        self.next: dict[int, list[int]] = {}
+        for u, v in edges.tolist():
+            self.next.setdefault(u, []).append(v)
+            self.next.setdefault(v, []).append(u)
+
+    def joined(self, a: int, b: int) -> bool:
+        allowed = {a, b, 0}
+        todo = list(self.by_owner.get(a, []))
+        seen = set(todo)
+        while todo:
+            lab = todo.pop()
+            if self.owner[lab] == b:
+                return True
+            for nxt in self.next.get(lab, []):
+                if nxt not in seen and int(self.owner[nxt]) in allowed:
+                    seen.add(nxt)
+                    todo.append(nxt)
+        return False
+
+
+def _owners(grid: OccupancyGrid, cells: list[Cell]) -> np.ndarray:
+    frame = Frame(float(grid.origin[0]), float(grid.origin[1]), grid.resolution, grid.width, grid.height)
+    owner = np.zeros((grid.height, grid.width), dtype=np.int32)
+    # largest first, so a room drawn inside a hall's footprint keeps its own pixels
+    for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
+
+        def op(block: np.ndarray, m: np.ndarray, value: int = i + 1) -> None:
+            block[m] = value
+
+        fill_geometry(owner, frame, cell.footprint, op)
+    return owner
+
+
+def check_storey(
+    storey: str,
+    grid: OccupancyGrid,
+    cells: list[Cell],
+    openings: list[Opening],
+    *,
+    chair_width: float = DEFAULT_CHAIR_WIDTH,
+    wall_thickness: float = 0.1,
+    max_gap: float = 0.5,
+) -> StoreyReport:
+    """The report for one storey's written grid, its cells and the openings the converter planned."""
+    report = StoreyReport(storey, chair_width, grid.resolution, graph=bool(openings))
+    if not openings:
+        return report
+    by_id = {c.id: c for c in cells}
+    index = {c.id: i + 1 for i, c in enumerate(cells)}
+    owner = _owners(grid, cells)
+    free = np.asarray(grid.data) == FREE
+    point = _Regions(free, owner)
+    chair = _Regions(erode(free, disc_radius_px(chair_width / 2, grid.resolution)), owner)
+    r = chair_width / 2
+    for o in openings:
+        a, b = index[o.link.a], index[o.link.b]
+        passes, wide = point.joined(a, b), free_width(grid, o.segments)
+        fits = chair.joined(a, b)
+        if not fits and passes and any(shapely.buffer(by_id[c].footprint, -r).is_empty for c in (o.link.a, o.link.b)):
+            fits = wide >= chair_width - grid.resolution  # a doorway or porch cell thinner than the chair
+        report.links.append(
+            LinkCheck(o.link.id, (o.link.a, o.link.b), o.names, o.rule, round(o.width, 3), passes, fits, round(wide, 3))
+        )
+        report.rules[o.rule] = report.rules.get(o.rule, 0) + 1
+    report.unreachable = _unreachable(report.links, by_id)
+    report.leaks = _leaks([o.link for o in openings], cells, index, point, max_gap)
+    return report
+
+
+def free_width(grid: OccupancyGrid, segments: tuple[BaseGeometry, ...]) -> float:
+    """The longest free stretch along any of ``segments`` in ``grid`` (metres), sampled every half cell."""
+    best = 0.0
+    res = grid.resolution
+    data = np.asarray(grid.data)
+    for seg in segments:
+        n = max(2, int(seg.length / (res / 2)) + 1)
+        pts = shapely.get_coordinates(seg.interpolate(np.linspace(0.0, seg.length, n)))
+        cols = np.floor((pts[:, 0] - grid.origin[0]) / res).astype(int)
+        rows = np.floor((pts[:, 1] - grid.origin[1]) / res).astype(int)
+        ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
+        free = np.zeros(n, dtype=bool)
+        free[ok] = data[rows[ok], cols[ok]] == FREE
+        run = longest = 0
+        for f in free.tolist():
+            run = run + 1 if f else 0
+            longest = max(longest, run)
+        best = max(best, max(longest - 1, 0) * seg.length / (n - 1))
+    return best
+
+
+def _unreachable(links: list[LinkCheck], by_id: dict[str, Cell]) -> list[str]:
+    """Cells of the graph outside its largest chair-passable component (by area)."""
+    parent = {c: c for k in links for c in k.cells}
+
+    def find(x: str) -> str:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for k in links:
+        if k.chair:
+            parent[find(k.cells[0])] = find(k.cells[1])
+    area: dict[str, float] = {}
+    for c in parent:
+        area[find(c)] = area.get(find(c), 0.0) + by_id[c].footprint.area
+    main = max(area, key=lambda r: area[r])
+    return sorted(by_id[c].name or c for c in parent if find(c) != main)
+
+
+def _leaks(links: list[Link], cells: list[Cell], index: dict[str, int], point: _Regions, max_gap: float) -> list[Leak]:
+    """Pairs of graph cells, within ``max_gap`` of each other, with no link but a free way between them."""
+    joined = {frozenset((k.a, k.b)) for k in links}
+    in_graph = {c for k in links for c in (k.a, k.b)}
+    free = [c for c in cells if c.kind.is_free and c.id in in_graph]
+    ftree = shapely.STRtree([c.footprint for c in free]) if free else None
+    leaks: list[Leak] = []
+    if ftree is None:
+        return leaks
+    left, right = ftree.query([c.footprint for c in free], predicate="dwithin", distance=max_gap)
+    for i, j in zip(left.tolist(), right.tolist(), strict=True):
+        if i >= j or frozenset((free[i].id, free[j].id)) in joined:
+            continue
+        a, b = free[i], free[j]
+        if point.joined(index[a.id], index[b.id]):
+            leaks.append(Leak((a.id, b.id), (a.name or a.id, b.name or b.id)))
+    return leaks

@@ -1,0 +1,43 @@
+"""Which free cells are windows or sills rather than floor: judged against the cells they touch.
+
+A window cell sits in a room's wall, starting well above that room's floor and ending below its
+ceiling. Comparing with the storey's lowest point instead (as before) turned every higher cell of a
+sloping floor (an underground plaza from -3.9 m to -0.9 m, a ramp, a split level) into a window.
+So a cell is raised only when a cell it touches on the same storey starts more than ``RAISED`` below
+it *and* reaches at least as high (within ``TOP_SLACK``): a step up to a higher floor whose ceiling
+rises with it, or a cell touching nothing lower, stays navigable.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import shapely
+
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
+
+RAISED = 0.5  # metres above a touching cell's floor: a window/sill, not floor space
+TOP_SLACK = 0.3  # metres: a window ends below (or at) the ceiling of the room it is in
+
+CellLevel = tuple[str, "BaseGeometry", float | None, float | None, str]  # id, footprint, z_min, z_max, storey
+
+
+def raised_cells(cells: list[CellLevel], touch: float) -> set[str]:
+    """Ids of cells that are windows/sills; ``touch`` is the adjacency tolerance in footprint units."""
+    with_z = [c for c in cells if c[2] is not None and c[3] is not None and c[1] is not None]
+    if not with_z:
+        return set()
+    tree = shapely.STRtree([c[1] for c in with_z])
+    left, right = tree.query([c[1] for c in with_z], predicate="dwithin", distance=touch)
+    out: set[str] = set()
+    for i, j in zip(left.tolist(), right.tolist(), strict=True):
+        if i == j:
+            continue
+        cid, _, z0, z1, storey = with_z[i]
+        _, _, n0, n1, n_storey = with_z[j]
+        if storey != n_storey or z0 is None or z1 is None or n0 is None or n1 is None:
+            continue
+        if z0 - n0 > RAISED and z1 <= n1 + TOP_SLACK and z1 > z0:
+            out.add(cid)
+    return out

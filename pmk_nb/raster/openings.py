@@ -1,0 +1,238 @@
+"""Where the navigation graph says a chair may pass, and where in the wall the opening goes.
+
+Every transition between two free cells of a storey is a :class:`~pmk_nb.indoorgml.model.Link`; its
+opening is found on the cells' shared boundary (the part of one cell's outline within the gap that
+separates them, up to ``max_gap``), by the first rule with evidence:
+
+1. ``door``: door geometry - a door cell (Connection/AnchorSpace) on either side (the whole shared
+   boundary), or a door boundary lying on the shared boundary; of several, only the strongest kind
+   (a ConnectionBoundary or a boundary named "door", then a partial edge, then a transition's dual
+   face) - so a plain wall that a transition is merely dual to is not opened when a real door sits
+   beside it, and a dual face that spans the whole wall is no door at all;
+2. ``line``: where the transition's own LineString crosses the shared boundary, ``door_width`` wide;
+3. ``corridor``: both cells corridor-like (TransitionSpace, or named corridor/hall/lobby), or the
+   boundary is virtual, or the file draws walls as gaps and these two cells touch (no wall): the
+   whole shared boundary;
+4. ``middle``: ``door_width`` at the middle of the longest run of the shared boundary.
+
+The rasteriser clears wall cells (never obstacles, never outside) in each opening's rectangle after
+drawing the walls, so no wall band, supercover line or gap filling narrows it.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import shapely
+from shapely import ops
+
+from pmk_nb.indoorgml.doors import says_corridor
+from pmk_nb.indoorgml.model import CellKind
+
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
+
+    from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
+
+DEFAULT_DOOR_WIDTH = 0.9  # metres
+RULES = ("door", "line", "corridor", "middle")
+_EVIDENCE_RANK = {"type": 0, "name": 0, "partial": 1, "duality": 2}
+_TOUCH = 0.02  # metres: cells closer than this share a face with no wall drawn between them
+_FULL = 0.95  # a dual face covering 95 % of the shared boundary is the wall itself, not a door
+
+
+@dataclass(frozen=True)
+class Opening:
+    """The opening of one link: where (``segments``, on the shared boundary), how wide, and by which rule."""
+
+    link: Link
+    rule: str  # one of RULES, or "apart" when the cells are further apart than max_gap
+    segments: tuple[BaseGeometry, ...]  # LineStrings along the shared boundary (metres)
+    width: float  # metres along the wall (the narrowest segment)
+    gap: float  # metres between the two cells (0 when they touch)
+    names: tuple[str, str]
+    reaches: tuple[float, ...] = ()  # per segment: how far the other cell is from it (the local gap)
+
+    def polygons(self, reach: float) -> list[BaseGeometry]:
+        """Rectangles to clear: each segment widened by its local gap plus ``reach`` on both sides."""
+        gaps = self.reaches or (self.gap,) * len(self.segments)
+        out = [shapely.buffer(s, g + reach, cap_style="flat") for s, g in zip(self.segments, gaps, strict=True)]
+        return [p for p in out if not p.is_empty]
+
+
+@dataclass(frozen=True)
+class OpeningPlan:
+    """A storey's openings, and the door boundaries the graph leaves shut (doors with no transition)."""
+
+    openings: list[Opening]
+    shut_doors: list[Boundary]
+    graph: bool  # False when no transition joins two free cells of this storey (old door rules apply)
+
+    def rule_counts(self) -> dict[str, int]:
+        return dict(Counter(o.rule for o in self.openings))
+
+
+def _label(cell: Cell) -> str:
+    return cell.name or cell.id
+
+
+def _shared(a: Cell, b: Cell, gap: float, tol: float) -> BaseGeometry:
+    """The part of ``a``'s outline within ``gap`` (+ ``tol``) of ``b``, as merged lines.
+
+    A cell drawn inside another (a room inside a hall's footprint) shares its own outline, less
+    what lies on the outer cell's outline.
+    """
+    small, big = sorted((a, b), key=lambda c: c.footprint.area)
+    overlap = shapely.intersection(small.footprint, big.footprint).area
+    if overlap > 0.5 * small.footprint.area:
+        line = shapely.difference(
+            shapely.intersection(shapely.boundary(small.footprint), big.footprint),
+            shapely.buffer(shapely.boundary(big.footprint), tol),
+        )
+    else:
+        line = shapely.intersection(shapely.boundary(a.footprint), shapely.buffer(b.footprint, gap + tol))
+    parts = [p for p in shapely.get_parts(line) if p.geom_type == "LineString" and p.length > 2 * tol]
+    if not parts:
+        return shapely.MultiLineString()
+    merged = ops.linemerge(shapely.MultiLineString(parts))
+    return merged
+
+
+def _runs(shared: BaseGeometry) -> list[BaseGeometry]:
+    return sorted(shapely.get_parts(shared).tolist(), key=lambda g: -g.length)
+
+
+def _window(run: BaseGeometry, centre: float, width: float) -> BaseGeometry:
+    """``width`` of ``run`` around distance ``centre`` along it, shifted to stay on it, clipped if short."""
+    if run.length <= width:
+        return run
+    start = min(max(centre - width / 2, 0.0), run.length - width)
+    return ops.substring(run, start, start + width)
+
+
+def _door_lines(link: Link, shared: BaseGeometry, doors: list[Boundary], gap: float, tol: float) -> list[BaseGeometry]:
+    """Door boundary lines on the shared boundary, strongest evidence only; a full dual face is a wall."""
+    near = shapely.buffer(shared, gap + tol)
+    found: list[tuple[int, BaseGeometry]] = []
+    for door in doors:
+        g = door.geometry
+        if g is None or g.is_empty or g.geom_type not in ("LineString", "MultiLineString"):
+            continue
+        mid = g.interpolate(0.5, normalized=True)
+        if not near.contains(mid):
+            continue
+        rank = _EVIDENCE_RANK.get(door.evidence, 0)
+        if rank == 2 and g.length >= _FULL * shared.length:
+            continue
+        found.append((rank, g))
+    if not found:
+        return []
+    best = min(r for r, _ in found)
+    return [g for r, g in found if r == best]
+
+
+def _project(run: BaseGeometry, geoms: list[BaseGeometry]) -> list[BaseGeometry]:
+    """Door lines as stretches of the shared run (a door line in a gap lies beside it, not on it)."""
+    out = []
+    for g in geoms:
+        ends = shapely.get_coordinates(g)
+        d = sorted(run.project(shapely.Point(p)) for p in (ends[0], ends[-1]))
+        if d[1] - d[0] > 0:
+            out.append(ops.substring(run, d[0], d[1]))
+    return out
+
+
+def _corridor_like(a: Cell, b: Cell, virtual: bool, walls_as_gaps: bool, gap: float) -> bool:
+    both = all(c.kind is CellKind.TRANSITION or says_corridor(c.name) for c in (a, b))
+    return both or virtual or (walls_as_gaps and gap <= _TOUCH)
+
+
+def _made(link: Link, rule: str, segs: list[BaseGeometry], a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening:
+    """An opening with each segment's local gap: how far its ends and middle are from either cell's
+    outline (a gap between the cells, or an overlap where both outlines are drawn as walls)."""
+    rings = (shapely.boundary(a.footprint), shapely.boundary(b.footprint))
+    reaches = []
+    for seg in segs:
+        pts = [seg.interpolate(f, normalized=True) for f in (0.0, 0.5, 1.0)]
+        far = max(ring.distance(p) for ring in rings for p in pts)
+        reaches.append(min(max(far, gap), ctx.max_gap))
+    width = min((s.length for s in segs), default=0.0)
+    return Opening(link, rule, tuple(segs), width, gap, (_label(a), _label(b)), tuple(reaches))
+
+
+def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
+    a, b = cells[link.a], cells[link.b]
+    gap = float(a.footprint.distance(b.footprint))
+    shared = _shared(a, b, gap, ctx.tol) if gap <= ctx.max_gap else shapely.MultiLineString()
+    if shared.is_empty:
+        return Opening(link, "apart", (), 0.0, gap, (_label(a), _label(b)))
+    runs = _runs(shared)
+    if a.kind.is_door or b.kind.is_door:
+        return _made(link, "door", runs, a, b, gap, ctx)
+    near = ctx.max_gap + ctx.tol
+    lines = _door_lines(link, shared, ctx.doors, near, ctx.tol)
+    if lines:
+        segs = [s for run in runs for s in _project(run, [g for g in lines if run.distance(g) <= near])]
+        if segs:
+            return _made(link, "door", segs, a, b, gap, ctx)
+    if link.line is not None:
+        crossing = shapely.intersection(link.line, shapely.buffer(shared, gap + ctx.tol))
+        if not crossing.is_empty:
+            point = crossing.centroid
+            run = min(runs, key=lambda r: r.distance(point))
+            return _made(link, "line", [_window(run, run.project(point), ctx.door_width)], a, b, gap, ctx)
+    virtual = any(v.distance(shared) <= gap + ctx.tol for v in ctx.virtual)
+    if _corridor_like(a, b, virtual, ctx.walls_as_gaps, gap):
+        return _made(link, "corridor", runs, a, b, gap, ctx)
+    return _made(link, "middle", [_window(runs[0], runs[0].length / 2, ctx.door_width)], a, b, gap, ctx)
+
+
+@dataclass(frozen=True)
+class _Context:
+    doors: list[Boundary]
+    virtual: list[BaseGeometry]
+    door_width: float
+    max_gap: float
+    tol: float
+    walls_as_gaps: bool
+
+
+def plan_openings(
+    building: Building, storey: str, *, door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = 0.5,
+    tol: float = 0.01,
+) -> OpeningPlan:  # fmt: skip
+    """The openings of every same-storey link between two free cells, and the door lines left shut."""
+    cells = {c.id: c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty}
+    links = [k for k in building.links_of(storey) if k.a in cells and k.b in cells]
+    links = [k for k in links if cells[k.a].kind.is_free and cells[k.b].kind.is_free]
+    doors = [d for d in building.doors_of(storey) if d.geometry is not None]
+    virtual = [bd.geometry for bd in building.boundaries.values() if bd.virtual and bd.storey == storey and bd.geometry]
+    gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
+    walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
+    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps)
+    openings = [_opening(k, cells, ctx) for k in links]
+    return OpeningPlan(openings, _shut(doors, openings, cells, links, max_gap), bool(links))
+
+
+def _shut(
+    doors: list[Boundary], openings: list[Opening], cells: dict[str, Cell], links: list[Link], max_gap: float
+) -> list[Boundary]:
+    """Door boundaries between two cells the graph knows but does not join: the graph keeps them shut."""
+    if not links:
+        return []
+    in_graph = {c for k in links for c in (k.a, k.b)}
+    joined = {frozenset((k.a, k.b)) for k in links}
+    free = [c for c in cells.values() if c.kind.is_free]
+    tree = shapely.STRtree([c.footprint for c in free]) if free else None
+    shut = []
+    for door in doors:
+        if tree is None or door.geometry is None or door.geometry.geom_type not in ("LineString", "MultiLineString"):
+            continue
+        near = [free[i].id for i in tree.query(door.geometry, predicate="dwithin", distance=max_gap)]
+        if len(near) < 2 or not all(n in in_graph for n in near):
+            continue  # an outside door, or a cell the graph is silent about
+        if not any(frozenset((x, y)) in joined for x in near for y in near if x != y):
+            shut.append(door)
+    return shut
