@@ -31,7 +31,7 @@ def test_convert_one_storey(tmp_path: Path, capsys: pytest.CaptureFixture[str]) 
     assert rc == 0
     stem = ONE_STOREY.stem
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        [f"{stem}.yaml", f"{stem}.pgm", f"{stem}-visualization.png"]
+        [f"{stem}.yaml", f"{stem}.pgm", f"{stem}-visualization.png", f"{stem}.rooms.json"]
     )
     out = capsys.readouterr().out
     building = read_building(ONE_STOREY)
@@ -57,14 +57,16 @@ def test_convert_several_storeys_png_and_selection(tmp_path: Path, capsys: pytes
                "png", "--no-preview", "--no-progress"])  # fmt: skip
     assert rc == 0
     files = sorted(p.name for p in tmp_path.iterdir())
-    assert files == sorted([f"haus_{n}.yaml" for n in names] + [f"haus_{n}.png" for n in names])
+    assert files == sorted(
+        [f"haus_{n}.yaml" for n in names] + [f"haus_{n}.png" for n in names] + [f"haus_{n}.rooms.json" for n in names]
+    )
     for n in names:
         assert read_map(tmp_path / f"haus_{n}.yaml").meta["storey"] == n
     sel = tmp_path / "sel"
     rc = main(["convert", str(THREE_STOREYS), "-r", "0.1", "--out", str(sel), "--storey", names[-1], "--no-progress"])
     assert rc == 0
     assert sorted(p.name for p in sel.iterdir())[0].startswith(f"{THREE_STOREYS.stem}_{names[-1]}")
-    assert len(list(sel.iterdir())) == 3
+    assert len(list(sel.iterdir())) == 4
     assert capsys.readouterr().out.count("storey ") >= 4
 
 

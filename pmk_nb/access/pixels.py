@@ -1,8 +1,9 @@
 """Pixel tools for the accessibility check, in numpy alone: erode by a disc, label connected regions.
 
-The erosion is where a chair's centre may be: a free pixel whose every pixel within the chair's
-radius is free. The disc is taken half a pixel smaller than the radius (the chair may overlap a
-pixel's far half), so a door exactly as wide as the chair passes and one a pixel narrower does not.
+The erosion is where a chair's centre may be: a free pixel whose every pixel centre within the
+chair's radius less half a cell is free: a chair of width w needs 2 * floor(w / 2 / res - 0.5) + 1
+free pixels across (13 for 0.70 m at 0.05 m), so a door as wide as the chair passes even when the
+rasteriser rounds a cell off its jambs, and one a tenth of a metre narrower does not.
 Labelling works on runs of pixels per row, joined across rows with a vectorised union-find, so a
 storey of a few million pixels labels in well under a second without scipy.
 """
@@ -16,7 +17,7 @@ import numpy as np
 
 def disc_radius_px(radius_m: float, resolution: float) -> float:
     """The disc used for a chair of ``radius_m`` on a grid of ``resolution`` (pixels, may be 0)."""
-    return max(0.0, radius_m / resolution - 0.5)
+    return max(0.0, radius_m / resolution - 0.5 + 1e-9)  # 0.35 / 0.05 is 6.999...
 
 
 def erode(mask: np.ndarray, radius_px: float) -> np.ndarray:

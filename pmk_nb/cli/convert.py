@@ -58,6 +58,10 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
     p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
+    p.add_argument("--door-width", type=float, default=0.9, metavar="M",
+                   help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
+    p.add_argument("--chair-width", type=float, default=0.70, metavar="W",
+                   help="chair width for the accessibility summary (default 0.70)")  # fmt: skip
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -70,7 +74,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     p.add_argument("file", type=Path, help="the IndoorGML (.gml) file")
     p.add_argument("--resolution", "-r", type=float, required=True, help="metres per cell, e.g. 0.05")
     p.add_argument("--storey", action="append", dest="storeys", metavar="S", help="only this storey (repeatable)")
-    p.add_argument("--out", type=Path, default=None, help="output folder (default: the file's folder)")
+    p.add_argument("--out", type=Path, default=Path("."), help="output folder (default: the current folder)")
     p.add_argument("--name", default=None, help="base name of the map files (default: the file's stem)")
     add_raster_options(p)
     p.add_argument("--outside", choices=("unknown", "occupied"), default="unknown", help="value outside all cells")
@@ -89,6 +93,8 @@ def run(args: argparse.Namespace) -> int:
     from pmk_nb.raster.storey import DEFAULT_MAX_CELLS
 
     path: Path = args.file
+    if path.is_dir():
+        raise PmkError(f"{path} is a folder, not a building plan", hint="Name one IndoorGML (.gml) file to convert.")
     show = args.progress
     if show is None:
         size = path.stat().st_size if path.is_file() else 0
@@ -96,12 +102,13 @@ def run(args: argparse.Namespace) -> int:
     options = ConvertOptions(
         unit=args.unit, storeys=args.storeys, wall_thickness=args.wall_thickness, max_wall_gap=args.max_wall_gap,
         outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
-        max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large,
+        max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large, door_width=args.door_width,
+        chair_width=args.chair_width,
     )  # fmt: skip
     bar = TextProgress(sys.stderr, enabled=bool(show))
     try:
         result = convert_plan(
-            path, args.out if args.out is not None else path.parent, safe_file_part(args.name or path.stem),
+            path, args.out, safe_file_part(args.name or path.stem),
             args.resolution, options, progress=bar,
         )  # fmt: skip
     except GridTooLarge as err:  # the CLI's words for the way out: the option to change
@@ -117,4 +124,11 @@ def run(args: argparse.Namespace) -> int:
             f"  storey {m.storey}: {m.files.yaml} (+ {m.files.image.name}{extra}) "
             f"{m.width} x {m.height} cells = {w_m:.2f} x {h_m:.2f} m at {m.resolution:g} m/cell"
         )
+        if m.access is not None:
+            print(f"    accessibility: {m.access.summary().split(': ', 1)[1]}")
+    if building.unit_conflict:
+        print(f"  unit warning: {building.unit_conflict} (--unit m|dm|cm|mm)")
+    problems = [m for m in result.maps if m.access is not None and not m.access.ok]
+    if problems:
+        print(f"  details: pmk check {result.maps[0].files.yaml.parent}/<map>.yaml  (or pmk check {path})")
     return 0

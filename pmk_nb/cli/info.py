@@ -24,13 +24,55 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     return p
 
 
+def connectivity(building: Any) -> dict[str, Any]:
+    """How the navigation graph will open the walls: links, and the rule used per storey (see raster.openings)."""
+    from pmk_nb.raster.openings import plan_openings
+
+    per_storey: dict[str, dict[str, int]] = {}
+    shut = 0
+    for st in building.storeys:
+        plan = plan_openings(building, st.name)
+        per_storey[st.name] = plan.rule_counts()
+        shut += len(plan.shut_doors)
+    rules: dict[str, int] = {}
+    for counts in per_storey.values():
+        for k, v in counts.items():
+            rules[k] = rules.get(k, 0) + v
+    return {
+        "links_same_storey": sum(k.same_storey for k in building.links),
+        "links_between_storeys": sum(not k.same_storey for k in building.links),
+        "rules": rules,
+        "rules_by_storey": per_storey,
+        "doors_without_transition": shut,
+        "unit_conflict": building.unit_conflict,
+    }
+
+
+def format_connectivity(c: dict[str, Any]) -> list[str]:
+    words = {"door": "door geometry", "line": "transition line", "corridor": "corridor (whole boundary)",
+             "middle": "middle of shared wall", "apart": "cells apart (cannot open)"}  # fmt: skip
+    rules = ", ".join(f"{n} by {words.get(k, k)}" for k, n in sorted(c["rules"].items())) or "none"
+    lines = [
+        f"  connectivity: {c['links_same_storey']} transitions within storeys, "
+        f"{c['links_between_storeys']} between storeys (stairs, lifts)",
+        f"    openings: {rules}",
+    ]
+    if c["doors_without_transition"]:
+        lines.append(f"    {c['doors_without_transition']} door boundaries join cells with no transition: kept shut")
+    if c["unit_conflict"]:
+        lines.append(f"  UNIT WARNING: {c['unit_conflict']} (pmk convert --unit m|dm|cm|mm)")
+    return lines
+
+
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.indoorgml import format_summary, read_building, summarize
 
-    summary = summarize(read_building(args.file, unit=args.unit))
+    building = read_building(args.file, unit=args.unit)
+    summary = summarize(building)
+    summary["connectivity"] = connectivity(building)
     if args.json:
         json.dump(summary, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
     else:
-        print(format_summary(summary))
+        print("\n".join([format_summary(summary), *format_connectivity(summary["connectivity"])]))
     return 0

@@ -99,8 +99,6 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
     bfps = _classify_boundaries(doc, cells, warnings)
     choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
     unit, reason = choice.unit, choice.reason
-    if choice.conflict:
-        warnings.append(choice.conflict)
     s = UNIT_SCALE[unit]
     plan = plan_storeys(
         [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]

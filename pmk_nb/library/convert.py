@@ -9,6 +9,7 @@ hidden folder and the whole batch is moved into place with :func:`pmk_nb.fileio.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import shutil
@@ -18,10 +19,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, BinaryIO
 
+from pmk_nb.access.check import check_chair_width, check_grid
+from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport
+from pmk_nb.access.sidecar import sidecar_json, sidecar_path
 from pmk_nb.errors import MapFormatError, OccupancyError
 from pmk_nb.fileio import Content, replace_all
 from pmk_nb.library.naming import storey_map_names
 from pmk_nb.progress import ProgressCallback, emit, sub_range
+from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, plan_openings
 from pmk_nb.raster.storey import (
     DEFAULT_MAX_CELLS,
     DEFAULT_MAX_WALL_GAP,
@@ -53,17 +58,22 @@ class ConvertOptions:
     preview: bool = True
     max_cells: int = DEFAULT_MAX_CELLS
     allow_large: bool = False
+    door_width: float = DEFAULT_DOOR_WIDTH  # metres: openings made where the file gives no door geometry
+    chair_width: float = DEFAULT_CHAIR_WIDTH  # metres: the accessibility check's chair
+    check: bool = True  # run the accessibility check and keep its report in the rooms file
 
 
 @dataclass(frozen=True)
 class StoreyMap:
-    """One storey's written map set and its grid size."""
+    """One storey's written map set (with its rooms file), its grid size and accessibility report."""
 
     storey: str
     files: MapFiles
     width: int
     height: int
     resolution: float
+    rooms: Path | None = None
+    access: StoreyReport | None = None
 
     @property
     def size_m(self) -> tuple[float, float]:
@@ -85,6 +95,7 @@ def _check_options(resolution: float, opts: ConvertOptions) -> float:
         ("resolution", resolution, True),
         ("wall thickness", opts.wall_thickness, False),
         ("max wall gap", opts.max_wall_gap, False),
+        ("door width", opts.door_width, True),
     ):
         ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
         if not ok or value < 0 or (positive and value == 0):
@@ -94,6 +105,7 @@ def _check_options(resolution: float, opts: ConvertOptions) -> float:
         raise MapFormatError(f"image format must be 'pgm' or 'png', got {opts.image_format!r}")
     if opts.outside not in ("unknown", "occupied"):
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {opts.outside!r}")
+    check_chair_width(opts.chair_width)
     return float(resolution)
 
 
@@ -135,14 +147,24 @@ def _stage_storeys(
         emit(progress, "rasterise", start, f"storey {storey}")
         grid = rasterise_storey(
             building, storey, resolution, outside=opts.outside, max_wall_gap=opts.max_wall_gap,
-            progress=sub_range(progress, start, start + span), **raster_kw,
+            door_width=opts.door_width, progress=sub_range(progress, start, start + span), **raster_kw,
         )  # fmt: skip
         grid.meta.update(extra_meta)
         files = write_map(
             grid, staging, stems[storey], image_format=opts.image_format, preview=opts.preview,
             allow_large=opts.allow_large,
         )  # fmt: skip
-        staged.append(StoreyMap(storey, files, grid.width, grid.height, grid.resolution))
+        report = None
+        if opts.check:
+            report = check_grid(
+                building, storey, grid, chair_width=opts.chair_width, door_width=opts.door_width,
+                max_gap=opts.max_wall_gap, wall_thickness=opts.wall_thickness,
+            )  # fmt: skip
+        plan = plan_openings(building, storey, door_width=opts.door_width, max_gap=opts.max_wall_gap)
+        rooms = sidecar_path(files.yaml)
+        doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
+        rooms.write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
+        staged.append(StoreyMap(storey, files, grid.width, grid.height, grid.resolution, rooms, report))
         del grid  # one storey's grid in memory at a time
     return staged
 
@@ -151,7 +173,7 @@ def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
     """Move the staged files into ``out_dir`` (images and previews first, YAMLs last)."""
     from pmk_nb.rosmap.files import MapFiles
 
-    data = [p for m in staged for p in (m.files.image, m.files.preview) if p is not None]
+    data = [p for m in staged for p in (m.files.image, m.files.preview, m.rooms) if p is not None]
     yamls = [m.files.yaml for m in staged]
     contents = [(p.name, _copy_of(p)) for p in data + yamls]
     try:
@@ -164,7 +186,8 @@ def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
         f = m.files
         preview = None if f.preview is None else out_dir / f.preview.name
         files = MapFiles(out_dir / f.yaml.name, out_dir / f.image.name, preview)
-        moved.append(StoreyMap(m.storey, files, m.width, m.height, m.resolution))
+        rooms = None if m.rooms is None else out_dir / m.rooms.name
+        moved.append(StoreyMap(m.storey, files, m.width, m.height, m.resolution, rooms, m.access))
     return moved
 
 

@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, BinaryIO
 
+from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH
+from pmk_nb.access.sidecar import sidecar_path
 from pmk_nb.errors import AlreadyExists, IndoorGMLError, LibraryError, MapFormatError, OccupancyError
 from pmk_nb.fileio import atomic_write
 from pmk_nb.indoorgml.sniff import check_indoorgml
@@ -27,6 +29,7 @@ from pmk_nb.library.download import DEFAULT_DEADLINE, DEFAULT_MAX_BYTES, DEFAULT
 from pmk_nb.library.info import StoreyCache, StoreyInfo
 from pmk_nb.library.scan import GeneratedMap, scan_generated
 from pmk_nb.progress import ProgressCallback
+from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
 if TYPE_CHECKING:
     pass
@@ -305,6 +308,8 @@ class MapsFolder:
         image_format: str = "pgm",
         progress: ProgressCallback | None = None,
         max_wall_gap: float = 0.5,
+        door_width: float = DEFAULT_DOOR_WIDTH,
+        chair_width: float = DEFAULT_CHAIR_WIDTH,
     ) -> list[GeneratedMap]:
         """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2).
 
@@ -325,7 +330,7 @@ class MapsFolder:
         entry = self.entry(name)
         options = ConvertOptions(
             unit=unit, storeys=storeys, wall_thickness=wall_thickness, max_wall_gap=max_wall_gap,
-            image_format=image_format,
+            image_format=image_format, door_width=door_width, chair_width=chair_width,
         )  # fmt: skip
         self._ensure_root()
         st = entry.source.stat()
@@ -344,7 +349,9 @@ class MapsFolder:
             ) from err  # fmt: skip
         if unit == "auto":  # what storeys() reads too: the list learns them for free
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
-        new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview) if p}
+        new_names = {
+            p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p
+        }
         self._remove_superseded(old, new_names, set(result.stems.values()))
         wanted = {m.files.yaml.stem for m in result.maps}
         return [g for g in self.entry(entry.name).generated if g.yaml.stem in wanted]
@@ -358,7 +365,7 @@ class MapsFolder:
         for gm in old:
             if gm.yaml.name not in new_names and (gm.yaml.stem in current_stems or not gm.tagged):
                 continue
-            for path in (gm.yaml, gm.image, gm.preview):
+            for path in (gm.yaml, gm.image, gm.preview, sidecar_path(gm.yaml)):
                 # only our own folder: a hand-written YAML may point at an image elsewhere
                 if path is not None and path.parent == self.root and path.name not in new_names:
                     with contextlib.suppress(FileNotFoundError):
@@ -373,7 +380,7 @@ class MapsFolder:
         for gm in entry.generated:
             if not (gm.tagged or gm.yaml.stem == entry.name):
                 continue
-            for path in (gm.yaml, gm.image, gm.preview):
+            for path in (gm.yaml, gm.image, gm.preview, sidecar_path(gm.yaml)):
                 if path is not None and path.parent == self.root:
                     with contextlib.suppress(FileNotFoundError):
                         path.unlink()

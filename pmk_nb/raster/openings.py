@@ -55,11 +55,29 @@ class Opening:
     names: tuple[str, str]
     reaches: tuple[float, ...] = ()  # per segment: how far the other cell is from it (the local gap)
 
-    def polygons(self, reach: float) -> list[BaseGeometry]:
-        """Rectangles to clear: each segment widened by its local gap plus ``reach`` on both sides."""
+    def polygons(self, reach: float, slack: float = 0.0) -> list[BaseGeometry]:
+        """Rectangles to clear: each segment widened by its local gap plus ``reach`` on both sides, and
+        ``slack`` longer at each end (a cell, so rounding at the jambs never narrows the door)."""
         gaps = self.reaches or (self.gap,) * len(self.segments)
-        out = [shapely.buffer(s, g + reach, cap_style="flat") for s, g in zip(self.segments, gaps, strict=True)]
+        out = [
+            shapely.buffer(_extend(s, slack), g + reach, cap_style="flat")
+            for s, g in zip(self.segments, gaps, strict=True)
+        ]
         return [p for p in out if not p.is_empty]
+
+
+def _extend(line: BaseGeometry, by: float) -> BaseGeometry:
+    """``line`` made ``by`` longer at both ends, along its first and last edges."""
+    xy = shapely.get_coordinates(line)
+    if by <= 0 or len(xy) < 2:
+        return line
+    out = xy.copy()
+    for end, nxt in ((0, 1), (-1, -2)):
+        d = xy[end] - xy[nxt]
+        n = float((d**2).sum() ** 0.5)
+        if n > 0:
+            out[end] = xy[end] + d / n * by
+    return shapely.LineString(out)
 
 
 @dataclass(frozen=True)
@@ -213,7 +231,10 @@ def plan_openings(
     walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
     ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps)
     openings = [_opening(k, cells, ctx) for k in links]
-    return OpeningPlan(openings, _shut(doors, openings, cells, links, max_gap), bool(links))
+    shut = _shut(doors, openings, cells, links, max_gap)
+    if links:  # a transition's dual face is not door geometry of its own: the openings place the door
+        shut += [d for d in doors if d.evidence == "duality" and d not in shut]
+    return OpeningPlan(openings, shut, bool(links))
 
 
 def _shut(

@@ -1,0 +1,74 @@
+"""Run the accessibility check on a building plan (rasterised in memory) or on a written map."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport, check_storey
+from pmk_nb.access.sidecar import read_sidecar
+from pmk_nb.errors import OccupancyError
+from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, plan_openings
+from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS, rasterise_storey
+
+if TYPE_CHECKING:
+    from pmk_nb.grid import OccupancyGrid
+    from pmk_nb.indoorgml.model import Building
+
+
+def check_chair_width(value: float) -> float:
+    """A chair width in metres (0.3-2 m), or OccupancyError saying what is expected."""
+    try:
+        w = float(value)
+    except (TypeError, ValueError) as err:
+        raise OccupancyError(f"chair width must be a number of metres, got {value!r}") from err
+    if not 0.3 <= w <= 2.0:
+        raise OccupancyError(f"chair width must be between 0.3 and 2 m, got {value!r}")
+    return w
+
+
+def check_grid(
+    building: Building, storey: str, grid: OccupancyGrid, *, chair_width: float = DEFAULT_CHAIR_WIDTH,
+    door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = DEFAULT_MAX_WALL_GAP,
+    wall_thickness: float = DEFAULT_WALL_THICKNESS,
+) -> StoreyReport:  # fmt: skip
+    """The report of one storey's grid against the building's graph."""
+    plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
+    cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
+    return check_storey(
+        storey, grid, cells, plan.openings, chair_width=chair_width, wall_thickness=wall_thickness, max_gap=max_gap
+    )
+
+
+def check_building(
+    building: Building, resolution: float, *, chair_width: float = DEFAULT_CHAIR_WIDTH,
+    door_width: float = DEFAULT_DOOR_WIDTH, storeys: list[str] | None = None,
+) -> list[StoreyReport]:  # fmt: skip
+    """Rasterise each storey in memory (nothing written) and check it."""
+    width = check_chair_width(chair_width)
+    out = []
+    for name in storeys or [s.name for s in building.storeys]:
+        grid = rasterise_storey(building, name, resolution, door_width=door_width)
+        out.append(check_grid(building, name, grid, chair_width=width, door_width=door_width))
+        del grid
+    return out
+
+
+def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT_CHAIR_WIDTH) -> StoreyReport:
+    """Check a written map against the rooms file written beside it.
+
+    Raises:
+        MapFormatError: the map or its rooms file cannot be read.
+    """
+    from pmk_nb.rosmap.files import read_map
+
+    width = check_chair_width(chair_width)
+    grid = read_map(Path(yaml_path))
+    plan = read_sidecar(yaml_path)
+    meta = plan.raw
+    return check_storey(
+        plan.storey, grid, plan.cells, plan.openings, chair_width=width,
+        wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS) or DEFAULT_WALL_THICKNESS),
+        max_gap=float(grid.meta.get("max_wall_gap", meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP))),
+    )  # fmt: skip

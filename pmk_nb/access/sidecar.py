@@ -1,0 +1,127 @@
+"""The rooms sidecar: a storey's rooms, doors, navigation links and openings, next to its map YAML.
+
+``NAME.rooms.json`` travels with the map (same stem, map frame, metres) so that the accessibility
+check can run on a written map alone (``pmk check MAP.yaml``), and so that the dashboard can name
+rooms and plan routes without the building file. Geometry is GeoJSON (``shapely.to_geojson``).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import shapely
+
+from pmk_nb.errors import MapFormatError
+from pmk_nb.indoorgml.model import Cell, CellKind, Link
+from pmk_nb.raster.openings import Opening
+
+if TYPE_CHECKING:
+    from pmk_nb.indoorgml.model import Building
+    from pmk_nb.raster.openings import OpeningPlan
+
+FORMAT = "pmk-rooms/1"
+SUFFIX = ".rooms.json"
+
+
+def sidecar_path(yaml_path: str | Path) -> Path:
+    """Where the sidecar of the map ``yaml_path`` lives."""
+    p = Path(yaml_path)
+    return p.with_name(p.stem + SUFFIX)
+
+
+def _geo(g: Any) -> Any:
+    return None if g is None or g.is_empty else json.loads(shapely.to_geojson(g))
+
+
+def _shape(obj: Any) -> Any:
+    return None if obj is None else shapely.from_geojson(json.dumps(obj))
+
+
+def sidecar_json(building: Building, storey: str, plan: OpeningPlan, report: dict[str, Any] | None) -> dict[str, Any]:
+    """The sidecar document of one storey."""
+    cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
+    names = {c.id for c in cells}
+    return {
+        "format": FORMAT,
+        "storey": storey,
+        "frame": "map",
+        "source": Path(building.source).name,
+        "rooms": [
+            {"id": c.id, "name": c.name, "kind": c.kind.value, "z_min": c.z_min, "polygon": _geo(c.footprint)}
+            for c in cells
+        ],
+        "doors": [
+            {"id": d.id, "name": d.name, "geometry": _geo(d.geometry), "width": round(d.geometry.length, 3)}
+            for d in building.doors_of(storey)
+            if d.geometry is not None and not d.geometry.is_empty
+        ],
+        "links": [
+            {"id": k.id, "a": k.a, "b": k.b, "storeys": list(k.storeys), "line": _geo(k.line)}
+            for k in building.links
+            if k.a in names or k.b in names
+        ],
+        "openings": [
+            {
+                "link": o.link.id, "rule": o.rule, "width": round(o.width, 3), "gap": round(o.gap, 3),
+                "segments": [_geo(s) for s in o.segments], "reaches": [round(r, 3) for r in o.reaches],
+            }
+            for o in plan.openings
+        ],
+        "accessibility": report,
+    }
+
+
+@dataclass(frozen=True)
+class StoreyPlanFile:
+    """A sidecar read back: the cells and openings the accessibility check needs."""
+
+    storey: str
+    cells: list[Cell]
+    openings: list[Opening]
+    raw: dict[str, Any]
+
+
+def read_sidecar(yaml_path: str | Path) -> StoreyPlanFile:
+    """Read the sidecar of map ``yaml_path``.
+
+    Raises:
+        MapFormatError: no sidecar, or one this version cannot read (names the file).
+    """
+    path = sidecar_path(yaml_path)
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError as err:
+        raise MapFormatError(
+            f"{path.name}: not found beside {Path(yaml_path).name}",
+            path=str(path),
+            hint="Convert the building plan again: maps made before this version have no rooms file.",
+        ) from err
+    except (OSError, ValueError) as err:
+        raise MapFormatError(f"{path}: not a readable rooms file ({err})", path=str(path)) from err
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise MapFormatError(f"{path}: not a {FORMAT} rooms file", path=str(path))
+    try:
+        storey = str(doc["storey"])
+        cells = [
+            Cell(r["id"], CellKind(r["kind"]), _shape(r["polygon"]), storey, r.get("name", ""), z_min=r.get("z_min"))
+            for r in doc["rooms"]
+            if r.get("polygon")
+        ]
+        links = {
+            k["id"]: Link(k["id"], k["a"], k["b"], _shape(k.get("line")), tuple(k["storeys"])) for k in doc["links"]
+        }
+        label = {c.id: c.name or c.id for c in cells}
+        openings = [
+            Opening(
+                links[o["link"]], o["rule"], tuple(_shape(s) for s in o["segments"]), float(o["width"]),
+                float(o["gap"]), (label[links[o["link"]].a], label[links[o["link"]].b]),
+                tuple(float(r) for r in o.get("reaches", [])),
+            )
+            for o in doc["openings"]
+        ]  # fmt: skip
+    except (KeyError, TypeError, ValueError, shapely.errors.GEOSException) as err:
+        raise MapFormatError(f"{path}: damaged rooms file ({err!r})", path=str(path)) from err
+    return StoreyPlanFile(storey, cells, openings, doc)

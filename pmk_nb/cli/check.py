@@ -1,0 +1,83 @@
+"""`pmk check FILE_OR_MAP [--chair-width W] [--json]`: can a wheelchair go where the building's graph says?
+
+Like a linter: exit 0 when every transition is passable for the chair and nothing leaks, 1 when the
+check finds a problem (listed), 2 on bad input. A ``.gml`` file is rasterised in memory (nothing is
+written); a map ``.yaml`` is checked as written, against the rooms file beside it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from pmk_nb.errors import PmkError
+
+
+def add_parser(subparsers: Any) -> None:
+    p = subparsers.add_parser(
+        "check",
+        help="wheelchair accessibility of a building plan or a written map (exit 1: problems found)",
+        description="Check that a chair of the given width can pass every transition of the building's "
+        "navigation graph, name doors narrower than the chair, rooms it cannot reach and rooms that leak "
+        "into each other. Exit 0: all passable; 1: problems found; 2: bad input.",
+    )
+    p.add_argument("target", type=Path, help="an IndoorGML file (.gml) or a converted map (.yaml)")
+    p.add_argument("--chair-width", type=float, default=None, metavar="W",
+                   help="chair width in metres (default 0.70)")  # fmt: skip
+    p.add_argument("--resolution", "-r", type=float, default=0.05,
+                   help="metres per cell when checking a .gml file (default 0.05)")  # fmt: skip
+    p.add_argument("--unit", default="auto", help="unit of a .gml file's coordinates: auto (default), m, dm, cm, mm")
+    p.add_argument("--door-width", type=float, default=None, metavar="M",
+                   help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    p.set_defaults(run=run)
+
+
+def _reports(args: argparse.Namespace) -> tuple[list[Any], str]:
+    from pmk_nb.access.check import check_building, check_map
+    from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH
+    from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
+
+    target: Path = args.target
+    width = DEFAULT_CHAIR_WIDTH if args.chair_width is None else args.chair_width
+    if target.is_dir():
+        raise PmkError(f"{target} is a folder", hint="Name an IndoorGML file (.gml) or a map YAML (.yaml).")
+    if not target.is_file():
+        raise PmkError(f"{target}: no such file", hint="Name an IndoorGML file (.gml) or a map YAML (.yaml).")
+    if target.suffix.lower() in (".yaml", ".yml"):
+        return [check_map(target, chair_width=width)], ""
+    from pmk_nb.indoorgml import read_building
+
+    building = read_building(target, unit=args.unit)
+    door = DEFAULT_DOOR_WIDTH if args.door_width is None else args.door_width
+    return check_building(building, args.resolution, chair_width=width, door_width=door), building.unit_conflict
+
+
+def format_report(reports: list[Any], unit_conflict: str = "") -> list[str]:
+    """The text report: one summary line per storey, then each problem by name."""
+    lines = []
+    for r in reports:
+        lines.append(r.summary())
+        lines.extend(f"  blocked: {k.describe()}" for k in r.blocked)
+        lines.extend(f"  unreachable: {name}" for name in r.unreachable)
+        lines.extend(f"  leak: {a} and {b} are joined in the map but not in the graph" for a, b in
+                     (leak.names for leak in r.leaks))  # fmt: skip
+    if unit_conflict:
+        lines.append(f"unit warning: {unit_conflict}")
+    return lines
+
+
+def run(args: argparse.Namespace) -> int:
+    reports, conflict = _reports(args)
+    ok = all(r.ok for r in reports)
+    if args.json:
+        doc = {"ok": ok, "unit_conflict": conflict, "storeys": [r.to_json() for r in reports]}
+        json.dump(doc, sys.stdout, indent=2, ensure_ascii=False)
+        sys.stdout.write("\n")
+    else:
+        print("\n".join(format_report(reports, conflict)))
+        print("ok: the chair can pass everywhere the graph says" if ok else "problems found")
+    return 0 if ok else 1

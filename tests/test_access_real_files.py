@@ -1,0 +1,72 @@
+"""Issue 8's per-file figures on the shared real IndoorGML files, and `pmk check` as a linter.
+
+Expected counts were checked by hand on rendered crops (see the closing note of issue 8): the pnu_abc
+failures are real findings - three stair cells 1.5-1.8 m from the corridor they are linked to (no
+shared wall to open) and two restroom doors whose way through is narrower than a chair.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from pmk_nb.access.check import check_building
+from pmk_nb.cli import main
+from pmk_nb.indoorgml import read_building
+from tests.shared_data import INDOORGML_DATA as INDOORGML_DIR
+
+# file -> (links, passable r = 0, passable 0.60 m chair, leaks)
+EXPECTED = {
+    "fjk_haus_v1_0_3.gml": (12, 12, 12, 0),
+    "fjk_haus_v1_0_nowrapper.gml": (12, 12, 12, 0),
+    "fzk_haus_poslist.gml": (12, 12, 12, 0),
+    "ineditor_example2_5floors.gml": (8, 8, 8, 0),
+    "pnu201_3floors_navi_corrected.gml": (81, 81, 81, 0),
+    "pnu_abc_3floors_4layers.gml": (33, 30, 28, 0),
+    "pnu313_4F_2D_doors_subset.gml": (0, 0, 0, 0),
+    "pnu313_4F_2D_indoordistance.gml": (0, 0, 0, 0),
+}
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_transitions_passable_per_file(name: str) -> None:
+    building = read_building(INDOORGML_DIR / name)
+    reports = check_building(building, 0.05, chair_width=0.6)
+    got = (
+        sum(len(r.links) for r in reports),
+        sum(k.point for r in reports for k in r.links),
+        sum(k.chair for r in reports for k in r.links),
+        sum(len(r.leaks) for r in reports),
+    )
+    assert got == EXPECTED[name]
+    for r in reports:  # every failure is named by its cells
+        assert all(k.names[0] and k.names[1] for k in r.blocked)
+
+
+def test_pmk_check_exit_codes_and_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["check", str(INDOORGML_DIR / "fzk_haus_poslist.gml")]) == 0
+    out = capsys.readouterr().out
+    assert "storey 0: 11/11 transitions passable for a 0.70 m chair" in out and "ok:" in out
+    assert main(["check", str(INDOORGML_DIR / "pnu_abc_3floors_4layers.gml"), "--json"]) == 1
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["ok"] is False and any(s["counts"]["narrow"] for s in doc["storeys"])
+    assert main(["check", str(tmp_path)]) == 2
+    assert main(["check", str(tmp_path / "missing.gml")]) == 2
+    assert main(["check", str(INDOORGML_DIR / "fzk_haus_poslist.gml"), "--chair-width", "5"]) == 2
+    assert "chair width" in capsys.readouterr().err
+
+
+def test_pmk_check_a_written_map_uses_its_rooms_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    src = INDOORGML_DIR / "pnu_abc_3floors_4layers.gml"
+    assert main(["convert", str(src), "-r", "0.05", "--out", str(tmp_path), "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "accessibility:" in out and "unit warning" in out
+    f3 = next(tmp_path.glob("*_F3.yaml"))
+    assert main(["check", str(f3), "--json"]) == 1
+    [storey] = json.loads(capsys.readouterr().out)["storeys"]
+    assert storey["storey"] == "F3" and storey["counts"]["links"] == 17
+    (tmp_path / f3.name.replace(".yaml", ".rooms.json")).unlink()
+    assert main(["check", str(f3)]) == 2
+    assert "rooms" in capsys.readouterr().err

@@ -1,0 +1,221 @@
+"""Issue 8's rules on small synthetic plans, in the 1.0.x (State/Transition) and 2.0 (Node/Edge) spellings.
+
+Each plan is two 5 x 4 m rooms side by side (A: x 0-5, B: x 5-10, y 0-4) sharing the wall x = 5, plus
+whatever the rule needs. The grid is read back at points: free in the opening, occupied on the wall
+away from it; and the accessibility check must agree.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from pmk_nb.access.check import check_grid
+from pmk_nb.grid import FREE, OCCUPIED
+from pmk_nb.indoorgml import read_building
+from pmk_nb.raster.openings import plan_openings
+from pmk_nb.raster.storey import rasterise_storey
+
+NS = (
+    'xmlns="http://www.opengis.net/indoorgml/1.0/core" xmlns:gml="http://www.opengis.net/gml/3.2" '
+    'xmlns:xlink="http://www.w3.org/1999/xlink" xmlns:navi="http://www.opengis.net/indoorgml/1.0/navigation"'
+)
+RES = 0.05
+
+
+def _ring(x0: float, y0: float, x1: float, y1: float, z: float | None = None) -> str:
+    pts = [(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)]
+    return " ".join(f"{a} {b}" if z is None else f"{a} {b} {z}" for a, b in pts)
+
+
+def _cell(cid: str, box: tuple[float, float, float, float], tag: str = "CellSpace", name: str = "") -> str:
+    nm = f"<gml:name>{name}</gml:name>" if name else ""
+    return (
+        f'<cellSpaceMember><{tag} gml:id="{cid}">{nm}<cellSpaceGeometry><Geometry2D><gml:Polygon><gml:exterior>'
+        f"<gml:LinearRing><gml:posList>{_ring(*box)}</gml:posList></gml:LinearRing></gml:exterior>"
+        f"</gml:Polygon></Geometry2D></cellSpaceGeometry></{tag}></cellSpaceMember>"
+    )
+
+
+def _solid(cid: str, box: tuple[float, float, float, float], z0: float, z1: float) -> str:
+    """A box cell as a 3D solid (floor and ceiling faces are enough for the footprint and z)."""
+    faces = "".join(
+        f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
+        f"{_ring(*box, z=z)}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>"
+        for z in (z0, z1)
+    )
+    return (
+        f'<cellSpaceMember><CellSpace gml:id="{cid}"><cellSpaceGeometry><Geometry3D><gml:Solid><gml:exterior>'
+        f"<gml:Shell>{faces}</gml:Shell></gml:exterior></gml:Solid></Geometry3D></cellSpaceGeometry>"
+        f"</CellSpace></cellSpaceMember>"
+    )
+
+
+def _boundary(bid: str, line: tuple[tuple[float, float], ...], tag: str = "CellSpaceBoundary") -> str:
+    pts = " ".join(f"{x} {y}" for x, y in line)
+    return (
+        f'<cellSpaceBoundaryMember><{tag} gml:id="{bid}"><cellSpaceBoundaryGeometry><geometry2D><gml:LineString>'
+        f"<gml:posList>{pts}</gml:posList></gml:LineString></geometry2D></cellSpaceBoundaryGeometry>"
+        f"</{tag}></cellSpaceBoundaryMember>"
+    )
+
+
+def _graph(pairs: list[tuple[str, str]], lines: dict[int, str] | None = None, *, v2: bool = False) -> str:
+    """States (Nodes) dual to the cells named in ``pairs`` and one Transition (Edge) per pair."""
+    cells = sorted({c for p in pairs for c in p})
+    state, trans, layer = ("Node", "Edge", "DualSpaceLayer") if v2 else ("State", "Transition", "SpaceLayer")
+    nodes = "".join(
+        f'<{state.lower()}Member><{state} gml:id="S{c}"><duality xlink:href="#{c}"/></{state}></{state.lower()}Member>'
+        for c in cells
+    )
+    edges = ""
+    for i, (a, b) in enumerate(pairs):
+        geom = ""
+        if lines and i in lines:
+            geom = f"<geometry><gml:LineString><gml:posList>{lines[i]}</gml:posList></gml:LineString></geometry>"
+        edges += (
+            f'<{trans.lower()}Member><{trans} gml:id="T{i}"><connects xlink:href="#S{a}"/>'
+            f'<connects xlink:href="#S{b}"/>{geom}</{trans}></{trans.lower()}Member>'
+        )
+    if v2:
+        return f'<dualSpaceLayer><{layer} gml:id="D">{nodes}{edges}</{layer}></dualSpaceLayer>'
+    return (
+        f'<multiLayeredGraph><MultiLayeredGraph gml:id="G"><spaceLayers gml:id="L"><spaceLayerMember>'
+        f'<SpaceLayer gml:id="SL"><nodes gml:id="N">{nodes}</nodes><edges gml:id="E">{edges}</edges>'
+        f"</SpaceLayer></spaceLayerMember></spaceLayers></MultiLayeredGraph></multiLayeredGraph>"
+    )
+
+
+def _plan(tmp_path: Path, cells: str, graph: str = "", boundaries: str = "", *, v2: bool = False) -> Path:
+    layer = "PrimalSpaceLayer" if v2 else "PrimalSpaceFeatures"
+    text = (
+        f'<?xml version="1.0"?><IndoorFeatures {NS} gml:id="F"><primalSpaceFeatures><{layer} gml:id="P">'
+        f"{cells}{boundaries}</{layer}></primalSpaceFeatures>{graph}</IndoorFeatures>"
+    )
+    path = tmp_path / ("v2.gml" if v2 else "v1.gml")
+    path.write_text(text)
+    return path
+
+
+ROOMS = _cell("A", (0, 0, 5, 4)) + _cell("B", (5, 0, 10, 4))
+
+
+def _grid_and_report(path: Path, chair: float = 0.7):
+    b = read_building(path, unit="m")
+    storey = b.storeys[0].name
+    grid = rasterise_storey(b, storey, RES)
+    return b, grid, check_grid(b, storey, grid, chair_width=chair)
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_no_transition_keeps_adjacent_rooms_apart(tmp_path: Path, v2: bool) -> None:
+    c = _cell("C", (0, 4, 10, 8))  # a third room, linked to A only, so the storey has a graph
+    _, grid, report = _grid_and_report(_plan(tmp_path, ROOMS + c, _graph([("A", "C")], v2=v2), v2=v2))
+    for y in (0.5, 2.0, 3.5):
+        assert grid.value_at(5.0, y) == OCCUPIED
+    assert report.counts()["links"] == 1 and report.ok
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_transition_line_opens_a_door_width_where_it_crosses(tmp_path: Path, v2: bool) -> None:
+    line = "2.5 1.0 7.5 1.0"  # crosses the shared wall at y = 1.0
+    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")], {0: line}, v2=v2), v2=v2))
+    [o] = plan_openings(b, b.storeys[0].name).openings
+    assert o.rule == "line" and o.width == pytest.approx(0.9)
+    assert grid.value_at(5.0, 1.0) == FREE and grid.value_at(5.0, 0.6) == FREE  # shifted to stay on the wall
+    assert grid.value_at(5.0, 2.5) == OCCUPIED and grid.value_at(5.0, 3.5) == OCCUPIED
+    [k] = report.links
+    assert k.point and k.chair and k.free_width >= 0.9 - RES - 1e-9
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_no_door_evidence_opens_the_middle(tmp_path: Path, v2: bool) -> None:
+    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")], v2=v2), v2=v2))
+    assert plan_openings(b, b.storeys[0].name).rule_counts() == {"middle": 1}
+    assert grid.value_at(5.0, 2.0) == FREE and grid.value_at(5.0, 0.5) == OCCUPIED
+    assert report.ok
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_corridor_pieces_are_open_along_their_whole_boundary(tmp_path: Path, v2: bool) -> None:
+    rooms = _cell("A", (0, 0, 5, 2), "navi:TransitionSpace") + _cell("B", (5, 0, 10, 2), "navi:TransitionSpace")
+    b, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "B")], v2=v2), v2=v2))
+    assert plan_openings(b, b.storeys[0].name).rule_counts() == {"corridor": 1}
+    for y in (0.3, 1.0, 1.7):
+        assert grid.value_at(5.0, y) == FREE
+    assert report.ok
+
+
+@pytest.mark.parametrize("tag", ["navi:ConnectionBoundary", "CellSpaceBoundary"], ids=["connection", "named-door"])
+def test_door_geometry_wins_and_a_plain_wall_beside_it_stays(tmp_path: Path, tag: str) -> None:
+    door = _boundary("Door1" if tag == "CellSpaceBoundary" else "D1", ((5, 2.6), (5, 3.6)), tag)
+    line = "2.5 1.0 7.5 1.0"  # the transition's line crosses elsewhere: door geometry comes first
+    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")], {0: line}), door))
+    assert plan_openings(b, b.storeys[0].name).rule_counts() == {"door": 1}
+    assert grid.value_at(5.0, 3.1) == FREE and grid.value_at(5.0, 1.0) == OCCUPIED
+    assert report.ok
+
+
+def test_a_transitions_dual_face_spanning_the_wall_is_not_a_door(tmp_path: Path) -> None:
+    """A plain CellSpaceBoundary that is the transition's dual over the whole wall must not erase it."""
+    face = _boundary("W1", ((5, 0), (5, 4)))
+    door = _boundary("D1", ((5, 2.6), (5, 3.6)), "navi:ConnectionBoundary")
+    dual = '<Transition gml:id="T0"><duality xlink:href="#W1"/>'
+    graph = _graph([("A", "B")]).replace('<Transition gml:id="T0">', dual)
+    b, grid, _ = _grid_and_report(_plan(tmp_path, ROOMS, graph, face + door))
+    assert b.boundaries["W1"].evidence == "duality"
+    assert grid.value_at(5.0, 3.1) == FREE and grid.value_at(5.0, 1.0) == OCCUPIED
+
+
+def test_thin_door_cell_is_open_on_both_faces(tmp_path: Path) -> None:
+    rooms = _cell("A", (0, 0, 5, 4)) + _cell("D", (5, 1, 5.2, 2), "navi:ConnectionSpace") + _cell("B", (5.2, 0, 10, 4))
+    b, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B")])), chair=0.6)
+    assert {o.rule for o in plan_openings(b, b.storeys[0].name).openings} == {"door"}
+    for x in (4.97, 5.1, 5.23):
+        assert grid.value_at(x, 1.5) == FREE
+    assert report.ok, report.summary()
+
+
+def test_gap_wall_with_a_door_in_it_stays_open(tmp_path: Path) -> None:
+    rooms = _cell("A", (0, 0, 5, 4)) + _cell("B", (5.13, 0, 10, 4))  # walls drawn as a 0.13 m gap
+    door = _boundary("D1", ((5.065, 1.5), (5.065, 2.5)), "navi:ConnectionBoundary")
+    _, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "B")]), door))
+    assert grid.value_at(5.065, 2.0) == FREE and grid.value_at(5.065, 0.5) == OCCUPIED
+    assert report.ok
+
+
+def test_narrow_door_is_named_not_hidden(tmp_path: Path) -> None:
+    door = _boundary("D1", ((5, 1.0), (5, 1.6)), "navi:ConnectionBoundary")  # 0.6 m < 0.7 m chair
+    _, _, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")]), door))
+    [k] = report.links
+    assert k.point and not k.chair and report.narrow == [k] and not report.ok
+    assert "narrower than the chair" in k.describe() and "A" in k.names
+
+
+def test_leak_between_rooms_without_transition_is_reported(tmp_path: Path) -> None:
+    """A door line between two rooms the graph does not join is kept shut; a real overlap still leaks."""
+    rooms = ROOMS + _cell("C", (0, 4, 10, 8))
+    door = _boundary("D1", ((5, 1.0), (5, 2.0)), "navi:ConnectionBoundary")
+    b, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "C"), ("B", "C")]), door))
+    assert [d.id for d in plan_openings(b, b.storeys[0].name).shut_doors] == ["D1"]
+    assert grid.value_at(5.0, 1.5) == OCCUPIED and report.leaks == []
+
+
+def test_sloping_floor_stays_navigable_and_a_window_does_not(tmp_path: Path) -> None:
+    steps = "".join(_solid(f"S{i}", (4 * i, 0, 4 * i + 4, 4), -3.9 + 0.75 * i, -0.9 + 0.75 * i) for i in range(5))
+    window = _solid("W", (20, 1, 20.3, 2), 0.0, 1.5)  # touches S4 (floor -0.9 .. 2.1): a sill 0.9 m up its wall
+    b = read_building(_plan(tmp_path, steps + window), unit="m")
+    assert len(b.storeys) == 1
+    assert all(b.cells[f"S{i}"].kind.is_free for i in range(5))
+    assert not b.cells["W"].kind.is_free
+
+
+def test_unit_conflict_is_said_plainly(tmp_path: Path) -> None:
+    # 20-unit storeys with 1.5-unit doors: doors say metres, storeys say otherwise
+    cells = _solid("A", (0, 0, 30, 20), 0, 20) + _solid("B", (30, 0, 60, 20), 0, 20)
+    door = _boundary("D1", ((30, 5), (30, 6.5)), "navi:ConnectionBoundary")
+    b = read_building(_plan(tmp_path, cells, "", door))
+    assert b.unit == "m" and "cell height" in b.unit_conflict and "20 m" in b.unit_conflict
+    ok = read_building(_plan(tmp_path, _solid("A", (0, 0, 6, 4), 0, 2.8) + _solid("B", (6, 0, 12, 4), 0, 2.8)))
+    assert ok.unit == "m" and ok.unit_conflict == ""
