@@ -49,6 +49,8 @@ def sidecar_json(building: Building, storey: str, plan: OpeningPlan, report: dic
         "storey": storey,
         "frame": "map",
         "source": Path(building.source).name,
+        "unit": building.unit,
+        "unit_conflict": building.unit_conflict,
         "rooms": [
             {"id": c.id, "name": c.name, "kind": c.kind.value, "z_min": c.z_min, "polygon": _geo(c.footprint)}
             for c in cells

@@ -349,9 +349,7 @@ class MapsFolder:
             ) from err  # fmt: skip
         if unit == "auto":  # what storeys() reads too: the list learns them for free
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
-        new_names = {
-            p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p
-        }
+        new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p}
         self._remove_superseded(old, new_names, set(result.stems.values()))
         wanted = {m.files.yaml.stem for m in result.maps}
         return [g for g in self.entry(entry.name).generated if g.yaml.stem in wanted]

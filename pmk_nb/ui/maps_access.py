@@ -1,0 +1,137 @@
+"""The Maps screen's accessibility panel: per converted storey, can a chair go where the plan says?
+
+It shows what the converter's check wrote into each map's rooms file (so opening a map never
+re-runs the check): the summary, the blocked doors by their rooms' names, unreachable rooms, leaks,
+and the unit warning, with the storey's preview where the blocked openings are marked in red.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+from typing import TYPE_CHECKING, Any
+
+import ipywidgets as w
+import shapely
+
+from pmk_nb.access.sidecar import sidecar_path
+from pmk_nb.ui.widgets import escape
+
+if TYPE_CHECKING:
+    from pmk_nb.library.folder import GeneratedMap, MapEntry
+
+RED = (220, 30, 30, 255)
+
+
+def _read(gm: GeneratedMap) -> dict[str, Any] | None:
+    try:
+        doc = json.loads(sidecar_path(gm.yaml).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return doc if isinstance(doc, dict) else None
+
+
+def marked_preview(gm: GeneratedMap, doc: dict[str, Any]) -> bytes | None:
+    """The storey's preview PNG with the openings the chair cannot pass drawn in red (None: no preview)."""
+    from PIL import Image, ImageDraw
+
+    from pmk_nb.rosmap.files import read_map_yaml
+
+    if gm.preview is None or not gm.preview.is_file():
+        return None
+    try:
+        meta = read_map_yaml(gm.yaml)
+        img = Image.open(gm.preview).convert("RGBA")
+    except Exception:
+        return None
+    ox, oy = float(meta.origin[0]), float(meta.origin[1])
+    scale = img.width / max(gm.width * gm.resolution, 1e-9)  # preview pixels per metre
+    blocked = {k["link"] for k in (doc.get("accessibility") or {}).get("links", []) if not k["chair"]}
+    draw = ImageDraw.Draw(img)
+    centre = {r["id"]: shapely.from_geojson(json.dumps(r["polygon"])).centroid for r in doc.get("rooms", [])}
+    ends = {k["id"]: (k["a"], k["b"]) for k in doc.get("links", [])}
+    for o in doc.get("openings", []):
+        if o["link"] not in blocked:
+            continue
+        segments = list(o["segments"])
+        if not segments and o["link"] in ends and all(c in centre for c in ends[o["link"]]):
+            a, b = (centre[c] for c in ends[o["link"]])  # rooms that do not touch: join their middles
+            segments = [{"coordinates": [(a.x, a.y), (b.x, b.y)]}]
+        for seg in segments:
+            pts = [((x - ox) * scale, img.height - (y - oy) * scale) for x, y, *_ in seg["coordinates"]]
+            if len(pts) >= 2:
+                draw.line(pts, fill=RED, width=max(3, int(0.3 * scale)))
+            if pts:
+                cx, cy = pts[len(pts) // 2]
+                draw.ellipse((cx - 8, cy - 8, cx + 8, cy + 8), outline=RED, width=3)
+    out = io.BytesIO()
+    img.save(out, format="PNG")
+    return out.getvalue()
+
+
+def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
+    label = escape(gm.storey or gm.yaml.stem)
+    if doc is None:
+        return f"<p><b>{label}</b>: no accessibility check for this map (convert it again to get one).</p>"
+    report = doc.get("accessibility")
+    if not report or not report.get("graph"):
+        return f"<p><b>{label}</b>: the plan has no navigation graph here, so there is nothing to check against.</p>"
+    c = report["counts"]
+    ok = report.get("ok", False)
+    mark = "✓" if ok else "⚠"
+    head = (
+        f"<p class='{'pmk-ok' if ok else 'pmk-warn'}'><b>{mark} {label}</b>: {c['passable_chair']} of {c['links']} "
+        f"passages fit a {report['chair_width']:.2f} m wheelchair</p>"
+    )
+    items = []
+    for k in report["links"]:
+        if k["chair"]:
+            continue
+        a, b = (escape(n) for n in k["names"])
+        if k["rule"] == "apart":
+            items.append(f"{a} – {b}: the rooms do not touch, so the map cannot join them")
+        elif not k["point"]:
+            items.append(f"{a} – {b}: no way through in the map")
+        else:
+            items.append(f"{a} – {b}: door narrower than the chair ({k['width']:.2f} m)")
+    items += [f"{escape(n)}: cannot be reached from the rest of the floor" for n in report.get("unreachable", [])]
+    items += [
+        f"{escape(x['names'][0])} and {escape(x['names'][1])}: open to each other though the plan has no door"
+        for x in report.get("leaks", [])
+    ]
+    listing = "".join(f"<li>{t}</li>" for t in items)
+    return head + (f"<ul class='pmk-access-list'>{listing}</ul>" if listing else "")
+
+
+class AccessPanel:
+    """Accessibility of the selected map's converted storeys; ``show(entry)`` refreshes it."""
+
+    def __init__(self) -> None:
+        self.text = w.HTML("")
+        self.images = w.VBox([])
+        self.widget = w.VBox([self.text, self.images], layout=w.Layout(width="100%"))
+        self.widget.add_class("pmk-access")
+
+    def show(self, entry: MapEntry | None) -> None:
+        if entry is None or not entry.generated:
+            self.text.value = ""
+            self.images.children = ()
+            self.widget.layout.display = "none"
+            return
+        self.widget.layout.display = "flex"
+        parts, images, conflict = [], [], ""
+        for gm in entry.generated:
+            doc = _read(gm)
+            parts.append(_storey_html(gm, doc))
+            conflict = conflict or (doc or {}).get("unit_conflict", "")
+            report = (doc or {}).get("accessibility") or {}
+            if doc is not None and not report.get("ok", True):
+                png = marked_preview(gm, doc)
+                if png is not None:
+                    img = w.Image(value=png, format="png", layout=w.Layout(max_width="100%", height="auto"))
+                    img.add_class("pmk-access-preview")
+                    images.append(img)
+        if conflict:
+            parts.append(f"<p class='pmk-warn'><b>Size warning:</b> {escape(conflict)}</p>")
+        self.text.value = "<div class='pmk-heading-small'>Wheelchair access</div>" + "".join(parts)
+        self.images.children = tuple(images)

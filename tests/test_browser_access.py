@@ -1,0 +1,45 @@
+"""The Maps screen's accessibility panel in Chromium: blocked doors named, marked in red on the preview."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pmk_nb.library.folder import MapsFolder
+from tests.shared_data import INDOORGML_DATA
+from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+
+
+def test_maps_screen_shows_the_accessibility_report(tmp_path: Path) -> None:
+    from playwright.sync_api import expect
+
+    with serve_kiosk(tmp_path, label="access") as (url, world):
+        maps = MapsFolder(world.maps_dir)
+        entry = maps.import_file(INDOORGML_DATA / "pnu_abc_3floors_4layers.gml", "pnu_abc")
+        maps.convert(entry.name, 0.1)
+        with chromium_page(url, viewport=VIEWPORT) as page:
+            expect(page.locator("button.pmk-nav-maps")).to_be_visible(timeout=120_000)
+            page.locator("button.pmk-nav-maps").click()
+            select = page.locator(".pmk-maps-list select")
+            expect(select).to_contain_text("pnu_abc", timeout=30_000)
+            labels = select.locator("option").all_inner_texts()
+            select.select_option(index=next(i for i, t in enumerate(labels) if t.startswith("pnu_abc")))
+            panel = page.locator(".pmk-access")
+            expect(panel).to_contain_text("Wheelchair access", timeout=30_000)
+            expect(panel).to_contain_text("fourth floor north restroom")  # blocked, by its room names
+            expect(panel).to_contain_text("the rooms do not touch")
+            expect(panel).to_contain_text("Size warning")
+            previews = page.locator(".pmk-access-preview")
+            expect(previews.first).to_be_visible()
+            assert previews.count() == 3  # every storey of pnu_abc has a blocked passage
+            # the marks are really red on the picture the user sees
+            red = min(previews.nth(i).evaluate(
+                """img => { const c = document.createElement('canvas'); c.width = img.naturalWidth;
+                c.height = img.naturalHeight; const g = c.getContext('2d'); g.drawImage(img, 0, 0);
+                const d = g.getImageData(0, 0, c.width, c.height).data; let n = 0;
+                for (let i = 0; i < d.length; i += 4) if (d[i] > 200 && d[i+1] < 60 && d[i+2] < 60) n++;
+                return n; }"""
+            ) for i in range(3))
+            assert red > 20, f"only {red} red pixels on the marked preview"
+            previews.first.scroll_into_view_if_needed()
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.screenshot(path=str(ARTIFACTS / "maps-accessibility.png"), full_page=True)
