@@ -137,9 +137,10 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
     t1 = time.perf_counter()
     names = [s.name for s in building.storeys]
     files = storey_map_names("map", names)
-    t_r = t_w = 0.0
-    cells = 0
+    t_r = t_w = t_c = 0.0
+    cells = biggest = 0
     kept: list[float] = []
+    fid = [0, 0, 0, 0]  # links, passable r = 0, passable for a 0.6 m chair, leaks
     for s in names:
         a = time.perf_counter()
         grid = rasterise_storey(building, s, case["res"], max_cells=case.get("max_cells", 400_000_000))
@@ -148,11 +149,24 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
         t_r += b - a
         t_w += time.perf_counter() - b
         cells += grid.width * grid.height
+        biggest = max(biggest, grid.width * grid.height)
         k = wall_kept(grid.data, (grid.resolution, grid.resolution), grid.origin[:2], case, 100)
         if k is not None:
             kept.append(k)
+        if case["kind"] == "file":  # the fidelity figures of issue 8, so speed is never bought with walls
+            from pmk_nb.access.check import check_grid
+
+            c = time.perf_counter()
+            rep = check_grid(building, s, grid, chair_width=0.6)
+            t_c += time.perf_counter() - c
+            n = rep.counts()
+            fid = [fid[0] + n["links"], fid[1] + n["passable_point"], fid[2] + n["passable_chair"], fid[3] + n["leaks"]]
         del grid
-    return {"parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None}
+    return {
+        "parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None,
+        "check": t_c, "fidelity": fid if case["kind"] == "file" else None, "grid_mb": biggest / 1e6,
+        "input_mb": Path(case["path"]).stat().st_size / 1e6 if case["kind"] == "file" else 0.0,
+    }  # fmt: skip
 
 
 def work_original(case: dict[str, Any], out: Path) -> dict[str, Any]:
@@ -304,17 +318,39 @@ def main() -> int:
         "| wall kept |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
+    goals = [
+        "",
+        "### Issue 8 goals (same run): time vs writing, memory vs grid + input, fidelity",
+        "",
+        "total / write = (parse + raster + write) / write, goal <= 3; memory = (peak - base) / (largest "
+        "storey grid + input file), goal <= 3; fidelity on the shared files = transitions passable for a "
+        "point and for a 0.6 m chair (`pmk_nb.access`), plus leaks; check = seconds the check took (not "
+        "part of total).",
+        "",
+        "| case | res (m) | total / write | memory / (grid + input) | fidelity r = 0 | fidelity 0.6 m | leaks "
+        "| check s |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for case, approach, r in rows:
         if "refused" in r:
             lines.append(f"| {case['label']} | {case['res']} | {approach} | {r['refused']} | | | | | "
                          f"{fmt(r, 'peak_mb', '.0f')} | | |")  # fmt: skip
             continue
         total = r["parse"] + r["raster"] + r["write"]
+        if approach == "new":
+            fid = r.get("fidelity")
+            mem = (r["peak_mb"] - r["base_mb"]) / max(r["grid_mb"] + r["input_mb"], 1e-9)
+            fids = ("-", "-", "-") if fid is None else (f"{fid[1]}/{fid[0]}", f"{fid[2]}/{fid[0]}", str(fid[3]))
+            goals.append(
+                f"| {case['label']} | {case['res']} | {total / max(r['write'], 1e-9):.1f} | {mem:.1f} | "
+                f"{fids[0]} | {fids[1]} | {fids[2]} | {r['check']:.2f} |"
+            )
         lines.append(
             f"| {case['label']} | {case['res']} | {approach} | {r['parse']:.2f} | {r['raster']:.2f} | "
             f"{r['write']:.2f} | {total:.2f} | {r['cells']:.3g} | {r['peak_mb']:.0f} ({r['base_mb']:.0f}) | "
             f"{r['out_mb']:.1f} | {fmt(r, 'wall_kept', '.1f')} |"
         )
+    lines += goals
     lines += ["", f"Total benchmark time {time.perf_counter() - started:.0f} s.", ""]
     args.out.write_text("\n".join(lines), encoding="utf-8")
     print("\n".join(lines))
