@@ -6,12 +6,12 @@ STAMP  := $(VENV)/.installed
 PYTEST_ARGS ?=
 JS_STAMP := tests/js/node_modules/.package-lock.json
 
-.PHONY: demo test lint bench system-deps venv clean
+.PHONY: demo test lint bench system-deps venv clean ros2
 
 demo: $(STAMP)  ## convert the sample, start the simulated chair and the Voilà kiosk, print the URL
 	$(BIN)/pmk demo
 
-test: $(STAMP) system-deps $(JS_STAMP) lint  ## install everything the tests need and run the whole suite
+test: $(STAMP) system-deps $(JS_STAMP) ros2 lint  ## install everything the tests need and run the whole suite
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
 
 lint: $(STAMP)
@@ -48,3 +48,11 @@ $(JS_STAMP): tests/js/package.json tests/js/package-lock.json
 
 clean:
 	rm -rf $(VENV) tests/js/node_modules .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
+
+# --- real ROS 2 stack (issue 9) -------------------------------------------------------------
+# Jazzy wheels + rosbridge-server-rs + our interfaces built with cmake, in a venv outside the
+# checkout ($$PMK_ROS_CACHE, default ~/.cache/pmk-ros); instant when nothing changed. The real-stack
+# test tier (tests/test_real_*.py) and `make bench` use it.
+ros2: $(STAMP)
+	@command -v cmake >/dev/null && command -v c++ >/dev/null || { echo "make: the ROS 2 interfaces need cmake and a C/C++ compiler"; exit 1; }
+	$(BIN)/python -m pmk_nb.robot.wheels

@@ -177,7 +177,8 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
         page.locator("button.pmk-nav-home").click()
         page.locator("button.pmk-home-disconnect").click()
         expect(page.locator("button.pmk-home-preview")).to_be_visible()
-        expect(page.locator(".pmk-home-preview-box canvas").last).to_be_hidden()
+        expect(page.locator("button.pmk-home-disconnect")).to_be_hidden()
+        expect(page.locator(".pmk-home-preview-box canvas").last).to_be_visible()  # the map stays on screen
         _shot(page, "5-home-stopped")
         page.locator("button.pmk-home-preview").click()
         expect(page.locator(".pmk-home-preview-box canvas").last).to_be_visible()

@@ -136,10 +136,15 @@ def test_bad_files_exit_2_and_touch_nothing(existing: Path, tmp_path_factory: py
 def test_real_process_exit_code(tmp_path: Path) -> None:
     pmk = Path(sys.executable).parent / "pmk"
     cmd = [str(pmk)] if pmk.exists() else [sys.executable, "-m", "pmk_nb.cli"]
-    gml = tmp_path / "in.gml"
+    (tmp_path / "plans").mkdir()
+    gml = tmp_path / "plans" / "in.gml"
     shutil.copy(ONE_STOREY, gml)
-    ok = subprocess.run([*cmd, "convert", str(gml), "-r", "0.1"], capture_output=True, text=True, timeout=120)
+    ok = subprocess.run(
+        [*cmd, "convert", str(gml), "-r", "0.1"], capture_output=True, text=True, timeout=120, cwd=tmp_path
+    )
     assert ok.returncode == 0, ok.stderr
+    # without --out the maps go to the current folder, never beside the plan
     assert (tmp_path / "in.yaml").exists() and (tmp_path / "in-visualization.png").exists()
+    assert sorted(p.name for p in (tmp_path / "plans").iterdir()) == ["in.gml"]
     bad = subprocess.run([*cmd, "convert", str(gml), "-r", "-1"], capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and "resolution" in bad.stderr

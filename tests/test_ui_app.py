@@ -25,7 +25,7 @@ from pmk_nb.progress import Progress
 from pmk_nb.ui import build_app
 from pmk_nb.ui.app import SCREENS, Dashboard
 from pmk_nb.ui.context import STATE_FILE, AppContext, CurrentMap
-from pmk_nb.ui.widgets import TOUCH_PX, guard, progress_bar, progress_callback
+from pmk_nb.ui.widgets import TOUCH_PX, guard, progress_bar, progress_callback, set_progress
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -140,10 +140,11 @@ def test_password_lookup_prefers_session_then_store(ctx: AppContext) -> None:
 
 def test_progress_adapter_takes_progress_reports() -> None:
     bar = progress_bar("x")
+    assert bar.layout.display == "none"  # takes no room until used
     label = w.HTML("")
     update = progress_callback(bar, label)
     update(Progress("download", 0.25, "1 of 4 MiB"))
-    assert bar.value == pytest.approx(0.25) and bar.layout.visibility == "visible"
+    assert bar.value == pytest.approx(0.25) and bar.layout.display != "none"
     assert label.value == "Downloading 1 of 4 MiB…"
     update(Progress("rasterise", 0.6, "storey <F1>"))
     assert bar.value == pytest.approx(0.6) and label.value == "Rasterising storey &lt;F1&gt;…"
@@ -151,6 +152,8 @@ def test_progress_adapter_takes_progress_reports() -> None:
     first = bar.value
     update(Progress("download", None))
     assert 0 < first < bar.value < 1
+    set_progress(bar, None)  # finished: the bar leaves the screen
+    assert bar.layout.display == "none"
 
 
 def test_repo_notebook_matches_kiosk_notebook() -> None:

@@ -12,6 +12,7 @@ from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.context import CurrentMap
 from pmk_nb.ui.home_checks import preview_image_path, preview_image_problem, probe_chair
 from pmk_nb.ui.home_info import (
+    NO_VALUE,
     STALE_AFTER,
     STOPPED,
     PreviewSnapshot,
@@ -60,7 +61,18 @@ def test_info_texts_name_the_position_source_and_the_no_data_state() -> None:
     assert "No data for 7 s" in stale.state and "pmk-msg-warning" in stale.state
     assert stale.status is not None and "No data from the chair for 7 s" in stale.status
     assert info_texts("connecting", None, None, None, 1, 1.0).status is None  # leave the page's line alone
-    assert info_texts("off", None, None, None, 1, 1.0).position == "Position: –"
+    assert info_texts("off", None, None, None, 1, 1.0).position == f"Position: {NO_VALUE}"
+
+
+def test_stale_values_are_not_shown_as_current() -> None:
+    """During a stall the panel never says "No data for 20 s" and "Speed 0.77 m/s" together."""
+    odom = Odometry(1.0, 2.0, 0.0, 0.77, 0.1, None, 0.0)
+    live = info_texts("live", 0.1, odom, odom, 1, 1.0)
+    assert "0.77 m/s" in live.speed and "pmk-stale" not in live.position
+    for state in ("stale", "unreachable"):
+        texts = info_texts(state, 20.0, odom, odom, 1, 1.0)
+        assert "0.77" not in texts.speed and NO_VALUE in texts.speed
+        assert "Last known" in texts.position and "pmk-stale" in texts.position
 
 
 def test_preview_image_check(tmp_path: Path) -> None:

@@ -118,7 +118,7 @@ def wait_for(cond: Callable[[], bool], timeout: float = 5.0) -> bool:
 
 # -- live view drawing ---------------------------------------------------------------------------------
 def test_frame_is_one_batched_message_with_map_chair_and_rays() -> None:
-    view = LiveView(320, 240)
+    view = LiveView(320, 240, laser_style="rays")
     src = Source()
     src.move(3.0, 2.0, 0.5, 0.4)
     src.set_scan(n=360, nan_every=10, max_every=4)
@@ -128,7 +128,8 @@ def test_frame_is_one_batched_message_with_map_chair_and_rays() -> None:
         view.set_map(sample_grid())  # not running: draws the first frame at once
     assert view.metrics.frames == 1
     got = names(cmds)
-    assert got.count("putImageData") == 1  # map layer
+    assert got.count("putImageData") == 1  # the map tile
+    assert got.count("drawImage") == 1  # the tile put on the map layer
     # hits, max-range rays and grey ticks for the NaN (blind) rays: one batch each
     assert got.count("strokeLineSegments") == 3
     assert got.count("fillStyledCircles") == 1  # chair + heading dot
@@ -171,6 +172,28 @@ def test_blind_rays_are_ticks_at_the_chair_never_free_rays() -> None:
     assert np.allclose(lengths, tick_m, rtol=1e-3), "a blind ray is a short tick, never a ray to range_max"
 
 
+def test_frame_in_the_points_look_is_one_message_of_polygon_dots_and_ticks() -> None:
+    view = LiveView(320, 240)
+    src = Source()
+    src.move(3.0, 2.0, 0.5, 0.4)
+    src.set_scan(n=360, nan_every=10, max_every=4)
+    view.attach(src)
+    with captured_commands(view.canvas) as cmds:
+        view.set_map(sample_grid())
+    got = names(cmds)
+    assert got.count("putImageData") == 1 and got.count("drawImage") == 1
+    assert got.count("fillPolygon") == 1  # the free space seen, one light polygon
+    assert got.count("fillRects") == 1  # the hit dots, one batch
+    assert got.count("strokeLineSegments") == 1  # grey ticks for the NaN (blind) rays
+    assert got.count("fillStyledCircles") == 1
+    rects = next(args for c, args in cmds if c == "fillRects")
+    assert rects[0]["dtype"] == "float32"
+    # 2 m at about 21 px/m: 270 hits end on a circle of about 42 px radius: fewer distinct pixels
+    assert 100 < view.metrics.last_hits < 270
+    assert view.metrics.last_max_rays == len(range(0, 360, 4))
+    assert view.metrics.frame_bytes[-1] < 15_000
+
+
 def test_map_layer_is_redrawn_only_when_the_view_changes() -> None:
     view = LiveView(320, 240)
     view.set_map(sample_grid())
@@ -187,9 +210,14 @@ def test_map_layer_is_redrawn_only_when_the_view_changes() -> None:
     assert view.metrics.map_draws == 1
     assert not view.render_frame()  # nothing new: frame skipped
     assert view.metrics.skipped == 1
-    view.zoom_in()  # zoom: redrawn (immediately, as the loop is not running)
+    view.set_zoom(4)  # zoom: a new tile (immediately, as the loop is not running); view ~ 4.4 x 3 m
     assert view.metrics.map_draws == 2
-    src.move(6.0, 4.0)  # zoomed and following: a move pans the map
+    src.move(3.5, 2.2)  # zoomed and following: a small move only moves the tile
+    with captured_commands(view.canvas) as cmds:
+        view.render_frame()
+    assert names(cmds).count("drawImage") == 1 and "putImageData" not in names(cmds)
+    assert view.metrics.map_draws == 2
+    src.move(12.0, 7.0)  # far away: the view left the tile, a new one is rendered
     view.render_frame()
     assert view.metrics.map_draws == 3
 
@@ -222,7 +250,7 @@ def test_show_sensors_toggles_ray_drawing() -> None:
     view.show_laser = False
     with captured_commands(view.canvas) as cmds:
         assert view.render_frame()
-    assert "strokeLineSegments" not in names(cmds)
+    assert not {"strokeLineSegments", "fillPolygon", "fillRects"} & set(names(cmds))
     assert view.metrics.last_hits == 0
 
 
@@ -246,7 +274,7 @@ def test_rays_start_from_the_pose_the_chair_had_when_the_scan_arrived() -> None:
 
 
 def test_dense_scans_are_thinned_to_what_the_screen_can_show() -> None:
-    view = LiveView(320, 240)  # whole 15 x 10 m map: about 21 px/m
+    view = LiveView(320, 240, laser_style="rays")  # whole 15 x 10 m map: about 21 px/m
     view.set_map(sample_grid())
     src = Source()
     src.move(3.0, 2.0)
@@ -319,6 +347,73 @@ def test_wheel_and_pinch_zoom_and_garbage_events() -> None:
     with pytest.raises(ValueError):
         view.set_zoom("max")
     assert view.set_zoom(1e9) == 6
+
+
+def test_drag_pans_and_stops_follow_which_the_toolbar_turns_back_on() -> None:
+    view = LiveView(320, 240)
+    view.set_map(sample_grid())
+    src = Source()
+    view.attach(src)
+    view.set_zoom(4)
+    src.move(6.0, 3.0)
+    view.render_frame()
+    assert view.following and view.toolbar.follow.value
+    assert tuple(map(float, view.viewport.world_to_pixel(6.0, 3.0))) == pytest.approx((160.0, 120.0))
+    frontend_event(view, {"event": "mouse_move", "x": 100, "y": 100})  # no button: nothing
+    frontend_event(view, {"event": "mouse_down", "x": 100, "y": 100})
+    frontend_event(view, {"event": "mouse_move", "x": 130, "y": 90})
+    frontend_event(view, {"event": "mouse_move", "x": 140, "y": 80})
+    frontend_event(view, {"event": "mouse_up", "x": 140, "y": 80})
+    frontend_event(view, {"event": "mouse_move", "x": 300, "y": 200})  # released: nothing
+    assert not view.following and not view.toolbar.follow.value  # the toggle shows it
+    assert tuple(map(float, view.viewport.world_to_pixel(6.0, 3.0))) == pytest.approx((200.0, 100.0))
+    src.move(6.5, 3.0)
+    view.render_frame()  # not following: the chair moves on screen, the map stays
+    assert tuple(map(float, view.viewport.world_to_pixel(6.0, 3.0))) == pytest.approx((200.0, 100.0))
+    # one finger drags too; a second finger turns it into a pinch without a jump
+    frontend_event(view, {"event": "touch_start", "touches": [{"x": 50, "y": 50}]})
+    frontend_event(view, {"event": "touch_move", "touches": [{"x": 40, "y": 50}]})
+    assert tuple(map(float, view.viewport.world_to_pixel(6.0, 3.0))) == pytest.approx((190.0, 100.0))
+    frontend_event(view, {"event": "touch_move", "touches": [{"x": 40, "y": 50}, {"x": 140, "y": 50}]})
+    frontend_event(view, {"event": "touch_end", "touches": [{"x": 140, "y": 50}]})
+    assert view.gestures.drag == (140.0, 50.0) and view.zoom == 4
+    frontend_event(view, {"event": "touch_end", "touches": []})
+    assert view.gestures.drag is None
+    view.toolbar.centre.click()  # Centre: the chair in the middle, Follow stays off
+    assert tuple(map(float, view.viewport.world_to_pixel(6.5, 3.0))) == pytest.approx((160.0, 120.0))
+    assert not view.following
+    view.pan(-25.0, 0.0)
+    view.toolbar.follow.value = True  # Follow on: centred again at once, and on the next moves
+    assert view.following and view.viewport.following
+    src.move(7.0, 3.2)
+    view.render_frame()
+    assert tuple(map(float, view.viewport.world_to_pixel(7.0, 3.2))) == pytest.approx((160.0, 120.0))
+    view.attach(None)  # no chair: Centre shows the middle of the map
+    view.pan(50.0, 0.0)
+    view.centre()
+    grid = sample_grid()
+    assert view.viewport.center == pytest.approx((grid.width / 2, grid.height / 2))
+    frontend_event(view, {"event": "mouse_down", "x": "junk", "y": None})  # garbage: ignored
+    frontend_event(view, {"event": "mouse_move", "x": 1, "y": 1})
+    view.gestures.on_touch([("a", "b")])
+    view.close()
+
+
+def test_the_map_shows_without_a_chair_and_the_same_grid_keeps_the_view() -> None:
+    view = LiveView(320, 240)
+    grid = sample_grid()
+    with captured_commands(view.canvas) as cmds:
+        view.set_map(grid)  # no source at all: the map alone
+    assert "putImageData" in names(cmds) and "fillStyledCircles" not in names(cmds)
+    view.set_zoom(3)
+    view.pan(30.0, 10.0)
+    center, draws = view.viewport.center, view.metrics.map_draws
+    view.set_map(grid)  # Home re-checks its map: the same grid changes nothing
+    assert view.viewport.center == center and view.zoom == 3 and view.metrics.map_draws == draws
+    view.set_map(sample_grid())  # a new map keeps zoom and follow, and is drawn
+    assert view.zoom == 3 and not view.following and view.metrics.map_draws == draws + 1
+    with pytest.raises(ValueError):
+        LiveView(64, 64, laser_style="moire")
 
 
 def test_measured_hold_counts_real_payload_with_one_send_wrapper_installed_once() -> None:
@@ -439,6 +534,8 @@ def test_home_preview_follows_the_chair_zooms_toggles_sensors_and_goes_stale(hom
     home = HomeScreen(ctx, canvas_width=320, canvas_height=240, fps=20)
     try:
         assert "demo" in home.ui.map_label.value and shown(home.preview_button)
+        # the map shows before any chair connects: drawn from the grid, with its controls
+        assert shown(home.live.canvas) and home.live.grid is not None and home.live.metrics.map_draws >= 1
         assert not shown(home.disconnect_button) and not shown(home.ui.sensors)
         home.preview_button.click()
         assert home.running and shown(home.disconnect_button) and shown(home.ui.sensors)
@@ -536,8 +633,8 @@ def test_home_warns_about_a_missing_preview_image_but_keeps_preview(home_env: An
         w, h = home.live.canvas.width, home.live.canvas.height
         assert max(w, h) == 400 and abs(w / h - grid.width / grid.height) < 0.02
         assert shown(home.live.canvas) and shown(home.ui.zoom_bar)
-        home.stop_preview()
-        assert not shown(home.live.canvas) and not shown(home.ui.zoom_bar)
+        home.stop_preview()  # stopped: the map, its zoom, Follow and Centre stay
+        assert shown(home.live.canvas) and shown(home.ui.zoom_bar) and shown(home.live.toolbar.widget)
     finally:
         home.close()
 

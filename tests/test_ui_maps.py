@@ -91,6 +91,19 @@ def test_import_of_a_non_indoorgml_file_is_reported(screen: MapsScreen, ctx: App
     )
     assert errors(ctx), "an HTML page must not be imported silently"
     assert not (ctx.maps.root / "page.gml").exists()
+    said = screen.importer.status.value
+    # in the page's words: the file's own name, no temporary path, no advice about URLs
+    assert "page.gml" in said and "pmk-msg-error" in said
+    assert "pmk-upload" not in said and "/tmp" not in said and "URL" not in said
+
+
+def test_import_of_non_xml_names_the_file_and_the_line(screen: MapsScreen, ctx: AppContext) -> None:
+    screen.import_bytes("plan.xml", b"<IndoorFeatures>\n<unclosed>\n")
+    said = screen.importer.status.value
+    assert "plan.xml is not an IndoorGML map" in said and "line" in said
+    assert "pmk-upload" not in said and "URL" not in said
+    screen.import_bytes("house.gml", two_rooms())  # the next import that works clears the failure
+    assert "Imported house.gml" in screen.importer.status.value and "plan.xml" not in screen.importer.status.value
 
 
 def test_bad_resolution_blocks_convert(screen: MapsScreen, ctx: AppContext) -> None:
@@ -109,11 +122,16 @@ def test_too_fine_resolution_suggests_one_that_fits(screen: MapsScreen, ctx: App
     assert thread is not None
     thread.join(60)
     suggestion = screen.resolution_error.value
-    assert "Too fine" in suggestion
-    suggested = float(suggestion.split("use ")[1].split(" m")[0])
+    assert "too large" in suggestion and "--" not in suggestion  # the page's words, no CLI options
+    suggested = float(suggestion.split("Use ")[1].split(" m")[0])
     assert 0.0001 < suggested <= 0.05  # the finest resolution that fits the budget, not any
-    assert screen.convert_progress.bar_style == "danger" and errors(ctx)
+    # one place: under the field only; the finished bar is gone
+    assert screen.status.value == "" and screen.convert_progress.layout.display == "none" and errors(ctx)
     assert not list(ctx.maps.root.glob("*.yaml"))
+    screen.resolution.value = "5"  # the next attempt's message replaces the budget error
+    screen.convert_button.click()
+    assert "too coarse" in screen.resolution_error.value and "too large" not in screen.resolution_error.value
+    assert screen.status.value == ""
 
 
 def test_convert_requires_a_selection(screen: MapsScreen, ctx: AppContext) -> None:
@@ -214,8 +232,8 @@ def test_send_to_a_closed_port_reports_failure(screen: MapsScreen, ctx: AppConte
     ctx.profiles.set_password(gone, "x")
     send_buttons(screen)[0].click()
     wait_until(lambda: errors(ctx), timeout=60, what="the failure message")
-    assert "pmk-field-error" in screen.status.value and ctx.current_map is None
-    assert screen.send_progress.bar_style == "danger"
+    assert "pmk-msg-error" in screen.status.value and ctx.current_map is None
+    assert screen.send_progress.layout.display == "none"  # the message says it: no red bar left behind
 
 
 # -- download -------------------------------------------------------------------------------------
@@ -279,7 +297,7 @@ def test_download_failures_are_explained(
     url = f"{web}{path}" if path else f"http://127.0.0.1:{_closed_port()}/x.gml"
     screen.downloader.url.value, screen.downloader.name.value = url, "bad"
     screen.downloader.button.click()
-    wait_until(lambda: "pmk-field-error" in screen.downloader.status.value, what="failure message")
+    wait_until(lambda: "pmk-msg-error" in screen.downloader.status.value, what="failure message")
     assert expect in screen.downloader.status.value
     assert not ctx.maps.exists("bad")
 
@@ -364,9 +382,10 @@ def test_converting_only_f2_writes_only_f2s_files(screen: MapsScreen, ctx: AppCo
     assert written == [
         "clinic_two_storeys_F2-visualization.png",
         "clinic_two_storeys_F2.pgm",
+        "clinic_two_storeys_F2.rooms.json",
         "clinic_two_storeys_F2.yaml",
     ]
-    assert "2 storeys, converted, 0.1 m" in screen.map_list.options[0][0]
+    assert "2 storeys, 0.1 m" in screen.map_list.options[0][0]
     assert [g.storey for g in screen.entries["clinic_two_storeys"].generated] == ["F2"]
     assert [b.description for b in send_buttons(screen)] == ["Send F2"]
     # a converted map's storeys show at once, with every storey ticked again

@@ -301,3 +301,215 @@ def test_fit_canvas_examples_and_garbage() -> None:
     assert fit_canvas(2000, 10, 920, 100) == (920, 100)  # ... but never above the maximum
     with pytest.raises(ValueError, match="positive"):
         fit_canvas(0, 10, 100, 100)
+
+
+# -- pan, follow on/off, centre -----------------------------------------------------------------------
+def test_drag_pans_stops_following_and_centre_returns() -> None:
+    view = Viewport(400, 200, 0.05, (0.0, 0.0), 200, 100)  # 20 x 10 m map
+    view.set_zoom(4)
+    view.see_chair(10.0, 5.0)  # following: centred on the chair
+    assert view.world_to_pixel(10.0, 5.0) == pytest.approx((100.0, 50.0))
+    view.pan_pixels(30.0, -10.0)  # the map moves with the finger
+    assert not view.following
+    assert view.world_to_pixel(10.0, 5.0) == pytest.approx((130.0, 40.0))
+    view.see_chair(11.0, 5.0)  # not following: the view stays put
+    assert view.world_to_pixel(10.0, 5.0) == pytest.approx((130.0, 40.0))
+    view.centre()  # one-shot: on the chair, following stays off
+    assert view.world_to_pixel(11.0, 5.0) == pytest.approx((100.0, 50.0)) and not view.following
+    view.pan_pixels(5000.0, 5000.0)  # dragged far past the map's corner: clamped
+    assert view.visible_cells()[:2] == (0.0, 0.0)
+    view.pan_pixels(-10.0, 0.0)  # dragging back responds at once (no hidden overshoot)
+    assert view.visible_cells()[0] > 0.0
+    view.set_following(True)
+    assert view.world_to_pixel(11.0, 5.0) == pytest.approx((100.0, 50.0))
+    view.forget_chair()
+    view.centre()  # no chair: the map's centre
+    assert view.center == pytest.approx((200.0, 100.0))
+    with pytest.raises(ValueError):
+        view.pan_pixels(float("nan"), 0.0)
+
+
+def test_pixel_origin_is_the_rounded_top_left() -> None:
+    view = Viewport(400, 200, 0.05, (0.0, 0.0), 200, 100)
+    view.set_zoom(3)
+    view.see_chair(7.03, 4.01)
+    u0, v0 = view.top_left
+    assert view.pixel_origin() == (round(u0 * view.scale), round(v0 * view.scale))
+
+
+# -- the map at screen resolution ---------------------------------------------------------------------
+def test_a_thin_wall_survives_any_reduction() -> None:
+    from pmk_nb.viewport import pool_window
+
+    data = np.zeros((1000, 3000), np.int8)  # 150 x 50 m at 0.05 m
+    data[:, 1503:1505] = 100  # a 0.1 m wall, two cells
+    data[400:402, :] = 100  # and a horizontal one
+    for scale in (0.05, 0.13, 0.3, 0.5, 0.99, 1.0, 2.5):
+        w, h = math.ceil(3000 * scale), math.ceil(1000 * scale)
+        values, inside = pool_window(data, scale, 0, 0, w, h)
+        cols = np.flatnonzero((values == 100).all(axis=0))
+        rows = np.flatnonzero((values == 100).all(axis=1))
+        assert cols.size >= 1 and rows.size >= 1, f"a wall vanished at {scale} px/cell"
+        assert abs(cols[0] - 1503 * scale) <= 1.0 and abs(rows[0] - 400 * scale) <= 1.0
+        assert inside.all()
+    # the old sampling (one cell per pixel) loses the same wall at 0.3 px/cell
+    view = Viewport(3000, 1000, 0.05, (0.0, 0.0), 900, 300)
+    gray = np.where(data == 100, 0, 254).astype(np.uint8)
+    img, _ = view.image_window(gray)
+    assert not (img == 0).all(axis=0).any(), "the nearest sampling was expected to miss this wall"
+
+
+def test_pooling_order_is_occupied_over_free_over_unknown() -> None:
+    from pmk_nb.viewport import pool_window
+
+    data = np.array([[-1, -1, 0, -1, 0, 100, -1, -1]], np.int8)
+    values, inside = pool_window(data, 0.5, 0, 0, 4, 1)  # two cells per pixel
+    assert values.tolist() == [[-1, 0, 100, -1]] and inside.all()
+    values, inside = pool_window(data, 2.0, -2, 0, 20, 1)  # a cell over two pixels, map shifted
+    assert values[0, :2].tolist() == [-1, -1] and not inside[0, :2].any()
+    assert values[0, 2:18].tolist() == np.repeat(data[0], 2).tolist() and inside[0, 2:18].all()
+    assert not inside[0, 18:].any()
+    values, inside = pool_window(data, 0.5, 100, 100, 4, 2)  # nowhere near the map
+    assert not inside.any() and (values == -1).all()
+    with pytest.raises(ValueError):
+        pool_window(data, 0.0, 0, 0, 4, 1)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(1, 60),
+    st.integers(1, 60),
+    st.floats(0.05, 4.0),
+    st.integers(-30, 30),
+    st.integers(-30, 30),
+    st.integers(0, 2**31),
+)
+def test_pooling_is_the_max_over_each_pixels_cells(
+    rows: int, cols: int, scale: float, x0: int, y0: int, seed: int
+) -> None:
+    from pmk_nb.viewport import pool_window
+
+    data = np.random.default_rng(seed).choice(np.array([-1, 0, 100], np.int8), size=(rows, cols))
+    w, h = 40, 30
+    values, inside = pool_window(data, scale, x0, y0, w, h)
+    for j, i in [(0, 0), (h // 2, w // 2), (h - 1, w - 1), (3, 17)]:
+        if scale < 1:  # the cells whose left / top edge lies in the pixel
+            cs = [c for c in range(cols) if x0 + i <= c * scale + 1e-9 < x0 + i + 1]
+            rs = [r for r in range(rows) if y0 + j <= r * scale + 1e-9 < y0 + j + 1]
+        else:  # the cell under the pixel's centre
+            cs = [c for c in range(cols) if c <= (x0 + i + 0.5) / scale < c + 1]
+            rs = [r for r in range(rows) if r <= (y0 + j + 0.5) / scale < r + 1]
+        if not cs or not rs:
+            assert not inside[j, i] and values[j, i] == -1
+        else:
+            assert inside[j, i] and values[j, i] == data[np.ix_(rs, cs)].max()
+
+
+def test_window_image_uses_the_map_file_greys_and_a_transparent_letterbox() -> None:
+    from pmk_nb.grid import OccupancyGrid
+    from pmk_nb.rosmap.image import grid_to_gray
+    from pmk_nb.viewport import clean_occupancy, window_image
+    from pmk_nb.viewport.mapimage import GRAY_LUT
+
+    raw = np.arange(256, dtype=np.uint8).view(np.int8).reshape(16, 16)
+    assert (GRAY_LUT[raw.view(np.uint8)] == grid_to_gray(OccupancyGrid(raw[::-1].copy(), 0.05))).all()
+    cleaned = clean_occupancy(raw)
+    assert cleaned.min() == -1 and cleaned.max() == 100  # 101..127 never win the max-pool
+    ok = np.zeros((4, 4), np.int8)
+    assert clean_occupancy(ok) is ok  # the usual case: no copy
+    img = window_image(ok, 1.0, 0, 0, 4, 4)
+    assert img.shape == (4, 4) and (img == 254).all()
+    img = window_image(ok, 1.0, -1, 0, 4, 4)
+    assert img.shape == (4, 4, 4) and (img[:, 0, 3] == 0).all() and (img[:, 1:, 3] == 255).all()
+
+
+def test_tile_covers_the_canvas_until_the_view_leaves_it() -> None:
+    from pmk_nb.viewport import plan_tile, tile_covers
+    from pmk_nb.viewport.mapimage import tile_size_for
+
+    size = tile_size_for((200, 100), 0.5)
+    assert size == (400, 200)
+    tile = plan_tile((1000, 500), (200, 100), size, 2.0)
+    assert (tile.x0, tile.y0, tile.width, tile.height) == (900, 450, 400, 200)
+    assert tile_covers(tile, (1000, 500), (200, 100), 2.0)
+    assert tile_covers(tile, (900, 450), (200, 100), 2.0) and tile_covers(tile, (1100, 550), (200, 100), 2.0)
+    assert not tile_covers(tile, (1101, 550), (200, 100), 2.0)
+    assert not tile_covers(tile, (1000, 500), (200, 100), 3.0)  # another zoom
+    assert not tile_covers(None, (1000, 500), (200, 100), 2.0)
+    same = plan_tile((10, 20), (200, 100), (50, 50), 1.0)  # no margin: exactly the canvas
+    assert (same.x0, same.y0, same.width, same.height) == (10, 20, 200, 100)
+
+
+# -- the laser as the room it sees ---------------------------------------------------------------------
+def test_laser_outline_thins_hits_to_pixels_and_pulls_unknown_back() -> None:
+    from pmk_nb.viewport import laser_outline
+
+    view = Viewport(400, 400, 0.05, (0.0, 0.0), 200, 200)  # 20 x 20 m, 10 px/m at zoom 1
+    n = 1080
+    ranges = np.full(n, 3.0)
+    at_max = np.zeros(n, bool)
+    unknown = np.zeros(n, bool)
+    ranges[100:200] = np.nan
+    unknown[100:200] = True
+    at_max[500:600] = True
+    ranges[500:600] = np.nan
+    out = laser_outline(view, (10.0, 10.0, 0.0), -math.pi, 2 * math.pi / n, ranges, at_max, 8.0, unknown=unknown)
+    assert out.hits.dtype == np.float32 and out.polygon.dtype == np.float32
+    # 880 hits on a 30 px circle: at most one per pixel, and no pixel twice
+    assert out.hits.shape[0] <= 2 * math.pi * 30 + 10
+    assert len({(float(x), float(y)) for x, y in out.hits}) == out.hits.shape[0]
+    assert out.at_max == 100 and out.blind == 100
+    cx, cy = (float(v) for v in view.world_to_pixel(10.0, 10.0))
+    r = np.hypot(out.polygon[:, 0] - cx, out.polygon[:, 1] - cy)
+    assert r.max() == pytest.approx(80.0, abs=1.5)  # the max-range rays reach range_max
+    assert (r < 1.0).any()  # the unknown sector goes back to the scanner
+    # at most one vertex per pixel of the outline (3 m circle + 8 m arc + the pinch)
+    outline_px = 2 * math.pi * 30 + (100 / n) * 2 * math.pi * 80 + 2 * 80
+    assert out.polygon.shape[0] <= outline_px
+    # no free space claimed in the unknown sector: the polygon has no vertex out there
+    ang = np.arctan2(-(out.polygon[:, 1] - cy), out.polygon[:, 0] - cx)
+    sector = (ang > -math.pi + 101 * 2 * math.pi / n) & (ang < -math.pi + 199 * 2 * math.pi / n)
+    assert (r[sector] < 1.0).all()
+
+
+def test_simplify_ring_collapses_straight_walls_only() -> None:
+    from pmk_nb.viewport.outline import dedupe_ring, simplify_ring
+
+    t = np.linspace(0, 1, 400, endpoint=False)
+    zero, up, down = 0 * t, t * 100, 100 - t * 100
+    square = np.concatenate([np.c_[up, zero], np.c_[zero + 100, up], np.c_[down, zero + 100], np.c_[zero, down]])
+    simple = simplify_ring(square)
+    assert 4 <= simple.shape[0] <= 8
+    for corner in ((0, 0), (100, 0), (100, 100), (0, 100)):
+        assert np.min(np.hypot(*(simple - corner).T)) < 1.0
+    ang = np.linspace(0, 2 * math.pi, 2000, endpoint=False)
+    circle = np.c_[200 + 100 * np.cos(ang), 200 + 100 * np.sin(ang)]
+    ring = dedupe_ring(circle)
+    assert ring.shape[0] <= 2 * math.pi * 100 * 1.5  # about one vertex per pixel of outline
+    simple = simplify_ring(ring)
+    assert simple.shape[0] >= 20  # a curve keeps its shape
+    assert np.abs(np.hypot(*(simple - 200).T) - 100).max() < 3.0
+
+
+def test_tick_segments_are_thinned_on_screen() -> None:
+    from pmk_nb.viewport.outline import tick_segments
+
+    view = Viewport(400, 400, 0.05, (0.0, 0.0), 200, 200)  # 10 px/m
+    mask = np.zeros(1080, bool)
+    mask[:180] = True
+    ticks = tick_segments(view, (10.0, 10.0, 0.0), -math.pi, 2 * math.pi / 1080, mask, 0.35, 0.95, 3.0)
+    # a 60 deg sector, ticks ending 9.5 px from the chair: a 10 px arc, one tick per 3 px
+    assert ticks.dtype == np.float32 and 3 <= ticks.shape[0] <= 5
+    lengths = np.hypot(*(ticks[:, 1] - ticks[:, 0]).T)
+    assert np.allclose(lengths, 6.0, atol=0.01)
+
+
+def test_unique_pixels_keeps_one_point_per_dot_and_drops_far_off_points() -> None:
+    from pmk_nb.viewport.outline import unique_pixels
+
+    x = np.array([10.2, 10.7, 11.4, 12.6, -50.0, 30.0, np.nan], dtype=np.float64)
+    y = np.array([5.1, 5.9, 5.5, 5.5, 5.0, 500.0, 1.0])
+    one = unique_pixels(x, y, 100, 100)
+    assert sorted(map(tuple, one.tolist())) == [(10.5, 5.5), (11.5, 5.5), (12.5, 5.5)]
+    four = unique_pixels(x, y, 100, 100, cell=4.0)  # 4 px dots: a 4 x 4 grid, one point per square
+    assert sorted(map(tuple, four.tolist())) == [(10.0, 6.0), (14.0, 6.0)]

@@ -18,6 +18,7 @@ from pmk_nb.errors import PmkError
 COMMANDS: dict[str, tuple[str, str]] = {
     "info": ("pmk_nb.cli.info", "describe an IndoorGML file: storeys, cells, doors, units"),
     "convert": ("pmk_nb.cli.convert", "IndoorGML file -> ROS map_server YAML + image per storey"),
+    "check": ("pmk_nb.cli.check", "wheelchair accessibility of a building plan or a written map (exit 1: problems)"),
     "maps": ("pmk_nb.cli.maps", "the maps folder: list, import, download, convert, delete"),
     "sim": ("pmk_nb.cli.sim", "run the simulated chair (rosbridge + SFTP)"),
     "send": ("pmk_nb.cli.send", "send a map to a chair and reload it there"),
@@ -25,6 +26,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "dashboard": ("pmk_nb.cli.dashboard", "serve the dashboard with Voilà"),
     "demo": ("pmk_nb.cli.demo", "simulated chair + dashboard with the sample map"),
     "bench": ("pmk_nb.cli.bench", "run the benchmarks, write bench/results.md"),
+    "robot": ("pmk_nb.cli.robot", "chair-side ROS 2 nodes: the PMK map server, the simulated chair"),
 }
 
 

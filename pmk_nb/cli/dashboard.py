@@ -1,7 +1,8 @@
 """``pmk dashboard``: serve the app as a Voilà kiosk page.
 
 Voilà runs as a child process on a generated notebook (see :mod:`pmk_nb.cli.voila`); Ctrl-C or
-SIGTERM stops it, and no child is left behind (:mod:`pmk_nb.cli.procs`).
+SIGTERM stops it, and no child is left behind (:mod:`pmk_nb.cli.procs`).  ``--kiosk`` locks the
+page down for a tablet on the chair (Home only, Maps and Settings behind a PIN, screen kept on).
 """
 
 from __future__ import annotations
@@ -13,13 +14,18 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
-from pmk_nb.cli.voila import serve, server_options
+from pmk_nb.cli.voila import preflight, serve, server_options
 from pmk_nb.ui.context import AUTOSTART_ENV
+from pmk_nb.ui.kiosk_pin import KIOSK_ENV
 
 
 def add_parser(subparsers: Any) -> None:
     """Register ``pmk dashboard``."""
-    p = subparsers.add_parser("dashboard", help="serve the dashboard as a Voilà kiosk page")
+    p = subparsers.add_parser(
+        "dashboard",
+        help="serve the dashboard as a Voilà kiosk page",
+        description="Serve the dashboard (Home, Maps, Settings) as a web page; Ctrl-C stops it.",
+    )
     server_options(p)
     p.add_argument("--maps-dir", type=Path, help="maps folder (default: $PMK_MAPS_DIR or the user data dir)")
     p.add_argument("--config-dir", type=Path, help="settings folder (default: $PMK_CONFIG_DIR or user config)")
@@ -27,6 +33,12 @@ def add_parser(subparsers: Any) -> None:
         "--preview-on-start",
         action="store_true",
         help="start the Home screen's live preview by itself (kiosk: no button to press)",
+    )
+    p.add_argument(
+        "--kiosk",
+        action="store_true",
+        help="locked-down tablet page: Home only with big buttons, Maps and Settings behind the PIN set in "
+        "Settings, screen kept on; implies --preview-on-start",
     )
     p.set_defaults(run=run)
 
@@ -38,7 +50,9 @@ def run(args: argparse.Namespace) -> int:
         env["PMK_MAPS_DIR"] = str(args.maps_dir.expanduser().resolve())
     if args.config_dir is not None:
         env["PMK_CONFIG_DIR"] = str(args.config_dir.expanduser().resolve())
-    if args.preview_on_start:
+    if args.preview_on_start or args.kiosk:
         env[AUTOSTART_ENV] = "1"
+    env[KIOSK_ENV] = "1" if args.kiosk else "0"
+    token = preflight(args, env)
     with sigterm_as_interrupt(), tempfile.TemporaryDirectory(prefix="pmk-dashboard-") as tmp:
-        return serve(args, env, Path(tmp))
+        return serve(args, env, Path(tmp), token)

@@ -3,26 +3,33 @@
 The first-run experience: converts the sample clinic floor into a demo maps folder, starts the
 simulated chair (``pmk sim``) with an SFTP endpoint, writes a "Simulated chair" profile pointing at
 it (SFTP by a key pair made in the demo folder), makes the clinic the current map and serves the
-dashboard with the Home preview starting by itself, so a new user opens the URL and sees the chair
-patrolling without pressing anything.  Ctrl-C / SIGTERM stops everything.
+dashboard in kiosk mode with the Home preview starting by itself, so a new user opens the URL and
+sees the chair patrolling without pressing anything.  Ctrl-C / SIGTERM stops everything.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 from typing import Any
 
 from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
-from pmk_nb.cli.voila import serve, server_options
+from pmk_nb.cli.voila import preflight, serve, server_options
+from pmk_nb.ui.kiosk_pin import KIOSK_ENV
 
 
 def add_parser(subparsers: Any) -> None:
     """Register ``pmk demo``."""
-    p = subparsers.add_parser("demo", help="start a simulated chair and the dashboard, ready to preview")
+    p = subparsers.add_parser(
+        "demo",
+        help="start a simulated chair and the dashboard, ready to preview",
+        description="Convert the sample map, start a simulated chair and serve the dashboard in kiosk mode.",
+    )
     server_options(p)
     p.add_argument("--dir", type=Path, default=Path(".demo"), help="demo folder (default: ./.demo)")
     p.add_argument("--gml", type=Path, help="IndoorGML file to use (default: sample_maps/clinic_floor.gml)")
+    p.add_argument("--no-kiosk", action="store_true", help="serve the full dashboard instead of the kiosk page")
     p.set_defaults(run=run)
 
 
@@ -30,12 +37,14 @@ def run(args: argparse.Namespace) -> int:
     from pmk_nb.cli.demo_setup import prepare_demo
 
     check_port_number(args.port)
+    token = preflight(args, dict(os.environ))  # before the simulator starts: a refused --ip or a taken port fails fast
     with sigterm_as_interrupt():
         print("Preparing the demo: converting the sample map, starting the simulated chair...", flush=True)
         demo = prepare_demo(args.dir, gml=args.gml)
         try:
+            demo.env[KIOSK_ENV] = "0" if args.no_kiosk else "1"
             print(f"Simulated chair: rosbridge ws://127.0.0.1:{demo.ros_port}, SFTP port {demo.sftp_port}", flush=True)
             print("Open the URL below: the Home screen shows the chair patrolling the clinic.", flush=True)
-            return serve(args, demo.env, demo.root)
+            return serve(args, demo.env, demo.root, token)
         finally:
             demo.stop()

@@ -10,6 +10,7 @@ import argparse
 import contextlib
 import sys
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from pmk_nb.cli.convert import add_raster_options
@@ -157,6 +158,25 @@ def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
     return 0
 
 
+def accessibility_line(yaml_path: Path) -> str:
+    """The accessibility summary kept in a map's rooms file ('' when it has none)."""
+    import json
+
+    from pmk_nb.access.sidecar import sidecar_path
+
+    try:
+        report = json.loads(sidecar_path(yaml_path).read_text(encoding="utf-8")).get("accessibility") or {}
+    except (OSError, ValueError):
+        return ""
+    c = report.get("counts")
+    if not c:
+        return ""
+    return (
+        f"{c['passable_chair']}/{c['links']} transitions passable for a {report['chair_width']:.2f} m chair, "
+        f"{c['narrow']} narrow, {c['unreachable']} unreachable, {c['leaks']} leaks"
+    )
+
+
 def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
     with _status_line() as show:
 
@@ -172,9 +192,14 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             unit=args.unit,
             image_format=args.image_format,
             progress=progress,
+            door_width=args.door_width,
+            chair_width=args.chair_width,
         )
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:
         files = ", ".join(p.name for p in (gm.yaml, gm.image, gm.preview) if p is not None)
         print(f"    {_describe(gm)}  [{files}]")
+        access = accessibility_line(gm.yaml)
+        if access:
+            print(f"        accessibility: {access}")
     return 0

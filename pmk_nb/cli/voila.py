@@ -1,15 +1,22 @@
 """How the dashboard is served as a Voilà kiosk page: the notebook it runs, the server options, serve().
 
 The kiosk notebook is generated (a pip-installed package has no ``notebooks/`` folder) with the same
-two lines as ``notebooks/dashboard.ipynb``; a test keeps the two identical.
+two lines as ``notebooks/dashboard.ipynb``; a test keeps the two identical.  Beside it goes the
+server's config file ``voila.json`` (Voilà reads only that folder's config, so a user's own Jupyter
+config cannot undo these choices); it holds what cannot travel on a command line: integer tornado
+settings and the access token (a command line is visible to every local user).
 
 Server choices, and why:
   * ``--strip_sources=True``: the page shows the app, never code.
-  * ``--Voila.ip=127.0.0.1`` by default: a kiosk on another device must be opted into (``--ip``).
-  * ``MappingKernelManager.cull_idle_timeout=600`` / ``cull_interval=60``: a page closed without its
-    ``beforeunload`` shutdown (tablet asleep, browser killed) leaves a kernel holding a chair
-    connection; it is culled after 10 idle minutes.  ``cull_connected`` stays False so an open
-    kiosk page is never killed under its user.
+  * ``--Voila.ip=127.0.0.1`` by default: a kiosk on another device must be opted into (``--ip``),
+    and then only with a token (:func:`check_serving`).
+  * ``--Voila.port_retries=0``: Voilà would otherwise move to the next free port by itself while we
+    print the one asked for; a taken port is a clear error instead (:func:`check_port_free`).
+  * Kernels end with their page (:mod:`pmk_nb.cli.voila_kernels`): the kernel manager shuts a kernel
+    down a few seconds after its page's websocket closed, and websocket pings every second close a
+    connection whose tablet went to sleep.  Idle culling stays as a back-stop and now also culls
+    connected kernels: a live page answers the page heartbeat every 2 s (see
+    :mod:`pmk_nb.ui.page_lifecycle`), so only a kernel whose page stopped pinging ever looks idle.
   * ``show_tracebacks`` stays False: the app reports errors itself.
 """
 
@@ -21,16 +28,20 @@ import subprocess
 import sys
 from pathlib import Path
 
+from pmk_nb.cli import serving
 from pmk_nb.cli.procs import stop_process, wait_children, wait_for_port
+from pmk_nb.cli.voila_kernels import WS_PING_INTERVAL_MS, WS_PING_TIMEOUT_MS
 from pmk_nb.fileio import atomic_write
 
 DASHBOARD_SOURCE = "from pmk_nb.ui import build_app\n\nbuild_app()"
 DASHBOARD_TITLE = "PMK Wheelchair"
-CULL_IDLE_TIMEOUT = 600
-CULL_INTERVAL = 60
-DEFAULT_PORT = 8866
-DEFAULT_IP = "127.0.0.1"
+CULL_IDLE_TIMEOUT = 300
+CULL_INTERVAL = 30
+DEFAULT_PORT = serving.DEFAULT_PORT
+DEFAULT_IP = serving.DEFAULT_IP
 VOILA_START_TIMEOUT = 120.0
+KERNEL_MANAGER = "pmk_nb.cli.voila_kernels.PageBoundKernelManager"
+CONFIG_FILE = "voila.json"
 
 
 def dashboard_notebook() -> dict[str, object]:
@@ -56,10 +67,21 @@ def dashboard_notebook() -> dict[str, object]:
     }
 
 
-def write_dashboard_notebook(directory: Path) -> Path:
-    """Write ``dashboard.ipynb`` into ``directory`` (created) and return its path."""
+def server_config(token: str | None = None) -> dict[str, object]:
+    """Voilà's config file: websocket pings (integers, which the command line would make strings), token."""
+    voila: dict[str, object] = {
+        "tornado_settings": {"ws_ping_interval": WS_PING_INTERVAL_MS, "ws_ping_timeout": WS_PING_TIMEOUT_MS},
+    }
+    if token:
+        voila["token"] = token
+    return {"Voila": voila}
+
+
+def write_dashboard_notebook(directory: Path, *, token: str | None = None) -> Path:
+    """Write ``dashboard.ipynb`` and the server's ``voila.json`` (0600) into ``directory``; return the notebook."""
     path = directory / "dashboard.ipynb"
     atomic_write(path, json.dumps(dashboard_notebook(), indent=1) + "\n", mkdir=True)
+    atomic_write(directory / CONFIG_FILE, json.dumps(server_config(token), indent=1) + "\n", mode=0o600)
     return path
 
 
@@ -72,19 +94,22 @@ def voila_command(
     cull_idle_timeout: int = CULL_IDLE_TIMEOUT,
     cull_interval: int = CULL_INTERVAL,
 ) -> list[str]:
-    """The command line that serves ``notebook`` with this interpreter's Voilà."""
+    """The command line that serves ``notebook`` with this interpreter's Voilà (config: beside the notebook)."""
     cmd = [
         sys.executable,
         "-m",
         "voila",
         str(notebook),
         f"--port={int(port)}",
+        "--Voila.port_retries=0",
         f"--Voila.ip={ip}",
+        f"--Voila.config_file_paths={notebook.parent}",
         "--strip_sources=True",
         "--theme=light",
+        f"--VoilaConfiguration.multi_kernel_manager_class={KERNEL_MANAGER}",
         f"--MappingKernelManager.cull_idle_timeout={int(cull_idle_timeout)}",
         f"--MappingKernelManager.cull_interval={int(cull_interval)}",
-        "--MappingKernelManager.cull_connected=False",
+        "--MappingKernelManager.cull_connected=True",
         "--VoilaConfiguration.show_tracebacks=False",
     ]
     if not open_browser:
@@ -93,29 +118,48 @@ def voila_command(
 
 
 def server_options(p: argparse.ArgumentParser) -> None:
-    """``--port``, ``--ip``, ``--no-browser``: the options of every command that serves the dashboard."""
+    """``--port``, ``--ip``, ``--token``, ``--no-browser``: the options of every command that serves the dashboard."""
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"HTTP port (default {DEFAULT_PORT})")
     p.add_argument(
         "--ip",
         default=DEFAULT_IP,
-        help=f"address to listen on (default {DEFAULT_IP}; use 0.0.0.0 to serve a tablet on the LAN)",
+        help=f"address to listen on (default {DEFAULT_IP}; 0.0.0.0 serves a tablet on the LAN and needs --token)",
+    )
+    p.add_argument(
+        "--token",
+        metavar="TOKEN",
+        help="access token the page's URL must carry; 'auto' makes a random one "
+        f"(required beyond loopback; also read from ${serving.TOKEN_ENV})",
     )
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
 
 
-def _local_host(ip: str) -> str:
-    """Where this machine reaches a server listening on ``ip`` (all interfaces -> loopback)."""
-    return "127.0.0.1" if ip in ("0.0.0.0", "") else ip
+def preflight(args: argparse.Namespace, env: dict[str, str]) -> str | None:
+    """Check ``--ip``/``--token``/``--port`` before anything starts; return the token to require (or None).
+
+    Raises:
+        ServingRefused: beyond loopback without a token, a short token, or the port is taken.
+    """
+    token = serving.resolve_token(args.token, env)
+    serving.check_serving(args.ip, token)
+    serving.check_port_free(args.ip, args.port)
+    return token
 
 
-def serve(args: argparse.Namespace, env: dict[str, str], workdir: Path) -> int:
-    """Start Voilà on the generated notebook, print the URL, wait until it ends or we are stopped."""
-    notebook = write_dashboard_notebook(workdir)
+def serve(args: argparse.Namespace, env: dict[str, str], workdir: Path, token: str | None) -> int:
+    """Start Voilà on the generated notebook, print the URL it really serves, wait until it ends or we are stopped.
+
+    ``token`` comes from :func:`preflight`; the port is checked again (something may have taken it meanwhile).
+    """
+    serving.check_port_free(args.ip, args.port)
+    notebook = write_dashboard_notebook(workdir, token=token)
     cmd = voila_command(notebook, port=args.port, ip=args.ip, open_browser=not args.no_browser)
     voila = subprocess.Popen(cmd, env=env, cwd=workdir)
     try:
-        wait_for_port(_local_host(args.ip), args.port, voila, "Voilà", VOILA_START_TIMEOUT)
-        print(f"PMK dashboard: http://{_local_host(args.ip)}:{args.port}/  (Ctrl-C to stop)", flush=True)
+        wait_for_port(serving.local_host(args.ip), args.port, voila, "Voilà", VOILA_START_TIMEOUT)
+        for line in serving.url_lines(args.ip, args.port, token):
+            print(line, flush=True)
         return wait_children([voila])
     finally:
         stop_process(voila)
+        (workdir / CONFIG_FILE).unlink(missing_ok=True)  # it holds the token

@@ -1,14 +1,17 @@
-"""The dashboard shell: navigation and information panel on the left, the active screen on the right.
+"""The dashboard shell: navigation and information panel, and the active screen beside or below them.
 
-Same layout as the original tablet app (thesis 4.2.1.1): Home, Maps and Settings buttons, below
-them an information panel (the active screen's info plus the latest message), and the screen's
-content filling the rest.  ``build_app()`` is all a notebook or the Voilà kiosk page needs.
+Same layout as the original tablet app (thesis 4.2.1.1) on a wide screen: Home, Maps and Settings
+buttons, below them an information panel (the active screen's info plus the latest message with
+no place on the screen), and the screen's content filling the rest.  On a narrow app (portrait
+tablet, phone, JupyterLab beside its file browser) the same panel becomes a top bar; see
+:mod:`pmk_nb.ui.style`.  ``build_app()`` is all a notebook or the Voilà kiosk page needs.
 """
 
 from __future__ import annotations
 
 import atexit
 import logging
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -31,7 +34,7 @@ class Screen(Protocol):
     def close(self) -> None: ...
 
 
-class Dashboard(w.HBox):
+class Dashboard(w.VBox):
     """The whole app as one widget; ``show(name)`` switches screens like the navigation buttons.
 
     Args:
@@ -58,37 +61,42 @@ class Dashboard(w.HBox):
         self.nav_buttons: dict[str, w.Button] = {}
         for name in SCREENS:
             label, icon = _NAV_LABELS[name]
-            btn = button(label, f"pmk-nav-{name}", icon=icon, width="100%")
+            btn = button(label, f"pmk-nav-{name}", icon=icon, width=None)
             btn.on_click(guard(ctx, f"Opening {label}")(lambda _b, n=name: self.show(n)))
             self.nav_buttons[name] = btn
         self.message = w.HTML("")
         self.message.add_class("pmk-message")
         self.info_slot = w.VBox([])
-        info = w.VBox([self.info_slot, self.message], layout=w.Layout(width="100%"))
+        info = w.VBox([self.info_slot, self.message])
         info.add_class("pmk-info")
         title = w.HTML("<div class='pmk-title'>PMK Wheelchair</div>")
-        nav = w.VBox(
-            [title, *self.nav_buttons.values(), info],
-            layout=w.Layout(width="270px", min_width="270px", min_height="560px", grid_gap="8px"),
-        )
-        nav.add_class("pmk-nav")
-        self.content = w.Box([], layout=w.Layout(flex="1 1 auto", width="100%", overflow="auto"))
+        title.add_class("pmk-nav-title")
+        # sizes come from the style sheet (pmk_nb.ui.style): a sidebar on a wide app, a top bar on
+        # a narrow one; a Layout width here would be an inline style no container rule can change
+        self.nav = w.VBox([title, *self.nav_buttons.values(), info])
+        self.nav.add_class("pmk-nav")
+        self.content = w.Box([])
         self.content.add_class("pmk-content")
-        super().__init__(
-            [style_widget(), nav, self.content],
-            layout=w.Layout(width="100%", min_height="600px", align_items="stretch"),
-        )
+        self.shell = w.Box([self.nav, self.content])
+        self.shell.add_class("pmk-shell")
+        # the root is the CSS size container: the layout follows the app's own width (a phone, a
+        # portrait tablet, JupyterLab's main area beside the file browser), not the window's
+        super().__init__([style_widget(), self.shell], layout=w.Layout(width="100%"))
         self.add_class("pmk-app")
         self._unsubscribe = ctx.observe_notifications(self._on_notification)
         if ctx.notifications:  # problems found while the screens were built
             self._on_notification(ctx.notifications[-1])
         self._closed = False
+        # kiosk hook (pmk_nb/ui/kiosk.py): return False to keep a screen closed (e.g. behind a PIN)
+        self.gate: Callable[[str], bool] | None = None
         self.show("home")
 
     def show(self, name: str) -> None:
         """Switch to a screen; leaving Home stops the live preview (as the Android app did)."""
         if name not in self.screens:
             raise ValueError(f"unknown screen {name!r}; expected one of {', '.join(SCREENS)}")
+        if self.gate is not None and not self.gate(name):
+            return
         previous = self.current
         if previous == "home" and name != "home":
             self.screens["home"].stop_preview()
@@ -106,6 +114,10 @@ class Dashboard(w.HBox):
             on_show()
 
     def _on_notification(self, note: Notification) -> None:
+        """The latest message with no place of its own; any later one (even inline) clears it."""
+        if note.inline:
+            self.message.value = ""
+            return
         self.message.value = f"<div class='pmk-msg-{note.level}'>{escape(note.message)}</div>"
 
     def close(self) -> None:
@@ -165,4 +177,10 @@ def build_app(
         return box
     # One chair connection per page: closed when the kernel goes (Voilà culls idle kernels).
     atexit.register(app.ctx.close)
+    # Kiosk mode and the page's lifecycle (pmk_nb/ui/kiosk.py, pmk_nb/ui/page_lifecycle.py): both do
+    # nothing outside a Voilà page / without PMK_KIOSK.
+    from pmk_nb.ui import kiosk, page_lifecycle
+
+    kiosk.apply(app)
+    page_lifecycle.attach(app)
     return app

@@ -1,8 +1,9 @@
 """Shared state of one dashboard session (one kernel): maps folder, chair profiles, current map.
 
 Screens never talk to each other directly: the Maps screen sets the current map, the Home screen
-observes it; every screen reports problems through :meth:`AppContext.notify` so the app shell can
-show them in the information panel instead of a traceback.  The current map survives restarts in a
+observes it; every screen reports through :meth:`AppContext.notify`, so the app shell shows a
+problem that has no place on the screen in its message line (instead of a traceback) and clears
+that line when the next action reports.  The current map survives restarts in a
 small JSON state file in the config dir (``PMK_CONFIG_DIR`` overrides), like the original app's
 "last map used" preference.
 """
@@ -58,10 +59,18 @@ class CurrentMap:
 
 @dataclass(frozen=True)
 class Notification:
-    """One message for the information panel."""
+    """One message for the user.
+
+    Attributes:
+        message: the text, in the dashboard's words.
+        level: "info", "warning" or "error".
+        inline: the screen that sent it shows it in its own place (next to the control that
+            started the action); the app's message line then clears instead of repeating it.
+    """
 
     message: str
     level: Level
+    inline: bool = False
 
 
 def _atomic_write_json(path: Path, data: object) -> None:
@@ -185,11 +194,15 @@ class AppContext:
             return None
 
     # -- notifications -----------------------------------------------------------------------------
-    def notify(self, message: str, level: Level = "info") -> None:
-        """Report something to the user (info panel); safe to call from worker threads."""
+    def notify(self, message: str, level: Level = "info", *, inline: bool = False) -> None:
+        """Report something to the user; safe to call from worker threads.
+
+        Every notification replaces the app's message line, so a later success clears an older
+        failure; an ``inline`` one (shown by its screen) leaves the line empty.
+        """
         if level not in LEVELS:
             level = "info"
-        note = Notification(str(message), level)
+        note = Notification(str(message), level, bool(inline))
         with self._lock:
             self.notifications.append(note)
             del self.notifications[:-50]

@@ -89,6 +89,7 @@ class FrameMetrics:
             "scan_delay_ms_p95": pct(self.scan_delay_ms, 95),
             "bytes_p50": pct(self.frame_bytes, 50),
             "bytes_p95": pct(self.frame_bytes, 95),
+            "bytes_max": float(max(self.frame_bytes)) if self.frame_bytes else None,
         }
 
 

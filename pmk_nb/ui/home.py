@@ -1,8 +1,9 @@
-"""Home screen: the current map, Preview / Disconnect, Show sensors, zoom, and the live info panel.
+"""Home screen: the current map, Preview / Stop preview, Show sensors, zoom, and the live info panel.
 
 As in the original app (thesis 3.2.5, 4.2.1.1, 5.2.3.1, 5.2.3.4): the current map is the last one
 sent to the chair; when it cannot be shown there is a warning and no Preview button; Preview
-connects to the chair and starts the live view, Disconnect stops it; "Show sensors" toggles the
+connects to the chair and starts the live view, Stop preview stops it (only the preview: the
+button is neither red nor called Disconnect, as it is no emergency stop); "Show sensors" toggles the
 laser rays; the zoom buttons sit at the map's upper-right corner; position, heading, speed and zoom
 are shown in the information panel and updated live, with a clear "no data" state when odometry
 stops.  Like the original's wifi dialog, showing Home checks that the chair answers and warns if not.
@@ -12,7 +13,7 @@ only a thumbnail here, and refusing to show the map the chair really uses becaus
 gone would block the user for nothing.  A missing or unreadable map file hides Preview.
 
 With ``autostart`` (``pmk demo``, kiosks: see :data:`pmk_nb.ui.context.AUTOSTART_ENV`) the preview
-starts by itself whenever Home is shown, unless the user pressed Disconnect.
+starts by itself whenever Home is shown, unless the user pressed Stop preview.
 
 Where things live: the widgets in :mod:`pmk_nb.ui.home_layout`, the texts in
 :mod:`pmk_nb.ui.home_info`, the link's lifecycle in :mod:`pmk_nb.ui.preview_controller`, the map
@@ -41,10 +42,11 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.preview_controller import PreviewController
 from pmk_nb.ui.render_loop import RenderLoop
-from pmk_nb.ui.widgets import escape
+from pmk_nb.ui.widgets import error_text, escape
 
 if TYPE_CHECKING:
     from pmk_nb.grid import OccupancyGrid
@@ -68,7 +70,7 @@ class HomeScreen:
         canvas_width, canvas_height: largest live view size in pixels (it takes the map's shape).
         fps: frame-rate cap of the live view.
         autostart: start the preview whenever Home is shown (:meth:`on_show`), unless the user
-            pressed Disconnect; for demos and kiosks.
+            pressed Stop preview; for demos and kiosks.
     """
 
     def __init__(
@@ -77,7 +79,7 @@ class HomeScreen:
         *,
         canvas_width: int = CANVAS_MAX[0],
         canvas_height: int = CANVAS_MAX[1],
-        fps: float = 20.0,
+        fps: float = LIVE_FPS,
         autostart: bool = False,
     ) -> None:
         self.ctx = ctx
@@ -88,14 +90,14 @@ class HomeScreen:
         self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True)
         self.live.on_zoom_change(lambda _z: self.refresh_info())
         self.live.on_error(self._on_live_error)
-        self.ui = HomeLayout(self.live.canvas)
+        self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
         self.widget = self.ui.widget
         self.info_widget = self.ui.info.widget
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
         ui.preview_button.on_click(self._safe("Starting the preview", lambda _b: self._user_start()))
-        ui.disconnect_button.on_click(self._safe("Disconnecting", lambda _b: self._user_stop()))
+        ui.disconnect_button.on_click(self._safe("Stopping the preview", lambda _b: self._user_stop()))
         ui.zoom_in_button.on_click(self._safe("Zooming in", lambda _b: self.live.zoom_in()))
         ui.zoom_out_button.on_click(self._safe("Zooming out", lambda _b: self.live.zoom_out()))
         ui.sensors.observe(self._safe("Toggling sensors", self._on_sensors), names="value")
@@ -201,6 +203,7 @@ class HomeScreen:
             self._map_problem(f"The map '{current.name}' cannot be shown: {err}. Convert and send it again.")
             return None
         ui.map_note.value = warning_html(preview_image_problem(current) or "")
+        self.live.set_map(grid)  # shown connected or not (the same grid again is a no-op)
         self._map_ok = True
         self._show_running(self.running)
         if not self.running:
@@ -253,7 +256,7 @@ class HomeScreen:
         # no chair, no preview (as the original app): stop, and say why and what to do
         self.stop_preview()
         self._warn(message + " Check the Settings screen and the network, then press Preview again.")
-        self.ctx.notify(message, "warning")
+        self.ctx.notify(message, "warning", inline=True)  # shown above the map: once
 
     def _on_sensors(self, change: dict[str, Any]) -> None:
         value = change.get("new")
@@ -274,8 +277,9 @@ class HomeScreen:
             except Exception as err:
                 if not isinstance(err, PmkError | ValueError):
                     log.exception("%s failed", action)
-                self._warn(f"{action} failed: {err}")
-                self.ctx.notify(f"{action} failed: {err}", "error")
+                message = error_text(err, action)
+                self._warn(message)
+                self.ctx.notify(message, "error", inline=True)
 
         return wrapper
 

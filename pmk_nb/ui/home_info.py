@@ -21,6 +21,7 @@ from pmk_nb.ui.widgets import escape
 if TYPE_CHECKING:  # the link package pulls in roslibpy: imported when a preview starts, not before
     from pmk_nb.chair.link.state import LinkState
 
+NO_VALUE = "—"  # shown instead of a value that is not current
 STALE_AFTER = 2.0  # s without odometry before the "no data" state
 CONNECT_TIMEOUT = 5.0  # s the preview waits for the chair's rosbridge
 #: A run of blind laser rays across the chair's heading at least this wide (degrees) is reported.
@@ -120,14 +121,21 @@ def info_texts(
     scan: Scan | None = None,
 ) -> InfoTexts:
     """The panel's lines for one refresh (all escaped HTML)."""
+    stale = state in ("stale", "unreachable")
     if pose is not None:
         # say which frame the position is in: the map (tf, AMCL) or odometry (which drifts); Home
         # falls back to odometry while the chosen pose source sends nothing
         frame = pose.frame or "odom"
         pos = f"x {pose.x:.2f} m, y {pose.y:.2f} m, heading {math.degrees(pose.theta):.0f}° ({frame} frame)"
+        if stale:  # where the chair was, not where it is: say so and grey it
+            pos = f"Last known: {pos}"
     else:
-        pos = "Position: –"
-    speed = f"Speed: {odom.v:.2f} m/s, turning {math.degrees(odom.w):.0f}°/s" if odom is not None else "Speed: –"
+        pos = f"Position: {NO_VALUE}"
+    # a speed is only true while data flows: during a stall it would claim the chair still moves
+    if odom is not None and not stale:
+        speed = f"Speed: {odom.v:.2f} m/s, turning {math.degrees(odom.w):.0f}°/s"
+    else:
+        speed = f"Speed: {NO_VALUE}"
     if state == "stale":
         state_text = f"No data for {age:.0f} s" if age is not None else "No data"
     else:
@@ -143,12 +151,16 @@ def info_texts(
         status = ""
     return InfoTexts(
         state=f"<span class='pmk-msg-{css}'>{escape(state_text)}</span>",
-        position=escape(pos),
-        speed=escape(speed),
+        position=_greyed(escape(pos), stale and pose is not None),
+        speed=_greyed(escape(speed), stale),
         zoom=escape(f"Zoom: {zoom} (x{zoom_factor:.2g})"),
         status=status,
         laser=laser_text(scan if state == "live" else None),
     )
+
+
+def _greyed(html: str, grey: bool) -> str:
+    return f"<span class='pmk-stale'>{html}</span>" if grey else html
 
 
 def warning_html(message: str) -> str:

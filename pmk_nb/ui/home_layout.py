@@ -1,8 +1,9 @@
 """The Home screen's widgets and their arrangement; no behaviour beyond showing and hiding.
 
 As in the original app (thesis 4.2.1.1, 5.2.3.4): the map's name as the title, warnings below it,
-one toolbar row with Preview / Disconnect and Show sensors on the left and the zoom buttons at the
-right end, right above the map's upper-right corner, then the live canvas.  The CSS classes
+one toolbar row with Preview / Stop preview and Show sensors on the left and the zoom buttons at
+the right end, right above the map's upper-right corner, then the live canvas.  On a narrow screen
+the toolbar wraps rather than cutting its buttons short.  The CSS classes
 (``pmk-home-*``) are what the kiosk page's style sheet and the browser test find.
 """
 
@@ -38,19 +39,30 @@ class HomeLayout:
 
     Args:
         canvas: the live view's canvas, placed under the toolbar.
+        live_tools: the live view's own buttons (Follow, Centre), placed before the zoom buttons.
     """
 
-    def __init__(self, canvas: w.DOMWidget) -> None:
+    def __init__(self, canvas: w.DOMWidget, live_tools: w.DOMWidget | None = None) -> None:
         self.canvas = canvas
+        self.live_tools = live_tools
         self.map_label = _html("pmk-home-map")
         self.map_note = _html("pmk-home-map-note")
         self.chair_note = _html("pmk-home-chair-note")
         self.warning = _html("pmk-home-warning")
         self.status = _html("pmk-home-status")
         self.preview_button = button("Preview", "pmk-home-preview", icon="play", style="success")
-        self.disconnect_button = button("Disconnect", "pmk-home-disconnect", icon="stop", style="danger")
+        # not red and not "Disconnect": it stops only this page's preview, never the chair (a red
+        # square reads as an emergency stop, which it is not)
+        self.disconnect_button = button(
+            "Stop preview",
+            "pmk-home-disconnect",
+            icon="pause",
+            tooltip="Stop the live preview (the chair is not affected)",
+        )
         # a toggle button rather than a checkbox: the whole 56 px control is the touch target
-        self.sensors = w.ToggleButton(value=True, description="Show sensors", icon="check", tooltip="Laser rays")
+        self.sensors = w.ToggleButton(
+            value=True, description="Show sensors", icon="check", tooltip="Show the laser readings on the map"
+        )
         self.sensors.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto", min_width="160px")
         self.sensors.add_class("pmk-home-sensors")
         self.zoom_in_button = button("", "pmk-home-zoom-in", icon="search-plus", tooltip="Zoom in", width="64px")
@@ -63,29 +75,37 @@ class HomeLayout:
     def _arrange(self) -> w.VBox:
         # the toolbar box is as wide as the canvas, which has the map's shape, so nothing floats in
         # an empty band
-        self.zoom_bar = w.HBox([self.zoom_out_button, self.zoom_in_button], layout=w.Layout(grid_gap="8px"))
+        # rows wrap on a narrow screen (gaps and wrapping in the style sheet) instead of squeezing
+        # the buttons into "Disconn…"; the zoom buttons stay at the right end
+        tools = [self.live_tools] if self.live_tools is not None else []
+        self.zoom_bar = w.HBox([*tools, self.zoom_out_button, self.zoom_in_button])
         self.zoom_bar.add_class("pmk-home-zoom")
         controls = w.HBox(
-            [self.preview_button, self.disconnect_button, self.sensors],
-            layout=w.Layout(align_items="center", grid_gap="12px"),
+            [self.preview_button, self.disconnect_button, self.sensors], layout=w.Layout(align_items="center")
         )
+        controls.add_class("pmk-home-controls")
         self.toolbar = w.HBox(
             [controls, self.zoom_bar],
-            layout=w.Layout(justify_content="space-between", align_items="center", width="100%", grid_gap="12px"),
+            layout=w.Layout(justify_content="space-between", align_items="center", width="100%"),
         )
         self.toolbar.add_class("pmk-home-toolbar")
         self.preview_box = w.VBox([self.toolbar, self.canvas], layout=w.Layout(align_items="flex-start"))
         self.preview_box.add_class("pmk-home-preview-box")
-        title = w.HBox([heading("Home"), self.map_label], layout=w.Layout(align_items="baseline", grid_gap="24px"))
+        title = w.HBox([heading("Home"), self.map_label])
+        title.add_class("pmk-home-title")
         screen = w.VBox([title, self.map_note, self.chair_note, self.warning, self.preview_box, self.status])
         screen.add_class("pmk-home")
         return screen
 
     def show_running(self, running: bool, *, can_preview: bool) -> None:
-        """Preview while stopped (if there is a map to preview); the live controls while running."""
+        """Preview while stopped (if there is a map to preview); the live controls while running.
+
+        The map, its zoom and its Follow / Centre buttons show whenever there is a map, live or not.
+        """
         self.preview_button.layout.display = "" if not running and can_preview else "none"
         live = "" if running else "none"
         self.disconnect_button.layout.display = live
         self.sensors.layout.display = live
-        self.zoom_bar.layout.display = live
-        self.canvas.layout.display = live
+        has_map = "" if running or can_preview else "none"
+        self.zoom_bar.layout.display = has_map
+        self.canvas.layout.display = has_map

@@ -1,8 +1,9 @@
-"""The live canvas's zoom gestures: mouse wheel and two-finger pinch, mapped to zoom levels.
+"""The live canvas's gestures: wheel and two-finger pinch zoom, mouse and one-finger drag pan.
 
 Front-end events are untrusted input (any page can send any JSON): garbage is ignored, never
-raised.  The zoom rules themselves (clamping, pinch ratio -> level) live in the pure
-:class:`pmk_nb.viewport.Viewport`; this only turns events into "set the zoom to N".
+raised.  The rules themselves (clamping, pinch ratio -> level, pan -> view, a pan stops following)
+live in the pure :class:`pmk_nb.viewport.Viewport`; this only turns events into "set the zoom to
+N" and "move the map by (dx, dy) pixels".
 """
 
 from __future__ import annotations
@@ -11,9 +12,24 @@ import math
 import time
 from collections.abc import Callable
 
+import ipywidgets as w
 from ipycanvas import MultiCanvas
 
+from pmk_nb.ui.widgets import TOUCH_PX, button
+
 WHEEL_INTERVAL = 0.15  # s between two wheel zoom steps (trackpads send bursts of events)
+
+
+def touch_point(touches: object) -> tuple[float, float] | None:
+    """The first touch's (x, y) when exactly one finger is down, else None."""
+    try:
+        points = list(touches)  # type: ignore[call-overload]
+        if len(points) != 1:
+            return None
+        x, y = (float(v) for v in points[0])
+    except (TypeError, ValueError):
+        return None
+    return (x, y) if math.isfinite(x) and math.isfinite(y) else None
 
 
 def pinch_distance(touches: object) -> float | None:
@@ -27,13 +43,14 @@ def pinch_distance(touches: object) -> float | None:
 
 
 class ZoomGestures:
-    """Listens to a canvas's wheel and touch events and asks for zoom levels.
+    """Listens to a canvas's wheel, mouse and touch events and asks for zoom levels and pans.
 
     Args:
         canvas: the canvas whose (top layer's) events are read.
         zoom: the current zoom level.
         set_zoom: sets a zoom level (clamped by the viewport).
         pinch_zoom: ``(zoom at pinch start, finger distance ratio) -> level``, or None without a map.
+        pan: moves the map by (dx, dy) canvas pixels; None: no drag to pan.
     """
 
     def __init__(
@@ -42,14 +59,22 @@ class ZoomGestures:
         zoom: Callable[[], int],
         set_zoom: Callable[[int], object],
         pinch_zoom: Callable[[int, float], int | None],
+        pan: Callable[[float, float], object] | None = None,
     ) -> None:
         self._zoom = zoom
         self._set_zoom = set_zoom
         self._pinch_zoom = pinch_zoom
+        self._pan = pan
         #: (finger distance, zoom level) when the current pinch began
         self.pinch: tuple[float, int] | None = None
+        #: where the mouse button or the one finger was at the last event of a drag
+        self.drag: tuple[float, float] | None = None
         self.last_wheel = 0.0
         canvas.on_mouse_wheel(self.on_wheel)
+        canvas.on_mouse_down(self.on_mouse_down)
+        canvas.on_mouse_move(self.on_mouse_move)
+        canvas.on_mouse_up(self.on_mouse_up)
+        canvas.on_mouse_out(self.on_mouse_up)
         canvas.on_touch_start(self.on_touch)
         canvas.on_touch_move(self.on_touch)
         canvas.on_touch_end(self.on_touch_end)
@@ -67,8 +92,36 @@ class ZoomGestures:
         self.last_wheel = now
         self._set_zoom(self._zoom() + (1 if delta < 0 else -1))
 
+    def on_mouse_down(self, x: object, y: object) -> None:
+        self.drag = _point(x, y)
+
+    def on_mouse_move(self, x: object, y: object) -> None:
+        """With the button down, the map follows the mouse."""
+        self._drag_to(_point(x, y))
+
+    def on_mouse_up(self, x: object = None, y: object = None) -> None:
+        self.drag = None
+
+    def _drag_to(self, point: tuple[float, float] | None) -> None:
+        start = self.drag
+        if start is None or point is None:
+            return
+        self.drag = point
+        dx, dy = point[0] - start[0], point[1] - start[1]
+        if self._pan is not None and (dx or dy):
+            self._pan(dx, dy)
+
     def on_touch(self, touches: object) -> None:
-        """Two fingers: the zoom follows the ratio of finger distances since the pinch began."""
+        """One finger drags the map; two: the zoom follows the ratio of finger distances."""
+        one = touch_point(touches)
+        if one is not None:
+            self.pinch = None
+            if self.drag is None:
+                self.drag = one
+            else:
+                self._drag_to(one)
+            return
+        self.drag = None
         dist = pinch_distance(touches)
         if dist is None:
             self.pinch = None
@@ -90,3 +143,33 @@ class ZoomGestures:
             fingers = 0
         if fingers < 2:
             self.pinch = None
+        if fingers != 1:
+            self.drag = None  # lifting one of two fingers must not jump the map to the other one
+        else:
+            self.drag = touch_point(touches)
+
+
+def _point(x: object, y: object) -> tuple[float, float] | None:
+    try:
+        px, py = float(x), float(y)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return None
+    return (px, py) if math.isfinite(px) and math.isfinite(py) else None
+
+
+class LiveToolbar:
+    """The live view's own buttons: Follow (on/off) and Centre; the screen places :attr:`widget`.
+
+    Both are full touch targets with a visible label (their accessible name). The zoom buttons stay
+    with the screen that owns the toolbar row (Home puts them at the map's upper-right corner).
+    """
+
+    def __init__(self) -> None:
+        self.follow = w.ToggleButton(
+            value=True, description="Follow", icon="location-arrow", tooltip="Keep the chair in the middle of the map"
+        )
+        self.follow.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto", min_width="112px")
+        self.follow.add_class("pmk-live-follow")
+        self.centre = button("Centre", "pmk-live-centre", icon="crosshairs", tooltip="Centre the map on the chair")
+        self.widget = w.HBox([self.follow, self.centre], layout=w.Layout(align_items="center"))
+        self.widget.add_class("pmk-live-toolbar")

@@ -1,8 +1,14 @@
-"""The live view's static layer: the map image cropped to the view, sent only when the view changes.
+"""The live view's static layer: the map at screen resolution, moved (not re-sent) while following.
 
-A NumPy crop of the map image (nearest neighbour, canvas size) sent with ``put_image_data``; the
-live view calls this on a zoom, a pan of at least one pixel, a new map or a new page, never per
-frame (an 800 x 600 PNG is tens of kilobytes, the chair layer a few).
+The map is rendered from the grid itself with :func:`pmk_nb.viewport.window_image` (every cell
+counts, so a 0.1 m wall stays a line at any zoom) into a *tile*: a hidden canvas a margin larger
+than the view.  Each frame whose view moved only puts the tile at its new offset (``drawImage``,
+a few bytes); a new tile (tens of kilobytes of PNG) is rendered only on a zoom, a new map, a new
+page, or when the view leaves the tile.  The tile canvas keeps one size for its whole life:
+resizing a canvas travels on another comm than the drawing and could wipe a tile just drawn.
+
+``mode="nearest"`` keeps the earlier look for comparisons (``bench/bench_live.py``): the map image
+sampled one cell per pixel and sent whole on every pan.
 """
 
 from __future__ import annotations
@@ -10,11 +16,17 @@ from __future__ import annotations
 import numpy as np
 from ipycanvas import Canvas
 
-from pmk_nb.viewport import Viewport
+from pmk_nb.grid import OccupancyGrid
+from pmk_nb.viewport import MapTile, Viewport, clean_occupancy, plan_tile, tile_covers, window_image
+from pmk_nb.viewport.mapimage import GRAY_LUT, tile_size_for
+
+#: Spare map around the view, as a fraction of the canvas on each side.
+TILE_MARGIN = 0.5
 
 
 def draw_map_layer(layer: Canvas, view: Viewport, gray: np.ndarray) -> None:
-    """Replace ``layer``'s content with the part of ``gray`` (uint8, row 0 = top) ``view`` shows."""
+    """Replace ``layer``'s content with the part of ``gray`` (uint8, row 0 = top) ``view`` shows,
+    sampled one cell per pixel (the earlier look: thin walls may vanish)."""
     img, inside = view.image_window(gray)
     if not inside.all():  # letterbox: transparent outside the map (RGBA is lossless PNG)
         rgba = np.empty((*img.shape, 4), dtype=np.uint8)
@@ -23,3 +35,73 @@ def draw_map_layer(layer: Canvas, view: Viewport, gray: np.ndarray) -> None:
         img = rgba
     layer.clear()
     layer.put_image_data(img, 0, 0)
+
+
+class MapLayer:
+    """Keeps ``layer`` showing the map under the view.
+
+    Args:
+        layer: the bottom layer of the live view's MultiCanvas.
+        max_canvas: the largest canvas size the view will have (sets the tile size once).
+        margin: spare map on each side of the view, in canvas sizes.
+        mode: "tile" (every wall kept, moved by offset) or "nearest" (the earlier look).
+    """
+
+    def __init__(
+        self, layer: Canvas, max_canvas: tuple[int, int], *, margin: float = TILE_MARGIN, mode: str = "tile"
+    ) -> None:
+        if mode not in ("tile", "nearest"):
+            raise ValueError(f"map layer mode must be 'tile' or 'nearest', got {mode!r}")
+        self.layer = layer
+        self.mode = mode
+        self.margin = max(float(margin), 0.0)
+        self.tile_size = tile_size_for(max_canvas, self.margin)
+        self.tile_canvas = Canvas(width=self.tile_size[0], height=self.tile_size[1])
+        self.tile: MapTile | None = None
+        self._placed: tuple[int, int] | None = None
+        self._data_top: np.ndarray | None = None
+        self._gray: np.ndarray | None = None
+        self._key: tuple[object, ...] | None = None  # nearest mode: the view last drawn
+
+    def set_grid(self, grid: OccupancyGrid) -> None:
+        """Show ``grid`` from the next :meth:`draw` on."""
+        self._data_top = clean_occupancy(grid.data)[::-1]  # image order: row 0 = top (a view, no copy)
+        self._gray = None
+        self.invalidate()
+
+    def invalidate(self) -> None:
+        """Render and place everything again at the next :meth:`draw` (a new page, a new map)."""
+        self.tile = None
+        self._placed = None
+        self._key = None
+
+    def draw(self, view: Viewport) -> bool:
+        """Bring the layer up to date with ``view``; True when a new image (tile) was sent."""
+        if self._data_top is None:
+            return False
+        if self.mode == "nearest":
+            return self._draw_nearest(view)
+        origin = view.pixel_origin()
+        canvas = (view.canvas_width, view.canvas_height)
+        rendered = False
+        if not tile_covers(self.tile, origin, canvas, view.scale):
+            tile = plan_tile(origin, canvas, self.tile_size, view.scale)
+            image = window_image(self._data_top, tile.scale, tile.x0, tile.y0, tile.width, tile.height)
+            self.tile_canvas.clear()
+            self.tile_canvas.put_image_data(image, 0, 0)
+            self.tile, self._placed, rendered = tile, None, True
+        if origin != self._placed and self.tile is not None:
+            self.layer.clear()
+            self.layer.draw_image(self.tile_canvas, self.tile.x0 - origin[0], self.tile.y0 - origin[1])
+            self._placed = origin
+        return rendered
+
+    def _draw_nearest(self, view: Viewport) -> bool:
+        key = view.state_key()
+        if key == self._key:
+            return False
+        if self._gray is None:
+            self._gray = np.ascontiguousarray(GRAY_LUT[self._data_top.view(np.uint8)])
+        draw_map_layer(self.layer, view, self._gray)
+        self._key = key
+        return True

@@ -1,13 +1,15 @@
 """The live preview canvas: the map, the chair, its heading/velocity and the laser scan (ipycanvas).
 
-Two layers in a ``MultiCanvas``: the map layer (:mod:`pmk_nb.ui.live_map_layer`) is sent only
-when the view changes (zoom, a pan of at least one pixel, a new map, a new client); the dynamic
-layer (:mod:`pmk_nb.ui.live_chair_layer`) is cleared and redrawn every frame with batched calls,
-all in one ``hold_canvas`` so a frame is one comm message.  A :class:`RenderLoop` draws at most
-``fps`` frames a second from the *latest* messages the chair link has stored, so a 50 Hz odometry
-or 40 Hz scan never queues drawing work, and frames whose inputs did not change are skipped.
-Zoom comes from the buttons (:meth:`LiveView.zoom_in`), the wheel and pinches
-(:mod:`pmk_nb.ui.live_gestures`).
+Two layers in a ``MultiCanvas``: the map layer (:mod:`pmk_nb.ui.live_map_layer`) shows the grid
+at screen resolution from a tile that is re-rendered only on a zoom, a new map, a new client or
+when the view leaves it, and merely moved while the view follows the chair; the dynamic layer
+(:mod:`pmk_nb.ui.live_chair_layer`) is cleared and redrawn every frame with batched calls, all in
+one ``hold_canvas`` so a frame is one comm message.  A :class:`RenderLoop` draws at most ``fps``
+frames a second from the *latest* messages the chair link has stored, so a 50 Hz odometry or
+40 Hz scan never queues drawing work, and frames whose inputs did not change are skipped.
+Zoom comes from the screen's buttons (:meth:`LiveView.zoom_in`), the wheel and pinches; a drag
+(mouse or one finger) pans and turns Follow off; the view's own toolbar (:attr:`LiveView.toolbar`)
+has Follow and Centre (:mod:`pmk_nb.ui.live_gestures`).  The map shows with or without a chair.
 """
 
 from __future__ import annotations
@@ -18,20 +20,22 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
-import numpy as np
 from ipycanvas import MultiCanvas
 
 from pmk_nb.chair.messages import Odometry, Pose2D, Scan
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.canvas_fix import make_messages_name_their_layer
 from pmk_nb.ui.frame_metrics import FrameMetrics, install_byte_meter, measured_hold
-from pmk_nb.ui.live_chair_layer import ChairLook, PoseHistory, draw_chair_layer, pose_tuple
-from pmk_nb.ui.live_gestures import ZoomGestures
-from pmk_nb.ui.live_map_layer import draw_map_layer
+from pmk_nb.ui.live_chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer, pose_tuple
+from pmk_nb.ui.live_gestures import LiveToolbar, ZoomGestures
+from pmk_nb.ui.live_map_layer import TILE_MARGIN, MapLayer
 from pmk_nb.ui.render_loop import RenderLoop
 from pmk_nb.viewport import Viewport, fit_canvas
 
 RAY_SPACING_PX = 2.0  # thin out rays that would end closer than this on screen
+#: Frame-rate cap: a little above the 30 fps the page must draw, so timer jitter on a busy kernel
+#: never takes it below (frames whose inputs did not change are skipped anyway).
+DEFAULT_FPS = 32.0
 #: After a canvas resize the page may apply the new size after the first frame's drawing (size and
 #: drawing travel on different comms) and that frame would be wiped: send everything again this late.
 RESIZE_RESEND_S = 0.5
@@ -53,9 +57,13 @@ class LiveView:
         fps: frame-rate cap of the render loop.
         footprint_radius: chair radius in metres (the blue circle).
         zoom_step, max_zoom: see :class:`pmk_nb.viewport.Viewport`.
-        show_laser: draw the scan rays.
+        show_laser: draw the laser scan.
         fit_to_map: treat ``width`` x ``height`` as the largest size and give the canvas the shape
             of each map set (no empty band around the map at zoom level 1).
+        laser_style: "points" (hit dots over a light free-space polygon) or "rays" (one line per ray).
+        map_mode: "tile" (the grid at screen resolution, every wall kept) or "nearest" (one cell
+            per pixel, re-sent on every pan: the earlier look, kept for comparisons).
+        tile_margin: spare map around the view in the tile, in canvas sizes.
     """
 
     def __init__(
@@ -63,13 +71,18 @@ class LiveView:
         width: int = 800,
         height: int = 600,
         *,
-        fps: float = 20.0,
+        fps: float = DEFAULT_FPS,
         footprint_radius: float = 0.35,
         zoom_step: float = 1.5,
         max_zoom: int = 8,
         show_laser: bool = True,
         fit_to_map: bool = False,
+        laser_style: str = "points",
+        map_mode: str = "tile",
+        tile_margin: float = TILE_MARGIN,
     ) -> None:
+        if laser_style not in LASER_STYLES:
+            raise ValueError(f"laser_style must be one of {LASER_STYLES}, got {laser_style!r}")
         self.canvas = MultiCanvas(2, width=int(width), height=int(height))
         self.canvas.layout.max_width = "100%"
         self.canvas.add_class("pmk-live-canvas")
@@ -81,6 +94,8 @@ class LiveView:
         self.poses = PoseHistory()
         self.map_layer = self.canvas[0]
         self.dyn_layer = self.canvas[1]
+        self.map = MapLayer(self.map_layer, self.max_size, margin=tile_margin, mode=map_mode)
+        self.laser_style = laser_style
         self._lock = threading.RLock()
         self._zoom_step = zoom_step
         self._max_zoom = max_zoom
@@ -90,9 +105,8 @@ class LiveView:
         self.stale = False
         self.ray_spacing_px = RAY_SPACING_PX
         self.viewport: Viewport | None = None
-        self._gray: np.ndarray | None = None
+        self._grid: OccupancyGrid | None = None
         self._source: LiveSource | None = None
-        self._map_key: tuple[object, ...] | None = None
         self._last_inputs: tuple[object, ...] | None = None
         self._force = True
         self._rays = (0, 0)  # (hits, max-range rays) of the last frame drawn
@@ -101,19 +115,20 @@ class LiveView:
         self.metrics = FrameMetrics()
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error)
         self.canvas.on_client_ready(self._on_client_ready)
-        self.gestures = ZoomGestures(self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom)
+        self.gestures = ZoomGestures(self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan)
+        self.toolbar = LiveToolbar()
+        self.toolbar.follow.observe(self._on_follow_toggle, names="value")
+        self.toolbar.centre.on_click(lambda _b: self.centre())
 
     # -- setup ---------------------------------------------------------------------------------------
-    def set_map(self, grid: OccupancyGrid, gray: np.ndarray | None = None) -> None:
-        """Show ``grid``; ``gray`` is its uint8 image (row 0 = top) if already made."""
-        if gray is None:
-            from pmk_nb.rosmap.files import grid_to_gray
-
-            gray = grid_to_gray(grid)
+    def set_map(self, grid: OccupancyGrid) -> None:
+        """Show ``grid`` (the same grid object again changes nothing: the view keeps its zoom and pan)."""
         with self._lock:
+            if grid is self._grid and self.viewport is not None:
+                return
+            old = self.viewport
             if self.fit_to_map:
                 self._resize(*fit_canvas(int(grid.width), int(grid.height), *self.max_size))
-            zoom = self.viewport.zoom if self.viewport is not None else 1
             self.viewport = Viewport.for_grid(
                 grid,
                 self.canvas.width,
@@ -121,11 +136,18 @@ class LiveView:
                 zoom_step=self._zoom_step,
                 max_zoom=self._max_zoom,
             )
-            self.viewport.set_zoom(zoom)
-            self._gray = np.ascontiguousarray(gray, dtype=np.uint8)
-            self._map_key = None
+            if old is not None:
+                self.viewport.following = old.following
+                self.viewport.set_zoom(old.zoom)
+            self._grid = grid
+            self.map.set_grid(grid)
             self._force = True
         self.request_redraw()
+
+    @property
+    def grid(self) -> OccupancyGrid | None:
+        """The map shown (None before :meth:`set_map`)."""
+        return self._grid
 
     def _resize(self, width: int, height: int) -> None:
         if (self.canvas.width, self.canvas.height) == (width, height):
@@ -138,7 +160,10 @@ class LiveView:
         with self._lock:
             self._source = source
             self.poses.clear()
+            if self.viewport is not None:
+                self.viewport.forget_chair()  # Centre means the map until a chair is seen again
             self._force = True
+        self.request_redraw()  # stopped: the map alone at once, not the last frame's chair
 
     def start(self, source: LiveSource | None = None) -> str:
         """Start drawing (at most ``fps`` frames/s); returns the loop mode ("asyncio" or "thread")."""
@@ -192,6 +217,44 @@ class LiveView:
         view = self.viewport
         return view.zoom_for_pinch(start_zoom, ratio) if view is not None else None
 
+    # -- pan, follow, centre -------------------------------------------------------------------------
+    @property
+    def following(self) -> bool:
+        return bool(self.toolbar.follow.value)
+
+    def pan(self, dx: float, dy: float) -> None:
+        """Move the map by (dx, dy) canvas pixels, as a drag does; turns Follow off."""
+        with self._lock:
+            if self.viewport is None:
+                return
+            self.viewport.pan_pixels(dx, dy)
+        self._show_following(False)
+        self.request_redraw()
+
+    def set_following(self, on: bool) -> None:
+        """Follow the chair (centred at once) or leave the view where it is."""
+        with self._lock:
+            if self.viewport is not None:
+                self.viewport.set_following(on)
+        self._show_following(bool(on))
+        self.request_redraw()
+
+    def centre(self) -> None:
+        """Centre on the chair (or on the map when no chair has been seen); Follow stays as it is."""
+        with self._lock:
+            if self.viewport is not None:
+                self.viewport.centre()
+        self.request_redraw()
+
+    def _show_following(self, on: bool) -> None:
+        if self.toolbar.follow.value != on:
+            self.toolbar.follow.value = on  # its observer calls set_following(on): a no-op by then
+
+    def _on_follow_toggle(self, change: dict[str, object]) -> None:
+        on = bool(change.get("new"))
+        if self.viewport is not None and self.viewport.following != on:
+            self.set_following(on)
+
     # -- drawing -------------------------------------------------------------------------------------
     def request_redraw(self) -> None:
         """Redraw everything at the next frame (now, if the loop is not running)."""
@@ -206,7 +269,7 @@ class LiveView:
     def _on_client_ready(self) -> None:
         # a new page (reload, second view) starts with empty canvases: send both layers again
         with self._lock:
-            self._map_key = None
+            self.map.invalidate()
         self.request_redraw()
 
     def _report_error(self, err: BaseException) -> None:
@@ -227,30 +290,28 @@ class LiveView:
     def render_frame(self) -> bool:
         """Draw one frame from the latest messages; returns False when nothing changed (skipped)."""
         with self._lock:
-            view, gray = self.viewport, self._gray
-            if view is None or gray is None:
+            view = self.viewport
+            if view is None:
                 return False
             if self._resend_at is not None and time.monotonic() >= self._resend_at:
                 self._resend_at = None
-                self._force, self._map_key = True, None
+                self._force = True
+                self.map.invalidate()
             pose, odom, scan = self._read_source()
             if pose is not None:
-                view.follow(pose.x, pose.y)
+                view.see_chair(pose.x, pose.y)
                 self.poses.remember(pose)
             key = view.state_key()
-            inputs = (key, pose, odom, scan, self.show_laser, self.footprint_radius, self.stale)
+            inputs = (key, pose, odom, scan, self.show_laser, self.footprint_radius, self.stale, self.laser_style)
             if not self._force and self._same_inputs(inputs):
                 self.metrics.skipped += 1
                 return False
             started = time.perf_counter()
-            draw_map = self._map_key is None or key != self._map_key
             with measured_hold(self.canvas) as sent:
-                if draw_map:
-                    draw_map_layer(self.map_layer, view, gray)
+                draw_map = self.map.draw(view)
                 self._draw_dynamic(view, pose, odom, scan)
             self._force = False
             self._last_inputs = inputs
-            self._map_key = key
             self.metrics.record(started, time.monotonic(), sent[0], draw_map, pose, odom, scan)
             self.metrics.last_hits, self.metrics.last_max_rays = self._rays
             return True
@@ -279,7 +340,7 @@ class LiveView:
         self, view: Viewport, pose: Pose2D | Odometry | None, odom: Odometry | None, scan: Scan | None
     ) -> None:
         """The dynamic layer (a method so a subclass, e.g. the benchmark's, can draw more on it)."""
-        look = ChairLook(self.footprint_radius, self.stale, self.ray_spacing_px)
+        look = ChairLook(self.footprint_radius, self.stale, self.ray_spacing_px, self.laser_style)
         self._rays = draw_chair_layer(self.dyn_layer, view, pose, odom, scan, look, self.poses)
 
     def close(self) -> None:

@@ -26,12 +26,12 @@ def map_label(entry: MapEntry, storeys: list[StoreyInfo] | None = None) -> str:
         parts.append(f"{len(storeys)} storey{'' if len(storeys) == 1 else 's'}")
     elif n > 1:
         parts.append(f"{n} storeys")
-    if n:
+    if n:  # short: a <select> row cannot wrap, and a phone is 360 px wide
         resolutions = sorted({g.resolution for g in entry.generated if g.resolution})
-        parts.append("converted" + (f", {resolutions[0]:g} m" if len(resolutions) == 1 else ""))
+        parts.append(f"{resolutions[0]:g} m" if len(resolutions) == 1 else "converted")
     if status != "converted":
         parts.append(status)
-    return f"{entry.name}  ({', '.join(parts)})"
+    return f"{entry.name} ({', '.join(parts)})"
 
 
 def generated_card(

@@ -59,6 +59,8 @@ class DownloadPanel:
     def download(self, *, overwrite: bool = False) -> threading.Thread | None:
         """Download the URL into the maps folder (in a thread); asks before replacing a map."""
         url, name = self.url.value, self.name.value
+        self.status.value = ""  # a new attempt: the previous one's outcome goes
+        set_progress(self.progress, None)
         if not isinstance(url, str) or not url.strip().lower().startswith(("http://", "https://")):
             self.error.value = "Give an http:// or https:// address of an IndoorGML file."
             return None
@@ -78,9 +80,9 @@ class DownloadPanel:
 
         def done(entry: MapEntry) -> None:
             self._on_downloaded(entry)
-            set_progress(self.progress, 1.0, style="success")
+            set_progress(self.progress, None)
             self.status.value = f"Downloaded {escape(entry.name)}. Convert it on the Maps tab."
-            self.ctx.notify(f"Downloaded {entry.name}.")
+            self.ctx.notify(f"Downloaded {entry.name}.", inline=True)
 
         return run_in_thread(
             self.ctx,

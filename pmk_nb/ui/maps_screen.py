@@ -9,7 +9,6 @@ runs in a thread with a progress bar; every failure becomes a message in the pag
 from __future__ import annotations
 
 import math
-import tempfile
 import threading
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -17,11 +16,12 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
+from pmk_nb.ui.maps_access import AccessPanel
 from pmk_nb.ui.maps_cards import generated_card, map_label
 from pmk_nb.ui.maps_download import DownloadPanel
+from pmk_nb.ui.maps_import import ImportPanel
 from pmk_nb.ui.maps_storeys import StoreysPanel
 from pmk_nb.ui.widgets import (
-    ConfirmBox,
     button,
     escape,
     field_error,
@@ -33,6 +33,7 @@ from pmk_nb.ui.widgets import (
     set_progress,
     show_failure,
     text,
+    too_fine_text,
 )
 
 if TYPE_CHECKING:
@@ -42,7 +43,6 @@ if TYPE_CHECKING:
 DEFAULT_RESOLUTION = 0.05
 MAX_RESOLUTION = 1.0
 CONNECT_TIMEOUT = 10.0
-UPLOAD_MAX_BYTES = 200 * 1024 * 1024
 
 
 def parse_resolution(raw: object) -> float:
@@ -69,26 +69,12 @@ class MapsScreen:
         self._files_lock = threading.Lock()
         self.info_widget = w.HTML("")
         self.info_widget.add_class("pmk-maps-info")
-        # -- list tab --
-        self.map_list = w.Select(options=[], rows=10, layout=w.Layout(width="97%", height="420px"))
-        self.map_list.add_class("pmk-maps-list")
-        self.map_list.observe(guard(ctx, "Selecting a map")(self._on_select), names="value")
-        self.refresh_button = button("Refresh", "pmk-maps-refresh", icon="refresh")
-        self.refresh_button.on_click(guard(ctx, "Refreshing the maps list")(lambda _b: self.refresh()))
-        self.upload = w.FileUpload(accept=".gml,.xml", multiple=False, description="Import IndoorGML")
-        self.upload.layout = w.Layout(height="56px", width="auto")
-        self.upload.add_class("pmk-maps-import")
-        self.upload.observe(guard(ctx, "Importing a map")(self._on_upload), names="value")
-        self.import_confirm = ConfirmBox(ctx, "pmk-maps-import-confirm")
-        left = w.VBox(
-            [self.map_list, w.HBox([self.refresh_button, self.upload]), self.import_confirm.widget],
-            layout=w.Layout(width="40%", min_width="300px"),
-        )
+        left = self._list_column()
         self.title = heading("Select a map")
         self.details = w.HTML("")
         self.details.add_class("pmk-maps-details")
         self.resolution = text(f"{DEFAULT_RESOLUTION}", "Resolution (m/cell)", "pmk-maps-resolution")
-        self.resolution.layout.width = "360px"
+        self.resolution.layout.max_width = "420px"
         self.resolution.style.description_width = "180px"
         self.resolution_error = field_error()
         self.convert_button = button("Convert", "pmk-maps-convert", icon="cogs", style="primary")
@@ -97,18 +83,12 @@ class MapsScreen:
         self.generated_box = w.VBox([])
         self.generated_box.add_class("pmk-maps-generated")
         self.send_progress = progress_bar("pmk-maps-send-progress")
-        self.password = text("", "SSH password", "pmk-maps-password", password=True)
-        self.password_ok = button("Send", "pmk-maps-password-ok", icon="paper-plane", style="primary")
-        self.password_box = w.VBox(
-            [w.HTML("The chair asks for an SSH password:"), self.password, self.password_ok],
-            layout=w.Layout(display="none"),
-        )
-        self.password_box.add_class("pmk-confirm")
-        self.password_ok.on_click(guard(ctx, "Sending")(lambda _b: self._password_entered()))
+        self.password_box = self._password_box()
         self._pending_send: GeneratedMap | None = None
         self.status = w.HTML("")
         self.status.add_class("pmk-maps-status")
         self.storeys_panel = StoreysPanel(ctx, on_loaded=lambda _name: self._relabel())
+        self.access_panel = AccessPanel()  # wheelchair access of the converted storeys
         self.convert_row = w.VBox(
             [
                 self.storeys_panel.widget,
@@ -125,20 +105,52 @@ class MapsScreen:
                 self.details,
                 self.convert_row,
                 self.generated_box,
+                self.access_panel.widget,
                 self.password_box,
                 self.send_progress,
                 self.status,
             ],
-            layout=w.Layout(width="60%", padding="0 0 0 16px"),
         )
+        right.add_class("pmk-maps-right")
         self.convert_row.layout.display = "none"
-        list_tab = w.HBox([left, right], layout=w.Layout(width="100%"))
+        # two columns side by side when they fit, else the details below the list (pmk-maps-listtab)
+        list_tab = w.Box([left, right])
+        list_tab.add_class("pmk-maps-listtab")
         self.downloader = DownloadPanel(ctx, on_downloaded=lambda _entry: self.refresh())
         self.tabs = w.Tab(children=[list_tab, self.downloader.widget], titles=("Maps", "Download"))
         self.tabs.add_class("pmk-maps-tabs")
         self.widget = w.VBox([self.tabs], layout=w.Layout(width="100%"))
         self.widget.add_class("pmk-maps")
         self.refresh()
+
+    def _list_column(self) -> w.VBox:
+        """The maps list, Refresh and Import (sizes in the style sheet: a shorter list on a phone)."""
+        ctx = self.ctx
+        self.map_list = w.Select(options=[], rows=10, layout=w.Layout(width="100%"), tooltip="Maps in the folder")
+        self.map_list.add_class("pmk-maps-list")
+        self.map_list.observe(guard(ctx, "Selecting a map")(self._on_select), names="value")
+        self.refresh_button = button("Refresh", "pmk-maps-refresh", icon="refresh")
+        self.refresh_button.on_click(guard(ctx, "Refreshing the maps list")(lambda _b: self.refresh()))
+        self.importer = ImportPanel(ctx, on_imported=self._imported)
+        self.upload = self.importer.upload
+        self.import_confirm = self.importer.confirm
+        buttons = w.HBox([self.refresh_button, self.upload])
+        buttons.add_class("pmk-row")
+        left = w.VBox([self.map_list, buttons, self.import_confirm.widget, self.importer.status])
+        left.add_class("pmk-maps-left")
+        return left
+
+    def _password_box(self) -> w.VBox:
+        """Asks for the SSH password when Send needs one (the status line says why, not this box)."""
+        self.password = text("", "SSH password", "pmk-maps-password", password=True)
+        self.password_ok = button("Send", "pmk-maps-password-ok", icon="paper-plane", style="primary")
+        self.password_ok.on_click(guard(self.ctx, "Sending")(lambda _b: self._password_entered()))
+        box = w.VBox(
+            [w.HTML("The chair asks for an SSH password:"), self.password, self.password_ok],
+            layout=w.Layout(display="none"),
+        )
+        box.add_class("pmk-confirm")
+        return box
 
     # -- list --------------------------------------------------------------------------------------
     def on_show(self) -> None:
@@ -196,6 +208,7 @@ class MapsScreen:
             self.convert_row.layout.display = "none"
             self.generated_box.children = ()
             self.storeys_panel.show(None)
+            self.access_panel.show(None)
             return
         self.title.value = f"<div class='pmk-heading'>{escape(entry.name)}</div>"
         size_kb = entry.size / 1024
@@ -210,6 +223,7 @@ class MapsScreen:
         known = self.ctx.maps.cached_storeys(entry)  # one storey of several converted: still say which
         several = len(entry.generated) > 1 or (known is not None and len(known) > 1)
         self.generated_box.children = tuple(self._generated_card(g, several) for g in entry.generated)
+        self.access_panel.show(entry)
 
     def _generated_card(self, gm: GeneratedMap, several: bool) -> w.Widget:
         return generated_card(self.ctx, gm, several, self.send)
@@ -230,11 +244,14 @@ class MapsScreen:
         """Convert the selected map at the typed resolution (in a thread); returns the thread."""
         entry = self._selected()
         storeys = self.storeys_panel.selected() if self.storeys_panel.name == entry.name else None
+        # a new attempt: the previous attempt's messages go, whatever this one says
+        self.status.value = ""
+        set_progress(self.convert_progress, None)
         try:
             resolution = parse_resolution(self.resolution.value)
         except ValueError as err:
-            self.resolution_error.value = escape(err)
-            self.ctx.notify(str(err), "warning")
+            self.resolution_error.value = escape(err)  # one place: under the field
+            self.ctx.notify(str(err), "warning", inline=True)
             return None
         self.resolution_error.value = ""
         set_progress(self.convert_progress, 0.0)
@@ -248,10 +265,10 @@ class MapsScreen:
 
         def done(generated: list[GeneratedMap]) -> None:
             self.refresh()
-            set_progress(self.convert_progress, 1.0, style="success")
+            set_progress(self.convert_progress, None)
             what = f"{len(generated)} storeys" if len(generated) > 1 else "ready to send"
             self.status.value = f"Converted {escape(entry.name)} at {resolution:g} m: {what}."
-            self.ctx.notify(f"Converted {entry.name} at {resolution:g} m.")
+            self.ctx.notify(f"Converted {entry.name} at {resolution:g} m.", inline=True)
 
         return run_in_thread(
             self.ctx,
@@ -264,13 +281,14 @@ class MapsScreen:
         )
 
     def _convert_failed(self, err: BaseException) -> None:
-        """Red bar and message; a grid too large for the resolution gets the way out under the field."""
-        show_failure(self.convert_progress, self.status)(err)
+        """The message in one place: a grid too large for the resolution under the field, else the status."""
         cause = err if isinstance(err, GridTooLarge) else err.__cause__
         if isinstance(cause, GridTooLarge):
-            self.resolution_error.value = escape(
-                f"Too fine for this building: use {cause.suggested_resolution:g} m per cell or coarser."
-            )
+            set_progress(self.convert_progress, None)
+            self.status.value = ""
+            self.resolution_error.value = escape(too_fine_text(cause))
+            return
+        show_failure(self.convert_progress, self.status)(err)
 
     # -- send --------------------------------------------------------------------------------------
     def send(self, gm: GeneratedMap, password: str | None = None) -> Any:
@@ -287,6 +305,7 @@ class MapsScreen:
                 self.status.value = "Enter the chair's SSH password to send."
                 return None
         self.password_box.layout.display = "none"
+        self.resolution_error.value = ""  # the convert attempt's advice is over
         set_progress(self.send_progress, 0.0)
         name = Path(gm.yaml).stem
         self.status.value = f"Sending {escape(name)} to {escape(profile.name)}…"
@@ -308,11 +327,11 @@ class MapsScreen:
             )
 
         def done(_report: Any) -> None:
-            set_progress(self.send_progress, 1.0, style="success")
+            set_progress(self.send_progress, None)
             # the message first: whoever sees the new current map also sees the final status
             self.status.value = f"Sent {escape(name)}: the chair now uses it; it is the current map on Home."
             self.ctx.set_current_map(name, gm.yaml, gm.preview)
-            self.ctx.notify(f"Sent {name} to {profile.name}.")
+            self.ctx.notify(f"Sent {name} to {profile.name}.", inline=True)
             self._update_info()
 
         return run_in_thread(
@@ -343,38 +362,13 @@ class MapsScreen:
         return self.send(gm, password=password)
 
     # -- import ------------------------------------------------------------------------------------
-    def _on_upload(self, change: dict[str, Any]) -> None:
-        files = change.get("new") or ()
-        if not files:
-            return
-        item = files[0]
-        filename = Path(str(item.get("name", "upload.gml"))).name
-        content = item.get("content", b"")
-        data = content.tobytes() if isinstance(content, memoryview) else bytes(content)
-        if len(data) > UPLOAD_MAX_BYTES:
-            raise LibraryError(
-                f"{filename} is larger than {UPLOAD_MAX_BYTES // 2**20} MiB; copy it into the maps folder instead."
-            )
-        self.upload.value = ()  # so the same file can be chosen again
-        self.import_bytes(filename, data)
-
     def import_bytes(self, filename: str, data: bytes, *, overwrite: bool = False) -> MapEntry | None:
         """Store an uploaded file in the maps folder (asks before replacing a map of the same name)."""
-        name = Path(filename).stem
-        if not overwrite and self.ctx.maps.exists(name):
-            self.import_confirm.ask(
-                f"A map named '{name}' exists. Replace it with {filename}?",
-                lambda: self.import_bytes(filename, data, overwrite=True),
-            )
-            return None
-        with tempfile.TemporaryDirectory(prefix="pmk-upload-") as tmp:
-            path = Path(tmp) / Path(filename).name
-            path.write_bytes(data)
-            entry = self.ctx.maps.import_file(path, name=name, overwrite=overwrite)
-        self.ctx.notify(f"Imported {entry.name}.")
+        return self.importer.import_bytes(filename, data, overwrite=overwrite)
+
+    def _imported(self, entry: MapEntry) -> None:
         self.refresh()
         self.map_list.value = entry.name
-        return entry
 
     def close(self) -> None:
         self.widget.close()

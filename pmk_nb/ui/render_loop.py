@@ -138,11 +138,18 @@ class RenderLoop:
         self.ticks += 1
 
     def _next(self, next_t: float) -> tuple[float, float]:
-        """(delay, deadline) for the next tick; a late frame restarts the schedule instead of bursting."""
-        next_t += 1.0 / self._fps
+        """(delay, deadline) for the next tick.
+
+        A frame a little late (less than a frame period) keeps the schedule, so the average rate
+        stays at ``fps`` despite timer jitter; further behind, the schedule restarts instead of
+        bursting frames to catch up.
+        """
+        period = 1.0 / self._fps
+        next_t += period
         now = time.monotonic()
-        next_t = max(next_t, now)
-        return next_t - now, next_t
+        if next_t < now - period:
+            next_t = now
+        return max(next_t - now, 0.0), next_t
 
     async def _run_async(self, stop: threading.Event) -> None:
         next_t = time.monotonic()

@@ -16,8 +16,9 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, ChairProfile
-from pmk_nb.errors import SettingsError
-from pmk_nb.ui.widgets import TOUCH_PX, button, escape, field_error, guard, heading, run_in_thread, text
+from pmk_nb.errors import PmkError, SettingsError
+from pmk_nb.ui.kiosk import pin_section
+from pmk_nb.ui.widgets import TOUCH_PX, button, error_text, escape, field_error, guard, heading, run_in_thread, text
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.client import ConnectionReport
@@ -107,20 +108,21 @@ class SettingsScreen:
         self.map_info.add_class("pmk-settings-mapinfo")
         self.info_widget = w.VBox([self.status, self.map_info])
         self.rows = {name: w.VBox([field, self.errors[name]]) for name, field in self.fields.items()}
-        auth_label = w.HTML(
-            "<div style='text-align:right;padding-right:8px'>SSH login</div>", layout=w.Layout(width="208px")
-        )
-        self.rows["auth"].children = (
-            w.HBox([auth_label, self.fields["auth"]], layout=w.Layout(align_items="center")),
-            self.errors["auth"],
-        )
+        auth_label = w.HTML("SSH login")
+        auth_label.add_class("pmk-settings-auth-label")
+        auth_row = w.HBox([auth_label, self.fields["auth"]])
+        auth_row.add_class("pmk-settings-auth-row")
+        self.rows["auth"].children = (auth_row, self.errors["auth"])
+        actions = w.HBox([self.save_button, self.test_button])
+        actions.add_class("pmk-row")
         self.widget = w.VBox(
             [
                 heading("Wheelchair settings"),
                 self.profile_picker,
                 *self.rows.values(),
-                w.HBox([self.save_button, self.test_button], layout=w.Layout(grid_gap="12px")),
+                actions,
                 self.message,
+                pin_section(ctx),  # the kiosk PIN (pmk_nb/ui/kiosk.py)
             ],
             layout=w.Layout(width="100%"),
         )
@@ -199,26 +201,35 @@ class SettingsScreen:
         profile.validate()
         return profile
 
-    def _show_field_error(self, err: SettingsError) -> None:
+    def _show_field_error(self, err: SettingsError, outcome: str) -> None:
+        """The problem under its field (one place); the message line says what did not happen."""
         target = self.errors.get(err.field) if err.field is not None else None
         if target is not None:
             target.value = escape(err)
-        self.message.value = f"<span class='pmk-field-error'>Not saved: {escape(err)}</span>"
+            said = f"{outcome}: correct the field marked in red."
+        else:
+            said = f"{outcome}: {err}"
+        self.message.value = f"<span class='pmk-field-error'>{escape(said)}</span>"
+        self.ctx.notify(said, "warning", inline=True)
 
     # -- actions -----------------------------------------------------------------------------------
-    def _checked_form_profile(self) -> ChairProfile | None:
-        """The form as a valid profile, or None with the first bad field's message shown under it."""
+    def _checked_form_profile(self, outcome: str) -> ChairProfile | None:
+        """The form as a valid profile, or None with the first bad field's message shown under it.
+
+        Each attempt starts clean: the previous attempt's messages ("Saved", "Not saved") go.
+        """
         for err in self.errors.values():
             err.value = ""
+        self.message.value = ""
         try:
             return self.form_profile()
         except SettingsError as err:
-            self._show_field_error(err)
+            self._show_field_error(err, outcome)
             return None
 
     def save(self) -> ChairProfile | None:
         """Validate and save the form; it becomes the current chair. Returns None when invalid."""
-        profile = self._checked_form_profile()
+        profile = self._checked_form_profile("Not saved")
         if profile is None:
             return None
         self.ctx.profiles.save(profile)
@@ -228,13 +239,13 @@ class SettingsScreen:
         self.message.value = (
             f"Saved {escape(profile.name)}. Passwords are kept in {escape(self.ctx.profiles.password_storage)}."
         )
-        self.ctx.notify(f"Saved settings for {profile.name}.")
+        self.ctx.notify(f"Saved settings for {profile.name}.", inline=True)
         self._reload_profiles(select=profile.name)
         return profile
 
     def test_connection(self) -> Any:
         """Connect to the chair in the form (in a thread) and show status and published map info."""
-        profile = self._checked_form_profile()
+        profile = self._checked_form_profile("Not tested")
         if profile is None:
             return None
         self._set_state("Connecting")
@@ -273,7 +284,8 @@ class SettingsScreen:
                 self.fields[field].options = topics
 
         def failed(err: BaseException) -> None:
-            self._set_state("Failed", str(err))
+            # a typed error is already in words; anything else is named, never a bare "'infos'"
+            self._set_state("Failed", str(err) if isinstance(err, PmkError) else error_text(err, "Connecting"))
 
         return run_in_thread(
             self.ctx,
@@ -291,8 +303,11 @@ class SettingsScreen:
         shown = "Disconnected" if state == "Failed" else state
         extra = f"<div class='pmk-status-reason'>{escape(reason)}</div>" if reason else ""
         self.status.value = f"<div>Status: <b style='color:{colour}'>{shown}</b></div>{extra}"
+        # the status above is the one place for the test's outcome; the app's line only clears
         if state == "Failed":
-            self.ctx.notify(f"Connection failed: {reason}", "error")
+            self.ctx.notify(f"Connection failed: {reason}", "error", inline=True)
+        elif state == "Connected":
+            self.ctx.notify("Connected.", inline=True)
 
     def close(self) -> None:
         self.widget.close()

@@ -1,9 +1,14 @@
 """Shared look and behaviour of the dashboard widgets: touch-sized controls and safe callbacks.
 
-The kiosk runs on a landscape tablet held at arm's length, so every control is at least 48 px high
-and text is large.  Every callback goes through :func:`guard` so a failure becomes a message in the
-information panel instead of a traceback in the page (Voilà hides tracebacks, leaving the user
-with a button that silently does nothing).
+The kiosk runs on a tablet or phone held at arm's length, so every control is at least 48 px high
+and text is large (the style sheet is :mod:`pmk_nb.ui.style`).  Every callback goes through
+:func:`guard` so a failure becomes a message in the page instead of a traceback (Voilà hides
+tracebacks, leaving the user with a button that silently does nothing).
+
+One place per message: work run by :func:`run_in_thread` with an ``on_error`` shows its failure
+there (next to the control that started it) and the app's message line only clears; a failure
+with no place of its own goes to the app's message line.  Errors are worded for the page by
+:func:`error_text`, from their types and fields.
 """
 
 from __future__ import annotations
@@ -18,8 +23,9 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import ipywidgets as w
 
-from pmk_nb.errors import PmkError
+from pmk_nb.errors import GridTooLarge, PmkError
 from pmk_nb.progress import Progress, ProgressCallback
+from pmk_nb.ui.style import APP_CSS, TOUCH_PX
 
 if TYPE_CHECKING:
     from pmk_nb.ui.context import AppContext
@@ -27,61 +33,6 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 F = TypeVar("F", bound=Callable[..., Any])
-
-TOUCH_PX = 56  # comfortably above the 48 px minimum touch target
-BASE_FONT_PX = 18
-
-#: One stylesheet for the whole app, injected once per page by :func:`style_widget`.
-APP_CSS = f"""
-<style>
-.pmk-app {{ font-size: {BASE_FONT_PX}px; --jp-widgets-font-size: {BASE_FONT_PX}px;
-            --jp-widgets-inline-height: {TOUCH_PX - 8}px; --jp-ui-font-size1: {BASE_FONT_PX}px; }}
-.pmk-app .widget-label, .pmk-app .widget-html-content, .pmk-app .widget-inline-hbox .widget-label
-   {{ font-size: {BASE_FONT_PX}px; line-height: 1.3; }}
-.pmk-app input, .pmk-app select, .pmk-app textarea, .pmk-app .widget-dropdown > select
-   {{ font-size: {BASE_FONT_PX}px !important; min-height: {TOUCH_PX - 8}px; }}
-.pmk-app button.jupyter-button, .pmk-app .jupyter-button
-   {{ font-size: {BASE_FONT_PX}px; min-height: {TOUCH_PX}px; min-width: {TOUCH_PX}px; border-radius: 6px; }}
-.pmk-app .widget-select select {{ font-size: {BASE_FONT_PX + 2}px; }}
-.pmk-app .widget-select option {{ padding: 10px 6px; }}
-.pmk-app .widget-tab > .lm-TabBar, .pmk-app .widget-tab > .lm-TabBar .lm-TabBar-tab,
-.pmk-app .widget-tab > .lm-TabBar .lm-TabBar-tabLabel
-   {{ font-size: {BASE_FONT_PX}px !important; min-height: {TOUCH_PX - 8}px !important;
-      line-height: {TOUCH_PX - 8}px !important; }}
-.pmk-app .widget-tab > .lm-TabBar .lm-TabBar-tab {{ flex: 0 1 200px !important; }}
-.pmk-app .widget-checkbox input[type="checkbox"] {{ width: 28px; height: 28px; margin: 0 8px 0 0; }}
-.pmk-app .widget-checkbox label {{ display: flex; align-items: center; font-size: {BASE_FONT_PX}px; }}
-.pmk-nav {{ background: #263238; color: #eceff1; padding: 12px; border-radius: 8px; }}
-.pmk-nav .pmk-title {{ color: #eceff1; font-size: 24px; font-weight: 600; margin-bottom: 8px; }}
-.pmk-nav .widget-html-content {{ color: #eceff1; }}
-.pmk-nav button.pmk-nav-active {{ background: #4fc3f7; color: #000; font-weight: 600; }}
-.pmk-info {{ background: #37474f; border-radius: 6px; padding: 8px; margin-top: 12px; }}
-.pmk-info .widget-html-content {{ color: #eceff1; font-size: {BASE_FONT_PX - 1}px; }}
-.pmk-msg-info {{ color: #b3e5fc; }}
-.pmk-msg-warning {{ color: #ffe082; font-weight: 600; }}
-.pmk-msg-error {{ color: #ff8a80; font-weight: 600; }}
-/* the same message classes on the white content area: dark text on a tinted band (the pale colours
-   above are for the dark panel) */
-.pmk-content .pmk-msg-warning {{ color: #6d4c00; background: #fff8e1; border-left: 5px solid #ffb300;
-   padding: 6px 10px; border-radius: 4px; margin: 2px 0; }}
-.pmk-content .pmk-msg-error {{ color: #b71c1c; background: #ffebee; border-left: 5px solid #e53935;
-   padding: 6px 10px; border-radius: 4px; margin: 2px 0; }}
-.pmk-content .pmk-msg-info {{ color: #01579b; }}
-.pmk-field-error {{ color: #c62828; font-size: {BASE_FONT_PX - 2}px; }}
-.pmk-content {{ padding: 0 16px; }}
-.pmk-heading {{ font-size: 26px; font-weight: 600; margin: 4px 0 12px 0; }}
-.pmk-confirm {{ background: #fff8e1; border: 2px solid #ffb300; border-radius: 6px; padding: 8px; }}
-.pmk-app .widget-progress {{ height: 18px; }}
-.pmk-home .pmk-heading {{ margin-bottom: 4px; }}
-.pmk-home-preview-box {{ width: fit-content; max-width: 100%; gap: 8px; }}
-.pmk-home-toolbar {{ min-height: {TOUCH_PX}px; }}
-.pmk-home-zoom button.jupyter-button {{ min-width: 64px; }}
-/* the canvas has the map's shape; on a smaller screen the page scales it down, keeping that shape
-   (height auto), and never taller than the window below the toolbar */
-.pmk-app canvas.pmk-live-canvas {{ max-width: 100%; height: auto; width: auto;
-   max-height: calc(100vh - 200px); border: 1px solid #b0bec5; border-radius: 4px; }}
-</style>
-"""
 
 
 def style_widget() -> w.HTML:
@@ -98,15 +49,22 @@ def button(
     icon: str = "",
     style: str = "",
     tooltip: str = "",
-    width: str = "auto",
+    width: str | None = "auto",
 ) -> w.Button:
-    """A touch-sized button with a stable CSS class for the browser tests."""
+    """A touch-sized button with a stable CSS class for the browser tests.
+
+    The tooltip is also the button's accessible name (the ``title`` attribute) when it shows only
+    an icon; an icon-only button without a tooltip is refused.
+    """
+    if not description and not tooltip:
+        raise ValueError(f"the icon-only button {css_class!r} needs a tooltip: it is its accessible name")
     btn = w.Button(
         description=description,
         icon=icon,
         button_style=style,
         tooltip=tooltip or description,
-        layout=w.Layout(height=f"{TOUCH_PX}px", width=width, min_width="120px"),
+        # width None: the style sheet sizes it (an inline width would override its narrow-screen rules)
+        layout=w.Layout(height=f"{TOUCH_PX}px", width=width) if width else w.Layout(height=f"{TOUCH_PX}px"),
     )
     btn.add_class(css_class)
     return btn
@@ -145,22 +103,24 @@ def field_error() -> w.HTML:
 
 def progress_bar(css_class: str) -> w.FloatProgress:
     """A hidden-until-used 0..1 progress bar."""
-    bar = w.FloatProgress(
-        value=0.0, min=0.0, max=1.0, layout=w.Layout(width="100%", max_width="720px", visibility="hidden")
-    )
+    bar = w.FloatProgress(value=0.0, min=0.0, max=1.0, layout=w.Layout(width="100%", max_width="720px", display="none"))
     bar.add_class(css_class)
     return bar
 
 
 def set_progress(bar: w.FloatProgress, fraction: float | None, *, style: str = "info") -> None:
-    """Show ``fraction`` (None hides the bar); tolerant of NaN and out-of-range values."""
+    """Show ``fraction`` (None removes the bar from the page); tolerant of NaN and out-of-range values.
+
+    A finished job calls ``set_progress(bar, None)``: its status line says how it ended, and a full
+    bar left on screen would look like work still under way.
+    """
     if fraction is None:
-        bar.layout.visibility = "hidden"
+        bar.layout.display = "none"
         return
     value = 0.0 if not math.isfinite(fraction) else min(1.0, max(0.0, float(fraction)))
     bar.bar_style = style
     bar.value = value
-    bar.layout.visibility = "visible"
+    bar.layout.display = ""
 
 
 #: How the dashboard names the core's progress steps (other steps are shown capitalised).
@@ -198,23 +158,48 @@ def progress_callback(bar: w.FloatProgress, label: w.HTML | None = None) -> Prog
 
 
 def show_failure(bar: w.FloatProgress, label: w.HTML) -> Callable[[BaseException], None]:
-    """An ``on_error`` for :func:`run_in_thread`: the bar turns red, ``label`` shows the message."""
+    """An ``on_error`` for :func:`run_in_thread`: the bar goes, ``label`` shows the message."""
 
     def failed(err: BaseException) -> None:
-        set_progress(bar, 1.0, style="danger")
-        label.value = f"<span class='pmk-field-error'>{escape(err)}</span>"
+        set_progress(bar, None)
+        label.value = f"<span class='pmk-msg-error'>{escape(error_text(err))}</span>"
 
     return failed
 
 
-def report_error(ctx: AppContext, err: BaseException, action: str) -> str:
-    """Turn an exception into a user message in the info panel; returns the message."""
+def error_text(err: BaseException, action: str = "") -> str:
+    """An error in the dashboard's words: "Converting failed: ...", from the error's type and fields.
+
+    A grid too large for the resolution names the resolution that fits (the core's own hint may
+    quote command-line options); an unexpected error names its type.
+    """
+    prefix = f"{action} failed: " if action else ""
+    cause = err if isinstance(err, GridTooLarge) else err.__cause__
+    if isinstance(cause, GridTooLarge):
+        return f"{prefix}{too_fine_text(cause)}"
     if isinstance(err, PmkError):
-        message = f"{action} failed: {err}"
-    else:
-        log.exception("%s failed", action, exc_info=err)
-        message = f"{action} failed unexpectedly ({type(err).__name__}: {err})."
-    ctx.notify(message, "error")
+        return f"{prefix}{err}"
+    return f"{action or 'It'} failed unexpectedly ({type(err).__name__}: {err})."
+
+
+def too_fine_text(err: GridTooLarge) -> str:
+    """What to do when the map would be too large: the resolution that fits, in the page's words."""
+    return (
+        f"The map would be too large at this resolution ({err.cells:,} cells, limit {err.limit:,}). "
+        f"Use {err.suggested_resolution:g} m per cell or coarser."
+    )
+
+
+def report_error(ctx: AppContext, err: BaseException, action: str, *, inline: bool = False) -> str:
+    """Turn an exception into a user message; returns the message.
+
+    ``inline``: the caller shows the message in its own place; the app's message line only clears
+    (the error is still logged and kept in ``ctx.notifications``).
+    """
+    if not isinstance(err, PmkError | ValueError):
+        log.error("%s failed", action, exc_info=err)
+    message = error_text(err, action)
+    ctx.notify(message, "error", inline=inline)
     return message
 
 
@@ -262,7 +247,8 @@ def run_in_thread(
         try:
             result = work()
         except Exception as err:
-            report_error(ctx, err, action)
+            # with an on_error the failure is shown there: one place per message
+            report_error(ctx, err, action, inline=on_error is not None)
             if on_error is not None:
                 guard(ctx, action)(on_error)(err)
         else:
@@ -297,7 +283,9 @@ class ConfirmBox:
         self.no = button(no, f"{css_prefix}-no", icon="times")
         self.yes.on_click(guard(ctx, "Confirming")(lambda _b: self._answer(True)))
         self.no.on_click(guard(ctx, "Cancelling")(lambda _b: self._answer(False)))
-        self.widget = w.VBox([self.message, w.HBox([self.yes, self.no])], layout=w.Layout(display="none"))
+        row = w.HBox([self.yes, self.no])
+        row.add_class("pmk-row")
+        self.widget = w.VBox([self.message, row], layout=w.Layout(display="none"))
         self.widget.add_class("pmk-confirm")
         self.widget.add_class(css_prefix)
 

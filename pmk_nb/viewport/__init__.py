@@ -1,12 +1,16 @@
-"""The live view's pure maths: zoom, follow, clamp, world <-> canvas pixel, laser segments.
+"""The live view's pure maths: zoom, follow, pan, clamp, world <-> canvas pixel, map and laser.
 
 No widgets here: ``pmk_nb.ui`` only draws what this package computes. ``view`` holds
-:class:`Viewport` (the rules of the original MapViewer), ``laser`` turns a scan into segments.
+:class:`Viewport` (the rules of the original MapViewer, plus pan and follow on/off), ``mapimage``
+reduces the grid to screen pixels without losing a wall, ``outline`` turns a scan into hit points
+and a free-space polygon, ``laser`` into rays (the optional look).
 """
 
 from __future__ import annotations
 
 from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
+from pmk_nb.viewport.mapimage import MapTile, clean_occupancy, plan_tile, pool_window, tile_covers, window_image
+from pmk_nb.viewport.outline import LaserOutline, laser_outline
 from pmk_nb.viewport.view import (
     MIN_CHAIR_RADIUS_PX,
     MIN_DOT_RADIUS_PX,
@@ -20,10 +24,18 @@ __all__ = [
     "MIN_CHAIR_RADIUS_PX",
     "MIN_DOT_RADIUS_PX",
     "STILL_SPEED",
+    "LaserOutline",
     "LaserSegments",
+    "MapTile",
     "Viewport",
+    "clean_occupancy",
     "fit_canvas",
     "heading_point",
+    "laser_outline",
     "laser_segments",
+    "plan_tile",
+    "pool_window",
     "ray_stride",
+    "tile_covers",
+    "window_image",
 ]

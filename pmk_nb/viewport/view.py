@@ -93,6 +93,9 @@ class Viewport:
         # Centre of the view in cell coordinates; starts on the map's centre.
         self._center = (self.map_width / 2.0, self.map_height / 2.0)
         self._target: tuple[float, float] | None = None
+        #: follow the chair (keep it centred); a pan turns it off, :meth:`set_following` back on
+        self.following = True
+        self._chair: tuple[float, float] | None = None  # the chair's last world position
 
     @classmethod
     def for_grid(cls, grid: object, canvas_width: int, canvas_height: int, **kw: object) -> Viewport:
@@ -193,6 +196,41 @@ class Viewport:
         self._target = (_finite(u, "u"), _finite(v, "v"))
         self._apply_target()
 
+    def see_chair(self, x: float, y: float) -> None:
+        """The chair is at world (x, y): centre on it while following, else just remember it."""
+        self._chair = (_finite(x, "x"), _finite(y, "y"))
+        if self.following:
+            self.follow(*self._chair)
+
+    def forget_chair(self) -> None:
+        """No chair any more (the link was detached): :meth:`centre` then centres on the map."""
+        self._chair = None
+
+    def set_following(self, on: bool) -> None:
+        """Turn follow on (centres on the chair at once, if one was seen) or off (the view stays)."""
+        self.following = bool(on)
+        if self.following and self._chair is not None:
+            self.follow(*self._chair)
+
+    def pan_pixels(self, dx: float, dy: float) -> None:
+        """Drag the map by (dx, dy) canvas pixels (the map moves with the finger); stops following.
+
+        The pan starts from the clamped view, so dragging past an edge and back responds at once.
+        """
+        ddx, ddy = _finite(dx, "dx"), _finite(dy, "dy")
+        self.following = False
+        s = self.scale
+        self._target = (self._center[0] - ddx / s, self._center[1] - ddy / s)
+        self._apply_target()
+
+    def centre(self) -> None:
+        """Centre on the chair if one was seen, else on the map (follow stays as it is)."""
+        if self._chair is not None:
+            self.follow(*self._chair)
+        else:
+            self._target = None
+            self._apply_target()
+
     def _apply_target(self) -> None:
         target = self._target or (self.map_width / 2.0, self.map_height / 2.0)
         vw, vh = self.view_size_cells
@@ -212,6 +250,12 @@ class Viewport:
         u0, v0 = self.top_left
         vw, vh = self.view_size_cells
         return max(u0, 0.0), max(v0, 0.0), min(u0 + vw, self.map_width), min(v0 + vh, self.map_height)
+
+    def pixel_origin(self) -> tuple[int, int]:
+        """The map pixel (cell coordinates x scale, rounded) shown at canvas pixel (0, 0)."""
+        u0, v0 = self.top_left
+        s = self.scale
+        return round(u0 * s), round(v0 * s)
 
     def state_key(self) -> tuple[object, ...]:
         """Changes exactly when the map layer must be redrawn (zoom, pan to a new whole pixel, size)."""

@@ -40,7 +40,7 @@ from pmk_nb.chair.link.registry import close_all_links, get_link
 from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
 from pmk_nb.chair.link.streams import PoseSource, StreamConfig, StreamHub
-from pmk_nb.chair.link.transport import LinkRos
+from pmk_nb.chair.link.transport import LinkRos, ServerStatus
 from pmk_nb.chair.messages import MapInfo, Odometry, Pose2D, Scan
 from pmk_nb.chair.reload import (
     MapReloadError,
@@ -72,7 +72,7 @@ class ChairLink:
         stale_after: float = 2.0,
         throttle_ms: dict[str, int] | None = None,
         cmd_vel_topic: str = "/cmd_vel",
-        goal_topic: str = "/move_base_simple/goal",
+        goal_topic: str | None = None,
         reconnect_initial: float = 0.5,
         reconnect_max: float = 10.0,
         rosapi_timeout: float = 3.0,
@@ -317,8 +317,13 @@ class ChairLink:
         return self._publish.cmd_vel(self._ros, self.ros_version, v, w)
 
     def send_goal(self, x: float, y: float, theta: float, frame: str = "map") -> bool:
-        """Publish a navigation goal (PoseStamped). False when not connected (nothing queued)."""
+        """Publish a PoseStamped goal (default topic: Nav2 ``/goal_pose``, ROS 1 ``/move_base_simple/goal``).
+        False (nothing sent) when not connected or while the ROS version is unknown."""
         return self._publish.goal(self._ros, self.ros_version, x, y, theta, frame)
+
+    def server_statuses(self) -> list[ServerStatus]:
+        """The rosbridge server's latest ``status`` messages (e.g. a subscription with a wrong type)."""
+        return list(self._ros.statuses) if self._ros is not None else []
 
     # -- services ------------------------------------------------------------------------------------
     def _require_ros(self) -> LinkRos:

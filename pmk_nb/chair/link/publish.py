@@ -12,11 +12,14 @@ import roslibpy
 
 from pmk_nb.chair.messages import make_stamp, quaternion_from_yaw, spell_type
 
+# Where a goal goes when no topic is configured: ROS 1 move_base, Nav2's goal topic.
+DEFAULT_GOAL_TOPICS: dict[int, str] = {1: "/move_base_simple/goal", 2: "/goal_pose"}
+
 
 class Publishers:
     """Advertised ``roslibpy.Topic`` objects of one connection, by topic name."""
 
-    def __init__(self, cmd_vel_topic: str, goal_topic: str) -> None:
+    def __init__(self, cmd_vel_topic: str, goal_topic: str | None) -> None:
         self.cmd_vel_topic, self.goal_topic = cmd_vel_topic, goal_topic
         self._topics: dict[str, roslibpy.Topic] = {}
 
@@ -54,12 +57,17 @@ class Publishers:
     def goal(
         self, ros: roslibpy.Ros | None, ros_version: int | None, x: float, y: float, theta: float, frame: str
     ) -> bool:
-        """Publish a PoseStamped goal; False (nothing queued) when not connected."""
-        topic = self._topic(ros, self.goal_topic, "geometry_msgs/PoseStamped", ros_version)
+        """Publish a PoseStamped goal; False (nothing sent) when not connected or when the ROS version
+        is not known yet: a header in the wrong spelling is rejected by the chair's server, silently."""
+        if ros_version not in (1, 2):
+            return False
+        topic = self._topic(
+            ros, self.goal_topic or DEFAULT_GOAL_TOPICS[ros_version], "geometry_msgs/PoseStamped", ros_version
+        )
         if topic is None:
             return False
         header = {"frame_id": frame, "stamp": make_stamp(time.time(), ros_version)}
-        if ros_version != 2:
+        if ros_version == 1:
             header["seq"] = 0
         pose = {"position": {"x": float(x), "y": float(y), "z": 0.0}, "orientation": quaternion_from_yaw(theta)}
         topic.publish(roslibpy.Message({"header": header, "pose": pose}))

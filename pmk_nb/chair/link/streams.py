@@ -38,6 +38,7 @@ STREAMS: tuple[str, ...] = ("odom", "scan", "pose", "tf")
 # Milliseconds between messages rosbridge forwards (throttle_rate). /tf is never throttled:
 # rosbridge drops what it throttles, and a dropped map->odom from AMCL would be lost for seconds.
 DEFAULT_THROTTLE_MS: dict[str, int] = {"odom": 20, "scan": 50, "pose": 0, "tf": 0}
+TF_QUEUE_LENGTH = 50
 
 
 @dataclass
@@ -101,7 +102,9 @@ class StreamHub:
                 name,
                 spell_type(type_name, ros_version),
                 throttle_rate=self.throttle_ms[stream],
-                queue_length=1,
+                # /tf carries different transforms from several publishers: queue_length 1 would
+                # drop one publisher's message whenever another's arrives in the same instant
+                queue_length=TF_QUEUE_LENGTH if stream == "tf" else 1,
                 reconnect_on_close=True,
             )
             topic.subscribe(handler)

@@ -20,15 +20,19 @@ roslibpy internals touched (pinned version, checked by ``tests/test_roslibpy_sea
   process-wide loop (starting that loop's thread) and connects at once; this sets the one private
   field it would set (``factory`` and ``is_connecting`` are public).
 * ``AsyncioRosBridgeClientFactory._manager`` and ``._stop``: see :mod:`pmk_nb.chair.link.factory`.
+* ``RosBridgeProtocol._message_handlers["status"]``: roslibpy sets it to None, so the public
+  ``register_message_handlers`` refuses it; the link sets its handler there, once per protocol.
 """
 
 from __future__ import annotations
 
 import asyncio
+import collections
 import os
 import sys
 import threading
 import time
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import roslibpy
@@ -37,6 +41,18 @@ from pmk_nb.errors import ChairLinkError
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.factory import LinkFactory
+
+STATUS_KEPT = 20
+
+
+@dataclass(frozen=True)
+class ServerStatus:
+    """One rosbridge ``status`` message: level ("error", "warning", "info"), text, request id."""
+
+    level: str
+    msg: str
+    id: str = ""
+
 
 #: roslibpy's module for its Twisted transport: once imported, asyncio cannot be used any more.
 TWISTED_MODULE = "roslibpy.comm.comm_autobahn"
@@ -97,11 +113,21 @@ class LinkRos(roslibpy.Ros):
         )
         self.is_connecting = False
         self.protocol: Any = None  # the open websocket protocol, from the factory's events
+        self.statuses: collections.deque[ServerStatus] = collections.deque(maxlen=STATUS_KEPT)
         self.factory.on("ready", self._track_protocol)
         self.factory.on("close", self._drop_protocol)
 
     def _track_protocol(self, proto: Any) -> None:
         self.protocol = proto
+        if proto._message_handlers.get("status") is None:  # roslibpy leaves it None ("TODO")
+            proto._message_handlers["status"] = self._on_status
+
+    def _on_status(self, message: Any) -> None:
+        """The server's ``status`` op (errors and warnings about our requests, e.g. a wrong topic
+        type): kept for the user (roslibpy has no handler and would log a traceback)."""
+        self.statuses.append(
+            ServerStatus(str(message.get("level", "")), str(message.get("msg", "")), str(message.get("id", "")))
+        )
 
     def _drop_protocol(self, proto: Any) -> None:
         if self.protocol is proto:

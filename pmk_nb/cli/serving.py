@@ -1,0 +1,110 @@
+"""Who may open the dashboard and where: loopback vs network, the access token, the port really used.
+
+Rules (issue 10): serving beyond loopback without a token is refused (anyone on the ward's Wi-Fi
+could otherwise edit profiles and send maps); the printed URL carries the token; a taken port is a
+clear error, never a silent move to the next port.
+"""
+
+from __future__ import annotations
+
+import errno
+import ipaddress
+import secrets
+import socket
+
+from pmk_nb.errors import PmkError
+
+DEFAULT_PORT = 8866
+DEFAULT_IP = "127.0.0.1"
+TOKEN_ENV = "PMK_DASHBOARD_TOKEN"
+AUTO_TOKEN = "auto"
+MIN_TOKEN_CHARS = 16
+
+
+class ServingRefused(PmkError):
+    """The dashboard would be served in an unsafe or impossible way.
+
+    Attributes:
+        ip, port: what was asked for.
+        reason: ``"no-token"``, ``"weak-token"`` or ``"port-taken"``.
+    """
+
+    def __init__(self, message: str, *, ip: str, port: int | None, reason: str) -> None:
+        super().__init__(message)
+        self.ip, self.port, self.reason = ip, port, reason
+
+
+def is_loopback(ip: str) -> bool:
+    """True for addresses only this machine can reach (127.0.0.0/8, ::1, localhost)."""
+    if ip == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(ip).is_loopback
+    except ValueError:
+        return False  # a host name: it may resolve to a LAN address
+
+
+def resolve_token(option: str | None, env: dict[str, str]) -> str | None:
+    """The token to require: ``--token`` ('auto' = a new random one), else ``$PMK_DASHBOARD_TOKEN``, else None."""
+    value = option if option is not None else env.get(TOKEN_ENV) or None
+    if value is not None and value.strip().lower() == AUTO_TOKEN:
+        return secrets.token_urlsafe(24)
+    return value.strip() if value is not None else None
+
+
+def check_serving(ip: str, token: str | None) -> None:
+    """Refuse a non-loopback address without a token, and a token too short to resist guessing.
+
+    Raises:
+        ServingRefused: with a one-line explanation.
+    """
+    if token is not None and len(token) < MIN_TOKEN_CHARS:
+        raise ServingRefused(
+            f"--token is too short ({len(token)} characters): use at least {MIN_TOKEN_CHARS}, or --token auto",
+            ip=ip, port=None, reason="weak-token",
+        )  # fmt: skip
+    if not token and not is_loopback(ip):
+        raise ServingRefused(
+            f"--ip {ip} lets anyone on the network use the dashboard: add --token auto (or --token TOKEN)",
+            ip=ip, port=None, reason="no-token",
+        )  # fmt: skip
+
+
+def check_port_free(ip: str, port: int) -> None:
+    """Refuse a port another program listens on (Voilà would silently move to the next one).
+
+    Raises:
+        ServingRefused: the port is taken.
+    """
+    family = socket.AF_INET6 if ":" in ip else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as sock:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as Voilà binds: TIME_WAIT is no obstacle
+        try:
+            sock.bind((ip, port))
+        except OSError as err:
+            if err.errno != errno.EADDRINUSE:
+                raise
+            raise ServingRefused(
+                f"port {port} is already in use on {ip} (another dashboard?): stop it or pick another with --port",
+                ip=ip, port=port, reason="port-taken",
+            ) from None  # fmt: skip
+
+
+def local_host(ip: str) -> str:
+    """Where this machine reaches a server listening on ``ip`` (all interfaces -> loopback)."""
+    return "127.0.0.1" if ip in ("0.0.0.0", "", "::") else ip
+
+
+def dashboard_url(host: str, port: int, token: str | None) -> str:
+    """The page's URL, with the token when one is required."""
+    shown = f"[{host}]" if ":" in host else host
+    return f"http://{shown}:{port}/" + (f"?token={token}" if token else "")
+
+
+def url_lines(ip: str, port: int, token: str | None) -> list[str]:
+    """What ``pmk dashboard`` prints: the URL on this machine and, when served to the LAN, for other devices."""
+    lines = [f"PMK dashboard: {dashboard_url(local_host(ip), port, token)}  (Ctrl-C to stop)"]
+    if not is_loopback(ip):
+        host = socket.gethostname() if ip in ("0.0.0.0", "", "::") else ip
+        lines.append(f"  from a tablet: {dashboard_url(host, port, token)}")
+    return lines

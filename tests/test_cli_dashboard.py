@@ -1,0 +1,102 @@
+"""Serving rules (token beyond loopback, a taken port is an error), the kiosk PIN store, the page watchdog."""
+
+from __future__ import annotations
+
+import json
+import socket
+from pathlib import Path
+
+import pytest
+
+from pmk_nb.cli import main
+from pmk_nb.cli.serving import ServingRefused, check_port_free, check_serving, resolve_token, url_lines
+from pmk_nb.cli.voila import write_dashboard_notebook
+from pmk_nb.errors import SettingsError
+from pmk_nb.ui.kiosk_pin import LOCKOUT_S, MAX_TRIES, PinStore
+
+
+def test_beyond_loopback_without_a_token_is_refused_in_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(ServingRefused) as caught:
+        check_serving("0.0.0.0", None)
+    assert caught.value.reason == "no-token" and "\n" not in str(caught.value)
+    check_serving("127.0.0.1", None)  # loopback keeps working without one
+    check_serving("0.0.0.0", resolve_token("auto", {}))
+    assert main(["dashboard", "--ip", "0.0.0.0", "--port", "8866"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--token" in err and len(err.splitlines()) == 1
+
+
+def test_the_printed_url_carries_the_token_and_the_config_file_keeps_it_private(tmp_path: Path) -> None:
+    token = resolve_token("auto", {})
+    assert token and len(token) >= 16 and token != resolve_token("auto", {})
+    assert all(f"?token={token}" in line for line in url_lines("0.0.0.0", 8866, token))
+    assert url_lines("127.0.0.1", 8866, None) == ["PMK dashboard: http://127.0.0.1:8866/  (Ctrl-C to stop)"]
+    write_dashboard_notebook(tmp_path, token=token)
+    config = tmp_path / "voila.json"
+    assert json.loads(config.read_text())["Voila"]["token"] == token
+    assert config.stat().st_mode & 0o077 == 0
+
+
+def test_a_taken_port_is_a_clear_error() -> None:
+    with socket.create_server(("127.0.0.1", 0)) as busy:
+        port = busy.getsockname()[1]
+        with pytest.raises(ServingRefused) as caught:
+            check_port_free("127.0.0.1", port)
+    assert caught.value.reason == "port-taken" and caught.value.port == port
+    assert "--port" in str(caught.value)
+
+
+def test_every_command_and_option_has_help(capsys: pytest.CaptureFixture[str]) -> None:
+    from pmk_nb.cli import COMMANDS, build_parser
+
+    missing = []
+    for name in ("dashboard", "demo"):
+        sub = build_parser(name)._subparsers._group_actions[0].choices[name]  # type: ignore[union-attr]
+        missing += [f"{name} {a.option_strings or a.dest}" for a in sub._actions if not a.help]
+    assert not missing, missing
+    assert all(help_text for _module, help_text in COMMANDS.values())
+
+
+def test_the_pin_is_stored_salted_and_hashed_and_checked(tmp_path: Path) -> None:
+    now = [0.0]
+    pins = PinStore(tmp_path, clock=lambda: now[0])
+    assert not pins.is_set()
+    with pytest.raises(SettingsError):
+        pins.set_pin("12a4", "12a4")
+    with pytest.raises(SettingsError):
+        pins.set_pin("1234", "1235")
+    pins.set_pin("4711", "4711")
+    stored = pins.path.read_text()
+    assert "4711" not in stored and pins.path.stat().st_mode & 0o077 == 0
+    assert pins.check("4711").ok and not pins.check("4712").ok
+    PinStore(tmp_path).set_pin("4711", "4711")
+    assert pins.path.read_text() != stored  # a new salt each time
+    for _ in range(MAX_TRIES - 1):
+        assert not pins.check("0000").ok
+    assert pins.check("0000").wait_s == LOCKOUT_S
+    assert not pins.check("4711").ok  # locked out even with the right PIN
+    now[0] += LOCKOUT_S + 1
+    assert pins.check("4711").ok
+    pins.path.write_text("{not json")
+    with pytest.raises(SettingsError):
+        pins.check("4711")
+
+
+def test_the_page_watchdog_closes_the_app_when_pings_stop() -> None:
+    from pmk_nb.ui.page_lifecycle import FIRST_PING_WITHIN, PAGE_GONE_AFTER, PageWatch
+
+    now = [0.0]
+    closed: list[bool] = []
+    watch = PageWatch(lambda: closed.append(True), clock=lambda: now[0])
+    now[0] = 3.0
+    assert not watch.check() and watch.play.playing  # no ping yet: start the page's timer
+    watch.play.value = 1  # a ping from the page
+    assert watch.pong.value == "1"
+    now[0] += PAGE_GONE_AFTER - 1
+    assert not watch.check() and not closed
+    now[0] += 2
+    assert watch.check() and closed == [True]
+    assert watch.check() and closed == [True]  # once
+    never = PageWatch(lambda: closed.append(False), clock=lambda: now[0])
+    now[0] += FIRST_PING_WITHIN + 1
+    assert never.check() and closed[-1] is False
