@@ -15,6 +15,20 @@ import numpy as np
 UNKNOWN = -1
 FREE = 0
 OCCUPIED = 100
+#: Greys of a map image as map_saver writes them: 0 occupied, 254 free, 205 unknown, 1..99 as shades.
+GRAY_UNKNOWN = 205
+
+
+def _gray_lut() -> np.ndarray:
+    values = np.arange(256, dtype=np.uint8).view(np.int8).astype(np.int16)
+    lut = np.rint((100 - values.clip(0, 100)) * 254 / 100).astype(np.uint8)
+    lut[(values < 0) | (values > 100)] = GRAY_UNKNOWN
+    lut.setflags(write=False)
+    return lut
+
+
+#: occupancy byte (int8 viewed as uint8) -> grey: one lookup for the map file and the live view
+GRAY_LUT = _gray_lut()
 
 
 @dataclass

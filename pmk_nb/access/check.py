@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport, check_storey
 from pmk_nb.access.sidecar import read_sidecar
 from pmk_nb.errors import OccupancyError
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, plan_openings
+from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
 from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS, rasterise_storey
 
 if TYPE_CHECKING:
@@ -31,10 +31,12 @@ def check_chair_width(value: float) -> float:
 def check_grid(
     building: Building, storey: str, grid: OccupancyGrid, *, chair_width: float = DEFAULT_CHAIR_WIDTH,
     door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = DEFAULT_MAX_WALL_GAP,
-    wall_thickness: float = DEFAULT_WALL_THICKNESS,
+    wall_thickness: float = DEFAULT_WALL_THICKNESS, plan: OpeningPlan | None = None,
 ) -> StoreyReport:  # fmt: skip
-    """The report of one storey's grid against the building's graph."""
-    plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
+    """The report of one storey's grid against the building's graph (``plan``: the openings the grid
+    was rasterised with, when the caller has them)."""
+    if plan is None:
+        plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
     cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
     return check_storey(
         storey, grid, cells, plan.openings, chair_width=chair_width, wall_thickness=wall_thickness, max_gap=max_gap
@@ -49,8 +51,9 @@ def check_building(
     width = check_chair_width(chair_width)
     out = []
     for name in storeys or [s.name for s in building.storeys]:
-        grid = rasterise_storey(building, name, resolution, door_width=door_width)
-        out.append(check_grid(building, name, grid, chair_width=width, door_width=door_width))
+        plan = plan_openings(building, name, door_width=door_width)
+        grid = rasterise_storey(building, name, resolution, door_width=door_width, openings=plan)
+        out.append(check_grid(building, name, grid, chair_width=width, plan=plan))
         del grid
     return out
 
@@ -66,9 +69,8 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
     width = check_chair_width(chair_width)
     grid = read_map(Path(yaml_path))
     plan = read_sidecar(yaml_path)
-    meta = plan.raw
     return check_storey(
         plan.storey, grid, plan.cells, plan.openings, chair_width=width,
-        wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS) or DEFAULT_WALL_THICKNESS),
-        max_gap=float(grid.meta.get("max_wall_gap", meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP))),
+        wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS)),
+        max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)),
     )  # fmt: skip

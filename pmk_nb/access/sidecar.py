@@ -32,6 +32,16 @@ def sidecar_path(yaml_path: str | Path) -> Path:
     return p.with_name(p.stem + SUFFIX)
 
 
+def sidecar_doc(yaml_path: str | Path) -> dict[str, Any] | None:
+    """The rooms file of a map as written, or None when it is missing or unreadable (screens and
+    listings show what is there; :func:`read_sidecar` is the strict reader that says what is wrong)."""
+    try:
+        doc = json.loads(sidecar_path(yaml_path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return doc if isinstance(doc, dict) else None
+
+
 def _geo(g: Any) -> Any:
     return None if g is None or g.is_empty else json.loads(shapely.to_geojson(g))
 

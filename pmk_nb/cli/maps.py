@@ -160,14 +160,9 @@ def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
 
 def accessibility_line(yaml_path: Path) -> str:
     """The accessibility summary kept in a map's rooms file ('' when it has none)."""
-    import json
+    from pmk_nb.access.sidecar import sidecar_doc
 
-    from pmk_nb.access.sidecar import sidecar_path
-
-    try:
-        report = json.loads(sidecar_path(yaml_path).read_text(encoding="utf-8")).get("accessibility") or {}
-    except (OSError, ValueError):
-        return ""
+    report = (sidecar_doc(yaml_path) or {}).get("accessibility") or {}
     c = report.get("counts")
     if not c:
         return ""

@@ -145,9 +145,11 @@ def _stage_storeys(
     for i, storey in enumerate(wanted):
         start = _READ_END + span * i
         emit(progress, "rasterise", start, f"storey {storey}")
+        plan = plan_openings(building, storey, door_width=opts.door_width, max_gap=opts.max_wall_gap)
         grid = rasterise_storey(
             building, storey, resolution, outside=opts.outside, max_wall_gap=opts.max_wall_gap,
-            door_width=opts.door_width, progress=sub_range(progress, start, start + span), **raster_kw,
+            door_width=opts.door_width, openings=plan, progress=sub_range(progress, start, start + span),
+            **raster_kw,
         )  # fmt: skip
         grid.meta.update(extra_meta)
         files = write_map(
@@ -157,10 +159,9 @@ def _stage_storeys(
         report = None
         if opts.check:
             report = check_grid(
-                building, storey, grid, chair_width=opts.chair_width, door_width=opts.door_width,
-                max_gap=opts.max_wall_gap, wall_thickness=opts.wall_thickness,
+                building, storey, grid, chair_width=opts.chair_width, max_gap=opts.max_wall_gap,
+                wall_thickness=opts.wall_thickness, plan=plan,
             )  # fmt: skip
-        plan = plan_openings(building, storey, door_width=opts.door_width, max_gap=opts.max_wall_gap)
         rooms = sidecar_path(files.yaml)
         doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
         rooms.write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")

@@ -204,14 +204,15 @@ class _Ticker:
 
 
 def _plan(building: Building, storey: str, resolution: float, wall_thickness: float, max_wall_gap: float,
-          door_width: float, **plan_kw: Any) -> _Plan:  # fmt: skip
+          door_width: float, openings: OpeningPlan | None = None, **plan_kw: Any) -> _Plan:  # fmt: skip
     """Step 1: the frame (budget-checked), the storey's cells sorted into rooms, blocked and doors, and
     the openings the navigation graph asks for (door lines between cells it does not join stay shut)."""
     max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
     width = _check_number("door width", door_width, positive=True)
     frame = plan_storey(building, storey, resolution, wall_thickness=wall_thickness, **plan_kw)
     cells = _storey_cells(building, storey)
-    openings = plan_openings(building, storey, door_width=width, max_gap=max_gap)
+    if openings is None:
+        openings = plan_openings(building, storey, door_width=width, max_gap=max_gap)
     door_polys, door_lines = door_geometry(building, storey, cells, skip=openings.shut_doors)
     return _Plan(
         frame=frame, half=float(wall_thickness) / 2, max_gap=max_gap, cells=cells,
@@ -296,6 +297,7 @@ def rasterise_storey(
     margin: float | None = None,
     allow_large: bool = False,
     door_width: float = DEFAULT_DOOR_WIDTH,
+    openings: OpeningPlan | None = None,
     progress: ProgressCallback | None = None,
 ) -> OccupancyGrid:
     """One storey as an OccupancyGrid (-1 unknown, 0 free, 100 occupied; row 0 = bottom).
@@ -309,7 +311,7 @@ def rasterise_storey(
     if outside not in ("unknown", "occupied"):
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {outside!r}")
     plan = _plan(
-        building, storey, resolution, wall_thickness, max_wall_gap, door_width,
+        building, storey, resolution, wall_thickness, max_wall_gap, door_width, openings,
         margin=margin, max_cells=max_cells, allow_large=allow_large,
     )  # fmt: skip
     tick = _Ticker(progress, plan.steps, storey)

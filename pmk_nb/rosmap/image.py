@@ -25,6 +25,8 @@ from typing import BinaryIO, Literal
 
 import numpy as np
 
+from pmk_nb.grid import GRAY_LUT as _GRAY_LUT
+from pmk_nb.grid import GRAY_UNKNOWN as GRAY_UNKNOWN  # the greys are the grid's
 from pmk_nb.grid import OccupancyGrid
 
 #: The map server image readers copied here; ``read_map(..., reader=...)`` picks one.
@@ -33,7 +35,6 @@ READERS: tuple[ImageReader, ...] = ("ros1", "nav2_humble", "nav2_jazzy")
 MODES = ("trinary", "scale", "raw")
 GRAY_OCCUPIED = 0
 GRAY_FREE = 254
-GRAY_UNKNOWN = 205
 
 
 @dataclass
@@ -203,17 +204,6 @@ def grid_to_gray(grid: OccupancyGrid | np.ndarray) -> np.ndarray:
     data = grid.data if isinstance(grid, OccupancyGrid) else np.asarray(grid)
     # a 256-entry lookup on the raw bytes keeps memory at one byte per cell for huge grids
     return np.ascontiguousarray(_GRAY_LUT[data.astype(np.int8, copy=False).view(np.uint8)][::-1])
-
-
-def _gray_lut() -> np.ndarray:
-    values = np.arange(256, dtype=np.uint8).view(np.int8).astype(np.int16)
-    lut = np.rint((100 - values.clip(0, 100)) * 254 / 100).astype(np.uint8)
-    lut[(values < 0) | (values > 100)] = GRAY_UNKNOWN
-    lut.setflags(write=False)
-    return lut
-
-
-_GRAY_LUT = _gray_lut()
 
 
 def pgm_bytes(gray: np.ndarray) -> bytes:

@@ -14,21 +14,13 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 import shapely
 
-from pmk_nb.access.sidecar import sidecar_path
+from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.ui.widgets import escape
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import GeneratedMap, MapEntry
 
 RED = (220, 30, 30, 255)
-
-
-def _read(gm: GeneratedMap) -> dict[str, Any] | None:
-    try:
-        doc = json.loads(sidecar_path(gm.yaml).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-    return doc if isinstance(doc, dict) else None
 
 
 def marked_preview(gm: GeneratedMap, doc: dict[str, Any]) -> bytes | None:
@@ -121,7 +113,7 @@ class AccessPanel:
         self.widget.layout.display = "flex"
         parts, images, conflict = [], [], ""
         for gm in entry.generated:
-            doc = _read(gm)
+            doc = sidecar_doc(gm.yaml)
             parts.append(_storey_html(gm, doc))
             conflict = conflict or (doc or {}).get("unit_conflict", "")
             report = (doc or {}).get("accessibility") or {}

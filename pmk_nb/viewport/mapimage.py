@@ -23,21 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: Display grey of unknown / free / occupied, as map_saver writes them (0 occupied, 254 free, 205
-#: unknown; 1..99 as shades), so the live map looks like the map file.
-GRAY_UNKNOWN = 205
-
-
-def _gray_lut() -> np.ndarray:
-    values = np.arange(256, dtype=np.uint8).view(np.int8).astype(np.int16)
-    lut = np.rint((100 - values.clip(0, 100)) * 254 / 100).astype(np.uint8)
-    lut[(values < 0) | (values > 100)] = GRAY_UNKNOWN
-    lut.setflags(write=False)
-    return lut
-
-
-#: occupancy byte (int8 viewed as uint8) -> display grey
-GRAY_LUT = _gray_lut()
+from pmk_nb.grid import GRAY_LUT as GRAY_LUT  # the map file's greys, so the live map looks like it
+from pmk_nb.grid import GRAY_UNKNOWN as GRAY_UNKNOWN
 
 
 def clean_occupancy(data: np.ndarray) -> np.ndarray:
