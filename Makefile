@@ -6,7 +6,7 @@ STAMP  := $(VENV)/.installed
 PYTEST_ARGS ?=
 JS_STAMP := tests/js/node_modules/.package-lock.json
 
-.PHONY: demo test lint bench system-deps venv clean ros2
+.PHONY: demo test lint bench soak system-deps venv clean ros2
 
 demo: $(STAMP)  ## convert the sample, start the simulated chair and the Voilà kiosk, print the URL
 	$(BIN)/pmk demo
@@ -17,8 +17,11 @@ test: $(STAMP) system-deps $(JS_STAMP) ros2 lint  ## install everything the test
 lint: $(STAMP)
 	$(BIN)/ruff check pmk_nb tests bench conftest.py
 
-bench: $(STAMP) system-deps  ## speed and memory figures, written to bench/results.md
+bench: $(STAMP) system-deps ros2  ## speed and memory figures, written to bench/results.md
 	$(BIN)/pmk bench all
+
+soak: $(STAMP) system-deps  ## 10 kiosk pages for 10 min: nothing may grow (bench/results.md, soak section)
+	$(BIN)/python bench/soak.py
 
 venv: $(STAMP)
 
@@ -28,11 +31,17 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[dev]'
 	touch $(STAMP)
 
-# Real parts the tests use: OpenSSH server (SFTP tests) and Debian's Chromium (kiosk tests).
+# Real parts the tests use: OpenSSH server (SFTP tests), Debian's Chromium (kiosk tests), espeak-ng
+# (spoken feedback for pages without speech synthesis) and Debian's
+# ROS 1 (rospy, rosmaster, nav_msgs: the ROS 1 map server and its tests).
 system-deps:
 	@missing=""; \
 	test -x /usr/sbin/sshd || missing="$$missing openssh-server"; \
 	test -x /usr/bin/chromium || missing="$$missing chromium"; \
+	test -x /usr/bin/espeak-ng || missing="$$missing espeak-ng"; \
+	test -x /usr/bin/rosmaster && test -f /usr/share/nav_msgs/msg/MapMetaData.msg \
+	  && /usr/bin/python3 -c 'import rospy, genpy, nav_msgs.srv, numpy, yaml, PIL' 2>/dev/null \
+	  || missing="$$missing python3-rospy python3-rosmaster python3-nav-msgs python3-geometry-msgs python3-genpy ros-nav-msgs python3-numpy python3-yaml python3-pil"; \
 	if [ -n "$$missing" ]; then \
 	  if [ "$$(id -u)" != 0 ]; then echo "make: need root to install:$$missing (or install them yourself)"; exit 1; fi; \
 	  echo "installing Debian packages:$$missing"; \
@@ -50,9 +59,11 @@ clean:
 	rm -rf $(VENV) tests/js/node_modules .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
 
 # --- real ROS 2 stack (issue 9) -------------------------------------------------------------
-# Jazzy wheels + rosbridge-server-rs + our interfaces built with cmake, in a venv outside the
-# checkout ($$PMK_ROS_CACHE, default ~/.cache/pmk-ros); instant when nothing changed. The real-stack
-# test tier (tests/test_real_*.py) and `make bench` use it.
+# Jazzy wheels + rosbridge-server-rs + our interfaces (ros/interfaces, rosapi_msgs included so the
+# bridge can run rosapi) built with cmake, in a venv outside the checkout ($$PMK_ROS_CACHE, default
+# ~/.cache/pmk-ros); instant when nothing changed, one package rebuilt when only it changed (cold on
+# 2 cores: about 4-5 min, rosapi_msgs 3 of them). The real-stack test tier (tests/test_real_*.py)
+# and `make bench` use it.
 ros2: $(STAMP)
 	@command -v cmake >/dev/null && command -v c++ >/dev/null || { echo "make: the ROS 2 interfaces need cmake and a C/C++ compiler"; exit 1; }
 	$(BIN)/python -m pmk_nb.robot.wheels

@@ -15,7 +15,8 @@ Cases: the shared samples (/work/shared/data/indoorgml/*.gml) at 0.05 m; a gener
 building with 500 rooms (+ doors) per storey at 0.05 m; a generated 200 m x 200 m storey at 0.05 m and
 0.01 m. ``--quick`` keeps the samples, the 20 x 500 building on 4 storeys and the 200 m storey at 0.05 m.
 
-Usage: .venv/bin/python bench/bench_convert.py [--quick]   -> writes bench/results-convert.md
+Usage: .venv/bin/python bench/bench_convert.py [--quick] [--before DIR]   -> writes bench/results-convert.md
+(``--before DIR``: also the same worker on an earlier version's source tree, rows "before", same run.)
 """
 
 from __future__ import annotations
@@ -33,7 +34,9 @@ from pathlib import Path
 from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
+# the code under test: this checkout, or (``--before DIR``, set for the child) an earlier version's tree
+CODE = Path(os.environ.get("PMK_BENCH_CODE", str(ROOT)))
+sys.path.insert(0, str(CODE))
 
 SAMPLES = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "indoorgml"
 if not SAMPLES.is_dir():
@@ -132,22 +135,24 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
     from pmk_nb.raster.storey import rasterise_storey
     from pmk_nb.rosmap.files import write_map
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     building = load(case)
-    t1 = time.perf_counter()
+    t1, c1 = time.perf_counter(), time.process_time()
     names = [s.name for s in building.storeys]
     files = storey_map_names("map", names)
-    t_r = t_w = t_c = 0.0
+    t_r = t_w = t_c = c_r = c_w = 0.0
     cells = biggest = 0
     kept: list[float] = []
     fid = [0, 0, 0, 0]  # links, passable r = 0, passable for a 0.6 m chair, leaks
     for s in names:
-        a = time.perf_counter()
+        a, ca = time.perf_counter(), time.process_time()
         grid = rasterise_storey(building, s, case["res"], max_cells=case.get("max_cells", 400_000_000))
-        b = time.perf_counter()
+        b, cb = time.perf_counter(), time.process_time()
         write_map(grid, out, files[s])
         t_r += b - a
         t_w += time.perf_counter() - b
+        c_r += cb - ca
+        c_w += time.process_time() - cb
         cells += grid.width * grid.height
         biggest = max(biggest, grid.width * grid.height)
         k = wall_kept(grid.data, (grid.resolution, grid.resolution), grid.origin[:2], case, 100)
@@ -164,6 +169,7 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
         del grid
     return {
         "parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None,
+        "cpu_total": (c1 - c0) + c_r + c_w, "cpu_write": c_w,
         "check": t_c, "fidelity": fid if case["kind"] == "file" else None, "grid_mb": biggest / 1e6,
         "input_mb": Path(case["path"]).stat().st_size / 1e6 if case["kind"] == "file" else 0.0,
     }  # fmt: skip
@@ -230,9 +236,9 @@ def child_main(spec: str) -> None:
     job = json.loads(spec)
     import importlib
 
-    for module in ("numpy", "PIL.Image", "PIL.ImageDraw", "shapely", "pmk_nb.indoorgml", "pmk_nb.raster.storey",
-                   "pmk_nb.rosmap.files"):  # fmt: skip
-        importlib.import_module(module)  # the baseline includes what both approaches load
+    for module in ("numpy", "PIL.Image", "PIL.ImageDraw", "PIL.PngImagePlugin", "yaml", "shapely", "pmk_nb.indoorgml",
+                   "pmk_nb.raster.storey", "pmk_nb.rosmap.files", "pmk_nb.access.check"):  # fmt: skip
+        importlib.import_module(module)  # the baseline includes the code both approaches load (not their data)
 
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     with tempfile.TemporaryDirectory(prefix="bench-convert-") as tmp:
@@ -253,9 +259,10 @@ def child_main(spec: str) -> None:
 # --- parent --------------------------------------------------------------------------------------
 
 
-def run_job(approach: str, case: dict[str, Any]) -> dict[str, Any]:
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONPATH=str(ROOT))
-    spec = json.dumps({"approach": approach, "case": case})
+def run_job(approach: str, case: dict[str, Any], code: Path = ROOT) -> dict[str, Any]:
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONPATH=str(code),
+               PMK_BENCH_CODE=str(code))  # fmt: skip
+    spec = json.dumps({"approach": "new" if approach == "before" else approach, "case": case})
     t0 = time.perf_counter()
     proc = subprocess.run(
         [sys.executable, __file__, "--child", spec], capture_output=True, text=True, env=env, timeout=600
@@ -296,12 +303,16 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer/smaller cases")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results-convert.md")
+    ap.add_argument("--before", type=Path, default=None, metavar="DIR",
+                    help="also run this rasteriser as it was in DIR, a source tree of an earlier version "
+                    "(e.g. `git archive HEAD pmk_nb | tar -x -C DIR`), as rows 'before'")  # fmt: skip
     args = ap.parse_args()
     rows = []
     started = time.perf_counter()
+    approaches = (("before",) if args.before else ()) + ("new", "original")
     for case in cases(args.quick):
-        for approach in ("new", "original"):
-            r = run_job(approach, case)
+        for approach in approaches:
+            r = run_job(approach, case, args.before.resolve() if approach == "before" else ROOT)
             rows.append((case, approach, r))
             status = r.get("refused") or f"{r['parse'] + r['raster'] + r['write']:.2f}s, {r['peak_mb']:.0f} MB"
             print(f"{case['label']} @ {case['res']} m [{approach}]: {status}", file=sys.stderr, flush=True)
@@ -325,11 +336,13 @@ def main() -> int:
         "total / write = (parse + raster + write) / write, goal <= 3; memory = (peak - base) / (largest "
         "storey grid + input file), goal <= 3; fidelity on the shared files = transitions passable for a "
         "point and for a 0.6 m chair (`pmk_nb.access`), plus leaks; check = seconds the check took (not "
-        "part of total).",
+        "part of total; `pmk convert` runs it too: *with check*); CPU = the same ratio in process CPU time, "
+        "which other jobs on the machine disturb far less than wall time. code: *new* = this checkout, *before* = "
+        "`--before` tree (the same worker on the earlier rasteriser), in the same run.",
         "",
-        "| case | res (m) | total / write | memory / (grid + input) | fidelity r = 0 | fidelity 0.6 m | leaks "
-        "| check s |",
-        "|---|---|---|---|---|---|---|---|",
+        "| case | res (m) | code | total / write | CPU total / write | with check / write | memory / (grid + input) "
+        "| fidelity r = 0 | fidelity 0.6 m | leaks | check s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for case, approach, r in rows:
         if "refused" in r:
@@ -337,12 +350,14 @@ def main() -> int:
                          f"{fmt(r, 'peak_mb', '.0f')} | | |")  # fmt: skip
             continue
         total = r["parse"] + r["raster"] + r["write"]
-        if approach == "new":
+        if approach in ("new", "before"):
             fid = r.get("fidelity")
             mem = (r["peak_mb"] - r["base_mb"]) / max(r["grid_mb"] + r["input_mb"], 1e-9)
             fids = ("-", "-", "-") if fid is None else (f"{fid[1]}/{fid[0]}", f"{fid[2]}/{fid[0]}", str(fid[3]))
             goals.append(
-                f"| {case['label']} | {case['res']} | {total / max(r['write'], 1e-9):.1f} | {mem:.1f} | "
+                f"| {case['label']} | {case['res']} | {approach} | {total / max(r['write'], 1e-9):.1f} | "
+                f"{r['cpu_total'] / max(r['cpu_write'], 1e-9):.1f} | "
+                f"{(total + r['check']) / max(r['write'], 1e-9):.1f} | {mem:.1f} | "
                 f"{fids[0]} | {fids[1]} | {fids[2]} | {r['check']:.2f} |"
             )
         lines.append(

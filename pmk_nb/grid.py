@@ -7,6 +7,7 @@ Values follow ``OccupancyGrid.data``: -1 unknown, 0 free, 100 occupied (1..99 in
 from __future__ import annotations
 
 import math
+import mmap
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -118,6 +119,32 @@ class OccupancyGrid:
             origin=(float(pos["x"]), float(pos["y"]), yaw),
             frame_id=frame,
         )
+
+
+_MMAP_MIN_BYTES = 32 * 1024 * 1024
+
+
+def new_cells(height: int, width: int, value: int) -> np.ndarray:
+    """A C-contiguous int8 (height, width) array filled with ``value``.
+
+    Large grids live in their own anonymous mapping rather than numpy's allocator: numpy advises
+    the kernel to back big arrays with huge pages, and on hosts that compact memory for them on first
+    touch (transparent_hugepage defrag "madvise") that costs three to four times the pages themselves
+    (a 400 MB grid: ~1 s of CPU against ~0.25 s). Freed with the array, like any other.
+
+    Raises:
+        MemoryError: the memory is not there (as numpy would).
+    """
+    size = height * width
+    if size < _MMAP_MIN_BYTES:
+        return np.full((height, width), value, np.int8)
+    try:
+        buf = mmap.mmap(-1, size, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
+    except OSError as err:  # ENOMEM: the same answer numpy gives
+        raise MemoryError(f"cannot map {size} bytes for a {width} x {height} grid") from err
+    cells = np.frombuffer(buf, dtype=np.int8).reshape(height, width)
+    cells.fill(value)
+    return cells
 
 
 def nice_ceil(value: float) -> float:

@@ -4,7 +4,8 @@
   that needs it FAILS, naming the command to run, when it is missing: never a skip.
 - ``real_chair`` -> a :class:`RealChair` on a private ``ROS_DOMAIN_ID`` with DDS kept on loopback
   (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``): start the bridge, the map server and the sim node
-  on it, kill and restart them; everything is stopped at teardown.
+  on it, kill and restart them; everything is stopped at teardown. The bridge runs with rosapi when
+  asked (``rosapi_msgs`` is built by `make ros2`), without it by default.
 
 Import the fixtures into a test module (``from tests.fixtures_ros2 import real_chair, ros2_stack``).
 """
@@ -28,6 +29,7 @@ from pmk_nb.robot import wheels
 from tests.fixtures_sim import ROSLIBPY_TRANSPORT
 
 _domains = itertools.count()
+BIG_BYTES = 1024**3  # the bridge estimates a big OccupancyGrid far above its JSON size
 
 
 def private_domain() -> int:
@@ -103,10 +105,19 @@ class RealChair:
         self.procs[name] = proc
         return proc
 
-    def start_bridge(self, *, rosapi: bool = False, write_queue_bytes: int | None = None, timeout: float = 20) -> None:
-        """rosbridge-server-rs on 127.0.0.1:port; returns once it accepts connections."""
+    def start_bridge(
+        self, *, rosapi: bool = False, write_queue_bytes: int | None = None, timeout: float = 20, big: bool = False
+    ) -> None:
+        """rosbridge-server-rs on 127.0.0.1:port; returns once it accepts connections.
+
+        ``rosapi`` needs rosapi_msgs (built by `make ros2`); ``big`` raises the send queue and the
+        message size limit so that a 4000x4000 grid crosses as JSON (Nav2 chairs need this).
+        """
         cmd = [str(self.stack.server), "--bind", f"127.0.0.1:{self.port}", "--log-ansi", "false"]
         cmd += [] if rosapi else ["--no-rosapi"]
+        if big:
+            write_queue_bytes = write_queue_bytes or BIG_BYTES
+            cmd += ["--max-message-size", str(BIG_BYTES)]
         if write_queue_bytes:
             cmd += ["--write-queue-bytes", str(write_queue_bytes)]
         proc = self._spawn("bridge", cmd, self.stack.process_env(self.domain), None)

@@ -219,3 +219,56 @@ def test_unit_conflict_is_said_plainly(tmp_path: Path) -> None:
     assert b.unit == "m" and "cell height" in b.unit_conflict and "20 m" in b.unit_conflict
     ok = read_building(_plan(tmp_path, _solid("A", (0, 0, 6, 4), 0, 2.8) + _solid("B", (6, 0, 12, 4), 0, 2.8)))
     assert ok.unit == "m" and ok.unit_conflict == ""
+
+
+def _named_solid(cid: str, name: str, box: tuple[float, float, float, float], z0: float, z1: float) -> str:
+    return _solid(cid, box, z0, z1).replace(f'gml:id="{cid}">', f'gml:id="{cid}"><gml:name>{name}</gml:name>', 1)
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_split_level_joined_by_stairs_is_its_own_storey(tmp_path: Path, v2: bool) -> None:
+    # lower hall 0 m, upper hall 1 m (closer than any storey gap z alone would see), a stair between
+    cells = (
+        _named_solid("L", "hall", (0, 0, 5, 4), 0.0, 2.6)
+        + _named_solid("S", "Stair 1", (5, 0, 7, 4), 0.0, 3.6)
+        + _named_solid("U", "gallery", (7, 0, 12, 4), 1.0, 3.6)
+    )
+    b = read_building(_plan(tmp_path, cells, _graph([("L", "S"), ("S", "U")], v2=v2), v2=v2), unit="m")
+    assert len(b.storeys) == 2
+    assert b.cells["L"].storey == b.cells["S"].storey != b.cells["U"].storey
+    assert b.cells["U"].kind.is_free  # a floor of its own, not a window above the stair
+    between = [k for k in b.links if not k.same_storey]
+    assert [(k.a, k.b) for k in between] == [("S", "U")]  # the stair is the link between storeys
+    assert [(k.a, k.b) for k in b.links_of(b.cells["L"].storey)] == [("L", "S")]
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_ramp_between_floor_heights_stays_one_storey(tmp_path: Path, v2: bool) -> None:
+    cells = (
+        _named_solid("L", "hall", (0, 0, 5, 4), 0.0, 2.6)
+        + _named_solid("R", "ramp", (5, 0, 7, 4), 0.0, 3.0)  # floors 1 m apart: two height bands
+        + _named_solid("U", "gallery", (7, 0, 12, 4), 1.0, 3.6)
+    )
+    b = read_building(_plan(tmp_path, cells, _graph([("L", "R"), ("R", "U")], v2=v2), v2=v2), unit="m")
+    assert len(b.storeys) == 1 and all(k.same_storey for k in b.links)  # joined by an ordinary transition
+    assert b.cells["U"].kind.is_free
+
+
+def test_split_level_without_a_graph_keeps_the_z_rule(tmp_path: Path) -> None:
+    cells = _named_solid("L", "hall", (0, 0, 5, 4), 0.0, 2.6) + _named_solid("U", "gallery", (7, 0, 12, 4), 1.0, 3.6)
+    b = read_building(_plan(tmp_path, cells), unit="m")
+    assert len(b.storeys) == 1
+
+
+def test_unit_conflict_shows_before_conversion(tmp_path: Path) -> None:
+    from pmk_nb.library.info import storeys_of
+    from pmk_nb.ui.maps_storeys import unit_warning
+
+    cells = _solid("A", (0, 0, 30, 20), 0, 20) + _solid("B", (30, 0, 60, 20), 0, 20)
+    door = _boundary("D1", ((30, 5), (30, 6.5)), "navi:ConnectionBoundary")
+    info = storeys_of(read_building(_plan(tmp_path, cells, "", door)))
+    assert info and "20 m" in info[0].unit_conflict
+    shown = unit_warning(info)
+    assert "--unit" in shown and "20 m" in shown
+    ok = storeys_of(read_building(_plan(tmp_path, _solid("A", (0, 0, 6, 4), 0, 2.8))))
+    assert unit_warning(ok) == ""

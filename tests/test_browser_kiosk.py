@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import re
 import shutil
 import subprocess
 import time
@@ -38,9 +39,15 @@ pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
 
 @contextlib.contextmanager
-def serve_kiosk(tmp_path: Path, sim_args: Sequence[str] = (), label: str = "kiosk") -> Iterator[tuple[str, DemoWorld]]:
-    """The demo world (simulated chair, converted sample, profile) and Voilà serving the dashboard."""
+def serve_kiosk(
+    tmp_path: Path, sim_args: Sequence[str] = (), label: str = "kiosk", env: dict[str, str] | None = None
+) -> Iterator[tuple[str, DemoWorld]]:
+    """The demo world (simulated chair, converted sample, profile) and Voilà serving the dashboard.
+
+    ``env`` adds to the server's environment (e.g. ``PMK_KIOSK=1`` for kiosk mode).
+    """
     world = prepare_demo(tmp_path / "demo", sim_args=sim_args)
+    world.env.update(env or {})
     port = free_port()
     notebook = write_dashboard_notebook(tmp_path / "kiosk")
     log = (tmp_path / "voila.log").open("wb")
@@ -212,3 +219,119 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
         expect(zoom).to_contain_text("Zoom: 6")
         page.locator("button.pmk-home-zoom-out").click()
         expect(zoom).to_contain_text("Zoom: 5")
+
+
+# --- kiosk mode (`pmk dashboard --kiosk`, `pmk demo`): Home only, big targets, PIN, screen kept on ----
+
+
+def _pin_prompt_says(page: Any, typed: str, expected: str) -> None:
+    from playwright.sync_api import expect
+
+    box = page.locator(".pmk-kiosk-pin input")
+    box.fill(typed)
+    page.locator("button.pmk-kiosk-unlock").click()
+    expect(box).to_have_value("", timeout=30_000)  # the kernel took the PIN (it empties the box)
+    expect(page.locator(".pmk-kiosk-pin-status")).to_contain_text(expected, timeout=30_000)
+
+
+def test_kiosk_mode_locks_maps_and_settings_behind_the_pin(tmp_path: Path) -> None:
+    from playwright.sync_api import expect
+
+    from pmk_nb.ui.kiosk_pin import KIOSK_ENV, LOCKOUT_S, MAX_TRIES
+
+    with (
+        serve_kiosk(tmp_path, label="kiosk-mode", env={KIOSK_ENV: "1"}) as (url, _world),
+        chromium_page(url, viewport=VIEWPORT, has_touch=True) as page,
+    ):
+        expect(page.locator(".pmk-kiosk button.pmk-nav-home")).to_be_visible(timeout=120_000)
+        expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=60_000)
+        # -- Home with big targets: every visible button on the page is at least 60 px tall
+        heights = page.eval_on_selector_all(
+            "button", "bs => bs.filter(b => b.offsetParent !== null).map(b => [b.className, b.offsetHeight])"
+        )
+        assert heights and all(h >= 60 for _c, h in heights), f"small touch targets: {heights}"
+        assert page.locator("button.pmk-nav-home").bounding_box()["height"] >= 90  # type: ignore[index]
+        for name in ("maps", "settings"):  # locked screens say so on their button
+            assert page.locator(f"button.pmk-nav-{name} i.fa-lock").count() == 1
+        # -- the screen is kept on, or the page says it cannot be (headless Chromium may refuse)
+        expect(page.locator(".pmk-wakelock")).to_have_attribute("data-state", re.compile("on|off"))
+        assert "screen" in (page.locator(".pmk-wakelock").text_content() or "").lower()
+        _shot(page, "mode-1-home")
+
+        # -- no PIN yet: Settings opens and says how to lock it; the PIN is set there
+        page.locator("button.pmk-nav-settings").click()
+        expect(page.locator(".pmk-kiosk-pin-state")).to_contain_text("No PIN yet")
+        page.locator(".pmk-kiosk-pin-new input").fill("12")
+        page.locator(".pmk-kiosk-pin-repeat input").fill("12")
+        page.locator("button.pmk-kiosk-pin-set").click()
+        expect(page.locator(".pmk-kiosk-pin-message")).to_contain_text("4 to 12 digits")
+        page.locator(".pmk-kiosk-pin-new input").fill("4711")
+        page.locator(".pmk-kiosk-pin-repeat input").fill("4711")
+        page.locator("button.pmk-kiosk-pin-set").click()
+        expect(page.locator(".pmk-kiosk-pin-message")).to_contain_text("PIN saved")
+        expect(page.locator(".pmk-kiosk-pin-state")).to_contain_text("A PIN protects")
+        _shot(page, "mode-2-settings-pin-set")
+
+        # -- back Home locks again: Maps asks for the PIN and shows nothing of Maps
+        page.locator("button.pmk-nav-home").click()
+        page.locator("button.pmk-nav-maps").click()
+        expect(page.locator(".pmk-kiosk-pin-box")).to_contain_text("Enter the PIN to open Maps")
+        assert page.locator(".pmk-maps-list").count() == 0 or not page.locator(".pmk-maps-list").is_visible()
+        _pin_prompt_says(page, "", "Type the PIN first")
+        _pin_prompt_says(page, "abcd", "a PIN has 4 to 12 digits")
+        _pin_prompt_says(page, "1234", "Wrong PIN.")
+        _shot(page, "mode-3-pin-refused")
+        page.locator(".pmk-kiosk-pin input").fill("4711")
+        page.locator("button.pmk-kiosk-unlock").click()
+        expect(page.locator(".pmk-maps-list")).to_be_visible(timeout=30_000)
+        _shot(page, "mode-4-maps-unlocked")
+
+        # -- Home -> Settings asks again; too many wrong PINs lock out, even the right one
+        page.locator("button.pmk-nav-home").click()
+        page.locator("button.pmk-nav-settings").click()
+        expect(page.locator(".pmk-kiosk-pin-box")).to_contain_text("Enter the PIN to open Settings")
+        for _ in range(MAX_TRIES - 1):
+            _pin_prompt_says(page, "0000", "Wrong PIN.")
+        _pin_prompt_says(page, "0000", f"try again in {LOCKOUT_S:.0f} s")
+        _pin_prompt_says(page, "4711", "Too many wrong PINs")
+        assert page.locator(".pmk-settings-name").count() == 0 or not page.locator(".pmk-settings-name").is_visible()
+        _shot(page, "mode-5-lockout")
+
+
+# --- served with a token: the page opens only with it ---------------------------------------------
+
+
+def test_the_dashboard_refuses_the_network_without_a_token_and_needs_the_printed_url(tmp_path: Path) -> None:
+    """`pmk dashboard --ip 0.0.0.0` without a token never starts; with ``--token auto`` (on loopback:
+    the tests stay on 127.0.0.1) the page opens only from the printed URL, which carries the token."""
+    import os
+    import sys
+
+    from playwright.sync_api import expect
+
+    env = {**os.environ, "PMK_MAPS_DIR": str(tmp_path / "maps"), "PMK_CONFIG_DIR": str(tmp_path / "config")}
+    port = free_port()
+    refused = subprocess.run(
+        [sys.executable, "-m", "pmk_nb.cli", "dashboard", "--ip", "0.0.0.0", "--port", str(port), "--no-browser"],
+        env=env, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert refused.returncode == 2 and "--token" in refused.stderr and len(refused.stderr.strip().splitlines()) == 1
+    served = subprocess.Popen(
+        [sys.executable, "-m", "pmk_nb.cli", "dashboard", "--token", "auto", "--port", str(port), "--no-browser"],
+        env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+    )  # fmt: skip
+    try:
+        assert served.stdout is not None
+        line = served.stdout.readline()
+        assert line.startswith("PMK dashboard: http://127.0.0.1:") and "?token=" in line, line
+        printed = line.split()[2]
+        bare = printed.split("?", 1)[0]
+        with chromium_page(bare, viewport=VIEWPORT) as page:
+            time.sleep(3.0)
+            assert page.locator("button.pmk-nav-home").count() == 0, "the page opened without the token"
+            assert "build_app" not in page.content()
+            page.goto(printed, wait_until="domcontentloaded")
+            expect(page.locator("button.pmk-nav-home")).to_be_visible(timeout=120_000)
+            _shot(page, "token-opened")
+    finally:
+        stop_process(served)

@@ -137,3 +137,43 @@ def test_a_page_whose_connection_goes_silent_stops_its_live_view_and_chair_link(
         assert cpu < 5.0, f"the kernel of a silent page still works ({cpu:.0f} % CPU): the live view runs on"
     finally:
         proxy.close()
+
+
+def _page_sockets(voila: Any, port: int) -> int:
+    """Established connections to Voilà's port (the page's websocket among them)."""
+    conns = voila.net_connections("tcp")
+    return sum(1 for c in conns if c.status == "ESTABLISHED" and c.laddr.port == port)
+
+
+def test_a_sleeping_tablet_ends_its_kernel_and_reloads_when_it_wakes(
+    served: tuple[str, DemoWorld, Any], browser: Any
+) -> None:
+    """The page's scripts stop (CDP ``Emulation.setScriptExecutionDisabled``: timers stall as on a
+    sleeping tablet, the websocket stays open and the browser still answers the server's pings)
+    -> the kernel ends with its chair link; when the scripts run again the page reloads itself.
+    (``Page.setWebLifecycleState frozen`` does not stop the timers of a visible headless page.)"""
+    from playwright.sync_api import expect
+
+    url, world, voila = served
+    port = int(url.rstrip("/").rsplit(":", 1)[1])
+    page = _open_live(browser, url)
+    expect(page.locator(".pmk-page-pong")).not_to_have_text("0", timeout=60_000)
+    first = {p.pid for p in kernels(voila)}
+    assert len(first) == 1
+    page.evaluate("window.__pmkBeforeSleep = 1")
+    cdp = page.context.new_cdp_session(page)
+    cdp.send("Emulation.setScriptExecutionDisabled", {"value": True})
+    took = wait_until(
+        lambda: not kernels(voila) and chair_connections(world.sim.pid, world.ros_port) == 0, GONE_WITHIN, 0.25
+    )
+    assert took is not None, (
+        f"a sleeping page kept {len(kernels(voila))} kernel(s) and "
+        f"{chair_connections(world.sim.pid, world.ros_port)} chair connection(s)"
+    )
+    assert _page_sockets(voila, port) > 0, "the websocket closed: this tested a closed page, not a silent one"
+    print(f"\nsleeping page: kernel and chair link gone {took:.1f} s after the page went silent")
+    cdp.send("Emulation.setScriptExecutionDisabled", {"value": False})
+    page.wait_for_function("window.__pmkBeforeSleep === undefined", timeout=60_000)  # it reloaded itself
+    expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=120_000)
+    assert wait_until(lambda: _settled(world, voila, 1), GONE_WITHIN) is not None
+    assert {p.pid for p in kernels(voila)}.isdisjoint(first)

@@ -100,3 +100,31 @@ def test_the_page_watchdog_closes_the_app_when_pings_stop() -> None:
     never = PageWatch(lambda: closed.append(False), clock=lambda: now[0])
     now[0] += FIRST_PING_WITHIN + 1
     assert never.check() and closed[-1] is False
+
+
+def test_a_voila_page_gets_frames_only_after_its_first_heartbeat(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Frames drawn before the page's websocket exists would pile up in Voilà's buffer."""
+    from pmk_nb.ui import page_lifecycle
+    from pmk_nb.ui.render_loop import RenderLoop
+
+    assert page_lifecycle.page_ready()  # JupyterLab, tests: no page watch, always ready
+    watch = page_lifecycle.PageWatch(lambda: None)
+    monkeypatch.setattr(page_lifecycle, "_watch", watch)
+    drawn: list[int] = []
+    loop = RenderLoop(lambda: drawn.append(1))
+    loop._tick(loop._stop)
+    assert not page_lifecycle.page_ready() and drawn == [] and loop.ticks == 1
+    watch.play.value = 1  # the page's first ping
+    loop._tick(loop._stop)
+    assert page_lifecycle.page_ready() and drawn == [1]
+
+
+def test_the_page_gone_message_reaches_the_servers_iopub_listener() -> None:
+    """What the kernel sends when its page is gone is what the server's manager looks for."""
+    from pmk_nb.cli.voila_kernels import PageBoundKernelManager
+    from pmk_nb.ui.page_lifecycle import PAGE_GONE_MSG, reload_script
+
+    assert PAGE_GONE_MSG == "pmk_page_gone" and hasattr(PageBoundKernelManager, "_listen_for_page_gone")
+    script = reload_script()
+    for event in ("visibilitychange", "pageshow", "online", "resume"):
+        assert f"'{event}'" in script  # waking up is noticed however the browser says it

@@ -210,14 +210,28 @@ def test_profile_naming_a_missing_service_fails_at_detect(
     assert "uploaded to" in str(info.value) and str(info.value).count("keeps its previous map") == 1
 
 
+def test_lost_reload_answer_is_followed_by_a_check_of_the_map(
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
+) -> None:
+    """Issue 9, fault 2: the answer is lost (timeout) but the chair loaded the map: say so, succeed."""
+    sim = sim_factory(grid=grid_of(20, 20, seed=17), sftp_port=0, maps_dir=tmp_path / "chair_maps")
+    files = write_map(grid_of(900, 900, seed=18), tmp_path / "local", "big")
+    link = link_factory(sim)
+    report = deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link, reload_timeout=0.001)
+    assert any("answer was lost" in note for note in report.notes), report.notes
+    assert (report.map_info.width, report.map_info.height) == (900, 900)
+
+
 def test_lost_reload_answer_does_not_claim_the_old_map_stays(
     sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
 ) -> None:
     sim = sim_factory(grid=grid_of(20, 20, seed=17), sftp_port=0, maps_dir=tmp_path / "chair_maps")
     files = write_map(grid_of(900, 900, seed=18), tmp_path / "local", "big")
+    files.image.write_bytes(files.image.read_bytes()[:-1000])  # header fine, cells missing: not loadable
     with pytest.raises(DeployError) as info:
         deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link_factory(sim),
-               reload_timeout=0.001)  # fmt: skip
+               reload_timeout=0.001, confirm_timeout=1.5)  # fmt: skip
     err = info.value
     assert err.step == "reload" and err.keeps_old_map is None
+    assert "Checked afterwards" in str(err) and "still publishes 20x20" in str(err)
     assert "keeps its previous map" not in str(err)

@@ -15,6 +15,8 @@ MAX_FUNCTION_LINES = 80
 # Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
 TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
+PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
+PACKAGES |= {"drive"}  # the joystick's deadman, pure
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -120,8 +122,15 @@ ALLOWED_IMPORTS: dict[str, set[str]] = {
     "sim": SHARED | {"rosmap", "indoorgml", "raster"},
     "robot": SHARED | {"rosmap", "sim"},  # chair-side ROS nodes: the map server, the simulator as a node
     "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "access"},
+    "guide": SHARED | {"indoorgml", "raster", "rosmap", "access"},  # rooms file + accessibility rules
+    "speech": SHARED,
     "cli": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "sim", "ui", "robot", "access"},
 }
+ALLOWED_IMPORTS["ui"] |= {"guide", "speech"}
+ALLOWED_IMPORTS["cli"] |= {"guide", "speech"}
+ALLOWED_IMPORTS["drive"] = set(SHARED)
+ALLOWED_IMPORTS["ui"] |= {"drive"}
+ALLOWED_IMPORTS["cli"] |= {"drive"}
 
 
 def _package_of(path: Path) -> str:

@@ -28,6 +28,15 @@ def check_chair_width(value: float) -> float:
     return w
 
 
+def profile_chair_width(given: float | None, profile: object | None) -> float:
+    """The chair width to check for: ``given`` (--chair-width) when set, else the chair profile's
+    ``chair_width`` (Settings), else 0.70 m."""
+    if given is not None:
+        return check_chair_width(given)
+    width = getattr(profile, "chair_width", None)
+    return DEFAULT_CHAIR_WIDTH if width is None else check_chair_width(width)
+
+
 def check_grid(
     building: Building, storey: str, grid: OccupancyGrid, *, chair_width: float = DEFAULT_CHAIR_WIDTH,
     door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = DEFAULT_MAX_WALL_GAP,

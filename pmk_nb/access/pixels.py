@@ -11,6 +11,7 @@ storey of a few million pixels labels in well under a second without scipy.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterable, Iterator
 
 import numpy as np
 
@@ -24,16 +25,45 @@ def erode(mask: np.ndarray, radius_px: float) -> np.ndarray:
     """Pixels of ``mask`` whose whole disc of ``radius_px`` lies in ``mask`` (outside the array = not free)."""
     if radius_px < 1.0:
         return mask.copy()
-    r = math.floor(radius_px)
     h, w = mask.shape
-    padded = np.zeros((h + 2 * r, w + 2 * r), dtype=bool)
-    padded[r : r + h, r : r + w] = mask
+    out = np.empty((h, w), dtype=bool)
+    for a, strip in erode_rows(lambda lo, hi: mask[lo:hi], h, w, radius_px):
+        out[a : a + len(strip)] = strip
+    return out
+
+
+def strip_rows(width: int) -> int:
+    """Rows per strip so a strip's int32 working arrays stay around 4 MB whatever the grid."""
+    return max(16, 1_000_000 // max(1, width))
+
+
+def erode_rows(
+    mask_rows: Callable[[int, int], np.ndarray], h: int, w: int, radius_px: float, step: int | None = None
+) -> Iterator[tuple[int, np.ndarray]]:
+    """:func:`erode` of the (h, w) mask whose rows ``lo:hi`` ``mask_rows(lo, hi)`` gives, strip by strip:
+    yields (first row, eroded rows), so the whole eroded mask is never held (nor its int32 sums)."""
+    step = step or strip_rows(w)
+    if radius_px < 1.0:
+        for a in range(0, h, step):
+            yield a, np.array(mask_rows(a, min(h, a + step)), dtype=bool)
+        return
+    r = math.floor(radius_px)
+    for a in range(0, h, step):
+        b = min(h, a + step)
+        lo, hi = max(0, a - r), min(h, b + r)
+        padded = np.zeros((b - a + 2 * r, w + 2 * r), dtype=bool)
+        padded[lo - a + r : hi - a + r, r : r + w] = mask_rows(lo, hi)
+        yield a, _erode_padded(padded, radius_px, r, b - a, w)
+
+
+def _erode_padded(padded: np.ndarray, radius_px: float, r: int, n: int, w: int) -> np.ndarray:
+    """The ``n`` middle rows of ``padded`` (r rows and columns of margin) eroded by the disc."""
     blocked = np.cumsum(~padded, axis=1, dtype=np.int32)
     blocked = np.pad(blocked, ((0, 0), (1, 0)))
-    out = np.ones((h, w), dtype=bool)
+    out = np.ones((n, w), dtype=bool)
     for dy in range(-r, r + 1):
         half = math.floor(math.sqrt(max(radius_px * radius_px - dy * dy, 0.0)))
-        rows = blocked[r + dy : r + dy + h]
+        rows = blocked[r + dy : r + dy + n]
         # blocked pixels in columns [x - half, x + half] of row y + dy (padded column x + r)
         out &= (rows[:, r + half + 1 : r + half + 1 + w] - rows[:, r - half : r - half + w]) == 0
     return out
@@ -55,41 +85,13 @@ def regions(mask: np.ndarray, owner: np.ndarray | None = None) -> tuple[np.ndarr
     own = np.zeros((h, w), dtype=np.int32) if owner is None else owner.astype(np.int32, copy=False)
     if not mask.any():
         return labels, np.zeros(1, dtype=np.int32), np.zeros((0, 2), dtype=np.int64)
-    m = np.pad(mask, ((0, 0), (1, 1)))
-    o = np.pad(own, ((0, 0), (1, 1)), constant_values=-1)
-    inner = m[:, 1:] & m[:, :-1] & (o[:, 1:] == o[:, :-1])  # pixel pairs in one run
-    inside = m[:, 1 : w + 1]  # inner[:, k] joins padded pixels k and k + 1 (original k - 1 and k)
-    sr, sc = np.nonzero(inside & ~inner[:, 0:w])  # run starts: (row, first column)
-    _, ec = np.nonzero(inside & ~inner[:, 1 : w + 1])
-    ec = ec + 1  # column after the last
-    n = len(sr)
-    run_owner = own[sr, sc]
-    # runs on consecutive rows that overlap in columns touch: for run i on row y, the runs j on row
-    # y + 1 with start_j < end_i and end_j > start_i, found for all runs at once by sorted keys
-    stride = w + 2
-    row = sr.astype(np.int64)
-    key_start, key_end, nxt = row * stride + sc, row * stride + ec, (row + 1) * stride
-    lo = np.searchsorted(key_end, nxt + sc, side="right")
-    hi = np.searchsorted(key_start, nxt + ec, side="left")
-    counts = np.maximum(hi - lo, 0)
-    ii = np.repeat(np.arange(n), counts)
-    jj = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
-    same = run_owner[ii] == run_owner[jj]
-    parent = _union(n, ii[same], jj[same])
-    run_label = (parent + 1).astype(np.int32)
+    sr, sc, ec, run_owner = _runs(0, mask, own)
+    parent, label_owner, edges = _join_runs(sr, sc, ec, run_owner, w)
     lengths = ec - sc
     rows = np.repeat(sr, lengths)
     cols = np.repeat(sc, lengths) + (np.arange(lengths.sum()) - np.repeat(np.cumsum(lengths) - lengths, lengths))
-    labels[rows, cols] = np.repeat(run_label, lengths)
-    label_owner = np.zeros(n + 1, dtype=np.int32)
-    label_owner[run_label] = run_owner
-    # touching runs of different owners: across rows (above) and along a row (end of one = start of next)
-    side = (ec[:-1] == sc[1:]) & (sr[:-1] == sr[1:])
-    pairs = np.concatenate([
-        np.stack([run_label[ii[~same]], run_label[jj[~same]]], axis=1),
-        np.stack([run_label[:-1][side], run_label[1:][side]], axis=1),
-    ]).astype(np.int64)  # fmt: skip
-    return labels, label_owner, np.unique(pairs, axis=0) if len(pairs) else pairs
+    labels[rows, cols] = np.repeat((parent + 1).astype(np.int32), lengths)
+    return labels, label_owner, edges
 
 
 def _union(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -110,3 +112,59 @@ def _union(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         if np.array_equal(nxt, parent):
             return parent
         parent = nxt
+
+
+def _runs(row0: int, mask: np.ndarray, own: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Runs of ``mask`` that keep one owner, per row: (row, first column, column after, owner)."""
+    w = mask.shape[1]
+    own = own.astype(np.int32, copy=False)  # a strip at a time; -1 pads it
+    m = np.pad(mask, ((0, 0), (1, 1)))
+    o = np.pad(own, ((0, 0), (1, 1)), constant_values=-1)
+    inner = m[:, 1:] & m[:, :-1] & (o[:, 1:] == o[:, :-1])
+    inside = m[:, 1 : w + 1]
+    sr, sc = np.nonzero(inside & ~inner[:, 0:w])
+    _, ec = np.nonzero(inside & ~inner[:, 1 : w + 1])
+    return (sr + row0).astype(np.int64), sc.astype(np.int64), (ec + 1).astype(np.int64), own[sr, sc].astype(np.int32)
+
+
+def run_regions(
+    strips: Iterable[tuple[int, np.ndarray, np.ndarray]], w: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`regions` from row strips (first row, mask rows, owner rows), holding only the runs.
+
+    Returns (the labels that exist, owner of each label (index = label), edges), the same labels,
+    owners and edges :func:`regions` gives, without its full-size label array.
+    """
+    parts = [_runs(a, m, o) for a, m, o in strips]
+    sr, sc, ec, run_owner = (np.concatenate(x) for x in zip(*parts, strict=True))
+    if len(sr) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int32), np.zeros((0, 2), dtype=np.int64)
+    parent, label_owner, edges = _join_runs(sr, sc, ec, run_owner, w)
+    return np.unique(parent + 1), label_owner, edges
+
+
+def _join_runs(
+    sr: np.ndarray, sc: np.ndarray, ec: np.ndarray, run_owner: np.ndarray, w: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(root run of each run, owner of each label = root + 1, label pairs of different owners that
+    touch): runs on consecutive rows that overlap in columns touch, found for all runs at once by
+    sorted keys; runs end to end on one row touch too."""
+    n = len(sr)
+    stride = w + 2
+    key_start, key_end, nxt = sr * stride + sc, sr * stride + ec, (sr + 1) * stride
+    lo = np.searchsorted(key_end, nxt + sc, side="right")
+    hi = np.searchsorted(key_start, nxt + ec, side="left")
+    counts = np.maximum(hi - lo, 0)
+    ii = np.repeat(np.arange(n), counts)
+    jj = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
+    same = run_owner[ii] == run_owner[jj]
+    parent = _union(n, ii[same], jj[same])
+    run_label = parent + 1
+    label_owner = np.zeros(n + 1, dtype=np.int32)
+    label_owner[run_label] = run_owner
+    side = (ec[:-1] == sc[1:]) & (sr[:-1] == sr[1:])
+    pairs = np.concatenate([
+        np.stack([run_label[ii[~same]], run_label[jj[~same]]], axis=1),
+        np.stack([run_label[:-1][side], run_label[1:][side]], axis=1),
+    ]).astype(np.int64)  # fmt: skip
+    return parent, label_owner, np.unique(pairs, axis=0) if len(pairs) else pairs

@@ -15,15 +15,17 @@ a way round through a third room, or through a door cell between them, does not 
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Iterator
 from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
 
-from pmk_nb.access.pixels import disc_radius_px, erode, regions
+from pmk_nb.access.pixels import disc_radius_px, erode_rows, run_regions
 from pmk_nb.grid import FREE
-from pmk_nb.raster.scanline import Frame, fill_geometry
+from pmk_nb.raster.scanline import Frame
+from pmk_nb.raster.spans import fill_polygons
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -121,11 +123,11 @@ class _Regions:
     them or by no cell leads from one to the other: labelled once per storey, asked per link.
     """
 
-    def __init__(self, mask: np.ndarray, owner: np.ndarray) -> None:
-        labels, self.owner, edges = regions(mask, owner)
+    def __init__(self, strips: Iterable[tuple[int, np.ndarray, np.ndarray]], width: int) -> None:
+        labels, self.owner, edges = run_regions(strips, width)
         self.by_owner: dict[int, list[int]] = {}
-        for lab in np.unique(labels[labels > 0]).tolist():
-            self.by_owner.setdefault(int(self.owner[lab]), []).append(lab)
+        for lab, own in zip(labels.tolist(), self.owner[labels].tolist(), strict=True):
+            self.by_owner.setdefault(int(own), []).append(lab)
         self.next: dict[int, list[int]] = {}
         for u, v in edges.tolist():
             self.next.setdefault(u, []).append(v)
@@ -147,16 +149,22 @@ class _Regions:
 
 
 def _owners(grid: OccupancyGrid, cells: list[Cell]) -> np.ndarray:
+    """Per pixel, 1 + the index of the cell holding its centre (0: none), in the narrowest integer type
+    that holds every index (one byte a pixel for up to 254 cells)."""
     frame = Frame(float(grid.origin[0]), float(grid.origin[1]), grid.resolution, grid.width, grid.height)
-    owner = np.zeros((grid.height, grid.width), dtype=np.int32)
+    kind = np.uint8 if len(cells) < 255 else np.int16 if len(cells) < 32767 else np.int32
+    owner = np.zeros((grid.height, grid.width), dtype=kind)
     # largest first, so a room drawn inside a hall's footprint keeps its own pixels
     for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
-
-        def op(block: np.ndarray, m: np.ndarray, value: int = i + 1) -> None:
-            block[m] = value
-
-        fill_geometry(owner, frame, cell.footprint, op)
+        fill_polygons(owner, frame, [cell.footprint], i + 1)
     return owner
+
+
+def _strips(grid: OccupancyGrid, owner: np.ndarray, radius_px: float) -> Iterator[tuple[int, np.ndarray, np.ndarray]]:
+    """(first row, free pixels - eroded by ``radius_px`` - , owners) strip by strip."""
+    data = np.asarray(grid.data)
+    for a, free in erode_rows(lambda lo, hi: data[lo:hi] == FREE, grid.height, grid.width, radius_px):
+        yield a, free, owner[a : a + len(free)]
 
 
 def check_storey(
@@ -176,9 +184,8 @@ def check_storey(
     by_id = {c.id: c for c in cells}
     index = {c.id: i + 1 for i, c in enumerate(cells)}
     owner = _owners(grid, cells)
-    free = np.asarray(grid.data) == FREE
-    point = _Regions(free, owner)
-    chair = _Regions(erode(free, disc_radius_px(chair_width / 2, grid.resolution)), owner)
+    point = _Regions(_strips(grid, owner, 0.0), grid.width)
+    chair = _Regions(_strips(grid, owner, disc_radius_px(chair_width / 2, grid.resolution)), grid.width)
     r = chair_width / 2
     for o in openings:
         a, b = index[o.link.a], index[o.link.b]

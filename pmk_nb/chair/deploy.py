@@ -2,15 +2,18 @@
 
 The original app uploaded the files and called the modified map server's ``MapUpdate`` service,
 trusting ``done=true``. Here each step reports progress and its own error, the reload service is
-detected (ROS 1 ``change_map``, Nav2 ``load_map`` or ``MapUpdate``), and the last step checks that
-the chair really publishes a map with the size, resolution and origin of the file we wrote.
+detected (ROS 1 ``change_map``, Nav2 ``load_map`` or ``MapUpdate``; without rosapi the known names
+are tried in turn), and the last step checks that the chair really publishes the map we wrote.
+
+Confirming never pulls a big grid when something smaller can tell (see :mod:`.confirm`). A lost
+reload answer (timeout, or the bridge closing the link because the answer did not fit its send
+queue) is followed by that same check before anything is said.
 """
 
 from __future__ import annotations
 
-import math
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,6 +22,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from PIL import Image
 
 from pmk_nb.chair import reload
+from pmk_nb.chair.confirm import ExpectedMap, confirm_map, grid_sha256, in_background
 from pmk_nb.chair.transfer import HostKeyInfo, UploadResult, image_beside, upload
 from pmk_nb.errors import DeployError, PmkError
 from pmk_nb.progress import ProgressCallback, emit, sub_range
@@ -30,7 +34,6 @@ if TYPE_CHECKING:
 STEPS = ("upload", "detect", "reload", "confirm")
 # Share of the overall progress bar each step covers (upload dominates on real links).
 STEP_SPANS = {"upload": (0.0, 0.70), "detect": (0.70, 0.75), "reload": (0.75, 0.90), "confirm": (0.90, 1.0)}
-DATA_CHECK_MAX_CELLS = 1_000_000
 
 
 class Link(Protocol):
@@ -44,30 +47,6 @@ class Link(Protocol):
 
     def reload_map(self, remote_yaml_path: str, *args: Any, **kwargs: Any) -> Any: ...
     def map_info(self, timeout: float = ...) -> Any: ...
-
-
-@dataclass(frozen=True)
-class ExpectedMap:
-    """Metadata of the map we wrote, as the chair's map server should publish it."""
-
-    width: int
-    height: int
-    resolution: float
-    origin: tuple[float, float]
-
-    def matches(self, info: Any) -> bool:
-        ox, oy = float(info.origin[0]), float(info.origin[1])
-        tol = max(1e-4, self.resolution * 1e-3)
-        return (
-            int(info.width) == self.width
-            and int(info.height) == self.height
-            and math.isclose(float(info.resolution), self.resolution, rel_tol=1e-5)
-            and abs(ox - self.origin[0]) <= tol
-            and abs(oy - self.origin[1]) <= tol
-        )
-
-    def describe(self) -> str:
-        return f"{self.width}x{self.height} at {self.resolution:g} m, origin ({self.origin[0]:g}, {self.origin[1]:g})"
 
 
 @dataclass
@@ -158,7 +137,8 @@ def upload_step(
 def detect_step(run: _Steps, link: Link | None, profile: ChairProfile, sent: UploadResult, timeout: float) -> Any:
     """Connect to rosbridge and pick the reload service (the profile's, else the detected one).
 
-    Returns ``(link, service, map_info before the reload or None)``.
+    Returns ``(link, service, map_info before the reload or None)``; ``service`` is None when the
+    bridge has no rosapi (the reload then tries the known names); the map is read only when cheap.
     """
     with run.timed("detect"):
         run.say("detect", 0.0, f"connecting to rosbridge at {profile.host}:{profile.port}")
@@ -167,89 +147,82 @@ def detect_step(run: _Steps, link: Link | None, profile: ChairProfile, sent: Upl
                 link = link_for(profile)
             if not getattr(link, "is_connected", True):
                 link.connect(timeout=timeout)  # type: ignore[attr-defined]
-            discovery = link.discovery
-            service = reload.resolve(
-                discovery.services(),
-                discovery.service_type,
-                service=None if profile.reload_service == "auto" else profile.reload_service,
-                kind=None if profile.reload_kind == "auto" else profile.reload_kind,
-                where=f"the chair at {profile.host}:{profile.port}",
-            )
-            before = _safe_map_info(link)
+            plan = _reload_plan(link, profile)
         except PmkError as err:
             raise step_failed(
                 "detect", err, keeps_old_map=True, then=f"The map was uploaded to {sent.remote_yaml}."
             ) from err
-    run.say("detect", 1.0, f"reload service {service.name} ({service.kind})")
-    return link, service, before
+    before = _map_before(link)
+    if len(plan) == 1:
+        run.say("detect", 1.0, f"reload service {plan[0].name} ({plan[0].kind})")
+        return link, plan[0], before
+    names = ", ".join(s.name for s in plan)
+    run.say("detect", 1.0, f"the bridge has no rosapi: will try the known reload services in turn ({names})")
+    return link, None, before
 
 
-def reload_step(run: _Steps, link: Link, service: Any, remote_yaml: str, timeout: float) -> None:
-    """Ask the map server to load the uploaded YAML.
+def _map_before(link: Any) -> Any:
+    """The current map's metadata when it is cheap to read (MapInfo, /map_metadata), else None: a big
+    /map is never pulled here (it cost every later send seconds)."""
+    try:
+        return link.map_info(timeout=2.0, without_grid=True)
+    except TypeError:  # a link without the option (tests' stand-ins)
+        return None
+    except PmkError:
+        return None
 
-    A refusal means the chair keeps its old map; a lost answer (timeout, link down) means nobody
-    can tell, so ``keeps_old_map`` is None then.
+
+def _reload_plan(link: Any, profile: ChairProfile) -> list[Any]:
+    service = None if profile.reload_service == "auto" else profile.reload_service
+    kind = None if profile.reload_kind == "auto" else profile.reload_kind
+    if hasattr(link.discovery, "reload_plan"):
+        return list(link.discovery.reload_plan(kind, service))
+    discovery = link.discovery
+    where = f"the chair at {profile.host}:{profile.port}"
+    return [reload.resolve(discovery.services(), discovery.service_type, service=service, kind=kind, where=where)]
+
+
+def reload_step(run: _Steps, link: Link, service: Any, remote_yaml: str, timeout: float) -> tuple[Any, PmkError | None]:
+    """Ask the map server to load the uploaded YAML; returns ``(service that loaded it, lost answer)``.
+
+    A refusal means the chair keeps its old map (raised). A lost answer (timeout, link closed by
+    the bridge) is returned, not raised: the confirm step looks at the map before anything is said.
     """
     with run.timed("reload"):
-        run.say("reload", 0.0, f"asking {service.name} to load {remote_yaml}")
+        what = f"{service.name}" if service is not None else "the known reload services"
+        run.say("reload", 0.0, f"asking {what} to load {remote_yaml}")
         try:
-            link.reload_map(remote_yaml, kind=service.kind, service=service.name, timeout=timeout)
+            kind, name = (service.kind, service.name) if service is not None else (None, None)
+            used = link.reload_map(remote_yaml, kind=kind, service=name, timeout=timeout)
         except reload.MapReloadError as err:
-            raise step_failed("reload", err, keeps_old_map=err.keeps_old_map) from err
+            if err.keeps_old_map is not None:
+                raise step_failed("reload", err, keeps_old_map=err.keeps_old_map) from err
+            run.say("reload", 1.0, "the map server's answer was lost: checking the chair's map")
+            return service or reload.ReloadService(err.service, reload.kind_from_name(err.service) or "nav2"), err
         except PmkError as err:
-            raise step_failed("reload", err, keeps_old_map=None) from err
+            run.say("reload", 1.0, "the map server's answer was lost: checking the chair's map")
+            return service, err
     run.say("reload", 1.0, "map server answered: loaded")
-
-
-def _wait_for_map(link: Link, expected: ExpectedMap, deadline: float, timeout: float) -> Any:
-    """Poll map_info until it matches ``expected`` or the deadline passes."""
-    while True:
-        remaining = deadline - time.monotonic()
-        try:
-            info = link.map_info(timeout=max(0.5, min(3.0, remaining)))
-        except PmkError:
-            info = None
-        if info is not None and expected.matches(info):
-            return info
-        if time.monotonic() >= deadline:
-            got = f"{info.width}x{info.height} at {info.resolution:g} m" if info is not None else "no map"
-            raise step_failed(
-                "confirm",
-                f"the chair still publishes {got} after {timeout:g} s, expected {expected.describe()}; "
-                "the reload may not have taken effect (is the map server the one that was reloaded?)",
-                keeps_old_map=None,
-            )
-        time.sleep(0.2)
-
-
-def _confirm(link: Link, expected: ExpectedMap, before: Any, files: MapFiles, timeout: float) -> tuple[Any, str]:
-    """Wait for the new metadata; when the old map had the same metadata, compare the cells."""
-    deadline = time.monotonic() + timeout
-    info = _wait_for_map(link, expected, deadline, timeout)
-    if before is None or not expected.matches(before):
-        return info, "metadata"
-    if expected.width * expected.height > DATA_CHECK_MAX_CELLS or not hasattr(link, "fetch_map"):
-        return info, "metadata (same size as the previous map: content not compared)"
-    from pmk_nb.rosmap.files import read_map
-
-    ours = read_map(files.yaml)
-    theirs = link.fetch_map(timeout=max(2.0, deadline - time.monotonic()))
-    if theirs.data.shape != ours.data.shape or not (theirs.data == ours.data).all():
-        raise step_failed(
-            "confirm",
-            "the chair publishes a map of the same size but different cells: the reload did not take",
-            keeps_old_map=None,
-        )
-    return info, "cells"
+    return (used if isinstance(used, reload.ReloadService) else service), None
 
 
 def confirm_step(
-    run: _Steps, link: Link, expected: ExpectedMap, before: Any, files: MapFiles, timeout: float
+    run: _Steps,
+    link: Link,
+    expected: ExpectedMap,
+    before: Any,
+    files: MapFiles,
+    timeout: float,
+    remote_yaml: str = "",
+    ours_of: Callable[[], str] | None = None,
 ) -> tuple[Any, str]:
-    """Check the chair publishes the map we sent. Returns ``(map_info, how it was confirmed)``."""
+    """Check the chair publishes the map we sent. Returns ``(map_info, how it was confirmed)``.
+
+    ``ours_of`` gives our cells' SHA-256 (deploy computes it while the map travels).
+    """
     with run.timed("confirm"):
         run.say("confirm", 0.0, f"waiting for the chair to publish {expected.describe()}")
-        info, how = _confirm(link, expected, before, files, timeout)
+        info, how = confirm_map(link, expected, before, files, timeout, remote_yaml, ours_of)
     run.say("confirm", 1.0, f"chair publishes {expected.describe()}")
     return info, how
 
@@ -283,13 +256,21 @@ def deploy(
     """
     run = _Steps(progress)
     expected = expected_map(files)
+    ours = in_background(grid_sha256, files)  # ready by the confirm step: the map travels meanwhile
     sent = upload_step(run, files, profile, password, timeout)
     notes = []
     if sent.host_key.newly_trusted:
         notes.append(f"trusted the chair's SSH host key {sent.host_key.fingerprint} (first connection)")
     link, service, before = detect_step(run, link, profile, sent, timeout)
-    reload_step(run, link, service, sent.remote_yaml, reload_timeout)
-    info, how = confirm_step(run, link, expected, before, files, confirm_timeout)
+    service, lost = reload_step(run, link, service, sent.remote_yaml, reload_timeout)
+    try:
+        info, how = confirm_step(run, link, expected, before, files, confirm_timeout, sent.remote_yaml, ours)
+    except DeployError as err:
+        if lost is None:
+            raise
+        raise step_failed("reload", lost, keeps_old_map=None, then=f"Checked afterwards: {err}") from lost
+    if lost is not None:
+        notes.append(f"the map server's answer was lost ({_cause_text(lost)}); the chair's map was checked instead")
     notes.append(f"confirmed by {how}")
     return DeployReport(sent.remote_yaml, service, info, expected, sent.host_key, sent.bytes_sent, run.timings, notes)
 
@@ -306,10 +287,3 @@ def close_links() -> None:
     from pmk_nb.chair.link.registry import close_all_links
 
     close_all_links()
-
-
-def _safe_map_info(link: Link) -> Any:
-    try:
-        return link.map_info(timeout=2.0)
-    except PmkError:
-        return None  # no map yet is fine: the confirm step does not need the old one

@@ -68,6 +68,8 @@ class Scan:
     stamp: float | None = None
     frame: str = "laser"
     kinds: np.ndarray | None = None
+    #: The scanner's pose on the chair (base_link <- frame: x, y, yaw), from /tf_static; rays start there.
+    mount: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
         if self.kinds is None:  # built by hand (tests, benchmarks): finite = hit, at_max = no return

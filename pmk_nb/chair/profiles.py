@@ -32,6 +32,13 @@ HOST_KEY_CHECKS = ("tofu", "strict")
 PROFILES_FILE = "profiles.json"
 FORMAT_VERSION = 1
 
+#: Upper bounds of the driving fields: a powered wheelchair's top speed is about 2 m/s (EN 12184
+#: class B goes to 15 km/h, far beyond what a touch screen should command).
+MAX_SPEEDS: dict[str, tuple[float, str]] = {
+    "max_linear": (2.0, "m/s"),
+    "max_angular": (2.0, "rad/s"),
+    "slow_factor": (1.0, "(1 = as fast as normal)"),
+}
 _HOST_RE = re.compile(r"^[A-Za-z0-9._\-:\[\]%]+$")
 _SERVICE_RE = re.compile(r"^/?[A-Za-z_][A-Za-z0-9_/]*$")
 
@@ -66,8 +73,19 @@ class ChairProfile:
     reload_service: str = "auto"
     reload_kind: str = "auto"
     footprint_radius: float = 0.35
+    chair_width: float = 0.70  # metres: the wheelchair's width, for the maps' accessibility check
     known_hosts: str | None = None
     host_key_check: str = "tofu"
+    # driving from Home (pmk_nb.drive): where velocity commands go, the largest speeds, slow mode
+    cmd_vel_topic: str = "/cmd_vel"
+    max_linear: float = 0.5  # m/s
+    max_angular: float = 0.8  # rad/s
+    slow_factor: float = 0.4  # of both, in slow mode
+    # spoken feedback (pmk_nb.speech): on/off, voice (a language code such as "en": the browser's
+    # voice for it, or espeak-ng's), rate (1 = normal, 0.5 to 2)
+    speech_on: bool = True
+    speech_voice: str = "en"
+    speech_rate: float = 1.0
 
     @property
     def known_hosts_path(self) -> Path:
@@ -113,8 +131,13 @@ class ChairProfile:
         radius = self.footprint_radius
         if isinstance(radius, bool) or not isinstance(radius, int | float) or not 0 <= radius < 10:
             _bad("footprint_radius", radius, "give the chair radius in metres (0 to 10)")
+        width = self.chair_width
+        if isinstance(width, bool) or not isinstance(width, int | float) or not 0.4 <= width <= 1.5:
+            _bad("chair_width", width, "give the wheelchair's width in metres (0.4 to 1.5)")
         if self.host_key_check not in HOST_KEY_CHECKS:
             _bad("host_key_check", self.host_key_check, "use 'tofu' (trust on first use) or 'strict'")
+        _check_drive(self)
+        _check_speech(self)
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -155,6 +178,25 @@ def _check_host(host: object) -> None:
 def _check_port(field: str, port: object) -> None:
     if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= 65535:
         _bad(field, port, "give a port number between 1 and 65535")
+
+
+def _check_drive(profile: ChairProfile) -> None:
+    """The driving fields: a topic and speeds a wheelchair can take (MAX_SPEEDS)."""
+    _check_topic("cmd_vel_topic", profile.cmd_vel_topic)
+    for field, (top, unit) in MAX_SPEEDS.items():
+        value = getattr(profile, field)
+        if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value <= top:
+            _bad(field, value, f"give a speed above 0 and at most {top:g} {unit}")
+
+
+def _check_speech(profile: ChairProfile) -> None:
+    if not isinstance(profile.speech_on, bool):
+        _bad("speech_on", profile.speech_on, "use true or false")
+    if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_+-]{0,40}", str(profile.speech_voice)):
+        _bad("speech_voice", profile.speech_voice, "give a language code such as en or en-gb")
+    rate = profile.speech_rate
+    if isinstance(rate, bool) or not isinstance(rate, int | float) or not 0.5 <= rate <= 2.0:
+        _bad("speech_rate", rate, "give a speaking rate from 0.5 to 2 (1 = normal)")
 
 
 def _check_topic(field: str, topic: object) -> None:

@@ -59,9 +59,11 @@ def classify_ranges(
         values = raw.astype(np.float64, copy=False).ravel()
         nulls = np.zeros(values.size, dtype=bool)
     else:
-        items = list(raw)
-        nulls = np.fromiter((v is None for v in items), bool, len(items))
-        values = np.array([math.nan if v is None else _number(v) for v in items], dtype=np.float64)
+        items = raw if isinstance(raw, list) else list(raw)
+        values = _floats(items)
+        nulls = np.zeros(values.size, dtype=bool)
+        for i in np.flatnonzero(np.isnan(values)):  # only a NaN can have been a null: no loop over hits
+            nulls[i] = items[i] is None
     lo = range_min if math.isfinite(range_min) else 0.0
     hi = range_max if not math.isnan(range_max) else math.inf
     kinds = np.full(values.size, INVALID, dtype=np.uint8)
@@ -73,6 +75,18 @@ def classify_ranges(
     kinds[nulls] = UNKNOWN
     ranges = np.where(hit, values, np.nan).astype(np.float32)
     return ranges, kinds
+
+
+def _floats(items: list[Any]) -> np.ndarray:
+    """The readings as float64, None -> NaN; NumPy converts a whole list at once (a scan is parsed on
+    the link's I/O thread, per message), ray by ray only when something is not a number."""
+    try:
+        values = np.array(items, dtype=np.float64)
+        if values.ndim == 1:
+            return values
+    except (TypeError, ValueError):
+        pass
+    return np.array([math.nan if v is None else _number(v) for v in items], dtype=np.float64)
 
 
 def _number(value: Any) -> float:

@@ -194,6 +194,30 @@ def resolve(
     return detected
 
 
+def known_candidates(kind: str | None, service: str | None) -> list[ReloadService]:
+    """The reload services to try by name when the bridge cannot list services (no rosapi):
+    the named ``service`` (its protocol from ``kind`` or its name), else the known names of
+    ``kind``, else all of :data:`PREFERRED` in order.
+
+    Raises:
+        MapReloadError: an unknown kind, or a named service whose protocol cannot be told.
+    """
+    if kind is not None and kind not in RELOAD_KINDS:
+        raise MapReloadError(f"unknown reload kind {kind!r}; use {', '.join(RELOAD_KINDS)}", keeps_old_map=True)
+    if service is not None:
+        name = service if service.startswith("/") else "/" + service
+        found = kind or kind_from_name(name)
+        if found is None:
+            raise MapReloadError(
+                f"cannot tell which reload protocol {name} speaks without rosapi: set the reload kind "
+                f"({', '.join(RELOAD_KINDS)})",
+                service=name,
+                keeps_old_map=True,
+            )
+        return [ReloadService(name, found)]  # type: ignore[arg-type]
+    return [ReloadService(name, k) for name, k in PREFERRED if kind is None or k == kind]
+
+
 def check_remote_path(remote_yaml_path: str) -> None:
     """Refuse a path a map server cannot read before anything is sent.
 

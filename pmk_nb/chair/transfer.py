@@ -65,6 +65,14 @@ class UploadResult:
     bytes_sent: int
     host_key: HostKeyInfo
     elapsed: float
+    remote_rooms: str | None = None  # the rooms file sent beside the map, if there was one
+
+
+def rooms_beside(yaml_path: Path) -> Path | None:
+    """The map's rooms file (``NAME.rooms.json``, see ``pmk_nb.access.sidecar``) when it is a plain
+    file in the YAML's folder; it travels with the map (the chair's map server ignores it)."""
+    path = yaml_path.with_name(yaml_path.stem + ".rooms.json")
+    return path if path.is_file() and not path.is_symlink() else None
 
 
 def image_beside(yaml_path: Path) -> tuple[MapYaml, Path]:
@@ -199,7 +207,9 @@ def upload(
     started = time.monotonic()
     yaml_bytes, image = _yaml_for_upload(Path(files.yaml))
     image_size = image.stat().st_size
-    total = image_size + len(yaml_bytes)
+    rooms = rooms_beside(Path(files.yaml))
+    rooms_bytes = rooms.read_bytes() if rooms is not None else b""
+    total = image_size + len(yaml_bytes) + len(rooms_bytes)
     with open_sftp(profile, password=password, timeout=timeout) as session:
         remote_dir = session.resolve(profile.remote_maps_dir)
         session.makedirs(remote_dir)
@@ -211,6 +221,9 @@ def upload(
         remote_image = posixpath.join(remote_dir, image.name)
         remote_yaml = posixpath.join(remote_dir, Path(files.yaml).name)
         temps = [_temp_name(remote_dir, image.name), _temp_name(remote_dir, Path(files.yaml).name)]
+        remote_rooms = posixpath.join(remote_dir, rooms.name) if rooms is not None else None
+        if rooms is not None:
+            temps.append(_temp_name(remote_dir, rooms.name))
         try:
             # both files to temp names first, then two renames: image, then YAML (the YAML never
             # points at a missing image, and the window where old YAML + new image coexist is tiny)
@@ -218,6 +231,10 @@ def upload(
                 _put_temp(session, fh, image_size, temps[0], on_bytes)
             done = image_size
             _put_temp(session, io.BytesIO(yaml_bytes), len(yaml_bytes), temps[1], on_bytes)
+            if remote_rooms is not None:  # committed before the YAML, like the image
+                done += len(yaml_bytes)
+                _put_temp(session, io.BytesIO(rooms_bytes), len(rooms_bytes), temps[2], on_bytes)
+                _commit(session, temps[2], remote_rooms)
             _commit(session, temps[0], remote_image)
             _commit(session, temps[1], remote_yaml)
         except BaseException as err:
@@ -227,9 +244,11 @@ def upload(
             if isinstance(err, OSError | EOFError | paramiko.SSHException) and not isinstance(err, TransferError):
                 raise _upload_error(err, session, remote_dir) from err
             raise
-        _remove_stale_parts(session, remote_dir, (image.name, Path(files.yaml).name))
+        names = (image.name, Path(files.yaml).name) + ((rooms.name,) if rooms is not None else ())
+        _remove_stale_parts(session, remote_dir, names)
         _bytes_progress(progress, total, total)
-        return UploadResult(remote_yaml, remote_image, total, session.host_key, time.monotonic() - started)
+        elapsed = time.monotonic() - started
+        return UploadResult(remote_yaml, remote_image, total, session.host_key, elapsed, remote_rooms)
 
 
 def upload_map(

@@ -35,7 +35,7 @@ def add_parser(subparsers: Any) -> None:
     sub = p.add_subparsers(dest="action", metavar="ACTION")  # bare `pmk chair` lists
     sub.add_parser("list", help="list profiles (* = default)").set_defaults(run=run_list)
     add = sub.add_parser("add", help="create or update a profile (it becomes the default)")
-    add.add_argument("name")
+    add.add_argument("name", help="name of the new profile")
     for option, kind, text in _FIELDS:
         add.add_argument(f"--{option}", type=kind, help=text)
     add.add_argument("--password-stdin", action="store_true", help="remember a password read from stdin")
@@ -44,12 +44,12 @@ def add_parser(subparsers: Any) -> None:
     show.add_argument("name", nargs="?", help="profile (default: the last used one)")
     show.set_defaults(run=run_show)
     delete = sub.add_parser("delete", help="delete a profile (and its remembered password)")
-    delete.add_argument("name")
+    delete.add_argument("name", help="profile to delete")
     delete.set_defaults(run=run_delete)
     test = sub.add_parser("test", help="test rosbridge and SSH access of a profile")
     test.add_argument("name", nargs="?", help="profile (default: the last used one)")
     test.add_argument("--password-stdin", action="store_true", help="read the SSH password from stdin")
-    test.add_argument("--timeout", type=float, default=5.0)
+    test.add_argument("--timeout", type=float, default=5.0, help="seconds to wait for the chair (default 5)")
     test.add_argument("--no-ssh", action="store_true", help="only test rosbridge")
     test.set_defaults(run=run_test)
     p.set_defaults(run=run_list)
@@ -140,6 +140,8 @@ def run_test(args: argparse.Namespace) -> int:
             info = report.map_info
             about = f"map {info.width}x{info.height} at {info.resolution:g} m" if info else "no map published"
             print(f"rosbridge ws://{profile.host}:{profile.port}: ok ({about}, {report.elapsed:.2f} s)")
+            for note in report.notes:
+                print(f"note: {note}")
         else:
             failures += 1
             print(f"rosbridge ws://{profile.host}:{profile.port}: FAILED: {report.reason}")

@@ -26,7 +26,7 @@ def add_parser(subparsers: Any) -> None:
     )
     p.add_argument("target", type=Path, help="an IndoorGML file (.gml) or a converted map (.yaml)")
     p.add_argument("--chair-width", type=float, default=None, metavar="W",
-                   help="chair width in metres (default 0.70)")  # fmt: skip
+                   help="chair width in metres (default: the chair profile's, Settings; else 0.70)")  # fmt: skip
     p.add_argument("--resolution", "-r", type=float, default=0.05,
                    help="metres per cell when checking a .gml file (default 0.05)")  # fmt: skip
     p.add_argument("--unit", default="auto", help="unit of a .gml file's coordinates: auto (default), m, dm, cm, mm")
@@ -36,13 +36,26 @@ def add_parser(subparsers: Any) -> None:
     p.set_defaults(run=run)
 
 
+def chair_width_arg(given: float | None) -> float:
+    """--chair-width when given, else the width in the last used chair profile (Settings), else 0.70 m."""
+    from pmk_nb.access.check import profile_chair_width
+    from pmk_nb.chair.profiles import ProfileStore
+
+    profile = None
+    if given is None:
+        try:
+            profile = ProfileStore(secrets=False).last_used()
+        except (PmkError, OSError, ValueError):  # an unreadable profile file: the default chair
+            profile = None
+    return profile_chair_width(given, profile)
+
+
 def _reports(args: argparse.Namespace) -> tuple[list[Any], str]:
     from pmk_nb.access.check import check_building, check_map
-    from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH
     from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
     target: Path = args.target
-    width = DEFAULT_CHAIR_WIDTH if args.chair_width is None else args.chair_width
+    width = chair_width_arg(args.chair_width)
     if target.is_dir():
         raise PmkError(f"{target} is a folder", hint="Name an IndoorGML file (.gml) or a map YAML (.yaml).")
     if not target.is_file():

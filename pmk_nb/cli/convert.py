@@ -60,8 +60,8 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
     p.add_argument("--door-width", type=float, default=0.9, metavar="M",
                    help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
-    p.add_argument("--chair-width", type=float, default=0.70, metavar="W",
-                   help="chair width for the accessibility summary (default 0.70)")  # fmt: skip
+    p.add_argument("--chair-width", type=float, default=None, metavar="W",
+                   help="chair width for the access summary (default: the chair profile's, or 0.70)")  # fmt: skip
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -88,6 +88,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
 
 
 def run(args: argparse.Namespace) -> int:
+    from pmk_nb.cli.check import chair_width_arg
     from pmk_nb.library.convert import ConvertOptions, convert_plan
     from pmk_nb.library.naming import safe_file_part
     from pmk_nb.raster.storey import DEFAULT_MAX_CELLS
@@ -103,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
         unit=args.unit, storeys=args.storeys, wall_thickness=args.wall_thickness, max_wall_gap=args.max_wall_gap,
         outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
         max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large, door_width=args.door_width,
-        chair_width=args.chair_width,
+        chair_width=chair_width_arg(args.chair_width),
     )  # fmt: skip
     bar = TextProgress(sys.stderr, enabled=bool(show))
     try:

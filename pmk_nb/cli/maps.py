@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from pmk_nb.cli.check import chair_width_arg
 from pmk_nb.cli.convert import add_raster_options
 from pmk_nb.progress import Progress
 
@@ -41,7 +42,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     imp.add_argument("--overwrite", action="store_true", help="replace a map with the same name")
 
     dl = sub.add_parser("download", parents=[common], help="download an IndoorGML map from an http(s) URL")
-    dl.add_argument("url")
+    dl.add_argument("url", help="http(s) address of the IndoorGML file")
     dl.add_argument("name", help="name to save the map under")
     dl.add_argument("--overwrite", action="store_true", help="replace a map with the same name")
     dl.add_argument("--timeout", type=float, default=30.0, help="seconds without data before giving up")
@@ -51,13 +52,13 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     cv = sub.add_parser(
         "convert", parents=[common], help="generate map_server files (YAML + image + preview) from a map"
     )
-    cv.add_argument("name")
+    cv.add_argument("name", help="building in the maps folder (see pmk maps list)")
     cv.add_argument("-r", "--resolution", type=float, default=0.05, help="metres per cell (default 0.05)")
     cv.add_argument("--storey", action="append", dest="storeys", help="convert only this storey (repeatable)")
     add_raster_options(cv)
 
     rm = sub.add_parser("delete", parents=[common], help="delete a map and every file generated from it")
-    rm.add_argument("name")
+    rm.add_argument("name", help="building to delete from the maps folder")
     p.set_defaults(run=run)
 
 
@@ -188,7 +189,7 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             image_format=args.image_format,
             progress=progress,
             door_width=args.door_width,
-            chair_width=args.chair_width,
+            chair_width=chair_width_arg(args.chair_width),
         )
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:

@@ -36,6 +36,17 @@ def add_parser(subparsers: Any) -> None:
         help="LoadMap replies carry the grid up to this many cells (default 4000000; bigger grids make "
         "rosbridge drop the reply: clients confirm with /map_server/map_info)",
     )
+    ms.add_argument(
+        "--without",
+        default="",
+        help="leave out, comma-separated: map_metadata (the topic), map_info (the service); both to act "
+        "like Nav2's map_server, which has neither",
+    )
+    ms.add_argument(
+        "--ros1",
+        action="store_true",
+        help="run the ROS 1 (rospy) node instead, with the system Python that has Debian's python3-rospy",
+    )
     ms.set_defaults(run=run_map_server)
     sn = sub.add_parser(
         "sim-node",
@@ -46,6 +57,7 @@ def add_parser(subparsers: Any) -> None:
     sn.add_argument("--map", default=None, help="world map (NAME in --maps or a YAML path); default: a demo floor")
     sn.add_argument("--odom-rate", type=float, default=50.0, help="Hz")
     sn.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
+    sn.add_argument("--rays", type=int, default=720, help="laser rays per scan (default 720)")
     sn.add_argument(
         "--laser-offset",
         default="0.25,0.1,0.0",
@@ -65,6 +77,8 @@ def _map_request(name: str | None) -> str | None:
 
 
 def run_map_server(args: argparse.Namespace) -> int:
+    if args.ros1:
+        return _exec_ros1_map_server(args)
     from pmk_nb.robot import mapserver
 
     services = tuple(s.strip() for s in args.services.split(",") if s.strip())
@@ -73,8 +87,29 @@ def run_map_server(args: argparse.Namespace) -> int:
         raise SystemExit(
             f"pmk robot map-server: unknown service(s) {unknown}; use {', '.join(mapserver.RELOAD_SERVICES)}"
         )
+    without = tuple(s.strip() for s in args.without.split(",") if s.strip())
+    if set(without) - set(mapserver.OPTIONAL):
+        raise SystemExit(f"pmk robot map-server: --without takes {', '.join(mapserver.OPTIONAL)}")
     cells = mapserver.REPLY_MAP_CELLS if args.reply_map_cells is None else args.reply_map_cells
-    return mapserver.run(args.maps, _map_request(args.map), services, cells)
+    return mapserver.run(args.maps, _map_request(args.map), services, cells, without)
+
+
+def _exec_ros1_map_server(args: argparse.Namespace) -> int:
+    """Replace this process by the rospy node under the system Python (rospy is not in the venv)."""
+    import os
+
+    import pmk_nb
+    from pmk_nb.robot import ros1_mapserver as ros1
+
+    if not os.access(ros1.SYSTEM_PYTHON, os.X_OK):
+        raise SystemExit(f"pmk robot map-server --ros1: {ros1.SYSTEM_PYTHON} not found (install python3-rospy)")
+    root = str(Path(pmk_nb.__file__).resolve().parent.parent)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (root, os.environ.get("PYTHONPATH")) if p)}
+    argv = [ros1.SYSTEM_PYTHON, "-m", "pmk_nb.robot.ros1_mapserver", "--maps", str(args.maps)]
+    argv += ["--map", _map_request(args.map)] if args.map else []
+    argv += ["--reply-map-cells", str(args.reply_map_cells)] if args.reply_map_cells is not None else []
+    os.execve(ros1.SYSTEM_PYTHON, argv, env)
+    return 0  # pragma: no cover - execve does not return
 
 
 def run_sim_node(args: argparse.Namespace) -> int:
@@ -89,4 +124,5 @@ def run_sim_node(args: argparse.Namespace) -> int:
         laser_offset=(x, y, yaw),
         follow_map=not args.no_follow_map,
         map_odom=not args.no_map_odom,
+        rays=args.rays,
     )

@@ -33,7 +33,7 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--maps-dir", type=Path, default=None, help="the chair's ~/ALMA_MAPS folder (default: temp)")
     p.add_argument("--sftp-port", type=int, default=2222, help="SFTP port (0 = any free port)")
     p.add_argument("--no-sftp", action="store_true", help="do not start the SFTP endpoint")
-    p.add_argument("--sftp-user", default="pmk")
+    p.add_argument("--sftp-user", default="pmk", help="SFTP login name (default pmk)")
     p.add_argument("--sftp-password", default=None, help="default: a random password, printed at start")
     p.add_argument(
         "--sftp-authorized-key",

@@ -42,6 +42,9 @@ DEFAULT_IP = serving.DEFAULT_IP
 VOILA_START_TIMEOUT = 120.0
 KERNEL_MANAGER = "pmk_nb.cli.voila_kernels.PageBoundKernelManager"
 CONFIG_FILE = "voila.json"
+#: seconds Voilà waits for the notebook's output while rendering a page (nbclient's default, 4 s, on a
+#: loaded machine drops the app's output: "Timeout waiting for IOPub output" and a blank page)
+IOPUB_TIMEOUT = 60
 
 
 def dashboard_notebook() -> dict[str, object]:
@@ -111,6 +114,7 @@ def voila_command(
         f"--MappingKernelManager.cull_interval={int(cull_interval)}",
         "--MappingKernelManager.cull_connected=True",
         "--VoilaConfiguration.show_tracebacks=False",
+        f"--VoilaExecutor.iopub_timeout={IOPUB_TIMEOUT}",
     ]
     if not open_browser:
         cmd.append("--no-browser")

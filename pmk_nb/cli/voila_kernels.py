@@ -10,21 +10,26 @@ websocket connections:
   * a kernel whose page never connected is shut down after :data:`FIRST_PAGE_WITHIN` seconds
     (Voilà starts the kernel before the page's websocket exists, so this must allow a slow page load).
 
-A websocket that dies without closing (Wi-Fi gone, tablet asleep) may stay "connected" here for
-a long time (the server's websocket pings, :data:`WS_PING_INTERVAL_MS`, time out but the close does
-not always complete).  That case is caught by the kernel itself: its page heartbeat stops and it
-closes the app, so the live view stops and the chair link closes (:mod:`pmk_nb.ui.page_lifecycle`);
-the quiet kernel is then culled as idle.  (A kernel ending its own process while its websocket is
-half open made Voilà 0.5 spin at 50 % CPU and stop answering: the kernel does not exit itself.)
+A websocket that stays alive without the page in it (tablet asleep, page frozen: the browser still
+answers the server's websocket pings) stays "connected" here.  That case is caught by the kernel:
+its page heartbeat stops, it closes the app (the live view stops, the chair link closes) and sends
+:data:`~pmk_nb.ui.page_lifecycle.PAGE_GONE_MSG` on IOPub, which this manager listens for and
+answers by shutting the kernel down (:mod:`pmk_nb.ui.page_lifecycle`).  (A kernel ending its own
+process while its websocket is half open made Voilà 0.5 spin at 50 % CPU and stop answering: the
+kernel does not exit itself, the server ends it.)
 """
 
 from __future__ import annotations
 
+import asyncio
 import time
 from typing import Any
 
+from jupyter_client.session import Session
 from jupyter_server.services.kernels.kernelmanager import AsyncMappingKernelManager
-from tornado.ioloop import PeriodicCallback
+from tornado.ioloop import IOLoop, PeriodicCallback
+
+from pmk_nb.ui.page_lifecycle import PAGE_GONE_MSG
 
 PAGE_GRACE = 3.0
 FIRST_PAGE_WITHIN = 120.0
@@ -41,14 +46,44 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         self._alone_since: dict[str, float] = {}  # kernel id -> when it last had no page
         self._had_page: set[str] = set()
         self._checker: PeriodicCallback | None = None
+        self._gone_streams: dict[str, Any] = {}  # kernel id -> IOPub stream watched for PAGE_GONE_MSG
 
     async def start_kernel(self, **kwargs: Any) -> str:  # type: ignore[override]
         kernel_id = await super().start_kernel(**kwargs)
         self._alone_since[kernel_id] = time.monotonic()
+        self._listen_for_page_gone(kernel_id)
         if self._checker is None:
             self._checker = PeriodicCallback(self.reap, CHECK_INTERVAL_MS)
             self._checker.start()
         return kernel_id
+
+    def _listen_for_page_gone(self, kernel_id: str) -> None:
+        """Shut the kernel down as soon as it says its page is gone (a silent, still-open websocket)."""
+        kernel = self.get_kernel(kernel_id)
+        stream = kernel.connect_iopub()
+        session = Session(config=kernel.session.config, key=kernel.session.key)
+        marker = f'"{PAGE_GONE_MSG}"'.encode()
+
+        def on_iopub(frames: list[Any]) -> None:
+            _idents, fed = session.feed_identities(frames, copy=False)
+            if len(fed) < 2 or marker not in fed[1].bytes:  # the header frame: cheap test first
+                return
+            try:
+                msg_type = session.deserialize(fed, content=False, copy=False)["header"]["msg_type"]
+            except Exception:
+                return
+            if msg_type == PAGE_GONE_MSG:
+                IOLoop.current().add_callback(self._end, kernel_id, "its page stopped answering", now=False)
+
+        stream.on_recv(on_iopub, copy=False)
+        self._gone_streams[kernel_id] = stream
+
+    def _forget(self, kernel_id: str) -> None:
+        self._alone_since.pop(kernel_id, None)
+        self._had_page.discard(kernel_id)
+        stream = self._gone_streams.pop(kernel_id, None)
+        if stream is not None and not stream.closed():
+            stream.close()
 
     def notify_connect(self, kernel_id: str) -> None:
         super().notify_connect(kernel_id)
@@ -70,19 +105,17 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
 
     async def reap(self) -> None:
         """Shut down the kernels whose page is gone."""
-        for kernel_id in self.orphans(time.monotonic()):
-            self._alone_since.pop(kernel_id, None)
-            self._had_page.discard(kernel_id)
-            if kernel_id in self:
-                await self._end(kernel_id, "its page is gone", now=False)
-        for kernel_id in [k for k in self._alone_since if k not in self]:  # shut down elsewhere
-            self._alone_since.pop(kernel_id, None)
-            self._had_page.discard(kernel_id)
+        # at once: a graceful shutdown can take seconds each, and many pages may close together
+        await asyncio.gather(*(self._end(k, "its page is gone", now=False) for k in self.orphans(time.monotonic())))
+        known = set(self._alone_since) | set(self._gone_streams)
+        for kernel_id in [k for k in known if k not in self]:  # shut down elsewhere (culled, API)
+            self._forget(kernel_id)
 
     async def _end(self, kernel_id: str, why: str, *, now: bool) -> None:
+        self._forget(kernel_id)
+        if kernel_id not in self:
+            return
         self.log.info("Kernel %s: %s; shutting it down", kernel_id, why)
-        self._alone_since.pop(kernel_id, None)
-        self._had_page.discard(kernel_id)
         try:
             await self.shutdown_kernel(kernel_id, now=now)
         except Exception:  # a kernel that refuses to die must not stop the checker

@@ -26,7 +26,7 @@ from pmk_nb.indoorgml.model import (
     Transition,
 )
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
-from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys
+from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit
 
 MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
@@ -103,20 +103,28 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
     plan = plan_storeys(
         [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
     )
-    warnings.extend(plan.notes)
-    model_cells = _model_cells(cells, kinds, plan, s, warnings)
+    cell_notes: list[str] = []
+    model_cells = _model_cells(cells, kinds, plan, s, cell_notes)
+    graph = _graph(doc, model_cells, s)
+    links = resolve_links(graph, model_cells)
+    levels = split_levels(plan, {i: (c.z_min, c.name) for i, c in model_cells.items()}, [(k.a, k.b) for k in links])
+    if levels is not plan:  # split levels: cells, windows and links are decided again on the new storeys
+        plan, cell_notes = levels, []
+        model_cells = _model_cells(cells, kinds, plan, s, cell_notes)
+        graph = _graph(doc, model_cells, s)
+        links = resolve_links(graph, model_cells)
+    warnings.extend(plan.notes + cell_notes)
     storeys = [
         Storey(n, plan.elevation[n], [i for i, c in model_cells.items() if c.storey == n], plan.source[n])
         for n in plan.names
     ]
     _stats_warnings(doc, warnings)
-    graph = _graph(doc, model_cells, s)
     return Building(
         source=str(doc.path), sha256=sha256, version=_version(doc, alma), namespaces=doc.namespaces,
         unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
         graph=graph, georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
-        warnings=warnings, links=resolve_links(graph, model_cells), unit_conflict=choice.conflict,
+        warnings=warnings, links=links, unit_conflict=choice.conflict,
     )  # fmt: skip
 
 

@@ -131,6 +131,9 @@ class Building:
     warnings: list[str] = field(default_factory=list)
     links: list[Link] = field(default_factory=list)  # transitions between kept cells, one per pair
     unit_conflict: str = ""  # plain words when the unit evidence disagrees ('' when it agrees)
+    _by_storey: tuple[tuple[int, int], dict[str | None, list[Boundary]]] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
 
     def storey(self, name: str) -> Storey:
         for s in self.storeys:
@@ -151,4 +154,15 @@ class Building:
         return [k for k in self.links if k.storeys == (storey, storey)]
 
     def doors_of(self, storey: str) -> list[Boundary]:
-        return [b for b in self.boundaries.values() if b.is_door and b.storey == storey]
+        return [b for b in self.boundaries_of(storey) if b.is_door]
+
+    def boundaries_of(self, storey: str) -> list[Boundary]:
+        """The boundaries of ``storey``, in file order. Indexed once per set of boundaries: a storey
+        at a time, a scan of all of them made converting N storeys cost N x (all boundaries)."""
+        key = (id(self.boundaries), len(self.boundaries))
+        if self._by_storey is None or self._by_storey[0] != key:
+            index: dict[str | None, list[Boundary]] = {}
+            for b in self.boundaries.values():
+                index.setdefault(b.storey, []).append(b)
+            self._by_storey = (key, index)
+        return list(self._by_storey[1].get(storey, []))

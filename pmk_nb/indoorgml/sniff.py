@@ -41,12 +41,21 @@ def is_indoorgml_root(local_name: str, namespace: str) -> bool:
     return local_name in INDOORGML_ROOTS or bool(_CORE_NS.match(namespace))
 
 
-def check_indoorgml(path: Path, *, what: str | None = None) -> SniffResult:
+#: what to check when a file is not XML, by where it came from
+NOT_XML_HINTS = {
+    "url": "Check the URL (a web page or a truncated transfer gives this error).",
+    "file": "Choose the building's IndoorGML file (.gml or .xml); a file saved from a web page or cut short "
+    "gives this error.",
+}
+
+
+def check_indoorgml(path: Path, *, what: str | None = None, source: str = "file") -> SniffResult:
     """Check that ``path`` is a well-formed IndoorGML XML document.
 
     Args:
         path: the file to check.
         what: how to name the file in messages (e.g. the URL it came from); defaults to the path.
+        source: ``"file"`` or ``"url"``: where it came from, for the advice when it is not XML.
 
     Returns:
         The root element's local name and namespace.
@@ -72,8 +81,8 @@ def check_indoorgml(path: Path, *, what: str | None = None) -> SniffResult:
     except etree.XMLSyntaxError as err:
         line = f" at line {err.lineno}" if err.lineno else ""
         raise LibraryError(
-            f"{label} is not a well-formed XML file{line} ({err.msg}); an IndoorGML map must be XML. "
-            "Check the URL or file (an HTML page or a truncated transfer gives this error)."
+            f"{label} is not a well-formed XML file{line} ({err.msg}); an IndoorGML map must be XML.",
+            hint=NOT_XML_HINTS.get(source, NOT_XML_HINTS["file"]),
         ) from err
     except OSError as err:
         raise LibraryError(f"cannot read {label}: {err.strerror or err}") from err

@@ -8,6 +8,7 @@ sills and landings of the same storey (FZK-Haus: windows at 0.8/0.95 m sit on th
 
 from __future__ import annotations
 
+import itertools
 import re
 from dataclasses import dataclass
 
@@ -98,3 +99,91 @@ def plan_storeys(cells: list[CellZ]) -> StoreyPlan:
 
 def _natural(s: str) -> tuple[object, ...]:
     return tuple(int(p) if p.isdigit() else p for p in re.split(r"(\d+)", s))
+
+
+SPLIT_STEP = 0.5  # metres: floors further apart than this in one z-cluster may be separate (split) levels
+_VERTICAL = re.compile(r"stair|steps|lift|elevator|escalator|treppe|aufzug|계단|엘리베이터|승강기", re.IGNORECASE)
+
+
+def is_vertical(name: str) -> bool:
+    """A stair, lift or escalator by its name: its transitions lead to another level."""
+    return bool(_VERTICAL.search(name or ""))
+
+
+def _bands(members: list[tuple[str, float]]) -> list[list[str]]:
+    """Cells (id, z_min) sorted by z, cut where the floor jumps by more than SPLIT_STEP."""
+    members = sorted(members, key=lambda m: m[1])
+    bands: list[list[str]] = [[members[0][0]]]
+    for (_, z0), (cid, z1) in itertools.pairwise(members):
+        if z1 - z0 > SPLIT_STEP:
+            bands.append([])
+        bands[-1].append(cid)
+    return bands
+
+
+def _level_groups(bands: list[list[str]], links: list[tuple[str, str]], vertical: set[str]) -> list[list[int]]:
+    """Bands joined into levels: by a transition between two ordinary cells (a ramp, a sloping floor),
+    and a band no transition reaches (windows, sills) with the band below it."""
+    band_of = {cid: i for i, band in enumerate(bands) for cid in band}
+    parent = list(range(len(bands)))
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    linked: set[int] = set()
+    for a, b in links:
+        if a not in band_of or b not in band_of:
+            continue
+        linked |= {band_of[a], band_of[b]}
+        if a not in vertical and b not in vertical:
+            parent[find(band_of[a])] = find(band_of[b])
+    for i in range(len(bands)):
+        if i not in linked:
+            parent[find(i)] = find(i - 1 if i else min(1, len(bands) - 1))
+    groups: dict[int, list[int]] = {}
+    for i in range(len(bands)):
+        groups.setdefault(find(i), []).append(i)
+    return sorted(groups.values(), key=min)
+
+
+def split_levels(
+    plan: StoreyPlan, cells: dict[str, tuple[float | None, str]], links: list[tuple[str, str]]
+) -> StoreyPlan:
+    """Storeys from the graph and z together: a storey found by clustering floor heights is split where
+    its height bands (floors more than SPLIT_STEP apart) are joined only through stairs or lifts (by
+    name), so a split level is its own storey and those transitions link two storeys. Bands joined by
+    an ordinary transition (a ramp, a sloping floor) stay one storey. ``cells``: id -> (z_min, name).
+    Storeys tagged in the file are never changed.
+    """
+    if not links or any(src not in ("z", "single") for src in plan.source.values()):
+        return plan
+    vertical = {cid for cid, (_, name) in cells.items() if is_vertical(name)}
+    levels: list[tuple[float | None, list[str]]] = []
+    notes = list(plan.notes)
+    for name in plan.names:
+        ids = [cid for cid, s in plan.of_cell.items() if s == name]
+        with_z = [(cid, z) for cid in ids if (z := cells.get(cid, (None, ""))[0]) is not None]
+        if not with_z:
+            levels.append((plan.elevation[name], ids))
+            continue
+        bands = _bands(with_z)
+        groups = _level_groups(bands, links, vertical)
+        parts = [[cid for i in g for cid in bands[i]] for g in groups]
+        parts[0] += [cid for cid in ids if cells.get(cid, (None, ""))[0] is None]
+        for part in parts:
+            levels.append((min((z for cid, z in with_z if cid in set(part)), default=None), part))
+        if len(parts) > 1:
+            notes.append(
+                f"storey {name}: {len(parts)} levels joined only by stairs or lifts in the navigation graph "
+                f"(floors at {', '.join(f'{lv[0]:.2f}' for lv in levels[-len(parts):] if lv[0] is not None)} m)"
+            )
+    if len(levels) == len(plan.names):
+        return plan
+    levels.sort(key=lambda lv: (lv[0] is None, lv[0] or 0.0))
+    names = [str(i) for i in range(len(levels))]
+    of_cell = {cid: names[i] for i, (_, part) in enumerate(levels) for cid in part}
+    return StoreyPlan(names, {n: lv[0] for n, lv in zip(names, levels, strict=True)}, of_cell,
+                      {n: "z+graph" for n in names}, notes)  # fmt: skip

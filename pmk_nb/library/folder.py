@@ -17,7 +17,7 @@ import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, BinaryIO
+from typing import BinaryIO
 
 from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH
 from pmk_nb.access.sidecar import sidecar_path
@@ -30,9 +30,6 @@ from pmk_nb.library.info import StoreyCache, StoreyInfo
 from pmk_nb.library.scan import GeneratedMap, scan_generated
 from pmk_nb.progress import ProgressCallback
 from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
-
-if TYPE_CHECKING:
-    pass
 
 __all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "StoreyInfo", "check_name", "default_maps_dir"]
 
@@ -213,16 +210,17 @@ class MapsFolder:
             raise AlreadyExists(f"map {name!r} already exists; pass overwrite=True to replace it", name=name)
 
     def _add_source(
-        self, name: str, overwrite: bool, suffix: str, write: Callable[[BinaryIO], None], *, what: str, failure: str
+        self, name: str, overwrite: bool, suffix: str, write: Callable[[BinaryIO], None], source: str, *, what: str,
+        failure: str,
     ) -> MapEntry:
         """Add map ``name``: ``write`` fills a scratch file that is checked to be IndoorGML, then its
         checked bytes replace NAME.gml atomically, so a failure leaves an existing map untouched.
-        ``failure`` prefixes OS errors."""
+        ``failure`` prefixes OS errors; ``source`` ("file" or "url") picks the advice for a non-XML file."""
         try:
             with tempfile.NamedTemporaryFile(prefix=f".{name}.", suffix=suffix, dir=self.root) as scratch:
                 write(scratch)
                 scratch.flush()
-                check_indoorgml(Path(scratch.name), what=what)  # what is installed is what was checked
+                check_indoorgml(Path(scratch.name), what=what, source=source)  # installed = checked
                 self._refuse_existing(name, overwrite)  # another writer may have taken the name meanwhile
                 scratch.seek(0)
                 return self._install(scratch, name)
@@ -240,29 +238,32 @@ class MapsFolder:
         return self.entry(name)
 
     def import_file(
-        self, path: str | os.PathLike[str], name: str | None = None, *, overwrite: bool = False
+        self, path: str | os.PathLike[str], name: str | None = None, *, overwrite: bool = False, label: str = ""
     ) -> MapEntry:
         """Copy an IndoorGML file into the folder as ``NAME.gml`` (name defaults to the file's stem).
+        ``label`` names the file in messages (an upload's own name; ``path`` is then a temp copy).
 
         Raises:
             LibraryError: missing file, invalid name, name taken without ``overwrite``, not IndoorGML.
         """
         src = Path(path).expanduser()
+        shown = label or str(src)
         if not src.is_file():
-            raise LibraryError(f"cannot import {src}: no such file")
+            why = "a folder, not a .gml file" if src.is_dir() else "no such file"
+            raise LibraryError(f"cannot import {shown}: {why}")
         name = check_name(name if name is not None else src.stem)
         self._refuse_existing(name, overwrite)
         self._ensure_root()
         current = self._sources().get(name)
         if current is not None and current.exists() and current.samefile(src):
-            raise LibraryError(f"{src} is already map {name!r} in {self.root}")
+            raise LibraryError(f"{shown} is already map {name!r} in {self.root}")
 
         def copy(out: BinaryIO) -> None:
             with open(src, "rb") as inp:
                 shutil.copyfileobj(inp, out, 1 << 20)
 
-        failure = f"cannot import {src} into {self.root}"
-        return self._add_source(name, overwrite, ".import", copy, what=str(src), failure=failure)
+        failure = f"cannot import {shown} into {self.root}"
+        return self._add_source(name, overwrite, ".import", copy, "file", what=shown, failure=failure)
 
     def download(
         self,
@@ -294,7 +295,7 @@ class MapsFolder:
             fetch(url, out, timeout=timeout, deadline=deadline, max_bytes=max_bytes, progress=progress)
 
         failure = f"cannot save the download as {name!r} in {self.root}"
-        return self._add_source(name, overwrite, ".part", save, what=f"the file at {url}", failure=failure)
+        return self._add_source(name, overwrite, ".part", save, "url", what=f"the file at {url}", failure=failure)
 
     # ----------------------------------------------------------------- convert / delete
     def convert(

@@ -36,6 +36,7 @@ class StoreyInfo:
     cells: int
     doors: int
     extent: tuple[float, float, float, float] | None
+    unit_conflict: str = ""  # the building's unit evidence disagrees (said before converting), with the fix
 
     @property
     def size(self) -> tuple[float, float] | None:
@@ -59,7 +60,8 @@ def storeys_of(building: Building) -> list[StoreyInfo]:
     for st in summarize(building)["storeys"]:
         ext: dict[str, Any] | None = st["extent"]
         extent = (*map(float, ext["min"]), *map(float, ext["max"])) if ext else None
-        result.append(StoreyInfo(name=str(st["name"]), cells=int(st["cells"]), doors=int(st["doors"]), extent=extent))  # type: ignore[arg-type]
+        result.append(StoreyInfo(name=str(st["name"]), cells=int(st["cells"]), doors=int(st["doors"]), extent=extent,  # type: ignore[arg-type]
+                                 unit_conflict=building.unit_conflict))  # fmt: skip
     return result
 
 

@@ -226,7 +226,7 @@ def plan_openings(
     links = [k for k in building.links_of(storey) if k.a in cells and k.b in cells]
     links = [k for k in links if cells[k.a].kind.is_free and cells[k.b].kind.is_free]
     doors = [d for d in building.doors_of(storey) if d.geometry is not None]
-    virtual = [bd.geometry for bd in building.boundaries.values() if bd.virtual and bd.storey == storey and bd.geometry]
+    virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
     gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
     walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
     ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps)

@@ -19,7 +19,9 @@ import shapely
 # (block view of the grid, boolean mask of the same shape) -> None; updates the block in place
 CellOp = Callable[[np.ndarray, np.ndarray], None]
 _CHUNK_CROSSINGS = 2_000_000  # rows x edges evaluated at once
-_CHUNK_CELLS = 4_000_000  # rows x columns of a block at once
+_CHUNK_CELLS = 1_000_000  # rows x columns of a block (or cells of a scatter) at once
+_SCATTER_CELLS = 262_144  # cells written through one flat index array at once (2 MB of int64)
+_RECT_MIN_CELLS = 256  # spans stacked into a rectangle at least this big are written as one slice
 
 
 @dataclass(frozen=True)
@@ -236,6 +238,11 @@ def fill_segment_bands(
     ys = quad[:, :, 1]
     r0 = np.maximum(0, np.ceil((ys.min(axis=1) - frame.y0) / res - 0.5)).astype(np.int64)
     r1 = np.minimum(frame.height - 1, np.floor((ys.max(axis=1) - frame.y0) / res - 0.5)).astype(np.int64)
+    axis = (d[:, 0] == 0) | (d[:, 1] == 0)
+    if axis.any():  # an axis-aligned band is a rectangle of cells: no per-row work
+        _axis_bands(grid, frame, quad[axis], r0[axis], r1[axis], value, keep)
+        quad, r0, r1 = quad[~axis], r0[~axis], r1[~axis]
+        segments = segments[~axis]
     count = np.maximum(0, r1 - r0 + 1)
     seg = np.repeat(np.arange(len(segments)), count)
     if len(seg) == 0:
@@ -255,36 +262,136 @@ def fill_segment_bands(
     cs = np.clip(np.ceil((xl - frame.x0) / res - 0.5), 0, frame.width)
     ce = np.clip(np.floor((xr - frame.x0) / res - 0.5) + 1, 0, frame.width)
     ok = np.isfinite(xl) & (ce > cs)
-    apply_intervals(grid, row[ok], cs[ok].astype(np.int64), ce[ok].astype(np.int64), value, keep)
+    write_spans(grid, row[ok], cs[ok].astype(np.int64), ce[ok].astype(np.int64), value, keep)
 
 
-def apply_intervals(
-    grid: np.ndarray, rows: np.ndarray, starts: np.ndarray, stops: np.ndarray, value: int, keep: tuple[int, ...]
+def _axis_bands(
+    grid: np.ndarray, frame: Frame, quad: np.ndarray, r0: np.ndarray, r1: np.ndarray, value: int,
+    keep: tuple[int, ...],
+) -> None:  # fmt: skip
+    """The cells of axis-aligned band quads, exactly as the per-row rule in fill_segment_bands gives."""
+    res = frame.resolution
+    ymin, ymax = quad[:, :, 1].min(axis=1), quad[:, :, 1].max(axis=1)
+    r0 = r0 + (frame.y0 + (r0 + 0.5) * res < ymin)  # a centre rounded off the band's edge
+    r1 = r1 - (frame.y0 + (r1 + 0.5) * res > ymax)
+    xl, xr = quad[:, :, 0].min(axis=1), quad[:, :, 0].max(axis=1)
+    cs = np.clip(np.ceil((xl - frame.x0) / res - 0.5), 0, frame.width).astype(np.int64)
+    ce = np.clip(np.floor((xr - frame.x0) / res - 0.5) + 1, 0, frame.width).astype(np.int64)
+    tall = ymax > ymin
+    write_rects(grid, r0[tall], r1[tall] + 1, cs[tall], ce[tall], value, keep)
+
+
+def axis_line_rects(segments: np.ndarray, frame: Frame) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    """Split ``segments``: (mask of the axis-aligned ones, the others, their supercover cells as
+    rectangles r0, r1, c0, c1 with exclusive ends) - the same cells :func:`supercover_cells` gives."""
+    res = frame.resolution
+    u0 = (segments[:, 0] - frame.x0) / res
+    v0 = (segments[:, 1] - frame.y0) / res
+    du = (segments[:, 2] - frame.x0) / res - u0
+    dv = (segments[:, 3] - frame.y0) / res - v0
+    axis = (du == 0) | (dv == 0)
+    cu0, cu1 = _axis_ends(u0[axis], du[axis])
+    cv0, cv1 = _axis_ends(v0[axis], dv[axis])
+    c0 = np.maximum(np.minimum(cu0, cu1), 0).astype(np.int64)
+    c1 = np.minimum(np.maximum(cu0, cu1) + 1, frame.width).astype(np.int64)
+    r0 = np.maximum(np.minimum(cv0, cv1), 0).astype(np.int64)
+    r1 = np.minimum(np.maximum(cv0, cv1) + 1, frame.height).astype(np.int64)
+    return axis, segments[~axis], (r0, r1, c0, c1)
+
+
+def _axis_ends(p0: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """First and last cell along one axis, with the very float steps of :func:`supercover_cells` (its
+    first and last midpoints), so a start a hair below a grid line rounds the same way."""
+    f0, f1 = np.floor(p0), np.floor(p0 + d)
+    n = np.abs(f1 - f0)
+    sign = np.sign(d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_first = ((f0 + np.where(sign > 0, 1, 0)) - p0) / d
+        t_last = ((f0 + np.where(sign > 0, n, -(n - 1))) - p0) / d
+    t_first, t_last = np.clip(t_first, 0.0, 1.0), np.clip(t_last, 0.0, 1.0)
+    one = n == 0
+    tm_first = np.where(one, 0.5, (t_first + 0.0) / 2)
+    tm_last = np.where(one, 0.5, (1.0 + t_last) / 2)
+    return np.floor(p0 + d * tm_first), np.floor(p0 + d * tm_last)
+
+
+def _rectangles(rows: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Spans merged into rectangles: (row0, row1 exclusive, start, stop), one per run of equal spans
+    on consecutive rows (duplicates dropped)."""
+    order = np.lexsort((rows, stops, starts))
+    r, s, t = rows[order], starts[order], stops[order]
+    dup = np.r_[False, (r[1:] == r[:-1]) & (s[1:] == s[:-1]) & (t[1:] == t[:-1])]
+    r, s, t = r[~dup], s[~dup], t[~dup]
+    new = np.r_[True, (s[1:] != s[:-1]) | (t[1:] != t[:-1]) | (r[1:] != r[:-1] + 1)]
+    first = np.flatnonzero(new)
+    end = np.r_[first[1:], len(r)]
+    return r[first], r[end - 1] + 1, s[first], t[first]
+
+
+def write_spans(
+    grid: np.ndarray, rows: np.ndarray, starts: np.ndarray, stops: np.ndarray, value: int, keep: tuple[int, ...] = ()
 ) -> None:
-    """Set ``grid[row, start:stop] = value`` for every interval, except cells holding a ``keep`` value.
+    """Set ``grid[row, start:stop] = value`` for every span, except cells holding a ``keep`` value.
 
-    Touches only the covered cells (walls cover a small share of a fine grid), in chunks of at most
-    a few million cells; overlapping intervals are fine.
+    Spans that stack into rectangles of at least a few hundred cells are written as slices; the
+    rest through flat indices a few hundred thousand cells at a time, so memory stays bounded.
     """
-    lengths = stops - starts
-    if len(lengths) == 0:
+    if len(rows) == 0:
         return
     if not grid.flags.c_contiguous:
-        raise ValueError("apply_intervals needs a C-contiguous grid (it writes through a flat view)")
+        raise ValueError("write_spans needs a C-contiguous grid (it writes through a flat view)")
+    write_rects(grid, *_rectangles(rows, starts, stops), value, keep)
+
+
+def write_rects(
+    grid: np.ndarray, ra: np.ndarray, rb: np.ndarray, s: np.ndarray, t: np.ndarray, value: int,
+    keep: tuple[int, ...] = (),
+) -> None:  # fmt: skip
+    """Set ``grid[ra:rb, s:t] = value`` for every rectangle, except cells holding a ``keep`` value:
+    big ones as slices, small ones through one flat scatter."""
+    if not grid.flags.c_contiguous:
+        raise ValueError("write_rects needs a C-contiguous grid (it writes through a flat view)")
+    ok = (rb > ra) & (t > s)
+    ra, rb, s, t = ra[ok], rb[ok], s[ok], t[ok]
+    big = (rb - ra) * (t - s) >= _RECT_MIN_CELLS
+    for a, b_, c, d in zip(ra[big].tolist(), rb[big].tolist(), s[big].tolist(), t[big].tolist(), strict=True):
+        block = grid[a:b_, c:d]
+        if keep:
+            mask = block != keep[0]
+            for k in keep[1:]:
+                mask &= block != k
+            np.copyto(block, value, where=mask, casting="unsafe")
+        else:
+            block[...] = value
+    small = ~big
+    if not small.any():
+        return
+    ra, rb, s, t = ra[small], rb[small], s[small], t[small]
+    area = (rb - ra) * (t - s)
+    group = (np.cumsum(area) - area) // _SCATTER_CELLS  # rectangles expanded a few hundred thousand cells at a time
+    cuts = [0, *(np.flatnonzero(np.diff(group)) + 1).tolist(), len(area)]
+    for lo, hi in itertools.pairwise(cuts):
+        n_rows = rb[lo:hi] - ra[lo:hi]
+        row = np.repeat(ra[lo:hi], n_rows) + (np.arange(n_rows.sum()) - np.repeat(np.cumsum(n_rows) - n_rows, n_rows))
+        _scatter(grid, row, np.repeat(s[lo:hi], n_rows), np.repeat(t[lo:hi], n_rows), value, keep)
+
+
+def _scatter(
+    grid: np.ndarray, rows: np.ndarray, starts: np.ndarray, stops: np.ndarray, value: int, keep: tuple[int, ...]
+) -> None:
     flat_grid = grid.reshape(-1)
     width = grid.shape[1]
-    # group intervals so each group covers about _CHUNK_CELLS cells (plus at most one grid row)
-    group = (np.cumsum(lengths) - lengths) // _CHUNK_CELLS
+    lengths = stops - starts
+    group = (np.cumsum(lengths) - lengths) // _SCATTER_CELLS
     cuts = [0, *(np.flatnonzero(np.diff(group)) + 1).tolist(), len(lengths)]
     for lo, hi in itertools.pairwise(cuts):
         n = lengths[lo:hi]
         first = rows[lo:hi] * width + starts[lo:hi]
-        offsets = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
-        idx = np.repeat(first, n) + offsets
+        idx = np.repeat(first, n) + (np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n))
         if keep:
             current = flat_grid[idx]
-            ok = np.ones(len(idx), dtype=bool)
-            for k in keep:
+            ok = current != keep[0]
+            for k in keep[1:]:
                 ok &= current != k
             idx = idx[ok]
         flat_grid[idx] = value

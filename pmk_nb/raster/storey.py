@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -31,18 +31,20 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import GridTooLarge, OccupancyError
-from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, nice_ceil
+from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, new_cells, nice_ceil
 from pmk_nb.progress import ProgressCallback, emit, sub_range
 from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
 from pmk_nb.raster.scanline import (
     Frame,
-    fill_geometry,
+    axis_line_rects,
     fill_segment_bands,
-    line_segments,
     segments_with_owner,
     supercover_cells,
+    write_rects,
 )
-from pmk_nb.raster.walls import door_gaps, door_geometry, gap_walls, passages, shrink_segments, wall_lines
+from pmk_nb.raster.spans import fill_polygons
+from pmk_nb.raster.wallcut import wall_segments
+from pmk_nb.raster.walls import door_gaps, door_geometry, gap_walls, passages, shrink_segments
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell
@@ -145,24 +147,17 @@ def plan_storey(
     )
 
 
-def _setter(value: int, keep: tuple[int, ...] = ()) -> Callable[[np.ndarray, np.ndarray], None]:
-    """A cell op writing ``value`` except over cells currently holding one of ``keep``."""
-
-    def op(block: np.ndarray, mask: np.ndarray) -> None:
-        for k in keep:
-            mask = mask & (block != k)
-        block[mask] = value
-
-    return op
-
-
 def _draw_lines(grid: np.ndarray, frame: Frame, segments: np.ndarray, value: int, keep: tuple[int, ...]) -> None:
     """Write ``value`` on the supercover cells of ``segments`` (sparing ``keep`` cells), in batches of
-    segments that cross a few million cells at most, so memory stays bounded for any input."""
+    segments that cross half a million cells at most, so memory stays bounded for any input."""
+    if len(segments) == 0:
+        return
+    _, segments, rects = axis_line_rects(segments, frame)
+    write_rects(grid, *rects, value, keep)
     if len(segments) == 0:
         return
     span = (np.abs(segments[:, 2] - segments[:, 0]) + np.abs(segments[:, 3] - segments[:, 1])) / frame.resolution
-    batch = (np.cumsum(span + 2) // 4_000_000).astype(np.int64)
+    batch = (np.cumsum(span + 2) // 500_000).astype(np.int64)
     cuts = [0, *(np.flatnonzero(np.diff(batch)) + 1).tolist(), len(segments)]
     for lo, hi in itertools.pairwise(cuts):
         rows, cols = supercover_cells(segments[lo:hi], frame)
@@ -186,6 +181,13 @@ class _Plan:
     door_polys: list[BaseGeometry]
     door_lines: list[BaseGeometry]
     openings: OpeningPlan
+    outside_mark: int = _OUTSIDE  # what cells outside every cell hold while drawing
+
+    @property
+    def spare(self) -> tuple[int, ...]:
+        """Values a wall or door must not overwrite: obstacles, when the storey has any (with none,
+        nothing is occupied while drawing, and writes need not read the grid first)."""
+        return (OCCUPIED,) if self.blocked else ()
 
     @property
     def steps(self) -> int:
@@ -226,17 +228,14 @@ def _fill_cells(plan: _Plan, storey: str, tick: _Ticker) -> np.ndarray:
     """Step 2: a grid of "outside" with free spaces (and door cells) free and non-navigable cells occupied."""
     frame = plan.frame
     try:
-        grid = np.full((frame.height, frame.width), _OUTSIDE, np.int8)
+        grid = new_cells(frame.height, frame.width, plan.outside_mark)
     except MemoryError as err:
         raise OccupancyError(
             f"storey {storey!r}: not enough memory for {frame.width} x {frame.height} cells; use a coarser resolution"
         ) from err
-    for geom in plan.rooms + plan.door_polys:
-        fill_geometry(grid, frame, geom, _setter(FREE))
-        tick()
-    for geom in plan.blocked:
-        fill_geometry(grid, frame, geom, _setter(OCCUPIED))
-        tick()
+    fill_polygons(grid, frame, plan.rooms + plan.door_polys, FREE)
+    fill_polygons(grid, frame, plan.blocked, OCCUPIED)
+    tick(len(plan.cells))
     return grid
 
 
@@ -246,10 +245,10 @@ def _draw_walls(grid: np.ndarray, plan: _Plan, tick: _Ticker) -> np.ndarray:
     tol = max(0.01, 0.25 * res)
     gaps = door_gaps(plan.door_lines, plan.rooms, max_gap=max(_MAX_DOOR_GAP, plan.max_gap))
     gap_fill = gap_walls([c.footprint for c in plan.cells] + plan.door_polys, plan.door_lines, gaps, plan.max_gap, tol)
-    fill_geometry(grid, frame, gap_fill, _setter(_WALL, keep=(FREE, OCCUPIED)))
-    segments = line_segments(wall_lines(plan.rooms, plan.door_polys, plan.door_lines, gaps, tol))
-    fill_segment_bands(grid, frame, segments, plan.half, _WALL, (OCCUPIED,))
-    _draw_lines(grid, frame, segments, _WALL, (OCCUPIED,))
+    fill_polygons(grid, frame, [gap_fill], _WALL, keep=(FREE, OCCUPIED))
+    segments = wall_segments(plan.rooms, plan.door_polys, plan.door_lines, gaps, tol)
+    fill_segment_bands(grid, frame, segments, plan.half, _WALL, plan.spare)
+    _draw_lines(grid, frame, segments, _WALL, plan.spare)
     tick()
     return gaps
 
@@ -257,31 +256,29 @@ def _draw_walls(grid: np.ndarray, plan: _Plan, tick: _Ticker) -> np.ndarray:
 def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) -> None:
     """Step 4: door cells and door lines clear the wall across their width, plus a passage through it."""
     frame, res = plan.frame, plan.frame.resolution
-    opener = _setter(FREE, keep=(OCCUPIED,))
     reach = plan.half + res
-    for geom in plan.door_polys:
-        fill_geometry(grid, frame, geom, opener)
-        tick()
+    fill_polygons(grid, frame, plan.door_polys, FREE, keep=plan.spare)
+    tick(len(plan.door_polys))
     door_segs, owner = segments_with_owner(plan.door_lines)
     door_reach = reach + gaps[owner]
-    fill_segment_bands(grid, frame, door_segs, door_reach, FREE, (OCCUPIED,), caps=False)
-    _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, (OCCUPIED,))
+    fill_segment_bands(grid, frame, door_segs, door_reach, FREE, plan.spare, caps=False)
+    _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, plan.spare)
     tick(len(plan.door_lines))
-    _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach), FREE, (OCCUPIED,))
+    _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach), FREE, plan.spare)
     # the graph's openings: wall cells only (never obstacles or outside), after every wall is drawn
-    clear_walls = _setter(FREE, keep=(OCCUPIED, _OUTSIDE, FREE))
-    for opening in plan.openings.openings:
-        for poly in opening.polygons(reach):
-            fill_geometry(grid, frame, poly, clear_walls)
+    polys = [poly for opening in plan.openings.openings for poly in opening.polygons(reach)]
+    fill_polygons(grid, frame, polys, FREE, keep=(OCCUPIED, plan.outside_mark, FREE))
 
 
-def _finish(grid: np.ndarray, outside: str, tick: _Ticker) -> None:
-    """Step 5: walls become occupied, outside cells unknown (or occupied), in chunks (no full-size temporary)."""
-    outside_value = OCCUPIED if outside == "occupied" else UNKNOWN
-    for start in range(0, grid.shape[0], 1024):
-        block = grid[start : start + 1024]
-        block[block == _WALL] = OCCUPIED
-        block[block == _OUTSIDE] = outside_value
+def _finish(grid: np.ndarray, outside_mark: int, tick: _Ticker) -> None:
+    """Step 5: walls become occupied, outside cells unknown (or occupied), in strips of about a million
+    cells (no full-size temporary; a strip's mask stays in cache)."""
+    step = max(1, 1_000_000 // max(1, grid.shape[1]))
+    for start in range(0, grid.shape[0], step):
+        block = grid[start : start + step]
+        np.copyto(block, OCCUPIED, where=block == _WALL, casting="unsafe")
+        if outside_mark == _OUTSIDE:
+            np.copyto(block, OCCUPIED, where=block == _OUTSIDE, casting="unsafe")
     tick()
 
 
@@ -314,11 +311,12 @@ def rasterise_storey(
         building, storey, resolution, wall_thickness, max_wall_gap, door_width, openings,
         margin=margin, max_cells=max_cells, allow_large=allow_large,
     )  # fmt: skip
+    plan.outside_mark = UNKNOWN if outside == "unknown" else _OUTSIDE  # unknown from the start: no pass
     tick = _Ticker(progress, plan.steps, storey)
     grid = _fill_cells(plan, storey, tick)
     gaps = _draw_walls(grid, plan, tick)
     _open_doors(grid, plan, gaps, tick)
-    _finish(grid, outside, tick)
+    _finish(grid, plan.outside_mark, tick)
     return OccupancyGrid(
         data=grid, resolution=plan.frame.resolution, origin=(plan.frame.x0, plan.frame.y0, 0.0), frame_id="map",
         meta={

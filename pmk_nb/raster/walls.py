@@ -26,19 +26,18 @@ def door_geometry(
     polys = [c.footprint for c in cells if c.kind.is_door]
     lines: list[Any] = []
     skipped = {b.id for b in skip or []}
-    for boundary in building.doors_of(storey):
-        if boundary.id in skipped:
-            continue
-        geom = boundary.geometry
-        if geom is None or geom.is_empty:
-            continue
-        for part in shapely.get_parts(geom):
-            if isinstance(part, shapely.Polygon) and part.area > 1e-9:
-                polys.append(part)
-            elif isinstance(part, shapely.Polygon):  # a vertical surface seen from above: a line
-                lines.append(shapely.LineString(part.exterior.coords))
-            elif isinstance(part, shapely.LineString) and part.length > 0:
-                lines.append(part)
+    geoms = [b.geometry for b in building.doors_of(storey) if b.id not in skipped and b.geometry is not None]
+    if not geoms:
+        return polys, lines
+    parts = shapely.get_parts(np.asarray(geoms, dtype=object))  # in boundary order, as before
+    kinds, areas, lengths = shapely.get_type_id(parts), shapely.area(parts), shapely.length(parts)
+    for part, kind, area, length in zip(parts.tolist(), kinds.tolist(), areas.tolist(), lengths.tolist(), strict=True):
+        if kind == 3 and area > 1e-9:
+            polys.append(part)
+        elif kind == 3 and not part.is_empty:  # a vertical surface seen from above: a line
+            lines.append(shapely.LineString(part.exterior.coords))
+        elif kind in (1, 2) and length > 0:
+            lines.append(part)
     return polys, lines
 
 
@@ -85,13 +84,15 @@ def door_gaps(door_lines: list[Any], rooms: list[Any], max_gap: float) -> np.nda
 def _chords(lines: np.ndarray) -> np.ndarray:
     """Each line as one straight segment, from its first point to the point farthest from it: a door
     boundary taken from a vertical surface runs along the door and back, which has no left or right."""
-    coords, index = shapely.get_coordinates(lines, return_index=True)
-    groups = np.split(coords, np.cumsum(np.bincount(index, minlength=len(lines)))[:-1])
     out = lines.copy()
-    for i, xy in enumerate(groups):
-        if len(xy) > 2:
-            far = int(np.argmax(np.hypot(xy[:, 0] - xy[0, 0], xy[:, 1] - xy[0, 1])))
-            out[i] = shapely.LineString([xy[0], xy[far]]) if far else lines[i]
+    bent = np.flatnonzero(shapely.get_num_coordinates(lines) > 2)  # most door lines are one segment already
+    if len(bent) == 0:
+        return out
+    coords, index = shapely.get_coordinates(lines[bent], return_index=True)
+    groups = np.split(coords, np.cumsum(np.bincount(index, minlength=len(bent)))[:-1])
+    for i, xy in zip(bent.tolist(), groups, strict=True):
+        far = int(np.argmax(np.hypot(xy[:, 0] - xy[0, 0], xy[:, 1] - xy[0, 1])))
+        out[i] = shapely.LineString([xy[0], xy[far]]) if far else lines[i]
     return out
 
 
@@ -115,12 +116,9 @@ def gap_walls(footprints: list[Any], door_lines: list[Any], gaps: np.ndarray, ma
     if not polys:
         return empty
     try:
-        union = shapely.union_all(np.asarray(polys, dtype=object))
-        cuts = None
-        if door_lines:
-            cuts = shapely.union_all(
-                shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat")
-            )
+        union = _union(np.asarray(polys, dtype=object))
+        # door cuts are made (and unioned) only where they meet the filled region: most files have no gaps
+        cuts = (np.asarray(door_lines, dtype=object), np.asarray(gaps, dtype=np.float64) + tol) if door_lines else None
         # GEOS's mitre buffers occasionally lose their way for one exact radius (a shrink that leaves
         # metres of grown area behind); a piece thicker than max_gap is such an artefact, and a radius
         # a few micrometres larger usually computes cleanly, so try a few before giving up on a piece.
@@ -134,13 +132,29 @@ def gap_walls(footprints: list[Any], door_lines: list[Any], gaps: np.ndarray, ma
     return shapely.MultiPolygon(good) if good else empty
 
 
+def _union(polys: np.ndarray) -> Any:
+    """The union of a storey's cells: a coverage union when the cells tile without overlaps (fast),
+    otherwise the full overlay."""
+    try:
+        if len(polys) > 64 and shapely.coverage_is_valid(polys):
+            return shapely.coverage_union_all(polys)
+    except (shapely.errors.GEOSException, shapely.errors.UnsupportedGEOSVersionError):
+        pass
+    return shapely.union_all(polys)
+
+
 def _gap_pieces(union: Any, cuts: Any, r: float, tol: float) -> tuple[list[Any], int]:
     """(pieces of the mitre closing of ``union`` by ``r`` not in ``union``, count of implausible pieces)."""
     with np.errstate(divide="ignore", invalid="ignore"):  # GEOS on near-degenerate corners; checked below
         closed = shapely.buffer(shapely.buffer(union, r, join_style="mitre"), -r, join_style="mitre")
     fill = shapely.difference(closed, union)
     if cuts is not None and not fill.is_empty:
-        fill = shapely.difference(fill, cuts)
+        lines, widths = cuts
+        cand = shapely.STRtree(lines).query(fill, predicate="dwithin", distance=float(widths.max()) + 1e-9)
+        near = shapely.buffer(lines[cand], widths[cand], cap_style="flat")
+        near = near[shapely.intersects(near, fill)]
+        if len(near):
+            fill = shapely.difference(fill, shapely.union_all(near))
     parts = np.asarray(polygons_of(fill), dtype=object)
     if len(parts) == 0:
         return [], 0
@@ -170,21 +184,32 @@ def wall_lines(
         order = np.argsort(pairs[0], kind="stable")
         rooms_hit, starts = np.unique(pairs[0][order], return_index=True)
         groups = np.split(pairs[1][order], starts[1:]) if len(rooms_hit) else []
-        for i, near_idx in zip(rooms_hit, groups, strict=True):
-            near = cuts[near_idx]
-            lines[i] = shapely.difference(lines[i], near[0] if len(near) == 1 else shapely.union_all(near))
+        # one vectorised difference per round: round k takes each room's k-th nearby cut
+        sizes = np.array([len(g) for g in groups], dtype=np.int64)
+        for k in range(int(sizes.max(initial=0))):
+            has = sizes > k
+            rooms_k = rooms_hit[has]
+            cut_k = np.array([g[k] for g, h in zip(groups, has.tolist(), strict=True) if h], dtype=np.int64)
+            lines[rooms_k] = shapely.difference(lines[rooms_k], cuts[cut_k])
     out = [g for g in lines.tolist() if g is not None and not g.is_empty]
-    if door_polys:
-        tree = shapely.STRtree(room_arr) if len(room_arr) else None
-        for i, door in enumerate(door_polys):
-            near = [d for j, d in enumerate(door_polys) if j != i and d.distance(door) <= tol]
-            if tree is not None:
-                near += list(room_arr[tree.query(shapely.buffer(door, tol), predicate="intersects")])
-            ring = shapely.boundary(door)
-            if near:
-                ring = shapely.difference(ring, shapely.buffer(shapely.union_all(near), tol))
-            if not ring.is_empty:
-                out.append(ring)
+    return out + door_jambs(room_arr, door_polys, tol)
+
+
+def door_jambs(room_arr: np.ndarray, door_polys: list[Any], tol: float) -> list[Any]:
+    """Door cells' outlines minus where they meet rooms or other door cells: the jambs."""
+    out: list[Any] = []
+    if not door_polys:
+        return out
+    tree = shapely.STRtree(room_arr) if len(room_arr) else None
+    for i, door in enumerate(door_polys):
+        near = [d for j, d in enumerate(door_polys) if j != i and d.distance(door) <= tol]
+        if tree is not None:
+            near += list(room_arr[tree.query(shapely.buffer(door, tol), predicate="intersects")])
+        ring = shapely.boundary(door)
+        if near:
+            ring = shapely.difference(ring, shapely.buffer(shapely.union_all(near), tol))
+        if not ring.is_empty:
+            out.append(ring)
     return out
 
 

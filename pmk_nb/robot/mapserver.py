@@ -12,7 +12,9 @@ as from Nav2's map_server). Services:
 
 Nav2 puts the whole grid in the LoadMap reply; a rosbridge server cannot carry a 4000x4000 one as
 JSON and closes the client instead. Above ``reply_map_cells`` cells the reply holds an empty map
-(result still exact); clients confirm with ``map_info``. rclpy is imported here only.
+(result still exact); clients confirm with ``map_info``. ``without`` leaves ``/map_metadata`` and/or
+``map_info`` out, to act like Nav2's map_server (the tests of the dashboard's fallbacks). rclpy is
+imported here only.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from pmk_nb.robot.mapstore import UNDEFINED_FAILURE, LoadedMap, MapStore
 READY_LINE = "pmk robot map-server: ready"
 RELOAD_SERVICES = ("load_map", "map_update", "change_map")
 DEFAULT_SERVICES = ("load_map", "map_update")
+OPTIONAL = ("map_metadata", "map_info")  # what --without may leave out (Nav2's map_server has neither)
 REPLY_MAP_CELLS = 4_000_000  # 2000x2000: what rosbridge still carries as JSON
 log = logging.getLogger(__name__)
 
@@ -57,14 +60,20 @@ def fill_info(info: Any, loaded: LoadedMap, stamp: Any) -> None:
     info.origin.orientation.z, info.origin.orientation.w = math.sin(oth / 2.0), math.cos(oth / 2.0)
 
 
-def run(maps_dir: Path, first_map: str | None, services: tuple[str, ...], reply_map_cells: int) -> int:
+def run(
+    maps_dir: Path,
+    first_map: str | None,
+    services: tuple[str, ...],
+    reply_map_cells: int,
+    without: tuple[str, ...] = (),
+) -> int:
     """Start the node and spin until shut down; prints READY_LINE once everything is offered."""
     import rclpy
     from rclpy.executors import ExternalShutdownException
 
     rclpy.init()
     try:
-        node = _build(MapStore(maps_dir), first_map, services, reply_map_cells)
+        node = _build(MapStore(maps_dir), first_map, services, reply_map_cells, without)
         print(READY_LINE, flush=True)
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -74,7 +83,9 @@ def run(maps_dir: Path, first_map: str | None, services: tuple[str, ...], reply_
     return 0
 
 
-def _build(store: MapStore, first_map: str | None, services: tuple[str, ...], reply_map_cells: int) -> Any:
+def _build(
+    store: MapStore, first_map: str | None, services: tuple[str, ...], reply_map_cells: int, without: tuple[str, ...]
+) -> Any:
     from nav_msgs.msg import MapMetaData, OccupancyGrid
     from rclpy.node import Node
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -82,7 +93,7 @@ def _build(store: MapStore, first_map: str | None, services: tuple[str, ...], re
     latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
     node = Node("map_server")
     map_pub = node.create_publisher(OccupancyGrid, "/map", latched)
-    meta_pub = node.create_publisher(MapMetaData, "/map_metadata", latched)
+    meta_pub = None if "map_metadata" in without else node.create_publisher(MapMetaData, "/map_metadata", latched)
     cache: dict[str, Any] = {}
 
     def publish() -> None:
@@ -96,7 +107,8 @@ def _build(store: MapStore, first_map: str | None, services: tuple[str, ...], re
         fill_info(meta, loaded, stamp)
         cache.update(msg=msg, stamp=stamp, loaded=loaded)
         map_pub.publish(msg)
-        meta_pub.publish(meta)
+        if meta_pub is not None:
+            meta_pub.publish(meta)
 
     def load(request: str) -> int:
         code, text = store.load(request)
@@ -141,9 +153,8 @@ def _build(store: MapStore, first_map: str | None, services: tuple[str, ...], re
             response.map = cache["msg"]
         return response
 
-    _offer(
-        node, services, {"load_map": nav2_load, "map_update": map_update, "change_map": ros1_load}, map_info, get_map
-    )
+    reloads = {"load_map": nav2_load, "map_update": map_update, "change_map": ros1_load}
+    _offer(node, services, reloads, None if "map_info" in without else map_info, get_map)
     if first_map:
         code = load(first_map)
         if code != 0:
@@ -166,5 +177,6 @@ def _offer(node: Any, services: tuple[str, ...], reload: dict[str, Any], map_inf
     for key in services:
         srv_type, name = offered[key]
         node.create_service(srv_type, name, reload[key])
-    node.create_service(MapInfo, "/map_server/map_info", map_info)
+    if map_info is not None:
+        node.create_service(MapInfo, "/map_server/map_info", map_info)
     node.create_service(GetMap, "/map_server/map", get_map)

@@ -56,12 +56,12 @@ def _fill_tf(t: Any, parent: str, child: str, pose: Pose, stamp: Any) -> Any:
 class SimState:
     """The chair in its world; every method may be called from any rclpy callback (one lock)."""
 
-    def __init__(self, grid: OccupancyGrid, laser_offset: Pose) -> None:
+    def __init__(self, grid: OccupancyGrid, laser_offset: Pose, rays: int = 720) -> None:
         self.lock = threading.Lock()
         self.world = World(grid)
         x, y = self.world.open_spot()
         self.chair = Chair(self.world, (x, y, 0.0))
-        self.laser = Laser()
+        self.laser = Laser(rays=rays)
         self.laser_offset = laser_offset
         self.last = time.monotonic()
 
@@ -112,6 +112,7 @@ def run(
     laser_offset: Pose = (0.25, 0.1, 0.0),
     follow_map: bool = True,
     map_odom: bool = True,
+    rays: int = 720,
 ) -> int:
     """Start the node and spin until shut down; prints READY_LINE once its topics exist."""
     import rclpy
@@ -124,7 +125,7 @@ def run(
         grid = demo_grid()
     rclpy.init()
     try:
-        node = _build(SimState(grid, laser_offset), odom_rate, scan_rate, follow_map, map_odom)
+        node = _build(SimState(grid, laser_offset, rays), odom_rate, scan_rate, follow_map, map_odom)
         executor = MultiThreadedExecutor(num_threads=3)
         executor.add_node(node)
         print(READY_LINE, flush=True)

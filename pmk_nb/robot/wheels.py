@@ -3,7 +3,8 @@
 Used by the real-stack test tier, `make ros2` and `make bench`: a venv of its own (outside the
 checkout: ``$PMK_ROS_CACHE`` or ``~/.cache/pmk-ros``) with the Jazzy runtime wheels, the rosbridge
 server (``rosbridge-server-rs``) and the interfaces that have no wheel (``ros/interfaces``), built
-with cmake against the wheels. A stamp keyed on everything that goes in makes a second run instant.
+with cmake against the wheels. Stamps make a second run instant: one for the venv (the wheel lists)
+and one per interface package (its files), so changing one package rebuilds only that package.
 
 The fix-ups the wheels need, found by trying (see the real-ROS issue): the wheels' exported
 ``.cmake`` files name the manylinux build's Python include dirs; the server binary has no run bit;
@@ -48,9 +49,9 @@ BUILD_TOOLS = [
 ]
 # What pmk_nb's nodes import besides ROS (the map reader; the simulator package imports websockets).
 NODE_DEPS = ["numpy", "pyyaml", "pillow", "websockets"]
-# Built in this order (none depends on another).
-INTERFACES = ("tf2_msgs", "nav2_msgs", "map_server_pmk")
-STACK_VERSION = "1"  # bump when the steps below change
+# Built in this order (none depends on another). rosapi_msgs lets the server run with rosapi on.
+INTERFACES = ("tf2_msgs", "nav2_msgs", "map_server_pmk", "rosapi_msgs")
+STACK_VERSION = "2"  # bump when the steps below change
 
 CHECKOUT = Path(__file__).resolve().parents[2]
 INTERFACES_DIR = CHECKOUT / "ros" / "interfaces"
@@ -99,16 +100,27 @@ def load(root: Path | None = None) -> Stack:
     if not manifest.is_file():
         raise StackMissing(f"no ROS 2 stack at {root}: run `make ros2` (python -m pmk_nb.robot.wheels)")
     data = json.loads(manifest.read_text())
-    if data.get("stamp") != _stamp():
-        raise StackMissing(f"the ROS 2 stack at {root} is out of date for this checkout: run `make ros2`")
+    built = data.get("interfaces") or {}
+    stale = [name for name in INTERFACES if built.get(name) != _interface_stamp(name)]
+    if data.get("stamp") != _venv_stamp() or stale:
+        what = f" ({', '.join(stale)} changed)" if stale and data.get("stamp") == _venv_stamp() else ""
+        raise StackMissing(f"the ROS 2 stack at {root} is out of date for this checkout{what}: run `make ros2`")
     return Stack(root, Path(data["python"]), Path(data["server"]), dict(data["env"]))
 
 
-def _stamp() -> str:
-    h = hashlib.sha256(f"{STACK_VERSION} {sys.version_info[:2]} {RUNTIME} {BUILD_TOOLS} {NODE_DEPS}".encode())
-    for path in sorted(INTERFACES_DIR.rglob("*")):
+def _venv_stamp() -> str:
+    """What the venv holds: changes here rebuild everything."""
+    text = f"{STACK_VERSION} {sys.version_info[:2]} {RUNTIME} {BUILD_TOOLS} {NODE_DEPS}"
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _interface_stamp(name: str) -> str:
+    """One interface package's files (and the venv it is built into)."""
+    h = hashlib.sha256(_venv_stamp().encode())
+    folder = INTERFACES_DIR / name
+    for path in sorted(folder.rglob("*")):
         if path.is_file():
-            h.update(str(path.relative_to(INTERFACES_DIR)).encode() + b"\0" + path.read_bytes())
+            h.update(str(path.relative_to(folder)).encode() + b"\0" + path.read_bytes())
     return h.hexdigest()[:16]
 
 
@@ -191,7 +203,7 @@ def _build_interface(name: str, venv: Path, build_root: Path, log: Path) -> floa
 
 
 def setup(root: Path | None = None, *, say=print) -> Stack:  # type: ignore[no-untyped-def]
-    """Set the stack up (instant when the stamp matches); returns it."""
+    """Set the stack up (instant when the stamps match; only changed interfaces are rebuilt); returns it."""
     root = root or cache_dir()
     try:
         return load(root)
@@ -201,9 +213,30 @@ def setup(root: Path | None = None, *, say=print) -> Stack:  # type: ignore[no-u
     root.mkdir(parents=True, exist_ok=True)
     log = root / "setup.log"
     log.write_text("")
+    manifest_path = root / "stack.json"
+    manifest = json.loads(manifest_path.read_text()) if manifest_path.is_file() else {}
     venv = root / "venv"
+    python = venv / "bin" / "python"
+    if manifest.get("stamp") != _venv_stamp() or not python.exists():
+        manifest = _make_venv(venv, log, say)
+    manifest.setdefault("interfaces", {})
+    for name in INTERFACES:
+        stamp = _interface_stamp(name)
+        if manifest["interfaces"].get(name) == stamp:
+            continue
+        seconds = _build_interface(name, venv, root / "build", log)
+        say(f"ROS 2 stack: built {name} in {seconds:.1f} s")
+        manifest["interfaces"][name] = stamp
+        atomic_write(manifest_path, json.dumps(manifest, indent=1))  # kept: a later failure keeps this one
+    atomic_write(manifest_path, json.dumps(manifest, indent=1))
+    say(f"ROS 2 stack: ready in {time.monotonic() - start:.0f} s")
+    return load(root)
+
+
+def _make_venv(venv: Path, log: Path, say) -> dict:  # type: ignore[no-untyped-def,type-arg]
+    """A fresh venv with the wheels (from pip's cache when there); returns the manifest, no interfaces yet."""
     if venv.exists():
-        shutil.rmtree(venv)  # out of date: start clean, the wheels come from pip's cache
+        shutil.rmtree(venv)  # out of date: start clean
     base = getattr(sys, "_base_executable", sys.executable)
     say(f"ROS 2 stack: venv at {venv}")
     _run([base, "-m", "venv", str(venv)], log)
@@ -214,13 +247,8 @@ def setup(root: Path | None = None, *, say=print) -> Stack:  # type: ignore[no-u
     say(f"ROS 2 stack: fixed Python include paths in {_fix_cmake_paths(venv, python)} cmake files")
     server = next((venv / "lib").glob("python3.*/site-packages/rosbridge_server_rs/rosbridge_server_rs_jazzy"))
     server.chmod(server.stat().st_mode | 0o111)
-    for name in INTERFACES:
-        seconds = _build_interface(name, venv, root / "build", log)
-        say(f"ROS 2 stack: built {name} in {seconds:.1f} s")
-    manifest = {"stamp": _stamp(), "python": str(python), "server": str(server), "env": _runtime_env(venv, python)}
-    atomic_write(root / "stack.json", json.dumps(manifest, indent=1))
-    say(f"ROS 2 stack: ready in {time.monotonic() - start:.0f} s")
-    return load(root)
+    env = _runtime_env(venv, python)
+    return {"stamp": _venv_stamp(), "python": str(python), "server": str(server), "env": env, "interfaces": {}}
 
 
 def main() -> int:

@@ -102,6 +102,10 @@ def image_to_data(
     free_thresh: float,
 ) -> np.ndarray:
     """Occupancy values (int8, image row order: row 0 = top) exactly as ``reader`` computes them."""
+    kw = dict(reader=reader, mode=mode, negate=negate, occupied_thresh=occupied_thresh, free_thresh=free_thresh)
+    gray = _plain_gray(img)
+    if gray is not None:  # one value per pixel: the reader's answer for each of the 256 grays, looked up
+        return _by_value(**kw)[gray]  # type: ignore[arg-type]
     if reader == "ros1":
         return _ros1(img, mode, negate, occupied_thresh, free_thresh)
     if reader == "nav2_humble":
@@ -109,6 +113,27 @@ def image_to_data(
     if reader == "nav2_jazzy":
         return _nav2_jazzy(img, mode, negate, occupied_thresh, free_thresh)
     raise ValueError(f"unknown map reader {reader!r}; use one of {', '.join(READERS)}")
+
+
+LOOKUP_MIN_PIXELS = 65536  # below this the readers' own maths is as quick as a lookup
+
+
+def _plain_gray(img: DecodedImage) -> np.ndarray | None:
+    """The (H, W) gray values when every reader sees one opaque gray per pixel (8-bit gray files,
+    by far the most common maps), else None. Big maps only."""
+    if img.has_alpha or img.sdl_alpha_mask or img.sdl.shape[2] != 1 or img.sdl[..., 0].size < LOOKUP_MIN_PIXELS:
+        return None
+    gray = img.sdl[..., 0]
+    rgba = np.ascontiguousarray(img.rgba).view("<u4")[..., 0]  # r | g << 8 | b << 16 | a << 24
+    return gray if np.array_equal(rgba, gray.astype("<u4") * 0x010101 + 0xFF000000) else None
+
+
+def _by_value(**kw: object) -> np.ndarray:
+    """The reader's output for the grays 0..255 (the same functions, on a 1x256 image): a lookup table."""
+    values = np.arange(256, dtype=np.uint8)[None, :]
+    rgba = np.stack([values, values, values, np.full_like(values, 255)], axis=2)
+    ramp = DecodedImage(rgba=rgba, has_alpha=False, sdl=values[..., None].copy(), sdl_alpha_mask=False)
+    return image_to_data(ramp, **kw)[0]  # type: ignore[arg-type]
 
 
 def _ros1(img: DecodedImage, mode: str, negate: bool, occ_th: float, free_th: float) -> np.ndarray:

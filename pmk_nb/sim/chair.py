@@ -51,7 +51,7 @@ class Chair:
         self._goal_yaw: float | None = None
         self._k = 0
         self._stuck_since: float | None = None
-        self.goal_status = "idle"  # idle | active | reached | blocked | no_path
+        self.goal_status = "idle"  # idle | planning | active | reached | blocked | no_path | cancelled
         self.on_goal_done: Callable[[str], None] | None = None
 
     # -- inputs -----------------------------------------------------------------------------------
@@ -68,6 +68,28 @@ class Chair:
         self._stuck_since = None
         self._cmd_time = -math.inf
         self.goal_status = "active" if path else "no_path"
+
+    def stop_goal(self, *, quiet: bool = False) -> None:
+        """Drop the goal and stop (a cancel); ``quiet`` skips ``on_goal_done`` (a new goal follows)."""
+        self.v = self.w = 0.0
+        self._cmd = (0.0, 0.0)
+        if self._path:
+            callback, self.on_goal_done = self.on_goal_done, (None if quiet else self.on_goal_done)
+            try:
+                self._finish("cancelled")
+            finally:
+                self.on_goal_done = callback
+        elif not quiet:
+            self.goal_status = "cancelled"
+
+    def remaining_distance(self) -> float | None:
+        """Metres left along the followed path (None when no path is being followed)."""
+        path = self._path
+        if not path:
+            return None
+        k = min(self._k, len(path) - 1)
+        rest = sum(math.dist(path[i], path[i + 1]) for i in range(k, len(path) - 1))
+        return math.dist(self.pose[:2], path[k]) + rest
 
     @property
     def driving_goal(self) -> bool:

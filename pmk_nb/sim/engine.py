@@ -7,13 +7,15 @@ bridge to the same engine, so the chair keeps its pose and map across restarts.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import math
 import time
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.chair import Chair, DriveLimits
-from pmk_nb.sim.messages import yaw_of
+from pmk_nb.sim.navigation import Navigator
 from pmk_nb.sim.world import World
 
 if TYPE_CHECKING:
@@ -62,6 +64,7 @@ class Engine:
         self._plan_task: asyncio.Task[None] | None = None
         self._last_manual = -math.inf
         self._patrol_next = 0.0
+        self.navigator = Navigator(self)
 
     def attach(self, bridge: Bridge) -> None:
         """Register the chair's topics on a (new) bridge."""
@@ -71,15 +74,20 @@ class Engine:
         bridge.advertise_internal("/scan", n.msg("sensor_msgs", "LaserScan"))
         bridge.advertise_internal("/tf", n.msg("tf2_msgs", "TFMessage"))
         bridge.listen("/cmd_vel", n.msg("geometry_msgs", "Twist"), self.on_cmd_vel)
-        bridge.listen("/move_base_simple/goal", n.msg("geometry_msgs", "PoseStamped"), self.on_goal)
+        self.navigator.attach(bridge)  # goal topics and actions
 
     def tasks(self) -> list[asyncio.Task[None]]:
-        return [asyncio.create_task(self._odom_loop()), asyncio.create_task(self._scan_loop())]
+        return [asyncio.create_task(self._odom_loop()), asyncio.create_task(self._scan_loop()), self.navigator.task()]
 
     def cancel_plan(self) -> None:
         if self._plan_task is not None:
             self._plan_task.cancel()
             self._plan_task = None
+
+    def goal_ended(self) -> None:
+        """A client's goal ended: patrol waits as after a manual command (a cancel must stay stopped)."""
+        with contextlib.suppress(RuntimeError):
+            self._last_manual = asyncio.get_running_loop().time()
 
     def note(self, text: str) -> None:
         LOG.info("sim: %s", text)
@@ -130,29 +138,40 @@ class Engine:
         self.cancel_plan()
         self.chair.command(float(lin.get("x", 0.0)), float(ang.get("z", 0.0)), now)
 
-    def on_goal(self, msg: dict[str, Any]) -> None:
-        pose = msg.get("pose") or {}
-        pos = pose.get("position") or {}
-        goal = (float(pos.get("x", 0.0)), float(pos.get("y", 0.0)))
-        yaw = yaw_of(pose["orientation"]) if pose.get("orientation") else None
-        self.start_plan(goal, yaw)
-
-    def start_plan(self, goal: tuple[float, float], yaw: float | None) -> None:
+    def start_plan(self, goal: tuple[float, float], yaw: float | None, via: Sequence[tuple[float, float]] = ()) -> None:
+        """Plan (off the loop) through ``via`` to ``goal`` and follow; ``goal_status`` is "planning" meanwhile."""
         self.cancel_plan()
-        self._plan_task = asyncio.get_running_loop().create_task(self._plan(goal, yaw))
+        if self.chair is not None:
+            self.chair.stop_goal(quiet=True)
+            self.chair.goal_status = "planning"
+        self._plan_task = asyncio.get_running_loop().create_task(self._plan(goal, yaw, via))
 
-    async def _plan(self, goal: tuple[float, float], yaw: float | None) -> None:
+    @property
+    def planning(self) -> bool:
+        return self._plan_task is not None and not self._plan_task.done()
+
+    async def _plan(
+        self, goal: tuple[float, float], yaw: float | None, via: Sequence[tuple[float, float]] = ()
+    ) -> None:
         chair, world = self.chair, self.world
         if chair is None or world is None:
             return
-        path = await asyncio.to_thread(world.plan, chair.pose[:2], goal)
+        path: list[tuple[float, float]] = []
+        start = chair.pose[:2]
+        for point in [*via, goal]:  # legs in order; one unreachable leg means no path
+            leg = await asyncio.to_thread(world.plan, start, point)
+            if not leg:
+                path = []
+                break
+            path += leg[1:] if path else leg
+            start = point
         if world is self.world:
             chair.follow(path, yaw)
             if not path:
                 self.note(f"no path to goal ({goal[0]:.2f}, {goal[1]:.2f})")
 
     def _patrol_tick(self, chair: Chair, now: float) -> None:
-        busy = chair.driving_goal or (self._plan_task is not None and not self._plan_task.done())
+        busy = chair.driving_goal or self.planning or self.navigator.current is not None
         if busy or now - self._last_manual < PATROL_IDLE or now < self._patrol_next or self.world is None:
             return
         self._patrol_next = now + PATROL_PAUSE

@@ -3,7 +3,8 @@
 The simulator registers its own topics/services here (``advertise_internal``, ``add_service``,
 ``listen``) and publishes with :meth:`Bridge.publish`; clients speak the rosbridge v2 protocol
 (advertise, unadvertise, publish, subscribe, unsubscribe, call_service, advertise_service,
-unadvertise_service, service_response, fragment, set_level). Bad requests get a ``status`` op with
+unadvertise_service, service_response, fragment, set_level, and the ROS 2 action ops in
+:mod:`pmk_nb.sim.actions`). Bad requests get a ``status`` op with
 level ``error`` (rosbridge's behaviour), never a dropped connection. Topic ops live here, service
 ops in :mod:`pmk_nb.sim.services`, per-client send queues in :mod:`pmk_nb.sim.session`.
 Everything runs on one asyncio loop; nothing here blocks it.
@@ -20,6 +21,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.sim.actions import ActionEntry, ActionOps
 from pmk_nb.sim.jsonfast import dumps
 from pmk_nb.sim.messages import canonical_type, conformance_error, is_type_name
 from pmk_nb.sim.services import ServiceEntry, ServiceOps
@@ -51,6 +53,8 @@ _REQUIRED: dict[str, tuple[str, ...]] = {
     "service_response": ("service",),
     "fragment": ("id", "data", "num", "total"),
     "set_level": ("level",),
+    "send_action_goal": ("action",),
+    "cancel_action_goal": ("action", "id"),
 }
 
 
@@ -71,12 +75,13 @@ class TopicEntry:
         return not (self.internal or self.publishers or self.listeners or self.subs)
 
 
-class Bridge(ServiceOps):
+class Bridge(ServiceOps, ActionOps):
     """Registry + protocol handler. Create on the loop that will run it."""
 
     def __init__(self, client_queue: int = 200) -> None:
         self.topics: dict[str, TopicEntry] = {}
         self.services: dict[str, ServiceEntry] = {}
+        self.actions: dict[str, ActionEntry] = {}
         self.clients: dict[int, ClientSession] = {}
         self._client_queue = client_queue
         self._ids = itertools.count(1)
@@ -323,3 +328,4 @@ class Bridge(ServiceOps):
             entry.publishers.discard(client.cid)
             self._forget_if_unused(entry)
         self._drop_services_of(client)
+        self._drop_actions_of(client)

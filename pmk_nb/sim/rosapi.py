@@ -4,7 +4,8 @@ Shapes follow rosapi: ``/rosapi/topics`` -> ``{topics, types}``, ``/rosapi/servi
 ``{services}``, ``/rosapi/topic_type`` -> ``{type}`` ("" when unknown), ``/rosapi/get_time`` ->
 ``{time: {secs, nsecs}}`` (ROS 2: ``{sec, nanosec}``), ``/rosapi/topics_for_type`` -> ``{topics}``,
 ``/rosapi/service_type`` -> ``{type}``, ``/rosapi/services_for_type`` -> ``{services}``,
-``/rosapi/nodes`` -> ``{nodes}``, ``/rosapi/get_ros_version`` -> ``{version, distro}``.
+``/rosapi/nodes`` -> ``{nodes}``, (ROS 2) ``/rosapi/action_servers`` -> ``{action_servers}``,
+``/rosapi/get_ros_version`` -> ``{version, distro}``.
 """
 
 from __future__ import annotations
@@ -57,6 +58,8 @@ def register_rosapi(bridge: Bridge, names: Names, clock: Callable[[], float]) ->
     add("service_type", "ServiceType", service_type)
     add("get_time", "GetTime", lambda _: {"time": names.stamp(clock())})
     add("nodes", "Nodes", lambda _: {"nodes": list(NODES)})
+    if names.ros == "ros2":  # rosapi 2.x: the action servers (Nav2's navigate_to_pose, ...)
+        add("action_servers", "GetActionServers", lambda _: {"action_servers": sorted(bridge.actions)})
     add(
         "get_ros_version",
         "GetROSVersion",

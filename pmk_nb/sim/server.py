@@ -68,8 +68,10 @@ class SimChair:
         limits: DriveLimits | None = None,
         seed: int = 0,
         client_queue: int = 200,
+        nav_actions: bool = True,
     ) -> None:
-        """``ros``: "ros1" or "ros2" message spelling."""
+        """``ros``: "ros1" or "ros2" message spelling; ``nav_actions=False``: goal topics only, no
+        move_base / Nav2 action servers (a chair without a navigation action server)."""
         if ros not in ROS_VERSIONS:
             raise SimError(f"unknown ROS version {ros!r}: use 'ros1' or 'ros2'")
         if odom_rate <= 0 or scan_rate <= 0:
@@ -105,6 +107,7 @@ class SimChair:
             patrol=patrol,
             rng=np.random.default_rng(seed),
         )
+        self.engine.navigator.offer_actions = nav_actions
 
     def _init_sftp(
         self, port: int | None, user: str, password: str | None, authorized_key: str | Path | None, password_login: bool

@@ -32,6 +32,8 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import PmkError
+from pmk_nb.ui.drive_panel import DrivePanel
+from pmk_nb.ui.goal_panel import GoalPanel
 from pmk_nb.ui.home_checks import ChairProbe, preview_image_problem
 from pmk_nb.ui.home_info import (
     NO_PROFILE_TEXT,
@@ -46,6 +48,7 @@ from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.preview_controller import PreviewController
 from pmk_nb.ui.render_loop import RenderLoop
+from pmk_nb.ui.rooms_guide import RoomsGuide
 from pmk_nb.ui.widgets import error_text, escape
 
 if TYPE_CHECKING:
@@ -93,6 +96,19 @@ class HomeScreen:
         self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
         self.widget = self.ui.widget
         self.info_widget = self.ui.info.widget
+        # rooms by name and spoken feedback (pmk_nb/ui/rooms_guide.py): "You are in" in the info
+        # panel, the Go to… box and the (hidden) speech widgets under the map
+        self.rooms = RoomsGuide(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
+        self.ui.info.widget.children = (*self.ui.info.widget.children, self.rooms.panel.here)
+        self.ui.widget.children = (*self.ui.widget.children, self.rooms.panel.widget, self.rooms.speech.widget)
+        # tap-to-go (pmk_nb/ui/goal_panel.py): Set destination, the goal's status, Cancel; under the map
+        self.goal = GoalPanel(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
+        # the joystick, Stop and Slow (pmk_nb/ui/drive_panel.py): over the map while Drive is on
+        self.drive = DrivePanel()
+        self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
+        self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
+        self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -164,6 +180,12 @@ class HomeScreen:
         self.ui.chair_note.value = ""
         self._show_running(True)
         self.live.start(link)
+        self.goal.attach(link)
+        self.drive.offer(link, profile)
+        # routes use the accessibility check's chair width (Settings), else the footprint's diameter
+        self.rooms.attach(link, getattr(profile, "chair_width", None) or 2 * self.live.footprint_radius)
+        if profile is not None:
+            self.rooms.configure_speech(profile.speech_on, profile.speech_voice, profile.speech_rate)
         self._info_loop.start()
         # the canvas shows the map meanwhile and the chair once data flows
         self.preview.start(link)
@@ -176,6 +198,9 @@ class HomeScreen:
         self._info_loop.stop()
         self.preview.stop()
         self.live.attach(None)
+        self.goal.attach(None)
+        self.drive.offer(None, None)
+        self.rooms.attach(None)
         self._show_running(False)
         self.refresh_info()
 
@@ -193,6 +218,7 @@ class HomeScreen:
             ui.map_label.value = "<b>No map yet.</b> Convert a map and send it to the chair on the Maps screen."
             ui.info.map.value = "Map: <i>none</i>"
             self._map_problem("No current map: send a map to the chair from the Maps screen first.")
+            self.rooms.set_map(None)
             return None
         ui.map_label.value = f"Current map: <b>{escape(current.name)}</b>"
         ui.info.map.value = f"Map: <b>{escape(current.name)}</b>"
@@ -204,6 +230,7 @@ class HomeScreen:
             return None
         ui.map_note.value = warning_html(preview_image_problem(current) or "")
         self.live.set_map(grid)  # shown connected or not (the same grid again is a no-op)
+        self.rooms.set_map(current.yaml)
         self._map_ok = True
         self._show_running(self.running)
         if not self.running:
@@ -237,8 +264,11 @@ class HomeScreen:
         info.speed.value = texts.speed
         info.zoom.value = texts.zoom
         info.laser.value = texts.laser
+        self.drive.refresh()
         if texts.status is not None:
             self.ui.status.value = texts.status
+        self.rooms.tick(snap.pose or snap.odom, state)
+        self.goal.tick(snap.pose or snap.odom)
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _user_start(self) -> None:

@@ -80,16 +80,19 @@ class HomeLayout:
         tools = [self.live_tools] if self.live_tools is not None else []
         self.zoom_bar = w.HBox([*tools, self.zoom_out_button, self.zoom_in_button])
         self.zoom_bar.add_class("pmk-home-zoom")
-        controls = w.HBox(
+        self.controls = w.HBox(
             [self.preview_button, self.disconnect_button, self.sensors], layout=w.Layout(align_items="center")
         )
-        controls.add_class("pmk-home-controls")
+        self.controls.add_class("pmk-home-controls")
         self.toolbar = w.HBox(
-            [controls, self.zoom_bar],
+            [self.controls, self.zoom_bar],
             layout=w.Layout(justify_content="space-between", align_items="center", width="100%"),
         )
         self.toolbar.add_class("pmk-home-toolbar")
-        self.preview_box = w.VBox([self.toolbar, self.canvas], layout=w.Layout(align_items="flex-start"))
+        # the canvas in a box of its own: panels drawn over the map (the joystick) are placed in it
+        self.map_stack = w.Box([self.canvas], layout=w.Layout(max_width="100%"))
+        self.map_stack.add_class("pmk-home-map-stack")
+        self.preview_box = w.VBox([self.toolbar, self.map_stack], layout=w.Layout(align_items="flex-start"))
         self.preview_box.add_class("pmk-home-preview-box")
         title = w.HBox([heading("Home"), self.map_label])
         title.add_class("pmk-home-title")

@@ -25,9 +25,10 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 LOCKED = ("maps", "settings")
+# !important: the app's own sheet (style.py) sets the 56 px touch size with a more specific selector
 KIOSK_CSS = """<style>
-.pmk-kiosk .widget-button, .pmk-kiosk .jupyter-button { min-height: 64px; font-size: 1.25em; }
-.pmk-kiosk .pmk-nav-home { min-height: 96px; font-size: 1.5em; }
+.pmk-kiosk button.jupyter-button, .pmk-kiosk .jupyter-button { min-height: 64px !important; font-size: 1.25em; }
+.pmk-kiosk button.pmk-nav-home { min-height: 96px !important; font-size: 1.5em; }
 .pmk-kiosk-pin-box input { font-size: 1.5em; letter-spacing: 0.3em; }
 .pmk-wakelock { position: fixed; left: 8px; bottom: 4px; font-size: 12px; color: #455a64; z-index: 10;
    background: rgba(255,255,255,0.85); padding: 2px 6px; border-radius: 4px; pointer-events: none; }

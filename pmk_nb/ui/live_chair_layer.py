@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from ipycanvas import Canvas
 
+from pmk_nb.chair.link.tfmath import mounted
 from pmk_nb.chair.messages import Odometry, Pose2D, Scan
 from pmk_nb.viewport import Viewport, heading_point, laser_outline, laser_segments
 from pmk_nb.viewport.outline import tick_segments
@@ -69,7 +70,8 @@ class PoseHistory:
             self._poses.append(tup)
 
     def scan_pose(self, pose: Pose, scan: Scan) -> tuple[float, float, float]:
-        """Where the rays start: the remembered pose nearest the scan's arrival, else ``pose``."""
+        """Where the rays start: the scanner on the chair (its /tf_static mount) at the remembered pose
+        nearest the scan's arrival, else at ``pose``."""
         received = float(scan.received)
         best: tuple[float, ...] | None = None
         if math.isfinite(received) and self._poses:
@@ -77,8 +79,8 @@ class PoseHistory:
             if abs(best[3] - received) > SCAN_POSE_MATCH_S:
                 best = None
         if best is None:
-            return float(pose.x), float(pose.y), float(pose.theta)
-        return best[0], best[1], best[2]
+            return mounted((float(pose.x), float(pose.y), float(pose.theta)), scan.mount)
+        return mounted((best[0], best[1], best[2]), scan.mount)
 
 
 @dataclass(frozen=True)

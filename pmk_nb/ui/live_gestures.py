@@ -3,7 +3,8 @@
 Front-end events are untrusted input (any page can send any JSON): garbage is ignored, never
 raised.  The rules themselves (clamping, pinch ratio -> level, pan -> view, a pan stops following)
 live in the pure :class:`pmk_nb.viewport.Viewport`; this only turns events into "set the zoom to
-N" and "move the map by (dx, dy) pixels".
+N" and "move the map by (dx, dy) pixels". While a :class:`PointPicker` is set (Home's "Set
+destination"), press, drag and release go to it instead of the pan; pinch zoom stays.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from typing import Protocol
 
 import ipywidgets as w
 from ipycanvas import MultiCanvas
@@ -42,6 +44,17 @@ def pinch_distance(touches: object) -> float | None:
     return d if math.isfinite(d) and d > 0 else None
 
 
+class PointPicker(Protocol):
+    """Takes pointer events instead of the pan (e.g. :class:`pmk_nb.ui.goal_picker.GoalPicker`)."""
+
+    @property
+    def active(self) -> bool: ...
+    def press(self, point: tuple[float, float] | None) -> None: ...
+    def move(self, point: tuple[float, float] | None) -> None: ...
+    def release(self, point: tuple[float, float] | None = None) -> None: ...
+    def abort(self) -> None: ...
+
+
 class ZoomGestures:
     """Listens to a canvas's wheel, mouse and touch events and asks for zoom levels and pans.
 
@@ -70,6 +83,8 @@ class ZoomGestures:
         #: where the mouse button or the one finger was at the last event of a drag
         self.drag: tuple[float, float] | None = None
         self.last_wheel = 0.0
+        #: while set ("Set destination" on), press / drag / release go to it instead of panning
+        self.picker: PointPicker | None = None
         canvas.on_mouse_wheel(self.on_wheel)
         canvas.on_mouse_down(self.on_mouse_down)
         canvas.on_mouse_move(self.on_mouse_move)
@@ -93,13 +108,21 @@ class ZoomGestures:
         self._set_zoom(self._zoom() + (1 if delta < 0 else -1))
 
     def on_mouse_down(self, x: object, y: object) -> None:
+        if self.picker is not None:
+            self.picker.press(_point(x, y))
+            return
         self.drag = _point(x, y)
 
     def on_mouse_move(self, x: object, y: object) -> None:
         """With the button down, the map follows the mouse."""
+        if self.picker is not None:
+            self.picker.move(_point(x, y))
+            return
         self._drag_to(_point(x, y))
 
     def on_mouse_up(self, x: object = None, y: object = None) -> None:
+        if self.picker is not None:
+            self.picker.release(_point(x, y))
         self.drag = None
 
     def _drag_to(self, point: tuple[float, float] | None) -> None:
@@ -114,6 +137,11 @@ class ZoomGestures:
     def on_touch(self, touches: object) -> None:
         """One finger drags the map; two: the zoom follows the ratio of finger distances."""
         one = touch_point(touches)
+        if self.picker is not None and one is not None:
+            (self.picker.move if self.picker.active else self.picker.press)(one)
+            return
+        if self.picker is not None and pinch_distance(touches) is not None:
+            self.picker.abort()  # two fingers: a pinch, not a destination
         if one is not None:
             self.pinch = None
             if self.drag is None:
@@ -141,6 +169,8 @@ class ZoomGestures:
             fingers = len(list(touches))  # type: ignore[call-overload]
         except TypeError:
             fingers = 0
+        if self.picker is not None and fingers == 0:
+            self.picker.release(None)
         if fingers < 2:
             self.pinch = None
         if fingers != 1:

@@ -18,7 +18,7 @@ import contextlib
 import threading
 import time
 from collections.abc import Callable
-from typing import Protocol
+from typing import Any, Protocol
 
 from ipycanvas import MultiCanvas
 
@@ -47,6 +47,14 @@ class LiveSource(Protocol):
     def latest_pose(self) -> Pose2D | None: ...
     def latest_odom(self) -> Odometry | None: ...
     def latest_scan(self) -> Scan | None: ...
+
+
+class Overlay(Protocol):
+    """Something drawn over the chair layer every frame (see :attr:`LiveView.overlays`)."""
+
+    version: int
+
+    def draw(self, layer: Any, view: Viewport) -> None: ...
 
 
 class LiveView:
@@ -112,6 +120,9 @@ class LiveView:
         self._rays = (0, 0)  # (hits, max-range rays) of the last frame drawn
         self._zoom_listeners: list[Callable[[int], None]] = []
         self._error_listeners: list[Callable[[BaseException], None]] = []
+        #: drawn over the chair every frame, e.g. the rooms and route (:mod:`pmk_nb.ui.live_rooms_layer`);
+        #: each has ``draw(layer, view)`` and a ``version`` that changes when it has something new
+        self.overlays: list[Overlay] = []
         self.metrics = FrameMetrics()
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error)
         self.canvas.on_client_ready(self._on_client_ready)
@@ -303,6 +314,7 @@ class LiveView:
                 self.poses.remember(pose)
             key = view.state_key()
             inputs = (key, pose, odom, scan, self.show_laser, self.footprint_radius, self.stale, self.laser_style)
+            inputs += tuple(o.version for o in self.overlays)
             if not self._force and self._same_inputs(inputs):
                 self.metrics.skipped += 1
                 return False
@@ -342,6 +354,8 @@ class LiveView:
         """The dynamic layer (a method so a subclass, e.g. the benchmark's, can draw more on it)."""
         look = ChairLook(self.footprint_radius, self.stale, self.ray_spacing_px, self.laser_style)
         self._rays = draw_chair_layer(self.dyn_layer, view, pose, odom, scan, look, self.poses)
+        for overlay in self.overlays:
+            overlay.draw(self.dyn_layer, view)
 
     def close(self) -> None:
         self.stop()

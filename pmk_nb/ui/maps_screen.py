@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
+from pmk_nb.access.check import profile_chair_width
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
 from pmk_nb.ui.maps_access import AccessPanel
 from pmk_nb.ui.maps_cards import generated_card, map_label
@@ -260,7 +261,8 @@ class MapsScreen:
 
         def work() -> list[GeneratedMap]:
             return self.ctx.maps.convert(
-                entry.name, resolution, storeys=storeys, progress=progress_callback(self.convert_progress, self.status)
+                entry.name, resolution, storeys=storeys, progress=progress_callback(self.convert_progress, self.status),
+                chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
             )
 
         def done(generated: list[GeneratedMap]) -> None:

@@ -34,6 +34,17 @@ def storeys_table(storeys: list[StoreyInfo]) -> str:
     return f"<table class='pmk-maps-storeys-table' style='{style}'>{head}{''.join(rows)}</table>"
 
 
+def unit_warning(storeys: list[StoreyInfo]) -> str:
+    """The plan's unit conflict, said before converting (with the override to use), or ""."""
+    conflict = next((s.unit_conflict for s in storeys if s.unit_conflict), "")
+    if not conflict:
+        return ""
+    return (
+        f"<div class='pmk-maps-unit-warning pmk-field-error'>Units: {escape(conflict)}. If the map comes out the "
+        "wrong size, convert with the unit the file uses (<code>pmk convert --unit m|dm|cm|mm</code>).</div>"
+    )
+
+
 class StoreysPanel:
     """Storeys of one map; ``selected()`` is what to pass to ``MapsFolder.convert(storeys=...)``."""
 
@@ -91,7 +102,7 @@ class StoreysPanel:
         if not storeys:
             self.table.value = "<i>No storeys with cells in this file.</i>"
         else:
-            self.table.value = storeys_table(storeys)
+            self.table.value = storeys_table(storeys) + unit_warning(storeys)
         self._set_choices(storeys if len(storeys) > 1 else [])
 
     def _set_choices(self, storeys: list[StoreyInfo]) -> None:

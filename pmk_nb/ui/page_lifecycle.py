@@ -8,14 +8,17 @@ their output).  Three parts:
     :data:`PING_INTERVAL_MS`; each count reaches the kernel as a widget update.  No custom
     JavaScript widget is needed (the timer lives in Play's browser-side model).
   * **the kernel's watchdog**: when pings stop for :data:`PAGE_GONE_AFTER` s (or never start
-    within :data:`FIRST_PING_WITHIN` s), it closes the app: the live view stops, the chair link
-    closes and the kernel falls quiet (no output for Voilà to buffer), to be culled as idle.  This
-    catches the websocket that dies without closing (tablet asleep, Wi-Fi gone), which the server
-    may not see; a page that closes is shut down by the server within seconds
-    (:mod:`pmk_nb.cli.voila_kernels`).
-  * **kernel -> page pongs**: every ping is answered by changing a hidden element; a visible,
-    online page that sees no pong for :data:`RELOAD_AFTER_MS` reloads itself and so gets a new
-    kernel (a kiosk tablet that slept comes back working).
+    within :data:`FIRST_PING_WITHIN` s), it closes the app (the live view stops, the chair link
+    closes) and sends the server a :data:`PAGE_GONE_MSG` message on IOPub, on which the server
+    shuts the kernel down at once (:mod:`pmk_nb.cli.voila_kernels`).  This catches the websocket
+    that stays alive at TCP level while the page sends nothing (tablet asleep, page frozen), which
+    the server cannot tell from a quiet page; a page that closes is shut down by the server itself.
+  * **kernel -> page pongs**: every ping is answered by changing a hidden element.  A page that
+    wakes (its timer stalled, or ``visibilitychange``/``pageshow``/``resume``/``online``) and sees no
+    new pong within :data:`WAKE_GRACE_MS` reloads itself, and so does a visible, online page with no
+    pong for :data:`RELOAD_AFTER_MS`: a kiosk tablet that slept comes back working, on a new kernel.
+    Each reload within :data:`RELOAD_MEMORY_MS` doubles the wait before the next one (sessionStorage):
+    on an overloaded server, reloads that start more kernels must not feed on themselves.
 
 Only pages served by Voilà are bound (``VOILA_SERVER_URL`` in the kernel's environment, or
 ``PMK_PAGE_BOUND=1``): in JupyterLab the kernel belongs to the notebook, not to one output.
@@ -37,10 +40,29 @@ log = logging.getLogger(__name__)
 PAGE_BOUND_ENV = "PMK_PAGE_BOUND"
 PING_INTERVAL_MS = 2000
 PAGE_GONE_AFTER = 6.0
-FIRST_PING_WITHIN = 120.0
+FIRST_PING_WITHIN = 300.0  # a loaded server renders slowly; a page that never connects is the server's (120 s)
 KICK_EVERY = 2.0
 RELOAD_AFTER_MS = 15000
+WAKE_GRACE_MS = 6000  # after waking, a live kernel answers within one ping interval (+ a loaded machine)
+SLEPT_MS = 20000  # a 1 s page timer that did not run for this long was asleep (shorter: a loaded machine)
+RELOAD_MEMORY_MS = 600000  # reloads within this window back the next one off (no reload storm under load)
+MAX_RELOAD_WAIT_MS = 300000
 PONG_CLASS = "pmk-page-pong"
+#: IOPub message type the kernel sends when its page is gone; the server then shuts the kernel down.
+PAGE_GONE_MSG = "pmk_page_gone"
+
+
+_watch: PageWatch | None = None  # this kernel's page watch (one app per Voilà kernel)
+
+
+def page_ready() -> bool:
+    """False on a Voilà page until its first heartbeat: the page can show frames only from then on.
+
+    (Frames drawn before the page's websocket is connected are buffered by Voilà, and under load
+    that was hundreds of MB.)  True outside Voilà.
+    """
+    watch = _watch
+    return watch is None or watch.pings > 0
 
 
 def page_bound() -> bool:
@@ -56,11 +78,19 @@ class PageWatch:
 
     Args:
         on_gone: what to do when the page is gone (the app's ``close``).
+        on_closed: runs after ``on_gone`` (in Voilà: :func:`tell_server_page_gone`).
         clock: monotonic seconds (tests pass a fake and call :meth:`check` themselves).
     """
 
-    def __init__(self, on_gone: Callable[[], None], *, clock: Callable[[], float] = time.monotonic) -> None:
+    def __init__(
+        self,
+        on_gone: Callable[[], None],
+        *,
+        clock: Callable[[], float] = time.monotonic,
+        on_closed: Callable[[], None] = lambda: None,
+    ) -> None:
         self._on_gone = on_gone
+        self._on_closed = on_closed
         self._clock = clock
         self._started = clock()
         self._last_ping: float | None = None
@@ -125,6 +155,7 @@ class PageWatch:
             log.exception("closing the app after its page went failed")
         finally:
             self._stop.set()
+            self._on_closed()
 
     def _watch(self) -> None:
         while not self._stop.wait(1.0):
@@ -137,28 +168,60 @@ class PageWatch:
 
 
 def reload_script() -> str:
-    """The page side of the pong: reload a visible, online page whose kernel stopped answering."""
+    """The page side of the pong: a page that woke, or whose kernel stopped answering, reloads itself."""
     return f"""<script>
 (function () {{
   if (window.__pmkPageWatch) return;
   window.__pmkPageWatch = true;
-  var last = null, seen = Date.now(), changes = 0;
-  function fresh() {{ seen = Date.now(); }}
-  document.addEventListener('visibilitychange', fresh);
-  window.addEventListener('online', fresh);
+  var last = null, changes = 0, pongAt = Date.now(), tickAt = Date.now(), wokeAt = 0;
+  var KEY = 'pmkPageReloads', earlier = [];
+  try {{
+    earlier = JSON.parse(sessionStorage.getItem(KEY) || '[]').filter(function (t) {{
+      return Date.now() - t < {RELOAD_MEMORY_MS};
+    }});
+  }} catch (e) {{}}
+  var staleAfter = Math.min({RELOAD_AFTER_MS} * Math.pow(2, earlier.length), {MAX_RELOAD_WAIT_MS});
+  function woke() {{ wokeAt = Date.now(); }}
+  function reload() {{
+    try {{ sessionStorage.setItem(KEY, JSON.stringify(earlier.concat([Date.now()]))); }} catch (e) {{}}
+    window.__pmkPageWatch = false;
+    location.reload();
+  }}
+  document.addEventListener('visibilitychange', function () {{
+    if (document.visibilityState === 'visible') woke();
+  }});
+  document.addEventListener('resume', woke);
+  window.addEventListener('pageshow', woke);
+  window.addEventListener('online', woke);
   setInterval(function () {{
+    var now = Date.now();
+    if (now - tickAt > {SLEPT_MS}) woke();  // this timer stalled: the page slept or was frozen
+    tickAt = now;
     var el = document.querySelector('.{PONG_CLASS}');
-    if (!el) return;
-    var text = el.textContent;
-    if (text !== last) {{ if (last !== null) changes++; last = text; fresh(); return; }}
-    if (changes > 0 && document.visibilityState === 'visible' && navigator.onLine
-        && Date.now() - seen > {RELOAD_AFTER_MS}) {{
-      window.__pmkPageWatch = false;
-      location.reload();
-    }}
+    var text = el ? el.textContent : last;  // gone with a dead kernel's widgets: as stale as unchanged
+    if (text !== last) {{ if (last !== null) changes++; last = text; pongAt = now; return; }}
+    if (changes === 0 || document.visibilityState !== 'visible' || !navigator.onLine) return;
+    var wokeUnanswered = earlier.length === 0 && wokeAt > pongAt && now - wokeAt > {WAKE_GRACE_MS};
+    if (wokeUnanswered || now - pongAt > staleAfter) reload();
   }}, 1000);
 }})();
 </script>"""
+
+
+def tell_server_page_gone() -> None:
+    """Send :data:`PAGE_GONE_MSG` on this kernel's IOPub: the Voilà server shuts the kernel down.
+
+    (The kernel does not end its own process: with its websocket half open that made Voilà 0.5 spin.)
+    """
+    from ipykernel.kernelapp import IPKernelApp
+
+    if not IPKernelApp.initialized():
+        return
+    kernel = IPKernelApp.instance().kernel
+    try:
+        kernel.session.send(kernel.iopub_socket, PAGE_GONE_MSG, {}, ident=PAGE_GONE_MSG.encode())
+    except Exception:  # the server then culls the quiet kernel as idle, later
+        log.exception("could not tell the server that the page is gone")
 
 
 def attach(app: Any) -> PageWatch | None:
@@ -170,7 +233,9 @@ def attach(app: Any) -> PageWatch | None:
         return None
     from IPython.display import HTML, display
 
-    watch = PageWatch(app.close)
+    global _watch
+    watch = PageWatch(app.close, on_closed=tell_server_page_gone)
+    _watch = watch
     display(watch.widget)
     display(HTML(f"<div class='pmk-page-watch' style='display:none'></div>{reload_script()}"))
     watch.start()

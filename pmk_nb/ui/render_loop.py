@@ -16,6 +16,8 @@ import threading
 import time
 from collections.abc import Callable
 
+from pmk_nb.ui.page_lifecycle import page_ready
+
 log = logging.getLogger(__name__)
 
 MIN_FPS = 1.0
@@ -39,6 +41,9 @@ class RenderLoop:
         fps: frame-rate cap, clamped to 1..60.
         on_error: called with the exception when a step fails (e.g. to show it in the UI).
         max_errors: consecutive failing steps after which the loop stops itself.
+        ready: a tick draws only while this says True; default :func:`page_lifecycle.page_ready`
+            (on a Voilà page: not before the page's first heartbeat, or Voilà would buffer every
+            frame drawn before the page's websocket exists).
     """
 
     def __init__(
@@ -48,8 +53,10 @@ class RenderLoop:
         *,
         on_error: Callable[[BaseException], None] | None = None,
         max_errors: int = 20,
+        ready: Callable[[], bool] = page_ready,
     ) -> None:
         self._step = step
+        self._ready = ready
         self.fps = fps
         self._on_error = on_error
         self._max_errors = max(1, int(max_errors))
@@ -122,6 +129,9 @@ class RenderLoop:
             thread.join(timeout)
 
     def _tick(self, stop: threading.Event) -> None:
+        if not self._ready():
+            self.ticks += 1
+            return
         try:
             self._step()
             self._consecutive_errors = 0

@@ -29,6 +29,14 @@ TOPIC_TYPES: dict[str, tuple[str, ...]] = {
     "odom_topic": ("nav_msgs/Odometry", "nav_msgs/msg/Odometry"),
     "scan_topic": ("sensor_msgs/LaserScan", "sensor_msgs/msg/LaserScan"),
     "pose_topic": ("geometry_msgs/PoseWithCovarianceStamped", "geometry_msgs/msg/PoseWithCovarianceStamped"),
+    "cmd_vel_topic": ("geometry_msgs/Twist", "geometry_msgs/msg/Twist"),
+}
+_DEFAULTS = {f.name: f.default for f in dataclasses.fields(ChairProfile)}
+#: Driving fields (numbers) and their labels; the profile checks the ranges.
+DRIVE_NUMBERS = {
+    "max_linear": "Top speed (m/s)",
+    "max_angular": "Top turning speed (rad/s)",
+    "slow_factor": "Slow mode (0.4 = 40 % speed)",
 }
 _POSE_LABELS = {"odometry": "Odometry", "pose_topic": "Pose topic (e.g. AMCL)", "tf": "TF map → base_link"}
 
@@ -45,6 +53,13 @@ def _combobox(value: str, label: str, css_class: str) -> w.Combobox:
     box = w.Combobox(value=value, options=[], description=label, ensure_option=False, **_wide())
     box.add_class(css_class)
     return box
+
+
+def _parse_number(field: str, raw: str) -> float:
+    try:
+        return float(raw.strip().replace(",", "."))
+    except ValueError:
+        raise SettingsError(f"{field}: invalid value {raw!r}: give a number, e.g. 0.5", field=field) from None
 
 
 def _parse_port(field: str, raw: object) -> int:
@@ -91,7 +106,18 @@ class SettingsScreen:
             "password": text("", "SSH password", "pmk-settings-password", password=True),
             "key_file": text("", "SSH key file", "pmk-settings-key", placeholder="~/.ssh/id_ed25519"),
             "remote_maps_dir": text("~/ALMA_MAPS", "Maps folder on chair", "pmk-settings-remote-dir"),
+            "cmd_vel_topic": _combobox("/cmd_vel", "Drive commands topic", "pmk-settings-cmd-vel"),
+            **{
+                f: text(str(_DEFAULTS[f]), label, f"pmk-settings-{f.replace('_', '-')}")
+                for f, label in DRIVE_NUMBERS.items()
+            },
+            # spoken feedback (pmk_nb/ui/speech_output.py); text values like the rest of the form
+            "speech_on": w.ToggleButtons(options=[("Speak", "True"), ("Silent", "False")], value="True"),
+            "speech_voice": text("en", "Voice (language code)", "pmk-settings-speech-voice", placeholder="en"),
+            "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
+            "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
         }
+        self.fields["speech_on"].add_class("pmk-settings-speech-on")
         self.fields["pose_source"].add_class("pmk-settings-pose-source")
         self.fields["auth"].add_class("pmk-settings-auth")
         self.errors = {name: field_error() for name in self.fields}
@@ -191,6 +217,12 @@ class SettingsScreen:
             auth=values["auth"],
             key_file=values["key_file"] or None,
             remote_maps_dir=values["remote_maps_dir"],
+            cmd_vel_topic=values["cmd_vel_topic"],
+            **{f: _parse_number(f, values[f]) for f in DRIVE_NUMBERS},
+            speech_on=values["speech_on"] == "True",
+            speech_voice=values["speech_voice"],
+            speech_rate=_parse_number("speech_rate", values["speech_rate"]),
+            chair_width=_parse_number("chair_width", values["chair_width"]),
         )
         if base is not None and base.name == profile.name:
             keep = {
@@ -258,7 +290,7 @@ class SettingsScreen:
             try:
                 report = link.test_connection(timeout=TEST_TIMEOUT)
                 found: dict[str, list[str]] = {}
-                if report.ok:
+                if report.ok and report.rosapi is not False:  # no rosapi: nothing to list (report.notes)
                     for field, types in TOPIC_TYPES.items():
                         found[field] = sorted({t for typ in types for t in link.topics_of_type(typ)})
                 return report, found
@@ -280,6 +312,7 @@ class SettingsScreen:
                 )
             else:
                 self.map_info.value = "<div>The chair publishes no map yet.</div>"
+            self.map_info.value += "".join(f"<div class='pmk-note'>{escape(note)}</div>" for note in report.notes)
             for field, topics in found.items():
                 self.fields[field].options = topics
 

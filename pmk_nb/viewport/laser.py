@@ -1,4 +1,4 @@
-"""Laser scan -> canvas-pixel segments for the live view (pure NumPy).
+"""Laser scan -> canvas-pixel segments for the live view (pure NumPy), from the scanner's world pose.
 
 Hits become red rays, +inf (nothing within range) faint rays up to ``range_max``, and rays that
 say nothing (null, NaN, out of range) or "something closer than range_min" become short ticks at
@@ -51,10 +51,12 @@ def laser_segments(
     too_close: np.ndarray | None = None,
     tick: tuple[float, float] = (0.0, 0.0),
 ) -> LaserSegments:
-    """Canvas-pixel segments from the chair to each ray's end; NaN / inf / negative ranges skipped.
+    """Canvas-pixel segments from the scanner to each ray's end; NaN / inf / negative ranges skipped.
 
-    The scanner is taken to sit at the chair's pose (no tf offset).  Rays flagged ``at_max`` are
-    returned separately; when their range is not finite they are drawn ``range_max`` long.
+    ``pose`` is the scanner's world pose: the chair's pose composed with the laser's mount on it
+    (``Scan.mount``, from /tf_static), so an off-centre or rotated lidar is drawn where it sits.
+    Rays flagged ``at_max`` are returned separately; when their range is not finite they are drawn
+    ``range_max`` long.
     Rays flagged ``blind`` (unknown, invalid) or ``too_close`` become ticks from ``tick[0]`` to
     ``tick[1]`` metres from the chair: a blind sensor is shown as blind, never as free floor.
     With ``min_spacing_px`` > 0 only every k-th ray is kept, k chosen so that neighbouring rays end

@@ -26,14 +26,15 @@ from __future__ import annotations
 import dataclasses
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import roslibpy
 
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
-from pmk_nb.chair.link.mapread import MapReader
+from pmk_nb.chair.link.mapread import MapFacts, MapReader
+from pmk_nb.chair.link.navigate import GoalHandle, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
 from pmk_nb.chair.link.publish import Publishers
 from pmk_nb.chair.link.registry import close_all_links, get_link
@@ -46,11 +47,9 @@ from pmk_nb.chair.reload import (
     MapReloadError,
     ReloadKind,
     ReloadService,
-    build_request,
     check_remote_path,
-    check_response,
 )
-from pmk_nb.errors import ChairLinkError, ChairTimeout
+from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
 
 __all__ = ["ChairLink", "ConnectionReport", "LinkState", "MapInfo", "MapReloadError", "Odometry", "Pose2D"]
@@ -100,7 +99,7 @@ class ChairLink:
         self._streams_since = 0.0
         self._lock = threading.RLock()  # connect / close / streams bookkeeping
         self._watch = StateWatch(lambda: self.state, f"pmk-link-watchdog-{self.host}:{self.port}")
-        self.discovery = Discovery(self._call)
+        self.discovery = Discovery(self._call, f"{self.host}:{self.port}")
         self._maps = MapReader(self, map_topic, map_metadata_topic)
 
     def __repr__(self) -> str:
@@ -177,7 +176,7 @@ class ChairLink:
                 self._teardown_ros()
             probe = probe_rosbridge(self.host, self.port, max(0.05, deadline - time.monotonic()))
             if not probe.ok:
-                return ConnectFailure(probe.reason)
+                return ConnectFailure(probe.reason, probe.timeout)
             self._ros_version = probe.ros_version
             ros = LinkRos(
                 self.host,
@@ -205,6 +204,7 @@ class ChairLink:
 
     def _on_ready(self, _proto: Any) -> None:  # I/O thread, on every (re)connect
         self._connected_at = time.monotonic()
+        self.discovery.forget()  # the bridge may have restarted with other settings (rosapi)
 
     def close(self) -> None:
         """Release everything: subscriptions, publishers, socket, I/O and watchdog threads.
@@ -254,10 +254,7 @@ class ChairLink:
         return LinkState.CONNECTED
 
     def on_state_change(self, callback: StateCallback) -> Callable[[], None]:
-        """Call ``callback(new_state)`` on every change, on the link's watchdog thread.
-
-        Returns a function that removes the callback.
-        """
+        """Call ``callback(new_state)`` on every change, on the link's watchdog thread; returns its remover."""
         return self._watch.add(callback)
 
     # -- streams -----------------------------------------------------------------------------------
@@ -310,16 +307,22 @@ class ChairLink:
         return dict(self._hub.counts)
 
     # -- publishing --------------------------------------------------------------------------------
-    def publish_cmd_vel(self, v: float, w: float) -> bool:
-        """Send one velocity command. Returns False (and sends nothing) when not connected: a
-        motion command must never be queued and delivered late after a reconnect.
+    def publish_cmd_vel(self, v: float, w: float, topic: str | None = None) -> bool:
+        """Send one velocity command (to ``topic``, default the link's). Returns False (and sends
+        nothing) when not connected: a motion command must never be queued and delivered late.
         """
-        return self._publish.cmd_vel(self._ros, self.ros_version, v, w)
+        return self._publish.cmd_vel(self._ros, self.ros_version, v, w, topic)
 
     def send_goal(self, x: float, y: float, theta: float, frame: str = "map") -> bool:
         """Publish a PoseStamped goal (default topic: Nav2 ``/goal_pose``, ROS 1 ``/move_base_simple/goal``).
         False (nothing sent) when not connected or while the ROS version is unknown."""
         return self._publish.goal(self._ros, self.ros_version, x, y, theta, frame)
+
+    def navigate_to(
+        self, x: float, y: float, yaw: float, frame: str = "map", waypoints: Sequence[tuple[float, float]] = ()
+    ) -> GoalHandle:
+        """Drive to (x, y, yaw) with the chair's navigation stack, detected: see :mod:`.navigate`."""
+        return navigate(self, x, y, yaw, frame, waypoints)
 
     def server_statuses(self) -> list[ServerStatus]:
         """The rosbridge server's latest ``status`` messages (e.g. a subscription with a wrong type)."""
@@ -362,38 +365,30 @@ class ChairLink:
         kind: ReloadKind | str | None = None,
         service: str | None = None,
         timeout: float = 30.0,
-    ) -> None:
-        """Ask the chair's map server to load ``remote_yaml_path`` (an absolute path on the chair).
+    ) -> ReloadService:
+        """Ask the chair's map server to load ``remote_yaml_path`` (an absolute path on the chair);
+        returns the service that loaded it.
 
         Map servers do not expand ``~`` and read relative paths from their own working folder
         (Noetic answers 255, Nav2 "map does not exist"), so such a path is refused here before
         anything is sent; :func:`pmk_nb.chair.deploy.deploy` works the absolute path out over SFTP.
-        ``kind``/``service`` default to detection ("auto" means the same). Raises
-        :class:`MapReloadError` (a ChairLinkError with ``code``) when the server refuses.
+        ``kind``/``service`` default to detection ("auto" means the same); without rosapi the known
+        reload services are tried by name. Raises :class:`MapReloadError` (a ChairLinkError with
+        ``code``; ``keeps_old_map`` None when the answer was lost) when the server refuses.
         """
         check_remote_path(remote_yaml_path)
         kind = None if kind in (None, "auto") else kind
         service = None if service in (None, "", "auto") else service
-        target = self.discovery.reload_target(kind, service, f"{self.host}:{self.port}")
-        try:
-            response = self._call(
-                target.name, target.service_type, build_request(target.kind, remote_yaml_path), timeout
-            )
-        except ChairTimeout as err:
-            raise MapReloadError(
-                f"{err}. The chair may still be loading {remote_yaml_path}; check map_info() before retrying.",
-                service=target.name,
-            ) from err
-        except ChairLinkError as err:
-            # the bridge answered "failed" (no such service, the server's callback raised) or the
-            # link was down before sending: the map server did not switch maps
-            raise MapReloadError(f"{err}", service=target.name, keeps_old_map=True) from err
-        check_response(target, remote_yaml_path, response)
+        return self.discovery.reload(remote_yaml_path, kind, service, timeout)
 
     # -- maps ----------------------------------------------------------------------------------------
-    def map_info(self, timeout: float = 5.0) -> MapInfo:
-        """The published map's size/resolution/origin (from /map_metadata, else /map)."""
-        return self._maps.map_info(timeout)
+    def map_info(self, timeout: float = 5.0, without_grid: bool = False) -> MapInfo:
+        """The published map's size/resolution/origin (MapInfo, /map_metadata, else /map unless ``without_grid``)."""
+        return self._maps.map_info(timeout, without_grid)
+
+    def map_facts(self, timeout: float = 5.0) -> MapFacts | None:
+        """The PMK map server's MapInfo (header, metadata, SHA-256; no grid), None without one."""
+        return self._maps.map_facts(timeout)
 
     def fetch_map(self, timeout: float = 15.0) -> OccupancyGrid:
         """The chair's current map (e.g. made by gmapping), from /map or the GetMap service."""

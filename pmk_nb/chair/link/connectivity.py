@@ -3,6 +3,10 @@
 A failed connect is kept as a :class:`ConnectFailure` (the probe's reason, and the seconds when it
 was a timeout) so the report shows the precise reason and :meth:`ChairLink.connect` raises a typed
 error from the same facts; no one has to read the reason back out of an exception's text.
+
+A bridge without rosapi is a working connection: the report is ``ok`` with ``rosapi=False`` and a
+note in plain words (what does not work without it, and that the map reload will try the known
+service names), never the bridge's raw error.
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from pmk_nb.chair.messages import MapInfo
+from pmk_nb.chair.reload import PREFERRED
 from pmk_nb.errors import ChairLinkError, ChairTimeout
 
 if TYPE_CHECKING:
@@ -30,6 +35,26 @@ class ConnectionReport:
     map_info: MapInfo | None
     ros_version: int | None
     elapsed: float
+    rosapi: bool | None = None  # False: the bridge has no rosapi (topics cannot be listed)
+    notes: tuple[str, ...] = ()  # plain-word remarks for a successful test (no rosapi, ...)
+
+
+def big_map_stuck(timeout: float) -> str:
+    """The chair publishes a map, but it did not cross the bridge: say why it usually is."""
+    return (
+        f"connected; the chair publishes a map but it did not arrive within {timeout:.1f} s: a big map may not "
+        "fit the rosbridge server's send queue (rosbridge-server-rs: raise --write-queue-bytes), or run the PMK "
+        "map server, whose map_info service gives the map's size without sending the grid"
+    )
+
+
+def no_rosapi_note() -> str:
+    """What a user needs to know about a bridge without rosapi."""
+    names = ", ".join(name for name, _kind in PREFERRED)
+    return (
+        "The rosbridge server runs without rosapi, so the chair's topics cannot be listed: type the "
+        f"topic names yourself. Sending a map still works: the known reload services ({names}) are tried by name."
+    )
 
 
 @dataclass(frozen=True)
@@ -52,13 +77,23 @@ def run_connection_test(link: ChairLink, timeout: float) -> ConnectionReport:
     deadline = t0 + timeout
 
     def report(ok: bool, reason: str, info: MapInfo | None = None) -> ConnectionReport:
-        return ConnectionReport(ok, reason, info, link.ros_version, time.monotonic() - t0)
+        rosapi = link.discovery.rosapi
+        notes = (no_rosapi_note(),) if rosapi is False else ()
+        return ConnectionReport(ok, reason, info, link.ros_version, time.monotonic() - t0, rosapi, notes)
 
     failure = link.try_connect(timeout)
     if failure is not None:
         return report(False, failure.reason)
+    socket = getattr(link.ros, "protocol", None)
     try:
         info = link.map_info(max(0.1, deadline - time.monotonic()))
     except ChairLinkError:
+        if getattr(link.ros, "protocol", None) is not socket or link._maps.map_listed():  # closed us, or dropped it
+            return report(False, big_map_stuck(timeout))
         return report(False, f"connected but no map published within {timeout:.1f} s")
+    if link.discovery.rosapi is None:  # the map's facts came without rosapi: ask once
+        try:
+            link.discovery.topics(max(0.1, min(link.rosapi_timeout, deadline - time.monotonic())))
+        except ChairLinkError:
+            pass  # RosapiMissing is remembered; a busy bridge stays "unknown"
     return report(True, "connected", info)

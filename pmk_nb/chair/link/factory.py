@@ -15,6 +15,7 @@ roslibpy internals touched here (pinned and checked by ``tests/test_roslibpy_sea
 
 from __future__ import annotations
 
+import asyncio
 import threading
 from typing import Any
 
@@ -65,6 +66,36 @@ class LinkFactory(AsyncioRosBridgeClientFactory):
     def stop_reconnecting(self) -> None:
         """No further reconnect attempts (roslibpy has no public switch; see the seam test)."""
         self._stop = True
+
+    def loop_alive(self) -> bool:
+        loop = self.link_manager.loop
+        return loop is not None and not loop.is_closed()
+
+    def abort(self, ros: Any, deadline_s: float) -> None:
+        """Drop a socket still open, cancel pending connects, then stop and join the private loop."""
+        loop = self.link_manager.loop
+        if loop is not None and not loop.is_closed():
+            done = threading.Event()
+
+            def _call() -> None:
+                try:
+                    _abort_and_cancel(ros)
+                finally:
+                    # One more loop turn so cancelled tasks can unwind before the loop stops.
+                    loop.call_later(0.02, done.set)
+
+            loop.call_soon_threadsafe(_call)
+            done.wait(max(0.05, deadline_s))
+        self.link_manager.terminate()
+
+
+def _abort_and_cancel(ros: Any) -> None:
+    """On the loop: drop a socket still open and cancel pending connect attempts."""
+    transport = getattr(ros.protocol, "transport", None)
+    if transport is not None and not transport.is_closing():
+        transport.abort()
+    for task in asyncio.all_tasks():
+        task.cancel()
 
 
 def start_private_loop(thread_name: str, timeout: float = 5.0) -> tuple[AsyncioEventLoopManager, threading.Thread]:

@@ -4,6 +4,10 @@ roslibpy retries failed connects silently (the cause is only logged), so before 
 it the link probes it step by step with a plain socket and a synchronous websocket client:
 DNS -> TCP -> websocket handshake -> one rosbridge request. Each step has its own reason string,
 which is what the settings screen shows (the original app only ever said "disconnected").
+
+A server that completed the websocket handshake but sends nothing at all cannot be told from a
+rosbridge busy encoding a big ``/map``: that is reported as "timed out" (with both causes named),
+never as "not a rosbridge server", which is kept for servers that answer something else.
 """
 
 from __future__ import annotations
@@ -35,6 +39,7 @@ class ProbeResult:
     ok: bool
     reason: str
     ros_version: int | None = None
+    timeout: float | None = None  # set when the reason is a timeout
 
 
 def _resolve(host: str, port: int, timeout: float) -> list[tuple] | str:
@@ -45,7 +50,7 @@ def _resolve(host: str, port: int, timeout: float) -> list[tuple] | str:
     def work() -> None:
         try:
             box["infos"] = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
-        except OSError as err:  # gaierror and friends
+        except (OSError, ValueError) as err:  # gaierror; UnicodeError for a name part over 63 characters
             box["error"] = err
         finally:
             done.set()
@@ -53,6 +58,9 @@ def _resolve(host: str, port: int, timeout: float) -> list[tuple] | str:
     threading.Thread(target=work, name="pmk-link-dns", daemon=True).start()
     if not done.wait(max(timeout, 0.0)):
         return f"{TIMED_OUT}: resolving {host!r} took longer than {timeout:.1f} s"
+    if isinstance(box.get("error"), ValueError):
+        why = "a part between dots is empty or longer than 63 characters"
+        return f"{HOST_UNKNOWN}: {host!r} is not a valid host name ({why}); check the chair's address"
     if "error" in box:
         return f"{HOST_UNKNOWN}: {host!r} cannot be resolved ({box['error']}); check the chair's address"
     return box["infos"]  # type: ignore[return-value]
@@ -84,11 +92,16 @@ def _tcp_connect(infos: list[tuple], host: str, port: int, deadline: float) -> s
 def _rosbridge_check(ws, deadline: float, host: str, port: int) -> ProbeResult:  # type: ignore[no-untyped-def]
     """Send one rosapi call; any rosbridge answers ``call_service`` (even for a missing service)."""
     ws.send(json.dumps({"op": "call_service", "id": "pmk-probe:get_time", "service": "/rosapi/get_time"}))
+    start = time.monotonic()
     while True:
         remaining = deadline - time.monotonic()
         if remaining <= 0:
+            waited = time.monotonic() - start
             return ProbeResult(
-                False, f"{NOT_ROSBRIDGE}: {host}:{port} accepted a websocket but sent no rosbridge reply in time"
+                False,
+                f"{TIMED_OUT}: {host}:{port} opened a websocket but answered no rosbridge request within "
+                f"{waited:.1f} s (a busy rosbridge, e.g. sending a big map, or not a rosbridge server)",
+                timeout=waited,
             )
         try:
             raw = ws.recv(timeout=remaining)

@@ -45,9 +45,12 @@ class Publishers:
             self._topics[name] = topic
         return topic
 
-    def cmd_vel(self, ros: roslibpy.Ros | None, ros_version: int | None, v: float, w: float) -> bool:
-        """Send one Twist; False (nothing sent) when not connected."""
-        topic = self._topic(ros, self.cmd_vel_topic, "geometry_msgs/Twist", ros_version)
+    def cmd_vel(
+        self, ros: roslibpy.Ros | None, ros_version: int | None, v: float, w: float, name: str | None = None
+    ) -> bool:
+        """Send one Twist (to ``name``, default the link's ``cmd_vel_topic``); False (nothing sent)
+        when not connected."""
+        topic = self._topic(ros, name or self.cmd_vel_topic, "geometry_msgs/Twist", ros_version)
         if topic is None:
             return False
         twist = {"linear": {"x": float(v), "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": float(w)}}

@@ -11,12 +11,13 @@ import logging
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import roslibpy
 
 from pmk_nb.chair.link.tfmath import TfTree
+from pmk_nb.chair.link.throttle import AUTO, AutoThrottle
 from pmk_nb.chair.messages import (
     Odometry,
     Pose2D,
@@ -35,9 +36,11 @@ PoseSource = Literal["odometry", "pose_topic", "tf"]
 POSE_SOURCES: tuple[str, ...] = ("odometry", "pose_topic", "tf")
 STREAMS: tuple[str, ...] = ("odom", "scan", "pose", "tf")
 
-# Milliseconds between messages rosbridge forwards (throttle_rate). /tf is never throttled:
-# rosbridge drops what it throttles, and a dropped map->odom from AMCL would be lost for seconds.
-DEFAULT_THROTTLE_MS: dict[str, int] = {"odom": 20, "scan": 50, "pose": 0, "tf": 0}
+# Milliseconds between messages rosbridge forwards (throttle_rate); AUTO: none unless the chair
+# sends faster than a screen draws (see pmk_nb.chair.link.throttle: a throttle costs latency).
+# /tf is never throttled: rosbridge drops what it throttles, and a dropped map->odom from AMCL
+# would be lost for seconds.
+DEFAULT_THROTTLE_MS: dict[str, int] = {"odom": AUTO, "scan": AUTO, "pose": AUTO, "tf": 0}
 TF_QUEUE_LENGTH = 50
 
 
@@ -74,6 +77,8 @@ class StreamHub:
         self.counts: dict[str, int] = dict.fromkeys(STREAMS, 0)
         self.ros_version_seen: int | None = None
         self._topics: list[roslibpy.Topic] = []
+        # AUTO streams: their rate watch, topic and handler (a throttle is set by resubscribing)
+        self._auto: dict[str, tuple[AutoThrottle, roslibpy.Topic, Callable[[dict[str, Any]], None]]] = {}
         self._listeners: dict[str, list[Listener]] = {s: [] for s in STREAMS}
         self._listeners_lock = threading.Lock()
 
@@ -95,13 +100,14 @@ class StreamHub:
             plan.append(("pose", cfg.pose_topic, cfg.pose_type, self._on_pose))
         if cfg.pose_source == "tf":
             plan.append(("tf", "/tf", "tf2_msgs/TFMessage", self._on_tf))
-            plan.append(("tf", "/tf_static", "tf2_msgs/TFMessage", self._on_tf_static))
+        # always: base_link -> laser says where the rays start (an off-centre or rotated lidar)
+        plan.append(("tf", "/tf_static", "tf2_msgs/TFMessage", self._on_tf_static))
         for stream, name, type_name, handler in plan:
             topic = roslibpy.Topic(
                 ros,
                 name,
                 spell_type(type_name, ros_version),
-                throttle_rate=self.throttle_ms[stream],
+                throttle_rate=max(0, self.throttle_ms[stream]),
                 # /tf carries different transforms from several publishers: queue_length 1 would
                 # drop one publisher's message whenever another's arrives in the same instant
                 queue_length=TF_QUEUE_LENGTH if stream == "tf" else 1,
@@ -109,8 +115,24 @@ class StreamHub:
             )
             topic.subscribe(handler)
             self._topics.append(topic)
+            if self.throttle_ms[stream] == AUTO:
+                self._auto[stream] = (AutoThrottle(), topic, handler)
+
+    def throttles_in_use(self) -> dict[str, int]:
+        """The throttle_rate (ms) each subscribed stream has now (AUTO streams: 0 until too fast)."""
+        used = {s: max(0, ms) for s, ms in self.throttle_ms.items()}
+        return used | {s: auto.current_ms for s, (auto, _t, _h) in self._auto.items()}
+
+    def _retune(self, stream: str, throttle_ms: int) -> None:
+        """Resubscribe an AUTO stream with a throttle (I/O thread: roslibpy only queues the ops)."""
+        _auto, topic, handler = self._auto[stream]
+        LOG.info("%s arrives faster than a screen draws: throttled to %d ms", topic.name, throttle_ms)
+        topic.unsubscribe()
+        topic.throttle_rate = throttle_ms
+        topic.subscribe(handler)
 
     def unsubscribe(self) -> None:
+        self._auto = {}
         topics, self._topics = self._topics, []
         for topic in topics:
             topic.unsubscribe()
@@ -151,6 +173,11 @@ class StreamHub:
         now = time.monotonic()
         self.last_message = now
         self.counts[stream] += 1
+        auto = self._auto.get(stream)
+        if auto is not None:
+            throttle = auto[0].note(now)
+            if throttle is not None:
+                self._retune(stream, throttle)
         return now
 
     def _on_odom(self, msg: dict[str, Any]) -> None:
@@ -161,8 +188,18 @@ class StreamHub:
         self._notify("odom", self._odom)
 
     def _on_scan(self, msg: dict[str, Any]) -> None:
-        self._scan = parse_scan(msg, self._mark("scan"))
+        scan = parse_scan(msg, self._mark("scan"))
+        mount = self.laser_mount(scan.frame)
+        self._scan = scan if mount == scan.mount else replace(scan, mount=mount)
         self._notify("scan", self._scan)
+
+    def laser_mount(self, frame: str) -> tuple[float, float, float]:
+        """base_link <- ``frame`` (x, y, yaw) from tf, or the identity while it is unknown."""
+        found = self.tf.lookup(self.config.base_frame, frame) if frame else None
+        if found is None:
+            return (0.0, 0.0, 0.0)
+        tf = found[0]
+        return (tf.x, tf.y, tf.theta)
 
     def _on_pose(self, msg: dict[str, Any]) -> None:
         self._pose_msg = parse_pose(msg, self._mark("pose"))

@@ -49,6 +49,12 @@ class Transform2D:
         return self.x + c * px - s * py, self.y + s * px + c * py
 
 
+def mounted(pose: tuple[float, float, float], mount: tuple[float, float, float]) -> tuple[float, float, float]:
+    """World pose of a sensor mounted at ``mount`` (base <- sensor) on a chair at ``pose`` (world <- base)."""
+    tf = Transform2D(*pose).compose(Transform2D(*mount))
+    return tf.x, tf.y, tf.theta
+
+
 @dataclass(frozen=True)
 class _Edge:
     parent: str

@@ -7,12 +7,17 @@ two chairs must not share one I/O thread. So each link builds roslibpy's own fac
 loop manager (:mod:`pmk_nb.chair.link.factory`); topics, services and reconnects are roslibpy's.
 
 Transport choice: Autobahn (under both of roslibpy's transports) can use only one of Twisted and
-asyncio per process, and plain ``roslibpy.Ros(host, port)`` picks Twisted unless told otherwise.
-Importing this module therefore makes asyncio roslibpy's default through its public
-``set_default_transport`` (unless Twisted is already in use, or ``ROSLIBPY_TRANSPORT`` decides), so
-user code with plain ``roslibpy.Ros`` and our links share the process. Nothing binds the framework
-until a link connects: a process that chose Twisted keeps working, and only its links fail, with a
-:class:`ChairLinkError` that says why.
+asyncio per process (txaio: "Explicitly using 'twisted' already"), and plain ``roslibpy.Ros(host,
+port)`` picks Twisted unless told otherwise. A link therefore follows the process, in either order:
+
+* nothing bound yet: importing this module makes asyncio roslibpy's default through its public
+  ``set_default_transport`` (unless ``ROSLIBPY_TRANSPORT`` decides), so a plain ``roslibpy.Ros``
+  created later shares asyncio with the links;
+* Twisted already bound (a plain ``roslibpy.Ros`` came first, or any Autobahn/Twisted library): the
+  link runs on roslibpy's Twisted transport instead (:mod:`pmk_nb.chair.link.factory_twisted`), on
+  the process's one reactor thread.
+
+Nothing binds a framework until a link connects.
 
 roslibpy internals touched (pinned version, checked by ``tests/test_roslibpy_seam.py``):
 
@@ -26,7 +31,6 @@ roslibpy internals touched (pinned version, checked by ``tests/test_roslibpy_sea
 
 from __future__ import annotations
 
-import asyncio
 import collections
 import os
 import sys
@@ -36,8 +40,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import roslibpy
-
-from pmk_nb.errors import ChairLinkError
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.factory import LinkFactory
@@ -58,9 +60,15 @@ class ServerStatus:
 TWISTED_MODULE = "roslibpy.comm.comm_autobahn"
 
 
+def twisted_bound() -> bool:
+    """Whether Autobahn's txaio is (or is about to be) bound to Twisted in this process, by anyone."""
+    txaio = sys.modules.get("txaio")
+    return TWISTED_MODULE in sys.modules or (txaio is not None and bool(getattr(txaio, "using_twisted", False)))
+
+
 def prefer_asyncio_transport() -> None:
     """Make asyncio roslibpy's default transport, unless the process already decided otherwise."""
-    if os.environ.get("ROSLIBPY_TRANSPORT") or TWISTED_MODULE in sys.modules:
+    if os.environ.get("ROSLIBPY_TRANSPORT") or twisted_bound():
         return
     roslibpy.set_default_transport("asyncio")
 
@@ -68,23 +76,19 @@ def prefer_asyncio_transport() -> None:
 prefer_asyncio_transport()
 
 
-def _factory_module(host: str, port: int) -> Any:
-    """Import the asyncio factory; a process already on Twisted gets a typed error, not txaio's."""
-    if TWISTED_MODULE in sys.modules:
-        raise ChairLinkError(
-            f"Cannot connect to the chair at {host}:{port}: roslibpy's Twisted transport is already in use "
-            "in this process, and the chair link needs its asyncio transport",
-            host=host,
-            port=port,
-            hint="Import pmk_nb before creating any roslibpy.Ros, or set ROSLIBPY_TRANSPORT=asyncio.",
-        )
+def _factory_module() -> Any:
+    """The factory module for the framework this process uses (asyncio unless Twisted came first)."""
+    if twisted_bound() or os.environ.get("ROSLIBPY_TRANSPORT", "").strip().lower() == "twisted":
+        from pmk_nb.chair.link import factory_twisted
+
+        return factory_twisted
     from pmk_nb.chair.link import factory
 
     return factory
 
 
 class LinkRos(roslibpy.Ros):
-    """``roslibpy.Ros`` that owns its event-loop thread.
+    """``roslibpy.Ros`` that owns its event-loop thread (on asyncio; on Twisted it shares the reactor).
 
     Use :meth:`shutdown` (not ``terminate``) to close the socket and stop the thread.
     """
@@ -100,11 +104,16 @@ class LinkRos(roslibpy.Ros):
         ping_interval: float = 5.0,
         ping_timeout: float = 5.0,
     ) -> None:
-        factory_module = _factory_module(host, port)
+        module = _factory_module()
         self._id_counter = 0  # what Ros.__init__ would set (see the module docstring)
-        self.manager, self.loop_thread = factory_module.start_private_loop(thread_name)
-        self.factory: LinkFactory = factory_module.LinkFactory(
-            factory_module.LinkFactory.create_url(host, port, False),
+        if module.__name__.endswith("twisted"):
+            self.manager, self.loop_thread = module.start_loop(thread_name)
+            factory_cls = module.TwistedLinkFactory
+        else:
+            self.manager, self.loop_thread = module.start_private_loop(thread_name)
+            factory_cls = module.LinkFactory
+        self.factory: LinkFactory = factory_cls(
+            factory_cls.create_url(host, port, False),
             self.manager,
             initial_delay=initial_delay,
             max_delay=max_delay,
@@ -134,11 +143,11 @@ class LinkRos(roslibpy.Ros):
             self.protocol = None
 
     def shutdown(self, timeout: float = 2.0) -> None:
-        """Stop reconnecting, close the websocket, stop and join the loop thread (bounded by ``timeout``)."""
+        """Stop reconnecting, close the websocket, stop and join the loop thread (bounded by ``timeout``;
+        on Twisted the process's reactor thread keeps running)."""
         deadline = time.monotonic() + timeout
         self.factory.stop_reconnecting()  # no reconnect after the close below
-        loop = self.manager.loop
-        if loop is None or loop.is_closed():
+        if not self.factory.loop_alive():
             return
         proto = self.protocol
         if proto is not None:
@@ -147,30 +156,4 @@ class LinkRos(roslibpy.Ros):
             proto.send_close()
             # A half-open peer never answers the close handshake: do not wait for it long.
             closed.wait(max(0.0, min(deadline - time.monotonic(), timeout / 2)))
-        self._run_on_loop(_abort_and_cancel, deadline)
-        self.manager.terminate()
-
-    def _run_on_loop(self, fn: Any, deadline: float) -> None:
-        loop = self.manager.loop
-        if loop is None or loop.is_closed():
-            return
-        done = threading.Event()
-
-        def _call() -> None:
-            try:
-                fn(self)
-            finally:
-                # One more loop turn so cancelled tasks can unwind before the loop stops.
-                loop.call_later(0.02, done.set)
-
-        loop.call_soon_threadsafe(_call)
-        done.wait(max(0.05, deadline - time.monotonic()))
-
-
-def _abort_and_cancel(ros: LinkRos) -> None:
-    """On the loop: drop a socket still open and cancel pending connect attempts."""
-    transport = getattr(ros.protocol, "transport", None)
-    if transport is not None and not transport.is_closing():
-        transport.abort()
-    for task in asyncio.all_tasks():
-        task.cancel()
+        self.factory.abort(self, deadline - time.monotonic())

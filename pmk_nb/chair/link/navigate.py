@@ -1,0 +1,221 @@
+"""Send the chair to a pose and follow the goal: one handle over every navigation stack in the field.
+
+Which route a goal takes is detected, like the map reload service:
+
+* ROS 2: Nav2's ``NavigateToPose`` action at ``/navigate_to_pose`` (and ``NavigateThroughPoses`` at
+  ``/navigate_through_poses`` for waypoints, when the chair offers it), over rosbridge's action ops;
+* ROS 1: ``move_base`` over actionlib when ``/move_base/status`` exists;
+* otherwise the goal topic (``/move_base_simple/goal``, Nav2 ``/goal_pose``), with progress derived
+  from the chair's pose (arrived within :data:`ARRIVE_TOLERANCE`).
+
+``progress().message`` names the route taken. Waypoints without NavigateThroughPoses are sent one
+after another. Updates arrive on roslibpy's I/O thread (or a small poller thread): ``on_update``
+callbacks must only store what they get.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from enum import Enum
+from typing import TYPE_CHECKING
+
+from pmk_nb.errors import ChairLinkError
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link.client import ChairLink
+
+LOG = logging.getLogger(__name__)
+ARRIVE_TOLERANCE = 0.25  # m: goal-topic route, no action server to say "arrived"
+NAV2_ACTION = ("/navigate_to_pose", "nav2_msgs/action/NavigateToPose")
+NAV2_THROUGH = ("/navigate_through_poses", "nav2_msgs/action/NavigateThroughPoses")
+MOVE_BASE = ("/move_base", "move_base_msgs/MoveBaseAction")
+
+
+class GoalStatus(str, Enum):
+    PENDING = "pending"
+    ACCEPTED = "accepted"
+    MOVING = "moving"
+    ARRIVED = "arrived"
+    ABORTED = "aborted"
+    CANCELLED = "cancelled"
+    REJECTED = "rejected"
+
+
+TERMINAL = frozenset({GoalStatus.ARRIVED, GoalStatus.ABORTED, GoalStatus.CANCELLED, GoalStatus.REJECTED})
+
+
+@dataclass(frozen=True)
+class GoalProgress:
+    """The latest word on a goal: status, the goal (x, y, yaw), metres left (None: not known yet)."""
+
+    status: GoalStatus
+    goal: tuple[float, float, float]
+    remaining_m: float | None
+    message: str
+
+    @property
+    def done(self) -> bool:
+        return self.status in TERMINAL
+
+
+class NavigationError(ChairLinkError):
+    """A goal could not be sent (not connected, no route). ``route`` names what was tried."""
+
+    def __init__(self, message: str, *, route: str = "", host: str | None = None, port: int | None = None) -> None:
+        super().__init__(message, host=host, port=port)
+        self.route = route
+
+
+UpdateCallback = Callable[[GoalProgress], None]
+
+
+class GoalHandle:
+    """One goal on its way. Thread-safe; a terminal status is final (later updates are ignored)."""
+
+    def __init__(self, goal: tuple[float, float, float], route: str) -> None:
+        self.route = route  # which way the goal went; every message starts with it
+        self._lock = threading.Lock()
+        self._progress = GoalProgress(GoalStatus.PENDING, goal, None, route)
+        self._done = threading.Event()
+        self._callbacks: list[UpdateCallback] = []
+        self._cancel: Callable[[], None] | None = None
+        self.cancel_requested = False
+
+    def progress(self) -> GoalProgress:
+        with self._lock:
+            return self._progress
+
+    def cancel(self) -> None:
+        """Ask the chair to stop this goal; the status turns ``cancelled`` when the chair confirms."""
+        self.cancel_requested = True
+        cancel = self._cancel
+        if cancel is not None and not self._done.is_set():
+            cancel()
+
+    def wait(self, timeout: float) -> GoalProgress:
+        """Block until the goal is done or ``timeout`` s pass; returns the latest progress either way."""
+        self._done.wait(timeout)
+        return self.progress()
+
+    def on_update(self, cb: UpdateCallback) -> None:
+        """``cb(progress)`` on every change, on the thread that saw it (roslibpy's): store only."""
+        with self._lock:
+            self._callbacks.append(cb)
+
+    # -- for the routes -----------------------------------------------------------------------------
+    def bind_cancel(self, fn: Callable[[], None]) -> None:
+        self._cancel = fn
+        if self.cancel_requested:
+            fn()
+
+    def update(self, status: GoalStatus | None = None, remaining: float | None = None, text: str | None = None) -> None:
+        """New status / metres left / text (prefixed with the route); None keeps the old value."""
+        with self._lock:
+            old = self._progress
+            if old.done:
+                return
+            new = replace(
+                old,
+                status=status or old.status,
+                remaining_m=remaining if remaining is not None else old.remaining_m,
+                message=old.message if text is None else f"{self.route}: {text}",
+            )
+            if new == old:
+                return
+            self._progress = new
+            callbacks = list(self._callbacks)
+        if new.done:
+            self._done.set()
+        for cb in callbacks:
+            try:
+                cb(new)
+            except Exception:
+                LOG.exception("goal update callback failed")
+
+
+@dataclass(frozen=True)
+class GoalRoute:
+    """How goals reach this chair: ``kind`` "nav2" | "actionlib" | "topic", the name used, and
+    Nav2's NavigateThroughPoses when offered."""
+
+    kind: str
+    name: str
+    through: str | None = None
+
+    @property
+    def label(self) -> str:
+        if self.kind == "nav2":
+            return f"Nav2 NavigateToPose ({self.name})"
+        if self.kind == "actionlib":
+            return f"move_base actionlib ({self.name})"
+        return f"goal topic {self.name} (progress from the chair's pose)"
+
+
+def detect_route(link: ChairLink) -> GoalRoute:
+    """Ask rosapi which navigation interface the chair offers (see the module docstring)."""
+    version = link.ros_version or link.discovery.ros_version()
+    if version == 2:
+        try:
+            reply = link._call("/rosapi/action_servers", "rosapi_msgs/srv/GetActionServers", {}, None)
+            servers = set(reply.get("action_servers") or [])
+        except ChairLinkError:  # older rosapi: the action's hidden status topic tells the same
+            servers = {t.rsplit("/_action/", 1)[0] for t in link.discovery.topics() if "/_action/status" in t}
+        if NAV2_ACTION[0] in servers:
+            return GoalRoute("nav2", NAV2_ACTION[0], NAV2_THROUGH[0] if NAV2_THROUGH[0] in servers else None)
+        return GoalRoute("topic", link._publish.goal_topic or "/goal_pose")
+    if f"{MOVE_BASE[0]}/status" in link.discovery.topics():
+        return GoalRoute("actionlib", MOVE_BASE[0])
+    return GoalRoute("topic", link._publish.goal_topic or "/move_base_simple/goal")
+
+
+def navigate(
+    link: ChairLink,
+    x: float,
+    y: float,
+    yaw: float,
+    frame: str = "map",
+    waypoints: Sequence[tuple[float, float]] = (),
+) -> GoalHandle:
+    """Send the chair to (x, y, yaw) in ``frame``, through ``waypoints`` first; see the module docstring.
+
+    Raises:
+        NavigationError: not connected, or the goal could not be sent.
+        ChairLinkError: rosapi did not answer while detecting the route.
+    """
+    from pmk_nb.chair.link import goal_routes
+
+    goal = (float(x), float(y), float(yaw))
+    points = [(float(px), float(py)) for px, py in waypoints]
+    ros = link.ros
+    if ros is None or not ros.is_connected:
+        raise NavigationError(
+            f"Not connected to the chair at {link.host}:{link.port}: connect first", host=link.host, port=link.port
+        )
+    route = detect_route(link)
+    handle = GoalHandle(goal, route.label)
+    if points and route.kind == "nav2" and route.through:
+        handle.route = f"Nav2 NavigateThroughPoses ({route.through}), {len(points)} waypoint(s)"
+        handle.update(text="sent")
+        goal_routes.start_nav2(ros, handle, NAV2_THROUGH, goal_routes.through_poses_args(points, goal, frame, link))
+    elif points:
+        goal_routes.start_legs(link, route, handle, [*[(px, py, None) for px, py in points], goal], frame)
+    else:
+        goal_routes.start_leg(link, route, handle, goal, frame)
+    if route.kind == "nav2":
+        _abort_on_link_loss(link, handle)
+    return handle
+
+
+def _abort_on_link_loss(link: ChairLink, handle: GoalHandle) -> None:
+    """rosbridge cancels a lost client's action goals and its answer can no longer reach us: say so."""
+    from pmk_nb.chair.link.state import LinkState
+
+    def on_state(state: LinkState) -> None:  # the link's watchdog thread
+        if state in (LinkState.CONNECTING, LinkState.DISCONNECTED):
+            handle.update(GoalStatus.ABORTED, None, "the link to the chair dropped; the chair cancels the goal")
+
+    remove = link.on_state_change(on_state)
+    handle.on_update(lambda p: remove() if p.done else None)

@@ -1,0 +1,233 @@
+"""A drive session: the gate, a lock, and the publisher thread that sends what the gate decides.
+
+The thread ticks at :data:`DEFAULT_RATE` (20 Hz: within the 10-20 Hz a base controller expects,
+and a release reaches the chair within one 50 ms tick). It is bounded (one thread per session,
+joined on close) and never runs in a roslibpy callback: publishing only hands a message to the
+link's I/O loop. Messages from the page arrive on the kernel's main thread (a widget change);
+both sides take the lock for microseconds only.
+
+From a notebook::
+
+    link = get_link("127.0.0.1", 9090); link.connect(); link.start_streams()
+    drive_for(link, 0.3, 0.0, seconds=2.0)      # 2 s ahead at 0.3 m/s, then one zero
+
+or, to steer from your own loop (call ``push`` at least every 0.2 s or the chair stops)::
+
+    with DriveSession(link) as drive:
+        for v, w in plan:
+            drive.push(v, w); time.sleep(0.1)
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+from collections.abc import Callable
+from typing import Protocol
+
+from pmk_nb.drive.gate import DriveGate, GateTiming, StopReason
+from pmk_nb.drive.limits import SpeedLimits
+from pmk_nb.drive.stick import StickEvent, StickMessageError, parse_stick_message
+
+log = logging.getLogger(__name__)
+DEFAULT_RATE = 20.0  # Hz
+MIN_RATE, MAX_RATE = 10.0, 50.0
+
+
+class OdometryLike(Protocol):
+    received: float  # time.monotonic() when the link got it
+
+
+class DriveLink(Protocol):
+    """What a session needs of :class:`pmk_nb.chair.link.client.ChairLink`."""
+
+    @property
+    def is_connected(self) -> bool: ...
+
+    def latest_odom(self) -> OdometryLike | None: ...
+
+    def publish_cmd_vel(self, v: float, w: float, topic: str | None = None) -> bool: ...
+
+
+class DriveSession:
+    """Feeds the gate and publishes its decisions on a thread; a context manager.
+
+    Args:
+        link: the chair link (connected, streams started: odometry proves the link is fresh).
+        limits: the profile's speed limits.
+        topic: the profile's velocity topic (None: the link's default, ``/cmd_vel``).
+        rate: publisher ticks per second (10 to 50).
+        on_stop: called with the reason when the gate stops the chair; runs on the publisher
+            thread, so it must be quick.
+        clock: monotonic seconds, the same clock as the odometry's ``received``.
+    """
+
+    def __init__(
+        self,
+        link: DriveLink,
+        limits: SpeedLimits | None = None,
+        *,
+        topic: str | None = None,
+        rate: float = DEFAULT_RATE,
+        timing: GateTiming | None = None,
+        on_stop: Callable[[StopReason], None] | None = None,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        if not MIN_RATE <= rate <= MAX_RATE:
+            raise ValueError(f"rate must be {MIN_RATE:g} to {MAX_RATE:g} Hz, got {rate!r}")
+        self.link, self.topic, self.period = link, topic, 1.0 / rate
+        self.gate = DriveGate(limits, timing)
+        self.on_stop = on_stop
+        self.invalid = 0
+        self._stops_reported = 0
+        self.last_error: StickMessageError | None = None
+        self._clock = clock
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    # -- lifecycle -------------------------------------------------------------------------------
+    def start(self) -> DriveSession:
+        if self._thread is None or not self._thread.is_alive():
+            self._stop = threading.Event()
+            self._thread = threading.Thread(target=self._run, args=(self._stop,), name="pmk-drive", daemon=True)
+            self._thread.start()
+        return self
+
+    def close(self) -> None:
+        """Stop the chair (one zero, sent from here) and end the thread."""
+        with self._lock:
+            if self.gate.driving:
+                self.gate.stop(StopReason.CLOSED)
+            pending = self.gate.tick(self._clock(), True)  # the zero still owed, sent right here
+        self._stop.set()
+        thread, self._thread = self._thread, None
+        if thread is not None and thread is not threading.current_thread():
+            thread.join(2.0)
+        if pending is not None:
+            self._publish(0.0, 0.0)
+
+    def __enter__(self) -> DriveSession:
+        return self.start()
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- inputs ------------------------------------------------------------------------------------
+    @property
+    def driving(self) -> bool:
+        return self.gate.driving
+
+    @property
+    def slow(self) -> bool:
+        return self.gate.slow
+
+    @slow.setter
+    def slow(self, value: bool) -> None:
+        with self._lock:
+            self.gate.slow = bool(value)
+
+    def set_limits(self, limits: SpeedLimits) -> None:
+        with self._lock:
+            self.gate.limits = limits
+
+    def feed(self, text: object) -> StickEvent | None:
+        """One message from the page; an invalid one is counted and ignored (never raises)."""
+        now = self._clock()
+        try:
+            event = parse_stick_message(text)
+        except StickMessageError as err:
+            self.invalid += 1
+            self.last_error = err
+            return None
+        with self._lock:
+            self.gate.on_event(event, now)
+        return event
+
+    def push(self, v: float, w: float) -> bool:
+        """Drive at (v, w) from Python; repeat within 0.2 s (the same deadman as the page).
+
+        False once the chair was stopped (Stop, stale link, a late push): call :meth:`release`
+        before driving again.
+        """
+        with self._lock:
+            return self.gate.on_twist(v, w, self._clock())
+
+    def release(self) -> None:
+        with self._lock:
+            self.gate.release()
+
+    def stop(self) -> None:
+        """The Stop button: one zero at the next tick, and this press drives no more."""
+        with self._lock:
+            self.gate.stop(StopReason.STOP_BUTTON)
+
+    # -- the publisher -----------------------------------------------------------------------------
+    def link_ok(self, now: float) -> bool:
+        """Connected and odometry younger than the gate's ``odom_fresh``."""
+        try:
+            if not self.link.is_connected:
+                return False
+            odom = self.link.latest_odom()
+        except Exception:  # a link that fails to answer is not a link to drive through
+            log.exception("reading the link state failed")
+            return False
+        return odom is not None and now - odom.received <= self.gate.timing.odom_fresh
+
+    def _run(self, stop: threading.Event) -> None:
+        next_t = self._clock()
+        while not stop.is_set():
+            now = self._clock()
+            ok = self.link_ok(now)
+            with self._lock:
+                twist = self.gate.tick(now, ok)
+            if twist is not None and not self._publish(*twist) and twist != (0.0, 0.0):
+                with self._lock:
+                    self.gate.stop(StopReason.LINK)
+            self._report_stop()
+            next_t = max(next_t + self.period, self._clock())
+            stop.wait(max(0.0, next_t - self._clock()))
+
+    def _report_stop(self) -> None:
+        count, cause = self.gate.stop_count, self.gate.last_stop
+        if count == self._stops_reported or cause is None:
+            return
+        self._stops_reported = count
+        if self.on_stop is not None:
+            try:
+                self.on_stop(cause)
+            except Exception:  # a UI bug must not stop the publisher
+                log.exception("drive on_stop callback failed")
+
+    def _publish(self, v: float, w: float) -> bool:
+        try:
+            return bool(self.link.publish_cmd_vel(v, w, self.topic))
+        except Exception:
+            log.exception("publishing a velocity command failed")
+            return False
+
+
+def drive_for(
+    link: DriveLink,
+    v: float,
+    w: float,
+    seconds: float,
+    *,
+    limits: SpeedLimits | None = None,
+    topic: str | None = None,
+) -> StopReason | None:
+    """Drive at (v, w) for ``seconds`` (blocking), then stop; returns why it stopped early, or None.
+
+    The same gate as the joystick: limits apply, and a stale link stops the chair at once.
+    """
+    with DriveSession(link, limits, topic=topic) as session:
+        deadline = time.monotonic() + max(0.0, seconds)
+        session.push(v, w)
+        while time.monotonic() < deadline:
+            time.sleep(min(0.05, max(0.0, deadline - time.monotonic())))
+            if not session.driving or not session.push(v, w):
+                return session.gate.last_stop
+        session.release()
+        time.sleep(2 * session.period)  # the zero goes out from the thread
+    return None

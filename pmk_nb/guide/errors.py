@@ -1,0 +1,61 @@
+"""The guide's errors: types with the facts a screen needs to say why (never text to match)."""
+
+from __future__ import annotations
+
+from pmk_nb.errors import PmkError
+
+
+class RouteError(PmkError):
+    """No route to a room (base of the guide's errors)."""
+
+
+class UnknownRoom(RouteError):
+    """No room of this storey has that name or id.
+
+    Attributes:
+        query: what was asked for.
+        storey: the storey searched.
+    """
+
+    def __init__(self, query: str, storey: str) -> None:
+        super().__init__(f"no room called {query!r} on storey {storey}", hint="Pick a room from the list.")
+        self.query = query
+        self.storey = storey
+
+
+class NoAccessibleRoute(RouteError):
+    """The room exists but the chair cannot get there.
+
+    Attributes:
+        room: the destination's name.
+        narrow: ``(door name, free width in metres)`` of the doors on the best way in that are too
+            narrow for the chair (empty when there is no way at all, even for a point).
+        chair_width: the chair's width the rules were applied with (metres).
+    """
+
+    def __init__(self, room: str, narrow: list[tuple[str, float]], chair_width: float) -> None:
+        if narrow:
+            doors = ", ".join(f"{name} ({width:.2f} m)" for name, width in narrow)
+            why = f"too narrow for the {chair_width:.2f} m chair: {doors}"
+        else:
+            why = "the map has no way there (no passable transition joins it to where the chair is)"
+        super().__init__(f"no accessible route to {room}: {why}")
+        self.room = room
+        self.narrow = narrow
+        self.chair_width = chair_width
+
+
+class NotOnMap(RouteError):
+    """The chair's position is in no room of this storey (off the map, or the map is not this one).
+
+    Attributes:
+        x, y: the position, map frame, metres.
+    """
+
+    def __init__(self, x: float, y: float) -> None:
+        super().__init__(
+            f"the chair at ({x:.2f}, {y:.2f}) m is in no room of this map",
+            hint="Check that the chair runs the map shown on Home.",
+        )
+        self.x = x
+        self.y = y

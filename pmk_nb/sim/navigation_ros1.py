@@ -1,0 +1,86 @@
+"""ROS 1 ``move_base`` over actionlib topics, the way actionlib's action server speaks them.
+
+In: ``/move_base/goal`` (``move_base_msgs/MoveBaseActionGoal``), ``/move_base/cancel``
+(``actionlib_msgs/GoalID``: an id, or an empty id for "all goals"). Out: ``/move_base/status``
+(``actionlib_msgs/GoalStatusArray``, published continuously, as actionlib does: clients such as
+roslibpy wait for it before sending), ``/move_base/feedback`` (``base_position``) and
+``/move_base/result``. Finished goals stay in the status list for a few seconds.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING, Any
+
+from pmk_nb.sim.messages import pose_msg
+
+if TYPE_CHECKING:
+    from pmk_nb.sim.messages import Names
+    from pmk_nb.sim.navigation import NavGoal, Navigator
+    from pmk_nb.sim.protocol import Bridge
+
+# actionlib_msgs/GoalStatus
+PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = 0, 1, 2, 3, 4, 5
+CODES = {"succeeded": SUCCEEDED, "aborted": ABORTED, "canceled": PREEMPTED}
+KEEP_DONE_S = 5.0  # how long a finished goal stays in the status list
+SERVER = "/move_base"
+
+
+class Ros1Actionlib:
+    """The move_base action server's topics on one bridge."""
+
+    def __init__(self, nav: Navigator, bridge: Bridge, names: Names) -> None:
+        self.nav, self.bridge, self.names = nav, bridge, names
+        self._done: list[tuple[float, dict[str, Any]]] = []  # (time finished, status entry)
+        bridge.advertise_internal(f"{SERVER}/status", "actionlib_msgs/GoalStatusArray")
+        bridge.advertise_internal(f"{SERVER}/feedback", "move_base_msgs/MoveBaseActionFeedback")
+        bridge.advertise_internal(f"{SERVER}/result", "move_base_msgs/MoveBaseActionResult")
+        bridge.listen(f"{SERVER}/goal", "move_base_msgs/MoveBaseActionGoal", self.on_goal)
+        bridge.listen(f"{SERVER}/cancel", "actionlib_msgs/GoalID", self.on_cancel)
+
+    def _entry(self, goal_id: str, status: int, text: str = "") -> dict[str, Any]:
+        return {"goal_id": {"stamp": self.names.stamp(0.0), "id": goal_id}, "status": status, "text": text}
+
+    def on_goal(self, msg: dict[str, Any]) -> None:
+        from pmk_nb.sim.navigation import NavGoal, parse_pose
+
+        goal_id = str((msg.get("goal_id") or {}).get("id") or f"sim-goal-{time.monotonic_ns()}")
+        parsed = parse_pose((msg.get("goal") or {}).get("target_pose"))
+        why = parsed if isinstance(parsed, str) else self.nav.check(*parsed)
+        if why is not None:
+            self._publish_result(self._entry(goal_id, REJECTED, f"goal rejected: {why}"))
+            return
+        self.nav.start(NavGoal("ros1", parsed[0], goal_id=goal_id))  # type: ignore[index]
+
+    def on_cancel(self, msg: dict[str, Any]) -> None:
+        goal = self.nav.current
+        wanted = str(msg.get("id") or "")
+        if goal is not None and goal.kind == "ros1" and wanted in ("", goal.goal_id):
+            self.nav.cancel_current("cancelled by the client")
+
+    def feedback(self, goal: NavGoal, pose: tuple[float, float, float]) -> None:
+        t = time.time()
+        msg = {
+            "header": self.names.header("", t),
+            "status": self._entry(goal.goal_id, ACTIVE),
+            "feedback": {"base_position": {"header": self.names.header("map", t), "pose": pose_msg(*pose)}},
+        }
+        self.bridge.publish(f"{SERVER}/feedback", msg)
+
+    def result(self, goal: NavGoal, outcome: str, why: str) -> None:
+        self._publish_result(self._entry(goal.goal_id, CODES[outcome], "" if outcome == "succeeded" else why))
+
+    def _publish_result(self, entry: dict[str, Any]) -> None:
+        self._done.append((time.monotonic(), entry))
+        self.publish_status(self.nav.current)  # the terminal status first, as actionlib does
+        msg = {"header": self.names.header("", time.time()), "status": entry, "result": {}}
+        self.bridge.publish(f"{SERVER}/result", msg)
+
+    def publish_status(self, goal: NavGoal | None) -> None:
+        now = time.monotonic()
+        self._done = [(t, e) for t, e in self._done if now - t < KEEP_DONE_S]
+        entries = [e for _, e in self._done]
+        if goal is not None and goal.kind == "ros1":
+            entries.append(self._entry(goal.goal_id, ACTIVE))
+        msg = {"header": self.names.header("", time.time()), "status_list": entries}
+        self.bridge.publish(f"{SERVER}/status", msg)

@@ -1,0 +1,131 @@
+"""Driving the simulated chair through the real link (roslibpy, rosbridge): it moves, and it stops.
+
+A second real roslibpy client listens on /cmd_vel, so the tests see exactly what went on the wire.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from collections.abc import Callable
+from typing import Any
+
+import pytest
+
+from pmk_nb.drive import DriveSession, SpeedLimits, StopReason, drive_for
+from pmk_nb.sim.demo import demo_grid
+from tests.fixtures_sim import wait_until
+
+CORRIDOR = (2.0, 6.0, 0.0)  # facing along the demo floor's 20 m corridor
+
+
+class Wire:
+    """Every /cmd_vel message the bridge forwards, with its arrival time."""
+
+    def __init__(self, ros: Any, topic: str = "/cmd_vel") -> None:
+        import roslibpy
+
+        self.got: list[tuple[float, float, float]] = []
+        self._lock = threading.Lock()
+        self.topic = roslibpy.Topic(ros, topic, "geometry_msgs/Twist")
+        self.topic.subscribe(self._on)
+
+    def _on(self, msg: dict[str, Any]) -> None:
+        with self._lock:
+            self.got.append((time.monotonic(), msg["linear"]["x"], msg["angular"]["z"]))
+
+    def since(self, t: float) -> list[tuple[float, float, float]]:
+        with self._lock:
+            return [m for m in self.got if m[0] >= t]
+
+
+@pytest.fixture
+def chair(sim_factory: Callable[..., Any], link_factory: Callable[[Any], Any], ros_factory: Callable[..., Any]) -> Any:
+    sim = sim_factory(grid=demo_grid(), start_pose=CORRIDOR)
+    link = link_factory(sim)
+    link.start_streams()
+    assert wait_until(lambda: link.latest_odom() is not None, 10.0)
+    wire = Wire(ros_factory(sim))
+    time.sleep(0.3)  # the listener's subscription reaches the bridge
+    return sim, link, wire
+
+
+def page_message(seq: int, press: int, t_ms: float, y: float = 1.0, held: bool = True) -> str:
+    return json.dumps(
+        {"page": "t", "seq": seq, "press": press, "t": t_ms, "x": 0.0, "y": y, "held": held, "hidden": False}
+    )
+
+
+def test_the_stick_drives_the_chair_and_release_stops_it_within_half_a_second(chair: Any) -> None:
+    sim, link, wire = chair
+    x0 = sim.pose[0]
+    with DriveSession(link, SpeedLimits()) as session:
+        t0 = time.monotonic()
+        seq = 0
+        while time.monotonic() - t0 < 1.5:  # the page's keepalives, every 100 ms
+            seq += 1
+            session.feed(page_message(seq, 1, (time.monotonic() - t0) * 1000.0))
+            time.sleep(0.1)
+        assert sim.velocity[0] == pytest.approx(0.5, abs=0.01)
+        released = time.monotonic()
+        session.feed(page_message(seq + 1, 1, (released - t0) * 1000.0, held=False))
+        assert wait_until(lambda: sim.velocity == (0.0, 0.0), 2.0)
+        stopped = time.monotonic() - released
+        time.sleep(0.5)
+    assert stopped <= 0.5, f"the chair stopped {stopped:.3f} s after release"
+    assert sim.pose[0] - x0 > 0.5
+    sent = wire.since(t0)
+    rates = [m for m in sent if m[0] < released]
+    assert 10 <= len(rates) / 1.5 <= 21, f"{len(rates)} commands in 1.5 s"
+    # release: one zero, then silence (commands published just before the release are still in flight)
+    assert sent[-1][1:] == (0.0, 0.0) and [m[1:] for m in sent].count((0.0, 0.0)) == 1
+    assert all(m[0] < released + 0.1 for m in sent[:-1])
+    assert session.gate.last_stop is StopReason.RELEASED
+
+
+def test_missing_keepalives_stop_the_chair_by_the_dashboard_not_its_timeout(chair: Any) -> None:
+    sim, link, wire = chair
+    stops: list[StopReason] = []
+    with DriveSession(link, on_stop=stops.append) as session:
+        t0 = time.monotonic()
+        session.feed(page_message(1, 1, 0.0))
+        assert wait_until(lambda: sim.velocity[0] > 0.4, 1.0)
+        assert wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)  # nothing more from the page
+        silent_for = time.monotonic() - t0
+    time.sleep(0.3)  # the listener's copy of the zero may still be on its way
+    assert silent_for < 0.5
+    zeros = [m for m in wire.since(t0) if (m[1], m[2]) == (0.0, 0.0)]
+    assert len(zeros) == 1 and stops == [StopReason.KEEPALIVE]
+
+
+def test_a_stale_link_stops_with_one_zero(chair: Any) -> None:
+    sim, link, wire = chair
+    with DriveSession(link) as session:
+        t0 = time.monotonic()
+        session.push(0.3, 0.0)
+        assert wait_until(lambda: sim.velocity[0] > 0.2, 1.0)
+        sim.pause()  # no more odometry: the link goes stale
+        try:
+            assert wait_until(lambda: not session.push(0.3, 0.0), 1.0, 0.05)
+            paused_at = time.monotonic()
+            time.sleep(0.3)
+        finally:
+            sim.resume()
+        assert session.gate.last_stop is StopReason.LINK
+    sent = wire.since(t0)
+    assert sent[-1][1:] == (0.0, 0.0) and sent[-1][0] <= paused_at + 0.1
+    assert all(m[0] < paused_at for m in sent[:-1])
+
+
+def test_drive_for_from_python_respects_the_limits_and_the_topic(chair: Any, ros_factory: Any) -> None:
+    sim, link, wire = chair
+    other = Wire(ros_factory(sim), "/wheelchair/cmd_vel")
+    time.sleep(0.3)
+    x0 = sim.pose[0]
+    assert drive_for(link, 5.0, 0.0, 1.0, limits=SpeedLimits(max_linear=0.3)) is None
+    assert max(v for _, v, _ in wire.got) == pytest.approx(0.3)
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)
+    assert 0.2 < sim.pose[0] - x0 < 0.45
+    assert drive_for(link, 0.2, 0.0, 0.3, topic="/wheelchair/cmd_vel") is None
+    assert wait_until(lambda: len(other.got) >= 4, 1.0) and other.got[-1][1:] == (0.0, 0.0)

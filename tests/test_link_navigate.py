@@ -1,0 +1,122 @@
+"""Goals through ChairLink.navigate_to with the real roslibpy client against the simulator.
+
+Every route: Nav2 NavigateToPose (ROS 2), move_base actionlib (ROS 1), the goal topic with progress
+from the pose (a chair without action servers), and waypoints. Arrive, abort on an unreachable
+goal, reject off the map, cancel (the chair stops).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from pmk_nb.chair.link.navigate import GoalProgress, GoalStatus, NavigationError, detect_route
+from tests.fixtures_sim import wait_until
+
+START = (1.0, 6.0, 0.0)  # the demo floor's corridor (y 5..7)
+GOAL = (6.0, 6.0, 0.0)
+TABLE = (2.5, 1.5, 0.0)  # inside the table in the first room: no path
+ROUTES = [("ros2", True, "nav2"), ("ros1", True, "actionlib"), ("ros1", False, "topic"), ("ros2", False, "topic")]
+
+
+def _chair(sim_factory, link_factory, ros: str, actions: bool = True):
+    sim = sim_factory(ros=ros, start_pose=START, nav_actions=actions)
+    link = link_factory(sim)
+    return sim, link
+
+
+@pytest.mark.parametrize(("ros", "actions", "kind"), ROUTES)
+def test_a_goal_arrives_by_the_detected_route(sim_factory, link_factory, ros: str, actions: bool, kind: str) -> None:
+    sim, link = _chair(sim_factory, link_factory, ros, actions)
+    assert detect_route(link).kind == kind
+    handle = link.navigate_to(*GOAL)
+    seen: list[GoalProgress] = []
+    handle.on_update(seen.append)
+    final = handle.wait(30.0)
+    assert final.status is GoalStatus.ARRIVED, final
+    assert math.dist(sim.pose[:2], GOAL[:2]) < 0.3
+    assert final.remaining_m is not None and final.remaining_m < 0.3
+    assert final.message.startswith(detect_route(link).label)
+    assert GoalStatus.MOVING in {p.status for p in seen}
+    # the distance left falls while moving
+    left = [p.remaining_m for p in seen if p.status is GoalStatus.MOVING and p.remaining_m is not None]
+    assert left and left[0] > left[-1] + 2.0
+
+
+@pytest.mark.parametrize(("ros", "actions", "kind"), ROUTES)
+def test_cancel_stops_the_chair(sim_factory, link_factory, ros: str, actions: bool, kind: str) -> None:
+    sim, link = _chair(sim_factory, link_factory, ros, actions)
+    handle = link.navigate_to(12.0, 6.0, 0.0)
+    assert wait_until(lambda: handle.progress().status is GoalStatus.MOVING and sim.velocity[0] > 0.1, 10.0)
+    handle.cancel()
+    final = handle.wait(3.0)
+    assert final.status is GoalStatus.CANCELLED, final
+    assert wait_until(lambda: abs(sim.velocity[0]) < 1e-6, 1.0)
+    x = sim.pose[0]
+    assert wait_until(lambda: False, 0.6) is False and abs(sim.pose[0] - x) < 0.02  # and stays stopped
+    assert sim.pose[0] < 11.0
+
+
+@pytest.mark.parametrize("ros", ["ros1", "ros2"])
+def test_an_unreachable_goal_is_aborted(sim_factory, link_factory, ros: str) -> None:
+    sim, link = _chair(sim_factory, link_factory, ros)
+    final = link.navigate_to(*TABLE).wait(15.0)
+    assert final.status is GoalStatus.ABORTED, final
+    assert "no path" in final.message
+    assert sim.velocity == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("ros", ["ros1", "ros2"])
+def test_a_goal_off_the_map_is_rejected(sim_factory, link_factory, ros: str) -> None:
+    _, link = _chair(sim_factory, link_factory, ros)
+    final = link.navigate_to(250.0, 6.0, 0.0).wait(5.0)
+    assert final.status is GoalStatus.REJECTED, final
+    assert "outside the map" in final.message
+
+
+@pytest.mark.parametrize(("ros", "actions"), [("ros2", True), ("ros1", True)])
+def test_waypoints_are_passed_in_order(sim_factory, link_factory, ros: str, actions: bool) -> None:
+    sim, link = _chair(sim_factory, link_factory, ros, actions)
+    # into the first room across the corridor and out again, then along the corridor
+    handle = link.navigate_to(8.0, 6.0, 0.0, waypoints=[(3.0, 9.0)])
+    assert ("NavigateThroughPoses" in handle.progress().message) == (ros == "ros2")
+    visited = []
+    handle.on_update(lambda p: visited.append(sim.pose[1]))
+    final = handle.wait(60.0)
+    assert final.status is GoalStatus.ARRIVED, final
+    assert max(visited) > 8.0  # went through the room at y = 9
+    assert math.dist(sim.pose[:2], (8.0, 6.0)) < 0.3
+
+
+def test_navigate_needs_a_connection(sim_factory) -> None:
+    from pmk_nb.chair.link.client import ChairLink
+
+    sim = sim_factory()
+    link = ChairLink("127.0.0.1", sim.port)
+    with pytest.raises(NavigationError) as err:
+        link.navigate_to(*GOAL)
+    assert err.value.port == sim.port
+
+
+def test_a_nav2_goal_is_aborted_when_the_link_drops(sim_factory, link_factory) -> None:
+    sim, link = _chair(sim_factory, link_factory, "ros2")
+    handle = link.navigate_to(12.0, 6.0, 0.0)
+    assert wait_until(lambda: handle.progress().status is GoalStatus.MOVING, 10.0)
+    sim.disconnect_clients()
+    final = handle.wait(3.0)
+    assert final.status is GoalStatus.ABORTED and "link to the chair dropped" in final.message
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)  # the sim cancelled the gone client's goal
+
+
+def test_cancel_between_waypoints_stops_the_legs(sim_factory, link_factory) -> None:
+    sim, link = _chair(sim_factory, link_factory, "ros1")  # actionlib: waypoints go one after another
+    handle = link.navigate_to(12.0, 6.0, 0.0, waypoints=[(4.0, 6.0), (8.0, 6.0)])
+    assert "one by one" in handle.progress().message
+    assert wait_until(lambda: sim.pose[0] > 2.0, 15.0)
+    handle.cancel()
+    final = handle.wait(3.0)
+    assert final.status is GoalStatus.CANCELLED, final
+    assert "leg 1/3" in final.message
+    x = sim.pose[0]
+    assert wait_until(lambda: False, 1.5) is False and abs(sim.pose[0] - x) < 0.02  # no next leg started

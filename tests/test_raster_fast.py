@@ -1,0 +1,147 @@
+"""The fast paths of the rasteriser give the same cells as the plain per-shape rules they replace."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import LineString, box
+
+from pmk_nb.grid import new_cells
+from pmk_nb.raster.scanline import (
+    Frame,
+    axis_line_rects,
+    fill_polygon,
+    fill_segment_bands,
+    line_segments,
+    polygons_of,
+    supercover_cells,
+    write_rects,
+)
+from pmk_nb.raster.spans import fill_polygons
+from pmk_nb.raster.wallcut import wall_segments
+from pmk_nb.raster.walls import wall_lines
+
+FRAME = Frame(-0.15, -0.35, 0.05, 260, 240)
+
+
+def _shapes(rng: np.random.Generator) -> list[shapely.Geometry]:
+    out: list[shapely.Geometry] = []
+    for _ in range(40):
+        x, y = rng.uniform(0, 10, 2)
+        w, h = rng.uniform(0.02, 3, 2)
+        kind = rng.integers(3)
+        if kind == 0:
+            out.append(box(x, y, x + w, y + h))  # an axis-aligned box: the rectangle path
+        elif kind == 1:
+            out.append(shapely.affinity.rotate(box(x, y, x + w, y + h), float(rng.uniform(0, 90))))
+        else:  # a box with a hole, and a concave polygon: the general scan
+            out.append(box(x, y, x + w + 1, y + h + 1).difference(box(x + 0.3, y + 0.3, x + w, y + h)))
+    out.append(box(0.125, 0.125, 2.125, 2.125))  # edges exactly half a cell off the centres
+    out.append(box(-5, -5, 0.5, 0.5))  # partly outside the frame
+    return out
+
+
+def _reference(shapes: list[shapely.Geometry]) -> np.ndarray:
+    grid = np.zeros((FRAME.height, FRAME.width), np.int8)
+
+    def op(block: np.ndarray, mask: np.ndarray) -> None:
+        block[mask] = 1
+
+    for g in shapes:
+        for p in polygons_of(g):
+            fill_polygon(grid, FRAME, p, op)
+    return grid
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_fill_polygons_matches_the_per_polygon_scan(seed: int) -> None:
+    shapes = _shapes(np.random.default_rng(seed))
+    fast = np.zeros((FRAME.height, FRAME.width), np.int8)
+    fill_polygons(fast, FRAME, shapes, 1)
+    ref = _reference(shapes)
+    assert ref.sum() > 1000
+    assert np.array_equal(fast, ref)
+
+
+def test_fill_polygons_spares_keep_values() -> None:
+    grid = np.zeros((FRAME.height, FRAME.width), np.int8)
+    grid[100:110, :] = 7
+    fill_polygons(grid, FRAME, [box(0, 0, 10, 10)], 1, keep=(7,))
+    assert (grid[100:110] == 7).all() and (grid[50, 50] == 1)
+
+
+def test_axis_lines_match_the_supercover() -> None:
+    rng = np.random.default_rng(3)
+    pts = np.round(rng.uniform(-1, 12, (300, 2)), 2)  # on and off grid lines
+    ends = pts + np.where(rng.random((300, 1)) < 0.5, [[1, 0]], [[0, 1]]) * rng.uniform(-3, 3, (300, 1))
+    segs = np.hstack([pts, ends])
+    segs[:5, 2:] = segs[:5, :2]  # zero-length segments too
+    ref = np.zeros((FRAME.height, FRAME.width), np.int8)
+    rows, cols = supercover_cells(segs, FRAME)
+    ref[rows, cols] = 1
+    axis, rest, rects = axis_line_rects(segs, FRAME)
+    assert axis.all() and len(rest) == 0
+    fast = np.zeros_like(ref)
+    write_rects(fast, *rects, 1)
+    assert ref.sum() > 500
+    assert np.array_equal(fast, ref)
+
+
+def test_axis_bands_match_the_per_row_rule() -> None:
+    rng = np.random.default_rng(4)
+    pts = np.round(rng.uniform(0, 11, (200, 2)), 3)
+    ends = pts + np.where(rng.random((200, 1)) < 0.5, [[1, 0]], [[0, 1]]) * rng.uniform(-3, 3, (200, 1))
+    segs = np.hstack([pts, ends])
+    fast = np.zeros((FRAME.height, FRAME.width), np.int8)
+    fill_segment_bands(fast, FRAME, segs, 0.05, 1)
+    ref = np.zeros_like(fast)
+    nudged = segs + np.array([0, 0, 1e-12, 1e-12])  # not axis-aligned: the per-row path
+    fill_segment_bands(ref, FRAME, nudged, 0.05, 1)
+    assert np.abs(fast.astype(int) - ref).sum() <= 2 * len(segs)  # same band up to the nudge at its ends
+    assert fast.sum() > 1000
+
+
+def test_wall_segments_match_the_geos_cuts() -> None:
+    rooms = [box(i * 4, j * 4, (i + 1) * 4, (j + 1) * 4) for i in range(3) for j in range(3)]
+    rooms.append(shapely.affinity.rotate(box(13, 1, 16, 3), 30))
+    doors = [LineString([(4, 1.5), (4, 2.4)]), LineString([(1, 4), (1.9, 4)]), LineString([(8, 9), (8, 9.7)])]
+    doors.append(LineString([(4, 5), (4, 5.5), (4.3, 5.5)]))  # a bent door line: the GEOS path
+    door_polys = [box(5, 7.9, 5.9, 8.1)]
+    gaps = np.array([0.0, 0.1, 0.0, 0.0])
+    fast = wall_segments(rooms, door_polys, doors, gaps, 0.0125)
+    ref = line_segments(wall_lines(rooms, door_polys, doors, gaps, 0.0125))
+    a, b = (np.zeros((FRAME.height, FRAME.width), np.int8) for _ in range(2))
+    fill_segment_bands(a, FRAME, fast, 0.05, 1)
+    fill_segment_bands(b, FRAME, ref, 0.05, 1)
+    assert np.array_equal(a, b)
+    assert b.sum() > 1000
+
+
+def test_new_cells_is_filled_writable_and_c_contiguous() -> None:
+    for h, w in ((10, 20), (6000, 6000)):  # numpy's allocator, then an anonymous mapping
+        cells = new_cells(h, w, -1)
+        assert cells.shape == (h, w) and cells.dtype == np.int8 and cells.flags.c_contiguous
+        assert cells.flags.writeable and (cells == -1).all()
+        cells[0, 0] = 5
+        assert cells[0, 0] == 5
+
+
+def test_strip_erosion_and_run_labels_match_the_whole_grid_ones() -> None:
+    from pmk_nb.access.pixels import erode, erode_rows, regions, run_regions
+
+    rng = np.random.default_rng(5)
+    mask = rng.random((203, 157)) < 0.8
+    mask[50:60, :] = True
+    owner = (np.arange(157)[None, :] // 40 + np.arange(203)[:, None] // 70).astype(np.int16)
+    sizes = []
+    for radius in (0.0, 1.5, 3.2):
+        whole = erode(mask, radius)
+        strips = list(erode_rows(lambda lo, hi: mask[lo:hi], 203, 157, radius, step=17))
+        assert np.array_equal(np.vstack([s for _, s in strips]), whole)
+        labels, owners, edges = regions(whole, owner)
+        got, got_owner, got_edges = run_regions(((a, s, owner[a : a + len(s)]) for a, s in strips), 157)
+        assert np.array_equal(got, np.unique(labels[labels > 0]))
+        assert np.array_equal(got_owner[got], owners[got]) and np.array_equal(got_edges, edges)
+        sizes.append((len(got), len(got_edges)))
+    assert max(sizes) > (10, 5)  # enough regions and touching pairs to mean something

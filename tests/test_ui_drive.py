@@ -1,0 +1,135 @@
+"""Driving settings (profile + Settings screen) and Home's drive panel, without a browser.
+
+The panel is driven through its widgets exactly as the page does (the hidden channel's value),
+against the real simulator and link.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.drive import StopReason
+from pmk_nb.errors import SettingsError
+from pmk_nb.sim.demo import demo_grid
+from pmk_nb.ui.context import AppContext
+from pmk_nb.ui.drive_panel import DrivePanel, limits_of
+from pmk_nb.ui.settings_screen import SettingsScreen
+from tests.fixtures_sim import wait_until
+from tests.helpers import app_context
+
+
+@pytest.fixture
+def ctx(tmp_path: Path) -> Iterator[AppContext]:
+    with app_context(tmp_path) as context:
+        yield context
+
+
+def test_profile_has_drive_defaults_and_refuses_wild_speeds() -> None:
+    profile = ChairProfile(name="a", host="127.0.0.1")
+    assert (profile.cmd_vel_topic, profile.max_linear, profile.max_angular) == ("/cmd_vel", 0.5, 0.8)
+    assert limits_of(profile).scale(slow=True) == pytest.approx((0.2, 0.32))
+    for field, value in (("max_linear", 5.0), ("max_angular", 0), ("slow_factor", 1.5), ("cmd_vel_topic", "cmd")):
+        with pytest.raises(SettingsError) as err:
+            ChairProfile(name="a", host="127.0.0.1", **{field: value}).validate()
+        assert err.value.field == field
+    old = {"name": "old", "host": "127.0.0.1"}  # a profile saved before driving existed still loads
+    assert ChairProfile.from_dict(old).max_linear == 0.5
+
+
+def test_settings_edit_speed_limits_and_topic(ctx: AppContext) -> None:
+    screen = SettingsScreen(ctx)
+    for key, value in {"name": "Chair A", "host": "127.0.0.1", "ssh_user": "pmk"}.items():
+        screen.fields[key].value = value
+    assert screen.fields["max_linear"].value == "0.5"
+    screen.fields["max_linear"].value = "fast"
+    screen.save_button.click()
+    assert "a number" in screen.errors["max_linear"].value and "Not saved" in screen.message.value
+    screen.fields["max_linear"].value = "3"
+    screen.save_button.click()
+    assert "at most 2" in screen.errors["max_linear"].value
+    screen.fields["max_linear"].value = "0,3"  # a decimal comma is what a tablet's keyboard gives
+    screen.fields["slow_factor"].value = "0.25"
+    screen.fields["cmd_vel_topic"].value = "/wheelchair/cmd_vel"
+    screen.save_button.click()
+    saved = ctx.profiles.get("Chair A")
+    assert (saved.max_linear, saved.slow_factor, saved.cmd_vel_topic) == (0.3, 0.25, "/wheelchair/cmd_vel")
+    assert SettingsScreen(ctx).fields["max_linear"].value == "0.3"
+
+
+def page(seq: int, press: int, held: bool = True, **kw: Any) -> str:
+    msg = {"page": "ui", "seq": seq, "press": press, "t": time.monotonic() * 1000.0, "x": 0.0, "y": 1.0}
+    return json.dumps({**msg, "held": held, "hidden": False, **kw})
+
+
+def test_drive_panel_drives_the_chair_through_its_channel(sim_factory: Any, link_factory: Any) -> None:
+    sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0))
+    link = link_factory(sim)
+    link.start_streams()
+    assert wait_until(lambda: link.latest_odom() is not None, 10.0)
+    stops: list[StopReason] = []
+    panel = DrivePanel(on_stop=stops.append)
+    assert panel.widget.layout.display == "none"
+    profile = ChairProfile(name="sim", host="127.0.0.1", port=sim.port, max_linear=0.3)
+    session = panel.attach(link, profile)
+    assert panel.widget.layout.display == "flex" and len(panel.page.outputs) == 1
+    assert "pmk-drive-channel" in panel.page.outputs[0]["data"]["text/html"]
+    panel.channel.value = "{not json"  # a page can send anything: ignored, counted
+    panel.channel.value = page(1, 1, x=9.0)
+    assert session.invalid == 2 and sim.velocity == (0.0, 0.0)
+    for seq in range(2, 10):
+        panel.channel.value = page(seq, 1)
+        time.sleep(0.1)
+    assert sim.velocity[0] == pytest.approx(0.3, abs=0.01)
+    panel.refresh()
+    assert "Driving" in panel.status.value
+    panel.slow.value = True
+    panel.channel.value = page(10, 1)
+    assert wait_until(lambda: sim.velocity[0] == pytest.approx(0.12, abs=0.01), 1.0)
+    panel.stop_button.click()
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 0.5)
+    panel.channel.value = page(11, 1)  # the finger is still down: that press is over
+    time.sleep(0.2)
+    assert sim.velocity == (0.0, 0.0)
+    panel.refresh()
+    assert "Stopped" in panel.status.value and stops == [StopReason.STOP_BUTTON]
+    panel.channel.value = page(12, 2)  # a new press drives, and hiding the panel stops it
+    assert wait_until(lambda: sim.velocity[0] > 0.05, 1.0)
+    panel.detach()
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 0.5)
+    assert panel.widget.layout.display == "none"
+
+
+def test_the_drive_toggle_shows_the_stick_only_when_asked_and_stops_when_switched_off(
+    sim_factory: Any, link_factory: Any
+) -> None:
+    sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0))
+    link = link_factory(sim)
+    link.start_streams()
+    assert wait_until(lambda: link.latest_odom() is not None, 10.0)
+    panel = DrivePanel()
+    assert panel.toggle.layout.display == "none"  # no preview, no link: nothing to switch on
+    panel.toggle.value = True  # a page can set the trait anyway: no link, so nothing drives
+    assert panel.session is None and panel.widget.layout.display == "none"
+    panel.toggle.value = False
+    panel.offer(link, ChairProfile(name="sim", host="127.0.0.1", port=sim.port, max_linear=0.3))
+    assert panel.toggle.layout.display == "" and panel.session is None  # offered, but off
+    assert panel.widget.layout.display == "none"
+    panel.toggle.value = True
+    assert panel.session is not None and panel.widget.layout.display == "flex"
+    for seq in range(1, 6):
+        panel.channel.value = page(seq, 1)
+        time.sleep(0.1)
+    assert sim.velocity[0] == pytest.approx(0.3, abs=0.01)
+    panel.toggle.value = False  # switching Drive off while driving stops the chair
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 0.5)
+    assert panel.session is None and panel.widget.layout.display == "none"
+    panel.toggle.value = True
+    panel.offer(None, None)  # the preview stops: Drive goes off and hides
+    assert panel.toggle.value is False and panel.toggle.layout.display == "none" and panel.session is None

@@ -1,0 +1,118 @@
+"""Tap-to-go without a browser: the picker's pixel -> goal maths, the gesture mode, the panel's texts
+and a goal sent through the panel to the real simulated chair (real ChairLink, real roslibpy)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from pmk_nb.chair.link.navigate import GoalProgress, GoalStatus
+from pmk_nb.ui.goal_panel import GoalPanel, status_html
+from pmk_nb.ui.goal_picker import GoalPicker, goal_from_pixels
+from pmk_nb.ui.live_view import LiveView
+from pmk_nb.viewport import Viewport
+from tests.fixtures_sim import wait_until
+from tests.test_ui_live import sample_grid
+
+
+def _view() -> Viewport:
+    return Viewport(300, 200, 0.05, (-1.0, -2.0), 600, 400)  # 2 px per cell, the whole map
+
+
+def test_a_drag_gives_the_heading_and_a_tap_faces_away_from_the_chair() -> None:
+    view = _view()
+    x, y = (float(v) for v in view.pixel_to_world(300.0, 200.0))
+    right = goal_from_pixels(view, (300.0, 200.0), (360.0, 200.0))
+    up = goal_from_pixels(view, (300.0, 200.0), (300.0, 140.0))
+    assert right is not None and up is not None
+    assert right[:2] == pytest.approx((x, y))
+    assert right[2] == pytest.approx(0.0, abs=1e-9)  # screen right is +x
+    assert up[2] == pytest.approx(math.pi / 2)  # screen up is +y (image rows grow downwards)
+    tap = goal_from_pixels(view, (300.0, 200.0), (305.0, 203.0), chair=(x - 1.0, y - 1.0))
+    assert tap is not None and tap[2] == pytest.approx(math.pi / 4)
+    assert goal_from_pixels(view, (math.nan, 1.0), (2.0, 3.0)) is None
+
+
+def test_picker_ignores_garbage_and_sends_one_goal_per_gesture() -> None:
+    view = _view()
+    goals: list[tuple[float, float, float]] = []
+    picker = GoalPicker(lambda: view, lambda: None, goals.append)
+    picker.release(None)  # no press: nothing
+    picker.move((10.0, 10.0))
+    assert goals == [] and picker.preview() is None
+    picker.press((300.0, 200.0))
+    picker.move(None)
+    picker.move((300.0, 260.0))
+    assert picker.preview() is not None and picker.preview()[2] == pytest.approx(-math.pi / 2)
+    picker.release(None)  # the mouse left the canvas: the last point counts
+    assert len(goals) == 1 and goals[0][2] == pytest.approx(-math.pi / 2)
+    picker.release((1.0, 1.0))
+    assert len(goals) == 1
+    no_map = GoalPicker(lambda: None, lambda: None, goals.append)
+    no_map.press((1.0, 1.0))
+    no_map.release((1.0, 1.0))
+    assert len(goals) == 1
+
+
+def test_destination_mode_takes_the_drag_from_the_pan() -> None:
+    live = LiveView(600, 400)
+    live.set_map(sample_grid())
+    panel = GoalPanel(live)
+    sent: list[tuple[float, float, float]] = []
+    panel.picker._on_goal = sent.append  # record instead of sending
+    panel.attach(object())
+    g = live.gestures
+    live.set_zoom(3)  # zoomed in, so a pan can move the view
+    before = live.viewport.center
+    panel.toggle.value = True
+    assert g.picker is panel.picker
+    g.on_touch_end(None)  # nothing pressed: nothing sent
+    g.on_mouse_up("?", [])
+    assert sent == []
+    g.on_mouse_down(300, 200)
+    g.on_mouse_move("x", None)  # garbage from the page is ignored
+    g.on_touch("not a list")  # ignored, the gesture goes on
+    g.on_touch([[1, "y"]])
+    g.on_mouse_move(340, 200)
+    g.on_mouse_up(340, 200)
+    assert live.viewport.center == before  # no pan
+    assert len(sent) == 1 and sent[0][2] == pytest.approx(0.0, abs=1e-9)
+    panel.toggle.value = False
+    assert g.picker is None
+    g.on_touch([[100, 100]])
+    g.on_touch([[150, 100]])
+    assert live.viewport.center != before  # panning again
+    panel.attach(None)
+    assert panel.toggle.disabled
+
+
+def test_status_words_and_remaining_distance() -> None:
+    assert "Set destination" in status_html(None, None)
+    goal = (1.0, 2.0, 0.0)
+    assert "sending" in status_html(goal, None)
+    progress = GoalProgress(GoalStatus.MOVING, goal, 3.25, "Nav2 NavigateToPose (/navigate_to_pose)")
+    text = status_html(goal, progress)
+    assert "moving" in text and "3.2 m to go" in text and "(1.00, 2.00)" in text
+    assert "&lt;b&gt;" in status_html(goal, GoalProgress(GoalStatus.ABORTED, goal, None, "<b>")), "escaped"
+
+
+@pytest.mark.parametrize("ros", ["ros1", "ros2"])
+def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: str) -> None:
+    sim = sim_factory(ros=ros, start_pose=(1.0, 6.0, 0.0))
+    link = link_factory(sim)
+    live = LiveView(600, 400)
+    live.set_map(sim.grid)
+    panel = GoalPanel(live)
+    panel.attach(link)
+    panel.send((12.0, 6.0, 0.0))
+    assert panel.overlay.goal == (12.0, 6.0, 0.0)
+    assert wait_until(lambda: panel.handle is not None and panel.handle.progress().status is GoalStatus.MOVING, 10.0)
+    panel.refresh()
+    assert panel.cancel_button.layout.display == ""
+    panel.cancel()
+    assert panel.handle.wait(3.0).status is GoalStatus.CANCELLED
+    assert wait_until(lambda: sim.velocity[0] == 0.0, 1.0)
+    panel.refresh()
+    assert "cancelled" in panel.status.value and panel.cancel_button.layout.display == "none"
+    assert panel.overlay.goal is None
