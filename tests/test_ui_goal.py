@@ -104,8 +104,11 @@ def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: s
     live = LiveView(600, 400)
     live.set_map(sim.grid)
     panel = GoalPanel(live)
+    said: list[tuple[str, str]] = []
+    panel.speak = said.append
     panel.attach(link)
     panel.send((12.0, 6.0, 0.0))
+    assert said == [("goal", "Going to the destination.")]
     assert panel.overlay.goal == (12.0, 6.0, 0.0)
     assert wait_until(lambda: panel.handle is not None and panel.handle.progress().status is GoalStatus.MOVING, 10.0)
     panel.refresh()
@@ -116,3 +119,13 @@ def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: s
     panel.refresh()
     assert "cancelled" in panel.status.value and panel.cancel_button.layout.display == "none"
     assert panel.overlay.goal is None
+    panel.refresh()  # the ending is said once, not at every refresh
+    assert said[1:] == [("stop", "Stopped, goal cancelled.")]
+
+
+def test_how_a_tapped_goal_ends_is_said_in_words() -> None:
+    from pmk_nb.ui.goal_panel import _ending
+
+    assert _ending(GoalStatus.ARRIVED)[1] == "Arrived at the destination."
+    assert _ending(GoalStatus.CANCELLED)[1] == "Stopped, goal cancelled."
+    assert _ending(GoalStatus.ABORTED)[1] == _ending(GoalStatus.REJECTED)[1] == "Could not reach the destination."

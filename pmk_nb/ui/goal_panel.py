@@ -16,7 +16,9 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
+from pmk_nb.chair.link.navigate import GoalStatus
 from pmk_nb.errors import PmkError
+from pmk_nb.speech import phrases
 from pmk_nb.ui.goal_picker import Goal, GoalOverlay, GoalPicker
 from pmk_nb.ui.widgets import TOUCH_PX, button, escape
 
@@ -48,6 +50,9 @@ class GoalPanel:
     def __init__(self, live: LiveView, *, on_error: Callable[[str], None] | None = None) -> None:
         self.live = live
         self.on_error = on_error
+        # spoken feedback (Home wires it to the rooms guide's phrase queue): a (key, text) phrase
+        self.speak: Callable[[tuple[str, str]], None] | None = None
+        self._spoken: GoalHandle | None = None  # the handle whose ending was said
         self.link: Any = None
         self.handle: GoalHandle | None = None
         self.goal: Goal | None = None
@@ -96,6 +101,7 @@ class GoalPanel:
             return
         self.goal, self.handle, self._note = goal, None, ""
         self.overlay.set_goal(goal)
+        self._say(phrases.destination_set("the destination"))
         threading.Thread(target=self._send, args=(link, goal), daemon=True, name="pmk-goal-send").start()
         self.refresh()
 
@@ -132,3 +138,19 @@ class GoalPanel:
         self.cancel_button.layout.display = "" if active else "none"
         if progress is not None and progress.done and self.overlay.goal is not None:
             self.overlay.set_goal(None)  # the arrow goes; the text says how it ended
+        if progress is not None and progress.done and handle is not self._spoken:
+            self._spoken = handle
+            self._say(_ending(progress.status))
+
+    def _say(self, phrase: tuple[str, str]) -> None:
+        if self.speak is not None:
+            self.speak(phrase)
+
+
+def _ending(status: GoalStatus) -> tuple[str, str]:
+    """What is said when a tapped destination's goal ends."""
+    if status is GoalStatus.ARRIVED:
+        return phrases.arrived("the destination")
+    if status is GoalStatus.CANCELLED:
+        return phrases.stopped("cancel")
+    return phrases.goal_failed("the destination")

@@ -103,6 +103,7 @@ class HomeScreen:
         self.ui.widget.children = (*self.ui.widget.children, self.rooms.panel.widget, self.rooms.speech.widget)
         # tap-to-go (pmk_nb/ui/goal_panel.py): Set destination, the goal's status, Cancel; under the map
         self.goal = GoalPanel(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
+        self.goal.speak = self.rooms.speech.say  # "Going to the destination.", "Arrived at …"
         # the joystick, Stop and Slow (pmk_nb/ui/drive_panel.py): over the map while Drive is on
         self.drive = DrivePanel()
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
