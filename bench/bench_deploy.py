@@ -94,17 +94,8 @@ def real_stack_rows(sizes: tuple[int, ...], repeats: int, work: Path) -> list[tu
             link.connect(timeout=10.0)
             try:
                 for service in ("/map_server/load_map", "/map_update"):
-                    profile = ChairProfile(
-                        name="bench-real",
-                        host="127.0.0.1",
-                        port=chair.port,
-                        ssh_user=server.user,
-                        ssh_port=server.port,
-                        auth="key",
-                        key_file=str(server.client_key),
-                        known_hosts=str(work / "kh3"),
-                        remote_maps_dir=remote,
-                        reload_service=service,
+                    profile = openssh_profile(
+                        server, work / "kh3", remote, name="bench-real", port=chair.port, reload_service=service
                     )
                     for size in sizes:
                         print(f"real stack {service} {size}x{size} ...", flush=True)
@@ -116,6 +107,14 @@ def real_stack_rows(sizes: tuple[int, ...], repeats: int, work: Path) -> list[tu
             chair.stop()
             shutil.rmtree(server.home / remote.split("/")[1] / remote.split("/")[2], ignore_errors=True)
     return rows
+
+
+def openssh_profile(server: Any, folder: Path, remote: str, **kw: object) -> ChairProfile:
+    """The tests' key-auth profile for this sshd (its known_hosts in ``folder``)."""
+    from tests.fixtures_ssh import profile_for
+
+    folder.mkdir(parents=True, exist_ok=True)
+    return profile_for(server, folder, remote, **kw)
 
 
 @contextlib.contextmanager
@@ -152,17 +151,7 @@ def sim_rows(sizes: tuple[int, ...], repeats: int, work: Path, notes: list[str])
         try:
             with openssh() as server:
                 remote = f"~/pmk-bench/{uuid.uuid4().hex[:8]}/ALMA_MAPS"
-                real = ChairProfile(
-                    name="bench-openssh",
-                    host="127.0.0.1",
-                    port=sim.port,
-                    ssh_user=server.user,
-                    ssh_port=server.port,
-                    auth="key",
-                    key_file=str(server.client_key),
-                    known_hosts=str(work / "kh2"),
-                    remote_maps_dir=remote,
-                )
+                real = openssh_profile(server, work / "kh2", remote, name="bench-openssh", port=sim.port)
                 try:
                     for size in sizes:
                         print(f"OpenSSH {size}x{size} ...", flush=True)

@@ -2,8 +2,9 @@
 
 Runs with the system Python that has Debian's ``python3-rospy`` (``/usr/bin/python3``), not the
 project's venv: it imports only the standard library, rospy, Debian's message packages and the
-project's pure map store (numpy, yaml, PIL), found through ``PYTHONPATH``. Same store and reader as
-the ROS 2 node (:mod:`pmk_nb.robot.mapstore`), so both publish exactly what the dashboard previewed.
+project's pure map store (numpy, yaml, PIL), found through ``PYTHONPATH``. Same store, reader and
+metadata filling as the ROS 2 node (:mod:`pmk_nb.robot.mapstore`, ``mapserver.fill_info``, whose
+module imports rclpy only when that node runs), so both publish exactly what the dashboard previewed.
 
 Topics ``/map`` and ``/map_metadata`` (latched). Services:
 
@@ -22,13 +23,13 @@ Run: ``PYTHONPATH=<checkout> /usr/bin/python3 -m pmk_nb.robot.ros1_mapserver --m
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import threading
 import types
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.robot.mapserver import fill_info  # rclpy is imported there only when the ROS 2 node runs
 from pmk_nb.robot.mapstore import DEFAULT_MAPS, UNDEFINED_FAILURE, LoadedMap, MapStore
 
 READY_LINE = "pmk robot map-server --ros1: ready"
@@ -59,17 +60,6 @@ def generate_srv(name: str, package: str = "map_server_pmk") -> Any:
     sys.modules[module.__name__] = module  # genpy's classes look their module up when pickled / printed
     exec(compile(code, f"<genpy {package}/{name}>", "exec"), module.__dict__)  # genpy's output
     return getattr(module, name)
-
-
-def fill_info(info: Any, loaded: LoadedMap, stamp: Any) -> None:
-    """nav_msgs/MapMetaData: load time, size, resolution, origin (yaw as a quaternion)."""
-    grid = loaded.grid
-    info.map_load_time = stamp
-    info.resolution = float(grid.resolution)
-    info.width, info.height = grid.width, grid.height
-    ox, oy, oth = grid.origin
-    info.origin.position.x, info.origin.position.y = float(ox), float(oy)
-    info.origin.orientation.z, info.origin.orientation.w = math.sin(oth / 2.0), math.cos(oth / 2.0)
 
 
 def grid_msg(loaded: LoadedMap, stamp: Any, *, numpy_cells: bool) -> Any:

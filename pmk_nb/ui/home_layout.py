@@ -11,25 +11,19 @@ from __future__ import annotations
 
 import ipywidgets as w
 
-from pmk_nb.ui.widgets import TOUCH_PX, button, heading
-
-
-def _html(css_class: str) -> w.HTML:
-    item = w.HTML("")
-    item.add_class(css_class)
-    return item
+from pmk_nb.ui.widgets import TOUCH_PX, button, heading, html_slot
 
 
 class HomeInfoPanel:
     """The Home screen's part of the information panel: map, state, position, speed, zoom."""
 
     def __init__(self) -> None:
-        self.map = _html("pmk-home-info-map")
-        self.state = _html("pmk-home-info-state")
-        self.pos = _html("pmk-home-info-pos")
-        self.speed = _html("pmk-home-info-speed")
-        self.zoom = _html("pmk-home-info-zoom")
-        self.laser = _html("pmk-home-info-laser")
+        self.map = html_slot("pmk-home-info-map")
+        self.state = html_slot("pmk-home-info-state")
+        self.pos = html_slot("pmk-home-info-pos")
+        self.speed = html_slot("pmk-home-info-speed")
+        self.zoom = html_slot("pmk-home-info-zoom")
+        self.laser = html_slot("pmk-home-info-laser")
         self.widget = w.VBox([self.map, self.state, self.pos, self.speed, self.zoom, self.laser])
         self.widget.add_class("pmk-home-info")
 
@@ -45,11 +39,11 @@ class HomeLayout:
     def __init__(self, canvas: w.DOMWidget, live_tools: w.DOMWidget | None = None) -> None:
         self.canvas = canvas
         self.live_tools = live_tools
-        self.map_label = _html("pmk-home-map")
-        self.map_note = _html("pmk-home-map-note")
-        self.chair_note = _html("pmk-home-chair-note")
-        self.warning = _html("pmk-home-warning")
-        self.status = _html("pmk-home-status")
+        self.map_label = html_slot("pmk-home-map")
+        self.map_note = html_slot("pmk-home-map-note")
+        self.chair_note = html_slot("pmk-home-chair-note")
+        self.warning = html_slot("pmk-home-warning")
+        self.status = html_slot("pmk-home-status")
         self.preview_button = button("Preview", "pmk-home-preview", icon="play", style="success")
         # not red and not "Disconnect": it stops only this page's preview, never the chair (a red
         # square reads as an emergency stop, which it is not)

@@ -8,23 +8,17 @@ from __future__ import annotations
 
 import ipywidgets as w
 
-from pmk_nb.ui.widgets import TOUCH_PX, button, escape
+from pmk_nb.ui.widgets import TOUCH_PX, button, escape, heading, html_slot
 
 HERE_PREFIX = "You are in:"
-
-
-def _html(css_class: str) -> w.HTML:
-    item = w.HTML("")
-    item.add_class(css_class)
-    return item
 
 
 class RoomsPanel:
     """``here`` goes in the info panel; ``widget`` (the Go to… box) under the map."""
 
     def __init__(self) -> None:
-        self.here = _html("pmk-rooms-here")
-        self.title = w.HTML("<div class='pmk-heading'>Go to…</div>")
+        self.here = html_slot("pmk-rooms-here")
+        self.title = heading("Go to…")
         self.search = w.Text(
             value="",
             placeholder="Search rooms",
@@ -36,8 +30,8 @@ class RoomsPanel:
         self.list.add_class("pmk-rooms-list")
         self.go_button = button("Go", "pmk-rooms-go", icon="location-arrow", style="primary")
         self.cancel_button = button("Cancel", "pmk-rooms-cancel", icon="times", tooltip="Cancel the goal")
-        self.status = _html("pmk-rooms-status")
-        self.note = _html("pmk-rooms-note")
+        self.status = html_slot("pmk-rooms-status")
+        self.note = html_slot("pmk-rooms-note")
         row = w.HBox([self.go_button, self.cancel_button])
         row.add_class("pmk-row")
         self.widget = w.VBox([self.title, self.note, self.search, self.list, row, self.status])

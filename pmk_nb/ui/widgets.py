@@ -94,6 +94,13 @@ def escape(value: object) -> str:
     return html.escape(str(value), quote=True)
 
 
+def html_slot(css_class: str) -> w.HTML:
+    """An empty HTML widget whose CSS class the style sheet and the browser tests find it by."""
+    item = w.HTML("")
+    item.add_class(css_class)
+    return item
+
+
 def field_error() -> w.HTML:
     """An (initially empty) error line shown under a form field."""
     err = w.HTML("")

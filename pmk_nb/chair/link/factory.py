@@ -21,6 +21,8 @@ from typing import Any
 
 from roslibpy.comm.comm_asyncio import AsyncioEventLoopManager, AsyncioRosBridgeClientFactory
 
+from pmk_nb.chair.link.backoff import set_backoff, set_pings
+
 
 class LinkFactory(AsyncioRosBridgeClientFactory):
     """roslibpy's asyncio factory on a private loop, with link-specific reconnect backoff."""
@@ -36,24 +38,10 @@ class LinkFactory(AsyncioRosBridgeClientFactory):
         ping_timeout: float,
     ) -> None:
         self.link_manager = manager
-        # Instance attributes shadow the class-wide roslibpy defaults (1 s x 2.7 up to an hour),
-        # which would leave a chair that rebooted disconnected for minutes. Set before the
-        # constructor, which derives the first reconnect delay from them.
-        self.initialDelay = initial_delay
-        self.maxDelay = max_delay
-        self.factor = 2.0
-        self.jitter = 0.1
+        # set before the constructor, which derives the first reconnect delay from them
+        set_backoff(self, initial_delay, max_delay)
         super().__init__(url, loop=manager.loop)
-        # Websocket pings notice half-open sockets (chair left the Wi-Fi) that TCP would keep
-        # "open" for many minutes; rosbridge itself never tells. Each ping must get its pong:
-        # autobahn's "any traffic counts" mode logs a warning for every late pong while streaming.
-        self.setProtocolOptions(
-            closeHandshakeTimeout=1,
-            openHandshakeTimeout=max(2.0, ping_timeout),
-            autoPingInterval=ping_interval,
-            autoPingTimeout=ping_timeout,
-            autoPingRestartOnAnyTraffic=False,
-        )
+        set_pings(self, ping_interval, ping_timeout)
 
     @property  # type: ignore[override]
     def _manager(self) -> AsyncioEventLoopManager:

@@ -19,6 +19,8 @@ from typing import Any
 from roslibpy.comm.comm_autobahn import AutobahnRosBridgeClientFactory, TwistedEventLoopManager
 from twisted.internet import reactor
 
+from pmk_nb.chair.link.backoff import set_backoff, set_pings
+
 
 class TwistedLinkFactory(AutobahnRosBridgeClientFactory):
     """roslibpy's Twisted factory with the link's reconnect backoff and websocket pings."""
@@ -35,18 +37,9 @@ class TwistedLinkFactory(AutobahnRosBridgeClientFactory):
     ) -> None:
         super().__init__(url)
         self._manager = manager
-        # instance attributes: roslibpy's class-wide setters would change every other client too
-        self.initialDelay = self.delay = initial_delay
-        self.maxDelay = max_delay
-        self.factor = 2.0
-        self.jitter = 0.1
-        self.setProtocolOptions(
-            closeHandshakeTimeout=1,
-            openHandshakeTimeout=max(2.0, ping_timeout),
-            autoPingInterval=ping_interval,
-            autoPingTimeout=ping_timeout,
-            autoPingRestartOnAnyTraffic=False,
-        )
+        set_backoff(self, initial_delay, max_delay)
+        self.delay = initial_delay  # Twisted's ReconnectingClientFactory already set it from its default
+        set_pings(self, ping_interval, ping_timeout)
 
     def stop_reconnecting(self) -> None:
         """No further reconnect attempts (Twisted's public ``stopTrying``), on the reactor thread."""
