@@ -12,11 +12,12 @@ errors :class:`UnknownRoom` and :class:`NoAccessibleRoute`.
 
 from pmk_nb.guide.goal import goal_in_room
 from pmk_nb.guide.rooms import Room, RoomsMap, load_rooms
-from pmk_nb.guide.route import NoAccessibleRoute, NotOnMap, Route, RouteError, UnknownRoom, plan_route
+from pmk_nb.guide.route import NoAccessibleRoute, NoGraph, NotOnMap, Route, RouteError, UnknownRoom, plan_route
 from pmk_nb.guide.visit import chair_xy, go_to
 
 __all__ = [
     "NoAccessibleRoute",
+    "NoGraph",
     "NotOnMap",
     "Room",
     "RoomsMap",

@@ -45,6 +45,22 @@ class NoAccessibleRoute(RouteError):
         self.chair_width = chair_width
 
 
+class NoGraph(RouteError):
+    """The building plan gives no navigation graph on this storey (States but no Transitions, as in
+    some editors' exports): rooms can be named but no route planned between them.
+
+    Attributes:
+        room: the destination's name.
+    """
+
+    def __init__(self, room: str) -> None:
+        super().__init__(
+            f"no route to {room}: the building plan has no navigation graph (no transitions) on this storey",
+            hint="Tap the destination on the map instead (Set destination): the chair's own planner finds the way.",
+        )
+        self.room = room
+
+
 class NotOnMap(RouteError):
     """The chair's position is in no room of this storey (off the map, or the map is not this one).
 

@@ -45,8 +45,18 @@ class Room:
 
     @property
     def is_destination(self) -> bool:
-        """A place to go to: free and not a door (doors are passed through, not visited)."""
-        return self.kind.is_free and not self.kind.is_door
+        """A place to go to: free, not a door, and not a doorway drawn as a space (FZK-Haus models its
+        doorways as navigable cells 0.24 m deep): doors and doorways are passed through, not visited."""
+        return (
+            self.kind.is_free
+            and not self.kind.is_door
+            and not shapely.buffer(self.polygon, -MIN_ROOM_WIDTH / 2).is_empty
+        )
+
+
+#: the narrowest cell offered as a destination (m): thinner cells are doorways or wall niches; a room
+#: too small for a wider chair is still offered, and says why when chosen
+MIN_ROOM_WIDTH = 0.5
 
 
 def _norm(text: str) -> str:

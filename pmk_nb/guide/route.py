@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from pmk_nb.access import DEFAULT_CHAIR_WIDTH
-from pmk_nb.guide.errors import NoAccessibleRoute, NotOnMap, RouteError, UnknownRoom
+from pmk_nb.guide.errors import NoAccessibleRoute, NoGraph, NotOnMap, RouteError, UnknownRoom
 from pmk_nb.guide.goal import goal_in_room
 
 if TYPE_CHECKING:
@@ -149,6 +149,7 @@ def plan_route(
         UnknownRoom: no room by that name.
         NotOnMap: the chair is in no room of this storey.
         NoAccessibleRoute: only passages too narrow for the chair lead there (they are named), or none.
+        NoGraph: the plan gives no navigation graph on this storey.
         RouteError: the room has no free spot the chair fits in.
     """
     dest = destination if not isinstance(destination, str) else rooms.room(destination)
@@ -156,6 +157,8 @@ def plan_route(
     if start is None:
         raise NotOnMap(*start_xy)
     report = rooms.access(chair_width)
+    if not report.graph and start.id != dest.id:
+        raise NoGraph(dest.label)
     checks = {k.link: k for k in report.links}
     steps = [] if start.id == dest.id else _walk(rooms, start, start_xy, dest, {k: c.chair for k, c in checks.items()})
     if steps is None:

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from pmk_nb.access.sidecar import sidecar_path
 from pmk_nb.errors import PmkError
-from pmk_nb.guide import NoAccessibleRoute, RoomsMap, go_to, load_rooms
+from pmk_nb.guide import NoAccessibleRoute, NoGraph, RoomsMap, go_to, load_rooms
 from pmk_nb.speech import phrases
 from pmk_nb.ui.live_rooms_layer import RoomsOverlay
 from pmk_nb.ui.rooms_panel import RoomsPanel
@@ -110,10 +110,11 @@ class RoomsGuide:
         self.cancel()
         try:
             route, handle = go_to(self.link, self.rooms, name, self.chair_width)
-        except NoAccessibleRoute as err:
+        except (NoAccessibleRoute, NoGraph) as err:
             self.overlay.clear_route()
             self.panel.say(str(err), "error")
-            self.speech.say(phrases.route_blocked(err.room, [n for n, _ in err.narrow]))
+            narrow = err.narrow if isinstance(err, NoAccessibleRoute) else []
+            self.speech.say(phrases.route_blocked(err.room, [n for n, _ in narrow]))
             return None
         self.route, self.handle, self._status = route, handle, None
         self.overlay.set_route(route.points, route.goal[:2])
