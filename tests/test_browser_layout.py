@@ -37,7 +37,8 @@ PHONE_MAX = 600
 MIN_TOUCH = 44
 #: What each screen must show, whatever the size.
 MUST_SHOW = {
-    "home": ["button.pmk-home-disconnect", "button.pmk-home-zoom-in", "button.pmk-home-zoom-out", ".pmk-home-sensors"],
+    "home": ["button.pmk-home-disconnect", "button.pmk-home-zoom-in", "button.pmk-home-zoom-out", ".pmk-home-sensors",
+             ".pmk-drive-toggle", "button.pmk-drive-stop", ".pmk-drive-pad", ".pmk-drive-slow", ".pmk-goal-set"],
     "maps": [".pmk-maps-list select", "button.pmk-maps-refresh", ".pmk-maps-import", ".pmk-maps-resolution input",
              "button.pmk-maps-convert", "button.pmk-maps-send"],
     "settings": [".pmk-settings-name input", ".pmk-settings-host input", ".pmk-settings-auth",
@@ -70,6 +71,9 @@ def _open(page: Any, screen: str) -> None:
         expect(page.locator("button.pmk-maps-send").first).to_be_visible(timeout=30_000)
     elif screen == "home":
         expect(page.locator("button.pmk-home-disconnect")).to_be_visible(timeout=30_000)
+        if page.locator("button.pmk-drive-stop").is_hidden():  # Drive on: the joystick is measured too
+            page.locator(".pmk-drive-toggle").click()
+        expect(page.locator("button.pmk-drive-stop")).to_be_visible(timeout=30_000)
     else:
         expect(page.locator("button.pmk-settings-save")).to_be_visible(timeout=30_000)
     time.sleep(0.7)  # the canvas and the lists settle after the screen swap
@@ -99,6 +103,14 @@ def _reachable(page: Any, selector: str, height: int) -> str | None:
     box = item.bounding_box()
     if box is None or box["y"] < -0.5 or box["y"] + box["height"] > height + 0.5:
         return f"{selector} cannot be scrolled into the window ({box})"
+    # what a finger at its centre touches: another element drawn over it, or a parent that clips it
+    on_top = item.evaluate(
+        "(el) => { const r = el.getBoundingClientRect();"
+        " const hit = document.elementFromPoint(r.x + r.width / 2, r.y + r.height / 2);"
+        " return hit !== null && (el.contains(hit) || hit.contains(el)); }"
+    )
+    if not on_top:
+        return f"{selector} is covered or clipped at its centre"
     return None
 
 

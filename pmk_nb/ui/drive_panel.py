@@ -76,6 +76,7 @@ class DrivePanel:
         self.slow.observe(self._on_slow, names="value")
         self.status = w.HTML(READY)
         self.status.add_class("pmk-drive-status")
+        self.status.layout = w.Layout(max_width="180px")  # wraps under Stop and Slow (an inline style wins)
         self.page = w.Output(layout=w.Layout(display="none"))
         self.page.add_class("pmk-drive-page")
         self._page_shown = False
