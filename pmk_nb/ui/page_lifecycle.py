@@ -199,7 +199,9 @@ def reload_script() -> str:
     tickAt = now;
     var el = document.querySelector('.{PONG_CLASS}');
     var text = el ? el.textContent : last;  // gone with a dead kernel's widgets: as stale as unchanged
-    if (text !== last) {{ if (last !== null) changes++; last = text; pongAt = now; return; }}
+    // a pong other than the first "0" proves a kernel answered, even when this script started late
+    // (a loaded tablet) and never saw the "0": such a page that then sleeps must reload on waking
+    if (text !== last) {{ if (last !== null || text !== '0') changes++; last = text; pongAt = now; return; }}
     if (changes === 0 || document.visibilityState !== 'visible' || !navigator.onLine) return;
     var wokeUnanswered = earlier.length === 0 && wokeAt > pongAt && now - wokeAt > {WAKE_GRACE_MS};
     if (wokeUnanswered || now - pongAt > staleAfter) reload();
