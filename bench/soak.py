@@ -128,6 +128,22 @@ class Page:
             print(f"reload failed: {str(err).splitlines()[0]}", flush=True)
 
 
+def _log_page_watch(n: int) -> Any:
+    def on_console(msg: Any) -> None:
+        if "pmk page watch" in msg.text:
+            print(f"page {n}: {msg.text}", flush=True)
+
+    return on_console
+
+
+def _log_navigation(n: int) -> Any:
+    def on_nav(frame: Any) -> None:
+        if frame.parent_frame is None:
+            print(f"page {n}: navigated at {time.strftime('%X')}", flush=True)
+
+    return on_nav
+
+
 def sample(voila: Any, sim_pid: int, ros_port: int, t: float, series: dict[str, Series]) -> str:
     import psutil
 
@@ -200,6 +216,8 @@ def run(minutes: float, n_pages: int, seed: int) -> tuple[dict[str, Series], lis
                     for i in range(n_pages):  # one after the other, like tablets switched on
                         page = browser.new_context(viewport=VIEWPORT).new_page()
                         page.add_init_script(FRAME_COUNTER_JS)
+                        page.on("console", _log_page_watch(i + 1))
+                        page.on("framenavigated", _log_navigation(i + 1))
                         page.goto(url, wait_until="commit", timeout=PAGE_LOAD_MS)
                         with contextlib.suppress(Exception):  # a slow page still counts (fewer frames)
                             page.wait_for_selector(".pmk-home-info-state", timeout=OPEN_WAIT_MS)

@@ -272,3 +272,59 @@ def test_unit_conflict_shows_before_conversion(tmp_path: Path) -> None:
     assert "--unit" in shown and "20 m" in shown
     ok = storeys_of(read_building(_plan(tmp_path, _solid("A", (0, 0, 6, 4), 0, 2.8))))
     assert unit_warning(ok) == ""
+
+
+def _poly_cell(cid: str, pts: list[tuple[float, float]], angle: float = 0.0) -> str:
+    """A cell of any outline, turned by ``angle`` degrees about the origin (walls off the grid's axes)."""
+    import math
+
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    ring = " ".join(f"{x * c - y * s:.6f} {x * s + y * c:.6f}" for x, y in [*pts, pts[0]])
+    return _cell(cid, (0, 0, 1, 1)).replace(_ring(0, 0, 1, 1), ring)
+
+
+@pytest.mark.parametrize("angle", [0.0, 15.0], ids=["square", "turned-15deg"])
+def test_a_door_in_a_wall_niche_keeps_its_width(tmp_path: Path, angle: float) -> None:
+    """FJK-Haus draws a door as the two rooms reaching into a 0.2 m wall until they touch over 0.78 m:
+    the jambs' wall bands must not narrow it below the door width less a cell, so a 0.70 m chair passes."""
+    a = [(0, 0), (5, 0), (5, 1.5), (5.1, 1.5), (5.1, 2.28), (5, 2.28), (5, 4), (0, 4)]
+    b = [(5.2, 0), (10, 0), (10, 4), (5.2, 4), (5.2, 2.28), (5.1, 2.28), (5.1, 1.5), (5.2, 1.5)]
+    cells = _poly_cell("A", a, angle) + _poly_cell("B", b, angle)
+    line = "2.5 1.9 7.5 1.9" if angle == 0 else None
+    path = _plan(tmp_path, cells, _graph([("A", "B")], {0: line} if line else None))
+    _, _, report = _grid_and_report(path)
+    [k] = report.links
+    assert k.width == pytest.approx(0.78, abs=0.03)
+    assert k.free_width >= 0.78 - RES - 1e-6, k
+    assert k.chair and report.ok, report.summary()
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_linked_cells_apart_get_a_passage_across_the_gap(tmp_path: Path, v2: bool) -> None:
+    """pnu_abc links stair cells 1.5 m from their corridor with nothing drawn between: the graph decides."""
+    rooms = _cell("A", (0, 0, 5, 4)) + _cell("B", (6.5, 0, 11.5, 4))
+    graph = _graph([("A", "B")], {0: "2.5 2.0 9.0 2.0"}, v2=v2)
+    b, grid, report = _grid_and_report(_plan(tmp_path, rooms, graph, v2=v2))
+    [o] = plan_openings(b, b.storeys[0].name).openings
+    assert o.rule == "bridge" and o.width == pytest.approx(0.9)
+    for x in (4.95, 5.75, 6.55):
+        assert grid.value_at(x, 2.0) == FREE
+    assert grid.value_at(5.75, 2.0 + 0.45 + RES / 2) == OCCUPIED  # walled along both sides
+    assert grid.value_at(5.75, 2.0 - 0.45 - RES / 2) == OCCUPIED
+    assert grid.value_at(5.75, 3.5) != FREE  # the rest of the gap is not opened
+    assert report.ok and report.links[0].rule == "bridge", report.summary()
+
+
+def test_no_passage_through_a_cell_in_the_gap(tmp_path: Path) -> None:
+    rooms = _cell("A", (0, 0, 5, 4)) + _cell("B", (6.5, 0, 11.5, 4)) + _cell("C", (5.2, 1.0, 6.3, 3.0))
+    b, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "B")], {0: "2.5 2.0 9.0 2.0"})))
+    assert [o.rule for o in plan_openings(b, b.storeys[0].name).openings] == ["apart"]
+    assert not report.ok and "do not touch" in report.blocked[0].describe()
+
+
+def test_a_way_through_a_door_cell_between_two_linked_rooms_counts(tmp_path: Path) -> None:
+    """A file may link two rooms directly and also through the door cell between them (pnu_abc's restrooms)."""
+    door = _cell("D", (5, 1, 5.2, 2.2), "navi:ConnectionSpace")
+    rooms = _cell("A", (0, 0, 5, 4)) + door + _cell("B", (5.2, 0, 10, 4))
+    _, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B"), ("A", "B")])))
+    assert report.counts()["passable_chair"] == 3 and report.ok and report.leaks == [], report.summary()

@@ -15,7 +15,7 @@ def test_maps_screen_shows_the_accessibility_report(tmp_path: Path) -> None:
     with serve_kiosk(tmp_path, label="access") as (url, world):
         maps = MapsFolder(world.maps_dir)
         entry = maps.import_file(INDOORGML_DATA / "pnu_abc_3floors_4layers.gml", "pnu_abc")
-        maps.convert(entry.name, 0.1)
+        maps.convert(entry.name, 0.1, chair_width=1.2)  # a wide chair: a passage on every storey is too narrow
         with chromium_page(url, viewport=VIEWPORT) as page:
             expect(page.locator("button.pmk-nav-maps")).to_be_visible(timeout=120_000)
             page.locator("button.pmk-nav-maps").click()
@@ -25,8 +25,8 @@ def test_maps_screen_shows_the_accessibility_report(tmp_path: Path) -> None:
             select.select_option(index=next(i for i, t in enumerate(labels) if t.startswith("pnu_abc")))
             panel = page.locator(".pmk-access")
             expect(panel).to_contain_text("Wheelchair access", timeout=30_000)
-            expect(panel).to_contain_text("fourth floor north restroom")  # blocked, by its room names
-            expect(panel).to_contain_text("the rooms do not touch")
+            expect(panel).to_contain_text("fourth Floor South Stair")  # blocked, by its room names
+            expect(panel).to_contain_text("narrower than the chair")
             expect(panel).to_contain_text("Size warning")
             previews = page.locator(".pmk-access-preview")
             expect(previews.first).to_be_visible()

@@ -82,24 +82,60 @@ def test_the_pin_is_stored_salted_and_hashed_and_checked(tmp_path: Path) -> None
         pins.check("4711")
 
 
+def _ticking(watch: object, now: list[float], seconds: float) -> bool:
+    """Advance the fake clock ``seconds`` in the watchdog's own 1 s steps, checking at each: True once gone."""
+    for _ in range(round(seconds)):
+        now[0] += 1.0
+        if watch.check():  # type: ignore[attr-defined]
+            return True
+    return False
+
+
 def test_the_page_watchdog_closes_the_app_when_pings_stop() -> None:
     from pmk_nb.ui.page_lifecycle import FIRST_PING_WITHIN, PAGE_GONE_AFTER, PageWatch
 
     now = [0.0]
     closed: list[bool] = []
     watch = PageWatch(lambda: closed.append(True), clock=lambda: now[0])
-    now[0] = 3.0
-    assert not watch.check() and watch.play.playing  # no ping yet: start the page's timer
+    assert not _ticking(watch, now, 3) and watch.play.playing  # no ping yet: start the page's timer
     watch.play.value = 1  # a ping from the page
     assert watch.pong.value == "1"
-    now[0] += PAGE_GONE_AFTER - 1
-    assert not watch.check() and not closed
-    now[0] += 2
-    assert watch.check() and closed == [True]
+    assert not _ticking(watch, now, PAGE_GONE_AFTER - 1) and not closed
+    assert _ticking(watch, now, 2) and closed == [True]
     assert watch.check() and closed == [True]  # once
     never = PageWatch(lambda: closed.append(False), clock=lambda: now[0])
-    now[0] += FIRST_PING_WITHIN + 1
-    assert never.check() and closed[-1] is False
+    assert _ticking(never, now, FIRST_PING_WITHIN + 1) and closed[-1] is False
+
+
+def test_a_slow_page_or_a_starved_kernel_is_not_taken_for_gone() -> None:
+    """On a loaded server, late pings made kernels end under live pages, which reloaded: a storm."""
+    from pmk_nb.ui.page_lifecycle import MAX_PAGE_GONE_AFTER, PAGE_GONE_AFTER, PageWatch
+
+    now = [0.0]
+    closed: list[str] = []
+    watch = PageWatch(lambda: closed.append("slow"), clock=lambda: now[0])
+    for k in range(1, 4):  # pings 5 s apart: a slow page, not a gone one
+        assert not _ticking(watch, now, 5)
+        watch.play.value = k
+    assert watch.deadline(now[0]) == 15.0
+    assert not _ticking(watch, now, 14) and not closed
+    assert _ticking(watch, now, 2) and closed == ["slow"]
+    # one huge gap does not stretch the deadline past its cap
+    capped = PageWatch(lambda: None, clock=lambda: now[0])
+    capped.play.value = 1
+    _ticking(capped, now, 1)
+    now[0] += 0.5
+    capped._on_ping({})
+    capped._gaps.append((now[0], 60.0))
+    assert capped.deadline(now[0]) == MAX_PAGE_GONE_AFTER
+    # the kernel itself held up for 30 s (its pings still queued): that time does not count
+    starved = PageWatch(lambda: closed.append("starved"), clock=lambda: now[0])
+    starved.play.value = 1
+    _ticking(starved, now, 1)
+    now[0] += 30.0
+    assert not starved.check() and closed == ["slow"]
+    assert not _ticking(starved, now, PAGE_GONE_AFTER - 2) and closed == ["slow"]
+    assert _ticking(starved, now, 4) and closed == ["slow", "starved"]
 
 
 def test_a_voila_page_gets_frames_only_after_its_first_heartbeat(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -128,3 +164,24 @@ def test_the_page_gone_message_reaches_the_servers_iopub_listener() -> None:
     script = reload_script()
     for event in ("visibilitychange", "pageshow", "online", "resume"):
         assert f"'{event}'" in script  # waking up is noticed however the browser says it
+
+
+def test_frames_wait_while_the_page_lags_behind_the_kernels_output() -> None:
+    """Flow control: a pong the page has not acked for MAX_BEHIND s means frames are piling up."""
+    from pmk_nb.ui.page_lifecycle import MAX_BEHIND, PageWatch
+
+    now = [100.0]
+    watch = PageWatch(lambda: None, clock=lambda: now[0])
+    watch.play.value = 1
+    assert watch.behind(now[0]) == 0.0  # a page that never acked (no script yet) is not held back
+    watch.ack.value = "1"
+    assert watch.acked == 1
+    now[0] += 2.0
+    watch.play.value = 2  # pong 2 leaves now
+    assert watch.behind(now[0] + MAX_BEHIND - 0.1) <= MAX_BEHIND  # still on time
+    assert watch.behind(now[0] + MAX_BEHIND + 0.5) > MAX_BEHIND  # the page is behind: no frames
+    for bogus in ("abc", "999", "-1", "0", "1"):  # a page can set any value: only a new pong we sent counts
+        watch.ack.value = bogus
+        assert watch.acked == 1
+    watch.ack.value = "2"
+    assert watch.acked == 2 and watch.behind(now[0] + 10.0) == 0.0

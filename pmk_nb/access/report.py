@@ -9,8 +9,9 @@ For each storey, on the grid actually written, for a chair of a given width:
 * cells the graph joins to the storey but the chair cannot reach are *unreachable*;
 * two cells with no transition between them that are joined in the map (r = 0) *leak*.
 
-A path may only cross the two cells and the walls and gaps between cells (see :class:`_Regions`), so
-a way round through a third room, or through a door cell between them, does not count.
+A path may only cross the two cells, the walls and gaps between cells and the storey's door cells (a
+doorway drawn as a cell of its own is part of the wall, see :class:`_Regions`), so a way round through
+a third room does not count. A leak must join the two rooms without crossing a door cell.
 """
 
 from __future__ import annotations
@@ -133,8 +134,9 @@ class _Regions:
             self.next.setdefault(u, []).append(v)
             self.next.setdefault(v, []).append(u)
 
-    def joined(self, a: int, b: int) -> bool:
-        allowed = {a, b, 0}
+    def joined(self, a: int, b: int, via: frozenset[int] = frozenset()) -> bool:
+        """Whether a chain of regions owned by ``a``, ``b``, no cell or a cell of ``via`` joins them."""
+        allowed = {a, b, 0, *via}
         todo = list(self.by_owner.get(a, []))
         seen = set(todo)
         while todo:
@@ -154,9 +156,11 @@ def _owners(grid: OccupancyGrid, cells: list[Cell]) -> np.ndarray:
     frame = Frame(float(grid.origin[0]), float(grid.origin[1]), grid.resolution, grid.width, grid.height)
     kind = np.uint8 if len(cells) < 255 else np.int16 if len(cells) < 32767 else np.int32
     owner = np.zeros((grid.height, grid.width), dtype=kind)
-    # largest first, so a room drawn inside a hall's footprint keeps its own pixels
+    # largest first, so a room drawn inside a hall's footprint keeps its own pixels; a door cell also
+    # owns the half cell round it: the jamb pixels its openings clear are the doorway, not a leak
     for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
-        fill_polygons(owner, frame, [cell.footprint], i + 1)
+        shape = shapely.buffer(cell.footprint, grid.resolution / 2, join_style="mitre") if cell.kind.is_door else None
+        fill_polygons(owner, frame, [shape if shape is not None else cell.footprint], i + 1)
     return owner
 
 
@@ -183,14 +187,15 @@ def check_storey(
         return report
     by_id = {c.id: c for c in cells}
     index = {c.id: i + 1 for i, c in enumerate(cells)}
+    doors = frozenset(index[c.id] for c in cells if c.kind.is_door)
     owner = _owners(grid, cells)
     point = _Regions(_strips(grid, owner, 0.0), grid.width)
     chair = _Regions(_strips(grid, owner, disc_radius_px(chair_width / 2, grid.resolution)), grid.width)
     r = chair_width / 2
     for o in openings:
         a, b = index[o.link.a], index[o.link.b]
-        passes, wide = point.joined(a, b), free_width(grid, o.segments)
-        fits = chair.joined(a, b)
+        passes, wide = point.joined(a, b, doors), free_width(grid, o.segments)
+        fits = chair.joined(a, b, doors)
         if not fits and passes and any(shapely.buffer(by_id[c].footprint, -r).is_empty for c in (o.link.a, o.link.b)):
             fits = wide >= chair_width - grid.resolution  # a doorway or porch cell thinner than the chair
         report.links.append(

@@ -50,7 +50,8 @@ def connectivity(building: Any) -> dict[str, Any]:
 
 def format_connectivity(c: dict[str, Any]) -> list[str]:
     words = {"door": "door geometry", "line": "transition line", "corridor": "corridor (whole boundary)",
-             "middle": "middle of shared wall", "apart": "cells apart (cannot open)"}  # fmt: skip
+             "middle": "middle of shared wall", "bridge": "passage across a gap",
+             "apart": "cells apart (cannot open)"}  # fmt: skip
     rules = ", ".join(f"{n} by {words.get(k, k)}" for k, n in sorted(c["rules"].items())) or "none"
     lines = [
         f"  connectivity: {c['links_same_storey']} transitions within storeys, "

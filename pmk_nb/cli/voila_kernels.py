@@ -47,6 +47,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         self._had_page: set[str] = set()
         self._checker: PeriodicCallback | None = None
         self._gone_streams: dict[str, Any] = {}  # kernel id -> IOPub stream watched for PAGE_GONE_MSG
+        self._ending: dict[str, asyncio.Future[None]] = {}  # shutdowns under way (not awaited by the reaper)
 
     async def start_kernel(self, **kwargs: Any) -> str:  # type: ignore[override]
         kernel_id = await super().start_kernel(**kwargs)
@@ -73,7 +74,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
             except Exception:
                 return
             if msg_type == PAGE_GONE_MSG:
-                IOLoop.current().add_callback(self._end, kernel_id, "its page stopped answering", now=False)
+                IOLoop.current().add_callback(self._start_ending, kernel_id, "its page stopped answering")
 
         stream.on_recv(on_iopub, copy=False)
         self._gone_streams[kernel_id] = stream
@@ -104,12 +105,26 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         ]
 
     async def reap(self) -> None:
-        """Shut down the kernels whose page is gone."""
-        # at once: a graceful shutdown can take seconds each, and many pages may close together
-        await asyncio.gather(*(self._end(k, "its page is gone", now=False) for k in self.orphans(time.monotonic())))
+        """Start shutting down the kernels whose page is gone; returns at once.
+
+        A graceful shutdown takes seconds each on a loaded server, and the periodic reaper waits for
+        its callback: awaiting them here held every later page's kernel back (make soak: kernels left
+        30 s after their pages closed)."""
+        for kernel_id in self.orphans(time.monotonic()):
+            self._start_ending(kernel_id, "its page is gone")
         known = set(self._alone_since) | set(self._gone_streams)
-        for kernel_id in [k for k in known if k not in self]:  # shut down elsewhere (culled, API)
+        for kernel_id in [k for k in known if k not in self and k not in self._ending]:  # culled, API
             self._forget(kernel_id)
+
+    def _start_ending(self, kernel_id: str, why: str) -> None:
+        if kernel_id in self._ending:
+            return
+        task = asyncio.ensure_future(self._end(kernel_id, why, now=False))
+        self._ending[kernel_id] = task
+        task.add_done_callback(lambda _t: self._ended(kernel_id))
+
+    def _ended(self, kernel_id: str) -> None:
+        self._ending.pop(kernel_id, None)
 
     async def _end(self, kernel_id: str, why: str, *, now: bool) -> None:
         self._forget(kernel_id)
@@ -120,3 +135,4 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
             await self.shutdown_kernel(kernel_id, now=now)
         except Exception:  # a kernel that refuses to die must not stop the checker
             self.log.exception("shutting down kernel %s failed", kernel_id)
+

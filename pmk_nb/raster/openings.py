@@ -15,6 +15,11 @@ separates them, up to ``max_gap``), by the first rule with evidence:
    whole shared boundary;
 4. ``middle``: ``door_width`` at the middle of the longest run of the shared boundary.
 
+Two cells further apart than ``max_gap`` share no wall to open. When the space between them (at most
+:data:`MAX_BRIDGE` metres, along the transition's own line or else the shortest way) crosses no other
+cell, the graph still decides: rule ``bridge`` lays a ``door_width`` passage across the gap (a stair
+landing the file leaves out); otherwise the link stays ``apart`` and the report names it.
+
 The rasteriser clears wall cells (never obstacles, never outside) in each opening's rectangle after
 drawing the walls, so no wall band, supercover line or gap filling narrows it.
 """
@@ -37,9 +42,11 @@ if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
 
 DEFAULT_DOOR_WIDTH = 0.9  # metres
-RULES = ("door", "line", "corridor", "middle")
+RULES = ("door", "line", "corridor", "middle", "bridge")
+MAX_BRIDGE = 3.0  # metres: the widest gap between two linked cells that a passage is laid across
 _EVIDENCE_RANK = {"type": 0, "name": 0, "partial": 1, "duality": 2}
 _TOUCH = 0.02  # metres: cells closer than this share a face with no wall drawn between them
+_HOOK = 0.03  # metres: an end edge this short is the shared boundary's tolerance turning round a jamb
 _FULL = 0.95  # a dual face covering 95 % of the shared boundary is the wall itself, not a door
 
 
@@ -54,16 +61,33 @@ class Opening:
     gap: float  # metres between the two cells (0 when they touch)
     names: tuple[str, str]
     reaches: tuple[float, ...] = ()  # per segment: how far the other cell is from it (the local gap)
+    path: BaseGeometry | None = None  # rule "bridge": the passage's centre line, from cell to cell
 
     def polygons(self, reach: float, slack: float = 0.0) -> list[BaseGeometry]:
         """Rectangles to clear: each segment widened by its local gap plus ``reach`` on both sides, and
-        ``slack`` longer at each end (a cell, so rounding at the jambs never narrows the door)."""
+        ``slack`` longer at each end (a cell, so rounding at the jambs never narrows the door); for a
+        bridge, the passage ``width`` wide, ``reach`` into both cells."""
+        if self.path is not None:
+            return [shapely.buffer(_extend(self.path, reach), self.width / 2, cap_style="flat")]
         gaps = self.reaches or (self.gap,) * len(self.segments)
         out = [
-            shapely.buffer(_extend(s, slack), g + reach, cap_style="flat")
+            shapely.buffer(_extend(_unhooked(s), slack), g + reach, cap_style="flat")
             for s, g in zip(self.segments, gaps, strict=True)
         ]
         return [p for p in out if not p.is_empty]
+
+
+def _unhooked(line: BaseGeometry) -> BaseGeometry:
+    """``line`` without the short end edges that the shared-boundary tolerance picks up around a jamb:
+    a flat cap follows the last edge, so a hook of a centimetre would turn the cap and leave the
+    jamb's corner of the opening walled."""
+    xy = shapely.get_coordinates(line)
+    lo, hi = 0, len(xy) - 1
+    while hi - lo > 1 and float(((xy[lo + 1] - xy[lo]) ** 2).sum()) < _HOOK**2:
+        lo += 1
+    while hi - lo > 1 and float(((xy[hi] - xy[hi - 1]) ** 2).sum()) < _HOOK**2:
+        hi -= 1
+    return line if (lo, hi) == (0, len(xy) - 1) else shapely.LineString(xy[lo : hi + 1])
 
 
 def _extend(line: BaseGeometry, by: float) -> BaseGeometry:
@@ -185,7 +209,7 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
     gap = float(a.footprint.distance(b.footprint))
     shared = _shared(a, b, gap, ctx.tol) if gap <= ctx.max_gap else shapely.MultiLineString()
     if shared.is_empty:
-        return Opening(link, "apart", (), 0.0, gap, (_label(a), _label(b)))
+        return _bridge(link, a, b, gap, ctx) or Opening(link, "apart", (), 0.0, gap, (_label(a), _label(b)))
     runs = _runs(shared)
     if a.kind.is_door or b.kind.is_door:
         return _made(link, "door", runs, a, b, gap, ctx)
@@ -207,6 +231,35 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
     return _made(link, "middle", [_window(runs[0], runs[0].length / 2, ctx.door_width)], a, b, gap, ctx)
 
 
+def _bridge(link: Link, a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening | None:
+    """A door-wide passage across the gap between two linked cells, or None: too far, or another cell
+    lies in the way. Its segment is the passage's cross-section at the middle (where it is measured)."""
+    if gap > MAX_BRIDGE or gap <= 0:
+        return None
+    both = shapely.union(a.footprint, b.footprint)
+    path = None
+    if link.line is not None:
+        for piece in shapely.get_parts(shapely.difference(link.line, both)).tolist():
+            ends = [shapely.Point(xy) for xy in shapely.get_coordinates(piece)[[0, -1]]]
+            if piece.geom_type == "LineString" and all(
+                min(c.footprint.distance(e) for e in ends) <= ctx.tol for c in (a, b)
+            ):
+                path = piece
+                break
+    if path is None:
+        path = shapely.shortest_line(a.footprint, b.footprint)
+    lane = shapely.buffer(path, ctx.door_width / 2, cap_style="flat")
+    if any(shapely.intersection(lane, c).area > ctx.tol * ctx.door_width for c in ctx.others(a, b)):
+        return None
+    mid = path.interpolate(0.5, normalized=True)
+    xy = shapely.get_coordinates(path)
+    d = xy[-1] - xy[0]
+    n = float((d**2).sum() ** 0.5) or 1.0
+    half = [-d[1] / n * ctx.door_width / 2, d[0] / n * ctx.door_width / 2]
+    across = shapely.LineString([(mid.x - half[0], mid.y - half[1]), (mid.x + half[0], mid.y + half[1])])
+    return Opening(link, "bridge", (across,), ctx.door_width, gap, (_label(a), _label(b)), (0.0,), path)
+
+
 @dataclass(frozen=True)
 class _Context:
     doors: list[Boundary]
@@ -215,6 +268,10 @@ class _Context:
     max_gap: float
     tol: float
     walls_as_gaps: bool
+    cells: tuple[Cell, ...] = ()
+
+    def others(self, a: Cell, b: Cell) -> list[BaseGeometry]:
+        return [c.footprint for c in self.cells if c.id not in (a.id, b.id)]
 
 
 def plan_openings(
@@ -229,7 +286,7 @@ def plan_openings(
     virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
     gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
     walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
-    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps)
+    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, tuple(cells.values()))
     openings = [_opening(k, cells, ctx) for k in links]
     shut = _shut(doors, openings, cells, links, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door

@@ -147,13 +147,17 @@ def plan_storey(
     )
 
 
-def _draw_lines(grid: np.ndarray, frame: Frame, segments: np.ndarray, value: int, keep: tuple[int, ...]) -> None:
+def _draw_lines(
+    grid: np.ndarray, frame: Frame, segments: np.ndarray, value: int, keep: tuple[int, ...], *, axis: bool = True
+) -> None:
     """Write ``value`` on the supercover cells of ``segments`` (sparing ``keep`` cells), in batches of
-    segments that cross half a million cells at most, so memory stays bounded for any input."""
+    segments that cross half a million cells at most, so memory stays bounded for any input.
+    ``axis=False`` leaves the axis-aligned segments out (a wider band drawn over them holds their cells)."""
     if len(segments) == 0:
         return
     _, segments, rects = axis_line_rects(segments, frame)
-    write_rects(grid, *rects, value, keep)
+    if axis:
+        write_rects(grid, *rects, value, keep)
     if len(segments) == 0:
         return
     span = (np.abs(segments[:, 2] - segments[:, 0]) + np.abs(segments[:, 3] - segments[:, 1])) / frame.resolution
@@ -248,7 +252,8 @@ def _draw_walls(grid: np.ndarray, plan: _Plan, tick: _Ticker) -> np.ndarray:
     fill_polygons(grid, frame, [gap_fill], _WALL, keep=(FREE, OCCUPIED))
     segments = wall_segments(plan.rooms, plan.door_polys, plan.door_lines, gaps, tol)
     fill_segment_bands(grid, frame, segments, plan.half, _WALL, plan.spare)
-    _draw_lines(grid, frame, segments, _WALL, plan.spare)
+    # an axis-aligned band more than a cell wide already holds its line's supercover cells
+    _draw_lines(grid, frame, segments, _WALL, plan.spare, axis=plan.half <= res / 2 + 1e-9)
     tick()
     return gaps
 
@@ -266,8 +271,24 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     tick(len(plan.door_lines))
     _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach), FREE, plan.spare)
     # the graph's openings: wall cells only (never obstacles or outside), after every wall is drawn
-    polys = [poly for opening in plan.openings.openings for poly in opening.polygons(reach)]
+    walls = [o for o in plan.openings.openings if o.path is None]
+    polys = [poly for opening in walls for poly in opening.polygons(reach)]
     fill_polygons(grid, frame, polys, FREE, keep=(OCCUPIED, plan.outside_mark, FREE))
+    _lay_bridges(grid, plan, reach)
+
+
+def _lay_bridges(grid: np.ndarray, plan: _Plan, reach: float) -> None:
+    """Passages across gaps between linked cells (rule "bridge"): walls along both sides where the gap
+    is outside every cell, then the lane free (never over an obstacle)."""
+    bridges = [o for o in plan.openings.openings if o.path is not None]
+    if not bridges:
+        return
+    frame = plan.frame
+    side = [o.width / 2 + 0.75 * frame.resolution for o in bridges]
+    edges = [shapely.offset_curve(o.path, s * k) for o, s in zip(bridges, side, strict=True) for k in (-1, 1)]
+    segs, _ = segments_with_owner([e for e in edges if not e.is_empty])
+    _draw_lines(grid, frame, segs, _WALL, (FREE, OCCUPIED, _WALL))
+    fill_polygons(grid, frame, [p for o in bridges for p in o.polygons(reach)], FREE, keep=(OCCUPIED,))
 
 
 def _finish(grid: np.ndarray, outside_mark: int, tick: _Ticker) -> None:

@@ -39,6 +39,24 @@ def _door_rects(door_lines: list[Any], widths: np.ndarray) -> tuple[np.ndarray, 
     return rect, geo
 
 
+def _door_cuts(door_lines: list[Any], widths: np.ndarray, rect: np.ndarray, geo: np.ndarray) -> np.ndarray:
+    """Each door line's cut region: the flat-capped buffer, built in closed form for straight lines
+    (thousands of GEOS buffers were a tenth of a large storey's time)."""
+    arr = np.asarray(door_lines, dtype=object)
+    out = np.empty(len(arr), dtype=object)
+    if len(arr) == 0:
+        return out
+    p, u, length, w = geo[rect, 0:2], geo[rect, 2:4], geo[rect, 4:5], geo[rect, 5:6]
+    n = np.stack([-u[:, 1], u[:, 0]], axis=1)
+    q = p + u * length
+    ring = np.stack([p + n * w, q + n * w, q - n * w, p - n * w, p + n * w], axis=1)
+    out[rect] = shapely.polygons(ring)
+    other = ~rect
+    if other.any():
+        out[other] = shapely.buffer(arr[other], widths[other], cap_style="flat")
+    return out
+
+
 def _clip(segs: np.ndarray, geo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(t_in, t_out) of each segment inside its rectangle (t_in >= t_out: no overlap)."""
     p0, d = segs[:, 0:2], segs[:, 2:4] - segs[:, 0:2]
@@ -70,7 +88,9 @@ def _remaining(segs: np.ndarray, seg_of: np.ndarray, t_in: np.ndarray, t_out: np
     before = np.where(first, 0.0, np.r_[0.0, covered[:-1]])
     gap = t_in > before
     ends = np.flatnonzero(np.r_[seg_of[1:] != seg_of[:-1], len(seg_of) > 0])  # left after the last cut
-    untouched = np.setdiff1d(np.arange(len(segs)), seg_of)
+    hit = np.zeros(len(segs), dtype=bool)
+    hit[seg_of] = True
+    untouched = np.flatnonzero(~hit)
     pieces = [
         (seg_of[gap], before[gap], t_in[gap]),
         (seg_of[ends], covered[ends], np.ones(len(ends))),
@@ -99,12 +119,12 @@ def wall_segments(
     lines = shapely.boundary(room_arr) if len(room_arr) else np.empty(0, dtype=object)
     parts: list[np.ndarray] = []
     if len(lines):
+        rect, geo = _door_rects(door_lines, gaps + tol)
         cuts = np.concatenate([
             shapely.buffer(np.asarray(door_polys, dtype=object), tol),
-            shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat"),
+            _door_cuts(door_lines, gaps + tol, rect, geo),
         ])  # fmt: skip
         pairs = shapely.STRtree(cuts).query(lines, predicate="intersects") if len(cuts) else np.zeros((2, 0), int)
-        rect, geo = _door_rects(door_lines, gaps + tol)
         is_rect = np.concatenate([np.zeros(len(door_polys), dtype=bool), rect])
         geo = np.concatenate([np.zeros((len(door_polys), 6)), geo])
         slow = np.zeros(len(lines), dtype=bool)

@@ -101,7 +101,7 @@ class ImportPanel:
             path = Path(tmp) / Path(filename).name
             path.write_bytes(data)
             try:
-                entry = self.ctx.maps.import_file(path, name=name, overwrite=overwrite)
+                entry = self.ctx.maps.import_file(path, name=name, overwrite=overwrite, label=Path(filename).name)
             except AlreadyExists:
                 raise
             except LibraryError as err:

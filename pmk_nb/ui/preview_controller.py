@@ -15,12 +15,14 @@ from typing import TYPE_CHECKING
 
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.home_info import CONNECT_TIMEOUT, STOPPED, PreviewSnapshot, unreachable_text
+from pmk_nb.ui.page_lifecycle import page_seen
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.client import ChairLink
     from pmk_nb.chair.link.state import LinkState
 
 log = logging.getLogger(__name__)
+READY_POLL_S = 0.1
 
 
 class PreviewController:
@@ -30,11 +32,19 @@ class PreviewController:
         on_state: called (on the link's watchdog thread) when the link's state changes.
         on_unreachable: called (on the connect thread) with the user message when connecting
             failed for the link still in use.
+        ready: the chair is connected only once this says True: on a Voilà page, its first
+            heartbeat (a kernel whose page closed while loading never opens a chair connection).
     """
 
-    def __init__(self, on_state: Callable[[], None], on_unreachable: Callable[[str], None]) -> None:
+    def __init__(
+        self,
+        on_state: Callable[[], None],
+        on_unreachable: Callable[[str], None],
+        ready: Callable[[], bool] = page_seen,
+    ) -> None:
         self._on_state = on_state
         self._on_unreachable = on_unreachable
+        self._ready = ready
         self._lock = threading.RLock()
         self._link: ChairLink | None = None
         self._unsubscribe: Callable[[], None] | None = None
@@ -86,6 +96,11 @@ class PreviewController:
         self._on_state()
 
     def _connect(self, link: ChairLink) -> None:
+        while not self._ready():
+            with self._lock:
+                if self._link is not link:  # stopped (or the app closed) before the page came
+                    return
+            time.sleep(READY_POLL_S)
         try:
             link.connect(timeout=CONNECT_TIMEOUT)
             link.start_streams()

@@ -16,7 +16,7 @@ import threading
 import time
 from collections.abc import Callable
 
-from pmk_nb.ui.page_lifecycle import page_ready
+from pmk_nb.ui.page_lifecycle import page_can_draw
 
 log = logging.getLogger(__name__)
 
@@ -41,7 +41,7 @@ class RenderLoop:
         fps: frame-rate cap, clamped to 1..60.
         on_error: called with the exception when a step fails (e.g. to show it in the UI).
         max_errors: consecutive failing steps after which the loop stops itself.
-        ready: a tick draws only while this says True; default :func:`page_lifecycle.page_ready`
+        ready: a tick draws only while this says True; default :func:`page_lifecycle.page_can_draw`
             (on a Voilà page: not before the page's first heartbeat, or Voilà would buffer every
             frame drawn before the page's websocket exists).
     """
@@ -53,7 +53,7 @@ class RenderLoop:
         *,
         on_error: Callable[[BaseException], None] | None = None,
         max_errors: int = 20,
-        ready: Callable[[], bool] = page_ready,
+        ready: Callable[[], bool] = page_can_draw,
     ) -> None:
         self._step = step
         self._ready = ready
