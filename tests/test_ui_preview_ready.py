@@ -60,8 +60,12 @@ def test_a_voila_kernel_counts_its_page_as_unseen_until_the_watch_is_attached(mo
     from pmk_nb.ui import page_lifecycle
 
     monkeypatch.setattr(page_lifecycle, "_watch", None)
+    monkeypatch.setattr(page_lifecycle, "_LOADED_AT", time.monotonic())  # the kernel has just started
     monkeypatch.setenv(page_lifecycle.PAGE_BOUND_ENV, "1")
     assert not page_lifecycle.page_seen()  # a Voilà page, no watch yet: wait
+    monkeypatch.setattr(page_lifecycle, "_LOADED_AT", time.monotonic() - page_lifecycle.UNWATCHED_GRACE - 1)
+    assert page_lifecycle.page_seen()  # never attached (a notebook of one's own in Voilà): connect anyway
+    monkeypatch.setattr(page_lifecycle, "_LOADED_AT", time.monotonic())
     watch = page_lifecycle.PageWatch(lambda: None)
     monkeypatch.setattr(page_lifecycle, "_watch", watch)
     assert not page_lifecycle.page_seen()
