@@ -135,4 +135,3 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
             await self.shutdown_kernel(kernel_id, now=now)
         except Exception:  # a kernel that refuses to die must not stop the checker
             self.log.exception("shutting down kernel %s failed", kernel_id)
-

@@ -99,7 +99,7 @@ def page_seen() -> bool:
 def page_can_draw() -> bool:
     """:func:`page_ready`, and the page is keeping up with the kernel's output (see :meth:`PageWatch.behind`)."""
     watch = _watch
-    return watch is None or (watch.pings > 0 and watch.behind(time.monotonic()) <= MAX_BEHIND)
+    return page_ready() and (watch is None or watch.behind(time.monotonic()) <= MAX_BEHIND)
 
 
 def page_bound() -> bool:
