@@ -197,6 +197,21 @@ def test_bad_options_are_refused():
         SimChair(grid=room_grid(), odom_rate=0)
 
 
+def test_laser_range_option_is_checked_and_reaches_the_scan():
+    import argparse
+
+    from pmk_nb.cli.sim import add_parser
+
+    parser = argparse.ArgumentParser()
+    add_parser(parser.add_subparsers())
+    args = parser.parse_args(["sim", "--laser-range", "25"])
+    assert args.laser_range == 25.0
+    for bad in ("0", "-3", "inf", "far"):
+        with pytest.raises(SystemExit):
+            parser.parse_args(["sim", "--laser-range", bad])
+    assert SimChair(grid=room_grid(), range_max=25.0).laser.range_max == 25.0
+
+
 def test_plan_through_the_sample_clinic_doors():
     grid = sample_floor()
     assert grid is not None, "sample_maps/clinic_floor.gml and the converter are part of this checkout"

@@ -60,6 +60,13 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--odom-rate", type=float, default=50.0, help="Hz")
     p.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
     p.add_argument("--rays", type=int, default=720, help="laser rays over 270 degrees")
+    p.add_argument(
+        "--laser-range",
+        type=_positive_metres,
+        default=10.0,
+        metavar="METRES",
+        help="laser range_max (default 10); rays that hit nothing within it report +inf, sent as null",
+    )
     p.add_argument("--patrol", action="store_true", help="drive between random reachable points forever")
     p.add_argument(
         "--laser-blind",
@@ -122,6 +129,16 @@ def _sector(text: str) -> tuple[float, float]:
     return lo, hi
 
 
+def _positive_metres(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: give a range in metres above 0, e.g. 10")
+    return value
+
+
 def run(args: argparse.Namespace) -> int:
     _check_sftp_args(args)
     grid = None if args.map is not None else sample_floor()
@@ -136,6 +153,7 @@ def run(args: argparse.Namespace) -> int:
         rays=args.rays,
         patrol=args.patrol,
         laser_blind=args.laser_blind,
+        range_max=args.laser_range,
         sftp_port=None if args.no_sftp else args.sftp_port,
         sftp_user=args.sftp_user,
         sftp_password=args.sftp_password,
