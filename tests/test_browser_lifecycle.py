@@ -30,7 +30,7 @@ pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(600)]
 
 VIEWPORT = {"width": 1280, "height": 800}
 GONE_WITHIN = 30.0  # generous for a loaded test machine; the design target (10 s) is measured by make soak
-RSS_TOLERANCE_MB = 40.0
+RSS_TOLERANCE_MB = 20.0  # measured +9 MB; +33-44 MB before the reaper collected page garbage
 ROUNDS, PAGES_PER_ROUND = 5, 4  # 20 pages, four at a time
 
 

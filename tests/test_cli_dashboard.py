@@ -166,6 +166,38 @@ def test_the_page_gone_message_reaches_the_servers_iopub_listener() -> None:
         assert f"'{event}'" in script  # waking up is noticed however the browser says it
 
 
+def test_the_server_collects_page_garbage_after_pages_come_or_go(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Cycles left by a page visit are freed at the next reaper pass, not at Python's rare full collection."""
+    import gc
+    import weakref
+
+    from pmk_nb.cli import voila_kernels
+    from pmk_nb.cli.voila_kernels import COLLECT_EVERY, PageBoundKernelManager
+
+    frozen: list[int] = []
+    monkeypatch.setattr(voila_kernels.gc, "freeze", lambda: frozen.append(1))  # keep the test process unfrozen
+
+    class Cycle:
+        def __init__(self) -> None:
+            self.me = self
+
+    manager = PageBoundKernelManager()
+    assert not manager.collect_garbage(100.0), "no page came or went: nothing to collect"
+    gc.disable()  # no automatic collection may free it first
+    try:
+        garbage = Cycle()
+        alive = weakref.ref(garbage)
+        del garbage
+        assert alive() is not None
+        manager._churned = True  # what start_kernel, notify_connect/disconnect and a shutdown set
+        assert manager.collect_garbage(100.0) and alive() is None and frozen == [1]
+        manager._churned = True
+        assert not manager.collect_garbage(100.0 + COLLECT_EVERY / 2), "at most one collection per COLLECT_EVERY"
+        assert manager.collect_garbage(100.0 + COLLECT_EVERY) and frozen == [1], "frozen once, after the first"
+    finally:
+        gc.enable()
+
+
 def test_frames_wait_while_the_page_lags_behind_the_kernels_output() -> None:
     """Flow control: a pong the page has not acked for MAX_BEHIND s means frames are piling up."""
     from pmk_nb.ui.page_lifecycle import MAX_BEHIND, PageWatch

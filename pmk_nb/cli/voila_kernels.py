@@ -17,11 +17,19 @@ its page heartbeat stops, it closes the app (the live view stops, the chair link
 answers by shutting the kernel down (:mod:`pmk_nb.ui.page_lifecycle`).  (A kernel ending its own
 process while its websocket is half open made Voilà 0.5 spin at 50 % CPU and stop answering: the
 kernel does not exit itself, the server ends it.)
+
+Every page visit also leaves Voilà reference cycles (the rendered notebook, widget state, message
+dicts) that only a full garbage collection frees, and Python runs one rarely.  Between them the
+garbage of many pages piles up in pymalloc's arenas, which then stay half used and never shrink: the
+server grew 1-2 MB per page visit (20 pages: +33-44 MB; allocated blocks stayed flat, arenas
+61 -> 76).  The reaper therefore collects after pages come or go, at most every
+:data:`COLLECT_EVERY` seconds (20 pages: +5 MB, flat after the first round).
 """
 
 from __future__ import annotations
 
 import asyncio
+import gc
 import time
 from typing import Any
 
@@ -36,6 +44,7 @@ FIRST_PAGE_WITHIN = 120.0
 CHECK_INTERVAL_MS = 1000
 WS_PING_INTERVAL_MS = 1000
 WS_PING_TIMEOUT_MS = 4000
+COLLECT_EVERY = 2.0
 
 
 class PageBoundKernelManager(AsyncMappingKernelManager):
@@ -48,11 +57,15 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         self._checker: PeriodicCallback | None = None
         self._gone_streams: dict[str, Any] = {}  # kernel id -> IOPub stream watched for PAGE_GONE_MSG
         self._ending: dict[str, asyncio.Future[None]] = {}  # shutdowns under way (not awaited by the reaper)
+        self._churned = False  # a page or kernel came or went since the last garbage collection
+        self._collected_at = 0.0
+        self._frozen = False
 
     async def start_kernel(self, **kwargs: Any) -> str:  # type: ignore[override]
         kernel_id = await super().start_kernel(**kwargs)
         self._alone_since[kernel_id] = time.monotonic()
         self._listen_for_page_gone(kernel_id)
+        self._churned = True
         if self._checker is None:
             self._checker = PeriodicCallback(self.reap, CHECK_INTERVAL_MS)
             self._checker.start()
@@ -90,11 +103,13 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         super().notify_connect(kernel_id)
         self._had_page.add(kernel_id)
         self._alone_since.pop(kernel_id, None)
+        self._churned = True  # the page's render is done: its garbage can go
 
     def notify_disconnect(self, kernel_id: str) -> None:
         super().notify_disconnect(kernel_id)
         if self._kernel_connections.get(kernel_id, 1) <= 0:
             self._alone_since[kernel_id] = time.monotonic()
+        self._churned = True
 
     def orphans(self, now: float) -> list[str]:
         """Kernels whose page is gone (or never came) for longer than their grace."""
@@ -115,6 +130,21 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         known = set(self._alone_since) | set(self._gone_streams)
         for kernel_id in [k for k in known if k not in self and k not in self._ending]:  # culled, API
             self._forget(kernel_id)
+        self.collect_garbage(time.monotonic())
+
+    def collect_garbage(self, now: float) -> bool:
+        """A full collection when pages came or went, at most every :data:`COLLECT_EVERY` s (see above)."""
+        if not self._churned or now - self._collected_at < COLLECT_EVERY:
+            return False
+        self._churned = False
+        self._collected_at = now
+        started = time.perf_counter()
+        freed = gc.collect()
+        if not self._frozen:  # Voilà's modules and templates are loaded by now: later collections skip them
+            gc.freeze()
+            self._frozen = True
+        self.log.debug("garbage collection: %d objects in %.0f ms", freed, 1000 * (time.perf_counter() - started))
+        return True
 
     def _start_ending(self, kernel_id: str, why: str) -> None:
         if kernel_id in self._ending:
@@ -125,6 +155,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
 
     def _ended(self, kernel_id: str) -> None:
         self._ending.pop(kernel_id, None)
+        self._churned = True
 
     async def _end(self, kernel_id: str, why: str, *, now: bool) -> None:
         self._forget(kernel_id)
