@@ -23,7 +23,7 @@ dicts) that only a full garbage collection frees, and Python runs one rarely.  B
 garbage of many pages piles up in pymalloc's arenas, which then stay half used and never shrink: the
 server grew 1-2 MB per page visit (20 pages: +33-44 MB; allocated blocks stayed flat, arenas
 61 -> 76).  The reaper therefore collects after pages come or go, at most every
-:data:`COLLECT_EVERY` seconds (20 pages: +5 MB, flat after the first round).
+:data:`COLLECT_EVERY` seconds (20 pages in Chromium: +9 MB, flat after the first round).
 """
 
 from __future__ import annotations
