@@ -7,8 +7,11 @@ websocket connections:
 
   * a kernel whose last page connection closed is shut down after :data:`PAGE_GRACE` seconds
     (a reload reconnects within that time only if it is the same page; a new page has a new kernel);
-  * a kernel whose page never connected is shut down after :data:`FIRST_PAGE_WITHIN` seconds
-    (Voilà starts the kernel before the page's websocket exists, so this must allow a slow page load).
+  * a kernel whose page never connected (closed while it loaded, or a reload that raced it) is shut
+    down :data:`RENDERED_PAGE_WITHIN` seconds after it finished running the notebook's cells: Voilà
+    sends the page's last HTML then, and the page connects once it has it.  The cells' own run is
+    not counted (a loaded server renders slowly); :data:`FIRST_PAGE_WITHIN` seconds after the start
+    is the limit for a kernel that never finishes them.
 
 A websocket that stays alive without the page in it (tablet asleep, page frozen: the browser still
 answers the server's websocket pings) stays "connected" here.  That case is caught by the kernel:
@@ -41,6 +44,7 @@ from pmk_nb.ui.page_lifecycle import PAGE_GONE_MSG
 
 PAGE_GRACE = 3.0
 FIRST_PAGE_WITHIN = 120.0
+RENDERED_PAGE_WITHIN = 20.0
 CHECK_INTERVAL_MS = 1000
 WS_PING_INTERVAL_MS = 1000
 WS_PING_TIMEOUT_MS = 4000
@@ -54,6 +58,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         super().__init__(**kwargs)
         self._alone_since: dict[str, float] = {}  # kernel id -> when it last had no page
         self._had_page: set[str] = set()
+        self._rendered_at: dict[str, float] = {}  # kernel id -> when it last finished a cell, until a page came
         self._checker: PeriodicCallback | None = None
         self._gone_streams: dict[str, Any] = {}  # kernel id -> IOPub stream watched for PAGE_GONE_MSG
         self._ending: dict[str, asyncio.Future[None]] = {}  # shutdowns under way (not awaited by the reaper)
@@ -72,7 +77,9 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         return kernel_id
 
     def _listen_for_page_gone(self, kernel_id: str) -> None:
-        """Shut the kernel down as soon as it says its page is gone (a silent, still-open websocket)."""
+        """Shut the kernel down as soon as it says its page is gone (a silent, still-open websocket).
+
+        Until a page connects, the same listener also notes when the kernel finishes running a cell."""
         kernel = self.get_kernel(kernel_id)
         stream = kernel.connect_iopub()
         session = Session(config=kernel.session.config, key=kernel.session.key)
@@ -80,29 +87,48 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
 
         def on_iopub(frames: list[Any]) -> None:
             _idents, fed = session.feed_identities(frames, copy=False)
-            if len(fed) < 2 or marker not in fed[1].bytes:  # the header frame: cheap test first
+            if len(fed) < 5:
                 return
-            try:
-                msg_type = session.deserialize(fed, content=False, copy=False)["header"]["msg_type"]
-            except Exception:
-                return
-            if msg_type == PAGE_GONE_MSG:
-                IOLoop.current().add_callback(self._start_ending, kernel_id, "its page stopped answering")
+            header = fed[1].bytes  # cheap tests on the header frame before any parsing
+            if marker in header:
+                try:
+                    msg_type = session.deserialize(fed, content=False, copy=False)["header"]["msg_type"]
+                except Exception:
+                    return
+                if msg_type == PAGE_GONE_MSG:
+                    IOLoop.current().add_callback(self._start_ending, kernel_id, "its page stopped answering")
+            elif kernel_id not in self._had_page and b'"status"' in header and b"execute_request" in fed[2].bytes:
+                self._note_render_state(kernel_id, fed[4].bytes)
 
         stream.on_recv(on_iopub, copy=False)
         self._gone_streams[kernel_id] = stream
 
+    def _note_render_state(self, kernel_id: str, content: bytes) -> None:
+        """A cell started (the render goes on) or ended (the page may have all its HTML now)."""
+        if b'"idle"' in content:
+            self._rendered_at[kernel_id] = time.monotonic()
+        elif b'"busy"' in content:
+            self._rendered_at.pop(kernel_id, None)
+
     def _forget(self, kernel_id: str) -> None:
         self._alone_since.pop(kernel_id, None)
         self._had_page.discard(kernel_id)
+        self._rendered_at.pop(kernel_id, None)
         stream = self._gone_streams.pop(kernel_id, None)
         if stream is not None and not stream.closed():
             stream.close()
 
     def notify_connect(self, kernel_id: str) -> None:
         super().notify_connect(kernel_id)
+        if kernel_id not in self._had_page and kernel_id in self._rendered_at:
+            self.log.info(
+                "Kernel %s: its page connected %.1f s after the render",
+                kernel_id,
+                time.monotonic() - self._rendered_at[kernel_id],
+            )
         self._had_page.add(kernel_id)
         self._alone_since.pop(kernel_id, None)
+        self._rendered_at.pop(kernel_id, None)
         self._churned = True  # the page's render is done: its garbage can go
 
     def notify_disconnect(self, kernel_id: str) -> None:
@@ -113,11 +139,14 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
 
     def orphans(self, now: float) -> list[str]:
         """Kernels whose page is gone (or never came) for longer than their grace."""
-        return [
-            kid
-            for kid, since in self._alone_since.items()
-            if now - since > (PAGE_GRACE if kid in self._had_page else FIRST_PAGE_WITHIN)
-        ]
+
+        def orphaned(kid: str, since: float) -> bool:
+            if kid in self._had_page:
+                return now - since > PAGE_GRACE
+            rendered = self._rendered_at.get(kid)
+            return now - since > FIRST_PAGE_WITHIN or (rendered is not None and now - rendered > RENDERED_PAGE_WITHIN)
+
+        return [kid for kid, since in self._alone_since.items() if orphaned(kid, since)]
 
     async def reap(self) -> None:
         """Start shutting down the kernels whose page is gone; returns at once.

@@ -1,0 +1,78 @@
+"""The dashboard's kernel manager against real kernels: what a kernel says on IOPub decides when it ends."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+from collections.abc import Awaitable, Callable
+from pathlib import Path
+
+from pmk_nb.cli.voila_kernels import FIRST_PAGE_WITHIN, RENDERED_PAGE_WITHIN, PageBoundKernelManager
+
+
+async def _until(condition: Callable[[], bool], what: str, timeout: float = 30.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out after {timeout:.0f} s waiting for {what}"
+        await asyncio.sleep(0.05)
+
+
+def _with_kernel(tmp_path: Path, scenario: Callable[[PageBoundKernelManager, str, object], Awaitable[None]]) -> None:
+    async def run() -> None:
+        manager = PageBoundKernelManager(root_dir=str(tmp_path))
+        kernel_id = await manager.start_kernel(kernel_name="python3")
+        client = manager.get_kernel(kernel_id).client()
+        client.start_channels()
+        try:
+            await client.wait_for_ready(timeout=60)
+            await scenario(manager, kernel_id, client)
+        finally:
+            client.stop_channels()
+            await manager.shutdown_all(now=True)
+            if manager._checker is not None:
+                manager._checker.stop()
+
+    asyncio.run(run())
+
+
+def test_a_kernel_whose_page_never_connected_ends_soon_after_its_cells_ran(tmp_path: Path) -> None:
+    """A page closed while it loaded: its kernel goes RENDERED_PAGE_WITHIN s after the render, not 120 s later."""
+
+    async def scenario(manager: PageBoundKernelManager, kid: str, client: object) -> None:
+        started = time.monotonic()
+        assert kid not in manager._rendered_at, "a kernel that ran no cell has not rendered anything"
+        assert kid not in manager.orphans(started + RENDERED_PAGE_WITHIN + 1)
+        client.execute("x = 1")  # type: ignore[attr-defined]
+        await _until(lambda: kid in manager._rendered_at, "the first cell's end")
+        first = manager._rendered_at[kid]
+        client.execute("import time; time.sleep(2.0)")  # type: ignore[attr-defined]
+        await _until(lambda: kid not in manager._rendered_at, "the second cell's start (the render goes on)")
+        await asyncio.sleep(0.5)
+        assert kid not in manager._rendered_at and kid not in manager.orphans(first + RENDERED_PAGE_WITHIN + 1)
+        await _until(lambda: kid in manager._rendered_at, "the second cell's end")
+        rendered = manager._rendered_at[kid]
+        assert rendered - first >= 2.0
+        assert kid not in manager.orphans(rendered + RENDERED_PAGE_WITHIN - 1), "its page may still be loading"
+        assert kid in manager.orphans(rendered + RENDERED_PAGE_WITHIN + 1), "no page came after the render"
+        assert RENDERED_PAGE_WITHIN < FIRST_PAGE_WITHIN / 4
+
+        manager.notify_connect(kid)  # the page's websocket arrives in time
+        assert kid not in manager._rendered_at and kid not in manager.orphans(rendered + FIRST_PAGE_WITHIN + 1)
+        manager.notify_disconnect(kid)
+        assert kid in manager.orphans(time.monotonic() + 5), "a page that came and went: the short grace"
+
+    _with_kernel(tmp_path, scenario)
+
+
+def test_the_kernel_that_says_its_page_is_gone_is_shut_down_by_the_server(tmp_path: Path) -> None:
+    """The kernel's watchdog message travels over real IOPub to the manager, which ends the kernel."""
+
+    async def scenario(manager: PageBoundKernelManager, kid: str, client: object) -> None:
+        manager.notify_connect(kid)  # a page is connected: only the message can end this kernel
+        client.execute(  # type: ignore[attr-defined]
+            "from pmk_nb.ui.page_lifecycle import tell_server_page_gone\ntell_server_page_gone()"
+        )
+        await _until(lambda: kid not in manager, "the kernel's shutdown after its page-gone message", timeout=60)
+        assert kid not in manager._alone_since and kid not in manager._gone_streams
+
+    _with_kernel(tmp_path, scenario)
