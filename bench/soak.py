@@ -38,7 +38,7 @@ from pmk_nb.cli.bench import merge_results  # noqa: E402
 from pmk_nb.cli.demo_setup import prepare_demo  # noqa: E402
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port  # noqa: E402
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook  # noqa: E402
-from pmk_nb.cli.voila_kernels import RENDERED_PAGE_WITHIN  # noqa: E402
+from pmk_nb.cli.voila_kernels import RENDERED_PAGE_WITHIN, SLOW_CONNECT_FACTOR  # noqa: E402
 from pmk_nb.fileio import atomic_write  # noqa: E402
 from pmk_nb.ui.kiosk_pin import KIOSK_ENV  # noqa: E402
 from tests.page_probes import chair_connections, kernels, open_fds, rss_mb, voila_process  # noqa: E402
@@ -273,11 +273,13 @@ def run(minutes: float, n_pages: int, seed: int) -> tuple[dict[str, Series], lis
 def render_to_connect(voila_log: str) -> str:
     """How long pages took to connect after their kernel's render: the manager's grace must cover it."""
     waits = sorted(float(m) for m in re.findall(r"its page connected ([0-9.]+) s after the render", voila_log))
+    late = len(set(re.findall(r"Kernel does not exist: ([0-9a-f-]+)", voila_log)))
     if not waits:
-        return "no page connected after a logged render"
+        return f"no page connected after a logged render; {late} pages came after their kernel was ended"
     return (
         f"page connected after its kernel's render: {len(waits)} pages, median {waits[len(waits) // 2]:.1f} s, "
-        f"max {waits[-1]:.1f} s (grace {RENDERED_PAGE_WITHIN:.0f} s)"
+        f"max {waits[-1]:.1f} s (grace: {RENDERED_PAGE_WITHIN:.0f} s, or {SLOW_CONNECT_FACTOR:.0f} x the slowest "
+        f"recent wait); {late} pages came after their kernel was ended (a page closed mid-load never comes)"
     )
 
 

@@ -76,3 +76,25 @@ def test_the_kernel_that_says_its_page_is_gone_is_shut_down_by_the_server(tmp_pa
         assert kid not in manager._alone_since and kid not in manager._gone_streams
 
     _with_kernel(tmp_path, scenario)
+
+
+def test_the_render_grace_grows_while_pages_load_slowly() -> None:
+    """make soak: loaded pages connected up to 14 s after the render; a fixed 20 s ended some still loading."""
+    from pmk_nb.cli.voila_kernels import CONNECT_MEMORY, SLOW_CONNECT_FACTOR
+
+    manager = PageBoundKernelManager()
+    t = time.monotonic()
+    assert manager.render_grace(t) == RENDERED_PAGE_WITHIN, "no page seen yet: the floor"
+    manager._alone_since["k"] = t - 10.0
+    manager._rendered_at["k"] = t - 5.0
+    manager.notify_connect("k")  # connected 5 s after the render: still the floor (3 x 5 < 20)
+    assert [round(w) for _, w in manager._connect_waits] == [5] and manager.render_grace(t) == RENDERED_PAGE_WITHIN
+    manager._connect_waits.append((t, 14.0))
+    assert manager.render_grace(t) == SLOW_CONNECT_FACTOR * 14.0
+    manager._alone_since["slow"] = t
+    manager._rendered_at["slow"] = t + 10.0
+    assert "slow" not in manager.orphans(t + 10.0 + 30.0), "30 s after the render, within the slow pages' grace"
+    assert "slow" in manager.orphans(t + 10.0 + SLOW_CONNECT_FACTOR * 14.0 + 1)
+    assert manager.render_grace(t + CONNECT_MEMORY + 1) == RENDERED_PAGE_WITHIN, "slow pages are forgotten"
+    manager._connect_waits.append((t, 100.0))
+    assert manager.render_grace(t) == FIRST_PAGE_WITHIN, "never past the limit for every kernel"

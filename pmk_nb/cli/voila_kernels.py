@@ -8,10 +8,12 @@ websocket connections:
   * a kernel whose last page connection closed is shut down after :data:`PAGE_GRACE` seconds
     (a reload reconnects within that time only if it is the same page; a new page has a new kernel);
   * a kernel whose page never connected (closed while it loaded, or a reload that raced it) is shut
-    down :data:`RENDERED_PAGE_WITHIN` seconds after it finished running the notebook's cells: Voilà
-    sends the page's last HTML then, and the page connects once it has it.  The cells' own run is
-    not counted (a loaded server renders slowly); :data:`FIRST_PAGE_WITHIN` seconds after the start
-    is the limit for a kernel that never finishes them.
+    down some time after it finished running the notebook's cells: Voilà sends the page's last HTML
+    then, and the page connects once its scripts have loaded.  That time is
+    :data:`RENDERED_PAGE_WITHIN` seconds, or :data:`SLOW_CONNECT_FACTOR` times the slowest recent
+    page's wait, whichever is longer (make soak, 10 pages on 2 cores: pages connected up to 14 s
+    after the render, and a fixed 20 s ended kernels of pages still loading).  The cells' own run is
+    not counted; :data:`FIRST_PAGE_WITHIN` seconds after the start is the limit for every kernel.
 
 A websocket that stays alive without the page in it (tablet asleep, page frozen: the browser still
 answers the server's websocket pings) stays "connected" here.  That case is caught by the kernel:
@@ -44,7 +46,9 @@ from pmk_nb.ui.page_lifecycle import PAGE_GONE_MSG
 
 PAGE_GRACE = 3.0
 FIRST_PAGE_WITHIN = 120.0
-RENDERED_PAGE_WITHIN = 20.0
+RENDERED_PAGE_WITHIN = 20.0  # seconds after the render, at least
+SLOW_CONNECT_FACTOR = 3.0
+CONNECT_MEMORY = 600.0  # seconds: how long a page's slow connection lengthens the grace of the next ones
 CHECK_INTERVAL_MS = 1000
 WS_PING_INTERVAL_MS = 1000
 WS_PING_TIMEOUT_MS = 4000
@@ -59,6 +63,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         self._alone_since: dict[str, float] = {}  # kernel id -> when it last had no page
         self._had_page: set[str] = set()
         self._rendered_at: dict[str, float] = {}  # kernel id -> when it last finished a cell, until a page came
+        self._connect_waits: list[tuple[float, float]] = []  # (when, seconds from render to page connection)
         self._checker: PeriodicCallback | None = None
         self._gone_streams: dict[str, Any] = {}  # kernel id -> IOPub stream watched for PAGE_GONE_MSG
         self._ending: dict[str, asyncio.Future[None]] = {}  # shutdowns under way (not awaited by the reaper)
@@ -121,11 +126,10 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
     def notify_connect(self, kernel_id: str) -> None:
         super().notify_connect(kernel_id)
         if kernel_id not in self._had_page and kernel_id in self._rendered_at:
-            self.log.info(
-                "Kernel %s: its page connected %.1f s after the render",
-                kernel_id,
-                time.monotonic() - self._rendered_at[kernel_id],
-            )
+            now = time.monotonic()
+            waited = now - self._rendered_at[kernel_id]
+            self._connect_waits = [w for w in self._connect_waits if now - w[0] <= CONNECT_MEMORY] + [(now, waited)]
+            self.log.info("Kernel %s: its page connected %.1f s after the render", kernel_id, waited)
         self._had_page.add(kernel_id)
         self._alone_since.pop(kernel_id, None)
         self._rendered_at.pop(kernel_id, None)
@@ -144,9 +148,15 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
             if kid in self._had_page:
                 return now - since > PAGE_GRACE
             rendered = self._rendered_at.get(kid)
-            return now - since > FIRST_PAGE_WITHIN or (rendered is not None and now - rendered > RENDERED_PAGE_WITHIN)
+            return now - since > FIRST_PAGE_WITHIN or (rendered is not None and now - rendered > grace)
 
+        grace = self.render_grace(now)
         return [kid for kid, since in self._alone_since.items() if orphaned(kid, since)]
+
+    def render_grace(self, now: float) -> float:
+        """Seconds a page may take to connect after its kernel's render: longer while pages load slowly."""
+        recent = [waited for when, waited in self._connect_waits if now - when <= CONNECT_MEMORY]
+        return min(max(RENDERED_PAGE_WITHIN, SLOW_CONNECT_FACTOR * max(recent, default=0.0)), FIRST_PAGE_WITHIN)
 
     async def reap(self) -> None:
         """Start shutting down the kernels whose page is gone; returns at once.
