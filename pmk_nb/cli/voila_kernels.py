@@ -8,8 +8,8 @@ websocket connections:
   * a kernel whose last page connection closed is shut down after :data:`PAGE_GRACE` seconds
     (a reload reconnects within that time only if it is the same page; a new page has a new kernel);
   * a kernel whose page never connected (closed while it loaded, or a reload that raced it) is shut
-    down some time after it finished running the notebook's cells: Voilà sends the page's last HTML
-    then, and the page connects once its scripts have loaded.  That time is
+    down some time after Voilà finished running the notebook in it (it stops its execution client
+    then, and sends the page's last HTML); the page connects once its scripts have loaded.  That time is
     :data:`RENDERED_PAGE_WITHIN` seconds, or :data:`SLOW_CONNECT_FACTOR` times the slowest recent
     page's wait, whichever is longer (make soak, 10 pages on 2 cores: pages connected up to 14 s
     after the render, and a fixed 20 s ended kernels of pages still loading).  The cells' own run is
@@ -62,7 +62,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         super().__init__(**kwargs)
         self._alone_since: dict[str, float] = {}  # kernel id -> when it last had no page
         self._had_page: set[str] = set()
-        self._rendered_at: dict[str, float] = {}  # kernel id -> when it last finished a cell, until a page came
+        self._rendered_at: dict[str, float] = {}  # kernel id -> when Voilà finished running it, until a page came
         self._connect_waits: list[tuple[float, float]] = []  # (when, seconds from render to page connection)
         self._checker: PeriodicCallback | None = None
         self._gone_streams: dict[str, Any] = {}  # kernel id -> IOPub stream watched for PAGE_GONE_MSG
@@ -75,6 +75,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         kernel_id = await super().start_kernel(**kwargs)
         self._alone_since[kernel_id] = time.monotonic()
         self._listen_for_page_gone(kernel_id)
+        self._watch_render(kernel_id)
         self._churned = True
         if self._checker is None:
             self._checker = PeriodicCallback(self.reap, CHECK_INTERVAL_MS)
@@ -82,9 +83,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         return kernel_id
 
     def _listen_for_page_gone(self, kernel_id: str) -> None:
-        """Shut the kernel down as soon as it says its page is gone (a silent, still-open websocket).
-
-        Until a page connects, the same listener also notes when the kernel finishes running a cell."""
+        """Shut the kernel down as soon as it says its page is gone (a silent, still-open websocket)."""
         kernel = self.get_kernel(kernel_id)
         stream = kernel.connect_iopub()
         session = Session(config=kernel.session.config, key=kernel.session.key)
@@ -92,28 +91,39 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
 
         def on_iopub(frames: list[Any]) -> None:
             _idents, fed = session.feed_identities(frames, copy=False)
-            if len(fed) < 5:
+            if len(fed) < 2 or marker not in fed[1].bytes:  # the header frame: cheap test first
                 return
-            header = fed[1].bytes  # cheap tests on the header frame before any parsing
-            if marker in header:
-                try:
-                    msg_type = session.deserialize(fed, content=False, copy=False)["header"]["msg_type"]
-                except Exception:
-                    return
-                if msg_type == PAGE_GONE_MSG:
-                    IOLoop.current().add_callback(self._start_ending, kernel_id, "its page stopped answering")
-            elif kernel_id not in self._had_page and b'"status"' in header and b"execute_request" in fed[2].bytes:
-                self._note_render_state(kernel_id, fed[4].bytes)
+            try:
+                msg_type = session.deserialize(fed, content=False, copy=False)["header"]["msg_type"]
+            except Exception:
+                return
+            if msg_type == PAGE_GONE_MSG:
+                IOLoop.current().add_callback(self._start_ending, kernel_id, "its page stopped answering")
 
         stream.on_recv(on_iopub, copy=False)
         self._gone_streams[kernel_id] = stream
 
-    def _note_render_state(self, kernel_id: str, content: bytes) -> None:
-        """A cell started (the render goes on) or ended (the page may have all its HTML now)."""
-        if b'"idle"' in content:
-            self._rendered_at[kernel_id] = time.monotonic()
-        elif b'"busy"' in content:
-            self._rendered_at.pop(kernel_id, None)
+    def _watch_render(self, kernel_id: str) -> None:
+        """Note when Voilà stops the client it ran the notebook with: the page's HTML is out then.
+
+        (The kernel's own "idle" comes earlier: on a loaded server Voilà read its output 10 s and more
+        later, and pages still loading lost their kernel.)"""
+        kernel = self.get_kernel(kernel_id)
+        make_client = kernel.client
+
+        def client(**kwargs: Any) -> Any:
+            kc = make_client(**kwargs)
+            stop = kc.stop_channels
+
+            def stop_channels() -> None:
+                stop()
+                if kernel_id in self._alone_since and kernel_id not in self._had_page:
+                    self._rendered_at[kernel_id] = time.monotonic()
+
+            kc.stop_channels = stop_channels
+            return kc
+
+        kernel.client = client
 
     def _forget(self, kernel_id: str) -> None:
         self._alone_since.pop(kernel_id, None)

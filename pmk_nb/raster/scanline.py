@@ -16,6 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
+from pmk_nb.raster.parts import polygons_of
+
 # (block view of the grid, boolean mask of the same shape) -> None; updates the block in place
 CellOp = Callable[[np.ndarray, np.ndarray], None]
 _CHUNK_CROSSINGS = 2_000_000  # rows x edges evaluated at once
@@ -61,17 +63,6 @@ def _ring_edges(polygon: shapely.Polygon) -> np.ndarray:
     if not parts:
         return np.empty((0, 4))
     return np.vstack(parts)
-
-
-def polygons_of(geom: shapely.Geometry | None) -> list[shapely.Polygon]:
-    """The non-empty polygon parts of any geometry (Polygon, MultiPolygon, collections)."""
-    if geom is None or geom.is_empty:
-        return []
-    if isinstance(geom, shapely.Polygon):
-        return [geom]
-    if isinstance(geom, shapely.MultiPolygon | shapely.GeometryCollection):
-        return [p for part in geom.geoms for p in polygons_of(part)]
-    return []
 
 
 def fill_polygon(grid: np.ndarray, frame: Frame, polygon: shapely.Polygon, op: CellOp) -> None:

@@ -16,7 +16,8 @@ import itertools
 import numpy as np
 import shapely
 
-from pmk_nb.raster.scanline import Frame, polygons_of, write_rects, write_spans
+from pmk_nb.raster.parts import polygon_parts
+from pmk_nb.raster.scanline import Frame, write_rects, write_spans
 
 _CHUNK_CELLS = 1_000_000  # (edge, row) crossings computed at once at most
 
@@ -47,7 +48,7 @@ def polygon_cells(frame: Frame, geoms: list[shapely.Geometry]) -> tuple[tuple[np
     The same cells, computed the same way, as :func:`pmk_nb.raster.scanline.fill_polygon` on each
     polygon part in turn; shapes of different polygons may overlap.
     """
-    polys = [p for g in geoms for p in polygons_of(g)]
+    polys = polygon_parts(geoms)
     empty = np.empty(0, np.int64)
     if not polys:
         return (empty,) * 4, (empty,) * 3
@@ -145,7 +146,7 @@ def fill_polygons(
     Polygons are taken in batches of about a million (edge, row) crossings, so the memory held
     at once stays bounded however fine the grid.
     """
-    polys = np.asarray([p for g in geoms for p in polygons_of(g)], dtype=object)
+    polys = np.asarray(polygon_parts(geoms), dtype=object)
     if len(polys) == 0:
         return
     b = shapely.bounds(polys)

@@ -93,8 +93,11 @@ def plan_storey(
     margin: float | None = None,
     max_cells: int = DEFAULT_MAX_CELLS,
     allow_large: bool = False,
+    cells: list[Cell] | None = None,
 ) -> Frame:
     """The grid frame a storey needs, checked against the memory budget and the Nav2 size limit.
+
+    ``cells``: the storey's cells when the caller has them from :func:`_storey_cells` already.
 
     Raises:
         GridTooLarge: the grid would exceed ``max_cells`` or 32767 cells per side (unless
@@ -104,7 +107,8 @@ def plan_storey(
     res = _check_number("resolution", resolution, positive=True)
     thick = _check_number("wall thickness", wall_thickness, positive=False)
     pad = thick + res if margin is None else _check_number("margin", margin, positive=False)
-    cells = _storey_cells(building, storey)
+    if cells is None:
+        cells = _storey_cells(building, storey)
     b = shapely.bounds(np.asarray([c.footprint for c in cells], dtype=object))
     minx, miny = float(b[:, 0].min()), float(b[:, 1].min())
     maxx, maxy = float(b[:, 2].max()), float(b[:, 3].max())
@@ -215,8 +219,8 @@ def _plan(building: Building, storey: str, resolution: float, wall_thickness: fl
     the openings the navigation graph asks for (door lines between cells it does not join stay shut)."""
     max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
     width = _check_number("door width", door_width, positive=True)
-    frame = plan_storey(building, storey, resolution, wall_thickness=wall_thickness, **plan_kw)
     cells = _storey_cells(building, storey)
+    frame = plan_storey(building, storey, resolution, wall_thickness=wall_thickness, cells=cells, **plan_kw)
     if openings is None:
         openings = plan_openings(building, storey, door_width=width, max_gap=max_gap)
     door_polys, door_lines = door_geometry(building, storey, cells, skip=openings.shut_doors)

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from pmk_nb.raster.scanline import polygons_of
+from pmk_nb.raster.parts import polygon_parts, polygons_of
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Boundary, Building, Cell
@@ -112,7 +112,8 @@ def gap_walls(footprints: list[Any], door_lines: list[Any], gaps: np.ndarray, ma
     empty = shapely.Polygon()
     if max_gap <= 0 or not footprints:
         return empty
-    polys = [p for g in footprints for p in polygons_of(g if g.is_valid else shapely.make_valid(g))]
+    valid = shapely.is_valid(np.asarray(footprints, dtype=object))
+    polys = polygon_parts([g if ok else shapely.make_valid(g) for g, ok in zip(footprints, valid, strict=True)])
     if not polys:
         return empty
     try:
