@@ -176,6 +176,8 @@ def test_the_server_collects_page_garbage_after_pages_come_or_go(monkeypatch: py
 
     frozen: list[int] = []
     monkeypatch.setattr(voila_kernels.gc, "freeze", lambda: frozen.append(1))  # keep the test process unfrozen
+    trims: list[int] = []
+    monkeypatch.setattr(voila_kernels, "trim_heap", lambda: trims.append(1) or True)
 
     class Cycle:
         def __init__(self) -> None:
@@ -194,6 +196,7 @@ def test_the_server_collects_page_garbage_after_pages_come_or_go(monkeypatch: py
         manager._churned = True
         assert not manager.collect_garbage(100.0 + COLLECT_EVERY / 2), "at most one collection per COLLECT_EVERY"
         assert manager.collect_garbage(100.0 + COLLECT_EVERY) and frozen == [1], "frozen once, after the first"
+        assert trims == [1, 1], "glibc's heap is trimmed after each collection"
     finally:
         gc.enable()
 
@@ -217,3 +220,9 @@ def test_frames_wait_while_the_page_lags_behind_the_kernels_output() -> None:
         assert watch.acked == 1
     watch.ack.value = "2"
     assert watch.acked == 2 and watch.behind(now[0] + 10.0) == 0.0
+
+
+def test_trimming_the_heap_works_on_this_glibc_machine() -> None:
+    from pmk_nb.cli.voila_kernels import trim_heap
+
+    assert trim_heap() is True

@@ -145,3 +145,23 @@ def test_strip_erosion_and_run_labels_match_the_whole_grid_ones() -> None:
         assert np.array_equal(got_owner[got], owners[got]) and np.array_equal(got_edges, edges)
         sizes.append((len(got), len(got_edges)))
     assert max(sizes) > (10, 5)  # enough regions and touching pairs to mean something
+
+
+def test_polygon_parts_takes_plain_polygons_as_they_are_and_flattens_the_rest() -> None:
+    """The vectorised fast path and the per-geometry fallback give the parts :func:`polygons_of` gives."""
+    from pmk_nb.raster.parts import polygon_parts, polygons_of
+
+    plain = [box(0, 0, 1, 1), box(2, 0, 3, 1)]
+    assert polygon_parts(plain) == plain and polygon_parts(plain)[0] is plain[0]
+    mixed = [
+        box(0, 0, 1, 1),
+        shapely.MultiPolygon([box(2, 0, 3, 1), box(4, 0, 5, 1)]),
+        shapely.Polygon(),
+        None,
+        shapely.GeometryCollection([box(6, 0, 7, 1), LineString([(0, 0), (1, 1)])]),
+        LineString([(0, 0), (1, 0)]),
+    ]
+    parts = polygon_parts(mixed)
+    assert parts == [p for g in mixed for p in polygons_of(g)]
+    assert [p.bounds[0] for p in parts] == [0.0, 2.0, 4.0, 6.0]
+    assert polygon_parts([]) == [] and polygon_parts([shapely.Polygon()]) == []

@@ -22,7 +22,8 @@ from pmk_nb.raster.parts import polygons_of
 CellOp = Callable[[np.ndarray, np.ndarray], None]
 _CHUNK_CROSSINGS = 2_000_000  # rows x edges evaluated at once
 _CHUNK_CELLS = 1_000_000  # rows x columns of a block (or cells of a scatter) at once
-_SCATTER_CELLS = 262_144  # cells written through one flat index array at once (2 MB of int64)
+_SCATTER_CELLS = 65_536  # cells written through one flat index array at once (512 KB of int64; its temporaries
+# peaked at 3x the grid of a 100 x 100 m storey at 262 144)
 _RECT_MIN_CELLS = 256  # spans stacked into a rectangle at least this big are written as one slice
 
 
