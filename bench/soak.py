@@ -53,6 +53,7 @@ SIM_ARGS = ["--odom-rate", "50", "--scan-rate", "40", "--rays", "1080"]
 VIEWPORT = {"width": 1280, "height": 800}
 SAMPLE_S = 10.0
 WARMUP_S = 60.0
+DEFAULT_OUT = "results-soak.md"
 RELOAD_P = 0.08  # per page per check (every SAMPLE_S): about one reload per page every 2 min
 MIN_RELOAD_GAP_S = 60.0
 OPEN_WAIT_MS = 30_000  # per page at the start: then the next tablet is switched on anyway
@@ -283,12 +284,15 @@ def render_to_connect(voila_log: str) -> str:
     )
 
 
-def write(series: dict[str, Series], pages: list[Page], elapsed: float, notes: list[str], n: int) -> bool:
+def write(
+    series: dict[str, Series], pages: list[Page], elapsed: float, notes: list[str], n: int, out: str = DEFAULT_OUT
+) -> bool:
     verdicts = {name: s.verdict(WARMUP_S) for name, s in series.items()}
+    command = "`make soak`" if out == DEFAULT_OUT else f"`--minutes {elapsed / 60:.0f} --out {out}`"
     lines = [
-        "## Soak (kiosk pages all day)",
+        "## Soak (kiosk pages all day)" if out == DEFAULT_OUT else f"## Soak, {elapsed / 60:.0f} min",
         "",
-        f"`bench/soak.py` (`make soak`): {n} kiosk pages (headless Chromium, {VIEWPORT['width']}x"
+        f"`bench/soak.py` ({command}): {n} kiosk pages (headless Chromium, {VIEWPORT['width']}x"
         f"{VIEWPORT['height']}) on Home with the live view, {elapsed / 60:.1f} min against the simulated chair "
         "(50 Hz odometry, 40 Hz 1080-ray scans, patrolling), served by Voilà as `pmk dashboard --kiosk`. "
         f"Pages reload at random (each at most once a minute). Sampled every {SAMPLE_S:.0f} s from the OS "
@@ -323,10 +327,17 @@ def write(series: dict[str, Series], pages: list[Page], elapsed: float, notes: l
         *[f"- {note}" for note in notes],
         "",
     ]
-    atomic_write(HERE / "results-soak.md", "\n".join(lines))
+    atomic_write(HERE / out, "\n".join(lines))
     merge_results(HERE)
     print("\n".join(lines))
     return all(v["ok"] for v in verdicts.values())
+
+
+def _results_name(value: str) -> str:
+    """A results file name in bench/ that results.md picks up: results-soak*.md, no folders."""
+    if "/" in value or not (value.startswith("results-soak") and value.endswith(".md")):
+        raise argparse.ArgumentTypeError(f"{value!r}: name a file results-soak<something>.md (it stays in bench/)")
+    return value
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -334,9 +345,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--minutes", type=float, default=10.0, help="how long the pages run (default 10)")
     parser.add_argument("--pages", type=int, default=10, help="kiosk pages at once (default 10)")
     parser.add_argument("--seed", type=int, default=10, help="seed of the random reloads")
+    parser.add_argument("--out", type=_results_name, default=DEFAULT_OUT,
+                        help=f"results file in bench/, merged into results.md (default {DEFAULT_OUT})")  # fmt: skip
     args = parser.parse_args(argv)
     series, pages, elapsed, notes = run(args.minutes, args.pages, args.seed)
-    ok = write(series, pages, elapsed, notes, args.pages)
+    ok = write(series, pages, elapsed, notes, args.pages, args.out)
     print("soak:", "every series bounded" if ok else "a series grew: see the table", flush=True)
     return 0 if ok else 1
 
