@@ -11,9 +11,11 @@ child (includes ~100 MB of interpreter + libraries; "base" is that figure right 
 "wall kept" (generated buildings only): share of the rows along every interior wall line, away from
 doors, where the wall is still occupied in the output grid: 100 % means rooms cannot leak.
 
-Cases: the shared samples (/work/shared/data/indoorgml/*.gml) at 0.05 m; a generated 20-storey
-building with 500 rooms (+ doors) per storey at 0.05 m; a generated 200 m x 200 m storey at 0.05 m and
-0.01 m. ``--quick`` keeps the samples, the 20 x 500 building on 4 storeys and the 200 m storey at 0.05 m.
+Cases: two 5 x 4 m rooms and a door (what any conversion costs, whatever the plan: reading a file,
+planning a storey, writing three files); the shared samples (/work/shared/data/indoorgml/*.gml) at
+0.05 m; a generated 20-storey building with 500 rooms (+ doors) per storey at 0.05 m; a generated
+200 m x 200 m storey at 0.05 m and 0.01 m. ``--quick`` keeps the samples, the 20 x 500 building on 4
+storeys and the 200 m storey at 0.05 m.
 
 Usage: .venv/bin/python bench/bench_convert.py [--quick] [--before DIR]   -> writes bench/results-convert.md
 (``--before DIR``: also the same worker on an earlier version's source tree, rows "before", same run.)
@@ -238,8 +240,12 @@ def child_main(spec: str) -> None:
     import importlib
 
     for module in ("numpy", "PIL.Image", "PIL.ImageDraw", "PIL.PngImagePlugin", "yaml", "shapely", "pmk_nb.indoorgml",
-                   "pmk_nb.raster.storey", "pmk_nb.rosmap.files", "pmk_nb.access.check"):  # fmt: skip
+                   "pmk_nb.raster.storey", "pmk_nb.rosmap.files", "pmk_nb.access.check",
+                   "pmk_nb.library.naming"):  # fmt: skip
         importlib.import_module(module)  # the baseline includes the code both approaches load (not their data)
+    from PIL import Image
+
+    Image.init()  # Pillow loads every format plugin at its first save: code too, so it belongs to the baseline
 
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     with tempfile.TemporaryDirectory(prefix="bench-convert-") as tmp:
@@ -277,8 +283,33 @@ def run_job(approach: str, case: dict[str, Any], code: Path = ROOT) -> dict[str,
     return result
 
 
-def cases(quick: bool) -> list[dict[str, Any]]:
-    out: list[dict[str, Any]] = []
+TWO_ROOMS = """<?xml version="1.0"?>
+<IndoorFeatures xmlns="http://www.opengis.net/indoorgml/1.0/core" xmlns:gml="http://www.opengis.net/gml/3.2"
+ xmlns:xlink="http://www.w3.org/1999/xlink" gml:id="F"><primalSpaceFeatures><PrimalSpaceFeatures gml:id="P">
+{cells}</PrimalSpaceFeatures></primalSpaceFeatures><multiLayeredGraph><MultiLayeredGraph gml:id="G"><spaceLayers
+ gml:id="SLs"><spaceLayerMember><SpaceLayer gml:id="SL"><nodes gml:id="N">{states}</nodes><edges gml:id="E">
+<transitionMember><Transition gml:id="T1"><connects xlink:href="#SA"/><connects xlink:href="#SB"/></Transition>
+</transitionMember></edges></SpaceLayer></spaceLayerMember></spaceLayers></MultiLayeredGraph></multiLayeredGraph>
+</IndoorFeatures>"""
+
+
+def two_rooms(folder: Path) -> Path:
+    """The smallest plan worth converting: two 5 x 4 m rooms and a transition (the fixed cost of a run)."""
+    cells = states = ""
+    for cid, x in (("A", 0), ("B", 5)):
+        ring = f"{x} 0 {x + 5} 0 {x + 5} 4 {x} 4 {x} 0"
+        cells += (f'<cellSpaceMember><CellSpace gml:id="{cid}"><cellSpaceGeometry><Geometry2D><gml:Polygon>'
+                  f"<gml:exterior><gml:LinearRing><gml:posList>{ring}</gml:posList></gml:LinearRing></gml:exterior>"
+                  "</gml:Polygon></Geometry2D></cellSpaceGeometry></CellSpace></cellSpaceMember>")  # fmt: skip
+        states += f'<stateMember><State gml:id="S{cid}"><duality xlink:href="#{cid}"/></State></stateMember>'
+    path = folder / "two_rooms.gml"
+    path.write_text(TWO_ROOMS.format(cells=cells, states=states), encoding="utf-8")
+    return path
+
+
+def cases(quick: bool, folder: Path) -> list[dict[str, Any]]:
+    out: list[dict[str, Any]] = [{"label": "two rooms and a door (fixed cost)", "kind": "file",
+                                  "path": str(two_rooms(folder)), "res": 0.05}]  # fmt: skip
     for path in sorted(SAMPLES.glob("*.gml")):
         out.append({"label": f"{path.name}", "kind": "file", "path": str(path), "res": 0.05})
     storeys = 4 if quick else 20
@@ -311,7 +342,8 @@ def main() -> int:
     rows = []
     started = time.perf_counter()
     approaches = (("before",) if args.before else ()) + ("new", "original")
-    for case in cases(args.quick):
+    tmp = tempfile.TemporaryDirectory(prefix="bench-convert-cases-")
+    for case in cases(args.quick, Path(tmp.name)):
         for approach in approaches:
             r = run_job(approach, case, args.before.resolve() if approach == "before" else ROOT)
             rows.append((case, approach, r))

@@ -254,6 +254,77 @@ def test_ramp_between_floor_heights_stays_one_storey(tmp_path: Path, v2: bool) -
     assert b.cells["U"].kind.is_free
 
 
+def _stair_solid(
+    cid: str, box: tuple[float, float, float, float], z0: float, rise: float, steps: int, top: float
+) -> str:
+    """A stair as a solid whose treads are horizontal faces (``steps`` rises of ``rise``), under a ceiling."""
+    x0, y0, x1, y1 = box
+    depth = (x1 - x0) / (steps + 1)
+    faces = "".join(
+        f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
+        f"{_ring(x0 + i * depth, y0, x0 + (i + 1) * depth, y1, z=z0 + i * rise)}</gml:posList></gml:LinearRing>"
+        f"</gml:exterior></gml:Polygon></gml:surfaceMember>"
+        for i in range(steps + 1)
+    ) + (
+        f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
+        f"{_ring(x0, y0, x1, y1, z=top)}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon>"
+        "</gml:surfaceMember>"
+    )
+    return (
+        f'<cellSpaceMember><CellSpace gml:id="{cid}"><gml:name>{cid}</gml:name><cellSpaceGeometry><Geometry3D>'
+        f"<gml:Solid><gml:exterior><gml:Shell>{faces}</gml:Shell></gml:exterior></gml:Solid></Geometry3D>"
+        f"</cellSpaceGeometry></CellSpace></cellSpaceMember>"
+    )
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+@pytest.mark.parametrize("unit", [("m", 1.0), ("mm", 1000.0)], ids=["metres", "millimetres"])
+def test_stair_known_by_its_steps_splits_levels_whatever_its_name(
+    tmp_path: Path, v2: bool, unit: tuple[str, float]
+) -> None:
+    # the stair cell is called "X12": only its six 0.17 m treads say it is a stair
+    name, k = unit
+    cells = (
+        _named_solid("L", "hall", (0, 0, 5 * k, 4 * k), 0.0, 2.6 * k)
+        + _stair_solid("X12", (5 * k, 0, 7 * k, 4 * k), 0.0, 0.17 * k, 6, 3.6 * k)
+        + _named_solid("U", "gallery", (7 * k, 0, 12 * k, 4 * k), 1.02 * k, 3.6 * k)
+    )
+    b = read_building(_plan(tmp_path, cells, _graph([("L", "X12"), ("X12", "U")], v2=v2), v2=v2), unit=name)
+    assert len(b.storeys) == 2
+    assert b.cells["L"].storey == b.cells["X12"].storey != b.cells["U"].storey
+    assert [(k_.a, k_.b) for k_ in b.links if not k_.same_storey] == [("X12", "U")]
+    assert any("stairs by their steps: X12" in w for w in b.warnings)
+
+
+def test_a_room_with_a_platform_and_a_dropped_ceiling_is_not_a_stair() -> None:
+    from pmk_nb.indoorgml.footprint import stepped
+
+    assert not stepped([0.0, 0.3, 2.4, 2.7], 2.7)  # floor, platform, dropped ceiling, ceiling
+    assert not stepped([0.0, 2.6], 2.6)  # a plain room
+    assert stepped([0.0, 0.17, 0.34, 0.51, 3.6], 3.6)  # three rises in a row
+    assert stepped([0.0, 170.0, 340.0, 510.0, 3600.0], 3600.0)  # the same in millimetres
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_a_ramp_drawn_as_a_sloping_solid_stays_one_storey(tmp_path: Path, v2: bool) -> None:
+    # the ramp's floor is one sloping face (not steps): a wheelchair rolls up it, the levels stay one storey
+    ramp_floor = "5 0 0 7 0 1.0 7 4 1.0 5 4 0 5 0 0"
+    ramp = (
+        '<cellSpaceMember><CellSpace gml:id="R"><gml:name>R</gml:name><cellSpaceGeometry><Geometry3D><gml:Solid>'
+        "<gml:exterior><gml:Shell>"
+        f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>{ramp_floor}"
+        "</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>"
+        f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
+        f"{_ring(5, 0, 7, 4, z=3.6)}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>"
+        "</gml:Shell></gml:exterior></gml:Solid></Geometry3D></cellSpaceGeometry></CellSpace></cellSpaceMember>"
+    )
+    hall = _named_solid("L", "hall", (0, 0, 5, 4), 0.0, 2.6)
+    cells = hall + ramp + _named_solid("U", "gallery", (7, 0, 12, 4), 1.0, 3.6)
+    b = read_building(_plan(tmp_path, cells, _graph([("L", "R"), ("R", "U")], v2=v2), v2=v2), unit="m")
+    assert len(b.storeys) == 1 and all(k.same_storey for k in b.links)
+    assert b.cells["U"].kind.is_free
+
+
 def test_split_level_without_a_graph_keeps_the_z_rule(tmp_path: Path) -> None:
     cells = _named_solid("L", "hall", (0, 0, 5, 4), 0.0, 2.6) + _named_solid("U", "gallery", (7, 0, 12, 4), 1.0, 3.6)
     b = read_building(_plan(tmp_path, cells), unit="m")

@@ -147,6 +147,56 @@ def test_strip_erosion_and_run_labels_match_the_whole_grid_ones() -> None:
     assert max(sizes) > (10, 5)  # enough regions and touching pairs to mean something
 
 
+def test_run_labels_and_erosion_match_a_pixel_by_pixel_reference() -> None:
+    """regions() against a flood fill, erode() against the disc test written out pixel by pixel."""
+    import math
+    from collections import deque
+
+    from pmk_nb.access.pixels import erode, regions
+
+    rng = np.random.default_rng(11)
+    h, w = 41, 37
+    mask = rng.random((h, w)) < 0.7
+    owner = (np.arange(w)[None, :] // 9 + 3 * (np.arange(h)[:, None] // 13)).astype(np.uint8)
+    comp = -np.ones((h, w), dtype=np.int64)
+    n = 0
+    for y, x in zip(*np.nonzero(mask), strict=True):
+        if comp[y, x] >= 0:
+            continue
+        comp[y, x] = n
+        todo = deque([(y, x)])
+        while todo:
+            cy, cx = todo.popleft()
+            for ny, nx in ((cy + 1, cx), (cy - 1, cx), (cy, cx + 1), (cy, cx - 1)):
+                if 0 <= ny < h and 0 <= nx < w and mask[ny, nx] and comp[ny, nx] < 0 and owner[ny, nx] == owner[cy, cx]:
+                    comp[ny, nx] = comp[cy, cx]
+                    todo.append((ny, nx))
+        n += 1
+    labels, label_owner, edges = regions(mask, owner)
+    pairs = set(zip(labels[mask].tolist(), comp[mask].tolist(), strict=True))
+    assert len(pairs) == n == len({a for a, _ in pairs})  # one label per flood-fill component and back
+    to_comp = dict(pairs)
+    assert all(label_owner[lab] == owner[comp == c][0] for lab, c in to_comp.items())
+    want = set()
+    for y in range(h):
+        for x in range(w):
+            for ny, nx in ((y + 1, x), (y, x + 1)):
+                if ny < h and nx < w and mask[y, x] and mask[ny, nx] and owner[y, x] != owner[ny, nx]:
+                    want.add(frozenset((int(comp[y, x]), int(comp[ny, nx]))))
+    got = {frozenset((to_comp[a], to_comp[b])) for a, b in edges.tolist()}
+    assert got == want and len(want) > 10
+    for radius in (1.5, 2.9):
+        r = math.floor(radius)
+        ref = np.zeros_like(mask)
+        for y in range(h):
+            for x in range(w):
+                ref[y, x] = all(
+                    0 <= y + dy < h and 0 <= x + dx < w and mask[y + dy, x + dx]
+                    for dy in range(-r, r + 1) for dx in range(-r, r + 1) if dx * dx + dy * dy <= radius * radius
+                )  # fmt: skip
+        assert np.array_equal(erode(mask, radius), ref)
+
+
 def test_polygon_parts_takes_plain_polygons_as_they_are_and_flattens_the_rest() -> None:
     """The vectorised fast path and the per-geometry fallback give the parts :func:`polygons_of` gives."""
     from pmk_nb.raster.parts import polygon_parts, polygons_of

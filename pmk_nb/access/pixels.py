@@ -15,6 +15,9 @@ from collections.abc import Callable, Iterable, Iterator
 
 import numpy as np
 
+STRIP_MIN_CELLS = 1 << 16
+STRIP_MAX_CELLS = 1 << 19
+
 
 def disc_radius_px(radius_m: float, resolution: float) -> float:
     """The disc used for a chair of ``radius_m`` on a grid of ``resolution`` (pixels, may be 0)."""
@@ -32,9 +35,11 @@ def erode(mask: np.ndarray, radius_px: float) -> np.ndarray:
     return out
 
 
-def strip_rows(width: int) -> int:
-    """Rows per strip so a strip's int32 working arrays stay around 4 MB whatever the grid."""
-    return max(16, 1_000_000 // max(1, width))
+def strip_rows(width: int, height: int | None = None) -> int:
+    """Rows per strip: about 1/16 of the grid, between 64 Ki and 512 Ki cells, so a strip's int32
+    working arrays stay a fraction of the grid on small maps and about 2 MB on large ones."""
+    cells = STRIP_MAX_CELLS if height is None else min(STRIP_MAX_CELLS, max(STRIP_MIN_CELLS, width * height // 16))
+    return max(16, cells // max(1, width))
 
 
 def erode_rows(
@@ -42,7 +47,7 @@ def erode_rows(
 ) -> Iterator[tuple[int, np.ndarray]]:
     """:func:`erode` of the (h, w) mask whose rows ``lo:hi`` ``mask_rows(lo, hi)`` gives, strip by strip:
     yields (first row, eroded rows), so the whole eroded mask is never held (nor its int32 sums)."""
-    step = step or strip_rows(w)
+    step = step or strip_rows(w, h)
     if radius_px < 1.0:
         for a in range(0, h, step):
             yield a, np.array(mask_rows(a, min(h, a + step)), dtype=bool)
@@ -58,14 +63,14 @@ def erode_rows(
 
 def _erode_padded(padded: np.ndarray, radius_px: float, r: int, n: int, w: int) -> np.ndarray:
     """The ``n`` middle rows of ``padded`` (r rows and columns of margin) eroded by the disc."""
-    blocked = np.cumsum(~padded, axis=1, dtype=np.int32)
-    blocked = np.pad(blocked, ((0, 0), (1, 0)))
+    blocked = np.zeros((padded.shape[0], padded.shape[1] + 1), dtype=np.int32)
+    np.cumsum(~padded, axis=1, dtype=np.int32, out=blocked[:, 1:])
     out = np.ones((n, w), dtype=bool)
     for dy in range(-r, r + 1):
         half = math.floor(math.sqrt(max(radius_px * radius_px - dy * dy, 0.0)))
         rows = blocked[r + dy : r + dy + n]
         # blocked pixels in columns [x - half, x + half] of row y + dy (padded column x + r)
-        out &= (rows[:, r + half + 1 : r + half + 1 + w] - rows[:, r - half : r - half + w]) == 0
+        out &= rows[:, r + half + 1 : r + half + 1 + w] == rows[:, r - half : r - half + w]
     return out
 
 
@@ -115,16 +120,21 @@ def _union(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _runs(row0: int, mask: np.ndarray, own: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Runs of ``mask`` that keep one owner, per row: (row, first column, column after, owner)."""
+    """Runs of ``mask`` that keep one owner, per row: (row, first column, column after, owner).
+
+    Works on the strip as it is (bool masks of its size, the owners in their own narrow type)."""
     w = mask.shape[1]
-    own = own.astype(np.int32, copy=False)  # a strip at a time; -1 pads it
-    m = np.pad(mask, ((0, 0), (1, 1)))
-    o = np.pad(own, ((0, 0), (1, 1)), constant_values=-1)
-    inner = m[:, 1:] & m[:, :-1] & (o[:, 1:] == o[:, :-1])
-    inside = m[:, 1 : w + 1]
-    sr, sc = np.nonzero(inside & ~inner[:, 0:w])
-    _, ec = np.nonzero(inside & ~inner[:, 1 : w + 1])
-    return (sr + row0).astype(np.int64), sc.astype(np.int64), (ec + 1).astype(np.int64), own[sr, sc].astype(np.int32)
+    go_on = mask[:, 1:] & mask[:, :-1]  # the run goes on from column c to c + 1 ...
+    go_on &= own[:, 1:] == own[:, :-1]  # ... when both are in the mask and share an owner
+    start = mask.copy()
+    start[:, 1:] &= ~go_on
+    end = mask.copy()
+    end[:, :-1] &= ~go_on
+    first = np.flatnonzero(start)
+    last = np.flatnonzero(end)
+    sr, sc = np.divmod(first, w)
+    return (sr + row0).astype(np.int64), sc.astype(np.int64), (last % w + 1).astype(np.int64), \
+        own.reshape(-1)[first].astype(np.int32)
 
 
 def run_regions(

@@ -13,7 +13,7 @@ from pmk_nb.indoorgml import doors as doorlib
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint
 from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
-from pmk_nb.indoorgml.levels import RAISED, raised_cells
+from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, raised_cells
 from pmk_nb.indoorgml.model import (
     Boundary,
     Building,
@@ -104,13 +104,17 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
         [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
     )
     cell_notes: list[str] = []
-    model_cells = _model_cells(cells, kinds, plan, s, cell_notes)
+    linked = _linked_pairs(doc)
+    model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked)
     graph = _graph(doc, model_cells, s)
     links = resolve_links(graph, model_cells)
-    levels = split_levels(plan, {i: (c.z_min, c.name) for i, c in model_cells.items()}, [(k.a, k.b) for k in links])
+    stairs = frozenset(c.raw.id for c in cells if c.fp.stepped)
+    levels = split_levels(
+        plan, {i: (c.z_min, c.name) for i, c in model_cells.items()}, [(k.a, k.b) for k in links], stairs
+    )
     if levels is not plan:  # split levels: cells, windows and links are decided again on the new storeys
         plan, cell_notes = levels, []
-        model_cells = _model_cells(cells, kinds, plan, s, cell_notes)
+        model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked)
         graph = _graph(doc, model_cells, s)
         links = resolve_links(graph, model_cells)
     warnings.extend(plan.notes + cell_notes)
@@ -263,14 +267,27 @@ def _choose_unit(
     return choice
 
 
+def _linked_pairs(doc: RawDocument) -> frozenset[frozenset[str]]:
+    """Cell pairs a transition joins through their states' duality (or cell ids named directly)."""
+    inline = {c.duality: c.id for c in doc.cells if c.alma_inline and c.duality}
+    cell_of = {rs.id: rs.cell or inline.get(rs.id) for rs in doc.states}
+    pairs = set()
+    for t in doc.transitions:
+        ends = [cell_of.get(ref, ref) for ref in t.connects[:2]]
+        if len(ends) == 2 and all(ends) and ends[0] != ends[1]:
+            pairs.add(frozenset(ends))
+    return frozenset(pairs)
+
+
 def _model_cells(
-    cells: list[KeptCell], kinds: dict[str, CellKind], plan: StoreyPlan, s: float, warnings: list[str]
-) -> dict[str, Cell]:
+    cells: list[KeptCell], kinds: dict[str, CellKind], plan: StoreyPlan, s: float, warnings: list[str],
+    linked: frozenset[frozenset[str]] = frozenset(),
+) -> dict[str, Cell]:  # fmt: skip
     """The model's cells in metres, on their storeys; raised free cells (windows, sills) become non-navigable."""
     model_cells: dict[str, Cell] = {}
     raised_ids = raised_cells(
         [(c.raw.id, c.fp.geometry, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), plan.of_cell[c.raw.id]) for c in cells],
-        touch=0.05 / s,
+        touch=0.05 / s, linked=linked, thin=WINDOW_DEPTH / s,
     )
     raised: list[str] = []
     for c in cells:

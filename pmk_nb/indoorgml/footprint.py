@@ -8,6 +8,7 @@ reported, because one bad ring in an editor export should not sink a whole build
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,6 +27,28 @@ class Footprint:
     z_min: float | None
     z_max: float | None
     repaired: bool = False
+    stepped: bool = False  # horizontal faces rise in a run of small steps: a stair, by its geometry
+
+
+STEP_RISE = 0.1  # a tread rises at most this share of the cell's height above the one before
+STEP_RUN = 3  # rises in a row that make a stair (a platform and a dropped ceiling make at most two)
+
+
+def stepped(levels: list[float], span: float) -> bool:
+    """Whether the heights of a cell's horizontal faces climb in a run of :data:`STEP_RUN` small rises.
+
+    A room has a floor and a ceiling, perhaps a platform or a dropped ceiling; a stair drawn as a solid
+    has a tread every 15-20 cm. Heights are relative to the cell's height, so the file's unit does not
+    matter."""
+    if span <= 0:
+        return False
+    zs = sorted(levels)
+    distinct = [z for i, z in enumerate(zs) if i == 0 or z - zs[i - 1] > 1e-3 * span]
+    run = best = 0
+    for lower, upper in itertools.pairwise(distinct):
+        run = run + 1 if upper - lower <= STEP_RISE * span else 0
+        best = max(best, run)
+    return best >= STEP_RUN
 
 
 def polygonal(geom: BaseGeometry) -> BaseGeometry:
@@ -68,6 +91,8 @@ def cell_footprint(polys: list[PolygonZ]) -> Footprint:
         if z is None or z[1] - z[0] <= FLAT_SLOPE * size:
             flat.append(p)
     chosen = flat or polys
+    flat_z = [z[0] for z in (_z_spread(p) for p in flat) if z is not None]
+    is_stair = z_min is not None and z_max is not None and stepped(flat_z, z_max - z_min)
     repaired = False
     geoms: list[BaseGeometry] = []
     for p in chosen:
@@ -76,15 +101,15 @@ def cell_footprint(polys: list[PolygonZ]) -> Footprint:
         if not g.is_empty and g.area > 0:
             geoms.append(g)
     if not geoms:
-        return Footprint(None, z_min, z_max, repaired)
+        return Footprint(None, z_min, z_max, repaired, is_stair)
     union = shapely.union_all(geoms)
     if not union.is_valid:
         union = shapely.make_valid(union)
         repaired = True
     union = polygonal(union)
     if union.is_empty or union.area <= 0:
-        return Footprint(None, z_min, z_max, repaired)
-    return Footprint(union, z_min, z_max, repaired)
+        return Footprint(None, z_min, z_max, repaired, is_stair)
+    return Footprint(union, z_min, z_max, repaired, is_stair)
 
 
 def boundary_footprint(polys: list[PolygonZ], lines: list[list[Coord]]) -> Footprint:

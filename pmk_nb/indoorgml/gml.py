@@ -7,6 +7,7 @@ result is plain tuples; the footprint maths lives in :mod:`pmk_nb.indoorgml.foot
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -43,8 +44,12 @@ class CoordError(ValueError):
 def local(elem: etree._Element) -> str:
     """Lower-cased local name: matching is case-insensitive (``core:spaceLayer`` happens)."""
     tag = elem.tag
-    if not isinstance(tag, str):
-        return ""
+    return _local_name(tag) if isinstance(tag, str) else ""
+
+
+@functools.lru_cache(maxsize=1024)
+def _local_name(tag: str) -> str:
+    """A file uses a few dozen tags a hundred thousand times: each is split once."""
     return tag.rpartition("}")[2].lower()
 
 

@@ -4,27 +4,36 @@ A window cell sits in a room's wall, starting well above that room's floor and e
 ceiling. Comparing with the storey's lowest point instead (as before) turned every higher cell of a
 sloping floor (an underground plaza from -3.9 m to -0.9 m, a ramp, a split level) into a window.
 So a cell is raised only when a cell it touches on the same storey starts more than ``RAISED`` below
-it *and* reaches at least as high (within ``TOP_SLACK``): a step up to a higher floor whose ceiling
-rises with it, or a cell touching nothing lower, stays navigable.
+it *and* reaches at least as high (within ``TOP_SLACK``), and the navigation graph does not link the
+two: a step up to a higher floor whose ceiling rises with it, a landing the graph reaches from the
+ramp below it, or a cell touching nothing lower, stays navigable.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import numpy as np
 import shapely
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
 RAISED = 0.5  # metres above a touching cell's floor: a window/sill, not floor space
+WINDOW_DEPTH = 1.0  # metres: a raised cell this thin is a window in a wall, linked in the graph or not
 TOP_SLACK = 0.3  # metres: a window ends below (or at) the ceiling of the room it is in
 
 CellLevel = tuple[str, "BaseGeometry", float | None, float | None, str]  # id, footprint, z_min, z_max, storey
 
 
-def raised_cells(cells: list[CellLevel], touch: float) -> set[str]:
-    """Ids of cells that are windows/sills; ``touch`` is the adjacency tolerance in footprint units."""
+def raised_cells(
+    cells: list[CellLevel], touch: float, linked: frozenset[frozenset[str]] = frozenset(), thin: float = 0.0
+) -> set[str]:
+    """Ids of cells that are windows/sills; ``touch`` is the adjacency tolerance in footprint units.
+
+    A cell the navigation graph links to a touching cell, and wider than ``thin`` (footprint units), is
+    reached from it on wheels: a gallery at the top of a ramp, not a window of the ramp. Windows sit in
+    walls, and some files link them too (FZK-Haus: 0.3 m deep window cells with states and transitions)."""
     with_z = [c for c in cells if c[2] is not None and c[3] is not None and c[1] is not None]
     if not with_z:
         return set()
@@ -35,9 +44,20 @@ def raised_cells(cells: list[CellLevel], touch: float) -> set[str]:
         if i == j:
             continue
         cid, _, z0, z1, storey = with_z[i]
-        _, _, n0, n1, n_storey = with_z[j]
+        nid, _, n0, n1, n_storey = with_z[j]
         if storey != n_storey or z0 is None or z1 is None or n0 is None or n1 is None:
+            continue
+        if frozenset((cid, nid)) in linked and _narrow_side(with_z[i][1]) > thin:
             continue
         if z0 - n0 > RAISED and z1 <= n1 + TOP_SLACK and z1 > z0:
             out.add(cid)
     return out
+
+
+def _narrow_side(footprint: BaseGeometry) -> float:
+    """The shorter side of the footprint's minimum rotated rectangle (a wall's depth for a window)."""
+    box = shapely.get_coordinates(shapely.minimum_rotated_rectangle(footprint))
+    if len(box) < 3:
+        return 0.0
+    sides = np.hypot(*(box[1] - box[0])), np.hypot(*(box[2] - box[1]))
+    return float(min(sides))

@@ -182,7 +182,7 @@ class _Scanner:
         self.stack.append((name, elem.get(GML_ID)))
 
     def end(self, elem: etree._Element) -> None:
-        name = local(elem)
+        name = self.stack[-1][0]  # named at its start
         try:
             self._end(elem, name)
         except CoordError as err:
@@ -195,7 +195,7 @@ class _Scanner:
         doc = self.doc
         consumed = True
         parent = elem.getparent()
-        in_member = parent is not None and local(parent) == "cellspacemember"
+        in_member = len(self.stack) > 1 and self.stack[-2][0] == "cellspacemember"
         if (name in CELL_NAMES or in_member) and not gml.is_gml(elem):
             self._cell(elem, name)
         elif name in BOUNDARY_NAMES and not gml.is_gml(elem):

@@ -150,17 +150,19 @@ def _level_groups(bands: list[list[str]], links: list[tuple[str, str]], vertical
 
 
 def split_levels(
-    plan: StoreyPlan, cells: dict[str, tuple[float | None, str]], links: list[tuple[str, str]]
-) -> StoreyPlan:
+    plan: StoreyPlan, cells: dict[str, tuple[float | None, str]], links: list[tuple[str, str]],
+    stairs: frozenset[str] = frozenset(),
+) -> StoreyPlan:  # fmt: skip
     """Storeys from the graph and z together: a storey found by clustering floor heights is split where
-    its height bands (floors more than SPLIT_STEP apart) are joined only through stairs or lifts (by
-    name), so a split level is its own storey and those transitions link two storeys. Bands joined by
-    an ordinary transition (a ramp, a sloping floor) stay one storey. ``cells``: id -> (z_min, name).
-    Storeys tagged in the file are never changed.
+    its height bands (floors more than SPLIT_STEP apart) are joined only through stairs or lifts, so a
+    split level is its own storey and those transitions link two storeys. Bands joined by an ordinary
+    transition (a ramp, a sloping floor) stay one storey. ``cells``: id -> (z_min, name); a cell is a
+    stair or lift by its name or, whatever its name, when it is in ``stairs`` (its treads drawn as
+    steps, see :func:`pmk_nb.indoorgml.footprint.stepped`). Storeys tagged in the file are never changed.
     """
     if not links or any(src not in ("z", "single") for src in plan.source.values()):
         return plan
-    vertical = {cid for cid, (_, name) in cells.items() if is_vertical(name)}
+    vertical = {cid for cid, (_, name) in cells.items() if is_vertical(name) or cid in stairs}
     levels: list[tuple[float | None, list[str]]] = []
     notes = list(plan.notes)
     for name in plan.names:
@@ -176,9 +178,11 @@ def split_levels(
         for part in parts:
             levels.append((min((z for cid, z in with_z if cid in set(part)), default=None), part))
         if len(parts) > 1:
+            unnamed = sorted(cells[c][1] or c for c in ids if c in stairs and not is_vertical(cells[c][1]))
             notes.append(
                 f"storey {name}: {len(parts)} levels joined only by stairs or lifts in the navigation graph "
                 f"(floors at {', '.join(f'{lv[0]:.2f}' for lv in levels[-len(parts):] if lv[0] is not None)} m)"
+                + (f"; stairs by their steps: {', '.join(unnamed)}" if unnamed else "")
             )
     if len(levels) == len(plan.names):
         return plan

@@ -38,6 +38,7 @@ SAFE_PARSER_OPTIONS: dict[str, Any] = {
 _EVENTS = ("start", "end")
 
 PROLOG_LIMIT = 1 << 20  # a DOCTYPE/prolog longer than 1 MiB is not a building plan
+GML_ID_ATTR = "{http://www.opengis.net/gml/3.2}id"
 _ROOT_START = re.compile(rb"<(?![?!])")
 _ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
 _COMMENT = re.compile(rb"<!--.*?-->", re.DOTALL)
@@ -140,28 +141,26 @@ def iter_events(
         fh.seek(0)
         reader = _CountingReader(fh, total, progress)
         events = iterparse(reader)
-        open_tags: list[str] = []
-        last_id: list[str | None] = []
+        # the open elements themselves: their names and ids are only read for an error message
+        open_elems: list[etree._Element] = []
         try:
             for event, elem in events:
                 if event == "start":
-                    if not open_tags and (why := doctype_problem(elem.getroottree().docinfo)):
+                    if not open_elems and (why := doctype_problem(elem.getroottree().docinfo)):
                         raise _refused(p, why)
-                    open_tags.append(_short(elem))
-                    last_id.append(elem.get("{http://www.opengis.net/gml/3.2}id"))
+                    open_elems.append(elem)
                 else:
-                    open_tags.pop()
-                    last_id.pop()
+                    open_elems.pop()
                 yield event, elem
         except etree.XMLSyntaxError as err:
             where = f"line {err.lineno}" if err.lineno else "unknown line"
             inside = ""
-            if open_tags:
-                ident = next((i for i in reversed(last_id) if i), None)
-                inside = f" inside <{open_tags[-1]}>" + (f" (near gml:id={ident!r})" if ident else "")
-            kind = "not XML" if not open_tags and reader.bytes_read <= len(head) else "malformed XML"
+            if open_elems:
+                ident = next((i for i in (e.get(GML_ID_ATTR) for e in reversed(open_elems)) if i), None)
+                inside = f" inside <{_short(open_elems[-1])}>" + (f" (near gml:id={ident!r})" if ident else "")
+            kind = "not XML" if not open_elems and reader.bytes_read <= len(head) else "malformed XML"
             msg = err.msg or str(err)
-            element = open_tags[-1] if open_tags else None
+            element = _short(open_elems[-1]) if open_elems else None
             raise IndoorGMLError(f"{p}: {kind} at {where}{inside}: {msg}", path=str(p), element=element) from err
         emit(progress, "read", 1.0, f"{total} bytes")
 

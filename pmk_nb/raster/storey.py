@@ -296,9 +296,9 @@ def _lay_bridges(grid: np.ndarray, plan: _Plan, reach: float) -> None:
 
 
 def _finish(grid: np.ndarray, outside_mark: int, tick: _Ticker) -> None:
-    """Step 5: walls become occupied, outside cells unknown (or occupied), in strips of about a million
-    cells (no full-size temporary; a strip's mask stays in cache)."""
-    step = max(1, 1_000_000 // max(1, grid.shape[1]))
+    """Step 5: walls become occupied, outside cells unknown (or occupied), in strips of 64 Ki cells
+    (no full-size temporary; a strip's mask stays in cache)."""
+    step = max(1, 65536 // max(1, grid.shape[1]))
     for start in range(0, grid.shape[0], step):
         block = grid[start : start + step]
         np.copyto(block, OCCUPIED, where=block == _WALL, casting="unsafe")

@@ -22,7 +22,7 @@ import numpy as np
 
 from pmk_nb import __version__
 from pmk_nb.errors import MapFormatError
-from pmk_nb.fileio import Content, replace_all
+from pmk_nb.fileio import Content, Writer, replace_all
 from pmk_nb.grid import OccupancyGrid, nice_ceil
 from pmk_nb.rosmap.image import (
     MODES,
@@ -269,11 +269,17 @@ def _yaml_text(grid: OccupancyGrid, image_name: str, extras: dict[str, Any]) -> 
 
 
 def _png_bytes(gray: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    _png_writer(gray)(buf)
+    return buf.getvalue()
+
+
+def _png_writer(gray: np.ndarray) -> Writer:
+    """Writes ``gray`` as a PNG straight into the file (no bytes copy of the encoded image)."""
     from PIL import Image
 
-    buf = io.BytesIO()
-    Image.fromarray(np.ascontiguousarray(gray, dtype=np.uint8), mode="L").save(buf, format="PNG")
-    return buf.getvalue()
+    image = Image.fromarray(np.ascontiguousarray(gray, dtype=np.uint8), mode="L")
+    return lambda fh: image.save(fh, format="PNG")
 
 
 def write_map(
@@ -329,8 +335,8 @@ def write_map(
     extras["generator"] = f"pmk_nb {__version__}"
     if preview:
         pv, used_px_per_m = preview_image(grid, preview_px_per_m, PREVIEW_MAX_SIDE)
-        pv_png = _png_bytes(pv)
-        contents.append((preview_name, pv_png))
+        contents.append((preview_name, _png_writer(pv)))
+        del pv  # the writer holds the image
         extras["preview"] = preview_name
         extras["preview_px_per_m"] = float(used_px_per_m)
     contents.append((f"{name}.yaml", _yaml_text(grid, image_name, extras)))

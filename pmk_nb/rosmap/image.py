@@ -116,6 +116,7 @@ def image_to_data(
 
 
 LOOKUP_MIN_PIXELS = 65536  # below this the readers' own maths is as quick as a lookup
+WRITE_CHUNK_CELLS = 65536  # cells turned into image bytes at once while writing
 
 
 def _plain_gray(img: DecodedImage) -> np.ndarray | None:
@@ -237,11 +238,12 @@ def pgm_bytes(gray: np.ndarray) -> bytes:
     return f"P5\n{w} {h}\n255\n".encode("ascii") + np.ascontiguousarray(gray, dtype=np.uint8).tobytes()
 
 
-def write_pgm(grid: OccupancyGrid, fh: BinaryIO, rows_per_chunk: int = 1024) -> None:
-    """Stream ``grid`` as a P5 PGM (same bytes as ``pgm_bytes(grid_to_gray(grid))``) in row chunks,
-    so a huge grid never needs a second full-size copy in memory."""
+def write_pgm(grid: OccupancyGrid, fh: BinaryIO, rows_per_chunk: int | None = None) -> None:
+    """Stream ``grid`` as a P5 PGM (same bytes as ``pgm_bytes(grid_to_gray(grid))``) in row chunks of
+    about 64 Ki cells, so no grid, large or small, needs a second full-size copy in memory."""
     fh.write(f"P5\n{grid.width} {grid.height}\n255\n".encode("ascii"))
     data = grid.data.view(np.uint8)
+    rows_per_chunk = rows_per_chunk or max(1, WRITE_CHUNK_CELLS // max(1, grid.width))
     for stop in range(grid.height, 0, -rows_per_chunk):
         start = max(0, stop - rows_per_chunk)
         fh.write(np.ascontiguousarray(_GRAY_LUT[data[start:stop][::-1]]).data)
