@@ -74,3 +74,37 @@ def test_pmk_check_a_written_map_uses_its_rooms_file(tmp_path: Path, capsys: pyt
     (tmp_path / f3.name.replace(".yaml", ".rooms.json")).unlink()
     assert main(["check", str(f3)]) == 2
     assert "rooms" in capsys.readouterr().err
+
+
+OWNER_FILES = ["pnu_abc_3floors_4layers.gml", "fjk_haus_v1_0_3.gml", "ineditor_example2_5floors.gml"]
+
+
+@pytest.mark.parametrize("name", OWNER_FILES)
+def test_owners_painted_strip_by_strip_match_the_whole_grid_paint(name: str) -> None:
+    """The check paints cell owners a strip at a time; every strip equals the same rows of the whole
+    grid painted cell by cell, largest first, door cells grown by half a cell (the rule it replaced)."""
+    import numpy as np
+    import shapely
+
+    from pmk_nb.access.pixels import strip_rows
+    from pmk_nb.access.report import _Owners
+    from pmk_nb.raster.scanline import Frame
+    from pmk_nb.raster.spans import fill_polygons
+    from pmk_nb.raster.storey import rasterise_storey
+
+    building = read_building(INDOORGML_DIR / name)
+    most = 0
+    for storey in building.storeys:
+        cells = [c for c in building.cells_of(storey.name) if c.footprint is not None and not c.footprint.is_empty]
+        grid = rasterise_storey(building, storey.name, 0.05)
+        frame = Frame(grid.origin[0], grid.origin[1], grid.resolution, grid.width, grid.height)
+        whole = np.zeros((grid.height, grid.width), dtype=np.int32)
+        for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
+            shape = shapely.buffer(cell.footprint, 0.025, join_style="mitre") if cell.kind.is_door else cell.footprint
+            fill_polygons(whole, frame, [shape], i + 1)
+        owners = _Owners(grid, cells)
+        step = max(1, strip_rows(grid.width, grid.height) // 3)  # strips that cut through cells
+        painted = np.vstack([owners.rows(a, min(a + step, grid.height)) for a in range(0, grid.height, step)])
+        assert np.array_equal(painted.astype(np.int32), whole)
+        most = max(most, len(np.unique(whole)))
+    assert most > 3  # a storey with several cells, so paint order was exercised

@@ -90,7 +90,7 @@ def regions(mask: np.ndarray, owner: np.ndarray | None = None) -> tuple[np.ndarr
     own = np.zeros((h, w), dtype=np.int32) if owner is None else owner.astype(np.int32, copy=False)
     if not mask.any():
         return labels, np.zeros(1, dtype=np.int32), np.zeros((0, 2), dtype=np.int64)
-    sr, sc, ec, run_owner = _runs(0, mask, own)
+    sr, sc, ec, run_owner = strip_runs(0, mask, own)
     parent, label_owner, edges = _join_runs(sr, sc, ec, run_owner, w)
     lengths = ec - sc
     rows = np.repeat(sr, lengths)
@@ -119,7 +119,7 @@ def _union(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         parent = nxt
 
 
-def _runs(row0: int, mask: np.ndarray, own: np.ndarray) -> tuple[np.ndarray, ...]:
+def strip_runs(row0: int, mask: np.ndarray, own: np.ndarray) -> tuple[np.ndarray, ...]:
     """Runs of ``mask`` that keep one owner, per row: (row, first column, column after, owner).
 
     Works on the strip as it is (bool masks of its size, the owners in their own narrow type)."""
@@ -145,7 +145,11 @@ def run_regions(
     Returns (the labels that exist, owner of each label (index = label), edges), the same labels,
     owners and edges :func:`regions` gives, without its full-size label array.
     """
-    parts = [_runs(a, m, o) for a, m, o in strips]
+    return join_strip_runs([strip_runs(a, m, o) for a, m, o in strips], w)
+
+
+def join_strip_runs(parts: list[tuple[np.ndarray, ...]], w: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`run_regions` from the :func:`strip_runs` of every strip, in row order."""
     sr, sc, ec, run_owner = (np.concatenate(x) for x in zip(*parts, strict=True))
     if len(sr) == 0:
         return np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int32), np.zeros((0, 2), dtype=np.int64)

@@ -16,17 +16,17 @@ a third room does not count. A leak must join the two rooms without crossing a d
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
 
-from pmk_nb.access.pixels import disc_radius_px, erode_rows, run_regions
+from pmk_nb.access.pixels import disc_radius_px, erode_rows, join_strip_runs, strip_runs
 from pmk_nb.grid import FREE
-from pmk_nb.raster.scanline import Frame
-from pmk_nb.raster.spans import fill_polygons
+from pmk_nb.raster.scanline import Frame, write_rects
+from pmk_nb.raster.spans import polygon_rects
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -124,8 +124,8 @@ class _Regions:
     them or by no cell leads from one to the other: labelled once per storey, asked per link.
     """
 
-    def __init__(self, strips: Iterable[tuple[int, np.ndarray, np.ndarray]], width: int) -> None:
-        labels, self.owner, edges = run_regions(strips, width)
+    def __init__(self, runs: list[tuple[np.ndarray, ...]], width: int) -> None:
+        labels, self.owner, edges = join_strip_runs(runs, width)
         self.by_owner: dict[int, list[int]] = {}
         for lab, own in zip(labels.tolist(), self.owner[labels].tolist(), strict=True):
             self.by_owner.setdefault(int(own), []).append(lab)
@@ -150,25 +150,46 @@ class _Regions:
         return False
 
 
-def _owners(grid: OccupancyGrid, cells: list[Cell]) -> np.ndarray:
-    """Per pixel, 1 + the index of the cell holding its centre (0: none), in the narrowest integer type
-    that holds every index (one byte a pixel for up to 254 cells)."""
-    frame = Frame(float(grid.origin[0]), float(grid.origin[1]), grid.resolution, grid.width, grid.height)
-    kind = np.uint8 if len(cells) < 255 else np.int16 if len(cells) < 32767 else np.int32
-    owner = np.zeros((grid.height, grid.width), dtype=kind)
-    # largest first, so a room drawn inside a hall's footprint keeps its own pixels; a door cell also
-    # owns the half cell round it: the jamb pixels its openings clear are the doorway, not a leak
-    for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
-        shape = shapely.buffer(cell.footprint, grid.resolution / 2, join_style="mitre") if cell.kind.is_door else None
-        fill_polygons(owner, frame, [shape if shape is not None else cell.footprint], i + 1)
-    return owner
+class _Owners:
+    """Per pixel, 1 + the index of the cell holding its centre (0: none), painted a strip of rows at a
+    time from each cell's rectangles of pixels, so the check never holds a full-size owner array.
+
+    Cells are painted largest first, so a room drawn inside a hall's footprint keeps its own pixels; a
+    door cell also owns the half cell round it: the jamb pixels its openings clear are the doorway, not
+    a leak. The narrowest integer type that holds every index is used (one byte for up to 254 cells).
+    """
+
+    def __init__(self, grid: OccupancyGrid, cells: list[Cell]) -> None:
+        frame = Frame(float(grid.origin[0]), float(grid.origin[1]), grid.resolution, grid.width, grid.height)
+        self.width = grid.width
+        self.dtype = np.uint8 if len(cells) < 255 else np.int16 if len(cells) < 32767 else np.int32
+        self.layers: list[tuple[int, tuple[np.ndarray, ...]]] = []
+        for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
+            door = cell.kind.is_door
+            shape = shapely.buffer(cell.footprint, grid.resolution / 2, join_style="mitre") if door else cell.footprint
+            rects = polygon_rects(frame, [shape])
+            if len(rects[0]):
+                self.layers.append((i + 1, rects))
+        self.top = np.array([int(r[0].min()) for _, r in self.layers], dtype=np.int64)
+        self.bottom = np.array([int(r[1].max()) for _, r in self.layers], dtype=np.int64)
+
+    def rows(self, a: int, b: int) -> np.ndarray:
+        """Owners of grid rows ``a:b``."""
+        out = np.zeros((b - a, self.width), dtype=self.dtype)
+        for k in np.flatnonzero((self.top < b) & (self.bottom > a)).tolist():
+            value, (ra, rb, s, t) = self.layers[k]
+            write_rects(out, np.maximum(ra, a) - a, np.minimum(rb, b) - a, s, t, value)
+        return out
 
 
-def _strips(grid: OccupancyGrid, owner: np.ndarray, radius_px: float) -> Iterator[tuple[int, np.ndarray, np.ndarray]]:
-    """(first row, free pixels - eroded by ``radius_px`` - , owners) strip by strip."""
+def _strips(
+    grid: OccupancyGrid, owners: _Owners, radius_px: float
+) -> Iterator[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
+    """(first row, free pixels, free pixels eroded by ``radius_px``, owners) strip by strip."""
     data = np.asarray(grid.data)
-    for a, free in erode_rows(lambda lo, hi: data[lo:hi] == FREE, grid.height, grid.width, radius_px):
-        yield a, free, owner[a : a + len(free)]
+    for a, eroded in erode_rows(lambda lo, hi: data[lo:hi] == FREE, grid.height, grid.width, radius_px):
+        b = a + len(eroded)
+        yield a, data[a:b] == FREE, eroded, owners.rows(a, b)
 
 
 def check_storey(
@@ -188,9 +209,11 @@ def check_storey(
     by_id = {c.id: c for c in cells}
     index = {c.id: i + 1 for i, c in enumerate(cells)}
     doors = frozenset(index[c.id] for c in cells if c.kind.is_door)
-    owner = _owners(grid, cells)
-    point = _Regions(_strips(grid, owner, 0.0), grid.width)
-    chair = _Regions(_strips(grid, owner, disc_radius_px(chair_width / 2, grid.resolution)), grid.width)
+    point_runs, chair_runs = [], []  # one sweep: each strip's owners are painted once for both
+    for a, free, eroded, own in _strips(grid, _Owners(grid, cells), disc_radius_px(chair_width / 2, grid.resolution)):
+        point_runs.append(strip_runs(a, free, own))
+        chair_runs.append(strip_runs(a, eroded, own))
+    point, chair = _Regions(point_runs, grid.width), _Regions(chair_runs, grid.width)
     r = chair_width / 2
     for o in openings:
         a, b = index[o.link.a], index[o.link.b]

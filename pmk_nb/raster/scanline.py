@@ -307,7 +307,7 @@ def _axis_ends(p0: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.floor(p0 + d * tm_first), np.floor(p0 + d * tm_last)
 
 
-def _rectangles(rows: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> tuple[np.ndarray, ...]:
+def span_rectangles(rows: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> tuple[np.ndarray, ...]:
     """Spans merged into rectangles: (row0, row1 exclusive, start, stop), one per run of equal spans
     on consecutive rows (duplicates dropped)."""
     order = np.lexsort((rows, stops, starts))
@@ -332,7 +332,7 @@ def write_spans(
         return
     if not grid.flags.c_contiguous:
         raise ValueError("write_spans needs a C-contiguous grid (it writes through a flat view)")
-    write_rects(grid, *_rectangles(rows, starts, stops), value, keep)
+    write_rects(grid, *span_rectangles(rows, starts, stops), value, keep)
 
 
 def write_rects(

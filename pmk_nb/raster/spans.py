@@ -17,7 +17,7 @@ import numpy as np
 import shapely
 
 from pmk_nb.raster.parts import polygon_parts
-from pmk_nb.raster.scanline import Frame, write_rects, write_spans
+from pmk_nb.raster.scanline import Frame, span_rectangles, write_rects, write_spans
 
 _CHUNK_CELLS = 1_000_000  # (edge, row) crossings computed at once at most
 
@@ -157,3 +157,11 @@ def fill_polygons(
         rects, spans = polygon_cells(frame, polys[lo:hi].tolist())
         write_rects(grid, *rects, value, keep)
         write_spans(grid, *spans, value, keep)
+
+
+def polygon_rects(frame: Frame, geoms: list[shapely.Geometry]) -> tuple[np.ndarray, ...]:
+    """The cells :func:`fill_polygons` would set for ``geoms``, as rectangles (row0, row1, start, stop;
+    exclusive ends), held instead of the cells: a caller can write them a strip of rows at a time."""
+    rects, spans = polygon_cells(frame, geoms)
+    more = span_rectangles(*spans) if len(spans[0]) else (*spans, spans[0])
+    return tuple(np.concatenate([a, b]) for a, b in zip(rects, more, strict=True))
