@@ -35,10 +35,10 @@ def erode(mask: np.ndarray, radius_px: float) -> np.ndarray:
     return out
 
 
-def strip_rows(width: int, height: int | None = None) -> int:
+def strip_rows(width: int, height: int) -> int:
     """Rows per strip: about 1/16 of the grid, between 64 Ki and 512 Ki cells, so a strip's int32
     working arrays stay a fraction of the grid on small maps and about 2 MB on large ones."""
-    cells = STRIP_MAX_CELLS if height is None else min(STRIP_MAX_CELLS, max(STRIP_MIN_CELLS, width * height // 16))
+    cells = min(STRIP_MAX_CELLS, max(STRIP_MIN_CELLS, width * height // 16))
     return max(16, cells // max(1, width))
 
 

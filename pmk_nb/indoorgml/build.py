@@ -267,10 +267,15 @@ def _choose_unit(
     return choice
 
 
+def _state_cells(doc: RawDocument) -> dict[str, str | None]:
+    """The cell each state stands for: its duality, or the cell written inside it (ALMA)."""
+    inline = {c.duality: c.id for c in doc.cells if c.alma_inline and c.duality}
+    return {rs.id: rs.cell or inline.get(rs.id) for rs in doc.states}
+
+
 def _linked_pairs(doc: RawDocument) -> frozenset[frozenset[str]]:
     """Cell pairs a transition joins through their states' duality (or cell ids named directly)."""
-    inline = {c.duality: c.id for c in doc.cells if c.alma_inline and c.duality}
-    cell_of = {rs.id: rs.cell or inline.get(rs.id) for rs in doc.states}
+    cell_of = _state_cells(doc)
     pairs = set()
     for t in doc.transitions:
         ends = [cell_of.get(ref, ref) for ref in t.connects[:2]]
@@ -356,13 +361,13 @@ def _boundaries(
 
 def _graph(doc: RawDocument, cells: dict[str, Cell], s: float) -> NavGraph:
     graph = NavGraph()
-    inline = {c.duality: c.id for c in doc.cells if c.alma_inline and c.duality}
+    cell_of = _state_cells(doc)
     for rs in doc.states:
         point = None
         if rs.point is not None:
             z = rs.point[2] * s if len(rs.point) > 2 else 0.0
             point = (rs.point[0] * s, rs.point[1] * s, z)
-        cell = rs.cell or inline.get(rs.id)
+        cell = cell_of[rs.id]
         graph.states[rs.id] = State(rs.id, point, cell if cell in cells else None, rs.layer)
     for t in doc.transitions:
         if len(t.connects) >= 2:

@@ -81,17 +81,20 @@ def _z_spread(poly: PolygonZ) -> tuple[float, float] | None:
 
 def cell_footprint(polys: list[PolygonZ]) -> Footprint:
     """Footprint of a cell from its polygons (2D polygon, flat 3D polygon, or solid faces)."""
-    zr = [z for z in (_z_spread(p) for p in polys) if z is not None]
+    spreads = [_z_spread(p) for p in polys]
+    zr = [z for z in spreads if z is not None]
     z_min = min(z[0] for z in zr) if zr else None
     z_max = max(z[1] for z in zr) if zr else None
     flat: list[PolygonZ] = []
-    for p, z in zip(polys, (_z_spread(p) for p in polys), strict=True):
+    flat_z: list[float] = []
+    for p, z in zip(polys, spreads, strict=True):
         xy = np.asarray([c[:2] for c in p.exterior], dtype=float)
         size = float(np.ptp(xy, axis=0).max()) if len(xy) else 0.0
         if z is None or z[1] - z[0] <= FLAT_SLOPE * size:
             flat.append(p)
+            if z is not None:
+                flat_z.append(z[0])
     chosen = flat or polys
-    flat_z = [z[0] for z in (_z_spread(p) for p in flat) if z is not None]
     is_stair = z_min is not None and z_max is not None and stepped(flat_z, z_max - z_min)
     repaired = False
     geoms: list[BaseGeometry] = []

@@ -4,9 +4,10 @@ A window cell sits in a room's wall, starting well above that room's floor and e
 ceiling. Comparing with the storey's lowest point instead (as before) turned every higher cell of a
 sloping floor (an underground plaza from -3.9 m to -0.9 m, a ramp, a split level) into a window.
 So a cell is raised only when a cell it touches on the same storey starts more than ``RAISED`` below
-it *and* reaches at least as high (within ``TOP_SLACK``), and the navigation graph does not link the
-two: a step up to a higher floor whose ceiling rises with it, a landing the graph reaches from the
-ramp below it, or a cell touching nothing lower, stays navigable.
+it *and* reaches at least as high (within ``TOP_SLACK``), unless the navigation graph links the two
+and the cell is wider than a wall (``WINDOW_DEPTH``): a step up to a higher floor whose ceiling
+rises with it, a gallery the graph reaches from the ramp below it, or a cell touching nothing lower,
+stays navigable.
 """
 
 from __future__ import annotations
@@ -47,10 +48,11 @@ def raised_cells(
         nid, _, n0, n1, n_storey = with_z[j]
         if storey != n_storey or z0 is None or z1 is None or n0 is None or n1 is None:
             continue
-        if frozenset((cid, nid)) in linked and _narrow_side(with_z[i][1]) > thin:
+        if not (z0 - n0 > RAISED and z1 <= n1 + TOP_SLACK and z1 > z0):
             continue
-        if z0 - n0 > RAISED and z1 <= n1 + TOP_SLACK and z1 > z0:
-            out.add(cid)
+        if frozenset((cid, nid)) in linked and _narrow_side(with_z[i][1]) > thin:
+            continue  # reached from the lower cell: a gallery, not a window
+        out.add(cid)
     return out
 
 

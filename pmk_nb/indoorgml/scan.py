@@ -17,10 +17,9 @@ from lxml import etree
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import gml
 from pmk_nb.indoorgml.gml import Coord, CoordError, PolygonZ, RingStats, local
-from pmk_nb.indoorgml.xmlsafe import iter_events
+from pmk_nb.indoorgml.xmlsafe import GML_ID, iter_events
 from pmk_nb.progress import ProgressCallback
 
-GML_ID = "{http://www.opengis.net/gml/3.2}id"
 XLINK_HREF = "{http://www.w3.org/1999/xlink}href"
 
 CELL_NAMES = {

@@ -38,7 +38,7 @@ SAFE_PARSER_OPTIONS: dict[str, Any] = {
 _EVENTS = ("start", "end")
 
 PROLOG_LIMIT = 1 << 20  # a DOCTYPE/prolog longer than 1 MiB is not a building plan
-GML_ID_ATTR = "{http://www.opengis.net/gml/3.2}id"
+GML_ID = "{http://www.opengis.net/gml/3.2}id"
 _ROOT_START = re.compile(rb"<(?![?!])")
 _ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
 _COMMENT = re.compile(rb"<!--.*?-->", re.DOTALL)
@@ -156,7 +156,7 @@ def iter_events(
             where = f"line {err.lineno}" if err.lineno else "unknown line"
             inside = ""
             if open_elems:
-                ident = next((i for i in (e.get(GML_ID_ATTR) for e in reversed(open_elems)) if i), None)
+                ident = next((i for i in (e.get(GML_ID) for e in reversed(open_elems)) if i), None)
                 inside = f" inside <{_short(open_elems[-1])}>" + (f" (near gml:id={ident!r})" if ident else "")
             kind = "not XML" if not open_elems and reader.bytes_read <= len(head) else "malformed XML"
             msg = err.msg or str(err)

@@ -11,7 +11,6 @@ The writer emits the one encoding every loader reads alike (8-bit P5 PGM, 0 / 25
 
 from __future__ import annotations
 
-import io
 import math
 import os
 from dataclasses import dataclass, field
@@ -268,12 +267,6 @@ def _yaml_text(grid: OccupancyGrid, image_name: str, extras: dict[str, Any]) -> 
     return yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, allow_unicode=True)
 
 
-def _png_bytes(gray: np.ndarray) -> bytes:
-    buf = io.BytesIO()
-    _png_writer(gray)(buf)
-    return buf.getvalue()
-
-
 def _png_writer(gray: np.ndarray) -> Writer:
     """Writes ``gray`` as a PNG straight into the file (no bytes copy of the encoded image)."""
     from PIL import Image
@@ -328,8 +321,7 @@ def write_map(
     if image_format == "pgm":
         contents.append((image_name, lambda fh: write_pgm(grid, fh)))
     else:
-        png = _png_bytes(grid_to_gray(grid))
-        contents.append((image_name, png))
+        contents.append((image_name, _png_writer(grid_to_gray(grid))))
     # facts about this file set are ours to state; None values are left out of the YAML
     extras = {k: v for k, v in grid.meta.items() if v is not None and k not in ("preview", "preview_px_per_m")}
     extras["generator"] = f"pmk_nb {__version__}"
