@@ -399,3 +399,77 @@ def test_a_way_through_a_door_cell_between_two_linked_rooms_counts(tmp_path: Pat
     rooms = _cell("A", (0, 0, 5, 4)) + door + _cell("B", (5.2, 0, 10, 4))
     _, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B"), ("A", "B")])))
     assert report.counts()["passable_chair"] == 3 and report.ok and report.leaks == [], report.summary()
+
+
+def _sloping_solid(cid: str, box: tuple[float, float, float, float], z_at_x0: float, z_at_x1: float,
+                   height: float, tag: str = "CellSpace") -> str:  # fmt: skip
+    """A cell whose floor is one face tilted along x (KU Central Plaza's corridor), its ceiling ``height``
+    above it: no face of it is flat, so only the tilted plane tells the floor's height at a point."""
+    x0, y0, x1, y1 = box
+
+    def face(dz: float) -> str:
+        pts = [(x0, y0, z_at_x0), (x1, y0, z_at_x1), (x1, y1, z_at_x1), (x0, y1, z_at_x0), (x0, y0, z_at_x0)]
+        ring = " ".join(f"{x} {y} {z + dz}" for x, y, z in pts)
+        return (f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
+                f"{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>")  # fmt: skip
+
+    return (
+        f'<cellSpaceMember><{tag} gml:id="{cid}"><cellSpaceGeometry><Geometry3D><gml:Solid><gml:exterior>'
+        f"<gml:Shell>{face(0.0)}{face(height)}</gml:Shell></gml:exterior></gml:Solid></Geometry3D>"
+        f"</cellSpaceGeometry></{tag}></cellSpaceMember>"
+    )
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_doors_along_a_sloping_corridor_are_doors_and_a_sill_there_is_not(tmp_path: Path, v2: bool) -> None:
+    # a 20 m corridor whose floor rises from -3.9 m to -0.9 m; rooms beside it at the local floor height,
+    # each behind a 0.3 m deep door cell that starts well above the corridor's lowest point
+    cells = _sloping_solid("COR", (0, 0, 20, 3), -3.9, -0.9, 3.5)
+    pairs = []
+    for i, x in enumerate((4.0, 10.0, 16.0)):
+        floor = -3.9 + 3.0 * (x + 0.5) / 20
+        cells += _solid(f"D{i}", (x, 3, x + 1, 3.3), floor, floor + 2.1)
+        cells += _solid(f"R{i}", (x - 1.5, 3.3, x + 2.5, 7), floor, floor + 3.0)
+        pairs += [("COR", f"D{i}"), (f"D{i}", f"R{i}")]
+    sill = -3.9 + 3.0 * 2.5 / 20 + 1.0  # a window in the corridor's wall, 1 m above the floor there
+    cells += _solid("W", (2, -0.3, 3, 0), sill, sill + 1.2)
+    path = _plan(tmp_path, cells, _graph(pairs, v2=v2), v2=v2)
+    b = read_building(path, unit="m")
+    assert len(b.storeys) == 1
+    assert all(b.cells[f"D{i}"].kind.is_free for i in range(3)), b.warnings  # doors, not windows
+    assert not b.cells["W"].kind.is_free  # a sill where it meets the floor beside it
+    storey = b.storeys[0].name
+    report = check_grid(b, storey, rasterise_storey(b, storey, RES), chair_width=0.7)
+    assert report.counts()["links"] == 6 and report.ok, report.counts()
+
+
+def test_floor_height_is_read_on_the_tilted_face_at_the_point() -> None:
+    from pmk_nb.indoorgml.footprint import floor_height
+    from pmk_nb.indoorgml.gml import PolygonZ
+
+    floor = PolygonZ([(0, 0, -3.9), (20, 0, -0.9), (20, 3, -0.9), (0, 3, -3.9), (0, 0, -3.9)])
+    ceiling = PolygonZ([(x, y, z + 3.5) for x, y, z in floor.exterior])
+    wall = PolygonZ([(0, 0, -3.9), (20, 0, -0.9), (20, 0, 2.6), (0, 0, -0.4), (0, 0, -3.9)])
+    polys = [ceiling, wall, floor]
+    assert floor_height(polys, 10.0, 1.5, 0.05) == pytest.approx(-2.4)
+    assert floor_height(polys, 10.0, 3.04, 0.05) == pytest.approx(-2.4)  # at its edge, within the tolerance
+    assert floor_height(polys, 10.0, 3.5, 0.05) is None  # beside it: no floor there
+    assert floor_height([PolygonZ([(0, 0), (1, 0), (1, 1), (0, 0)])], 0.5, 0.2, 0.05) is None  # 2D: no height
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_a_door_of_the_next_wall_meeting_this_one_at_a_corner_is_not_its_door(tmp_path: Path, v2: bool) -> None:
+    # 313_4F_2D.gml (IndoorGML_OSM): two pieces of a corridor whose outer edges carry doors ending where the
+    # pieces meet; the transition between the pieces crosses their shared edge. A door touching the shared
+    # edge only at its end made a 1 cm "door" there; the transition's line must place the opening.
+    rooms = _cell("A", (0, 0, 3, 3)) + _cell("B", (3, 0, 6, 3)) + _cell("C", (0, 3, 6, 6))
+    doors = _boundary("D1", ((2.2, 3), (3, 3)), "navi:ConnectionBoundary")
+    doors += _boundary("D2", ((3, 3), (3.8, 3)), "navi:ConnectionBoundary")
+    line = "1.5 1.5 4.5 1.5"
+    b, grid, report = _grid_and_report(
+        _plan(tmp_path, rooms, _graph([("A", "B"), ("A", "C"), ("B", "C")], {0: line}, v2=v2), doors, v2=v2)
+    )
+    ab = next(o for o in plan_openings(b, b.storeys[0].name).openings if {o.link.a, o.link.b} == {"A", "B"})
+    assert ab.rule == "line" and ab.width == pytest.approx(0.9)
+    assert grid.value_at(3.0, 1.5) == FREE
+    assert report.ok and report.counts()["passable_chair"] == 3, report.counts()

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import os
 import signal
 import socket
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -53,3 +55,18 @@ def test_sigterm_becomes_keyboard_interrupt_only_inside_the_block() -> None:
     with pytest.raises(KeyboardInterrupt), sigterm_as_interrupt():
         signal.raise_signal(signal.SIGTERM)
     assert signal.getsignal(signal.SIGTERM) == before
+
+
+def test_a_reader_that_leaves_early_ends_pmk_quietly(tmp_path: Path) -> None:
+    """`pmk check --json FILE | head`: the pipe closes before pmk writes; no traceback, SIGPIPE's status."""
+    from pmk_nb.cli import BROKEN_PIPE
+
+    sample = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+    env = dict(os.environ, PMK_CONFIG_DIR=str(tmp_path))
+    proc = subprocess.Popen([sys.executable, "-m", "pmk_nb.cli", "check", str(sample), "--json"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)  # fmt: skip
+    assert proc.stdout is not None
+    proc.stdout.close()  # the reader is gone before the first byte
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == BROKEN_PIPE, err.decode()
+    assert b"Traceback" not in err

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from collections.abc import Sequence
 
@@ -28,6 +29,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "bench": ("pmk_nb.cli.bench", "run the benchmarks, write bench/results.md"),
     "robot": ("pmk_nb.cli.robot", "chair-side ROS 2 nodes: the PMK map server, the simulated chair"),
 }
+BROKEN_PIPE = 128 + 13  # the exit status of a process ended by SIGPIPE
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
@@ -55,6 +57,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"pmk {args.command}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader left (`pmk check --json FILE | head`): end quietly, as a shell tool killed by SIGPIPE
+        # would; stdout goes to /dev/null so the interpreter's final flush cannot fail again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return BROKEN_PIPE
 
 
 if __name__ == "__main__":

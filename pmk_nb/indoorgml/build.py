@@ -10,7 +10,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
-from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint
+from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint, floor_height
 from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, raised_cells
@@ -290,9 +290,14 @@ def _model_cells(
 ) -> dict[str, Cell]:  # fmt: skip
     """The model's cells in metres, on their storeys; raised free cells (windows, sills) become non-navigable."""
     model_cells: dict[str, Cell] = {}
+    polygons = {c.raw.id: c.raw.polygons for c in cells}
+
+    def floor_at(cell: str, x: float, y: float) -> float | None:
+        return _zs(floor_height(polygons[cell], x, y, tol=0.05 / s), s)
+
     raised_ids = raised_cells(
         [(c.raw.id, c.fp.geometry, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), plan.of_cell[c.raw.id]) for c in cells],
-        touch=0.05 / s, linked=linked, thin=WINDOW_DEPTH / s,
+        touch=0.05 / s, linked=linked, thin=WINDOW_DEPTH / s, floor_at=floor_at,
     )
     raised: list[str] = []
     for c in cells:

@@ -19,6 +19,7 @@ from shapely.geometry.base import BaseGeometry
 from pmk_nb.indoorgml.gml import Coord, PolygonZ
 
 FLAT_SLOPE = 0.02  # a face whose z spread is < 2 % of its plan size counts as horizontal
+WALL_TILT = 0.2  # a face whose normal has a smaller vertical part (over ~78° steep) is a wall
 
 
 @dataclass
@@ -113,6 +114,32 @@ def cell_footprint(polys: list[PolygonZ]) -> Footprint:
     if union.is_empty or union.area <= 0:
         return Footprint(None, z_min, z_max, repaired, is_stair)
     return Footprint(union, z_min, z_max, repaired, is_stair)
+
+
+def floor_height(polys: list[PolygonZ], x: float, y: float, tol: float) -> float | None:
+    """The floor's height under (x, y): the lowest plane of the faces that are not walls and lie within
+    ``tol`` of the point, or None (no z, or no such face).
+
+    A sloping floor is one tilted face: its lowest vertex says nothing about the height at a door
+    halfway up, so the plane through the face is evaluated at the point."""
+    point = shapely.Point(x, y)
+    best: float | None = None
+    for poly in polys:
+        xyz = np.asarray([c[:3] for c in poly.exterior if len(c) > 2], dtype=float)
+        if len(xyz) < 3:
+            continue
+        centre = xyz.mean(axis=0)
+        normal = np.linalg.svd(xyz - centre, full_matrices=False)[2][-1]
+        if abs(normal[2]) < WALL_TILT:
+            continue  # a wall (or nearly): it has no height to stand on
+        ring = shapely.Polygon(xyz[:, :2])
+        if not ring.is_valid:  # a floor drawn around a stairwell through a slit is still a floor
+            ring = shapely.make_valid(ring)
+        if ring.distance(point) > tol:
+            continue
+        z = centre[2] - (normal[0] * (x - centre[0]) + normal[1] * (y - centre[1])) / normal[2]
+        best = z if best is None else min(best, z)
+    return best
 
 
 def boundary_footprint(polys: list[PolygonZ], lines: list[list[Coord]]) -> Footprint:

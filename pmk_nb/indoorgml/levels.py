@@ -4,14 +4,16 @@ A window cell sits in a room's wall, starting well above that room's floor and e
 ceiling. Comparing with the storey's lowest point instead (as before) turned every higher cell of a
 sloping floor (an underground plaza from -3.9 m to -0.9 m, a ramp, a split level) into a window.
 So a cell is raised only when a cell it touches on the same storey starts more than ``RAISED`` below
-it *and* reaches at least as high (within ``TOP_SLACK``), unless the navigation graph links the two
-and the cell is wider than a wall (``WINDOW_DEPTH``): a step up to a higher floor whose ceiling
-rises with it, a gallery the graph reaches from the ramp below it, or a cell touching nothing lower,
-stays navigable.
+it where the two meet (a sloping corridor's floor at a door, not the corridor's lowest point) *and*
+reaches at least as high (within ``TOP_SLACK``), unless the navigation graph links the two and the
+cell is wider than a wall (``WINDOW_DEPTH``): a door beside a sloping floor, a step up to a higher
+floor whose ceiling rises with it, a gallery the graph reaches from the ramp below it, or a cell
+touching nothing lower, stays navigable.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -25,16 +27,20 @@ WINDOW_DEPTH = 1.0  # metres: a raised cell this thin is a window in a wall, lin
 TOP_SLACK = 0.3  # metres: a window ends below (or at) the ceiling of the room it is in
 
 CellLevel = tuple[str, "BaseGeometry", float | None, float | None, str]  # id, footprint, z_min, z_max, storey
+FloorAt = Callable[[str, float, float], "float | None"]  # cell id, x, y (footprint units) -> floor height, m
 
 
 def raised_cells(
-    cells: list[CellLevel], touch: float, linked: frozenset[frozenset[str]] = frozenset(), thin: float = 0.0
+    cells: list[CellLevel], touch: float, linked: frozenset[frozenset[str]] = frozenset(), thin: float = 0.0,
+    floor_at: FloorAt | None = None,
 ) -> set[str]:
     """Ids of cells that are windows/sills; ``touch`` is the adjacency tolerance in footprint units.
 
     A cell the navigation graph links to a touching cell, and wider than ``thin`` (footprint units), is
     reached from it on wheels: a gallery at the top of a ramp, not a window of the ramp. Windows sit in
-    walls, and some files link them too (FZK-Haus: 0.3 m deep window cells with states and transitions)."""
+    walls, and some files link them too (FZK-Haus: 0.3 m deep window cells with states and transitions).
+    ``floor_at`` gives a cell's floor height at a point: both floors are then compared where the cells
+    meet (KU Central Plaza: doors along a corridor sloping from -3.9 m to -0.9 m)."""
     with_z = [c for c in cells if c[2] is not None and c[3] is not None and c[1] is not None]
     if not with_z:
         return set()
@@ -50,10 +56,23 @@ def raised_cells(
             continue
         if not (z0 - n0 > RAISED and z1 <= n1 + TOP_SLACK and z1 > z0):
             continue
+        if floor_at is not None and _step_where_they_meet(with_z[i], with_z[j], z0, n0, floor_at) <= RAISED:
+            continue  # level with the sloping floor beside it: a door or an alcove, not a sill
         if frozenset((cid, nid)) in linked and _narrow_side(with_z[i][1]) > thin:
             continue  # reached from the lower cell: a gallery, not a window
         out.add(cid)
     return out
+
+
+def _step_where_they_meet(cell: CellLevel, other: CellLevel, low: float, other_low: float, floor_at: FloorAt) -> float:
+    """How far ``cell``'s floor sits above ``other``'s where they meet: at the point of ``other`` nearest
+    ``cell``'s centre, and the point of ``cell`` nearest that. A floor with no height there counts by its
+    lowest point (``low``, ``other_low``), as before."""
+    fp, ofp = cell[1], other[1]
+    there = shapely.shortest_line(ofp, fp.centroid).coords[0]
+    here = shapely.shortest_line(fp, shapely.Point(there)).coords[0]
+    mine, theirs = floor_at(cell[0], *here), floor_at(other[0], *there)
+    return (low if mine is None else mine) - (other_low if theirs is None else theirs)
 
 
 def _narrow_side(footprint: BaseGeometry) -> float:

@@ -48,6 +48,7 @@ _EVIDENCE_RANK = {"type": 0, "name": 0, "partial": 1, "duality": 2}
 _TOUCH = 0.02  # metres: cells closer than this share a face with no wall drawn between them
 _HOOK = 0.03  # metres: an end edge this short is the shared boundary's tolerance turning round a jamb
 _FULL = 0.95  # a dual face covering 95 % of the shared boundary is the wall itself, not a door
+_ALONG = 0.5  # a door line lies on a shared boundary when it covers this share of it (or of itself) there
 
 
 @dataclass(frozen=True)
@@ -176,12 +177,16 @@ def _door_lines(link: Link, shared: BaseGeometry, doors: list[Boundary], gap: fl
 
 
 def _project(run: BaseGeometry, geoms: list[BaseGeometry]) -> list[BaseGeometry]:
-    """Door lines as stretches of the shared run (a door line in a gap lies beside it, not on it)."""
+    """Door lines as stretches of the shared run (a door line in a gap lies beside it, not on it).
+
+    A door that runs along the run covers at least half of the run or of itself there; one that only
+    ends at it (the door of a neighbouring wall, meeting this one at a corner) projects to a sliver
+    and is not this boundary's door."""
     out = []
     for g in geoms:
         ends = shapely.get_coordinates(g)
         d = sorted(run.project(shapely.Point(p)) for p in (ends[0], ends[-1]))
-        if d[1] - d[0] > 0:
+        if d[1] - d[0] >= _ALONG * min(g.length, run.length):
             out.append(ops.substring(run, d[0], d[1]))
     return out
 
