@@ -473,3 +473,35 @@ def test_a_door_of_the_next_wall_meeting_this_one_at_a_corner_is_not_its_door(tm
     assert ab.rule == "line" and ab.width == pytest.approx(0.9)
     assert grid.value_at(3.0, 1.5) == FREE
     assert report.ok and report.counts()["passable_chair"] == 3, report.counts()
+
+
+@pytest.mark.parametrize(
+    "doors",
+    [(((4.1, 4), (5, 4)), ((5, 4), (5.9, 4))), (((4.0, 4), (6.0, 4)),)],
+    ids=["two-doors-meeting-at-the-partition", "one-door-line-across-the-partition"],
+)
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_openings_near_a_partition_do_not_join_the_rooms_it_parts(
+    tmp_path: Path, v2: bool, doors: tuple[tuple[tuple[float, float], ...], ...]
+) -> None:
+    # 313_4F_2D.gml and put-outer's model.gml: rooms A and B share a partition (x = 5) and both open onto
+    # the corridor C above; the door lines run up to (or across) the partition's end. Opening them
+    # cleared the partition's last cells, and A leaked into B although the graph never joins them.
+    cells = ROOMS + _cell("C", (0, 4, 10, 8))
+    lines = "".join(_boundary(f"D{i}", d, "navi:ConnectionBoundary") for i, d in enumerate(doors))
+    b, grid, report = _grid_and_report(_plan(tmp_path, cells, _graph([("A", "C"), ("B", "C")], v2=v2), lines, v2=v2))
+    assert report.leaks == [] and report.ok, (report.leaks, report.counts())
+    assert report.counts()["passable_chair"] == 2
+    assert grid.value_at(5.0, 3.97) == OCCUPIED  # the partition reaches the corridor's wall
+    assert b.storeys and plan_openings(b, b.storeys[0].name).seams  # the graph keeps A and B apart
+
+
+def test_a_door_cell_drawn_across_a_partition_stays_open(tmp_path: Path) -> None:
+    # rooms A and B are not joined directly, only through the door cell D that straddles their wall:
+    # the partition is drawn again everywhere but across D
+    door = _cell("D", (4.9, 1.0, 5.1, 2.0), "navi:ConnectionSpace")
+    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS + door, _graph([("A", "D"), ("D", "B")])))
+    assert report.ok and report.counts()["passable_chair"] == 2 and report.leaks == [], report.counts()
+    assert grid.value_at(5.0, 1.5) == FREE and grid.value_at(5.0, 3.0) == OCCUPIED
+    [seam] = plan_openings(b, b.storeys[0].name).seams  # the partition, less the door cell across it
+    assert seam.length == pytest.approx(3.0, abs=0.05) and seam.intersection(b.cells["D"].footprint).length == 0

@@ -112,6 +112,7 @@ class OpeningPlan:
     openings: list[Opening]
     shut_doors: list[Boundary]
     graph: bool  # False when no transition joins two free cells of this storey (old door rules apply)
+    seams: tuple[BaseGeometry, ...] = ()  # where two free cells the graph does not join touch (metres)
 
     def rule_counts(self) -> dict[str, int]:
         return dict(Counter(o.rule for o in self.openings))
@@ -296,7 +297,40 @@ def plan_openings(
     shut = _shut(doors, openings, cells, links, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
         shut += [d for d in doors if d.evidence == "duality" and d not in shut]
-    return OpeningPlan(openings, shut, bool(links))
+    return OpeningPlan(openings, shut, bool(links), tuple(_seams(cells, links, tol)))
+
+
+def _seams(cells: dict[str, Cell], links: list[Link], tol: float) -> list[BaseGeometry]:
+    """Where two touching free cells that the graph knows but does not join meet, less any other free
+    cell lying there (a door cell drawn across their wall). The rasteriser draws these last: an
+    opening's reach or a door line running past a partition's end (two doors meeting at it, a door
+    line spanning two rooms) must not join the rooms on either side of the partition."""
+    if not links:
+        return []
+    in_graph = {c for k in links for c in (k.a, k.b)}
+    joined = {frozenset((k.a, k.b)) for k in links}
+    free = [c for c in cells.values() if c.kind.is_free and c.id in in_graph]
+    if len(free) < 2:
+        return []
+    shapes = [c.footprint for c in free]
+    tree = shapely.STRtree(shapes)
+    left, right = tree.query(shapes, predicate="dwithin", distance=_TOUCH)
+    everyone = shapely.STRtree([c.footprint for c in cells.values() if c.kind.is_free])
+    every = [c for c in cells.values() if c.kind.is_free]
+    out = []
+    for i, j in zip(left.tolist(), right.tolist(), strict=True):
+        a, b = free[i], free[j]
+        if i >= j or frozenset((a.id, b.id)) in joined:
+            continue
+        seam = _shared(a, b, float(a.footprint.distance(b.footprint)), tol)
+        if seam.is_empty:
+            continue
+        across = [every[k].footprint for k in everyone.query(seam) if every[k].id not in (a.id, b.id)]
+        if across:
+            seam = shapely.difference(seam, shapely.union_all(across))
+        if not seam.is_empty:
+            out.append(seam)
+    return out
 
 
 def _shut(

@@ -279,6 +279,9 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     polys = [poly for opening in walls for poly in opening.polygons(reach)]
     fill_polygons(grid, frame, polys, FREE, keep=(OCCUPIED, plan.outside_mark, FREE))
     _lay_bridges(grid, plan, reach)
+    # two cells the graph does not join stay apart, whatever was opened near their partition
+    seams, _ = segments_with_owner(list(plan.openings.seams))
+    _draw_lines(grid, frame, seams, _WALL, (OCCUPIED, plan.outside_mark, _WALL))
 
 
 def _lay_bridges(grid: np.ndarray, plan: _Plan, reach: float) -> None:
