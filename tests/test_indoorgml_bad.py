@@ -146,3 +146,22 @@ def test_errors_name_the_file_and_element(tmp_path: Path, text: str, element: st
     with pytest.raises(IndoorGMLError) as info:
         read_building(path)
     assert (info.value.path, info.value.element) == (str(path), element)
+
+
+def test_a_graph_without_cells_says_so(tmp_path: Path) -> None:
+    # VIM's pnu_b313.gml, ARdrone's PNU_313Building: States and Transitions with points and lines, no cell
+    text = (
+        '<IndoorFeatures xmlns="http://www.opengis.net/indoorgml/1.0/core" xmlns:gml="http://www.opengis.net/gml/3.2" '
+        'xmlns:xlink="http://www.w3.org/1999/xlink"><multiLayeredGraph><MultiLayeredGraph gml:id="G"><spaceLayers>'
+        '<spaceLayerMember><SpaceLayer gml:id="L"><nodes><stateMember><State gml:id="S1"><geometry><gml:Point>'
+        "<gml:pos>0 0 0</gml:pos></gml:Point></geometry></State></stateMember><stateMember><State gml:id='S2'>"
+        "<geometry><gml:Point><gml:pos>5 0 0</gml:pos></gml:Point></geometry></State></stateMember></nodes><edges>"
+        '<transitionMember><Transition gml:id="T1"><connects xlink:href="#S1"/><connects xlink:href="#S2"/>'
+        "</Transition></transitionMember></edges></SpaceLayer></spaceLayerMember></spaceLayers></MultiLayeredGraph>"
+        "</multiLayeredGraph></IndoorFeatures>"
+    )
+    with pytest.raises(IndoorGMLError) as caught:
+        read_building(_write(tmp_path, "graph.gml", text))
+    err = caught.value
+    assert "only a navigation graph (2 states, 1 transitions)" in str(err)
+    assert err.element == "CellSpace" and "Geometry2D or Geometry3D" in err.hint

@@ -103,8 +103,13 @@ def usable_cells(doc: RawDocument, warnings: list[str]) -> list[KeptCell]:
     if no_geom:
         warnings.append(f"{no_geom} cells have no geometry (skipped)")
     if not cells:
+        graph_only = not doc.cells and (doc.states or doc.transitions)
         raise IndoorGMLError(
-            f"{doc.path}: no usable cell: {len(doc.cells)} cell elements, none with a non-empty 2D/3D geometry",
+            f"{doc.path}: no usable cell: {len(doc.cells)} cell elements, none with a non-empty 2D/3D geometry"
+            + (f"; the file holds only a navigation graph ({len(doc.states)} states, "
+               f"{len(doc.transitions)} transitions)" if graph_only else ""),
             path=str(doc.path), element="CellSpace",
+            hint="A map is drawn from the cells' shapes: export the building with its CellSpace geometry "
+            "(Geometry2D or Geometry3D) as well as the graph.",
         )  # fmt: skip
     return cells
