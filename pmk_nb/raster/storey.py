@@ -263,7 +263,7 @@ def _draw_walls(grid: np.ndarray, plan: _Plan, tick: _Ticker) -> np.ndarray:
 
 
 def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) -> None:
-    """Step 4: door cells and door lines clear the wall across their width, plus a passage through it."""
+    """Step 4: doors clear the wall across their width (plus a passage); last, the seams the graph keeps shut."""
     frame, res = plan.frame, plan.frame.resolution
     reach = plan.half + res
     fill_polygons(grid, frame, plan.door_polys, FREE, keep=plan.spare)
@@ -279,7 +279,6 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     polys = [poly for opening in walls for poly in opening.polygons(reach)]
     fill_polygons(grid, frame, polys, FREE, keep=(OCCUPIED, plan.outside_mark, FREE))
     _lay_bridges(grid, plan, reach)
-    # two cells the graph does not join stay apart, whatever was opened near their partition
     seams, _ = segments_with_owner(list(plan.openings.seams))
     _draw_lines(grid, frame, seams, _WALL, (OCCUPIED, plan.outside_mark, _WALL))
 
