@@ -294,38 +294,50 @@ def plan_openings(
     walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
     ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, tuple(cells.values()))
     openings = [_opening(k, cells, ctx) for k in links]
-    shut = _shut(doors, openings, cells, links, max_gap)
+    graph = _Graph.of(cells, links)
+    shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
         shut += [d for d in doors if d.evidence == "duality" and d not in shut]
-    return OpeningPlan(openings, shut, bool(links), tuple(_seams(cells, links, tol)))
+    return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)))
 
 
-def _seams(cells: dict[str, Cell], links: list[Link], tol: float) -> list[BaseGeometry]:
+@dataclass(frozen=True)
+class _Graph:
+    """A storey's free cells in one tree, and what its links say of them: which cells the graph knows
+    (a cell it is silent about keeps the old rules) and which pairs it joins."""
+
+    free: list[Cell]
+    tree: shapely.STRtree
+    known: frozenset[str]
+    joined: frozenset[frozenset[str]]
+
+    @staticmethod
+    def of(cells: dict[str, Cell], links: list[Link]) -> _Graph:
+        free = [c for c in cells.values() if c.kind.is_free]
+        return _Graph(
+            free, shapely.STRtree([c.footprint for c in free]),
+            frozenset(c for k in links for c in (k.a, k.b)), frozenset(frozenset((k.a, k.b)) for k in links),
+        )  # fmt: skip
+
+
+def _seams(graph: _Graph, tol: float) -> list[BaseGeometry]:
     """Where two touching free cells that the graph knows but does not join meet, less any other free
     cell lying there (a door cell drawn across their wall). The rasteriser draws these last: an
     opening's reach or a door line running past a partition's end (two doors meeting at it, a door
     line spanning two rooms) must not join the rooms on either side of the partition."""
-    if not links:
+    if not graph.joined:
         return []
-    in_graph = {c for k in links for c in (k.a, k.b)}
-    joined = {frozenset((k.a, k.b)) for k in links}
-    free = [c for c in cells.values() if c.kind.is_free and c.id in in_graph]
-    if len(free) < 2:
-        return []
-    shapes = [c.footprint for c in free]
-    tree = shapely.STRtree(shapes)
-    left, right = tree.query(shapes, predicate="dwithin", distance=_TOUCH)
-    everyone = shapely.STRtree([c.footprint for c in cells.values() if c.kind.is_free])
-    every = [c for c in cells.values() if c.kind.is_free]
+    free = graph.free
+    left, right = graph.tree.query([c.footprint for c in free], predicate="dwithin", distance=_TOUCH)
     out = []
     for i, j in zip(left.tolist(), right.tolist(), strict=True):
         a, b = free[i], free[j]
-        if i >= j or frozenset((a.id, b.id)) in joined:
+        if i >= j or not {a.id, b.id} <= graph.known or frozenset((a.id, b.id)) in graph.joined:
             continue
         seam = _shared(a, b, float(a.footprint.distance(b.footprint)), tol)
         if seam.is_empty:
             continue
-        across = [every[k].footprint for k in everyone.query(seam) if every[k].id not in (a.id, b.id)]
+        across = [free[k].footprint for k in graph.tree.query(seam) if free[k].id not in (a.id, b.id)]
         if across:
             seam = shapely.difference(seam, shapely.union_all(across))
         if not seam.is_empty:
@@ -333,23 +345,18 @@ def _seams(cells: dict[str, Cell], links: list[Link], tol: float) -> list[BaseGe
     return out
 
 
-def _shut(
-    doors: list[Boundary], openings: list[Opening], cells: dict[str, Cell], links: list[Link], max_gap: float
-) -> list[Boundary]:
+def _shut(doors: list[Boundary], graph: _Graph, max_gap: float) -> list[Boundary]:
     """Door boundaries between two cells the graph knows but does not join: the graph keeps them shut."""
-    if not links:
+    if not graph.joined or not graph.free:
         return []
-    in_graph = {c for k in links for c in (k.a, k.b)}
-    joined = {frozenset((k.a, k.b)) for k in links}
-    free = [c for c in cells.values() if c.kind.is_free]
-    tree = shapely.STRtree([c.footprint for c in free]) if free else None
+    free, tree = graph.free, graph.tree
     shut = []
     for door in doors:
-        if tree is None or door.geometry is None or door.geometry.geom_type not in ("LineString", "MultiLineString"):
+        if door.geometry is None or door.geometry.geom_type not in ("LineString", "MultiLineString"):
             continue
         near = [free[i].id for i in tree.query(door.geometry, predicate="dwithin", distance=max_gap)]
-        if len(near) < 2 or not all(n in in_graph for n in near):
+        if len(near) < 2 or not all(n in graph.known for n in near):
             continue  # an outside door, or a cell the graph is silent about
-        if not any(frozenset((x, y)) in joined for x in near for y in near if x != y):
+        if not any(frozenset((x, y)) in graph.joined for x in near for y in near if x != y):
             shut.append(door)
     return shut
