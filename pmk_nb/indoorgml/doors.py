@@ -13,8 +13,9 @@ import math
 import re
 from collections.abc import Iterable
 
+import numpy as np
 import shapely
-from shapely.geometry import LineString, Point
+from shapely.geometry import LineString
 from shapely.geometry.base import BaseGeometry
 
 DOOR_TYPES = {"connectionboundary", "anchorboundary", "navigableboundary", "transferboundary"}
@@ -43,59 +44,69 @@ def partial_edge(line: BaseGeometry, cells: Iterable[BaseGeometry]) -> bool:
     if not isinstance(line, LineString) or line.length <= 0:
         return False
     eps = max(NEAR * line.length, 1e-9)
-    ends = [Point(line.coords[0]), Point(line.coords[-1])]
-    mid = line.interpolate(0.5, normalized=True)
+    xy = shapely.get_coordinates(line)
+    ends = (xy[0].tolist(), xy[-1].tolist())
+    centre = line.interpolate(0.5, normalized=True)
+    mid = shapely.get_coordinates(centre)[0]
+    rings = shapely.get_rings(shapely.get_parts(list(cells)))
     found = False
-    for poly in cells:
-        for ring in _rings(poly):
-            run = _wall_run(list(ring.coords), mid, ends, eps)
-            if run is None:
-                continue
-            found = True
-            if run <= line.length / PARTIAL:
-                return False
+    for ring in rings[shapely.dwithin(rings, centre, eps)]:  # one GEOS call keeps the few rings it lies on
+        xy = shapely.get_coordinates(ring)
+        run = _wall_run(xy[:-1] if len(xy) > 1 and (xy[0] == xy[-1]).all() else xy, mid, ends, eps)
+        if run is None:
+            continue
+        found = True
+        if run <= line.length / PARTIAL:
+            return False
     return found
 
 
-def _wall_run(coords: list[tuple[float, ...]], mid: Point, ends: list[Point], eps: float) -> float | None:
-    """Length of the straight outline run holding ``mid`` (None if the line is not on this ring)."""
-    pts = [c[:2] for c in coords[:-1]] if coords and coords[0] == coords[-1] else [c[:2] for c in coords]
+def _wall_run(pts: np.ndarray, mid: np.ndarray, ends: tuple[list[float], ...], eps: float) -> float | None:
+    """Length of the straight outline run holding ``mid`` (None if the line is not on this ring).
+
+    ``pts``: the ring's vertices, the closing one left out. Plain arrays, no shapely object per
+    segment: outlines are walked for every candidate door line of the file."""
     n = len(pts)
     if n < 2:
         return None
-    segs = [(pts[i], pts[(i + 1) % n]) for i in range(n)]
-    hit = next((i for i, (a, b) in enumerate(segs) if LineString([a, b]).distance(mid) <= eps), None)
-    if hit is None:
+    d = np.roll(pts, -1, axis=0) - pts
+    near = np.flatnonzero(_segment_distances(pts, d, mid) <= eps)
+    if not len(near):
         return None
-
-    def direction(i: int) -> tuple[float, float]:
-        (ax, ay), (bx, by) = segs[i % n]
-        d = math.hypot(bx - ax, by - ay) or 1.0
-        return (bx - ax) / d, (by - ay) / d
-
-    base = direction(hit)
+    hit = int(near[0])
+    length = np.hypot(d[:, 0], d[:, 1])
+    unit = (d / np.where(length > 0, length, 1.0)[:, None]).tolist()
+    base = unit[hit]
     lo = hi = hit
-    while hi - lo < n - 1 and _parallel(direction(hi + 1), base):
+    while hi - lo < n - 1 and _parallel(unit[(hi + 1) % n], base):
         hi += 1
-    while hi - lo < n - 1 and _parallel(direction(lo - 1), base):
+    while hi - lo < n - 1 and _parallel(unit[(lo - 1) % n], base):
         lo -= 1
-    run = LineString([segs[lo % n][0], segs[hi % n][1]])
-    if not all(run.distance(p) <= eps for p in ends):
+    (ax, ay), (bx, by) = pts[lo % n].tolist(), pts[(hi + 1) % n].tolist()
+    if not all(_point_segment(float(x), float(y), ax, ay, bx, by) <= eps for x, y in ends):
         return None
-    return run.length
+    return math.hypot(bx - ax, by - ay)
 
 
-def _parallel(u: tuple[float, float], v: tuple[float, float]) -> bool:
-    return u[0] * v[0] + u[1] * v[1] > math.cos(math.radians(3.0))
+def _point_segment(x: float, y: float, ax: float, ay: float, bx: float, by: float) -> float:
+    dx, dy = bx - ax, by - ay
+    den = dx * dx + dy * dy
+    t = 0.0 if den <= 0 else min(1.0, max(0.0, ((x - ax) * dx + (y - ay) * dy) / den))
+    return math.hypot(ax + t * dx - x, ay + t * dy - y)
 
 
-def _rings(poly: BaseGeometry) -> list[LineString]:
-    out: list[LineString] = []
-    for part in shapely.get_parts(poly):
-        if hasattr(part, "exterior"):
-            out.append(part.exterior)
-            out.extend(part.interiors)
-    return out
+def _segment_distances(a: np.ndarray, d: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Distance from point ``p`` to each segment a[i] -> a[i] + d[i]."""
+    den = (d * d).sum(axis=1)
+    t = np.clip(((p[0] - a[:, 0]) * d[:, 0] + (p[1] - a[:, 1]) * d[:, 1]) / np.where(den > 0, den, 1.0), 0.0, 1.0)
+    return np.hypot(a[:, 0] + t * d[:, 0] - p[0], a[:, 1] + t * d[:, 1] - p[1])
+
+
+def _parallel(u: list[float], v: list[float]) -> bool:
+    return u[0] * v[0] + u[1] * v[1] > _COS3
+
+
+_COS3 = math.cos(math.radians(3.0))
 
 
 def overlap_fraction(candidate: list[BaseGeometry], base: list[BaseGeometry]) -> float:

@@ -73,8 +73,15 @@ def _srs_dimension(elem: etree._Element) -> int | None:
 
 
 def _floats(text: str | None, elem: etree._Element) -> list[float]:
-    out: list[float] = []
-    for tok in (text or "").replace(",", " ").split():
+    tokens = (text or "").replace(",", " ").split()
+    try:  # the common case in one pass; any doubt goes token by token for the message
+        out = list(map(float, tokens))
+        if math.isfinite(math.fsum(out)):
+            return out
+    except (ValueError, OverflowError):
+        pass
+    out = []
+    for tok in tokens:
         try:
             v = float(tok)
         except ValueError:
@@ -134,9 +141,10 @@ def coords_of(container: etree._Element, stats: RingStats, ring: bool, hint: int
     """All coordinates under a LinearRing/LineString/Point, in document order."""
     pts: list[Coord] = []
     for el in container.iter():
-        if not is_gml(el):
+        tag = el.tag
+        if not isinstance(tag, str) or GML_FAMILY not in tag:
             continue
-        name = local(el)
+        name = _local_name(tag)
         if name == "pos":
             pts.append(pos_coord(el))
         elif name == "poslist":
@@ -165,7 +173,8 @@ def polygons_under(root: etree._Element, stats: RingStats, hint: int | None) -> 
     """Every gml:Polygon / PolygonPatch / Triangle below ``root`` (surfaces of solids included)."""
     out: list[PolygonZ] = []
     for el in root.iter():
-        if not is_gml(el) or local(el) not in ("polygon", "polygonpatch", "triangle"):
+        tag = el.tag
+        if not isinstance(tag, str) or GML_FAMILY not in tag or _local_name(tag) not in _SURFACES:
             continue
         exterior: list[Coord] = []
         interiors: list[list[Coord]] = []
@@ -184,6 +193,9 @@ def polygons_under(root: etree._Element, stats: RingStats, hint: int | None) -> 
         elif exterior:
             out.append(PolygonZ(exterior, []))  # degenerate: kept so the caller can report it
     return out
+
+
+_SURFACES = frozenset(("polygon", "polygonpatch", "triangle"))
 
 
 def lines_under(root: etree._Element, stats: RingStats, hint: int | None) -> list[list[Coord]]:

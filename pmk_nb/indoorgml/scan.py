@@ -34,6 +34,8 @@ STATE_NAMES = {"state", "node"}
 TRANSITION_NAMES = {"transition", "edge"}
 LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer"}
 ROOT_NAMES = {"indoorfeatures", "multilayeredgraph", "primalspacefeatures", "indoorgml"}
+GEOREF_NAMES = {"translation", "rotation", "lla", "lla_origin"}
+_DECODED = frozenset(CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAMES | LAYER_NAMES | GEOREF_NAMES)
 _STOREY_TEXT = re.compile(r"\b(?:storey|story|level|floor)\s*[=:]\s*\"?([^\";:,\s]+)", re.IGNORECASE)
 
 
@@ -181,7 +183,12 @@ class _Scanner:
         self.stack.append((name, elem.get(GML_ID)))
 
     def end(self, elem: etree._Element) -> None:
-        name = self.stack[-1][0]  # named at its start
+        stack = self.stack
+        name = stack[-1][0]  # named at its start
+        in_member = len(stack) > 1 and stack[-2][0] == "cellspacemember"
+        if name not in _DECODED and not in_member and not name.endswith("member"):
+            stack.pop()  # inside a feature (a coordinate, a ring): decoded with its feature
+            return
         try:
             self._end(elem, name)
         except CoordError as err:
@@ -231,7 +238,7 @@ class _Scanner:
                     _text(_child(elem, "function")),
                 )
             )
-        elif name in ("translation", "rotation", "lla", "lla_origin") and not gml.is_gml(elem):
+        elif name in GEOREF_NAMES and not gml.is_gml(elem):
             self._georef(elem, name)
         else:
             consumed = name.endswith("member") and not gml.is_gml(elem)
