@@ -4,6 +4,6 @@ Public API: :func:`check_storey` / :class:`StoreyReport` (:mod:`.report`), :func
 :func:`check_map` (:mod:`.check`), and the pixel tools in :mod:`.pixels`.
 """
 
-from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, LinkCheck, StoreyReport, check_storey, free_width
+from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, LinkCheck, NotChecked, StoreyReport, check_storey, free_width
 
-__all__ = ["DEFAULT_CHAIR_WIDTH", "LinkCheck", "StoreyReport", "check_storey", "free_width"]
+__all__ = ["DEFAULT_CHAIR_WIDTH", "LinkCheck", "NotChecked", "StoreyReport", "check_storey", "free_width"]

@@ -48,8 +48,9 @@ def check_grid(
         plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
     cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
     return check_storey(
-        storey, grid, cells, plan.openings, chair_width=chair_width, wall_thickness=wall_thickness, max_gap=max_gap
-    )
+        storey, grid, cells, plan.openings, chair_width=chair_width, wall_thickness=wall_thickness, max_gap=max_gap,
+        skipped=plan.skipped,
+    )  # fmt: skip
 
 
 def check_building(
@@ -81,5 +82,5 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
     return check_storey(
         plan.storey, grid, plan.cells, plan.openings, chair_width=width,
         wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS)),
-        max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)),
+        max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)), skipped=plan.skipped,
     )  # fmt: skip

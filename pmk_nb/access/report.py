@@ -7,7 +7,10 @@ For each storey, on the grid actually written, for a chair of a given width:
   chair (free space eroded by its half-width, see :mod:`pmk_nb.access.pixels`);
 * a link passable for a point but not for the chair is a *narrow door*, named by its cells;
 * cells the graph joins to the storey but the chair cannot reach are *unreachable*;
-* two cells with no transition between them that are joined in the map (r = 0) *leak*.
+* two cells with no transition between them that are joined in the map (r = 0) *leak*;
+* a link to a cell that is not free (a window the file links, or a cell the reader judged a window or
+  sill from its floor height) has no opening to test: it is *not checked*, named but not a failure,
+  since a misjudged window would otherwise hide a door from the check.
 
 A path may only cross the two cells, the walls and gaps between cells and the storey's door cells (a
 doorway drawn as a cell of its own is part of the wall, see :class:`_Regions`), so a way round through
@@ -16,7 +19,7 @@ a third room does not count. A leak must join the two rooms without crossing a d
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -25,6 +28,7 @@ import shapely
 
 from pmk_nb.access.pixels import disc_radius_px, erode_rows, join_strip_runs, strip_runs
 from pmk_nb.grid import FREE
+from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.raster.scanline import Frame, write_rects
 from pmk_nb.raster.spans import polygon_rects
 
@@ -33,7 +37,7 @@ if TYPE_CHECKING:
 
     from pmk_nb.grid import OccupancyGrid
     from pmk_nb.indoorgml.model import Cell, Link
-    from pmk_nb.raster.openings import Opening
+    from pmk_nb.raster.openings import Opening, Skipped
 
 DEFAULT_CHAIR_WIDTH = 0.70  # metres
 
@@ -64,6 +68,22 @@ class Leak:
     names: tuple[str, str]
 
 
+@dataclass(frozen=True)
+class NotChecked:
+    """A link the check cannot test: one of its cells is not free, so the grid has no way into it."""
+
+    link: str
+    cells: tuple[str, str]
+    names: tuple[str, str]
+    reason: str  # "window": judged a window/sill from its floor height; "non-navigable": declared by the file
+    cell: str  # the name of the cell that is not free (the first, when both are not)
+
+    def describe(self) -> str:
+        other = self.names[1] if self.cell == self.names[0] else self.names[0]
+        why = "judged a window/sill" if self.reason == SKIP_WINDOW else "non-navigable in the file"
+        return f"{other} <-> {self.cell} ({why})"
+
+
 @dataclass
 class StoreyReport:
     storey: str
@@ -74,6 +94,7 @@ class StoreyReport:
     unreachable: list[str] = field(default_factory=list)  # cell names
     leaks: list[Leak] = field(default_factory=list)
     rules: dict[str, int] = field(default_factory=dict)
+    not_checked: list[NotChecked] = field(default_factory=list)  # never a failure: see the module note
 
     @property
     def blocked(self) -> list[LinkCheck]:
@@ -96,18 +117,26 @@ class StoreyReport:
             "narrow": len(self.narrow),
             "unreachable": len(self.unreachable),
             "leaks": len(self.leaks),
+            "to_windows": sum(k.reason == SKIP_WINDOW for k in self.not_checked),
+            "to_non_navigable": sum(k.reason != SKIP_WINDOW for k in self.not_checked),
         }
 
     def summary(self) -> str:
         c = self.counts()
-        if not self.graph:
+        if not self.graph and not self.not_checked:
             return f"storey {self.storey}: no navigation graph in the file; nothing to check"
         head = (
             f"storey {self.storey}: {c['passable_chair']}/{c['links']} transitions passable for a "
             f"{self.chair_width:.2f} m chair ({c['passable_point']}/{c['links']} for a point)"
+            if self.graph
+            else f"storey {self.storey}: no transition between two free cells to check"
         )
         extra = [f"{c[k]} {k}" for k in ("narrow", "unreachable", "leaks") if c[k]]
-        return head + (f"; {', '.join(extra)}" if extra else "")
+        out = head + (f"; {', '.join(extra)}" if extra else "")
+        for key, what in (("to_windows", "cells judged windows/sills"), ("to_non_navigable", "non-navigable cells")):
+            if c[key]:
+                out += f"; {c[key]} transition{' leads' if c[key] == 1 else 's lead'} to {what} (not checked)"
+        return out
 
     def to_json(self) -> dict[str, Any]:
         out = asdict(self)
@@ -201,12 +230,15 @@ def check_storey(
     chair_width: float = DEFAULT_CHAIR_WIDTH,
     wall_thickness: float = 0.1,
     max_gap: float = 0.5,
+    skipped: Sequence[Skipped] = (),
 ) -> StoreyReport:
-    """The report for one storey's written grid, its cells and the openings the converter planned."""
+    """The report for one storey's written grid, its cells and the openings the converter planned
+    (``skipped``: the links it left without an opening, named in the report as not checked)."""
     report = StoreyReport(storey, chair_width, grid.resolution, graph=bool(openings))
+    by_id = {c.id: c for c in cells}
+    report.not_checked = [_not_checked(k, by_id) for k in skipped]
     if not openings:
         return report
-    by_id = {c.id: c for c in cells}
     index = {c.id: i + 1 for i, c in enumerate(cells)}
     doors = frozenset(index[c.id] for c in cells if c.kind.is_door)
     point_runs, chair_runs = [], []  # one sweep: each strip's owners are painted once for both
@@ -228,6 +260,12 @@ def check_storey(
     report.unreachable = _unreachable(report.links, by_id)
     report.leaks = _leaks([o.link for o in openings], cells, index, point, max_gap)
     return report
+
+
+def _not_checked(skip: Skipped, by_id: dict[str, Cell]) -> NotChecked:
+    ends = (skip.link.a, skip.link.b)
+    shut = [i for i, c in enumerate(ends) if c in by_id and not by_id[c].kind.is_free]
+    return NotChecked(skip.link.id, ends, skip.names, skip.reason, skip.names[shut[0] if shut else 1])
 
 
 def free_width(grid: OccupancyGrid, segments: tuple[BaseGeometry, ...]) -> float:

@@ -16,7 +16,7 @@ import shapely
 
 from pmk_nb.errors import MapFormatError
 from pmk_nb.indoorgml.model import Cell, CellKind, Link
-from pmk_nb.raster.openings import Opening
+from pmk_nb.raster.openings import Opening, Skipped
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building
@@ -83,6 +83,7 @@ def sidecar_json(building: Building, storey: str, plan: OpeningPlan, report: dic
             }
             for o in plan.openings
         ],
+        "skipped": [{"link": k.link.id, "reason": k.reason} for k in plan.skipped],
         "accessibility": report,
     }
 
@@ -95,6 +96,7 @@ class StoreyPlanFile:
     cells: list[Cell]
     openings: list[Opening]
     raw: dict[str, Any]
+    skipped: tuple[Skipped, ...] = ()  # links left without an opening (none in files written before them)
 
 
 def read_sidecar(yaml_path: str | Path) -> StoreyPlanFile:
@@ -135,6 +137,10 @@ def read_sidecar(yaml_path: str | Path) -> StoreyPlanFile:
             )
             for o in doc["openings"]
         ]  # fmt: skip
+        skipped = tuple(
+            Skipped(links[k["link"]], (label[links[k["link"]].a], label[links[k["link"]].b]), str(k["reason"]))
+            for k in doc.get("skipped", [])
+        )
     except (KeyError, TypeError, ValueError, shapely.errors.GEOSException) as err:
         raise MapFormatError(f"{path}: damaged rooms file ({err!r})", path=str(path)) from err
-    return StoreyPlanFile(storey, cells, openings, doc)
+    return StoreyPlanFile(storey, cells, openings, doc, skipped)

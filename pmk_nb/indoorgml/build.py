@@ -304,12 +304,13 @@ def _model_cells(
         storey = plan.of_cell[c.raw.id]
         kind = kinds[c.raw.id]
         z_min, z_max = _zs(c.fp.z_min, s), _zs(c.fp.z_max, s)
-        if kind.is_free and c.raw.id in raised_ids:
+        window = kind.is_free and c.raw.id in raised_ids
+        if window:
             kind = CellKind.NON_NAVIGABLE
             raised.append(c.raw.id)
         model_cells[c.raw.id] = Cell(
             id=c.raw.id, kind=kind, footprint=_scale(c.fp.geometry, s), storey=storey, name=c.raw.name,
-            layer=c.layer, z_min=z_min, z_max=z_max, boundary_ids=list(c.raw.boundary_refs),
+            layer=c.layer, z_min=z_min, z_max=z_max, boundary_ids=list(c.raw.boundary_refs), window=window,
         )  # fmt: skip
     if raised:
         warnings.append(

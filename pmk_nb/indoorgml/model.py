@@ -44,6 +44,9 @@ class Cell:
     z_min: float | None = None
     z_max: float | None = None
     boundary_ids: list[str] = field(default_factory=list)
+    # judged a window or sill from its floor height, not declared so by the file: the reader's rule
+    # may misjudge a door on a sloping floor, so the check names the transitions this leaves out
+    window: bool = False
 
 
 @dataclass

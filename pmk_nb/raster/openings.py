@@ -18,7 +18,9 @@ separates them, up to ``max_gap``), by the first rule with evidence:
 Two cells further apart than ``max_gap`` share no wall to open. When the space between them (at most
 :data:`MAX_BRIDGE` metres, along the transition's own line or else the shortest way) crosses no other
 cell, the graph still decides: rule ``bridge`` lays a ``door_width`` passage across the gap (a stair
-landing the file leaves out); otherwise the link stays ``apart`` and the report names it.
+landing the file leaves out); otherwise the link stays ``apart`` and the report names it. A link to a
+cell that is not free (a window the file links, or a cell the reader judged a window) gets no opening:
+it is kept as :class:`Skipped`, so the report names it as not checked rather than losing it.
 
 The rasteriser clears wall cells (never obstacles, never outside) in each opening's rectangle after
 drawing the walls, so no wall band, supercover line or gap filling narrows it.
@@ -105,6 +107,20 @@ def _extend(line: BaseGeometry, by: float) -> BaseGeometry:
     return shapely.LineString(out)
 
 
+SKIP_WINDOW = "window"  # a cell the reader judged a window/sill from its floor height (Cell.window)
+SKIP_DECLARED = "non-navigable"  # a cell the file itself declares non-navigable
+
+
+@dataclass(frozen=True)
+class Skipped:
+    """A same-storey link left without an opening because a cell is not free: named, so the check can
+    say which transitions it did not test instead of dropping them unseen."""
+
+    link: Link
+    names: tuple[str, str]
+    reason: str  # SKIP_WINDOW when every non-free cell of the link is a judged window, else SKIP_DECLARED
+
+
 @dataclass(frozen=True)
 class OpeningPlan:
     """A storey's openings, and the door boundaries the graph leaves shut (doors with no transition)."""
@@ -113,6 +129,7 @@ class OpeningPlan:
     shut_doors: list[Boundary]
     graph: bool  # False when no transition joins two free cells of this storey (old door rules apply)
     seams: tuple[BaseGeometry, ...] = ()  # where two free cells the graph does not join touch (metres)
+    skipped: tuple[Skipped, ...] = ()  # links to a non-free cell: no opening, not checked
 
     def rule_counts(self) -> dict[str, int]:
         return dict(Counter(o.rule for o in self.openings))
@@ -286,8 +303,8 @@ def plan_openings(
 ) -> OpeningPlan:  # fmt: skip
     """The openings of every same-storey link between two free cells, and the door lines left shut."""
     cells = {c.id: c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty}
-    links = [k for k in building.links_of(storey) if k.a in cells and k.b in cells]
-    links = [k for k in links if cells[k.a].kind.is_free and cells[k.b].kind.is_free]
+    linked = [k for k in building.links_of(storey) if k.a in cells and k.b in cells]
+    links = [k for k in linked if cells[k.a].kind.is_free and cells[k.b].kind.is_free]
     doors = [d for d in building.doors_of(storey) if d.geometry is not None]
     virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
     gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
@@ -298,7 +315,14 @@ def plan_openings(
     shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
         shut += [d for d in doors if d.evidence == "duality" and d not in shut]
-    return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)))
+    skipped = tuple(_skipped(k, cells) for k in linked if not (cells[k.a].kind.is_free and cells[k.b].kind.is_free))
+    return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)), skipped)
+
+
+def _skipped(link: Link, cells: dict[str, Cell]) -> Skipped:
+    ends = (cells[link.a], cells[link.b])
+    window = all(c.window for c in ends if not c.kind.is_free)
+    return Skipped(link, (_label(ends[0]), _label(ends[1])), SKIP_WINDOW if window else SKIP_DECLARED)
 
 
 @dataclass(frozen=True)

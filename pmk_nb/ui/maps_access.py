@@ -15,6 +15,7 @@ import ipywidgets as w
 import shapely
 
 from pmk_nb.access.sidecar import sidecar_doc
+from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.ui.widgets import escape
 
 if TYPE_CHECKING:
@@ -66,8 +67,11 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
     if doc is None:
         return f"<p><b>{label}</b>: no accessibility check for this map (convert it again to get one).</p>"
     report = doc.get("accessibility")
-    if not report or not report.get("graph"):
+    if not report or not (report.get("graph") or report.get("not_checked")):
         return f"<p><b>{label}</b>: the plan has no navigation graph here, so there is nothing to check against.</p>"
+    if not report.get("graph"):  # every transition of the storey leads to a window or a non-navigable cell
+        listing = "".join(f"<li>{t}</li>" for t in _not_checked_items(report))
+        return f"<p><b>{label}</b>: no passage between rooms to check</p><ul class='pmk-access-list'>{listing}</ul>"
     c = report["counts"]
     ok = report.get("ok", False)
     mark = "✓" if ok else "⚠"
@@ -91,8 +95,29 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
         f"{escape(x['names'][0])} and {escape(x['names'][1])}: open to each other though the plan has no door"
         for x in report.get("leaks", [])
     ]
+    items += _not_checked_items(report)
     listing = "".join(f"<li>{t}</li>" for t in items)
     return head + (f"<ul class='pmk-access-list'>{listing}</ul>" if listing else "")
+
+
+MAX_NOT_CHECKED = 10  # passages named; the rest are counted
+
+
+def _not_checked_items(report: dict[str, Any]) -> list[str]:
+    """The passages the check skipped (absent from reports written before it named them). A cell judged a
+    window from its height may be a door the rule misjudged: say so, since nothing else would show it."""
+    skipped = report.get("not_checked") or []
+    items = []
+    for x in skipped[:MAX_NOT_CHECKED]:
+        cell = x["cell"]
+        other = x["names"][1] if cell == x["names"][0] else x["names"][0]
+        why = "taken for a window or sill" if x["reason"] == SKIP_WINDOW else "marked not passable in the plan"
+        items.append(f"{escape(other)} – {escape(cell)}: not checked, {escape(cell)} is {why}")
+    if len(skipped) > MAX_NOT_CHECKED:
+        items.append(f"and {len(skipped) - MAX_NOT_CHECKED} more passages not checked")
+    if any(x["reason"] == SKIP_WINDOW for x in skipped):
+        items.append("If one of these is really a door, the window rule misjudged it: please report the plan file.")
+    return items
 
 
 class AccessPanel:
