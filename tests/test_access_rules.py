@@ -157,6 +157,30 @@ def test_door_geometry_wins_and_a_plain_wall_beside_it_stays(tmp_path: Path, tag
     assert report.ok
 
 
+@pytest.mark.parametrize("graph", ["none", "1.0", "2.0"])
+@pytest.mark.parametrize("tag", ["navi:ConnectionBoundary", "CellSpaceBoundary"], ids=["connection", "named-door"])
+def test_the_wall_pieces_beside_a_door_stay_wall(tmp_path: Path, tag: str, graph: str) -> None:
+    """A file that splits its walls at the jambs (UCLM put-outer): the bare pieces either side of a
+    marked door are shorter than the wall, yet wall; only the door opens."""
+    door = _boundary("Door1" if tag == "CellSpaceBoundary" else "D1", ((5, 1.5), (5, 2.4)), tag)
+    pieces = _boundary("CB1", ((5, 0), (5, 1.5))) + _boundary("CB2", ((5, 2.4), (5, 4)))
+    links = "" if graph == "none" else _graph([("A", "B")], v2=graph == "2.0")
+    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS, links, door + pieces, v2=graph == "2.0"))
+    assert {bd.id for bd in b.boundaries.values() if bd.is_door} == {door.split('"')[1]}
+    assert grid.value_at(5.0, 1.95) == FREE
+    for y in (0.4, 1.0, 2.9, 3.6):
+        assert grid.value_at(5.0, y) == OCCUPIED
+    assert report.ok
+
+
+def test_a_short_bare_line_off_the_doors_wall_is_still_an_opening(tmp_path: Path) -> None:
+    """The rule is about the door's own wall: a bare short line on another wall keeps the partial rule."""
+    door = _boundary("D1", ((5, 1.5), (5, 2.4)), "navi:ConnectionBoundary")
+    other = _boundary("CB1", ((1, 4), (2, 4)))  # on A's top wall, 1 m of 5
+    b, _, _ = _grid_and_report(_plan(tmp_path, ROOMS, "", door + other))
+    assert {bd.id: bd.evidence for bd in b.boundaries.values() if bd.is_door} == {"D1": "type", "CB1": "partial"}
+
+
 def test_a_transitions_dual_face_spanning_the_wall_is_not_a_door(tmp_path: Path) -> None:
     """A plain CellSpaceBoundary that is the transition's dual over the whole wall must not erase it."""
     face = _boundary("W1", ((5, 0), (5, 4)))

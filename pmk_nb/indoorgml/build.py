@@ -175,7 +175,7 @@ def _classify_boundaries(
     owners = _owners(doc)
     bfps: dict[str, tuple[Footprint, str]] = {}
     seen: set[tuple[tuple[float, ...], ...]] = set()
-    dropped = dupes = 0
+    dropped = dupes = walls = 0
     for rb in doc.boundaries:
         fp = boundary_footprint(rb.polygons, rb.lines)
         if fp.geometry is not None:
@@ -202,6 +202,12 @@ def _classify_boundaries(
         else:
             evidence = ""
         bfps[rb.id] = (fp, evidence)
+    marked = [fp.geometry for fp, ev in bfps.values() if ev in ("type", "name") and fp.geometry is not None]
+    for bid, (fp, ev) in bfps.items():  # the wall beside a marked door is wall, however short
+        if ev == "partial" and doorlib.continues_door(fp.geometry, marked):
+            bfps[bid], walls = (fp, ""), walls + 1
+    if walls:
+        warnings.append(f"{walls} short boundaries continue a door's wall: kept as wall, not taken for openings")
     if dropped:
         warnings.append(f"{dropped} boundaries belong only to cells of ignored layers - dropped")
     if dupes:

@@ -109,6 +109,26 @@ def _parallel(u: list[float], v: list[float]) -> bool:
 _COS3 = math.cos(math.radians(3.0))
 
 
+def continues_door(line: BaseGeometry, doors: list[BaseGeometry]) -> bool:
+    """True if ``line`` runs on from one of ``doors`` (door lines marked by type or name) along the same
+    straight wall: the piece of wall beside a door, which a file that splits its walls at the jambs
+    writes as a short bare boundary. Its being short is then no sign of an opening."""
+    if not isinstance(line, LineString) or line.length <= 0 or not doors:
+        return False
+    (ax, ay), (bx, by) = shapely.get_coordinates(line)[[0, -1]].tolist()
+    u = [(bx - ax) / line.length, (by - ay) / line.length]
+    eps = max(1e-3 * line.length, 1e-9)
+    for door in doors:
+        if not isinstance(door, LineString) or door.length <= 0 or line.distance(door) > eps:
+            continue
+        (cx, cy), (dx, dy) = shapely.get_coordinates(door)[[0, -1]].tolist()
+        v = [(dx - cx) / door.length, (dy - cy) / door.length]
+        if abs(u[0] * v[0] + u[1] * v[1]) > _COS3 and _point_segment(cx, cy, ax - 1e6 * u[0], ay - 1e6 * u[1],
+                                                                     ax + 1e6 * u[0], ay + 1e6 * u[1]) <= eps:
+            return True
+    return False
+
+
 def overlap_fraction(candidate: list[BaseGeometry], base: list[BaseGeometry]) -> float:
     """Share of ``candidate``'s area already covered by ``base`` (0 when either is empty)."""
     if not candidate or not base:
