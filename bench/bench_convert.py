@@ -5,8 +5,8 @@ at the target resolution (pmk_nb.raster.storey) + write (pmk_nb.rosmap.files: PG
 ``original`` = the thesis approach: draw every polygon on a 100 px/m Pillow bitmap, shrink it with
 nearest-neighbour by ``resolution / 0.01``, save PNG + YAML + a 10 px/m preview. Each child runs under
 an address-space limit (RLIMIT_AS) and the original approach refuses bitmaps over a pixel budget, so
-a case reports "refused" / "OOM" instead of taking the machine down. Peak memory = ru_maxrss of the
-child (includes ~100 MB of interpreter + libraries; "base" is that figure right after imports).
+a case reports "refused" / "OOM" instead of taking the machine down. Peak memory = VmHWM of the
+child (includes ~60 MB of interpreter + libraries; "base" is its RSS right after imports).
 
 "wall kept" (generated buildings only): share of the rows along every interior wall line, away from
 doors, where the wall is still occupied in the output grid: 100 % means rooms cannot leak.
@@ -14,7 +14,8 @@ doors, where the wall is still occupied in the output grid: 100 % means rooms ca
 Cases: two 5 x 4 m rooms and a door (what any conversion costs, whatever the plan: reading a file,
 planning a storey, writing three files); the shared samples (/work/shared/data/indoorgml/*.gml) at
 0.05 m; a generated 20-storey building with 500 rooms (+ doors) per storey at 0.05 m; a generated
-200 m x 200 m storey at 0.05 m and 0.01 m. ``--quick`` keeps the samples, the 20 x 500 building on 4
+200 m x 200 m storey at 0.05 m and 0.01 m (generated buildings are written as IndoorGML files first
+and read back, so their parse counts like any plan's). ``--quick`` keeps the samples, the 20 x 500 building on 4
 storeys and the 200 m storey at 0.05 m.
 
 Usage: .venv/bin/python bench/bench_convert.py [--quick] [--before DIR]   -> writes bench/results-convert.md
@@ -52,56 +53,58 @@ CHAIR = 0.70  # metres: the chair the fidelity figures are for (the profile defa
 # --- generated buildings -------------------------------------------------------------------------
 
 
-def generate(storeys: int, nx: int, ny: int, w: float, h: float) -> Any:
-    """A building of ``storeys`` identical floors of nx x ny rooms (w x h m) sharing their walls.
+GEN_HEAD = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n<IndoorFeatures xmlns="http://www.opengis.net/indoorgml/1.0/core" '
+    'xmlns:navi="http://www.opengis.net/indoorgml/1.0/navigation" xmlns:gml="http://www.opengis.net/gml/3.2" '
+    'xmlns:xlink="http://www.w3.org/1999/xlink" gml:id="IF"><primalSpaceFeatures><PrimalSpaceFeatures gml:id="PSF">\n'
+)
 
-    Each room has a door in its right and top wall (door boundaries as LineStrings), so every room
-    is reachable and every interior wall has a 0.9 m opening per room.
-    """
-    from shapely.geometry import LineString, box
 
-    from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Storey
-
-    cells: dict[str, Cell] = {}
-    bounds: dict[str, Boundary] = {}
-    levels = []
-    for s in range(storeys):
-        name = f"F{s}"
-        ids = []
-        for i in range(nx):
-            for j in range(ny):
-                cid = f"{name}-r{i}-{j}"
-                kind = CellKind.TRANSITION if j == 0 else CellKind.GENERAL
-                cells[cid] = Cell(cid, kind, box(i * w, j * h, (i + 1) * w, (j + 1) * h), name)
-                ids.append(cid)
-                if i + 1 < nx:
-                    y0 = j * h + (h - DOOR) / 2
-                    line = LineString([((i + 1) * w, y0), ((i + 1) * w, y0 + DOOR)])
-                    bounds[f"{cid}-dx"] = Boundary(f"{cid}-dx", True, line, name)
-                if j + 1 < ny:
-                    x0 = i * w + (w - DOOR) / 2
-                    line = LineString([(x0, (j + 1) * h), (x0 + DOOR, (j + 1) * h)])
-                    bounds[f"{cid}-dy"] = Boundary(f"{cid}-dy", True, line, name)
-        levels.append(Storey(name, 3.0 * s, ids))
-    return Building(
-        source=f"generated {storeys}x{nx * ny} rooms",
-        sha256="0" * 64,
-        version="generated",
-        namespaces={},
-        unit="m",
-        unit_reason="generated",
-        storeys=levels,
-        cells=cells,
-        boundaries=bounds,
-    )
+def generated_gml(folder: Path, storeys: int, nx: int, ny: int, w: float, h: float) -> Path:
+    """A building of ``storeys`` identical floors of nx x ny rooms (w x h m) sharing their walls, as an
+    IndoorGML 1.0 file (2D cells, storeys named in each cell's description). Each room has a door in
+    its right and top wall (navi:ConnectionBoundary lines), so every room is reachable and every
+    interior wall has a 0.9 m opening per room. Converted from the file like any plan: its parse is
+    timed and its input counts in the memory ratio."""
+    path = folder / f"generated_{storeys}x{nx}x{ny}.gml"
+    with path.open("w", encoding="utf-8") as out:
+        out.write(GEN_HEAD)
+        for s in range(storeys):
+            for i in range(nx):
+                for j in range(ny):
+                    cid = f"F{s}-r{i}-{j}"
+                    tag = "navi:TransitionSpace" if j == 0 else "navi:GeneralSpace"
+                    x0, y0, x1, y1 = i * w, j * h, (i + 1) * w, (j + 1) * h
+                    doors = []
+                    if i + 1 < nx:
+                        d = y0 + (h - DOOR) / 2
+                        doors.append((f"{cid}-dx", f"{x1:g} {d:g} {x1:g} {d + DOOR:g}"))
+                    if j + 1 < ny:
+                        d = x0 + (w - DOOR) / 2
+                        doors.append((f"{cid}-dy", f"{d:g} {y1:g} {d + DOOR:g} {y1:g}"))
+                    refs = "".join(f'<partialboundedBy xlink:href="#{b}"/>' for b, _ in doors)
+                    ring = f"{x0:g} {y0:g} {x1:g} {y0:g} {x1:g} {y1:g} {x0:g} {y1:g} {x0:g} {y0:g}"
+                    out.write(
+                        f'<cellSpaceMember><{tag} gml:id="{cid}"><gml:description>storey: F{s}</gml:description>'
+                        f"<cellSpaceGeometry><Geometry2D><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList>"
+                        f"{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></Geometry2D>"
+                        f"</cellSpaceGeometry>{refs}</{tag}></cellSpaceMember>\n"
+                    )
+                    for bid, line in doors:
+                        out.write(
+                            f'<cellSpaceBoundaryMember><navi:ConnectionBoundary gml:id="{bid}">'
+                            f"<cellSpaceBoundaryGeometry><geometry2D><gml:LineString><gml:posList>{line}"
+                            f"</gml:posList></gml:LineString></geometry2D></cellSpaceBoundaryGeometry>"
+                            f"</navi:ConnectionBoundary></cellSpaceBoundaryMember>\n"
+                        )
+        out.write("</PrimalSpaceFeatures></primalSpaceFeatures></IndoorFeatures>\n")
+    return path
 
 
 def load(case: dict[str, Any]) -> Any:
-    if case["kind"] == "file":
-        from pmk_nb.indoorgml import read_building
+    from pmk_nb.indoorgml import read_building
 
-        return read_building(case["path"])
-    return generate(*case["gen"])
+    return read_building(case["path"])
 
 
 def wall_kept(
@@ -113,7 +116,7 @@ def wall_kept(
     """
     import numpy as np
 
-    if case["kind"] != "gen":
+    if "gen" not in case:
         return None
     _, nx, ny, w, h = case["gen"]
     (x0, y0), (rx, ry) = origin, res
@@ -161,7 +164,7 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
         k = wall_kept(grid.data, (grid.resolution, grid.resolution), grid.origin[:2], case, 100)
         if k is not None:
             kept.append(k)
-        if case["kind"] == "file":  # the fidelity figures of issue 8, so speed is never bought with walls
+        if "gen" not in case:  # the fidelity figures of issue 8, so speed is never bought with walls
             from pmk_nb.access.check import check_grid
 
             c = time.perf_counter()
@@ -173,8 +176,8 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
     return {
         "parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None,
         "cpu_total": (c1 - c0) + c_r + c_w, "cpu_write": c_w,
-        "check": t_c, "fidelity": fid if case["kind"] == "file" else None, "grid_mb": biggest / 1e6,
-        "input_mb": Path(case["path"]).stat().st_size / 1e6 if case["kind"] == "file" else 0.0,
+        "check": t_c, "fidelity": None if "gen" in case else fid, "grid_mb": biggest / 1e6,
+        "input_mb": Path(case["path"]).stat().st_size / 1e6,
     }  # fmt: skip
 
 
@@ -328,13 +331,14 @@ def cases(quick: bool, folder: Path) -> list[dict[str, Any]]:
     for path in sorted(SAMPLES.glob("*.gml")):
         out.append({"label": f"{path.name}", "kind": "file", "path": str(path), "res": 0.05})
     storeys = 4 if quick else 20
-    out.append({"label": f"generated {storeys} storeys x 500 rooms (100 x 100 m)", "kind": "gen",
-                "gen": [storeys, 25, 20, 4.0, 5.0], "res": 0.05})  # fmt: skip
-    out.append({"label": "generated 200 x 200 m storey, 2500 rooms", "kind": "gen",
-                "gen": [1, 50, 50, 4.0, 4.0], "res": 0.05})  # fmt: skip
+    gens = [(f"generated {storeys} storeys x 500 rooms (100 x 100 m)", [storeys, 25, 20, 4.0, 5.0], 0.05),
+            ("generated 200 x 200 m storey, 2500 rooms", [1, 50, 50, 4.0, 4.0], 0.05)]  # fmt: skip
     if not quick:
-        out.append({"label": "generated 200 x 200 m storey, 2500 rooms", "kind": "gen",
-                    "gen": [1, 50, 50, 4.0, 4.0], "res": 0.01, "max_cells": 450_000_000})  # fmt: skip
+        gens.append(("generated 200 x 200 m storey, 2500 rooms", [1, 50, 50, 4.0, 4.0], 0.01))
+    for label, gen, res in gens:  # read from a file like any plan: parse timed, input counted
+        path = generated_gml(folder, *gen)
+        out.append({"label": f"{label}, {path.stat().st_size / 1e6:.1f} MB file", "kind": "file", "gen": gen,
+                    "path": str(path), "res": res, "max_cells": 450_000_000})  # fmt: skip
     return out
 
 
@@ -375,7 +379,7 @@ def main() -> int:
         "`bench/bench_convert.py`" + (" --quick" if args.quick else "") + ": one child process per row, "
         f"address space capped at {AS_LIMIT / 1024**3:.0f} GiB; original approach = 100 px/m Pillow bitmap "
         f"shrunk by resolution/0.01 (bitmap budget {BITMAP_BUDGET:.1e} px). Times in seconds; "
-        "peak = child ru_maxrss (base = after imports). wall kept = share of interior wall rows that "
+        "peak = child VmHWM (base = RSS after imports). wall kept = share of interior wall rows that "
         "stay occupied (generated buildings; < 100 % means rooms leak into each other).",
         "",
         "| case | res (m) | approach | parse | raster | write | total | cells | peak MB (base) | output MB "
@@ -392,7 +396,8 @@ def main() -> int:
         "first time is paged in and counts), *warm* = after converting another plan (two rooms; as in the "
         "dashboard's kernel), *repeat* = converting the same plan a second time (what the conversion itself "
         "holds); peak = VmHWM, reset through /proc/self/clear_refs before the measured run, base = VmRSS then; "
-        "generated buildings have no input file (input 0); fidelity on the shared files = transitions passable for a "
+        "generated buildings are read from the IndoorGML file the bench writes for them; "
+        "fidelity on the shared files = transitions passable for a "
         f"point and for a {CHAIR:.2f} m chair, the default width (`pmk_nb.access`), plus leaks; "
         "check = seconds the check took (not "
         "part of total; `pmk convert` runs it too: *with check*); CPU = the same ratio in process CPU time, "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from collections import defaultdict
 
+import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
@@ -174,28 +175,29 @@ def _classify_boundaries(
     cell_tree = shapely.STRtree(cell_geoms)  # boundary -> nearby cells without an O(B x C) scan
     owners = _owners(doc)
     bfps: dict[str, tuple[Footprint, str]] = {}
-    seen: set[tuple[tuple[float, ...], ...]] = set()
+    seen: dict[tuple[object, ...], list[frozenset[str]]] = {}
+    hint = {raw.id: raw.storey_hint for raw in doc.cells}
     dropped = dupes = walls = 0
     for rb in doc.boundaries:
         fp = boundary_footprint(rb.polygons, rb.lines)
-        if fp.geometry is not None:
-            key = tuple(sorted(tuple(round(v, 6) for v in xy) for xy in shapely.get_coordinates(fp.geometry)))
-            if key in seen:
-                dupes += 1
+        if fp.geometry is not None:  # a copy is the same line at the same height on the same storey
+            xy = tuple(sorted(map(tuple, np.round(shapely.get_coordinates(fp.geometry), 6).tolist())))
+            storeys = frozenset(h for c in owners.get(rb.id, ()) if (h := hint.get(c)))
+            key = (xy, _round(fp.z_min), _round(fp.z_max))
+            if any(not other or not storeys or other & storeys for other in seen.get(key, ())):
+                dupes += 1  # an unowned copy ('-REVERSE') or one of the same storey
                 continue
-            seen.add(key)
+            seen.setdefault(key, []).append(storeys)
         if owners.get(rb.id) and not owners[rb.id] & kept:
             dropped += 1
             continue
-        near: list[BaseGeometry] = []
-        if fp.geometry is not None:
-            tol = 1e-6 + doorlib.NEAR * fp.geometry.length
-            near = [cell_geoms[i] for i in cell_tree.query(fp.geometry, predicate="dwithin", distance=tol)]
         if rb.kind_name in doorlib.DOOR_TYPES:
             evidence = "type"
         elif doorlib.says_door(rb.id, rb.name, rb.description):
             evidence = "name"
-        elif fp.geometry is not None and doorlib.partial_edge(fp.geometry, near):
+        elif fp.geometry is not None and doorlib.partial_edge(
+            fp.geometry, doorlib.near(cell_tree, cell_geoms, fp.geometry)
+        ):
             evidence = "partial"
         elif rb.id in trans_dual or (rb.duality in trans_ids if rb.duality else False):
             evidence = "duality"  # the face a transition crosses: may be a whole wall, not a door
@@ -203,8 +205,10 @@ def _classify_boundaries(
             evidence = ""
         bfps[rb.id] = (fp, evidence)
     marked = [fp.geometry for fp, ev in bfps.values() if ev in ("type", "name") and fp.geometry is not None]
+    marked_tree = shapely.STRtree(marked)
     for bid, (fp, ev) in bfps.items():  # the wall beside a marked door is wall, however short
-        if ev == "partial" and doorlib.continues_door(fp.geometry, marked):
+        marked_near = doorlib.near(marked_tree, marked, fp.geometry, 1e-3) if ev == "partial" else []
+        if marked_near and doorlib.continues_door(fp.geometry, marked_near):
             bfps[bid], walls = (fp, ""), walls + 1
     if walls:
         warnings.append(f"{walls} short boundaries continue a door's wall: kept as wall, not taken for openings")
@@ -213,6 +217,10 @@ def _classify_boundaries(
     if dupes:
         warnings.append(f"{dupes} boundaries repeat another one's geometry (e.g. '-REVERSE' copies) - merged")
     return bfps
+
+
+def _round(z: float | None) -> float | None:
+    return None if z is None else round(z, 6)
 
 
 def _door_widths(
@@ -235,15 +243,16 @@ def _door_widths(
 
 def _evidence(cells: list[KeptCell], kinds: dict[str, CellKind], door_widths: list[float]) -> UnitEvidence:
     """Sizes in file units that say which unit the file uses (see :mod:`pmk_nb.indoorgml.units`)."""
-    minx, miny, maxx, maxy = shapely.union_all([c.fp.geometry for c in cells]).bounds
+    minx, miny, maxx, maxy = shapely.total_bounds([c.fp.geometry for c in cells]).tolist()
     big = sorted(cells, key=lambda c: c.fp.geometry.area)[len(cells) // 2 :]  # rooms, not windows or doors
+    big_ids = {c.raw.id for c in big}  # by id: comparing the records themselves made this O(cells²)
     heights = [c.fp.z_max - c.fp.z_min for c in big if c.fp.z_min is not None and c.fp.z_max is not None]
     corridors, areas = [], []
     for c in cells:
         kind = kinds[c.raw.id]
         if kind is CellKind.TRANSITION and c.fp.geometry.length > 0:
             corridors.append(2 * c.fp.geometry.area / c.fp.geometry.length)  # mean width of a long shape
-        elif kind.is_free and not kind.is_door and c in big:
+        elif kind.is_free and not kind.is_door and c.raw.id in big_ids:
             areas.append(c.fp.geometry.area)
     return UnitEvidence(door_widths, heights, corridors, areas, max(maxx - minx, maxy - miny))
 

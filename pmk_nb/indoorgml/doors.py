@@ -109,6 +109,14 @@ def _parallel(u: list[float], v: list[float]) -> bool:
 _COS3 = math.cos(math.radians(3.0))
 
 
+def near(
+    tree: shapely.STRtree, geoms: list[BaseGeometry], line: BaseGeometry, share: float = NEAR
+) -> list[BaseGeometry]:
+    """The ``geoms`` (indexed by ``tree``) within ``share`` of the line's length of it. Asked only by
+    the rules that need it: on stacked 2D storeys every boundary is near a cell of each storey."""
+    return [geoms[i] for i in tree.query(line, predicate="dwithin", distance=1e-6 + share * line.length)]
+
+
 def continues_door(line: BaseGeometry, doors: list[BaseGeometry]) -> bool:
     """True if ``line`` runs on from one of ``doors`` (door lines marked by type or name) along the same
     straight wall: the piece of wall beside a door, which a file that splits its walls at the jambs
