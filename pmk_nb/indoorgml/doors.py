@@ -131,8 +131,8 @@ def continues_door(line: BaseGeometry, doors: list[BaseGeometry]) -> bool:
             continue
         (cx, cy), (dx, dy) = shapely.get_coordinates(door)[[0, -1]].tolist()
         v = [(dx - cx) / door.length, (dy - cy) / door.length]
-        if abs(u[0] * v[0] + u[1] * v[1]) > _COS3 and _point_segment(cx, cy, ax - 1e6 * u[0], ay - 1e6 * u[1],
-                                                                     ax + 1e6 * u[0], ay + 1e6 * u[1]) <= eps:
+        off_line = abs(u[0] * (cy - ay) - u[1] * (cx - ax))  # the door's start from the line through ``line``
+        if abs(u[0] * v[0] + u[1] * v[1]) > _COS3 and off_line <= eps:
             return True
     return False
 
