@@ -43,3 +43,29 @@ def test_maps_screen_shows_the_accessibility_report(tmp_path: Path) -> None:
             previews.first.scroll_into_view_if_needed()
             ARTIFACTS.mkdir(exist_ok=True)
             page.screenshot(path=str(ARTIFACTS / "maps-accessibility.png"), full_page=True)
+
+
+def test_maps_screen_names_the_transitions_it_could_not_check(tmp_path: Path) -> None:
+    """FZK-Haus links its window cells: the panel names those passages as not checked, not as passable."""
+    from playwright.sync_api import expect
+
+    with serve_kiosk(tmp_path, label="access-windows") as (url, world):
+        maps = MapsFolder(world.maps_dir)
+        entry = maps.import_file(INDOORGML_DATA / "fzk_haus_poslist.gml", "fzk")
+        maps.convert(entry.name, 0.05)
+        with chromium_page(url, viewport=VIEWPORT) as page:
+            expect(page.locator("button.pmk-nav-maps")).to_be_visible(timeout=120_000)
+            page.locator("button.pmk-nav-maps").click()
+            select = page.locator(".pmk-maps-list select")
+            expect(select).to_contain_text("fzk", timeout=30_000)
+            labels = select.locator("option").all_inner_texts()
+            select.select_option(index=next(i for i, t in enumerate(labels) if t.startswith("fzk")))
+            panel = page.locator(".pmk-access")
+            expect(panel).to_contain_text("Wheelchair access", timeout=30_000)
+            expect(panel).to_contain_text("Not checked: 9 passages into cells taken for windows or sills")
+            expect(panel).to_contain_text("Not checked: 2 passages into cells taken for windows or sills")
+            expect(panel).to_contain_text("the window rule misjudged it")
+            expect(panel).to_contain_text("11 of 11 passages fit a 0.70 m wheelchair")
+            panel.scroll_into_view_if_needed()
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.screenshot(path=str(ARTIFACTS / "maps-accessibility-not-checked.png"), full_page=True)

@@ -100,23 +100,26 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
     return head + (f"<ul class='pmk-access-list'>{listing}</ul>" if listing else "")
 
 
-MAX_NOT_CHECKED = 10  # passages named; the rest are counted
+MAX_NOT_CHECKED = 10  # cells named; the rest are counted
 
 
 def _not_checked_items(report: dict[str, Any]) -> list[str]:
-    """The passages the check skipped (absent from reports written before it named them). A cell judged a
-    window from its height may be a door the rule misjudged: say so, since nothing else would show it."""
+    """The passages the check skipped (absent from reports written before it named them), one line per
+    reason naming the cells they lead into. A cell judged a window from its height may be a door the
+    rule misjudged: say so, since nothing else would show it."""
     skipped = report.get("not_checked") or []
     items = []
-    for x in skipped[:MAX_NOT_CHECKED]:
-        cell = x["cell"]
-        other = x["names"][1] if cell == x["names"][0] else x["names"][0]
-        why = "taken for a window or sill" if x["reason"] == SKIP_WINDOW else "marked not passable in the plan"
-        items.append(f"{escape(other)} – {escape(cell)}: not checked, {escape(cell)} is {why}")
-    if len(skipped) > MAX_NOT_CHECKED:
-        items.append(f"and {len(skipped) - MAX_NOT_CHECKED} more passages not checked")
-    if any(x["reason"] == SKIP_WINDOW for x in skipped):
-        items.append("If one of these is really a door, the window rule misjudged it: please report the plan file.")
+    for reason, what in ((SKIP_WINDOW, "cells taken for windows or sills"), (None, "cells marked not passable")):
+        these = [x for x in skipped if (x["reason"] == SKIP_WINDOW) == (reason == SKIP_WINDOW)]
+        if not these:
+            continue
+        cells = list(dict.fromkeys(x["cell"] for x in these))
+        names = ", ".join(escape(c) for c in cells[:MAX_NOT_CHECKED])
+        more = f" and {len(cells) - MAX_NOT_CHECKED} more" if len(cells) > MAX_NOT_CHECKED else ""
+        line = f"Not checked: {len(these)} passage{'s' if len(these) != 1 else ''} into {what} ({names}{more})."
+        if reason == SKIP_WINDOW:
+            line += " If one of these is really a door, the window rule misjudged it: please report the plan file."
+        items.append(line)
     return items
 
 
