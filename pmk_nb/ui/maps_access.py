@@ -109,15 +109,15 @@ def _not_checked_items(report: dict[str, Any]) -> list[str]:
     rule misjudged: say so, since nothing else would show it."""
     skipped = report.get("not_checked") or []
     items = []
-    for reason, what in ((SKIP_WINDOW, "cells taken for windows or sills"), (None, "cells marked not passable")):
-        these = [x for x in skipped if (x["reason"] == SKIP_WINDOW) == (reason == SKIP_WINDOW)]
+    for windows, what in ((True, "cells taken for windows or sills"), (False, "cells marked not passable")):
+        these = [x for x in skipped if (x["reason"] == SKIP_WINDOW) == windows]
         if not these:
             continue
         cells = list(dict.fromkeys(x["cell"] for x in these))
         names = ", ".join(escape(c) for c in cells[:MAX_NOT_CHECKED])
         more = f" and {len(cells) - MAX_NOT_CHECKED} more" if len(cells) > MAX_NOT_CHECKED else ""
         line = f"Not checked: {len(these)} passage{'s' if len(these) != 1 else ''} into {what} ({names}{more})."
-        if reason == SKIP_WINDOW:
+        if windows:
             line += " If one of these is really a door, the window rule misjudged it: please report the plan file."
         items.append(line)
     return items
