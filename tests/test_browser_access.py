@@ -3,10 +3,26 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from pmk_nb.library.folder import MapsFolder
 from tests.shared_data import INDOORGML_DATA
 from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+
+
+def _access_panel(page: Any, name: str) -> Any:
+    """Open the Maps screen, select the map ``name`` and return its accessibility panel, once shown."""
+    from playwright.sync_api import expect
+
+    expect(page.locator("button.pmk-nav-maps")).to_be_visible(timeout=120_000)
+    page.locator("button.pmk-nav-maps").click()
+    select = page.locator(".pmk-maps-list select")
+    expect(select).to_contain_text(name, timeout=30_000)
+    labels = select.locator("option").all_inner_texts()
+    select.select_option(index=next(i for i, t in enumerate(labels) if t.startswith(name)))
+    panel = page.locator(".pmk-access")
+    expect(panel).to_contain_text("Wheelchair access", timeout=30_000)
+    return panel
 
 
 def test_maps_screen_shows_the_accessibility_report(tmp_path: Path) -> None:
@@ -17,14 +33,7 @@ def test_maps_screen_shows_the_accessibility_report(tmp_path: Path) -> None:
         entry = maps.import_file(INDOORGML_DATA / "pnu_abc_3floors_4layers.gml", "pnu_abc")
         maps.convert(entry.name, 0.1, chair_width=1.2)  # a wide chair: a passage on every storey is too narrow
         with chromium_page(url, viewport=VIEWPORT) as page:
-            expect(page.locator("button.pmk-nav-maps")).to_be_visible(timeout=120_000)
-            page.locator("button.pmk-nav-maps").click()
-            select = page.locator(".pmk-maps-list select")
-            expect(select).to_contain_text("pnu_abc", timeout=30_000)
-            labels = select.locator("option").all_inner_texts()
-            select.select_option(index=next(i for i, t in enumerate(labels) if t.startswith("pnu_abc")))
-            panel = page.locator(".pmk-access")
-            expect(panel).to_contain_text("Wheelchair access", timeout=30_000)
+            panel = _access_panel(page, "pnu_abc")
             expect(panel).to_contain_text("fourth Floor South Stair")  # blocked, by its room names
             expect(panel).to_contain_text("narrower than the chair")
             expect(panel).to_contain_text("Size warning")
@@ -54,14 +63,7 @@ def test_maps_screen_names_the_transitions_it_could_not_check(tmp_path: Path) ->
         entry = maps.import_file(INDOORGML_DATA / "fzk_haus_poslist.gml", "fzk")
         maps.convert(entry.name, 0.05)
         with chromium_page(url, viewport=VIEWPORT) as page:
-            expect(page.locator("button.pmk-nav-maps")).to_be_visible(timeout=120_000)
-            page.locator("button.pmk-nav-maps").click()
-            select = page.locator(".pmk-maps-list select")
-            expect(select).to_contain_text("fzk", timeout=30_000)
-            labels = select.locator("option").all_inner_texts()
-            select.select_option(index=next(i for i, t in enumerate(labels) if t.startswith("fzk")))
-            panel = page.locator(".pmk-access")
-            expect(panel).to_contain_text("Wheelchair access", timeout=30_000)
+            panel = _access_panel(page, "fzk")
             expect(panel).to_contain_text("Not checked: 9 passages into cells taken for windows or sills")
             expect(panel).to_contain_text("Not checked: 2 passages into cells taken for windows or sills")
             expect(panel).to_contain_text("the window rule misjudged it")
