@@ -204,11 +204,12 @@ def _classify_boundaries(
         else:
             evidence = ""
         bfps[rb.id] = (fp, evidence)
+    partial = [bid for bid, (_, ev) in bfps.items() if ev == "partial"]
     marked = [fp.geometry for fp, ev in bfps.values() if ev in ("type", "name") and fp.geometry is not None]
-    marked_tree = shapely.STRtree(marked)
-    for bid, (fp, ev) in bfps.items():  # the wall beside a marked door is wall, however short
-        marked_near = doorlib.near(marked_tree, marked, fp.geometry, 1e-3) if ev == "partial" else []
-        if marked_near and doorlib.continues_door(fp.geometry, marked_near):
+    marked_tree = shapely.STRtree(marked) if partial and marked else None
+    for bid in partial if marked_tree is not None else ():  # the wall beside a marked door is wall, however short
+        fp = bfps[bid][0]
+        if doorlib.continues_door(fp.geometry, doorlib.near(marked_tree, marked, fp.geometry, 1e-3)):
             bfps[bid], walls = (fp, ""), walls + 1
     if walls:
         warnings.append(f"{walls} short boundaries continue a door's wall: kept as wall, not taken for openings")

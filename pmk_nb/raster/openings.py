@@ -303,8 +303,11 @@ def plan_openings(
 ) -> OpeningPlan:  # fmt: skip
     """The openings of every same-storey link between two free cells, and the door lines left shut."""
     cells = {c.id: c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty}
-    linked = [k for k in building.links_of(storey) if k.a in cells and k.b in cells]
-    links = [k for k in linked if cells[k.a].kind.is_free and cells[k.b].kind.is_free]
+    links: list[Link] = []
+    not_free: list[Link] = []  # a link to a window or obstacle: no opening, named as not checked
+    for k in building.links_of(storey):
+        if k.a in cells and k.b in cells:
+            (links if cells[k.a].kind.is_free and cells[k.b].kind.is_free else not_free).append(k)
     doors = [d for d in building.doors_of(storey) if d.geometry is not None]
     virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
     gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
@@ -315,7 +318,7 @@ def plan_openings(
     shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
         shut += [d for d in doors if d.evidence == "duality" and d not in shut]
-    skipped = tuple(_skipped(k, cells) for k in linked if not (cells[k.a].kind.is_free and cells[k.b].kind.is_free))
+    skipped = tuple(_skipped(k, cells) for k in not_free)
     return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)), skipped)
 
 
