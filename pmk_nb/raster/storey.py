@@ -12,9 +12,8 @@ target resolution, with the cell-centre rule (:mod:`pmk_nb.raster.scanline`), in
 4. walls: every free cell's rings, minus the stretches where a door sits, drawn as a band of
    ``wall_thickness`` centred on the line *and* as a 4-connected supercover line, so rooms that share
    an edge never merge even when the wall is thinner than a cell;
-5. doors opened after the walls: door cells (ConnectionSpace/AnchorSpace) and door boundaries clear
-   the wall across their width, plus a short passage line across the wall so the opening survives
-   coarse resolutions;
+5. doors opened after the walls: door cells and door boundaries clear the wall across their width, plus
+   a passage line across it (only towards cells the graph links a door cell to) for coarse resolutions;
 6. everything outside all cells stays unknown (or occupied with ``outside="occupied"``).
 """
 
@@ -44,10 +43,10 @@ from pmk_nb.raster.scanline import (
 )
 from pmk_nb.raster.spans import fill_polygons
 from pmk_nb.raster.wallcut import wall_segments
-from pmk_nb.raster.walls import door_gaps, door_geometry, gap_walls, passages, shrink_segments
+from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_walls, passages, shrink_segments
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building, Cell
+    from pmk_nb.indoorgml.model import Building, Cell, Link
 
 DEFAULT_WALL_THICKNESS = 0.10
 DEFAULT_MAX_WALL_GAP = 0.5  # metres: a gap between cells up to this wide is a wall left out of the file
@@ -189,6 +188,7 @@ class _Plan:
     door_polys: list[BaseGeometry]
     door_lines: list[BaseGeometry]
     openings: OpeningPlan
+    links: list[Link]  # the storey's links when the graph decides (else none: every door side opens)
     outside_mark: int = _OUTSIDE  # what cells outside every cell hold while drawing
 
     @property
@@ -229,6 +229,7 @@ def _plan(building: Building, storey: str, resolution: float, wall_thickness: fl
         rooms=[c.footprint for c in cells if c.kind.is_free and not c.kind.is_door],
         blocked=[c.footprint for c in cells if not c.kind.is_free],
         door_polys=door_polys, door_lines=door_lines, openings=openings,
+        links=building.links_of(storey) if openings.graph else [],
     )  # fmt: skip
 
 
@@ -273,7 +274,9 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     fill_segment_bands(grid, frame, door_segs, door_reach, FREE, plan.spare, caps=False)
     _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, plan.spare)
     tick(len(plan.door_lines))
-    _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach), FREE, plan.spare)
+    doors, rooms = [c for c in plan.cells if c.kind.is_door], [c for c in plan.cells if c.kind.is_free]
+    sides = door_neighbours(doors, [c for c in rooms if not c.kind.is_door], plan.links, reach)
+    _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach, sides), FREE, plan.spare)
     # the graph's openings: wall cells only (never obstacles or outside), after every wall is drawn
     walls = [o for o in plan.openings.openings if o.path is None]
     polys = [poly for opening in walls for poly in opening.polygons(reach)]
@@ -356,18 +359,12 @@ def rasterise_storey(
 def _meta(building: Building, storey: str, wall_thickness: float, outside: str, max_gap: float) -> dict[str, Any]:
     geo = building.georef
     return {
-        "storey": storey,
-        "source": building.source,
-        "source_sha256": building.sha256,
-        "unit": building.unit,
-        "unit_reason": building.unit_reason,
-        "translation": [float(geo.translation[0]), float(geo.translation[1])],
-        "rotation": float(geo.rotation),
+        "storey": storey, "source": building.source, "source_sha256": building.sha256,
+        "unit": building.unit, "unit_reason": building.unit_reason,
+        "translation": [float(geo.translation[0]), float(geo.translation[1])], "rotation": float(geo.rotation),
         "lla_origin": None if geo.lla is None else [float(v) for v in geo.lla],
-        "wall_thickness": wall_thickness,
-        "outside": outside,
-        "max_wall_gap": max_gap,
-    }
+        "wall_thickness": wall_thickness, "outside": outside, "max_wall_gap": max_gap,
+    }  # fmt: skip
 
 
 def rasterise(

@@ -16,7 +16,7 @@ import shapely
 from pmk_nb.raster.parts import polygon_parts, polygons_of
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Boundary, Building, Cell
+    from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
 
 
 def door_geometry(
@@ -223,15 +223,44 @@ def shrink_segments(segments: np.ndarray, by: float) -> np.ndarray:
     return np.hstack([p0 + d * cut, p1 - d * cut])
 
 
-def passages(door_polys: list[Any], door_segs: np.ndarray, seg_reach: np.ndarray, reach: float) -> np.ndarray:
-    """Segments across each door (perpendicular to the wall), ``reach`` beyond it on both sides."""
+def door_neighbours(door_cells: list[Cell], rooms: list[Cell], links: list[Link], reach: float) -> list[Any]:
+    """Per door cell, (cells the graph links it to, other free cells) within 2 ``reach``, each as one
+    geometry; None for a door cell the graph never names (a file without a graph: every side opens)."""
+    linked: dict[str, set[str]] = {}
+    for k in links:
+        linked.setdefault(k.a, set()).add(k.b)
+        linked.setdefault(k.b, set()).add(k.a)
+    others = rooms + door_cells
+    tree = shapely.STRtree([c.footprint for c in others]) if others else None
+    out: list[Any] = []
+    for door in door_cells:
+        mine = linked.get(door.id)
+        if not mine or tree is None:
+            out.append(None)
+            continue
+        hits = tree.query(door.footprint, predicate="dwithin", distance=2 * reach).tolist()
+        near = [others[i] for i in hits if others[i].id != door.id]
+        mine_near = [c.footprint for c in near if c.id in mine]
+        out.append((shapely.union_all(mine_near), shapely.union_all([c.footprint for c in near if c.id not in mine])))
+    return out
+
+
+def passages(
+    door_polys: list[Any], door_segs: np.ndarray, seg_reach: np.ndarray, reach: float, sides: list[Any] | None = None
+) -> np.ndarray:
+    """Segments across each door (perpendicular to the wall), ``reach`` beyond it on both sides.
+
+    ``sides`` (from :func:`door_neighbours`, one per leading door polygon) keeps a door cell's passage
+    inside the door on a side where only cells it is not linked to lie: the graph decides, and a door
+    cell 0.13 m from a room it has no transition to must not join it (a leak).
+    """
     d = door_segs[:, 2:4] - door_segs[:, 0:2]
     length = np.hypot(d[:, 0], d[:, 1])
     keep = length > 0
     mid = (door_segs[keep, 0:2] + door_segs[keep, 2:4]) / 2
     normal = np.stack([-d[keep, 1], d[keep, 0]], axis=1) / length[keep, None] * seg_reach[keep, None]
     segs: list[np.ndarray] = [np.hstack([mid - normal, mid + normal])]
-    for poly in door_polys:
+    for i, poly in enumerate(door_polys):
         for part in polygons_of(poly):
             rect = np.asarray(shapely.minimum_rotated_rectangle(part).exterior.coords)[:4, :2]
             if len(rect) < 4:
@@ -241,8 +270,13 @@ def passages(door_polys: list[Any], door_segs: np.ndarray, seg_reach: np.ndarray
             ls = float(np.hypot(*short))
             if ls == 0 or np.hypot(*long_) < 1.3 * ls:
                 continue  # no clear wall direction: the polygon fill alone opens it
-            c = rect.mean(axis=0)
-            u = short / ls
-            half = ls / 2 + reach
-            segs.append(np.array([[c[0] - u[0] * half, c[1] - u[1] * half, c[0] + u[0] * half, c[1] + u[1] * half]]))
+            c, u = rect.mean(axis=0), short / ls
+            ends = [ls / 2 + reach, ls / 2 + reach]
+            near = sides[i] if sides is not None and i < len(sides) else None
+            for k, sign in enumerate((-1.0, 1.0)) if near is not None else ():
+                probe = shapely.LineString([c + sign * u * ls / 2, c + sign * u * (ls / 2 + 2 * reach)])
+                if probe.intersects(near[1]) and not probe.intersects(near[0]):
+                    ends[k] = ls / 2  # only cells the graph does not link on this side: stay inside the door
+            a, b = c - u * ends[0], c + u * ends[1]
+            segs.append(np.array([[a[0], a[1], b[0], b[1]]]))
     return np.vstack(segs)
