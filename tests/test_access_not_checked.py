@@ -21,6 +21,7 @@ from pmk_nb.access.sidecar import read_sidecar, sidecar_path
 from pmk_nb.cli import main
 from pmk_nb.cli.check import MAX_NOT_CHECKED, format_report
 from pmk_nb.errors import MapFormatError
+from pmk_nb.guide import NoAccessibleRoute, load_rooms, plan_route
 from pmk_nb.indoorgml import read_building
 from pmk_nb.raster.openings import SKIP_DECLARED, SKIP_WINDOW, plan_openings
 from pmk_nb.raster.storey import rasterise_storey
@@ -196,3 +197,23 @@ def test_fzk_haus_window_cells_are_named_and_the_check_still_passes(capsys: pyte
     out = capsys.readouterr().out
     assert "storey 0: 11/11 transitions passable" in out and "9 transitions lead to cells judged windows/sills" in out
     assert out.count("  not checked: ") == 11 and "report the file" in out
+
+
+@SPELLINGS
+def test_the_route_planner_names_the_unchecked_way_in_when_there_is_no_route(tmp_path: Path, v2: bool) -> None:
+    """A store room reached only through the cell judged a window: no route, and the error says where
+    the file claims a way in, so a misjudged door is found. The planner's check equals `pmk check`'s."""
+    cells = WINDOWED + _named_solid("C", "store", (10.3, 0, 14, 4), 0.0, 2.6)
+    src = _plan(tmp_path, cells, _graph([("A", "B"), ("B", "W"), ("W", "C")], v2=v2), v2=v2)
+    out_dir = tmp_path / "maps"
+    assert main(["convert", str(src), "-r", "0.05", "--out", str(out_dir), "--no-progress", "--unit", "m"]) in (0, 1)
+    [yaml] = out_dir.glob("*.yaml")
+    rooms = load_rooms(yaml)
+    assert rooms.access(0.7) == check_map(yaml, chair_width=0.7)
+    assert len(rooms.access(0.7).not_checked) == 2
+    with pytest.raises(NoAccessibleRoute) as err:
+        plan_route(rooms, (2.0, 2.0), "store", chair_width=0.7)
+    assert err.value.not_checked == ["store <-> office window (judged a window/sill)"]
+    assert "not checked, the map has no way through: store <-> office window" in str(err.value)
+    route = plan_route(rooms, (2.0, 2.0), "office", chair_width=0.7)  # the rest of the storey still routes
+    assert route.destination.id == "B"

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport, check_storey
-from pmk_nb.access.sidecar import read_sidecar
+from pmk_nb.access.sidecar import StoreyPlanFile, read_sidecar
 from pmk_nb.errors import OccupancyError
 from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
 from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS, rasterise_storey
@@ -78,9 +78,14 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
 
     width = check_chair_width(chair_width)
     grid = read_map(Path(yaml_path))
-    plan = read_sidecar(yaml_path)
+    return check_plan_file(read_sidecar(yaml_path), grid, chair_width=width)
+
+
+def check_plan_file(plan: StoreyPlanFile, grid: OccupancyGrid, *, chair_width: float) -> StoreyReport:
+    """A written map against its rooms file, with the wall thickness and gap the map was written with
+    (its YAML), and the links left unchecked: ``pmk check MAP.yaml`` and the route planner agree."""
     return check_storey(
-        plan.storey, grid, plan.cells, plan.openings, chair_width=width,
+        plan.storey, grid, plan.cells, plan.openings, chair_width=check_chair_width(chair_width),
         wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS)),
         max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)), skipped=plan.skipped,
     )  # fmt: skip

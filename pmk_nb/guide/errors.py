@@ -31,18 +31,27 @@ class NoAccessibleRoute(RouteError):
         narrow: ``(door name, free width in metres)`` of the doors on the best way in that are too
             narrow for the chair (empty when there is no way at all, even for a point).
         chair_width: the chair's width the rules were applied with (metres).
+        not_checked: the transitions into the room's part of the storey that the map has no way through
+            because one cell is not free (a window or sill by its floor height, or non-navigable in the
+            file), as "A <-> B (why)": when the file says there is a door, this is where to look.
     """
 
-    def __init__(self, room: str, narrow: list[tuple[str, float]], chair_width: float) -> None:
+    def __init__(
+        self, room: str, narrow: list[tuple[str, float]], chair_width: float, not_checked: list[str] | None = None
+    ) -> None:
         if narrow:
             doors = ", ".join(f"{name} ({width:.2f} m)" for name, width in narrow)
             why = f"too narrow for the {chair_width:.2f} m chair: {doors}"
         else:
             why = "the map has no way there (no passable transition joins it to where the chair is)"
+        unchecked = list(not_checked or [])
+        if unchecked:
+            why += f"; not checked, the map has no way through: {', '.join(unchecked)}"
         super().__init__(f"no accessible route to {room}: {why}")
         self.room = room
         self.narrow = narrow
         self.chair_width = chair_width
+        self.not_checked = unchecked
 
 
 class NoGraph(RouteError):

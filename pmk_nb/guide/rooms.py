@@ -14,8 +14,8 @@ from typing import TYPE_CHECKING
 
 import shapely
 
-from pmk_nb.access import check_storey
-from pmk_nb.access.sidecar import read_sidecar
+from pmk_nb.access.check import check_plan_file
+from pmk_nb.access.sidecar import StoreyPlanFile, read_sidecar
 from pmk_nb.guide.errors import UnknownRoom
 from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.rosmap.files import read_map
@@ -68,13 +68,23 @@ class RoomsMap:
     """The rooms of one map (one storey): the sidecar's cells and openings, the map grid on demand."""
 
     yaml: Path
-    storey: str
     rooms: list[Room]
-    cells: list[Cell]
-    openings: list[Opening]
+    plan: StoreyPlanFile  # the rooms file: cells, openings, links left unchecked
     _grid: OccupancyGrid | None = field(default=None, repr=False)
     _reports: dict[float, StoreyReport] = field(default_factory=dict, repr=False)
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
+
+    @property
+    def storey(self) -> str:
+        return self.plan.storey
+
+    @property
+    def cells(self) -> list[Cell]:
+        return self.plan.cells
+
+    @property
+    def openings(self) -> list[Opening]:
+        return self.plan.openings
 
     # -- lookups -------------------------------------------------------------------------------------
     def by_id(self, room_id: str) -> Room:
@@ -130,7 +140,7 @@ class RoomsMap:
         with self._lock:
             report = self._reports.get(key)
         if report is None:
-            report = check_storey(self.storey, grid, self.cells, self.openings, chair_width=key)
+            report = check_plan_file(self.plan, grid, chair_width=key)
             with self._lock:
                 self._reports[key] = report
         return report
@@ -144,4 +154,4 @@ def load_rooms(yaml_path: str | Path, grid: OccupancyGrid | None = None) -> Room
     """
     plan = read_sidecar(yaml_path)
     rooms = [Room(c.id, c.name, c.kind, c.footprint) for c in plan.cells]
-    return RoomsMap(Path(yaml_path), plan.storey, rooms, plan.cells, plan.openings, grid)
+    return RoomsMap(Path(yaml_path), rooms, plan, grid)

@@ -25,7 +25,7 @@ from pmk_nb.guide.errors import NoAccessibleRoute, NoGraph, NotOnMap, RouteError
 from pmk_nb.guide.goal import goal_in_room
 
 if TYPE_CHECKING:
-    from pmk_nb.access import LinkCheck
+    from pmk_nb.access import LinkCheck, StoreyReport
     from pmk_nb.guide.rooms import Room, RoomsMap
     from pmk_nb.raster.openings import Opening
 
@@ -117,6 +117,23 @@ def _door_label(rooms: RoomsMap, check: LinkCheck) -> str:
     return f"{check.names[0]} - {check.names[1]}"
 
 
+def _unchecked_into(report: StoreyReport, cell: str) -> list[str]:
+    """The not-checked links (one cell not free) that touch ``cell``'s part of the storey: the cells a
+    point reaches from it through the map. A door misjudged as a window shows up here."""
+    adj: dict[str, list[str]] = {}
+    for k in report.links:
+        if k.point:
+            adj.setdefault(k.cells[0], []).append(k.cells[1])
+            adj.setdefault(k.cells[1], []).append(k.cells[0])
+    seen, todo = {cell}, [cell]
+    while todo:
+        for nxt in adj.get(todo.pop(), []):
+            if nxt not in seen:
+                seen.add(nxt)
+                todo.append(nxt)
+    return [k.describe() for k in report.not_checked if seen & set(k.cells)]
+
+
 def _heading(a: Point, b: Point) -> float:
     return math.atan2(b[1] - a[1], b[0] - a[0]) if math.dist(a, b) > 1e-6 else 0.0
 
@@ -169,7 +186,7 @@ def plan_route(
             if not check.chair:
                 label = _door_label(rooms, check)
                 narrow[label] = min(narrow.get(label, math.inf), check.free_width)
-        raise NoAccessibleRoute(dest.label, list(narrow.items()), chair_width)
+        raise NoAccessibleRoute(dest.label, list(narrow.items()), chair_width, _unchecked_into(report, dest.id))
     spot = goal_in_room(rooms, dest, chair_width)
     if spot is None:
         raise RouteError(f"{dest.label}: no free spot in the map where a {chair_width:.2f} m chair fits")
