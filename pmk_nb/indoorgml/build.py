@@ -15,17 +15,7 @@ from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint, floor_heig
 from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, raised_cells
-from pmk_nb.indoorgml.model import (
-    Boundary,
-    Building,
-    Cell,
-    CellKind,
-    Georeference,
-    NavGraph,
-    State,
-    Storey,
-    Transition,
-)
+from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, NavGraph, State, Storey, Transition
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit
@@ -175,7 +165,7 @@ def _classify_boundaries(
     cell_tree = shapely.STRtree(cell_geoms)  # boundary -> nearby cells without an O(B x C) scan
     owners = _owners(doc)
     bfps: dict[str, tuple[Footprint, str]] = {}
-    seen: dict[tuple[object, ...], list[frozenset[str]]] = {}
+    seen: dict[tuple[object, ...], tuple[bool, set[str]]] = {}
     hint = {raw.id: raw.storey_hint for raw in doc.cells}
     dropped = dupes = walls = 0
     for rb in doc.boundaries:
@@ -184,10 +174,11 @@ def _classify_boundaries(
             xy = tuple(sorted(map(tuple, np.round(shapely.get_coordinates(fp.geometry), 6).tolist())))
             storeys = frozenset(h for c in owners.get(rb.id, ()) if (h := hint.get(c)))
             key = (xy, _round(fp.z_min), _round(fp.z_max))
-            if any(not other or not storeys or other & storeys for other in seen.get(key, ())):
+            unowned, taken = seen.get(key, (False, set()))  # copies kept so far: one unowned?, their storeys
+            if key in seen and (unowned or not storeys or taken & storeys):
                 dupes += 1  # an unowned copy ('-REVERSE') or one of the same storey
                 continue
-            seen.setdefault(key, []).append(storeys)
+            seen[key] = (unowned or not storeys, taken | storeys)
         if owners.get(rb.id) and not owners[rb.id] & kept:
             dropped += 1
             continue

@@ -106,7 +106,7 @@ def cell_footprint(polys: list[PolygonZ]) -> Footprint:
             geoms.append(g)
     if not geoms:
         return Footprint(None, z_min, z_max, repaired, is_stair)
-    union = shapely.union_all(geoms)
+    union = geoms[0] if len(geoms) == 1 else shapely.union_all(geoms)  # one valid polygon is its own union
     if not union.is_valid:
         union = shapely.make_valid(union)
         repaired = True
@@ -150,7 +150,7 @@ def boundary_footprint(polys: list[PolygonZ], lines: list[list[Coord]]) -> Footp
     zs = [c[2] for c in pts if len(c) > 2]
     z_min, z_max = (min(zs), max(zs)) if zs else (None, None)
     if lines and not polys:
-        parts = [LineString([c[:2] for c in line]) for line in lines if len(line) >= 2]
+        parts = [shapely.linestrings([c[:2] for c in line]) for line in lines if len(line) >= 2]
         parts = [g for g in parts if g.length > 0]
         if not parts:
             return Footprint(None, z_min, z_max)

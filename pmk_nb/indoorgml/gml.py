@@ -27,7 +27,7 @@ class RingStats:
     inferred_dim: int = 0
 
 
-@dataclass
+@dataclass(slots=True)
 class PolygonZ:
     exterior: list[Coord]
     interiors: list[list[Coord]] = field(default_factory=list)

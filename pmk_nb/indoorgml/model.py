@@ -33,7 +33,7 @@ class CellKind(str, Enum):
         return self in (CellKind.CONNECTION, CellKind.ANCHOR)
 
 
-@dataclass
+@dataclass(slots=True)
 class Cell:
     id: str
     kind: CellKind
@@ -49,7 +49,7 @@ class Cell:
     window: bool = False
 
 
-@dataclass
+@dataclass(slots=True)
 class Boundary:
     """A CellSpaceBoundary; doors let the rasteriser open the wall they sit in."""
 
@@ -70,7 +70,7 @@ class State:
     layer: str = ""
 
 
-@dataclass
+@dataclass(slots=True)
 class Transition:
     id: str
     source: str

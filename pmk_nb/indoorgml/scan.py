@@ -39,7 +39,7 @@ _DECODED = frozenset(CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAME
 _STOREY_TEXT = re.compile(r"\b(?:storey|story|level|floor)\s*[=:]\s*\"?([^\";:,\s]+)", re.IGNORECASE)
 
 
-@dataclass
+@dataclass(slots=True)
 class RawCell:
     id: str
     kind_name: str  # lower-cased local name of the element
@@ -56,7 +56,7 @@ class RawCell:
     alma_inline: bool = False  # cell written inside State/duality (ALMA MultiLayeredGraph)
 
 
-@dataclass
+@dataclass(slots=True)
 class RawBoundary:
     id: str
     kind_name: str
@@ -69,7 +69,7 @@ class RawBoundary:
     virtual: bool = False  # IndoorGML 2.0 isVirtual, or a name/description saying "virtual"
 
 
-@dataclass
+@dataclass(slots=True)
 class RawState:
     id: str
     point: Coord | None
@@ -77,7 +77,7 @@ class RawState:
     layer: str
 
 
-@dataclass
+@dataclass(slots=True)
 class RawTransition:
     id: str
     connects: list[str]
