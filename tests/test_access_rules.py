@@ -147,11 +147,12 @@ def test_corridor_pieces_are_open_along_their_whole_boundary(tmp_path: Path, v2:
     assert report.ok
 
 
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 @pytest.mark.parametrize("tag", ["navi:ConnectionBoundary", "CellSpaceBoundary"], ids=["connection", "named-door"])
-def test_door_geometry_wins_and_a_plain_wall_beside_it_stays(tmp_path: Path, tag: str) -> None:
+def test_door_geometry_wins_and_a_plain_wall_beside_it_stays(tmp_path: Path, tag: str, v2: bool) -> None:
     door = _boundary("Door1" if tag == "CellSpaceBoundary" else "D1", ((5, 2.6), (5, 3.6)), tag)
     line = "2.5 1.0 7.5 1.0"  # the transition's line crosses elsewhere: door geometry comes first
-    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")], {0: line}), door))
+    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")], {0: line}, v2=v2), door, v2=v2))
     assert plan_openings(b, b.storeys[0].name).rule_counts() == {"door": 1}
     assert grid.value_at(5.0, 3.1) == FREE and grid.value_at(5.0, 1.0) == OCCUPIED
     assert report.ok
@@ -192,36 +193,41 @@ def test_a_transitions_dual_face_spanning_the_wall_is_not_a_door(tmp_path: Path)
     assert grid.value_at(5.0, 3.1) == FREE and grid.value_at(5.0, 1.0) == OCCUPIED
 
 
-def test_thin_door_cell_is_open_on_both_faces(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_thin_door_cell_is_open_on_both_faces(tmp_path: Path, v2: bool) -> None:
     rooms = _cell("A", (0, 0, 5, 4)) + _cell("D", (5, 1, 5.2, 2), "navi:ConnectionSpace") + _cell("B", (5.2, 0, 10, 4))
-    b, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B")])), chair=0.6)
+    path = _plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B")], v2=v2), v2=v2)
+    b, grid, report = _grid_and_report(path, chair=0.6)
     assert {o.rule for o in plan_openings(b, b.storeys[0].name).openings} == {"door"}
     for x in (4.97, 5.1, 5.23):
         assert grid.value_at(x, 1.5) == FREE
     assert report.ok, report.summary()
 
 
-def test_gap_wall_with_a_door_in_it_stays_open(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_gap_wall_with_a_door_in_it_stays_open(tmp_path: Path, v2: bool) -> None:
     rooms = _cell("A", (0, 0, 5, 4)) + _cell("B", (5.13, 0, 10, 4))  # walls drawn as a 0.13 m gap
     door = _boundary("D1", ((5.065, 1.5), (5.065, 2.5)), "navi:ConnectionBoundary")
-    _, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "B")]), door))
+    _, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "B")], v2=v2), door, v2=v2))
     assert grid.value_at(5.065, 2.0) == FREE and grid.value_at(5.065, 0.5) == OCCUPIED
     assert report.ok
 
 
-def test_narrow_door_is_named_not_hidden(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_narrow_door_is_named_not_hidden(tmp_path: Path, v2: bool) -> None:
     door = _boundary("D1", ((5, 1.0), (5, 1.6)), "navi:ConnectionBoundary")  # 0.6 m < 0.7 m chair
-    _, _, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")]), door))
+    _, _, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")], v2=v2), door, v2=v2))
     [k] = report.links
     assert k.point and not k.chair and report.narrow == [k] and not report.ok
     assert "narrower than the chair" in k.describe() and "A" in k.names
 
 
-def test_leak_between_rooms_without_transition_is_reported(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_leak_between_rooms_without_transition_is_reported(tmp_path: Path, v2: bool) -> None:
     """A door line between two rooms the graph does not join is kept shut; a real overlap still leaks."""
     rooms = ROOMS + _cell("C", (0, 4, 10, 8))
     door = _boundary("D1", ((5, 1.0), (5, 2.0)), "navi:ConnectionBoundary")
-    b, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "C"), ("B", "C")]), door))
+    b, grid, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "C"), ("B", "C")], v2=v2), door, v2=v2))
     assert [d.id for d in plan_openings(b, b.storeys[0].name).shut_doors] == ["D1"]
     assert grid.value_at(5.0, 1.5) == OCCUPIED and report.leaks == []
 
@@ -410,18 +416,20 @@ def test_linked_cells_apart_get_a_passage_across_the_gap(tmp_path: Path, v2: boo
     assert report.ok and report.links[0].rule == "bridge", report.summary()
 
 
-def test_no_passage_through_a_cell_in_the_gap(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_no_passage_through_a_cell_in_the_gap(tmp_path: Path, v2: bool) -> None:
     rooms = _cell("A", (0, 0, 5, 4)) + _cell("B", (6.5, 0, 11.5, 4)) + _cell("C", (5.2, 1.0, 6.3, 3.0))
-    b, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "B")], {0: "2.5 2.0 9.0 2.0"})))
+    b, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "B")], {0: "2.5 2.0 9.0 2.0"}, v2=v2), v2=v2))
     assert [o.rule for o in plan_openings(b, b.storeys[0].name).openings] == ["apart"]
     assert not report.ok and "do not touch" in report.blocked[0].describe()
 
 
-def test_a_way_through_a_door_cell_between_two_linked_rooms_counts(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_a_way_through_a_door_cell_between_two_linked_rooms_counts(tmp_path: Path, v2: bool) -> None:
     """A file may link two rooms directly and also through the door cell between them (pnu_abc's restrooms)."""
     door = _cell("D", (5, 1, 5.2, 2.2), "navi:ConnectionSpace")
     rooms = _cell("A", (0, 0, 5, 4)) + door + _cell("B", (5.2, 0, 10, 4))
-    _, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B"), ("A", "B")])))
+    _, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B"), ("A", "B")], v2=v2), v2=v2))
     assert report.counts()["passable_chair"] == 3 and report.ok and report.leaks == [], report.summary()
 
 
@@ -520,11 +528,12 @@ def test_openings_near_a_partition_do_not_join_the_rooms_it_parts(
     assert b.storeys and plan_openings(b, b.storeys[0].name).seams  # the graph keeps A and B apart
 
 
-def test_a_door_cell_drawn_across_a_partition_stays_open(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_a_door_cell_drawn_across_a_partition_stays_open(tmp_path: Path, v2: bool) -> None:
     # rooms A and B are not joined directly, only through the door cell D that straddles their wall:
     # the partition is drawn again everywhere but across D
     door = _cell("D", (4.9, 1.0, 5.1, 2.0), "navi:ConnectionSpace")
-    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS + door, _graph([("A", "D"), ("D", "B")])))
+    b, grid, report = _grid_and_report(_plan(tmp_path, ROOMS + door, _graph([("A", "D"), ("D", "B")], v2=v2), v2=v2))
     assert report.ok and report.counts()["passable_chair"] == 2 and report.leaks == [], report.counts()
     assert grid.value_at(5.0, 1.5) == FREE and grid.value_at(5.0, 3.0) == OCCUPIED
     [seam] = plan_openings(b, b.storeys[0].name).seams  # the partition, less the door cell across it
