@@ -70,7 +70,7 @@ def test_pmk_check_names_the_window_and_keeps_its_exit_code(
     assert main(["check", str(path), "--chair-width", "0.7", "--unit", "m"]) == 0
     out = capsys.readouterr().out
     assert "  not checked: office <-> office window (judged a window/sill)" in out
-    assert "misjudged it" in out and "report the file" in out
+    assert "misjudged it" in out and "again with --not-window NAME" in out
     assert "ok: the chair can pass every transition checked (1 not checked, above)" in out
     # a narrow door still fails as before: the window changes nothing of the exit code
     door = (
@@ -137,7 +137,7 @@ def test_the_rooms_file_carries_them_to_pmk_check_on_the_written_map(
     assert "not checked: office <-> office window (judged a window/sill)" in capsys.readouterr().out
     html = _storey_html(SimpleNamespace(storey="0", yaml=yaml), doc)
     assert "Not checked: 1 passage into cells taken for windows or sills (office window)." in html
-    assert "report the plan file" in html and "✓" in html
+    assert "pmk convert --not-window NAME" in html and "✓" in html
 
 
 def test_an_old_rooms_file_without_them_still_reads(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -196,7 +196,7 @@ def test_fzk_haus_window_cells_are_named_and_the_check_still_passes(capsys: pyte
     assert main(["check", str(path), "--chair-width", "0.7"]) == 0
     out = capsys.readouterr().out
     assert "storey 0: 11/11 transitions passable" in out and "9 transitions lead to cells judged windows/sills" in out
-    assert out.count("  not checked: ") == 11 and "report the file" in out
+    assert out.count("  not checked: ") == 11 and "--not-window NAME" in out
 
 
 @SPELLINGS

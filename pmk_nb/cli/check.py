@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.cli.convert import add_not_window_option
 from pmk_nb.errors import PmkError
 
 
@@ -32,6 +33,7 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--unit", default="auto", help="unit of a .gml file's coordinates: auto (default), m, dm, cm, mm")
     p.add_argument("--door-width", type=float, default=None, metavar="M",
                    help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
+    add_not_window_option(p)
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.set_defaults(run=run)
 
@@ -61,10 +63,13 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], str]:
     if not target.is_file():
         raise PmkError(f"{target}: no such file", hint="Name an IndoorGML file (.gml) or a map YAML (.yaml).")
     if target.suffix.lower() in (".yaml", ".yml"):
+        if args.not_windows:
+            raise PmkError(f"{target}: --not-window applies to a plan (.gml), not to a written map",
+                           hint="Convert the plan again with --not-window, then check the new map.")  # fmt: skip
         return [check_map(target, chair_width=width)], ""
     from pmk_nb.indoorgml import read_building
 
-    building = read_building(target, unit=args.unit)
+    building = read_building(target, unit=args.unit, not_windows=args.not_windows)
     door = DEFAULT_DOOR_WIDTH if args.door_width is None else args.door_width
     return check_building(building, args.resolution, chair_width=width, door_width=door), building.unit_conflict
 
@@ -73,7 +78,7 @@ MAX_NOT_CHECKED = 10  # transitions named per storey; the rest are counted
 WINDOW_HINT = [
     "note: a cell is judged a window/sill when it starts more than {raised:g} m above a cell it touches.",
     "  If one named above is really a door or floor, the rule misjudged it and its transitions went",
-    "  unchecked. No option overrides the rule: please report the file.",
+    "  unchecked: convert (and check) the plan again with --not-window NAME to keep it navigable.",
 ]
 
 

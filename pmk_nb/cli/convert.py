@@ -62,6 +62,14 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
                    help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
     p.add_argument("--chair-width", type=float, default=None, metavar="W",
                    help="chair width for the access summary (default: the chair profile's, or 0.70)")  # fmt: skip
+    add_not_window_option(p)
+
+
+def add_not_window_option(p: argparse.ArgumentParser) -> None:
+    """--not-window: the override `pmk check` offers when a cell it names as a window is a door (one wording)."""
+    p.add_argument("--not-window", action="append", default=[], dest="not_windows", metavar="CELL",
+                   help="a cell (name or id) taken for a window or sill that is really a door or floor: keep it "
+                   "navigable (repeatable; `pmk check` names the cells taken for windows)")  # fmt: skip
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -104,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
         unit=args.unit, storeys=args.storeys, wall_thickness=args.wall_thickness, max_wall_gap=args.max_wall_gap,
         outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
         max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large, door_width=args.door_width,
-        chair_width=chair_width_arg(args.chair_width),
+        chair_width=chair_width_arg(args.chair_width), not_windows=tuple(args.not_windows),
     )  # fmt: skip
     bar = TextProgress(sys.stderr, enabled=bool(show))
     try:

@@ -7,6 +7,8 @@ import json
 import sys
 from typing import Any
 
+from pmk_nb.cli.convert import add_not_window_option
+
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     from pmk_nb.indoorgml.units import UNIT_CHOICES
@@ -19,6 +21,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("file", help="IndoorGML (.gml) file")
     p.add_argument("--unit", default="auto", choices=UNIT_CHOICES,
                    help="coordinate unit of the file (default: auto-detect, see the reason printed)")  # fmt: skip
+    add_not_window_option(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(run=run)
     return p
@@ -68,7 +71,7 @@ def format_connectivity(c: dict[str, Any]) -> list[str]:
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.indoorgml import format_summary, read_building, summarize
 
-    building = read_building(args.file, unit=args.unit)
+    building = read_building(args.file, unit=args.unit, not_windows=args.not_windows)
     summary = summarize(building)
     summary["connectivity"] = connectivity(building)
     if args.json:

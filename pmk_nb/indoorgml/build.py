@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
+from collections.abc import Sequence
 
 import numpy as np
 import shapely
@@ -14,7 +15,7 @@ from pmk_nb.indoorgml import doors as doorlib
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint, floor_height
 from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
-from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, raised_cells
+from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
 from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, NavGraph, State, Storey, Transition
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
@@ -81,11 +82,13 @@ def _zs(v: float | None, s: float) -> float | None:
     return None if v is None else v * s
 
 
-def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
-    """Interpret ``doc``: cells -> kinds -> boundaries and doors -> unit -> storeys -> the model."""
+def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequence[str] = ()) -> Building:
+    """Interpret ``doc``: cells -> kinds -> boundaries and doors -> unit -> storeys -> the model.
+    ``not_windows``: ids or names of cells the window rule must leave free (see levels.not_window_ids)."""
     warnings: list[str] = []
     alma = detect_alma(doc)
     cells = select_layers(usable_cells(doc, warnings), doc, alma, warnings)
+    keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
     kinds = _kinds(cells, bool(alma), warnings)
     bfps = _classify_boundaries(doc, cells, warnings)
     choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
@@ -96,7 +99,7 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
     )
     cell_notes: list[str] = []
     linked = _linked_pairs(doc)
-    model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked)
+    model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked, keep)
     graph = _graph(doc, model_cells, s)
     links = resolve_links(graph, model_cells)
     stairs = frozenset(c.raw.id for c in cells if c.fp.stepped)
@@ -105,7 +108,7 @@ def build_building(doc: RawDocument, sha256: str, unit: str) -> Building:
     )
     if levels is not plan:  # split levels: cells, windows and links are decided again on the new storeys
         plan, cell_notes = levels, []
-        model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked)
+        model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked, keep)
         graph = _graph(doc, model_cells, s)
         links = resolve_links(graph, model_cells)
     warnings.extend(plan.notes + cell_notes)
@@ -293,9 +296,10 @@ def _linked_pairs(doc: RawDocument) -> frozenset[frozenset[str]]:
 
 def _model_cells(
     cells: list[KeptCell], kinds: dict[str, CellKind], plan: StoreyPlan, s: float, warnings: list[str],
-    linked: frozenset[frozenset[str]] = frozenset(),
+    linked: frozenset[frozenset[str]] = frozenset(), keep: frozenset[str] = frozenset(),
 ) -> dict[str, Cell]:  # fmt: skip
-    """The model's cells in metres, on their storeys; raised free cells (windows, sills) become non-navigable."""
+    """The model's cells in metres, on their storeys; raised free cells (windows, sills) become non-navigable,
+    but those in ``keep`` (the user said they are not windows)."""
     model_cells: dict[str, Cell] = {}
     polygons = {c.raw.id: c.raw.polygons for c in cells}
 
@@ -311,7 +315,7 @@ def _model_cells(
         storey = plan.of_cell[c.raw.id]
         kind = kinds[c.raw.id]
         z_min, z_max = _zs(c.fp.z_min, s), _zs(c.fp.z_max, s)
-        window = kind.is_free and c.raw.id in raised_ids
+        window = kind.is_free and c.raw.id in raised_ids and c.raw.id not in keep
         if window:
             kind = CellKind.NON_NAVIGABLE
             raised.append(c.raw.id)
@@ -324,6 +328,8 @@ def _model_cells(
             f"{len(raised)} cells start more than {RAISED} m above a cell they touch (windows/sills): "
             f"treated as non-navigable: {raised[:8]}"
         )
+    if spared := sorted(i for i in raised_ids if i in keep):
+        warnings.append(f"{len(spared)} raised cells kept navigable as asked (--not-window): {spared[:8]}")
     return model_cells
 
 

@@ -13,11 +13,13 @@ touching nothing lower, stays navigable.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
+
+from pmk_nb.errors import IndoorGMLError
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -82,3 +84,23 @@ def _narrow_side(footprint: BaseGeometry) -> float:
         return 0.0
     sides = np.hypot(*(box[1] - box[0])), np.hypot(*(box[2] - box[1]))
     return float(min(sides))
+
+
+def not_window_ids(cells: Iterable[tuple[str, str]], wanted: Iterable[str], source: str) -> frozenset[str]:
+    """Ids of the cells ``wanted`` names (by id or name): the window rule leaves them free. The user's
+    answer when the report names a door as a cell taken for a window or sill.
+
+    Raises:
+        IndoorGMLError: a word matches no cell's id or name (names the file and the word).
+    """
+    want = {w.strip() for w in wanted if w and w.strip()}
+    pairs = list(cells)
+    known = {i for i, _ in pairs} | {n for _, n in pairs if n}
+    missing = sorted(want - known)
+    if missing:
+        raise IndoorGMLError(
+            f"{source}: --not-window {missing[0]!r}: no cell of the plan has that id or name",
+            path=source, element=missing[0],
+            hint="`pmk check` names the cells taken for windows or sills; give one of those names (or its id).",
+        )  # fmt: skip
+    return frozenset(i for i, name in pairs if i in want or name in want)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+from collections.abc import Sequence
 from pathlib import Path
 
 from pmk_nb.errors import IndoorGMLError
@@ -23,14 +24,17 @@ def _sha256(path: Path) -> str:
 
 
 def read_building(
-    path: str | os.PathLike[str], *, unit: str = "auto", progress: ProgressCallback | None = None
-) -> Building:
+    path: str | os.PathLike[str], *, unit: str = "auto", progress: ProgressCallback | None = None,
+    not_windows: Sequence[str] = (),
+) -> Building:  # fmt: skip
     """Read an IndoorGML file (1.0, 1.0.x, 1.1, 2.0 drafts, ALMA style) into a :class:`Building`.
 
     Args:
         path: the .gml file.
         unit: "m", "dm", "cm", "mm", or "auto" (see :mod:`pmk_nb.indoorgml.units`).
         progress: ``read`` reports (fraction of the file's bytes) while the file streams in.
+        not_windows: ids or names of cells the window/sill rule must leave navigable (a door it
+            misjudged; ``pmk check`` names the cells it took for windows).
 
     Returns:
         The building, all coordinates in metres.
@@ -45,4 +49,4 @@ def read_building(
     if not p.is_file():
         raise IndoorGMLError(f"{p}: no such file", path=str(p))
     doc = scan(p, progress)
-    return build_building(doc, _sha256(p), unit)
+    return build_building(doc, _sha256(p), unit, not_windows)

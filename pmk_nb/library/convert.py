@@ -61,6 +61,7 @@ class ConvertOptions:
     door_width: float = DEFAULT_DOOR_WIDTH  # metres: openings made where the file gives no door geometry
     chair_width: float = DEFAULT_CHAIR_WIDTH  # metres: the accessibility check's chair
     check: bool = True  # run the accessibility check and keep its report in the rooms file
+    not_windows: tuple[str, ...] = ()  # cells (ids or names) the window/sill rule must leave navigable
 
 
 @dataclass(frozen=True)
@@ -223,7 +224,9 @@ def convert_plan(
     opts = options or ConvertOptions()
     res = _check_options(resolution, opts)
     emit(progress, "read", 0.0, Path(source).name)
-    building = read_building(source, unit=opts.unit, progress=sub_range(progress, 0.0, _READ_END))
+    building = read_building(
+        source, unit=opts.unit, progress=sub_range(progress, 0.0, _READ_END), not_windows=opts.not_windows
+    )
     wanted = _wanted_storeys(building, opts.storeys)
     stems = storey_map_names(name, [s.name for s in building.storeys])
     target = Path(out_dir)

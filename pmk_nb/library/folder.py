@@ -14,7 +14,7 @@ import os
 import re
 import shutil
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import BinaryIO
@@ -311,18 +311,18 @@ class MapsFolder:
         max_wall_gap: float = 0.5,
         door_width: float = DEFAULT_DOOR_WIDTH,
         chair_width: float = DEFAULT_CHAIR_WIDTH,
+        not_windows: Sequence[str] = (),
     ) -> list[GeneratedMap]:
-        """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2).
-
-        Runs :func:`pmk_nb.library.convert.convert_plan` (all storeys or none are written), then
-        removes the files of storeys that no longer exist.
+        """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2): runs
+        :func:`pmk_nb.library.convert.convert_plan` (all storeys or none are written), then removes the
+        files of storeys that no longer exist.
 
         Args:
             resolution: metres per cell (e.g. 0.05).
             storeys: storey names to convert; default all.
-            max_wall_gap: gaps between cells up to this many metres wide are walls the file left
-                out, drawn occupied (0 turns this off).
+            max_wall_gap: gaps between cells up to this many metres wide are walls the file left out (0: off).
             progress: :class:`~pmk_nb.progress.Progress` reports (read, rasterise, write, done).
+            not_windows: cells (names or ids) the window/sill rule must leave navigable.
 
         Raises:
             LibraryError: unknown map, bad arguments, or any reader / rasteriser / writer error
@@ -331,7 +331,7 @@ class MapsFolder:
         entry = self.entry(name)
         options = ConvertOptions(
             unit=unit, storeys=storeys, wall_thickness=wall_thickness, max_wall_gap=max_wall_gap,
-            image_format=image_format, door_width=door_width, chair_width=chair_width,
+            image_format=image_format, door_width=door_width, chair_width=chair_width, not_windows=tuple(not_windows),
         )  # fmt: skip
         self._ensure_root()
         st = entry.source.stat()

@@ -118,7 +118,8 @@ def _not_checked_items(report: dict[str, Any]) -> list[str]:
         more = f" and {len(cells) - MAX_NOT_CHECKED} more" if len(cells) > MAX_NOT_CHECKED else ""
         line = f"Not checked: {len(these)} passage{'s' if len(these) != 1 else ''} into {what} ({names}{more})."
         if windows:
-            line += " If one of these is really a door, the window rule misjudged it: please report the plan file."
+            line += (" If one of these is really a door, the window rule misjudged it: convert with "
+                     "<code>pmk convert --not-window NAME</code> to keep it navigable.")
         items.append(line)
     return items
 
