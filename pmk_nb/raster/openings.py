@@ -37,6 +37,7 @@ from shapely import ops
 
 from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.model import CellKind
+from pmk_nb.raster.doorface import door_face
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -235,7 +236,9 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
         return _bridge(link, a, b, gap, ctx) or Opening(link, "apart", (), 0.0, gap, (_label(a), _label(b)))
     runs = _runs(shared)
     if a.kind.is_door or b.kind.is_door:
-        return _made(link, "door", runs, a, b, gap, ctx)
+        door, room = (a, b) if a.kind.is_door else (b, a)  # a door askew keeps its width: its face, if longer
+        face = door_face(door.footprint, room.footprint, gap, ctx.max_gap + ctx.tol, ctx.tol)
+        return _made(link, "door", _runs(face) if face.length > shared.length + 2 * ctx.tol else runs, a, b, gap, ctx)
     near = ctx.max_gap + ctx.tol
     lines = _door_lines(link, shared, ctx.doors, near, ctx.tol)
     if lines:
