@@ -95,3 +95,15 @@ def test_the_maps_folder_converts_with_it(tmp_path: Path) -> None:
     from pmk_nb.rosmap.files import read_map
 
     assert read_map(gm.yaml).value_at(10.15, 1.5) == FREE  # inside the kept cell
+
+
+def test_pmk_maps_convert_takes_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from tests.test_cli_maps import pmk
+
+    maps = tmp_path / "maps"
+    maps.mkdir()
+    assert pmk(capsys, maps, "import", str(_balcony(tmp_path, False)), "--name", "house")[0] == 0
+    code, _, err = pmk(capsys, maps, "convert", "house", "-r", "0.05", "--unit", "m", "--not-window", "nowhere")
+    assert code == 2 and "'nowhere'" in err and not list(maps.glob("*.yaml"))
+    code, out, _ = pmk(capsys, maps, "convert", "house", "-r", "0.05", "--unit", "m", "--not-window", "office window")
+    assert code == 0 and "3/3 transitions passable" in out, out

@@ -274,8 +274,8 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     fill_segment_bands(grid, frame, door_segs, door_reach, FREE, plan.spare, caps=False)
     _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, plan.spare)
     tick(len(plan.door_lines))
-    doors, rooms = [c for c in plan.cells if c.kind.is_door], [c for c in plan.cells if c.kind.is_free]
-    sides = door_neighbours(doors, [c for c in rooms if not c.kind.is_door], plan.links, reach)
+    doors = [c for c in plan.cells if c.kind.is_door]  # in door_polys' order: door_geometry lists them first
+    sides = door_neighbours(doors, [c for c in plan.cells if c.kind.is_free and not c.kind.is_door], plan.links, reach)
     _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach, sides), FREE, plan.spare)
     # the graph's openings: wall cells only (never obstacles or outside), after every wall is drawn
     walls = [o for o in plan.openings.openings if o.path is None]

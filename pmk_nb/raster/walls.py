@@ -223,7 +223,9 @@ def shrink_segments(segments: np.ndarray, by: float) -> np.ndarray:
     return np.hstack([p0 + d * cut, p1 - d * cut])
 
 
-def door_neighbours(door_cells: list[Cell], rooms: list[Cell], links: list[Link], reach: float) -> list[Any]:
+def door_neighbours(
+    door_cells: list[Cell], rooms: list[Cell], links: list[Link], reach: float
+) -> list[tuple[Any, Any] | None]:
     """Per door cell, (cells the graph links it to, other free cells) within 2 ``reach``, each as one
     geometry; None for a door cell the graph never names (a file without a graph: every side opens)."""
     linked: dict[str, set[str]] = {}
@@ -232,7 +234,7 @@ def door_neighbours(door_cells: list[Cell], rooms: list[Cell], links: list[Link]
         linked.setdefault(k.b, set()).add(k.a)
     others = rooms + door_cells
     tree = shapely.STRtree([c.footprint for c in others]) if others else None
-    out: list[Any] = []
+    out: list[tuple[Any, Any] | None] = []
     for door in door_cells:
         mine = linked.get(door.id)
         if not mine or tree is None:
@@ -246,8 +248,9 @@ def door_neighbours(door_cells: list[Cell], rooms: list[Cell], links: list[Link]
 
 
 def passages(
-    door_polys: list[Any], door_segs: np.ndarray, seg_reach: np.ndarray, reach: float, sides: list[Any] | None = None
-) -> np.ndarray:
+    door_polys: list[Any], door_segs: np.ndarray, seg_reach: np.ndarray, reach: float,
+    sides: list[tuple[Any, Any] | None] | None = None,
+) -> np.ndarray:  # fmt: skip
     """Segments across each door (perpendicular to the wall), ``reach`` beyond it on both sides.
 
     ``sides`` (from :func:`door_neighbours`, one per leading door polygon) keeps a door cell's passage
