@@ -18,7 +18,7 @@ import numpy as np
 import shapely
 from shapely import ops
 
-from pmk_nb.raster.parts import polygons_of
+from pmk_nb.raster.parts import door_frame, polygons_of
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -35,12 +35,14 @@ def door_face(door: BaseGeometry, room: BaseGeometry, gap: float, limit: float, 
     empty = shapely.MultiLineString()
     if shapely.intersection(door, room).area > tol * door.length:
         return empty
-    corners = shapely.get_coordinates(shapely.minimum_rotated_rectangle(door))[:3]
-    sides = [corners[1] - corners[0], corners[2] - corners[1]]
-    depth, width = sorted(float(np.hypot(*v)) for v in sides)
+    frame = door_frame(door)
+    if frame is None:
+        return empty
+    _, across, along = frame
+    depth, width = float(np.hypot(*across)), float(np.hypot(*along))
     if width < _LONG * depth:
         return empty  # no clear wall direction (a square cell): the shared boundary stands
-    axis = max(sides, key=lambda v: float(np.hypot(*v))) / width
+    axis = along / width
     reach = min(gap + max(depth / 2, tol), limit)
     found = []
     for part in polygons_of(door):

@@ -135,6 +135,11 @@ class OpeningPlan:
     def rule_counts(self) -> dict[str, int]:
         return dict(Counter(o.rule for o in self.openings))
 
+    @property
+    def links(self) -> list[Link]:
+        """The storey's links when the graph decides (opened or skipped), else none."""
+        return [o.link for o in self.openings] + [k.link for k in self.skipped] if self.graph else []
+
 
 def _label(cell: Cell) -> str:
     return cell.name or cell.id

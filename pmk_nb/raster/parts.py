@@ -17,6 +17,17 @@ def polygons_of(geom: shapely.Geometry | None) -> list[shapely.Polygon]:
     return []
 
 
+def door_frame(poly: shapely.Geometry) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """(centre, across, along) of ``poly``'s minimum rotated rectangle: the vectors of its short side
+    (through the wall, for a door cell) and of its long side (along the wall); None when degenerate."""
+    rect = shapely.get_coordinates(shapely.minimum_rotated_rectangle(poly))[:4]
+    if len(rect) < 4:
+        return None
+    e1, e2 = rect[1] - rect[0], rect[2] - rect[1]
+    short, long_ = (e1, e2) if np.hypot(*e1) <= np.hypot(*e2) else (e2, e1)
+    return rect.mean(axis=0), short, long_
+
+
 def polygon_parts(geoms: list[shapely.Geometry | None]) -> list[shapely.Polygon]:
     """:func:`polygons_of` over a list: one vectorised type test when they are all plain polygons
     (a storey's cells nearly always are), so thousands of cells cost no Python call each."""

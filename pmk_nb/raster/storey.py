@@ -46,7 +46,7 @@ from pmk_nb.raster.wallcut import wall_segments
 from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_walls, passages, shrink_segments
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building, Cell, Link
+    from pmk_nb.indoorgml.model import Building, Cell
 
 DEFAULT_WALL_THICKNESS = 0.10
 DEFAULT_MAX_WALL_GAP = 0.5  # metres: a gap between cells up to this wide is a wall left out of the file
@@ -188,7 +188,6 @@ class _Plan:
     door_polys: list[BaseGeometry]
     door_lines: list[BaseGeometry]
     openings: OpeningPlan
-    links: list[Link]  # the storey's links when the graph decides (else none: every door side opens)
     outside_mark: int = _OUTSIDE  # what cells outside every cell hold while drawing
 
     @property
@@ -229,7 +228,6 @@ def _plan(building: Building, storey: str, resolution: float, wall_thickness: fl
         rooms=[c.footprint for c in cells if c.kind.is_free and not c.kind.is_door],
         blocked=[c.footprint for c in cells if not c.kind.is_free],
         door_polys=door_polys, door_lines=door_lines, openings=openings,
-        links=building.links_of(storey) if openings.graph else [],
     )  # fmt: skip
 
 
@@ -275,7 +273,8 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     _draw_lines(grid, frame, shrink_segments(door_segs, 0.5 * res), FREE, plan.spare)
     tick(len(plan.door_lines))
     doors = [c for c in plan.cells if c.kind.is_door]  # in door_polys' order: door_geometry lists them first
-    sides = door_neighbours(doors, [c for c in plan.cells if c.kind.is_free and not c.kind.is_door], plan.links, reach)
+    rooms = [c for c in plan.cells if c.kind.is_free and not c.kind.is_door]
+    sides = door_neighbours(doors, rooms, plan.openings.links, reach)
     _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach, sides), FREE, plan.spare)
     # the graph's openings: wall cells only (never obstacles or outside), after every wall is drawn
     walls = [o for o in plan.openings.openings if o.path is None]

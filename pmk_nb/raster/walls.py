@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from pmk_nb.raster.parts import polygon_parts, polygons_of
+from pmk_nb.raster.parts import door_frame, polygon_parts, polygons_of
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
@@ -265,15 +265,14 @@ def passages(
     segs: list[np.ndarray] = [np.hstack([mid - normal, mid + normal])]
     for i, poly in enumerate(door_polys):
         for part in polygons_of(poly):
-            rect = np.asarray(shapely.minimum_rotated_rectangle(part).exterior.coords)[:4, :2]
-            if len(rect) < 4:
+            frame = door_frame(part)
+            if frame is None:
                 continue
-            e1, e2 = rect[1] - rect[0], rect[2] - rect[1]
-            short, long_ = (e1, e2) if np.hypot(*e1) <= np.hypot(*e2) else (e2, e1)
+            c, short, long_ = frame
             ls = float(np.hypot(*short))
             if ls == 0 or np.hypot(*long_) < 1.3 * ls:
                 continue  # no clear wall direction: the polygon fill alone opens it
-            c, u = rect.mean(axis=0), short / ls
+            u = short / ls
             ends = [ls / 2 + reach, ls / 2 + reach]
             near = sides[i] if sides is not None and i < len(sides) else None
             for k, sign in enumerate((-1.0, 1.0)) if near is not None else ():
