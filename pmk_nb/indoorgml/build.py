@@ -256,7 +256,7 @@ def _choose_unit(
     doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence
 ) -> UnitChoice:
     """The unit (given, or judged from the evidence) and why; refuses absurd coordinates."""
-    minx, miny, maxx, maxy = shapely.union_all([c.fp.geometry for c in cells]).bounds
+    minx, miny, maxx, maxy = shapely.total_bounds([c.fp.geometry for c in cells]).tolist()
     if unit == "auto":
         choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
     elif unit in UNIT_SCALE:

@@ -65,11 +65,12 @@ def polygonal(geom: BaseGeometry) -> BaseGeometry:
 
 
 def _to_polygon(poly: PolygonZ) -> tuple[BaseGeometry, bool]:
+    if len(poly.exterior) < 4:
+        return Polygon(), False
     ext = [c[:2] for c in poly.exterior]
     holes = [[c[:2] for c in ring] for ring in poly.interiors]
-    if len(ext) < 4:
-        return Polygon(), False
-    geom = Polygon(ext, holes)
+    # no holes (the common case): what Polygon() makes, without its checks of the input
+    geom = Polygon(ext, holes) if holes else shapely.polygons(ext)
     if geom.is_valid:
         return geom, False
     return polygonal(shapely.make_valid(geom)), True
@@ -78,6 +79,11 @@ def _to_polygon(poly: PolygonZ) -> tuple[BaseGeometry, bool]:
 def _z_spread(poly: PolygonZ) -> tuple[float, float] | None:
     zs = [c[2] for c in poly.exterior if len(c) > 2]
     return (min(zs), max(zs)) if zs else None
+
+
+def _plan_size(poly: PolygonZ) -> float:
+    xy = np.asarray([c[:2] for c in poly.exterior], dtype=float)
+    return float(np.ptp(xy, axis=0).max()) if len(xy) else 0.0
 
 
 def cell_footprint(polys: list[PolygonZ]) -> Footprint:
@@ -89,9 +95,7 @@ def cell_footprint(polys: list[PolygonZ]) -> Footprint:
     flat: list[PolygonZ] = []
     flat_z: list[float] = []
     for p, z in zip(polys, spreads, strict=True):
-        xy = np.asarray([c[:2] for c in p.exterior], dtype=float)
-        size = float(np.ptp(xy, axis=0).max()) if len(xy) else 0.0
-        if z is None or z[1] - z[0] <= FLAT_SLOPE * size:
+        if z is None or z[1] - z[0] <= FLAT_SLOPE * _plan_size(p):
             flat.append(p)
             if z is not None:
                 flat_z.append(z[0])

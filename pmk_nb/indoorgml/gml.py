@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+import operator
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -33,6 +34,40 @@ class PolygonZ:
     interiors: list[list[Coord]] = field(default_factory=list)
 
 
+_SURFACES = frozenset(("polygon", "polygonpatch", "triangle"))
+_LINES = frozenset(("linestring", "linestringsegment"))
+_COORDS = frozenset(("pos", "poslist", "coordinates"))
+
+
+class GmlTags:
+    """The exact GML tags a document has used so far, by kind, so that lxml filters a feature's subtree
+    in C instead of Python testing every element. A feature's elements all start before it ends, so the
+    tags seen by then are all the tags it holds; names match as :func:`local` does (any case, any GML
+    version's namespace)."""
+
+    __slots__ = ("coords", "lines", "pos", "surfaces")
+
+    def __init__(self) -> None:
+        self.surfaces: tuple[str, ...] = ()
+        self.lines: tuple[str, ...] = ()
+        self.coords: tuple[str, ...] = ()
+        self.pos: tuple[str, ...] = ()
+
+    def note(self, tag: str) -> None:
+        """Record one tag the first time the document uses it (the caller remembers which it has seen)."""
+        if GML_FAMILY not in tag:
+            return
+        name = local_name(tag)
+        if name in _SURFACES:
+            self.surfaces += (tag,)
+        elif name in _LINES:
+            self.lines += (tag,)
+        elif name in _COORDS:
+            self.coords += (tag,)
+            if name == "pos":
+                self.pos += (tag,)
+
+
 class CoordError(ValueError):
     """A coordinate cannot be decoded; the caller adds file/cell context."""
 
@@ -44,11 +79,11 @@ class CoordError(ValueError):
 def local(elem: etree._Element) -> str:
     """Lower-cased local name: matching is case-insensitive (``core:spaceLayer`` happens)."""
     tag = elem.tag
-    return _local_name(tag) if isinstance(tag, str) else ""
+    return local_name(tag) if isinstance(tag, str) else ""
 
 
 @functools.lru_cache(maxsize=1024)
-def _local_name(tag: str) -> str:
+def local_name(tag: str) -> str:
     """A file uses a few dozen tags a hundred thousand times: each is split once."""
     return tag.rpartition("}")[2].lower()
 
@@ -93,7 +128,7 @@ def _floats(text: str | None, elem: etree._Element) -> list[float]:
 
 
 def _split(values: list[float], dim: int) -> list[Coord]:
-    return [tuple(values[i : i + dim]) for i in range(0, len(values) - dim + 1, dim)]
+    return list(zip(*[iter(values)] * dim, strict=False))  # whole tuples only: a trailing part is dropped
 
 
 def _closes(points: list[Coord]) -> bool:
@@ -137,14 +172,13 @@ def pos_coord(elem: etree._Element) -> Coord:
     return tuple(values)
 
 
-def coords_of(container: etree._Element, stats: RingStats, ring: bool, hint: int | None) -> list[Coord]:
+def coords_of(
+    container: etree._Element, stats: RingStats, ring: bool, hint: int | None, tags: GmlTags
+) -> list[Coord]:  # fmt: skip
     """All coordinates under a LinearRing/LineString/Point, in document order."""
     pts: list[Coord] = []
-    for el in container.iter():
-        tag = el.tag
-        if not isinstance(tag, str) or GML_FAMILY not in tag:
-            continue
-        name = _local_name(tag)
+    for el in container.iter(*tags.coords) if tags.coords else ():
+        name = local_name(el.tag)
         if name == "pos":
             pts.append(pos_coord(el))
         elif name == "poslist":
@@ -159,7 +193,7 @@ def clean_ring(points: list[Coord], stats: RingStats) -> list[Coord]:
     """Drop consecutive repeats and close the ring when the writer forgot to."""
     out: list[Coord] = []
     for p in points:
-        if out and all(abs(a - b) < 1e-12 for a, b in zip(out[-1], p, strict=False)):
+        if out and max(map(abs, map(operator.sub, out[-1], p)), default=0.0) < 1e-12:
             stats.repeated += 1
             continue
         out.append(p)
@@ -169,13 +203,10 @@ def clean_ring(points: list[Coord], stats: RingStats) -> list[Coord]:
     return out
 
 
-def polygons_under(root: etree._Element, stats: RingStats, hint: int | None) -> list[PolygonZ]:
+def polygons_under(root: etree._Element, stats: RingStats, hint: int | None, tags: GmlTags) -> list[PolygonZ]:
     """Every gml:Polygon / PolygonPatch / Triangle below ``root`` (surfaces of solids included)."""
     out: list[PolygonZ] = []
-    for el in root.iter():
-        tag = el.tag
-        if not isinstance(tag, str) or GML_FAMILY not in tag or _local_name(tag) not in _SURFACES:
-            continue
+    for el in root.iter(*tags.surfaces) if tags.surfaces else ():
         exterior: list[Coord] = []
         interiors: list[list[Coord]] = []
         for part in el:
@@ -183,7 +214,7 @@ def polygons_under(root: etree._Element, stats: RingStats, hint: int | None) -> 
                 continue
             which = local(part)
             if which in ("exterior", "outerboundaryis", "interior", "innerboundaryis"):
-                ring = clean_ring(coords_of(part, stats, True, hint), stats)
+                ring = clean_ring(coords_of(part, stats, True, hint, tags), stats)
                 if which in ("exterior", "outerboundaryis"):
                     exterior = ring
                 elif len(ring) >= 4:
@@ -195,24 +226,19 @@ def polygons_under(root: etree._Element, stats: RingStats, hint: int | None) -> 
     return out
 
 
-_SURFACES = frozenset(("polygon", "polygonpatch", "triangle"))
-
-
-def lines_under(root: etree._Element, stats: RingStats, hint: int | None) -> list[list[Coord]]:
+def lines_under(root: etree._Element, stats: RingStats, hint: int | None, tags: GmlTags) -> list[list[Coord]]:
     """Coordinates of every gml:LineString / Curve below ``root``."""
     out: list[list[Coord]] = []
-    for el in root.iter():
-        if is_gml(el) and local(el) in ("linestring", "linestringsegment"):
-            pts = coords_of(el, stats, False, hint)
-            if pts:
-                out.append(pts)
+    for el in root.iter(*tags.lines) if tags.lines else ():
+        pts = coords_of(el, stats, False, hint, tags)
+        if pts:
+            out.append(pts)
     return out
 
 
-def point_under(root: etree._Element) -> Coord | None:
-    for el in root.iter():
-        if is_gml(el) and local(el) == "pos":
-            return pos_coord(el)
+def point_under(root: etree._Element, tags: GmlTags) -> Coord | None:
+    for el in root.iter(*tags.pos) if tags.pos else ():
+        return pos_coord(el)
     return None
 
 

@@ -16,7 +16,7 @@ from lxml import etree
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import gml
-from pmk_nb.indoorgml.gml import Coord, CoordError, PolygonZ, RingStats, local
+from pmk_nb.indoorgml.gml import GML_FAMILY, Coord, CoordError, PolygonZ, RingStats, local, local_name
 from pmk_nb.indoorgml.xmlsafe import GML_ID, iter_events
 from pmk_nb.progress import ProgressCallback
 
@@ -130,19 +130,34 @@ def _child(elem: etree._Element, name: str) -> etree._Element | None:
     return None
 
 
+def _kids(elem: etree._Element) -> dict[str, etree._Element]:
+    """A feature's first child of each local name, in one pass (a feature asks for several)."""
+    kids: dict[str, etree._Element] = {}
+    for c in elem:
+        kids.setdefault(local(c), c)
+    return kids
+
+
 def _text(elem: etree._Element | None) -> str:
     return " ".join((elem.text or "").split()) if elem is not None else ""
 
 
-def _storey_of(elem: etree._Element, description: str) -> tuple[str | None, str]:
-    """Storey from `level` (1.1/2.0), an extension element, or gml:description text."""
-    for c in elem.iter():
-        name = local(c)
-        if c is elem or gml.is_gml(c) or not name:
+def _storey_like(name: str) -> bool:
+    """A non-GML element that may name a cell's storey: IndoorGML 1.1/2.0 ``level`` or an extension."""
+    return name == "level" or any(k in name for k in ("storey", "story", "floor"))
+
+
+def _storey_of(elem: etree._Element, description: str, storey_tags: tuple[str, ...]) -> tuple[str | None, str]:
+    """Storey from `level` (1.1/2.0), an extension element, or gml:description text.
+
+    ``storey_tags``: the document's tags that :func:`_storey_like` accepts (lxml filters by them)."""
+    for c in elem.iter(*storey_tags) if storey_tags else ():
+        if c is elem:
             continue
+        name = local(c)
         if name == "level" and _text(c):
             return _text(c), "level"
-        if any(k in name for k in ("storey", "story", "floor")) and len(c) == 0 and _text(c):
+        if name != "level" and len(c) == 0 and _text(c):
             return _text(c), "extension"
     m = _STOREY_TEXT.search(description)
     if m:
@@ -153,20 +168,35 @@ def _storey_of(elem: etree._Element, description: str) -> tuple[str | None, str]
 class _Scanner:
     def __init__(self, path: Path) -> None:
         self.doc = RawDocument(path=path, root="", namespaces={})
-        self.stack: list[tuple[str, str | None]] = []  # (local name, gml:id) of open elements
+        # open elements: (local name, decoded at its end?, the element); its gml:id is read when asked for
+        self.stack: list[tuple[str, bool, etree._Element]] = []
+        self.names: dict[object, tuple[str, bool]] = {}  # tag -> (local name, decoded at its end?)
+        self.tags = gml.GmlTags()
+        self.storey_tags: tuple[str, ...] = ()
 
     def _ancestor(self, names: set[str]) -> tuple[str, str | None] | None:
-        for name, ident in reversed(self.stack[:-1]):
+        for name, _, elem in reversed(self.stack[:-1]):
             if name in names:
-                return name, ident
+                return name, elem.get(GML_ID)
         return None
 
     def _layer(self) -> str:
         anc = self._ancestor(LAYER_NAMES)
         return (anc[1] or "") if anc else ""
 
+    def _learn(self, tag: object) -> tuple[str, bool]:
+        """Name a tag the first time the document uses it, and file it for the filtered walks."""
+        name = local_name(tag) if isinstance(tag, str) else ""
+        if isinstance(tag, str):
+            self.tags.note(tag)
+            if GML_FAMILY not in tag and _storey_like(name):
+                self.storey_tags += (tag,)
+        info = self.names[tag] = (name, name in _DECODED or name.endswith("member"))
+        return info
+
     def start(self, elem: etree._Element) -> None:
-        name = local(elem)
+        info = self.names.get(elem.tag) or self._learn(elem.tag)
+        name = info[0]
         if not self.stack:
             self.doc.root = name
             self.doc.namespaces = {k or "": v for k, v in elem.nsmap.items()}
@@ -180,22 +210,21 @@ class _Scanner:
             self.doc.srs_name = elem.get("srsName")
         if name == "primalspacelayer":
             self.doc.has_primal_layer = True
-        self.stack.append((name, elem.get(GML_ID)))
+        self.stack.append((name, info[1], elem))
 
     def end(self, elem: etree._Element) -> None:
         stack = self.stack
-        name = stack[-1][0]  # named at its start
-        in_member = len(stack) > 1 and stack[-2][0] == "cellspacemember"
-        if name not in _DECODED and not in_member and not name.endswith("member"):
+        name, decoded, _ = stack[-1]  # named at its start
+        if not decoded and not (len(stack) > 1 and stack[-2][0] == "cellspacemember"):
             stack.pop()  # inside a feature (a coordinate, a ring): decoded with its feature
             return
         try:
             self._end(elem, name)
         except CoordError as err:
-            ident = elem.get(GML_ID) or next((i for _, i in reversed(self.stack) if i), None)
+            ident = elem.get(GML_ID) or next((i for _, _, e in reversed(stack) if (i := e.get(GML_ID))), None)
             msg = f"{self.doc.path}: line {err.line}: {err} (in {ident or name!r})"
             raise IndoorGMLError(msg, path=str(self.doc.path), element=ident or name) from err
-        self.stack.pop()
+        stack.pop()
 
     def _end(self, elem: etree._Element, name: str) -> None:
         doc = self.doc
@@ -208,7 +237,7 @@ class _Scanner:
             self._boundary(elem, name)
         elif name in STATE_NAMES and not gml.is_gml(elem):
             point_el = _child(elem, "geometry")
-            point = gml.point_under(point_el) if point_el is not None else None
+            point = gml.point_under(point_el, self.tags) if point_el is not None else None
             dual = _child(elem, "duality")
             cell = _href(dual)
             if cell is None and dual is not None and len(dual):
@@ -222,7 +251,7 @@ class _Scanner:
             except ValueError:
                 weight = None
             geom_el = _child(elem, "geometry")
-            lines = gml.lines_under(geom_el, doc.stats, None) if geom_el is not None else []
+            lines = gml.lines_under(geom_el, doc.stats, None, self.tags) if geom_el is not None else []
             doc.transitions.append(
                 RawTransition(
                     elem.get(GML_ID) or "", connects, weight, _href(_child(elem, "duality")), self._layer(),
@@ -249,43 +278,47 @@ class _Scanner:
                     del parent[0]
 
     def _cell(self, elem: etree._Element, name: str) -> None:
-        description = _text(_child(elem, "description"))
-        storey, source = _storey_of(elem, description)
-        if any(local(c) == "level" for c in elem):
+        kids = _kids(elem)
+        description = _text(kids.get("description"))
+        storey, source = _storey_of(elem, description, self.storey_tags)
+        if "level" in kids:
             self.doc.has_level = True
-        dual = _child(elem, "duality")
-        refs = [h for h in (_href(c) for c in elem if local(c) == "partialboundedby") if h]
-        refs += [c[0].get(GML_ID) or "" for c in elem if local(c) == "partialboundedby" and len(c)]
+        refs: list[str] = []
+        if "partialboundedby" in kids:
+            bounded = [c for c in elem if local(c) == "partialboundedby"]
+            refs = [h for h in map(_href, bounded) if h] + [c[0].get(GML_ID) or "" for c in bounded if len(c)]
         in_state = self._ancestor(STATE_NAMES)
         cell = RawCell(
             id=elem.get(GML_ID) or f"cell{len(self.doc.cells) + 1}",
             kind_name=name,
-            name=_text(_child(elem, "name")),
+            name=_text(kids.get("name")),
             description=description,
-            polygons=gml.polygons_under(elem, self.doc.stats, None),
+            polygons=gml.polygons_under(elem, self.doc.stats, None, self.tags),
             line=elem.sourceline,
             layer=self._layer(),
             storey_hint=storey,
             storey_source=source,
-            duality=_href(dual) or (in_state[1] if in_state else None),
+            duality=_href(kids.get("duality")) or (in_state[1] if in_state else None),
             boundary_refs=[r for r in refs if r],
-            wrapped=_child(elem, "cellspacegeometry") is not None,
+            wrapped="cellspacegeometry" in kids,
             alma_inline=in_state is not None,
         )
         self.doc.cells.append(cell)
 
     def _boundary(self, elem: etree._Element, name: str) -> None:
+        kids = _kids(elem)
+        label, description = _text(kids.get("name")), _text(kids.get("description"))
         self.doc.boundaries.append(
             RawBoundary(
                 id=elem.get(GML_ID) or f"boundary{len(self.doc.boundaries) + 1}",
                 kind_name=name,
-                name=_text(_child(elem, "name")),
-                description=_text(_child(elem, "description")),
-                polygons=gml.polygons_under(elem, self.doc.stats, None),
-                lines=gml.lines_under(elem, self.doc.stats, None),
-                duality=_href(_child(elem, "duality")),
+                name=label,
+                description=description,
+                polygons=gml.polygons_under(elem, self.doc.stats, None, self.tags),
+                lines=gml.lines_under(elem, self.doc.stats, None, self.tags),
+                duality=_href(kids.get("duality")),
                 line=elem.sourceline,
-                virtual=_says_virtual(elem),
+                virtual=_says_virtual(elem, kids.get("isvirtual"), f"{label} {description}"),
             )
         )
 
@@ -299,15 +332,14 @@ class _Scanner:
             self.doc.lla = (values[0], values[1], values[2] if len(values) > 2 else 0.0)
 
 
-def _says_virtual(elem: etree._Element) -> bool:
-    """IndoorGML 2.0's ``isVirtual`` (element or attribute), or a name/description saying "virtual"."""
-    flag = _child(elem, "isvirtual")
+def _says_virtual(elem: etree._Element, flag: etree._Element | None, words: str) -> bool:
+    """IndoorGML 2.0's ``isVirtual`` (element ``flag`` or attribute), or ``words`` (its name and description)
+    saying "virtual"."""
     if flag is not None and _text(flag).strip().lower() in ("true", "1"):
         return True
     if any(k.lower().endswith("isvirtual") and v.strip().lower() in ("true", "1") for k, v in elem.attrib.items()):
         return True
-    words = f"{_text(_child(elem, 'name'))} {_text(_child(elem, 'description'))}".lower()
-    return "virtual" in words
+    return "virtual" in words.lower()
 
 
 def _is_number(tok: str) -> bool:
