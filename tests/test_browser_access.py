@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.library.folder import MapsFolder
 from tests.shared_data import INDOORGML_DATA
 from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
@@ -71,3 +72,34 @@ def test_maps_screen_names_the_transitions_it_could_not_check(tmp_path: Path) ->
             panel.scroll_into_view_if_needed()
             ARTIFACTS.mkdir(exist_ok=True)
             page.screenshot(path=str(ARTIFACTS / "maps-accessibility-not-checked.png"), full_page=True)
+
+
+def test_a_window_that_is_a_door_is_kept_navigable_from_the_maps_screen(tmp_path: Path) -> None:
+    """The balcony plan's "office window" is a door: ticked under Not windows, the next Convert keeps it navigable
+    and checks its passages, and the choice stays ticked for the conversions after."""
+    from playwright.sync_api import expect
+
+    from tests.test_not_window import _balcony
+
+    with serve_kiosk(tmp_path, label="access-not-window") as (url, world):
+        maps = MapsFolder(world.maps_dir)
+        entry = maps.import_file(_balcony(tmp_path, True), "balcony")
+        maps.convert(entry.name, 0.05)
+        with chromium_page(url, viewport=VIEWPORT) as page:
+            panel = _access_panel(page, "balcony")
+            expect(panel).to_contain_text("Not checked: 2 passages into cells taken for windows or sills")
+            box = page.locator(".pmk-maps-not-window input[type=checkbox]")
+            expect(box).to_have_count(1)
+            expect(page.locator(".pmk-maps-not-window")).to_contain_text("office window")
+            expect(box).not_to_be_checked()
+            box.check()
+            page.locator("button.pmk-maps-convert").click()
+            expect(page.locator(".pmk-maps-status")).to_contain_text("Converted balcony", timeout=60_000)
+            expect(panel).to_contain_text("3 of 3 passages fit a 0.70 m wheelchair", timeout=30_000)
+            expect(panel).not_to_contain_text("Not checked")
+            expect(page.locator(".pmk-maps-not-window input[type=checkbox]")).to_be_checked()
+            page.locator(".pmk-maps-not-window").scroll_into_view_if_needed()
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.screenshot(path=str(ARTIFACTS / "maps-not-window.png"), full_page=True)
+    [gm] = maps.entry("balcony").generated
+    assert (sidecar_doc(gm.yaml) or {})["choices"] == {"unit": "auto", "not_windows": ["office window"]}

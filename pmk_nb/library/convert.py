@@ -24,6 +24,7 @@ from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport
 from pmk_nb.access.sidecar import sidecar_json, sidecar_path
 from pmk_nb.errors import MapFormatError, OccupancyError
 from pmk_nb.fileio import Content, replace_all
+from pmk_nb.library.choices import CHOICES_KEY, ConvertChoices
 from pmk_nb.library.naming import storey_map_names
 from pmk_nb.progress import ProgressCallback, emit, sub_range
 from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, plan_openings
@@ -165,6 +166,7 @@ def _stage_storeys(
             )  # fmt: skip
         rooms = sidecar_path(files.yaml)
         doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
+        doc[CHOICES_KEY] = ConvertChoices(opts.unit, tuple(opts.not_windows)).to_json()  # kept for the next time
         rooms.write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
         staged.append(StoreyMap(storey, files, grid.width, grid.height, grid.resolution, rooms, report))
         del grid  # one storey's grid in memory at a time

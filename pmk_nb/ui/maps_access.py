@@ -118,8 +118,9 @@ def _not_checked_items(report: dict[str, Any]) -> list[str]:
         more = f" and {len(cells) - MAX_NOT_CHECKED} more" if len(cells) > MAX_NOT_CHECKED else ""
         line = f"Not checked: {len(these)} passage{'s' if len(these) != 1 else ''} into {what} ({names}{more})."
         if windows:
-            line += (" If one of these is really a door, the window rule misjudged it: convert with "
-                     "<code>pmk convert --not-window NAME</code> to keep it navigable.")
+            line += (" If one of these is really a door, the window rule misjudged it: tick it under "
+                     "<i>Not windows</i> and convert again to keep it navigable (command line: "
+                     "<code>pmk convert --not-window NAME</code>).")
         items.append(line)
     return items
 

@@ -19,6 +19,7 @@ from pmk_nb.access.check import profile_chair_width
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
 from pmk_nb.ui.maps_access import AccessPanel
 from pmk_nb.ui.maps_cards import generated_card, map_label
+from pmk_nb.ui.maps_choices import ChoicesPanel
 from pmk_nb.ui.maps_download import DownloadPanel
 from pmk_nb.ui.maps_import import ImportPanel
 from pmk_nb.ui.maps_storeys import StoreysPanel
@@ -90,11 +91,13 @@ class MapsScreen:
         self.status.add_class("pmk-maps-status")
         self.storeys_panel = StoreysPanel(ctx, on_loaded=lambda _name: self._relabel())
         self.access_panel = AccessPanel()  # wheelchair access of the converted storeys
+        self.choices = ChoicesPanel(ctx)  # the plan's unit, cells that are not windows
         self.convert_row = w.VBox(
             [
                 self.storeys_panel.widget,
                 self.resolution,
                 self.resolution_error,
+                self.choices.widget,
                 self.convert_button,
                 self.convert_progress,
             ],
@@ -210,6 +213,7 @@ class MapsScreen:
             self.generated_box.children = ()
             self.storeys_panel.show(None)
             self.access_panel.show(None)
+            self.choices.show(None)
             return
         self.title.value = f"<div class='pmk-heading'>{escape(entry.name)}</div>"
         size_kb = entry.size / 1024
@@ -225,6 +229,7 @@ class MapsScreen:
         several = len(entry.generated) > 1 or (known is not None and len(known) > 1)
         self.generated_box.children = tuple(self._generated_card(g, several) for g in entry.generated)
         self.access_panel.show(entry)
+        self.choices.show(entry)
 
     def _generated_card(self, gm: GeneratedMap, several: bool) -> w.Widget:
         return generated_card(self.ctx, gm, several, self.send)
@@ -255,6 +260,7 @@ class MapsScreen:
             self.ctx.notify(str(err), "warning", inline=True)
             return None
         self.resolution_error.value = ""
+        choices = self.choices.choices()
         set_progress(self.convert_progress, 0.0)
         which = f" (storeys {', '.join(storeys)})" if storeys else ""
         self.status.value = f"Converting {escape(entry.name)}{escape(which)} at {resolution:g} m…"
@@ -263,6 +269,7 @@ class MapsScreen:
             return self.ctx.maps.convert(
                 entry.name, resolution, storeys=storeys, progress=progress_callback(self.convert_progress, self.status),
                 chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
+                unit=choices.unit, not_windows=choices.not_windows,
             )
 
         def done(generated: list[GeneratedMap]) -> None:

@@ -41,7 +41,8 @@ def unit_warning(storeys: list[StoreyInfo]) -> str:
         return ""
     return (
         f"<div class='pmk-maps-unit-warning pmk-field-error'>Units: {escape(conflict)}. If the map comes out the "
-        "wrong size, convert with the unit the file uses (<code>pmk convert --unit m|dm|cm|mm</code>).</div>"
+        "wrong size, choose the unit the file uses under <i>Plan's unit</i> and convert again (command line: "
+        "<code>pmk convert --unit m|dm|cm|mm</code>).</div>"
     )
 
 

@@ -1,0 +1,113 @@
+"""The Maps screen's conversion choices: the plan's unit, and the cells that are not windows.
+
+Both answer something the converter can only guess: a file in an editor's own unit, and a door the
+window/sill rule took for a window (the accessibility panel names those cells). A kiosk user has no
+command line, so the screen offers what ``pmk convert --unit`` and ``--not-window`` do. The last
+conversion's choices come back from the map's rooms files (:mod:`pmk_nb.library.choices`), so
+converting again keeps them.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import ipywidgets as w
+
+from pmk_nb.access.sidecar import sidecar_doc
+from pmk_nb.errors import LibraryError
+from pmk_nb.indoorgml.units import UNIT_CHOICES
+from pmk_nb.library.choices import ConvertChoices, last_choices, offered, window_cells
+from pmk_nb.ui.style import TOUCH_PX
+from pmk_nb.ui.widgets import escape, field_error, guard
+
+if TYPE_CHECKING:
+    from pmk_nb.library.folder import MapEntry
+    from pmk_nb.ui.context import AppContext
+
+UNIT_LABELS = {
+    "auto": "auto (from sizes)",
+    "m": "metres",
+    "dm": "decimetres",
+    "cm": "centimetres",
+    "mm": "millimetres",
+}
+WINDOWS_HELP = (
+    "These cells were taken for windows or sills from their height. Tick any that is really a door or "
+    "floor, then Convert: it stays navigable and its passages are checked."
+)
+
+
+class ChoicesPanel:
+    """Unit and not-window choices for the selected map; ``choices()`` is what Convert uses."""
+
+    def __init__(self, ctx: AppContext) -> None:
+        self.ctx = ctx
+        self.unit = w.Dropdown(
+            options=[(UNIT_LABELS[u], u) for u in UNIT_CHOICES],
+            value="auto",
+            description="Plan's unit",
+            style={"description_width": "180px"},
+            layout=w.Layout(width="100%", max_width="420px", height=f"{TOUCH_PX - 8}px"),
+        )
+        self.unit.add_class("pmk-maps-unit")
+        self.unit.observe(guard(ctx, "Choosing the unit")(self._on_unit), names="value")
+        self.unit_error = field_error()
+        self.windows_help = w.HTML(f"<div><b>Not windows</b><br>{escape(WINDOWS_HELP)}</div>")
+        self.windows = w.VBox([])
+        self.windows.add_class("pmk-maps-not-windows")
+        self.windows_box = w.VBox([self.windows_help, self.windows], layout=w.Layout(display="none"))
+        self.widget = w.VBox([self.unit, self.unit_error, self.windows_box], layout=w.Layout(width="100%"))
+        self._shown: tuple[object, ...] | None = None  # (map name, its last choices, the cells offered)
+
+    def show(self, entry: MapEntry | None) -> None:
+        """The choices of ``entry``'s last conversion, and the cells its reports took for windows. Shown
+        again for the same map and the same conversion (a refresh), what the user changed since stays."""
+        docs = [sidecar_doc(g.yaml) for g in entry.generated] if entry is not None else []
+        last = last_choices(docs)
+        offer = offered(last, window_cells(docs))
+        shown = (entry.name if entry is not None else None, last, offer)
+        if shown == self._shown:
+            return
+        self._shown = shown
+        self.unit.value = last.unit
+        self.unit_error.value = ""
+        boxes = []
+        for name, ticked in offer:
+            box = w.Checkbox(value=ticked, description=name, indent=False, layout=w.Layout(width="auto"))
+            box.add_class("pmk-maps-not-window")
+            box.observe(guard(self.ctx, "Choosing cells that are not windows")(self._on_tick), names="value")
+            boxes.append(box)
+        self.windows.children = tuple(boxes)
+        self.windows_box.layout.display = "flex" if boxes else "none"
+
+    def _on_unit(self, change: dict[str, Any]) -> None:
+        ok = change.get("new") in UNIT_CHOICES
+        self.unit_error.value = "" if ok else "Choose a unit from the list."
+        if not ok:
+            raise LibraryError(f"Unknown unit {change.get('new')!r}: choose one of {', '.join(UNIT_CHOICES)}.")
+
+    def _on_tick(self, change: dict[str, Any]) -> None:
+        if not isinstance(change.get("new"), bool):
+            raise LibraryError("A not-a-window box must be ticked or not.")
+
+    def tick(self, names: list[str]) -> None:
+        """Tick exactly the cells ``names`` (what clicking their boxes does)."""
+        known = {str(b.description) for b in self.windows.children}
+        unknown = [n for n in names if n not in known]
+        if unknown:
+            raise LibraryError(f"No cell {', '.join(unknown)} is offered as not a window (offered: {sorted(known)}).")
+        for b in self.windows.children:
+            b.value = b.description in names
+
+    def choices(self) -> ConvertChoices:
+        """What to convert with, checked again here: a page can set any synced value.
+
+        Raises:
+            LibraryError: a unit that is not one of the list.
+        """
+        unit = self.unit.value
+        if unit not in UNIT_CHOICES:
+            self.unit_error.value = "Choose a unit from the list."
+            raise LibraryError(f"Unknown unit {unit!r}: choose one of {', '.join(UNIT_CHOICES)}.")
+        ticked = [str(b.description) for b in self.windows.children if isinstance(b, w.Checkbox) and b.value is True]
+        return ConvertChoices(str(unit), tuple(ticked))
