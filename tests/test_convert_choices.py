@@ -27,16 +27,9 @@ from pmk_nb.library.choices import (
 from pmk_nb.library.folder import MapsFolder
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen
-from tests.helpers import app_context
 from tests.test_not_window import _balcony
 
 WINDOW = "office window"
-
-
-@pytest.fixture
-def ctx(tmp_path: Path) -> Iterator[AppContext]:
-    with app_context(tmp_path) as context:
-        yield context
 
 
 @pytest.fixture
@@ -102,14 +95,18 @@ def _converted(screen: MapsScreen, timeout: float = 60) -> None:
     assert screen.status.value.startswith("Converted"), screen.status.value
 
 
-def test_a_user_keeps_a_misjudged_window_navigable_from_the_screen(
-    screen: MapsScreen, ctx: AppContext, tmp_path: Path
-) -> None:
-    src = _balcony(tmp_path, False)
-    screen.import_bytes("balcony.gml", src.read_bytes())
+def _balcony_converted(screen: MapsScreen, tmp_path: Path, v2: bool) -> None:
+    """The balcony plan imported on the screen, selected and converted with what the screen first offers."""
+    screen.import_bytes("balcony.gml", _balcony(tmp_path, v2).read_bytes())
     screen.select("balcony")
     assert screen.choices.unit.value == "auto" and screen.choices.windows_box.layout.display == "none"
     _converted(screen)
+
+
+def test_a_user_keeps_a_misjudged_window_navigable_from_the_screen(
+    screen: MapsScreen, ctx: AppContext, tmp_path: Path
+) -> None:
+    _balcony_converted(screen, tmp_path, False)
     access = screen.access_panel.text.value
     assert "Not checked: 2 passages into cells taken for windows or sills (office window)" in access
     assert "tick it under <i>Not windows</i>" in access
@@ -137,10 +134,7 @@ def test_a_user_keeps_a_misjudged_window_navigable_from_the_screen(
 def test_the_unit_chosen_on_the_screen_sizes_the_map_and_is_kept(
     screen: MapsScreen, ctx: AppContext, tmp_path: Path
 ) -> None:
-    src = _balcony(tmp_path, True)
-    screen.import_bytes("balcony.gml", src.read_bytes())
-    screen.select("balcony")
-    _converted(screen)
+    _balcony_converted(screen, tmp_path, True)
     [metres] = screen.entries["balcony"].generated
     extent = _extent(metres.yaml)  # the same files are written again below
     assert extent == pytest.approx(13.0)

@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -22,13 +20,6 @@ from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.drive_panel import DrivePanel, limits_of
 from pmk_nb.ui.settings_screen import SettingsScreen
 from tests.fixtures_sim import wait_until
-from tests.helpers import app_context
-
-
-@pytest.fixture
-def ctx(tmp_path: Path) -> Iterator[AppContext]:
-    with app_context(tmp_path) as context:
-        yield context
 
 
 def test_profile_has_drive_defaults_and_refuses_wild_speeds() -> None:

@@ -17,17 +17,11 @@ from pmk_nb.chair.profiles import ChairProfile
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen, parse_resolution
 from tests.fixtures_sim import sim_profile
-from tests.helpers import app_context, wait_until
+from tests.helpers import wait_until
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
 SAMPLE_MAPS = Path(__file__).resolve().parent.parent / "sample_maps"
 NOW = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)  # FileUpload's kernel-side value format
-
-
-@pytest.fixture
-def ctx(tmp_path: Path) -> Iterator[AppContext]:
-    with app_context(tmp_path) as context:
-        yield context
 
 
 @pytest.fixture

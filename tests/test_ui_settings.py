@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import socket
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -12,13 +11,7 @@ import pytest
 
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.settings_screen import SettingsScreen
-from tests.helpers import app_context, wait_until
-
-
-@pytest.fixture
-def ctx(tmp_path: Path) -> Iterator[AppContext]:
-    with app_context(tmp_path) as context:
-        yield context
+from tests.helpers import wait_until
 
 
 def fill(screen: SettingsScreen, **values: str) -> None:

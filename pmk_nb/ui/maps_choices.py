@@ -18,7 +18,7 @@ from pmk_nb.errors import LibraryError
 from pmk_nb.indoorgml.units import UNIT_CHOICES
 from pmk_nb.library.choices import ConvertChoices, last_choices, offered, window_cells
 from pmk_nb.ui.style import TOUCH_PX
-from pmk_nb.ui.widgets import escape, field_error, guard
+from pmk_nb.ui.widgets import checkbox, escape, field_error, guard, tick_exactly
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import MapEntry
@@ -71,12 +71,8 @@ class ChoicesPanel:
         self._shown = shown
         self.unit.value = last.unit
         self.unit_error.value = ""
-        boxes = []
-        for name, ticked in offer:
-            box = w.Checkbox(value=ticked, description=name, indent=False, layout=w.Layout(width="auto"))
-            box.add_class("pmk-maps-not-window")
-            box.observe(guard(self.ctx, "Choosing cells that are not windows")(self._on_tick), names="value")
-            boxes.append(box)
+        action = "Choosing cells that are not windows"
+        boxes = [checkbox(self.ctx, n, ticked, "pmk-maps-not-window", action, self._on_tick) for n, ticked in offer]
         self.windows.children = tuple(boxes)
         self.windows_box.layout.display = "flex" if boxes else "none"
 
@@ -92,12 +88,7 @@ class ChoicesPanel:
 
     def tick(self, names: list[str]) -> None:
         """Tick exactly the cells ``names`` (what clicking their boxes does)."""
-        known = {str(b.description) for b in self.windows.children}
-        unknown = [n for n in names if n not in known]
-        if unknown:
-            raise LibraryError(f"No cell {', '.join(unknown)} is offered as not a window (offered: {sorted(known)}).")
-        for b in self.windows.children:
-            b.value = b.description in names
+        tick_exactly(self.windows.children, names, "No cell {unknown} is offered as not a window (offered: {known}).")
 
     def choices(self) -> ConvertChoices:
         """What to convert with, checked again here: a page can set any synced value.

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import LibraryError
-from pmk_nb.ui.widgets import escape, field_error, guard, run_in_thread
+from pmk_nb.ui.widgets import checkbox, escape, field_error, run_in_thread, tick_exactly
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import MapEntry, StoreyInfo
@@ -107,12 +107,8 @@ class StoreysPanel:
         self._set_choices(storeys if len(storeys) > 1 else [])
 
     def _set_choices(self, storeys: list[StoreyInfo]) -> None:
-        boxes = []
-        for s in storeys:
-            box = w.Checkbox(value=True, description=s.name, indent=False, layout=w.Layout(width="auto"))
-            box.add_class("pmk-maps-storey-check")
-            box.observe(guard(self.ctx, "Choosing storeys")(self._on_check), names="value")
-            boxes.append(box)
+        boxes = [checkbox(self.ctx, s.name, True, "pmk-maps-storey-check", "Choosing storeys", self._on_check)
+                 for s in storeys]  # fmt: skip
         self.choices.children = tuple(boxes)
         self.choice_box.layout.display = "flex" if boxes else "none"
 
@@ -126,12 +122,7 @@ class StoreysPanel:
 
     def check(self, names: list[str]) -> None:
         """Tick exactly the storeys ``names`` (what clicking the checkboxes does)."""
-        known = {str(b.description) for b in self.choices.children}
-        unknown = [n for n in names if n not in known]
-        if unknown:
-            raise LibraryError(f"No storey {', '.join(unknown)} in this map (storeys: {', '.join(sorted(known))}).")
-        for b in self.choices.children:
-            b.value = b.description in names
+        tick_exactly(self.choices.children, names, "No storey {unknown} in this map (storeys: {known}).")
 
     def selected(self) -> list[str] | None:
         """Storey names to convert, None for all (also while storeys are unknown).

@@ -18,12 +18,12 @@ import html
 import logging
 import math
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import ipywidgets as w
 
-from pmk_nb.errors import GridTooLarge, PmkError
+from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
 from pmk_nb.progress import Progress, ProgressCallback
 from pmk_nb.ui.style import APP_CSS, TOUCH_PX
 
@@ -99,6 +99,30 @@ def html_slot(css_class: str) -> w.HTML:
     item = w.HTML("")
     item.add_class(css_class)
     return item
+
+
+def checkbox(
+    ctx: AppContext, label: str, value: bool, css_class: str, action: str, on_change: Callable[..., Any]
+) -> w.Checkbox:
+    """A checkbox labelled on its right, as wide as its label; ``on_change`` runs guarded as ``action``."""
+    box = w.Checkbox(value=value, description=label, indent=False, layout=w.Layout(width="auto"))
+    box.add_class(css_class)
+    box.observe(guard(ctx, action)(on_change), names="value")
+    return box
+
+
+def tick_exactly(boxes: Sequence[w.Widget], names: Sequence[str], refusal: str) -> None:
+    """Tick exactly the checkboxes labelled ``names`` (what clicking them does).
+
+    Raises:
+        LibraryError: a name that labels no box: ``refusal`` formatted with ``unknown`` and ``known``.
+    """
+    known = {str(b.description) for b in boxes}
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        raise LibraryError(refusal.format(unknown=", ".join(unknown), known=", ".join(sorted(known))))
+    for b in boxes:
+        b.value = b.description in names
 
 
 def field_error() -> w.HTML:
