@@ -174,21 +174,24 @@ def test_the_wall_pieces_beside_a_door_stay_wall(tmp_path: Path, tag: str, graph
     assert report.ok
 
 
-def test_a_short_bare_line_off_the_doors_wall_is_still_an_opening(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_a_short_bare_line_off_the_doors_wall_is_still_an_opening(tmp_path: Path, v2: bool) -> None:
     """The rule is about the door's own wall: a bare short line on another wall keeps the partial rule."""
     door = _boundary("D1", ((5, 1.5), (5, 2.4)), "navi:ConnectionBoundary")
     other = _boundary("CB1", ((1, 4), (2, 4)))  # on A's top wall, 1 m of 5
-    b, _, _ = _grid_and_report(_plan(tmp_path, ROOMS, "", door + other))
+    b, _, _ = _grid_and_report(_plan(tmp_path, ROOMS, "", door + other, v2=v2))
     assert {bd.id: bd.evidence for bd in b.boundaries.values() if bd.is_door} == {"D1": "type", "CB1": "partial"}
 
 
-def test_a_transitions_dual_face_spanning_the_wall_is_not_a_door(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_a_transitions_dual_face_spanning_the_wall_is_not_a_door(tmp_path: Path, v2: bool) -> None:
     """A plain CellSpaceBoundary that is the transition's dual over the whole wall must not erase it."""
     face = _boundary("W1", ((5, 0), (5, 4)))
     door = _boundary("D1", ((5, 2.6), (5, 3.6)), "navi:ConnectionBoundary")
-    dual = '<Transition gml:id="T0"><duality xlink:href="#W1"/>'
-    graph = _graph([("A", "B")]).replace('<Transition gml:id="T0">', dual)
-    b, grid, _ = _grid_and_report(_plan(tmp_path, ROOMS, graph, face + door))
+    edge = f'<{"Edge" if v2 else "Transition"} gml:id="T0">'
+    graph = _graph([("A", "B")], v2=v2).replace(edge, f'{edge}<duality xlink:href="#W1"/>')
+    assert '"#W1"' in graph
+    b, grid, _ = _grid_and_report(_plan(tmp_path, ROOMS, graph, face + door, v2=v2))
     assert b.boundaries["W1"].evidence == "duality"
     assert grid.value_at(5.0, 3.1) == FREE and grid.value_at(5.0, 1.0) == OCCUPIED
 
@@ -232,22 +235,25 @@ def test_leak_between_rooms_without_transition_is_reported(tmp_path: Path, v2: b
     assert grid.value_at(5.0, 1.5) == OCCUPIED and report.leaks == []
 
 
-def test_sloping_floor_stays_navigable_and_a_window_does_not(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_sloping_floor_stays_navigable_and_a_window_does_not(tmp_path: Path, v2: bool) -> None:
     steps = "".join(_solid(f"S{i}", (4 * i, 0, 4 * i + 4, 4), -3.9 + 0.75 * i, -0.9 + 0.75 * i) for i in range(5))
     window = _solid("W", (20, 1, 20.3, 2), 0.0, 1.5)  # touches S4 (floor -0.9 .. 2.1): a sill 0.9 m up its wall
-    b = read_building(_plan(tmp_path, steps + window), unit="m")
+    b = read_building(_plan(tmp_path, steps + window, v2=v2), unit="m")
     assert len(b.storeys) == 1
     assert all(b.cells[f"S{i}"].kind.is_free for i in range(5))
     assert not b.cells["W"].kind.is_free
 
 
-def test_unit_conflict_is_said_plainly(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_unit_conflict_is_said_plainly(tmp_path: Path, v2: bool) -> None:
     # 20-unit storeys with 1.5-unit doors: doors say metres, storeys say otherwise
     cells = _solid("A", (0, 0, 30, 20), 0, 20) + _solid("B", (30, 0, 60, 20), 0, 20)
     door = _boundary("D1", ((30, 5), (30, 6.5)), "navi:ConnectionBoundary")
-    b = read_building(_plan(tmp_path, cells, "", door))
+    b = read_building(_plan(tmp_path, cells, "", door, v2=v2))
     assert b.unit == "m" and "cell height" in b.unit_conflict and "20 m" in b.unit_conflict
-    ok = read_building(_plan(tmp_path, _solid("A", (0, 0, 6, 4), 0, 2.8) + _solid("B", (6, 0, 12, 4), 0, 2.8)))
+    rooms = _solid("A", (0, 0, 6, 4), 0, 2.8) + _solid("B", (6, 0, 12, 4), 0, 2.8)
+    ok = read_building(_plan(tmp_path, rooms, v2=v2))
     assert ok.unit == "m" and ok.unit_conflict == ""
 
 
@@ -355,23 +361,25 @@ def test_a_ramp_drawn_as_a_sloping_solid_stays_one_storey(tmp_path: Path, v2: bo
     assert b.cells["U"].kind.is_free
 
 
-def test_split_level_without_a_graph_keeps_the_z_rule(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_split_level_without_a_graph_keeps_the_z_rule(tmp_path: Path, v2: bool) -> None:
     cells = _named_solid("L", "hall", (0, 0, 5, 4), 0.0, 2.6) + _named_solid("U", "gallery", (7, 0, 12, 4), 1.0, 3.6)
-    b = read_building(_plan(tmp_path, cells), unit="m")
+    b = read_building(_plan(tmp_path, cells, v2=v2), unit="m")
     assert len(b.storeys) == 1
 
 
-def test_unit_conflict_shows_before_conversion(tmp_path: Path) -> None:
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
+def test_unit_conflict_shows_before_conversion(tmp_path: Path, v2: bool) -> None:
     from pmk_nb.library.info import storeys_of
     from pmk_nb.ui.maps_storeys import unit_warning
 
     cells = _solid("A", (0, 0, 30, 20), 0, 20) + _solid("B", (30, 0, 60, 20), 0, 20)
     door = _boundary("D1", ((30, 5), (30, 6.5)), "navi:ConnectionBoundary")
-    info = storeys_of(read_building(_plan(tmp_path, cells, "", door)))
+    info = storeys_of(read_building(_plan(tmp_path, cells, "", door, v2=v2)))
     assert info and "20 m" in info[0].unit_conflict
     shown = unit_warning(info)
-    assert "--unit" in shown and "20 m" in shown
-    ok = storeys_of(read_building(_plan(tmp_path, _solid("A", (0, 0, 6, 4), 0, 2.8))))
+    assert "<i>Plan's unit</i>" in shown and "--unit" in shown and "20 m" in shown  # the screen's choice, the CLI's
+    ok = storeys_of(read_building(_plan(tmp_path, _solid("A", (0, 0, 6, 4), 0, 2.8), v2=v2)))
     assert unit_warning(ok) == ""
 
 
@@ -384,15 +392,16 @@ def _poly_cell(cid: str, pts: list[tuple[float, float]], angle: float = 0.0) -> 
     return _cell(cid, (0, 0, 1, 1)).replace(_ring(0, 0, 1, 1), ring)
 
 
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 @pytest.mark.parametrize("angle", [0.0, 15.0], ids=["square", "turned-15deg"])
-def test_a_door_in_a_wall_niche_keeps_its_width(tmp_path: Path, angle: float) -> None:
+def test_a_door_in_a_wall_niche_keeps_its_width(tmp_path: Path, angle: float, v2: bool) -> None:
     """FJK-Haus draws a door as the two rooms reaching into a 0.2 m wall until they touch over 0.78 m:
     the jambs' wall bands must not narrow it below the door width less a cell, so a 0.70 m chair passes."""
     a = [(0, 0), (5, 0), (5, 1.5), (5.1, 1.5), (5.1, 2.28), (5, 2.28), (5, 4), (0, 4)]
     b = [(5.2, 0), (10, 0), (10, 4), (5.2, 4), (5.2, 2.28), (5.1, 2.28), (5.1, 1.5), (5.2, 1.5)]
     cells = _poly_cell("A", a, angle) + _poly_cell("B", b, angle)
     line = "2.5 1.9 7.5 1.9" if angle == 0 else None
-    path = _plan(tmp_path, cells, _graph([("A", "B")], {0: line} if line else None))
+    path = _plan(tmp_path, cells, _graph([("A", "B")], {0: line} if line else None, v2=v2), v2=v2)
     _, _, report = _grid_and_report(path)
     [k] = report.links
     assert k.width == pytest.approx(0.78, abs=0.03)
