@@ -88,6 +88,12 @@ def test_a_window_that_is_a_door_is_kept_navigable_from_the_maps_screen(tmp_path
         with chromium_page(url, viewport=VIEWPORT) as page:
             panel = _access_panel(page, "balcony")
             expect(panel).to_contain_text("Not checked: 2 passages into cells taken for windows or sills")
+            unit = page.locator(".pmk-maps-unit select")  # the plan's unit: the sizes it gives show at once
+            expect(page.locator(".pmk-maps-storeys")).to_contain_text("13.0 × 4.0 m")
+            unit.select_option(label="decimetres")
+            expect(page.locator(".pmk-maps-storeys")).to_contain_text("1.3 × 0.4 m")
+            unit.select_option(label="auto (from sizes)")
+            expect(page.locator(".pmk-maps-storeys")).to_contain_text("13.0 × 4.0 m")
             box = page.locator(".pmk-maps-not-window input[type=checkbox]")
             expect(box).to_have_count(1)
             expect(page.locator(".pmk-maps-not-window")).to_contain_text("office window")

@@ -138,9 +138,12 @@ def test_the_unit_chosen_on_the_screen_sizes_the_map_and_is_kept(
     [metres] = screen.entries["balcony"].generated
     extent = _extent(metres.yaml)  # the same files are written again below
     assert extent == pytest.approx(13.0)
-    screen.choices.unit.value = "dm"  # the plan read as decimetres: a tenth of the size
+    assert "13.0 × 4.0 m" in screen.storeys_panel.table.value
+    screen.choices.unit.value = "dm"  # the plan read as decimetres: a tenth of the size, shown before Convert
+    table = screen.storeys_panel.table.value
+    assert "<th>Size (plan in dm)</th>" in table and "1.3 × 0.4 m" in table and "13.0" not in table
     screen.refresh()  # a refresh before Convert does not undo what the user chose
-    assert screen.choices.unit.value == "dm"
+    assert screen.choices.unit.value == "dm" and "1.3 × 0.4 m" in screen.storeys_panel.table.value
     _converted(screen)
     [tenth] = screen.entries["balcony"].generated
     assert _extent(tenth.yaml) == pytest.approx(extent / 10)
@@ -148,6 +151,22 @@ def test_the_unit_chosen_on_the_screen_sizes_the_map_and_is_kept(
     screen.select("balcony")
     assert screen.choices.unit.value == "dm"
     assert read_choices(sidecar_doc(tenth.yaml)) == ConvertChoices("dm", ())
+    screen.choices.unit.value = "mm"  # a unit far too small says so at once
+    assert "0.013 × 0.004 m" in screen.storeys_panel.table.value
+    screen.choices.unit.value = "auto"  # as the plan's sizes say: metres
+    assert "<th>Size</th>" in screen.storeys_panel.table.value and "13.0 × 4.0 m" in screen.storeys_panel.table.value
+    screen.choices.unit.value = "m"
     with pytest.raises(traitlets.TraitError):
         screen.choices.unit.value = "furlong"  # what a page could send: refused, the choice stays
-    assert screen.choices.choices() == ConvertChoices("dm", ())
+    assert screen.choices.choices() == ConvertChoices("m", ())
+
+
+def test_a_storeys_size_as_another_unit_would_read_it() -> None:
+    from pmk_nb.library.info import StoreyInfo
+
+    read_as_m = StoreyInfo("0", 4, 0, (0.0, 0.0, 13.0, 4.0), unit="m")
+    assert read_as_m.size_as("auto") == read_as_m.size_as("m") == (13.0, 4.0)
+    assert read_as_m.size_as("cm") == pytest.approx((0.13, 0.04))
+    read_as_mm = StoreyInfo("0", 4, 0, (0.0, 0.0, 13.0, 4.0), unit="mm")  # 13 000 mm in the file
+    assert read_as_mm.size_as("m") == pytest.approx((13000.0, 4000.0))
+    assert StoreyInfo("0", 0, 0, None).size_as("dm") is None

@@ -37,6 +37,7 @@ class StoreyInfo:
     doors: int
     extent: tuple[float, float, float, float] | None
     unit_conflict: str = ""  # the building's unit evidence disagrees (said before converting), with the fix
+    unit: str = "m"  # the unit the file was read in (judged from its sizes): what ``extent`` was scaled by
 
     @property
     def size(self) -> tuple[float, float] | None:
@@ -44,6 +45,16 @@ class StoreyInfo:
         if self.extent is None:
             return None
         return (self.extent[2] - self.extent[0], self.extent[3] - self.extent[1])
+
+    def size_as(self, unit: str) -> tuple[float, float] | None:
+        """Width and height in metres were the file read in ``unit`` ("auto": as it was read)."""
+        from pmk_nb.indoorgml.units import UNIT_SCALE
+
+        size = self.size
+        if size is None or unit not in UNIT_SCALE or unit == self.unit:
+            return size
+        k = UNIT_SCALE[unit] / UNIT_SCALE[self.unit]
+        return (size[0] * k, size[1] * k)
 
     def describe(self) -> str:
         """``F1: 15 cells, 6 doors, 30.0 × 15.0 m`` for lists and logs."""
@@ -61,7 +72,7 @@ def storeys_of(building: Building) -> list[StoreyInfo]:
         ext: dict[str, Any] | None = st["extent"]
         extent = (*map(float, ext["min"]), *map(float, ext["max"])) if ext else None
         result.append(StoreyInfo(name=str(st["name"]), cells=int(st["cells"]), doors=int(st["doors"]), extent=extent,  # type: ignore[arg-type]
-                                 unit_conflict=building.unit_conflict))  # fmt: skip
+                                 unit_conflict=building.unit_conflict, unit=building.unit))  # fmt: skip
     return result
 
 

@@ -9,6 +9,7 @@ converting again keeps them.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
@@ -40,8 +41,9 @@ WINDOWS_HELP = (
 class ChoicesPanel:
     """Unit and not-window choices for the selected map; ``choices()`` is what Convert uses."""
 
-    def __init__(self, ctx: AppContext) -> None:
+    def __init__(self, ctx: AppContext, on_unit: Callable[[str], None] | None = None) -> None:
         self.ctx = ctx
+        self.on_unit = on_unit  # told each valid unit chosen (the storeys table shows the sizes it gives)
         self.unit = w.Dropdown(
             options=[(UNIT_LABELS[u], u) for u in UNIT_CHOICES],
             value="auto",
@@ -77,10 +79,13 @@ class ChoicesPanel:
         self.windows_box.layout.display = "flex" if boxes else "none"
 
     def _on_unit(self, change: dict[str, Any]) -> None:
-        ok = change.get("new") in UNIT_CHOICES
-        self.unit_error.value = "" if ok else "Choose a unit from the list."
-        if not ok:
-            raise LibraryError(f"Unknown unit {change.get('new')!r}: choose one of {', '.join(UNIT_CHOICES)}.")
+        unit = change.get("new")
+        if unit not in UNIT_CHOICES:
+            self.unit_error.value = "Choose a unit from the list."
+            raise LibraryError(f"Unknown unit {unit!r}: choose one of {', '.join(UNIT_CHOICES)}.")
+        self.unit_error.value = ""
+        if self.on_unit is not None:
+            self.on_unit(str(unit))
 
     def _on_tick(self, change: dict[str, Any]) -> None:
         if not isinstance(change.get("new"), bool):

@@ -91,7 +91,7 @@ class MapsScreen:
         self.status.add_class("pmk-maps-status")
         self.storeys_panel = StoreysPanel(ctx, on_loaded=lambda _name: self._relabel())
         self.access_panel = AccessPanel()  # wheelchair access of the converted storeys
-        self.choices = ChoicesPanel(ctx)  # the plan's unit, cells that are not windows
+        self.choices = ChoicesPanel(ctx, on_unit=self.storeys_panel.set_unit)  # the plan's unit, not-windows
         self.convert_row = w.VBox(
             [
                 self.storeys_panel.widget,

@@ -22,16 +22,23 @@ if TYPE_CHECKING:
     from pmk_nb.ui.context import AppContext
 
 
-def storeys_table(storeys: list[StoreyInfo]) -> str:
-    """HTML table: storey, cells, doors, size in metres."""
+def storeys_table(storeys: list[StoreyInfo], unit: str = "auto") -> str:
+    """HTML table: storey, cells, doors, size in metres (were the plan read in ``unit``, when one is chosen)."""
     rows = []
     for s in storeys:
-        size = s.size
-        dims = f"{size[0]:.1f} × {size[1]:.1f} m" if size else "–"
+        size = s.size_as(unit)
+        dims = f"{_metres(size[0])} × {_metres(size[1])} m" if size else "–"
         rows.append(f"<tr><td>{escape(s.name)}</td><td>{s.cells}</td><td>{s.doors}</td><td>{dims}</td></tr>")
-    head = "<tr><th>Storey</th><th>Cells</th><th>Doors</th><th>Size</th></tr>"
+    label = "Size" if unit == "auto" else f"Size (plan in {escape(unit)})"
+    head = f"<tr><th>Storey</th><th>Cells</th><th>Doors</th><th>{label}</th></tr>"
     style = "border-collapse:separate;border-spacing:16px 2px;margin-left:-16px;text-align:left"  # columns apart
     return f"<table class='pmk-maps-storeys-table' style='{style}'>{head}{''.join(rows)}</table>"
+
+
+def _metres(v: float) -> str:
+    """One decimal, as the storeys are rooms and floors; a plan read in too small a unit still shows
+    its size (two digits), not 0.0."""
+    return f"{v:.1f}" if v >= 1 or v == 0 else f"{v:.2g}"
 
 
 def unit_warning(storeys: list[StoreyInfo]) -> str:
@@ -54,6 +61,7 @@ class StoreysPanel:
         self.on_loaded = on_loaded  # told the map name when storeys read in the background arrive
         self.name: str | None = None
         self.storeys: list[StoreyInfo] | None = None
+        self.unit = "auto"  # the plan's unit chosen for Convert: the sizes shown are those it gives
         self._generation = 0
         self._lock = threading.Lock()
         self.table = w.HTML("")
@@ -103,8 +111,14 @@ class StoreysPanel:
         if not storeys:
             self.table.value = "<i>No storeys with cells in this file.</i>"
         else:
-            self.table.value = storeys_table(storeys) + unit_warning(storeys)
+            self.table.value = storeys_table(storeys, self.unit) + unit_warning(storeys)
         self._set_choices(storeys if len(storeys) > 1 else [])
+
+    def set_unit(self, unit: str) -> None:
+        """Show the sizes the plan has when read in ``unit`` (the Maps screen's unit choice)."""
+        self.unit = unit
+        if self.storeys:
+            self.table.value = storeys_table(self.storeys, unit) + unit_warning(self.storeys)
 
     def _set_choices(self, storeys: list[StoreyInfo]) -> None:
         boxes = [checkbox(self.ctx, s.name, True, "pmk-maps-storey-check", "Choosing storeys", self._on_check)
