@@ -386,6 +386,44 @@ def fmt(r: dict[str, Any], key: str, spec: str) -> str:
     return "-" if v is None else format(v, spec)
 
 
+SMALL_OUTPUT_MB = 1.0  # plans whose map files are this small take ~10 ms to write: a ratio to that measures fixed costs
+SMALL_TOTAL_S = 0.3  # the absolute budget proposed for them (issue 8's closing notes), with SMALL_PEAK_MB
+SMALL_PEAK_MB = 15.0
+
+
+def goal_status(rows: list[tuple[dict[str, Any], str, dict[str, Any]]]) -> list[str]:
+    """Which *new* rows meet each goal: the issue's two, and the two criteria proposed in its place (so both
+    can be judged from one run)."""
+    new = [(c, r) for c, a, r in rows if a == "new" and "refused" not in r]
+
+    def ratio(r: dict[str, Any], top: float) -> float:
+        return top / max(r["write"], 1e-9)
+
+    def total_s(r: dict[str, Any]) -> float:
+        return float(r["parse"] + r["raster"] + r["write"])
+
+    def held(r: dict[str, Any]) -> float:
+        return max(r["grid_mb"] + r["input_mb"], 1e-9)
+
+    small = [(c, r) for c, r in new if r["out_mb"] < SMALL_OUTPUT_MB]
+    checks = [
+        ("issue: total / write <= 3", new, lambda r: ratio(r, total_s(r)) <= 3),
+        ("issue: memory cold <= 3 x (grid + input)", new, lambda r: (r["peak_mb"] - r["base_mb"]) / held(r) <= 3),
+        ("issue: memory warm <= 3 x (grid + input)", new,
+         lambda r: r.get("mem_warm") is not None and r["mem_warm"] / held(r) <= 3),
+        ("proposed: (raster + write) / write <= 3", new, lambda r: ratio(r, r["raster"] + r["write"]) <= 3),
+        (f"proposed, plans writing < {SMALL_OUTPUT_MB:g} MB: total <= {SMALL_TOTAL_S} s and cold peak - base <= "
+         f"{SMALL_PEAK_MB:g} MB", small,
+         lambda r: total_s(r) <= SMALL_TOTAL_S and r["peak_mb"] - r["base_mb"] <= SMALL_PEAK_MB),
+    ]  # fmt: skip
+    out = ["", "Goals met by *new* (rows of the table above):", ""]
+    for label, subset, ok in checks:
+        missed = [f"{c['label']} @ {c['res']}" for c, r in subset if not ok(r)]
+        which = f"; not: {'; '.join(missed)}" if missed else ""
+        out.append(f"- {label}: {len(subset) - len(missed)} of {len(subset)}{which}")
+    return out
+
+
 def main() -> int:
     if len(sys.argv) >= 3 and sys.argv[1] == "--child":
         child_main(sys.argv[2])
@@ -478,7 +516,7 @@ def main() -> int:
             f"{r['write']:.2f} | {total:.2f} | {r['cells']:.3g} | {r['peak_mb']:.0f} ({r['base_mb']:.0f}) | "
             f"{r['out_mb']:.1f} | {fmt(r, 'doors_open', '.1f')} | {fmt(r, 'wall_kept', '.1f')} |"
         )
-    lines += goals
+    lines += goals + goal_status(rows)
     lines += ["", f"Total benchmark time {time.perf_counter() - started:.0f} s.", ""]
     args.out.write_text("\n".join(lines), encoding="utf-8")
     print("\n".join(lines))
