@@ -12,7 +12,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
-from pmk_nb.indoorgml.footprint import Footprint, boundary_footprint, floor_height
+from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
 from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
@@ -171,8 +171,8 @@ def _classify_boundaries(
     seen: dict[tuple[object, ...], tuple[bool, set[str]]] = {}
     hint = {raw.id: raw.storey_hint for raw in doc.cells}
     dropped = dupes = walls = 0
-    for rb in doc.boundaries:
-        fp = boundary_footprint(rb.polygons, rb.lines)
+    fps = boundary_footprints([(rb.polygons, rb.lines) for rb in doc.boundaries])
+    for rb, fp in zip(doc.boundaries, fps, strict=True):
         if fp.geometry is not None:  # a copy is the same line at the same height on the same storey
             xy = tuple(sorted(map(tuple, np.round(shapely.get_coordinates(fp.geometry), 6).tolist())))
             storeys = frozenset(h for c in owners.get(rb.id, ()) if (h := hint.get(c)))

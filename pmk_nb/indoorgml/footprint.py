@@ -9,6 +9,7 @@ reported, because one bad ring in an editor export should not sink a whole build
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -176,3 +177,41 @@ def boundary_footprint(polys: list[PolygonZ], lines: list[list[Coord]]) -> Footp
         return Footprint(LineString([tuple(a), tuple(b)]), z_min, z_max)
     flat = cell_footprint(polys)
     return Footprint(flat.geometry, z_min, z_max, flat.repaired)
+
+
+def boundary_footprints(boundaries: Sequence[tuple[list[PolygonZ], list[list[Coord]]]]) -> list[Footprint]:
+    """:func:`boundary_footprint` of each (polygons, lines) pair. Most boundaries are one 2D line (a wall or
+    door in a 2D plan): those are made in one vectorised call, which on a large plan is most of the time."""
+    simple = [
+        i for i, (polys, lines) in enumerate(boundaries)
+        if not polys and len(lines) == 1 and len(lines[0]) >= 2 and all(len(c) == 2 for c in lines[0])
+    ]  # fmt: skip
+    out: list[Footprint | None] = [None] * len(boundaries)
+    if simple:
+        runs = [boundaries[i][1][0] for i in simple]
+        geoms = shapely.linestrings(
+            [c for run in runs for c in run], indices=np.repeat(np.arange(len(runs)), [len(run) for run in runs])
+        )
+        for i, g, length in zip(simple, geoms, shapely.length(geoms), strict=True):
+            out[i] = Footprint(g if length > 0 else None, None, None)
+    return [fp if fp is not None else boundary_footprint(*boundaries[i]) for i, fp in enumerate(out)]
+
+
+def cell_footprints(cells: Sequence[list[PolygonZ]]) -> list[Footprint]:
+    """:func:`cell_footprint` of each cell's polygons. A cell that is one valid 2D polygon without holes (a 2D
+    plan's room) is made in one vectorised call with the others; any other cell goes through the full rules."""
+    simple = [
+        i for i, polys in enumerate(cells)
+        if len(polys) == 1 and not polys[0].interiors and len(polys[0].exterior) >= 4
+        and all(len(c) == 2 for c in polys[0].exterior)
+    ]  # fmt: skip
+    out: list[Footprint | None] = [None] * len(cells)
+    if simple:
+        rings = [cells[i][0].exterior for i in simple]
+        geoms = shapely.polygons(shapely.linearrings(
+            [c for ring in rings for c in ring], indices=np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+        ))  # fmt: skip
+        for i, g, valid, area in zip(simple, geoms, shapely.is_valid(geoms), shapely.area(geoms), strict=True):
+            if valid and area > 0:
+                out[i] = Footprint(g, None, None)
+    return [fp if fp is not None else cell_footprint(cells[i]) for i, fp in enumerate(out)]

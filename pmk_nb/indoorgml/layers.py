@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
-from pmk_nb.indoorgml.footprint import Footprint, cell_footprint
+from pmk_nb.indoorgml.footprint import Footprint, cell_footprints
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 
 GEOMETRY_LAYER_WORDS = ("base", "primal", "topographic", "geometry", "physical")
@@ -88,12 +88,9 @@ def usable_cells(doc: RawDocument, warnings: list[str]) -> list[KeptCell]:
     """Cells with a non-empty footprint (repaired if needed), each with its layer."""
     layer_of = _cell_layers(doc)
     cells: list[KeptCell] = []
-    no_geom = 0
-    for raw in doc.cells:
-        if not raw.polygons:
-            no_geom += 1
-            continue
-        fp = cell_footprint(raw.polygons)
+    drawn = [raw for raw in doc.cells if raw.polygons]
+    no_geom = len(doc.cells) - len(drawn)
+    for raw, fp in zip(drawn, cell_footprints([raw.polygons for raw in drawn]), strict=True):
         if fp.geometry is None:
             warnings.append(f"cell {raw.id!r} (line {raw.line}): zero-area footprint - skipped")
             continue
