@@ -179,6 +179,11 @@ def boundary_footprint(polys: list[PolygonZ], lines: list[list[Coord]]) -> Footp
     return Footprint(flat.geometry, z_min, z_max, flat.repaired)
 
 
+def _ragged(runs: list[list[Coord]]) -> tuple[list[Coord], np.ndarray]:
+    """The coordinates of several lines or rings, and which one each belongs to: shapely's vectorised form."""
+    return [c for run in runs for c in run], np.repeat(np.arange(len(runs)), [len(run) for run in runs])
+
+
 def boundary_footprints(boundaries: Sequence[tuple[list[PolygonZ], list[list[Coord]]]]) -> list[Footprint]:
     """:func:`boundary_footprint` of each (polygons, lines) pair. Most boundaries are one 2D line (a wall or
     door in a 2D plan): those are made in one vectorised call, which on a large plan is most of the time."""
@@ -188,10 +193,8 @@ def boundary_footprints(boundaries: Sequence[tuple[list[PolygonZ], list[list[Coo
     ]  # fmt: skip
     out: list[Footprint | None] = [None] * len(boundaries)
     if simple:
-        runs = [boundaries[i][1][0] for i in simple]
-        geoms = shapely.linestrings(
-            [c for run in runs for c in run], indices=np.repeat(np.arange(len(runs)), [len(run) for run in runs])
-        )
+        coords, which = _ragged([boundaries[i][1][0] for i in simple])
+        geoms = shapely.linestrings(coords, indices=which)
         for i, g, length in zip(simple, geoms, shapely.length(geoms), strict=True):
             out[i] = Footprint(g if length > 0 else None, None, None)
     return [fp if fp is not None else boundary_footprint(*boundaries[i]) for i, fp in enumerate(out)]
@@ -207,10 +210,8 @@ def cell_footprints(cells: Sequence[list[PolygonZ]]) -> list[Footprint]:
     ]  # fmt: skip
     out: list[Footprint | None] = [None] * len(cells)
     if simple:
-        rings = [cells[i][0].exterior for i in simple]
-        geoms = shapely.polygons(shapely.linearrings(
-            [c for ring in rings for c in ring], indices=np.repeat(np.arange(len(rings)), [len(r) for r in rings])
-        ))  # fmt: skip
+        coords, which = _ragged([cells[i][0].exterior for i in simple])
+        geoms = shapely.polygons(shapely.linearrings(coords, indices=which))
         for i, g, valid, area in zip(simple, geoms, shapely.is_valid(geoms), shapely.area(geoms), strict=True):
             if valid and area > 0:
                 out[i] = Footprint(g, None, None)

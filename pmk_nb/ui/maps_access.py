@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 import shapely
 
-from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.ui.widgets import escape
 
@@ -134,7 +133,8 @@ class AccessPanel:
         self.widget = w.VBox([self.text, self.images], layout=w.Layout(width="100%"))
         self.widget.add_class("pmk-access")
 
-    def show(self, entry: MapEntry | None) -> None:
+    def show(self, entry: MapEntry | None, docs: list[dict[str, Any] | None]) -> None:
+        """``docs``: the rooms file of each of ``entry``'s generated maps (read once by the screen)."""
         if entry is None or not entry.generated:
             self.text.value = ""
             self.images.children = ()
@@ -142,8 +142,7 @@ class AccessPanel:
             return
         self.widget.layout.display = "flex"
         parts, images, conflict = [], [], ""
-        for gm in entry.generated:
-            doc = sidecar_doc(gm.yaml)
+        for gm, doc in zip(entry.generated, docs, strict=True):
             parts.append(_storey_html(gm, doc))
             conflict = conflict or (doc or {}).get("unit_conflict", "")
             report = (doc or {}).get("accessibility") or {}

@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.errors import LibraryError
 from pmk_nb.indoorgml.units import UNIT_CHOICES
 from pmk_nb.library.choices import ConvertChoices, last_choices, offered, window_cells
@@ -61,10 +60,10 @@ class ChoicesPanel:
         self.widget = w.VBox([self.unit, self.unit_error, self.windows_box], layout=w.Layout(width="100%"))
         self._shown: tuple[object, ...] | None = None  # (map name, its last choices, the cells offered)
 
-    def show(self, entry: MapEntry | None) -> None:
-        """The choices of ``entry``'s last conversion, and the cells its reports took for windows. Shown
-        again for the same map and the same conversion (a refresh), what the user changed since stays."""
-        docs = [sidecar_doc(g.yaml) for g in entry.generated] if entry is not None else []
+    def show(self, entry: MapEntry | None, docs: list[dict[str, Any] | None]) -> None:
+        """The choices of ``entry``'s last conversion, and the cells its reports took for windows (``docs``:
+        the rooms files of its generated maps). Shown again for the same map and the same conversion (a
+        refresh), what the user changed since stays."""
         last = last_choices(docs)
         offer = offered(last, window_cells(docs))
         shown = (entry.name if entry is not None else None, last, offer)
@@ -78,14 +77,18 @@ class ChoicesPanel:
         self.windows.children = tuple(boxes)
         self.windows_box.layout.display = "flex" if boxes else "none"
 
-    def _on_unit(self, change: dict[str, Any]) -> None:
-        unit = change.get("new")
+    def _valid_unit(self, unit: object) -> str:
+        """``unit`` if it is one of the list, else the error said under the field and raised."""
         if unit not in UNIT_CHOICES:
             self.unit_error.value = "Choose a unit from the list."
             raise LibraryError(f"Unknown unit {unit!r}: choose one of {', '.join(UNIT_CHOICES)}.")
         self.unit_error.value = ""
+        return str(unit)
+
+    def _on_unit(self, change: dict[str, Any]) -> None:
+        unit = self._valid_unit(change.get("new"))
         if self.on_unit is not None:
-            self.on_unit(str(unit))
+            self.on_unit(unit)
 
     def _on_tick(self, change: dict[str, Any]) -> None:
         if not isinstance(change.get("new"), bool):
@@ -101,9 +104,6 @@ class ChoicesPanel:
         Raises:
             LibraryError: a unit that is not one of the list.
         """
-        unit = self.unit.value
-        if unit not in UNIT_CHOICES:
-            self.unit_error.value = "Choose a unit from the list."
-            raise LibraryError(f"Unknown unit {unit!r}: choose one of {', '.join(UNIT_CHOICES)}.")
+        unit = self._valid_unit(self.unit.value)
         ticked = [str(b.description) for b in self.windows.children if isinstance(b, w.Checkbox) and b.value is True]
-        return ConvertChoices(str(unit), tuple(ticked))
+        return ConvertChoices(unit, tuple(ticked))

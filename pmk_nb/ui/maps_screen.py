@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.access.check import profile_chair_width
+from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
 from pmk_nb.ui.maps_access import AccessPanel
 from pmk_nb.ui.maps_cards import generated_card, map_label
@@ -212,8 +213,8 @@ class MapsScreen:
             self.convert_row.layout.display = "none"
             self.generated_box.children = ()
             self.storeys_panel.show(None)
-            self.access_panel.show(None)
-            self.choices.show(None)
+            self.access_panel.show(None, [])
+            self.choices.show(None, [])
             return
         self.title.value = f"<div class='pmk-heading'>{escape(entry.name)}</div>"
         size_kb = entry.size / 1024
@@ -228,8 +229,9 @@ class MapsScreen:
         known = self.ctx.maps.cached_storeys(entry)  # one storey of several converted: still say which
         several = len(entry.generated) > 1 or (known is not None and len(known) > 1)
         self.generated_box.children = tuple(self._generated_card(g, several) for g in entry.generated)
-        self.access_panel.show(entry)
-        self.choices.show(entry)
+        docs = [sidecar_doc(g.yaml) for g in entry.generated]  # the rooms files, read once for both panels
+        self.access_panel.show(entry, docs)
+        self.choices.show(entry, docs)
 
     def _generated_card(self, gm: GeneratedMap, several: bool) -> w.Widget:
         return generated_card(self.ctx, gm, several, self.send)
