@@ -248,7 +248,8 @@ def test_goal_into_a_wall_pocket_gives_up_as_blocked():
 def test_a_goal_past_a_corner_is_reached_not_given_up(heading):
     """Pure pursuit cuts the corner at a doorway of the sample clinic and pins the chair against the
     blocked edge; a goal's controller slides along it instead (was: aborted as blocked after 3 s,
-    in 0.5 % of random goals on the demo map, and once in CI's browser tap-to-go test)."""
+    in 0.5 % of random goals on the demo map: the symptom of a failed CI run of the browser
+    tap-to-go test)."""
     grid = sample_floor()
     assert grid is not None, "sample_maps/clinic_floor.gml and the converter are part of this checkout"
     world = World(grid)
