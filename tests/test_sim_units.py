@@ -231,14 +231,20 @@ def test_plan_through_the_sample_clinic_doors():
     assert not world.blocked_at(x, y)
 
 
+def _follow_goal(chair: Chair, dt: float, limit: float) -> float:
+    """Step ``chair`` at ``dt`` while its goal is active, for ``limit`` s at most; the time it took."""
+    t = 0.0
+    while chair.goal_status == "active" and t < limit:
+        t += dt
+        chair.step(dt, t)
+    return t
+
+
 def test_goal_into_a_wall_pocket_gives_up_as_blocked():
     world = World(room_grid(6.0, 4.0))
     chair = Chair(world, (1.0, 2.0, 0.0))
     chair.follow([(1.0, 2.0), (5.9, 2.0)], None)  # a path straight into the far wall
-    t = 0.0
-    while chair.goal_status == "active" and t < 20.0:
-        t += 0.02
-        chair.step(0.02, t)
+    t = _follow_goal(chair, 0.02, 20.0)
     assert chair.goal_status == "blocked"
     assert chair.pose[0] == pytest.approx(6.0 - 0.05 - 0.35, abs=0.1)
     assert t < 10.0
@@ -256,10 +262,7 @@ def test_a_goal_past_a_corner_is_reached_not_given_up(heading):
     start, goal = (15.741, 9.683), (9.425, 6.775)
     chair = Chair(world, (*start, heading))
     chair.follow(world.plan(start, goal), 0.0)
-    t = 0.0
-    while chair.goal_status == "active" and t < 60.0:
-        t += 0.05
-        chair.step(0.05, t)
+    t = _follow_goal(chair, 0.05, 60.0)
     assert chair.goal_status == "reached", f"{chair.goal_status} at {chair.pose} after {t:.1f} s"
     assert math.dist(chair.pose[:2], goal) < 0.15
     assert not world.blocked_at(*chair.pose[:2])
