@@ -47,10 +47,13 @@ def check_grid(
     if plan is None:
         plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
     cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
-    return check_storey(
+    report = check_storey(
         storey, grid, cells, plan.openings, chair_width=chair_width, wall_thickness=wall_thickness, max_gap=max_gap,
         skipped=plan.skipped,
     )  # fmt: skip
+    status = building.graph_status
+    report.graph_lost = status.reason if status.lost else ""  # a lost graph checks nothing, whatever resolved
+    return report
 
 
 def check_building(

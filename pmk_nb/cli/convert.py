@@ -63,6 +63,14 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--chair-width", type=float, default=None, metavar="W",
                    help="chair width for the access summary (default: the chair profile's, or 0.70)")  # fmt: skip
     add_not_window_option(p)
+    add_layer_option(p)
+
+
+def add_layer_option(p: argparse.ArgumentParser) -> None:
+    """--layer: draw the named space layer(s) instead of the navigable one the reader picks (one wording)."""
+    p.add_argument("--layer", action="append", default=[], dest="layers", metavar="NAME",
+                   help="draw this space layer (id or name) instead of the navigable one (repeatable; "
+                   "`pmk info` lists the layers not drawn and why)")  # fmt: skip
 
 
 def add_not_window_option(p: argparse.ArgumentParser) -> None:
@@ -113,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
         outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
         max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large, door_width=args.door_width,
         chair_width=chair_width_arg(args.chair_width), not_windows=tuple(args.not_windows),
+        layers=tuple(args.layers),
     )  # fmt: skip
     bar = TextProgress(sys.stderr, enabled=bool(show))
     try:
@@ -126,6 +135,12 @@ def run(args: argparse.Namespace) -> int:
         bar.close()
     building = result.building
     print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(result.maps)} storey(s)")
+    from dataclasses import asdict
+
+    from pmk_nb.indoorgml.summary import graph_lines, layer_lines
+
+    for line in graph_lines(building.graph_status.to_json()) + layer_lines(list(map(asdict, building.skipped_layers))):
+        print(line)
     for m in result.maps:
         w_m, h_m = m.size_m
         extra = f", {m.files.preview.name}" if m.files.preview else ""

@@ -7,7 +7,7 @@ import json
 import sys
 from typing import Any
 
-from pmk_nb.cli.convert import add_not_window_option
+from pmk_nb.cli.convert import add_layer_option, add_not_window_option
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -22,6 +22,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--unit", default="auto", choices=UNIT_CHOICES,
                    help="coordinate unit of the file (default: auto-detect, see the reason printed)")  # fmt: skip
     add_not_window_option(p)
+    add_layer_option(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(run=run)
     return p
@@ -71,7 +72,7 @@ def format_connectivity(c: dict[str, Any]) -> list[str]:
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.indoorgml import format_summary, read_building, summarize
 
-    building = read_building(args.file, unit=args.unit, not_windows=args.not_windows)
+    building = read_building(args.file, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
     summary = summarize(building)
     summary["connectivity"] = connectivity(building)
     if args.json:

@@ -190,7 +190,7 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             progress=progress,
             door_width=args.door_width,
             chair_width=chair_width_arg(args.chair_width),
-            not_windows=args.not_windows,
+            not_windows=args.not_windows, layers=args.layers,
         )
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:

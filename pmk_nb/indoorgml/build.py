@@ -13,10 +13,10 @@ from shapely.geometry.base import BaseGeometry
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
-from pmk_nb.indoorgml.graph import resolve_links
+from pmk_nb.indoorgml.graph import graph_status, linked_pairs, nav_graph, resolve_links, state_cells
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
-from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, NavGraph, State, Storey, Transition
+from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit
@@ -82,12 +82,15 @@ def _zs(v: float | None, s: float) -> float | None:
     return None if v is None else v * s
 
 
-def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequence[str] = ()) -> Building:
+def build_building(
+    doc: RawDocument, sha256: str, unit: str, not_windows: Sequence[str] = (), layers: Sequence[str] = ()
+) -> Building:
     """Interpret ``doc``: cells -> kinds -> boundaries and doors -> unit -> storeys -> the model.
-    ``not_windows``: ids or names of cells the window rule must leave free (see levels.not_window_ids)."""
+    ``not_windows``: ids or names of cells the window rule must leave free (see levels.not_window_ids);
+    ``layers``: ids or names of the layers to draw instead of the navigable one (see layers.select_layers)."""
     warnings: list[str] = []
     alma = detect_alma(doc)
-    cells = select_layers(usable_cells(doc, warnings), doc, alma, warnings)
+    cells, skipped = select_layers(usable_cells(doc, warnings), doc, alma, warnings, layers)
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
     kinds = _kinds(cells, bool(alma), warnings)
     bfps = _classify_boundaries(doc, cells, warnings)
@@ -98,9 +101,9 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
         [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
     )
     cell_notes: list[str] = []
-    linked = _linked_pairs(doc)
+    linked = linked_pairs(doc)
     model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked, keep)
-    graph = _graph(doc, model_cells, s)
+    graph = nav_graph(doc, model_cells, s)
     links = resolve_links(graph, model_cells)
     stairs = frozenset(c.raw.id for c in cells if c.fp.stepped)
     levels = split_levels(
@@ -109,8 +112,9 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
     if levels is not plan:  # split levels: cells, windows and links are decided again on the new storeys
         plan, cell_notes = levels, []
         model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked, keep)
-        graph = _graph(doc, model_cells, s)
+        graph = nav_graph(doc, model_cells, s)
         links = resolve_links(graph, model_cells)
+    status = graph_status(doc, graph, model_cells, warnings)
     warnings.extend(plan.notes + cell_notes)
     storeys = [
         Storey(n, plan.elevation[n], [i for i, c in model_cells.items() if c.storey == n], plan.source[n])
@@ -122,7 +126,7 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
         unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
         graph=graph, georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
-        warnings=warnings, links=links, unit_conflict=choice.conflict,
+        warnings=warnings, links=links, unit_conflict=choice.conflict, skipped_layers=skipped, graph_status=status,
     )  # fmt: skip
 
 
@@ -149,8 +153,7 @@ def _owners(doc: RawDocument) -> dict[str, set[str]]:
     for raw in doc.cells:
         for r in raw.boundary_refs:
             owners[r].add(raw.id)
-    state_cell = {st.id: st.cell for st in doc.states}
-    state_cell.update({raw.duality: raw.id for raw in doc.cells if raw.alma_inline and raw.duality})
+    state_cell = state_cells(doc)
     for t in doc.transitions:
         if t.duality:
             owners[t.duality].update(c for c in (state_cell.get(x) for x in t.connects) if c)
@@ -277,23 +280,6 @@ def _choose_unit(
     return choice
 
 
-def _state_cells(doc: RawDocument) -> dict[str, str | None]:
-    """The cell each state stands for: its duality, or the cell written inside it (ALMA)."""
-    inline = {c.duality: c.id for c in doc.cells if c.alma_inline and c.duality}
-    return {rs.id: rs.cell or inline.get(rs.id) for rs in doc.states}
-
-
-def _linked_pairs(doc: RawDocument) -> frozenset[frozenset[str]]:
-    """Cell pairs a transition joins through their states' duality (or cell ids named directly)."""
-    cell_of = _state_cells(doc)
-    pairs = set()
-    for t in doc.transitions:
-        ends = [cell_of.get(ref, ref) for ref in t.connects[:2]]
-        if len(ends) == 2 and all(ends) and ends[0] != ends[1]:
-            pairs.add(frozenset(ends))
-    return frozenset(pairs)
-
-
 def _model_cells(
     cells: list[KeptCell], kinds: dict[str, CellKind], plan: StoreyPlan, s: float, warnings: list[str],
     linked: frozenset[frozenset[str]] = frozenset(), keep: frozenset[str] = frozenset(),
@@ -376,22 +362,3 @@ def _boundaries(
             storey = storeys[0].name
         out[rb.id] = Boundary(rb.id, bool(evidence), geom, storey, rb.name, rb.virtual, evidence)
     return out
-
-
-def _graph(doc: RawDocument, cells: dict[str, Cell], s: float) -> NavGraph:
-    graph = NavGraph()
-    cell_of = _state_cells(doc)
-    for rs in doc.states:
-        point = None
-        if rs.point is not None:
-            z = rs.point[2] * s if len(rs.point) > 2 else 0.0
-            point = (rs.point[0] * s, rs.point[1] * s, z)
-        cell = cell_of[rs.id]
-        graph.states[rs.id] = State(rs.id, point, cell if cell in cells else None, rs.layer)
-    for t in doc.transitions:
-        if len(t.connects) >= 2:
-            line = None
-            if t.line is not None and len(t.line) >= 2:
-                line = shapely.LineString([(p[0] * s, p[1] * s) for p in t.line])
-            graph.transitions.append(Transition(t.id, t.connects[0], t.connects[1], t.weight, t.layer, line))
-    return graph

@@ -66,6 +66,8 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
     if doc is None:
         return f"<p><b>{label}</b>: no accessibility check for this map (convert it again to get one).</p>"
     report = doc.get("accessibility")
+    if report and report.get("graph_lost"):
+        return f"<p class='pmk-warn'><b>⚠ {label}</b>: nothing checked: {escape(report['graph_lost'])}</p>"
     if not report or not (report.get("graph") or report.get("not_checked")):
         return f"<p><b>{label}</b>: the plan has no navigation graph here, so there is nothing to check against.</p>"
     if not report.get("graph"):  # every transition of the storey leads to a window or a non-navigable cell
