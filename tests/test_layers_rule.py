@@ -16,7 +16,7 @@ import pytest
 
 from pmk_nb.cli import main
 from pmk_nb.errors import UnknownLayer
-from pmk_nb.grid import FREE
+from pmk_nb.grid import FREE, OCCUPIED
 from pmk_nb.indoorgml import read_building
 from pmk_nb.raster.storey import rasterise_storey
 from tests.test_access_rules import NS, RES, _cell
@@ -43,11 +43,13 @@ def _nodes(pairs: list[tuple[str, str]], cells: list[str], v2: bool) -> tuple[st
     return nodes, edges
 
 
-def _layered_plan(tmp_path: Path, *, v2: bool, zone_graph: bool, zone_words: str) -> Path:
+def _layered_plan(
+    tmp_path: Path, *, v2: bool, zone_graph: bool, zone_words: str, zones: tuple[str, list[str]] = (ZONES, ["W1", "W2"])
+) -> Path:
     """Rooms A, B (joined by a transition) and two zone cells in a second layer: with its own graph
-    (``zone_graph``) and words (1.x ``class``, 2.0 ``theme``; '' for none)."""
+    (``zone_graph``) and words (1.x ``class``, 2.0 ``theme``; '' for none); ``zones``: other cells instead."""
     room_nodes, room_edges = _nodes([("A", "B")], ["A", "B"], v2)
-    zone_nodes, zone_edges = _nodes([("W1", "W2")] if zone_graph else [], ["W1", "W2"], v2)
+    zone_nodes, zone_edges = _nodes([tuple(zones[1][:2])] if zone_graph else [], zones[1], v2)
     if v2:
         def thematic(tid: str, theme: str, cells: str, nodes: str, edges: str) -> str:
             return (
@@ -59,7 +61,7 @@ def _layered_plan(tmp_path: Path, *, v2: bool, zone_graph: bool, zone_words: str
             )
 
         body = thematic("TOPO", "Physical", ROOMS, room_nodes, room_edges) + thematic(
-            "L2", zone_words, ZONES, zone_nodes, zone_edges
+            "L2", zone_words, zones[0], zone_nodes, zone_edges
         )
         ns = NS.replace("1.0/core", "2.0/core")
         text = f'<?xml version="1.0"?><IndoorFeatures {ns} gml:id="F">{body}</IndoorFeatures>'
@@ -74,7 +76,7 @@ def _layered_plan(tmp_path: Path, *, v2: bool, zone_graph: bool, zone_words: str
         graph = layer("TOPO", "", room_nodes, room_edges) + layer("L2", zone_words, zone_nodes, zone_edges)
         text = (
             f'<?xml version="1.0"?><IndoorFeatures {NS} gml:id="F"><primalSpaceFeatures>'
-            f'<PrimalSpaceFeatures gml:id="P">{ROOMS}{ZONES}</PrimalSpaceFeatures></primalSpaceFeatures>'
+            f'<PrimalSpaceFeatures gml:id="P">{ROOMS}{zones[0]}</PrimalSpaceFeatures></primalSpaceFeatures>'
             f'<multiLayeredGraph><MultiLayeredGraph gml:id="G"><spaceLayers gml:id="L">{graph}</spaceLayers>'
             f"</MultiLayeredGraph></multiLayeredGraph></IndoorFeatures>"
         )
@@ -140,3 +142,16 @@ def test_an_unknown_layer_is_a_typed_error_listing_the_layers(tmp_path: Path) ->
         read_building(path, unit="m", layers=["lights"])
     assert err.value.layer == "lights" and err.value.known == ["TOPO", "L2"]
     assert main(["check", str(path), "--layer", "lights"]) == 2
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.x", "2.0"])
+def test_a_layer_of_non_navigable_spaces_is_drawn_as_obstacles(tmp_path: Path, v2: bool) -> None:
+    """Columns and installations in a layer of their own (KU Central Plaza: layer Nonnavi, 24 cells) are
+    obstacles wherever they stand, though no transition joins them."""
+    columns = _cell("C1", (2, 1, 3, 2), "NonNavigableSpace") + _cell("C2", (7, 1, 8, 2), "NonNavigableSpace")
+    path = _layered_plan(tmp_path, v2=v2, zone_graph=False, zone_words="", zones=(columns, ["C1", "C2"]))
+    b = read_building(path, unit="m")
+    assert sorted(b.cells) == ["A", "B", "C1", "C2"] and b.skipped_layers == []
+    grid = rasterise_storey(b, b.storeys[0].name, RES)
+    assert grid.value_at(2.5, 1.5) == OCCUPIED and grid.value_at(7.5, 1.5) == OCCUPIED
+    assert grid.value_at(1.0, 3.0) == FREE

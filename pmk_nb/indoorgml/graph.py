@@ -111,6 +111,10 @@ def graph_status(doc: RawDocument, graph: NavGraph, cells: dict[str, Cell], warn
     missing = sorted({rs.cell for rs in doc.states if rs.cell and rs.id in graph.states} - known)
     if missing:
         warnings.append(f"{len(missing)} states name cells that are not in the file (e.g. {missing[0]!r})")
+    faces = {b.id for b in doc.boundaries}
+    if unfaced := [t.duality for t in doc.transitions if t.duality and t.duality not in faces]:
+        warnings.append(f"{len(unfaced)} transitions name a dual boundary that is not in the file "
+                        f"(e.g. {unfaced[0]!r}): their doors come from the cells' shapes")  # fmt: skip
     said = f"{dangling} of {n} transitions name states that are not in the file"
     status = GraphStatus(n, resolved, dangling, absent=False)
     if status.lost:

@@ -27,6 +27,7 @@ THEMATIC_WORDS = re.compile(
     r"hvac|electric(?:al|ity)?|cameras?|cctv|security|safety|landmarks?|virtual)\b"
 )
 THEMATIC_CLASSES = ("SENSOR", "LOGICAL", "TAGGED")
+OBSTACLE_NAMES = ("nonnavigablespace", "obstacle")  # NonNavigableSpace: occupied wherever it is written
 
 
 @dataclass
@@ -161,6 +162,9 @@ def select_layers(
     base = [c.fp.geometry for c in by_layer[primary] + by_layer.get("", []) if c.fp.geometry is not None]
     for lid in order:
         if lid == primary:
+            continue
+        if all(c.raw.kind_name in OBSTACLE_NAMES for c in by_layer[lid]) and not words[lid][1]:
+            kept.add(lid)  # columns, installations: obstacles (occupied), never floor; no graph joins them
             continue
         if words[lid][1] and not words[primary][1]:
             reason = f"a thematic layer ({words[lid][1]}), not the navigable space of layer {primary!r}"
