@@ -155,3 +155,26 @@ def test_a_layer_of_non_navigable_spaces_is_drawn_as_obstacles(tmp_path: Path, v
     grid = rasterise_storey(b, b.storeys[0].name, RES)
     assert grid.value_at(2.5, 1.5) == OCCUPIED and grid.value_at(7.5, 1.5) == OCCUPIED
     assert grid.value_at(1.0, 3.0) == FREE
+
+
+def test_the_layer_choice_is_kept_in_the_rooms_files_and_the_maps_screen_lists_layers_not_drawn(
+    tmp_path: Path,
+) -> None:
+    from pmk_nb.access.sidecar import sidecar_doc
+    from pmk_nb.library.choices import ConvertChoices, read_choices
+    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.ui.maps_access import AccessPanel
+
+    maps = MapsFolder(tmp_path / "maps")
+    entry = maps.import_file(_layered_plan(tmp_path, v2=False, zone_graph=False, zone_words=""), "zones")
+    [gm] = maps.convert(entry.name, 0.1, unit="m")
+    doc = sidecar_doc(gm.yaml)
+    assert [n["id"] for n in doc["skipped_layers"]] == ["L2"] and read_choices(doc) == ConvertChoices("m")
+    panel = AccessPanel()
+    panel.show(maps.entry("zones"), [doc])
+    assert "Layers not drawn" in panel.text.value and "L2 (2 cells): the navigation graph connects none" in (
+        panel.text.value
+    )
+    [gm] = maps.convert(entry.name, 0.1, unit="m", layers=["L2"])
+    doc = sidecar_doc(gm.yaml)
+    assert read_choices(doc) == ConvertChoices("m", (), ("L2",)) and {r["id"] for r in doc["rooms"]} == {"W1", "W2"}

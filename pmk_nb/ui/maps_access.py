@@ -104,6 +104,16 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
 MAX_NOT_CHECKED = 10  # cells named; the rest are counted
 
 
+def _layers_html(layers: list[dict[str, Any]]) -> str:
+    """The plan's layers not drawn, and why (a thematic layer drawn would make walls across rooms)."""
+    items = "".join(
+        f"<li>{escape(str(n.get('id', '')))} ({n.get('cells', 0)} cells): {escape(str(n.get('reason', '')))}</li>"
+        for n in layers
+    )
+    head = "<p><b>Layers not drawn</b> (pmk convert --layer NAME draws one):</p>"
+    return f"{head}<ul class='pmk-access-list'>{items}</ul>"
+
+
 def _not_checked_items(report: dict[str, Any]) -> list[str]:
     """The passages the check skipped (absent from reports written before it named them), one line per
     reason naming the cells they lead into. A cell judged a window from its height may be a door the
@@ -143,10 +153,11 @@ class AccessPanel:
             self.widget.layout.display = "none"
             return
         self.widget.layout.display = "flex"
-        parts, images, conflict = [], [], ""
+        parts, images, conflict, layers = [], [], "", []
         for gm, doc in zip(entry.generated, docs, strict=True):
             parts.append(_storey_html(gm, doc))
             conflict = conflict or (doc or {}).get("unit_conflict", "")
+            layers = layers or (doc or {}).get("skipped_layers") or []
             report = (doc or {}).get("accessibility") or {}
             if doc is not None and not report.get("ok", True):
                 png = marked_preview(gm, doc)
@@ -156,5 +167,7 @@ class AccessPanel:
                     images.append(img)
         if conflict:
             parts.append(f"<p class='pmk-warn'><b>Size warning:</b> {escape(conflict)}</p>")
+        if layers:
+            parts.append(_layers_html(layers))
         self.text.value = "<div class='pmk-heading-small'>Wheelchair access</div>" + "".join(parts)
         self.images.children = tuple(images)
