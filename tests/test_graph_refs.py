@@ -111,3 +111,20 @@ def test_a_few_dangling_transitions_are_counted_and_the_rest_checked(
     assert main(["check", str(path), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["ok"] is True and doc["storeys"][0]["counts"]["links"] == 2 and doc["graph"]["dangling"] == 1
+
+
+def test_a_map_written_from_a_lost_graph_is_not_ok_when_checked_later(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    cells = ROOMS + _cell("C", (10, 0, 15, 4))
+    pairs = [("A", "B")] + [("B", "C")] * 9  # 9 of 10 transitions will name states that are not in the file
+    path = _plan(tmp_path, cells, _graph(pairs), v2=False)
+    text = path.read_text()
+    path.write_text(re.sub(r'(<Transition gml:id="T[1-9]"><connects xlink:href=")#S', r"\1#GONE-", text))
+    assert read_building(path, unit="m").graph_status.lost
+    out = tmp_path / "maps"
+    assert main(["convert", str(path), "-r", "0.05", "--out", str(out), "--no-progress", "--unit", "m"]) == 0
+    assert "NAVIGATION GRAPH NOT USED: 9 of 10 transitions name states" in capsys.readouterr().out
+    [yaml] = out.glob("*.yaml")
+    assert main(["check", str(yaml)]) == 3
+    assert "9 of 10 transitions name states that are not in the file" in capsys.readouterr().out
