@@ -44,20 +44,24 @@ def _nodes(pairs: list[tuple[str, str]], cells: list[str], v2: bool) -> tuple[st
 
 
 def _layered_plan(
-    tmp_path: Path, *, v2: bool, zone_graph: bool, zone_words: str, zones: tuple[str, list[str]] = (ZONES, ["W1", "W2"])
-) -> Path:
+    tmp_path: Path, *, v2: bool, zone_graph: bool, zone_words: str,
+    zones: tuple[str, list[str]] = (ZONES, ["W1", "W2"]), draft: bool = False,
+) -> Path:  # fmt: skip
     """Rooms A, B (joined by a transition) and two zone cells in a second layer: with its own graph
-    (``zone_graph``) and words (1.x ``class``, 2.0 ``theme``; '' for none); ``zones``: other cells instead."""
+    (``zone_graph``) and words (1.x ``class``, 2.0 ``theme``; '' for none); ``zones``: other cells instead.
+    2.0 as the final schema writes it (``layers/ThematicLayer/primalSpace``), or as the drafts did
+    (``primalSpaceLayer``: the same name as the feature once lower-cased)."""
+    primal, dual = ("primalSpaceLayer", "dualSpaceLayer") if draft else ("primalSpace", "dualSpace")
     room_nodes, room_edges = _nodes([("A", "B")], ["A", "B"], v2)
     zone_nodes, zone_edges = _nodes([tuple(zones[1][:2])] if zone_graph else [], zones[1], v2)
     if v2:
         def thematic(tid: str, theme: str, cells: str, nodes: str, edges: str) -> str:
             return (
-                f'<layer><ThematicLayer gml:id="{tid}"><semanticExtension>false</semanticExtension>'
+                f'<layers><ThematicLayer gml:id="{tid}"><semanticExtension>false</semanticExtension>'
                 f"{f'<theme>{theme}</theme>' if theme else ''}"
-                f'<primalSpaceLayer><PrimalSpaceLayer gml:id="P{tid}">{cells}</PrimalSpaceLayer></primalSpaceLayer>'
-                f'<dualSpaceLayer><DualSpaceLayer gml:id="D{tid}">{nodes}{edges}</DualSpaceLayer></dualSpaceLayer>'
-                f"</ThematicLayer></layer>"
+                f'<{primal}><PrimalSpaceLayer gml:id="P{tid}">{cells}</PrimalSpaceLayer></{primal}>'
+                f'<{dual}><DualSpaceLayer gml:id="D{tid}">{nodes}{edges}</DualSpaceLayer></{dual}>'
+                f"</ThematicLayer></layers>"
             )
 
         body = thematic("TOPO", "Physical", ROOMS, room_nodes, room_edges) + thematic(
@@ -91,6 +95,7 @@ CASES = [
     pytest.param(False, True, "SENSOR", id="1.x-class-SENSOR"),
     pytest.param(True, False, "", id="2.0-graph-connects-rooms-only"),
     pytest.param(True, True, "Virtual", id="2.0-theme-Virtual"),
+    pytest.param(True, True, "other: WiFiCoverage", id="2.0-theme-other"),
 ]
 
 
@@ -123,9 +128,14 @@ def test_pmk_info_lists_the_layer_not_drawn_and_why(
     assert note["id"] == _zone_layer(v2) and note["cells"] == 2 and note["reason"]
 
 
-@pytest.mark.parametrize("v2", [False, True], ids=["1.x", "2.0"])
-def test_layer_option_draws_the_named_layer(tmp_path: Path, capsys: pytest.CaptureFixture[str], v2: bool) -> None:
-    path = _layered_plan(tmp_path, v2=v2, zone_graph=False, zone_words="")
+SPELLINGS = [(False, False), (True, False), (True, True)]
+
+
+@pytest.mark.parametrize(("v2", "draft"), SPELLINGS, ids=["1.x", "2.0", "2.0-draft"])
+def test_layer_option_draws_the_named_layer(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], v2: bool, draft: bool
+) -> None:
+    path = _layered_plan(tmp_path, v2=v2, zone_graph=False, zone_words="", draft=draft)
     asked = "L2"  # the 1.x SpaceLayer, or the 2.0 ThematicLayer holding the zones' primal layer
     b = read_building(path, unit="m", layers=[asked])
     assert sorted(b.cells) == ["W1", "W2"]

@@ -58,8 +58,8 @@ def _words(layer: RawLayer, info: dict[str, RawLayer]) -> tuple[bool, str]:
     """What the layer's own words say: (names the physical/navigable space?, why it is thematic or '').
     A 2.0 primal layer speaks through the ThematicLayer it sits in as well."""
     fields = [layer] + ([info[layer.parent]] if layer.parent in info else [])
-    theme = next((f.theme for f in fields if f.theme), "")
-    if theme.lower() == "physical":
+    theme = next((f.theme for f in fields if f.theme), "")  # Physical, Virtual, Tags, Unknown or "other: ..."
+    if theme.lower() == "physical" or any(w in theme.lower() for w in GEOMETRY_LAYER_WORDS[1:]):
         return True, ""
     if theme and theme.lower() != "unknown":
         return False, f"theme {theme}"
