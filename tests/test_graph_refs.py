@@ -128,3 +128,11 @@ def test_a_map_written_from_a_lost_graph_is_not_ok_when_checked_later(
     [yaml] = out.glob("*.yaml")
     assert main(["check", str(yaml)]) == 3
     assert "9 of 10 transitions name states that are not in the file" in capsys.readouterr().out
+
+
+def test_check_help_documents_the_exit_codes(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["check", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for code in ("0 = every transition checked", "1 = problems found", "2 = bad input", "3 = nothing could be checked"):
+        assert code in text

@@ -20,7 +20,7 @@ from pmk_nb.errors import PmkError
 
 EXIT_OK, EXIT_PROBLEMS, EXIT_NOTHING_CHECKED = 0, 1, 3  # 2: bad input (every PmkError, cli/__init__)
 EXIT_CODES = (
-    "exit codes: 0 = every transition checked is passable for the chair; 1 = problems found (listed); "
+    "Exit codes: 0 = every transition checked is passable for the chair; 1 = problems found (listed); "
     "2 = bad input (unreadable plan or map, unknown layer or option); 3 = nothing could be checked on a "
     "storey or the whole plan: its navigation graph is absent, or lost (its transitions name states that "
     "are not in the file), or gives no transition on that storey (said why, never reported ok)"
