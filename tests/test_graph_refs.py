@@ -136,3 +136,15 @@ def test_check_help_documents_the_exit_codes(capsys: pytest.CaptureFixture[str])
     text = " ".join(capsys.readouterr().out.split())
     for code in ("0 = every transition checked", "1 = problems found", "2 = bad input", "3 = nothing could be checked"):
         assert code in text
+
+
+def test_pmk_maps_says_nothing_was_checked_for_a_plan_without_graph(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from pmk_nb.cli.maps import accessibility_line
+    from pmk_nb.library.folder import MapsFolder
+
+    maps = MapsFolder(tmp_path / "maps")
+    entry = maps.import_file(_plan(tmp_path, ROOMS), "nograph")
+    [gm] = maps.convert(entry.name, 0.1, unit="m")
+    assert accessibility_line(gm.yaml).startswith("NOTHING CHECKED: the file has no navigation graph")
