@@ -7,8 +7,10 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely import affinity
-from shapely.geometry import box
+from shapely.geometry import LineString, box
 
+from pmk_nb.indoorgml.model import Boundary, Cell, CellKind
+from pmk_nb.raster.nearby import Nearby
 from pmk_nb.raster.walls import door_jambs
 
 TOL = 0.01
@@ -55,3 +57,23 @@ def test_door_jambs_cut_only_where_doors_meet() -> None:
     jambs = door_jambs(np.asarray([], dtype=object), [a, b, c], TOL)
     assert jambs[2].length == c.boundary.length  # nothing near c: its whole outline stays
     assert jambs[0].length < a.boundary.length and jambs[1].length < b.boundary.length
+
+
+_seg = st.tuples(*[st.floats(0, 20, allow_nan=False)] * 4).map(lambda c: LineString([c[:2], c[2:]]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(lines=st.lists(_seg, min_size=1, max_size=15), probe=_seg, reach=st.sampled_from([0.0, 0.01, 0.5, 3.0]))
+def test_nearby_finds_what_a_look_at_everything_finds(lines: list, probe: LineString, reach: float) -> None:
+    doors = [Boundary(f"B{i}", True, g) for i, g in enumerate(lines)]
+    cells = [Cell(f"C{i}", CellKind.NAVIGABLE, shapely.buffer(g, 0.2), "F0") for i, g in enumerate(lines)]
+    near = Nearby(cells, doors, lines)
+    assert near.virtual_within(probe, reach) == [v for v in lines if v.distance(probe) <= reach]
+    found = near.doors_near(probe, reach)  # a superset, in file order
+    close = [d for d in doors if d.geometry.distance(probe) <= reach]
+    assert close == [d for d in found if d.geometry.distance(probe) <= reach]
+    assert found == [d for d in doors if d in found]
+    lane = shapely.buffer(probe, 0.45)
+    others = near.others(cells[0], cells[-1], lane)
+    every = [c.footprint for c in cells if c.id not in (cells[0].id, cells[-1].id)]
+    assert [g for g in every if g.intersects(lane)] == [g for g in others if g.intersects(lane)]
