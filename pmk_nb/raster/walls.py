@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
+from pmk_nb.raster.nearby import grown_box
 from pmk_nb.raster.parts import door_frame, polygon_parts, polygons_of
 
 if TYPE_CHECKING:
@@ -218,11 +219,12 @@ def door_jambs(room_arr: np.ndarray, door_polys: list[Any], tol: float) -> list[
 def _doors_within(door_polys: list[Any], tol: float) -> list[list[int]]:
     """Per door polygon, the other door polygons at most ``tol`` away, in list order.
 
-    An R-tree picks the candidates (with room to spare, so no pair at ``tol`` is lost to round-off)
-    and the exact distance decides, as the pairwise test did: linear in the doors, not quadratic.
+    An R-tree picks the candidates (bounding boxes within 2 ``tol``, so no pair at ``tol`` is lost to
+    round-off) and the exact distance decides, as the pairwise test did: linear in the doors, not
+    quadratic.
     """
     arr = np.asarray(door_polys, dtype=object)
-    left, right = shapely.STRtree(arr).query(arr, predicate="dwithin", distance=2 * tol + 1e-9)
+    left, right = shapely.STRtree(arr).query(grown_box(arr, 2 * tol + 1e-9))
     keep = left != right
     left, right = left[keep], right[keep]
     keep = shapely.distance(arr[right], arr[left]) <= tol
