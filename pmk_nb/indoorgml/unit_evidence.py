@@ -86,15 +86,16 @@ def _long_side(geom: shapely.Geometry) -> float:
 
 def storey_heights(rooms: Sequence[tuple[float, float | None]]) -> list[float]:
     """Floor-to-floor heights from the levels rooms (z_min, height or None) start at. Rooms less than
-    half the usual room's height (windows, sills) are left out; levels closer than a sixth of the largest
-    gap are one storey (a raised platform, a landing); a single level gives none."""
+    half the usual room's height (windows, sills) are left out; levels closer than half the usual room's
+    height (or, for flat cells, a sixth of the largest gap) are one storey (a platform, a ramp, a
+    landing); a single level gives none."""
     heights = sorted(h for _, h in rooms if h)
-    tall = heights[len(heights) // 2] / 2 if heights else 0.0
-    levels = sorted({z for z, h in rooms if not heights or (h or 0.0) >= tall})
+    usual = heights[len(heights) // 2] if heights else 0.0
+    levels = sorted({z for z, h in rooms if not heights or (h or 0.0) >= usual / 2})
     gaps = [b - a for a, b in itertools.pairwise(levels)]
     if not gaps or max(gaps) <= 0:
         return []
-    tol = max(gaps) / 6
+    tol = usual / 2 if usual else max(gaps) / 6
     groups: list[list[float]] = [[levels[0]]]
     for z in levels[1:]:
         if z - groups[-1][-1] <= tol:

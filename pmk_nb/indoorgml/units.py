@@ -5,7 +5,7 @@ metres (m² for areas) and a weight; under each candidate unit, a kind earns its
 of its items that fall in the range, so one odd door does not sink a plan and thirty good ones count
 for more than their median:
 
-* door widths (door boundaries and door cells), 0.6-3 m - weight 4: a wheelchair map is useless when
+* door widths (door boundaries and door cells), 0.5-3 m - weight 4: a wheelchair map is useless when
   doors are 0.09 m or 9 m wide;
 * door heights (z extent of 3D doors), 1.8-3 m - 1;
 * cell heights (z_max - z_min of the larger half of the 3D cells: rooms, not windows), 2.2-6 m - 2;
@@ -14,7 +14,7 @@ for more than their median:
   (steep cellar and attic stairs rise a quarter metre; FJK-Haus's cellar stair is drawn at 0.25 m);
 * room areas (the larger half of the free cells), 4-200 m² - 1 (rooms range from closets to halls);
 * corridor widths (the mean width of TransitionSpace cells), 0.8-8 m - 1;
-* faces a transition crosses (its duality), 0.6-3 m - 0.5: some exporters draw them as the door, others
+* faces a transition crosses (its duality), 0.5-3 m - 0.5: some exporters draw them as the door, others
   as the whole wall, so they count little (and are never called a conflict);
 * the plan's extent, 5-500 m - 1;
 * a known exporter (a comment such as "CityGML to IndoorGML") or a metric projected CRS in srsName - 6.
@@ -22,8 +22,9 @@ for more than their median:
 The unit with the highest score wins (ties: the unit the extent alone suggests, then metres); the
 reason says which evidence agreed and how many items. ALMA files are centimetres (thesis ch. 3.2).
 Kinds whose items mostly fall outside their range at the chosen unit are named in ``conflict`` with
-the unit they fit (PNU 201: doors and extent say metres, its 20-unit storeys say otherwise), so
-nobody quietly gets 20 m storeys. :func:`unit_suspect` judges any unit, chosen or given by hand: when
+the unit they fit; a heavy kind (weight 2+) even when it fits none, a light one that fits no unit is
+only odd (PNU 201: doors and extent say metres, its 20-unit storeys fit no unit), so nobody quietly
+gets 20 m storeys. :func:`unit_suspect` judges any unit, chosen or given by hand: when
 most doors are absurd in it and fit another unit, ``pmk check`` names the unit before any door.
 """
 
@@ -34,8 +35,9 @@ from dataclasses import dataclass, field
 UNIT_SCALE: dict[str, float] = {"m": 1.0, "dm": 0.1, "cm": 0.01, "mm": 0.001}
 UNIT_CHOICES = ("auto", *UNIT_SCALE)
 UNIT_WORDS = {"m": "metres", "dm": "decimetres", "cm": "centimetres", "mm": "millimetres"}
-DOOR_RANGE = (0.6, 3.0)
+DOOR_RANGE = (0.5, 3.0)  # 0.5: narrow closet and toilet doors are real, and the check must name them
 MOSTLY = 0.5  # a kind agrees with a unit when more than half its items fit
+STRONG = 2  # a kind this heavy (door widths, cell heights, risers) is named even when it fits no unit
 SLACK = 1e-9  # 80 m² drawn in decimetres is 80.00000000001 m²: range ends are inclusive up to rounding
 
 
@@ -133,7 +135,7 @@ class UnitSuspect:
     better: str  # the unit the doors fit
     probable: bool  # the whole plan fits ``better`` better (else only the doors do: a doubt)
     door_width: float  # median door width in metres under ``unit``
-    doors_wrong: int  # doors outside 0.6-3 m under ``unit``
+    doors_wrong: int  # doors outside 0.5-3 m under ``unit``
     doors: int
     message: str  # plain words, with the fix (--unit)
 
@@ -188,7 +190,7 @@ def _conflict(evidence: UnitEvidence, unit: str) -> str:
         others = sorted((u for u in UNIT_SCALE if c.fits(u)), key=c.share, reverse=True)
         if others:
             against.append(f"{here}: they say {UNIT_WORDS[others[0]]} ({c.describe(others[0])})")
-        else:
+        elif c.weight >= STRONG:  # odd in every unit: worth saying for the sizes a building is made to
             sq = "²" if c.power == 2 else ""
             against.append(f"{here} and fit no unit (expected {c.low:g}-{c.high:g} m{sq})")
     if evidence.exporter is not None and evidence.exporter[0] != unit:
@@ -204,7 +206,7 @@ def _conflict(evidence: UnitEvidence, unit: str) -> str:
 
 
 def unit_suspect(evidence: UnitEvidence, unit: str) -> UnitSuspect | None:
-    """Is ``unit`` the fault behind absurd doors? A suspect when most doors fall outside 0.6-3 m in it
+    """Is ``unit`` the fault behind absurd doors? A suspect when most doors fall outside 0.5-3 m in it
     but fit another unit. *Probable* when that unit also scores higher overall (its rooms, heights and
     extent make sense too: a unit given by hand that is wrong); else a doubt worth naming before any
     door (the doors say one unit, the rest another)."""
@@ -218,7 +220,8 @@ def unit_suspect(evidence: UnitEvidence, unit: str) -> UnitSuspect | None:
     probable = evidence.score(better) > evidence.score(unit)
     n, wrong = len(doors.values), len(doors.values) - doors.agree(unit)
     width = doors.metres(unit)
-    who = "all doors are" if wrong == n else f"{wrong} of {n} doors are not 0.6-3 m wide; the median door is"
+    lo, hi = DOOR_RANGE
+    who = "all doors are" if wrong == n else f"{wrong} of {n} doors are not {lo:g}-{hi:g} m wide; the median door is"
     symptom = f"{who} {width:.2g} m wide in {UNIT_WORDS[unit]}"
     if probable:
         fits = "; ".join(c.describe(better) for c in evidence.clues() if c.fits(better))
