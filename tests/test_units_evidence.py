@@ -167,6 +167,18 @@ def test_a_named_writer_with_a_known_unit_is_evidence(tmp_path: Path) -> None:
     assert b.unit == "m" and "written by a CityGML-to-IndoorGML converter" in b.unit_reason
 
 
+@SPELLINGS
+def test_a_metric_projected_crs_says_metres(tmp_path: Path, v2: bool) -> None:
+    """Two 30 x 30 m halls: 900 m² rooms fit decimetres (9 m²) better, until srsName names UTM 32N."""
+    halls = _cell("A", (445000, 5444000, 445030, 5444030)) + _cell("B", (445030, 5444000, 445060, 5444030))
+    plain = read_building(_plan(tmp_path, halls, _graph([("A", "B")], v2=v2), v2=v2))
+    assert plain.unit == "dm"
+    utm = halls.replace("<gml:Polygon>", '<gml:Polygon srsName="urn:ogc:def:crs:EPSG::25832">', 1)
+    b = read_building(_plan(tmp_path, utm, _graph([("A", "B")], v2=v2), v2=v2))
+    assert b.unit == "m" and "drawn in urn:ogc:def:crs:EPSG::25832 (srsName), a projected CRS" in b.unit_reason
+    assert "the room areas are 900 m² in metres (0 of 1 fit): they say decimetres (room areas 9 m²)" in b.unit_conflict
+
+
 # choose_unit alone: a pure function of the evidence
 
 
@@ -184,9 +196,17 @@ def test_whole_wall_faces_do_not_outvote_rooms() -> None:
 
 
 def test_writer_outweighs_weak_evidence_and_a_disagreement_is_said() -> None:
-    ev = UnitEvidence(room_areas=[2000.0] * 3, extent=60.0, exporter=("m", "a CityGML-to-IndoorGML converter"))
+    ev = UnitEvidence(room_areas=[2000.0] * 3, extent=60.0, exporter=("m", "written by a CityGML converter"))
     choice = choose_unit(alma=False, alma_why="", evidence=ev)
     assert choice.unit == "m" and "room areas are 2e+03 m² in metres" in choice.conflict
+
+
+def test_strong_sizes_outweigh_a_named_writer_and_say_so() -> None:
+    ev = UnitEvidence(door_widths=[90.0] * 5, cell_heights=[250.0] * 4, room_areas=[2e5] * 4, extent=1000.0,
+                      exporter=("m", "written by a CityGML converter"))  # fmt: skip
+    choice = choose_unit(alma=False, alma_why="", evidence=ev)
+    assert choice.unit == "cm" and "score 8.0, next metres 6.0" in choice.reason
+    assert "the file is written by a CityGML converter, which means metres" in choice.conflict
 
 
 def test_a_unit_given_by_hand_that_makes_doors_absurd_is_the_suspect() -> None:

@@ -28,7 +28,7 @@ HEAD_BYTES = 8192  # writers name themselves in a comment at the top of the file
 # A writer named in the file whose unit is known. CityGML coordinates are in their CRS, metres in every
 # CityGML converter seen; a metric projected CRS in srsName says metres outright.
 EXPORTERS: tuple[tuple[re.Pattern[str], str, str], ...] = (
-    (re.compile(r"CityGML\s+to\s+IndoorGML", re.IGNORECASE), "m", "a CityGML-to-IndoorGML converter"),
+    (re.compile(r"CityGML\s+to\s+IndoorGML", re.IGNORECASE), "m", "written by a CityGML-to-IndoorGML converter"),
 )
 METRIC_CRS = re.compile(
     r"EPSG(?::|::|/0/|/)(?:326\d\d|327\d\d|258\d\d|3857|900913|2056|28992|3146[789]|5179|518[5-8]|5174)\b"
@@ -125,16 +125,16 @@ def stair_rise(polys: Sequence[PolygonZ]) -> float | None:
 
 
 def exporter(doc: RawDocument) -> tuple[str, str] | None:
-    """(unit, who) when the file names a writer whose unit is known, or a metric projected CRS."""
+    """(unit, what the file says) when it names a writer whose unit is known, or a metric projected CRS."""
     if doc.srs_name and METRIC_CRS.search(doc.srs_name):
-        return "m", f"its srsName {doc.srs_name} (a projected CRS in metres)"
+        return "m", f"drawn in {doc.srs_name} (srsName), a projected CRS in metres"
     try:
         with open(doc.path, "rb") as fh:
             head = fh.read(HEAD_BYTES).decode("utf-8", "replace")
     except OSError:
         return None
     comments = " ".join(re.findall(r"<!--(.*?)-->", head, re.DOTALL))
-    for pattern, unit, who in EXPORTERS:
+    for pattern, unit, said in EXPORTERS:
         if pattern.search(comments):
-            return unit, who
+            return unit, said
     return None

@@ -99,7 +99,7 @@ class UnitEvidence:
     storey_heights: list[float] = field(default_factory=list)
     stair_risers: list[float] = field(default_factory=list)
     passage_widths: list[float] = field(default_factory=list)  # faces a transition crosses
-    exporter: tuple[str, str] | None = None  # (unit, who says so) when the file names a known writer
+    exporter: tuple[str, str] | None = None  # (unit, what the file says: "written by ...") for a known writer
 
     def clues(self) -> list[Clue]:
         pos = lambda vs: tuple(v for v in vs if v > 0)  # noqa: E731 - 2D cells have no height
@@ -165,7 +165,7 @@ def choose_unit(*, alma: bool, alma_why: str, evidence: UnitEvidence) -> UnitCho
     unit = max(UNIT_SCALE, key=lambda u: (round(scores[u], 6), u == by_extent, u == "m"))
     said = [c.describe(unit) for c in clues if c.fits(unit)]
     if evidence.exporter is not None and evidence.exporter[0] == unit:
-        said.insert(0, f"written by {evidence.exporter[1]}")
+        said.insert(0, evidence.exporter[1])
     if not said:
         return UnitChoice(unit, f"auto: no size looks like a building in any unit; by the plan extent -> {unit}")
     runner = max((u for u in UNIT_SCALE if u != unit), key=lambda u: scores[u])
@@ -194,8 +194,7 @@ def _conflict(evidence: UnitEvidence, unit: str) -> str:
             sq = "²" if c.power == 2 else ""
             against.append(f"{here} and fit no unit (expected {c.low:g}-{c.high:g} m{sq})")
     if evidence.exporter is not None and evidence.exporter[0] != unit:
-        against.append(f"the file says it was written by {evidence.exporter[1]}, which writes "
-                       f"{UNIT_WORDS[evidence.exporter[0]]}")  # fmt: skip
+        against.append(f"the file is {evidence.exporter[1]}, which means {UNIT_WORDS[evidence.exporter[0]]}")
     if not against:
         return ""
     because = f" because of the {', '.join(agreeing)}" if agreeing else ""
