@@ -64,6 +64,7 @@ def chair_width_arg(given: float | None) -> float:
 
 
 def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
+    """The storeys' reports and the plan's Building (None for a written map: its rooms file says the rest)."""
     from pmk_nb.access.check import check_building, check_map
     from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
@@ -94,13 +95,14 @@ WINDOW_HINT = [
 ]
 
 
-def format_report(reports: list[Any], unit_conflict: str = "") -> list[str]:
-    """The text report: one summary line per storey, then each problem by name, then the transitions
+def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any = None) -> list[str]:
+    """The text report: the unit first when the doors are absurd in it (see units.unit_suspect: no door
+    is to blame then), one summary line per storey, then each problem by name, then the transitions
     it could not check (windows: a misjudged one hides a door, so they are named, not only counted)."""
     from pmk_nb.indoorgml.levels import RAISED
     from pmk_nb.raster.openings import SKIP_WINDOW
 
-    lines = []
+    lines = [f"suspect the unit first: {unit_suspect.message}"] if unit_suspect is not None else []
     for r in reports:
         lines.append(r.summary())
         lines.extend(f"  blocked: {k.describe()}" for k in r.blocked)
@@ -142,9 +144,11 @@ def run(args: argparse.Namespace) -> int:
     reports, building = _reports(args)
     code = exit_code(reports)
     conflict = building.unit_conflict if building is not None else ""
+    suspect = building.unit_suspect if building is not None else None
     if args.json:
         doc = {
             "ok": code == EXIT_OK, "exit_code": code, "unit_conflict": conflict,
+            "unit_suspect": None if suspect is None else asdict(suspect),
             "graph": None if building is None else building.graph_status.to_json(),
             "skipped_layers": [] if building is None else [asdict(n) for n in building.skipped_layers],
             "storeys": [r.to_json() for r in reports],
@@ -155,6 +159,6 @@ def run(args: argparse.Namespace) -> int:
         head = [] if building is None else [
             *graph_lines(building.graph_status.to_json()), *layer_lines([asdict(n) for n in building.skipped_layers])
         ]  # fmt: skip
-        print("\n".join(head + format_report(reports, conflict)))
+        print("\n".join(head + format_report(reports, conflict, suspect)))
         print(verdict(reports, code))
     return code

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
+    from pmk_nb.indoorgml.units import UnitSuspect
+
 
 class CellKind(str, Enum):
     """What a cell is for the wheelchair; decides free/occupied in the grid."""
@@ -172,6 +174,7 @@ class Building:
     unit_conflict: str = ""  # plain words when the unit evidence disagrees ('' when it agrees)
     skipped_layers: list[LayerNote] = field(default_factory=list)  # layers of the file not drawn, and why
     graph_status: GraphStatus = field(default_factory=GraphStatus)
+    unit_suspect: UnitSuspect | None = None  # the unit, not the doors, is the likely fault (a unit given by hand)
     _by_storey: tuple[tuple[int, int], dict[str | None, list[Boundary]]] | None = field(
         default=None, init=False, repr=False, compare=False
     )

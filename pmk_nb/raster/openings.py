@@ -38,6 +38,7 @@ from shapely import ops
 from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.doorface import door_face
+from pmk_nb.raster.nearby import Nearby
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -245,7 +246,7 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
         face = door_face(door.footprint, room.footprint, gap, ctx.max_gap + ctx.tol, ctx.tol)
         return _made(link, "door", _runs(face) if face.length > shared.length + 2 * ctx.tol else runs, a, b, gap, ctx)
     near = ctx.max_gap + ctx.tol
-    lines = _door_lines(link, shared, ctx.doors, near, ctx.tol)
+    lines = _door_lines(link, shared, ctx.near.doors_near(shared, near + ctx.tol), near, ctx.tol)
     if lines:
         segs = [s for run in runs for s in _project(run, [g for g in lines if run.distance(g) <= near])]
         if segs:
@@ -256,7 +257,7 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
             point = crossing.centroid
             run = min(runs, key=lambda r: r.distance(point))
             return _made(link, "line", [_window(run, run.project(point), ctx.door_width)], a, b, gap, ctx)
-    virtual = any(v.distance(shared) <= gap + ctx.tol for v in ctx.virtual)
+    virtual = bool(ctx.near.virtual_within(shared, gap + ctx.tol))
     if _corridor_like(a, b, virtual, ctx.walls_as_gaps, gap):
         return _made(link, "corridor", runs, a, b, gap, ctx)
     return _made(link, "middle", [_window(runs[0], runs[0].length / 2, ctx.door_width)], a, b, gap, ctx)
@@ -280,7 +281,7 @@ def _bridge(link: Link, a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening 
     if path is None:
         path = shapely.shortest_line(a.footprint, b.footprint)
     lane = shapely.buffer(path, ctx.door_width / 2, cap_style="flat")
-    if any(shapely.intersection(lane, c).area > ctx.tol * ctx.door_width for c in ctx.others(a, b)):
+    if any(shapely.intersection(lane, c).area > ctx.tol * ctx.door_width for c in ctx.near.others(a, b, lane)):
         return None
     mid = path.interpolate(0.5, normalized=True)
     xy = shapely.get_coordinates(path)
@@ -299,10 +300,7 @@ class _Context:
     max_gap: float
     tol: float
     walls_as_gaps: bool
-    cells: tuple[Cell, ...] = ()
-
-    def others(self, a: Cell, b: Cell) -> list[BaseGeometry]:
-        return [c.footprint for c in self.cells if c.id not in (a.id, b.id)]
+    near: Nearby  # the doors, virtual boundaries and cells near a link (R-trees: linear, not quadratic)
 
 
 def plan_openings(
@@ -320,7 +318,8 @@ def plan_openings(
     virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
     gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
     walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
-    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, tuple(cells.values()))
+    near = Nearby(list(cells.values()), doors, virtual)
+    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, near)
     openings = [_opening(k, cells, ctx) for k in links]
     graph = _Graph.of(cells, links)
     shut = _shut(doors, graph, max_gap)
