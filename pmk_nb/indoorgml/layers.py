@@ -79,7 +79,7 @@ def _no_cells(doc: RawDocument, by_layer: dict[str, list[KeptCell]]) -> list[Lay
     for st in doc.states:
         states[st.layer] += 1
     return [
-        LayerNote(layer.id, 0, f"no cell with a footprint ({states[layer.id]} states of its own)", layer.name)
+        LayerNote(layer.id, 0, f"no cell with a footprint (a graph of {states[layer.id]} states)", layer.name)
         for layer in doc.layers
         if layer.kind_name in ("spacelayer", "primalspacelayer") and layer.id not in by_layer
     ]

@@ -65,7 +65,8 @@ def layer_lines(skipped: list[dict[str, Any]]) -> list[str]:
     """The layers not drawn and why (``pmk info``, ``pmk convert``); ``--layer`` draws one on request."""
     if not skipped:
         return []
-    lines = [f"  layers not drawn ({len(skipped)}; pmk convert --layer NAME draws one):"]
+    hint = "; pmk convert --layer NAME draws one" if any(note["cells"] for note in skipped) else ""
+    lines = [f"  layers not drawn ({len(skipped)}{hint}):"]
     for note in skipped:
         label = f"{note['id']} ({note['name']})" if note["name"] and note["name"] != note["id"] else note["id"]
         lines.append(f"    - {label}, {note['cells']} cells: {note['reason']}")
