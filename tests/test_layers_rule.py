@@ -19,7 +19,7 @@ from pmk_nb.errors import UnknownLayer
 from pmk_nb.grid import FREE, OCCUPIED
 from pmk_nb.indoorgml import read_building
 from pmk_nb.raster.storey import rasterise_storey
-from tests.test_access_rules import NS, RES, _cell
+from tests.test_access_rules import NS, RES, _cell, _solid
 
 ROOMS = _cell("A", (0, 0, 5, 4)) + _cell("B", (5, 0, 10, 4))
 # Wi-Fi zones: cross room A at x = 4 and reach 8 m outside the building (43 % inside it: the old
@@ -96,6 +96,9 @@ CASES = [
     pytest.param(True, False, "", id="2.0-graph-connects-rooms-only"),
     pytest.param(True, True, "Virtual", id="2.0-theme-Virtual"),
     pytest.param(True, True, "other: WiFiCoverage", id="2.0-theme-other"),
+    # a graph of its own and no words: its cells straddle the rooms' walls, as no room or wing does
+    pytest.param(False, True, "", id="1.x-own-graph-no-words"),
+    pytest.param(True, True, "", id="2.0-own-graph-no-words"),
 ]
 
 
@@ -112,7 +115,8 @@ def test_a_thematic_layer_makes_no_floor_and_no_walls(tmp_path: Path, v2: bool, 
     assert grid.value_at(*OUTSIDE) != FREE  # no floor where the zones reach outside
     [note] = b.skipped_layers
     assert (note.id, note.cells) == (_zone_layer(v2), 2)
-    assert ("graph connects none" in note.reason) if not zone_graph else (words in note.reason)
+    # said, and by the evidence that decided
+    assert ("graph connects none" in note.reason) if not zone_graph else ((words or "partly outside") in note.reason)
 
 
 @pytest.mark.parametrize(("v2", "zone_graph", "words"), CASES)
@@ -188,3 +192,15 @@ def test_the_layer_choice_is_kept_in_the_rooms_files_and_the_maps_screen_lists_l
     [gm] = maps.convert(entry.name, 0.1, unit="m", layers=["L2"])
     doc = sidecar_doc(gm.yaml)
     assert read_choices(doc) == ConvertChoices("m", (), ("L2",)) and {r["id"] for r in doc["rooms"]} == {"W1", "W2"}
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.x", "2.0"])
+def test_storeys_drawn_as_layers_of_their_own_are_all_drawn(tmp_path: Path, v2: bool) -> None:
+    """Two layers over the same ground at different heights are two storeys, not a repeat of one."""
+    lower = _solid("A", (0, 0, 5, 4), 0, 3) + _solid("B", (5, 0, 10, 4), 0, 3)
+    upper = _solid("W1", (0, 0, 4, 4), 3, 6) + _solid("W2", (4, 0, 10, 4), 3, 6)
+    path = _layered_plan(tmp_path, v2=v2, zone_graph=True, zone_words="", zones=(upper, ["W1", "W2"]))
+    path.write_text(path.read_text().replace(ROOMS, lower))
+    b = read_building(path, unit="m")
+    assert sorted(b.cells) == ["A", "B", "W1", "W2"] and b.skipped_layers == []
+    assert len(b.storeys) == 2 and sorted(len(s.cell_ids) for s in b.storeys) == [2, 2]

@@ -135,13 +135,3 @@ def continues_door(line: BaseGeometry, doors: list[BaseGeometry]) -> bool:
         if abs(u[0] * v[0] + u[1] * v[1]) > _COS3 and off_line <= eps:
             return True
     return False
-
-
-def overlap_fraction(candidate: list[BaseGeometry], base: list[BaseGeometry]) -> float:
-    """Share of ``candidate``'s area already covered by ``base`` (0 when either is empty)."""
-    if not candidate or not base:
-        return 0.0
-    a = shapely.union_all(candidate)
-    if a.area <= 0:
-        return 0.0
-    return float(a.intersection(shapely.union_all(base)).area / a.area)

@@ -12,8 +12,9 @@ from collections import defaultdict
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import shapely
+
 from pmk_nb.errors import IndoorGMLError, UnknownLayer
-from pmk_nb.indoorgml import doors as doorlib
 from pmk_nb.indoorgml.footprint import Footprint, cell_footprints
 from pmk_nb.indoorgml.graph import linked_pairs
 from pmk_nb.indoorgml.model import LayerNote
@@ -113,6 +114,33 @@ def _name(doc: RawDocument, lid: str) -> str:
     return info.name if info else ""
 
 
+def _same_level(a: Footprint, b: Footprint) -> bool:
+    """Two cells at the same height (a 2D plan, or z unknown: yes): storeys drawn as layers of their own
+    cover the same ground and must not be taken for repeats of each other."""
+    if None in (a.z_min, a.z_max, b.z_min, b.z_max):
+        return True
+    ha, hb = a.z_max - a.z_min, b.z_max - b.z_min
+    shared = min(a.z_max, b.z_max) - max(a.z_min, b.z_min)
+    return shared > 0.25 * min(ha, hb) if min(ha, hb) > 0 else shared >= -1e-9 * (1 + abs(a.z_min))
+
+
+def _inside(cells: list[KeptCell], base: list[KeptCell]) -> tuple[float, int]:
+    """Share of ``cells``' area inside ``base`` cells at the same height, and how many of ``cells`` lie
+    partly inside and partly outside (5-95 %): a zone across rooms, as a room or a wing never does."""
+    if not cells or not base:
+        return 0.0, 0
+    tree = shapely.STRtree([b.fp.geometry for b in base])
+    total = inside = 0.0
+    straddling = 0
+    for c in cells:
+        area = c.fp.geometry.area
+        near = [base[i].fp.geometry for i in tree.query(c.fp.geometry) if _same_level(c.fp, base[i].fp)]
+        part = c.fp.geometry.intersection(shapely.union_all(near)).area if near and area > 0 else 0.0
+        total, inside = total + area, inside + part
+        straddling += 0.05 < part / area < 0.95 if area > 0 else 0
+    return (inside / total if total > 0 else 0.0), straddling
+
+
 def _note(
     lid: str, cells: list[KeptCell], reason: str, doc: RawDocument, notes: list[LayerNote], warnings: list[str]
 ) -> None:
@@ -159,7 +187,7 @@ def select_layers(
     words = {lid: _words(info[lid], info) for lid in order}
     primary = min(order, key=lambda lid: (bool(words[lid][1]), not joined[lid], not words[lid][0], order.index(lid)))
     kept = {primary, ""}
-    base = [c.fp.geometry for c in by_layer[primary] + by_layer.get("", []) if c.fp.geometry is not None]
+    base = by_layer[primary] + by_layer.get("", [])
     for lid in order:
         if lid == primary:
             continue
@@ -172,13 +200,16 @@ def select_layers(
             reason = (f"the navigation graph connects none of its cells (it connects {joined[primary]} cells "
                       f"of layer {primary!r}, which is drawn)")  # fmt: skip
         else:
-            geoms = [c.fp.geometry for c in by_layer[lid] if c.fp.geometry is not None]
-            share = doorlib.overlap_fraction(geoms, base)
-            if share <= 0.5:
+            share, straddling = _inside(by_layer[lid], base)
+            if share > 0.5:
+                reason = f"{share:.0%} of it lies inside layer {primary!r}: it repeats or subdivides it"
+            elif 2 * straddling > len(by_layer[lid]):
+                reason = (f"{straddling} of its {len(by_layer[lid])} cells lie partly inside the rooms of layer "
+                          f"{primary!r} and partly outside them: zones over the building, not rooms")  # fmt: skip
+            else:
                 kept.add(lid)
-                base.extend(geoms)
+                base = base + by_layer[lid]
                 continue
-            reason = f"{share:.0%} of it lies inside layer {primary!r}: it repeats or subdivides it"
         _note(lid, by_layer[lid], reason, doc, notes, warnings)
     return [c for c in cells if c.layer in kept], notes
 
