@@ -1,8 +1,13 @@
-"""Which cells a building is made of: those with a footprint, from the layer(s) that hold the geometry.
+"""Which cells a building is made of: those with a footprint, from the navigable layer only.
 
-Files often carry several SpaceLayers describing the same space (a topographic layer plus a
-navigation layer subdividing it); counting both would double every room, so only the geometry
-layer(s) are kept (ALMA style: layer ``L1`` or the TOPOGRAPHIC/geometry one).
+Files carry several space layers: the navigable primal space, and thematic ones (light zones, sensor or
+Wi-Fi coverage, installations) whose cells overlap the rooms and reach outside the building, or a
+layer subdividing the rooms. Drawn, a thematic layer's cells would be floor outside and its outlines
+walls across rooms; a subdivision would double every room. The navigable layer is the one whose cells
+the navigation graph connects; the layers' own words (1.x class/usage/function, 2.0 ThematicLayer
+theme) and how their cells lie over the drawn rooms decide the rest. Every layer not drawn gets a
+:class:`~pmk_nb.indoorgml.model.LayerNote`; ``--layer`` draws others on request. ALMA style: layer
+``L1`` or the TOPOGRAPHIC/geometry one.
 """
 
 from __future__ import annotations
