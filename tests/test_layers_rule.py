@@ -204,3 +204,12 @@ def test_storeys_drawn_as_layers_of_their_own_are_all_drawn(tmp_path: Path, v2: 
     b = read_building(path, unit="m")
     assert sorted(b.cells) == ["A", "B", "W1", "W2"] and b.skipped_layers == []
     assert len(b.storeys) == 2 and sorted(len(s.cell_ids) for s in b.storeys) == [2, 2]
+
+
+def test_pmk_convert_says_which_layers_it_did_not_draw(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _layered_plan(tmp_path, v2=True, zone_graph=True, zone_words="Virtual")
+    out = tmp_path / "maps"
+    assert main(["convert", str(path), "-r", "0.1", "--out", str(out), "--no-progress", "--unit", "m"]) == 0
+    text = capsys.readouterr().out
+    assert "layers not drawn (1; pmk convert --layer NAME draws one)" in text and "- PL2, 2 cells: " in text
+    assert "theme Virtual" in text
