@@ -159,7 +159,7 @@ class AccessPanel:
             conflict = conflict or (doc or {}).get("unit_conflict", "")
             layers = layers or (doc or {}).get("skipped_layers") or []
             report = (doc or {}).get("accessibility") or {}
-            if doc is not None and not report.get("ok", True):
+            if doc is not None and not report.get("ok", True) and report.get("checked", True):  # problems to mark
                 png = marked_preview(gm, doc)
                 if png is not None:
                     img = w.Image(value=png, format="png", layout=w.Layout(max_width="100%", height="auto"))
