@@ -40,6 +40,7 @@ from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.doorface import door_face
 from pmk_nb.raster.doorslide import DEFAULT_INSET, place
+from pmk_nb.raster.outside import outer_guesses
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -321,6 +322,10 @@ def plan_openings(
     shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
         shut += [d for d in doors if d.evidence == "duality" and d not in shut]
+    crossing = [k.line for k in building.links if k.line is not None and storey in k.storeys]
+    shut += [
+        d for d in outer_guesses(doors, [c.footprint for c in cells.values()], crossing, max_gap + tol) if d not in shut
+    ]
     skipped = tuple(_skipped(k, cells) for k in not_free)
     return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)), skipped)
 
