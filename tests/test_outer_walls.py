@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.grid import FREE, OCCUPIED
-from tests.test_access_rules import ROOMS, _boundary, _graph, _grid_and_report, _plan
+from tests.test_access_rules import ROOMS, _boundary, _cell, _graph, _grid_and_report, _plan
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 SPOT = ((1.5, 0.0), (2.7, 0.0))  # 1.2 m of A's 5 m outer wall
@@ -65,3 +65,14 @@ def test_a_window_between_two_linked_rooms_is_not_their_door(tmp_path: Path, v2:
     _, grid, report = _grid_and_report(_plan(tmp_path, ROOMS, graph, window, v2=v2))
     assert grid.value_at(5.0, 1.0) == FREE and grid.value_at(5.0, 3.2) == OCCUPIED
     assert [k.rule for k in report.links] == ["line"]
+
+
+@V
+def test_a_short_boundary_across_a_wall_left_out_is_still_a_door(tmp_path: Path, v2: bool) -> None:
+    """Guard (PNU 313): walls drawn as 0.6 m gaps, no graph; a bare short line on A's edge faces B across
+    the gap, so it is an inner door, not an outer wall: it still opens."""
+    rooms = _cell("A", (0, 0, 5, 4)) + _cell("B", (5.6, 0, 10.6, 4))
+    door = _boundary("D1", ((5.0, 1.5), (5.0, 2.5)))
+    _, grid, _ = _grid_and_report(_plan(tmp_path, rooms, "", door, v2=v2))
+    assert [grid.value_at(x, 2.0) for x in (4.95, 5.3, 5.65)] == [FREE] * 3
+    assert grid.value_at(5.3, 0.5) == OCCUPIED and grid.value_at(5.3, 3.5) == OCCUPIED  # the gap is wall

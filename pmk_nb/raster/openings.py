@@ -41,6 +41,7 @@ from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.doorface import door_face
 from pmk_nb.raster.doorslide import DEFAULT_INSET, place
 from pmk_nb.raster.outside import outer_guesses
+from pmk_nb.raster.thickness import MIN_WALL
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -323,9 +324,8 @@ def plan_openings(
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
         shut += [d for d in doors if d.evidence == "duality" and d not in shut]
     crossing = [k.line for k in building.links if k.line is not None and storey in k.storeys]
-    shut += [
-        d for d in outer_guesses(doors, [c.footprint for c in cells.values()], crossing, max_gap + tol) if d not in shut
-    ]
+    reach = max(MIN_WALL, max_gap) + tol  # a cell across the thickest wall faces the door: not the outside
+    shut += [d for d in outer_guesses(doors, [c.footprint for c in cells.values()], crossing, reach) if d not in shut]
     skipped = tuple(_skipped(k, cells) for k in not_free)
     return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)), skipped)
 

@@ -4,7 +4,7 @@ A bare boundary shorter than its wall is taken for a door (``partial`` evidence:
 doors so), but on an outer wall the same short line is as often a window: FZK-like exports write
 floor-to-ceiling windows as short boundaries, and opening them joins a room to the outside, which a
 planner that takes unknown for passable drives into. Only the graph or a door decides there: a
-guessed door with a cell on one side only (nothing within ``reach`` on the other) stays wall
+guessed door with a cell on one side only (nothing within ``reach``, the thickest wall, on the other) stays wall
 unless a transition's line crosses it; a door by type (Connection/AnchorBoundary: an entrance) or by
 name, or a transition dual to the boundary, still opens.
 """
