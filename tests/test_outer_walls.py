@@ -76,3 +76,16 @@ def test_a_short_boundary_across_a_wall_left_out_is_still_a_door(tmp_path: Path,
     _, grid, _ = _grid_and_report(_plan(tmp_path, rooms, "", door, v2=v2))
     assert [grid.value_at(x, 2.0) for x in (4.95, 5.3, 5.65)] == [FREE] * 3
     assert grid.value_at(5.3, 0.5) == OCCUPIED and grid.value_at(5.3, 3.5) == OCCUPIED  # the gap is wall
+
+
+@V
+def test_a_transition_passing_by_does_not_open_an_outer_guess(tmp_path: Path, v2: bool) -> None:
+    """The A-B transition runs 0.4 m inside the outer wall, past the 1.2 m bare line: it does not cross it,
+    so the line stays wall; one that goes out through it (to a state outside) opens it."""
+    past = _graph([("A", "B")], {0: "1.0 0.4 9.0 0.4"}, v2=v2)
+    _, grid, _ = _grid_and_report(_plan(tmp_path, ROOMS, past, _boundary("X1", SPOT), v2=v2))
+    assert [grid.value_at(x, -0.025) for x in (1.7, 2.1, 2.5)] == [OCCUPIED] * 3
+    out = _graph([("A", "B")], {0: "2.1 -1.0 2.1 2.0 7.5 2.0"}, v2=v2)
+    (tmp_path / "out").mkdir()
+    _, grid, _ = _grid_and_report(_plan(tmp_path / "out", ROOMS, out, _boundary("X1", SPOT), v2=v2))
+    assert [grid.value_at(x, 0.0) for x in (1.7, 2.1, 2.5)] == [FREE] * 3

@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Boundary
 
 GUESSED = frozenset({"partial"})  # door evidence that is only a guess from the geometry
+CROSS = 0.05  # metres: a transition's line this close to a door line goes through it (not one passing by)
 
 
 def outer_guesses(
@@ -38,8 +39,8 @@ def outer_guesses(
     for door in guessed:
         if all(_faces_a_cell(door.geometry, side * reach, tree, cells) for side in (1.0, -1.0)):
             continue  # a cell on each side: between rooms, the graph and the seams decide
-        if lines is not None and len(lines.query(door.geometry, predicate="dwithin", distance=reach)):
-            continue  # a transition goes through it
+        if lines is not None and len(lines.query(door.geometry, predicate="dwithin", distance=CROSS)):
+            continue  # a transition goes through it (or ends on it, at a door's state)
         out.append(door)
     return out
 
