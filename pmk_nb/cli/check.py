@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -52,7 +53,8 @@ def chair_width_arg(given: float | None) -> float:
     return profile_chair_width(given, profile)
 
 
-def _reports(args: argparse.Namespace) -> tuple[list[Any], str]:
+def _reports(args: argparse.Namespace) -> tuple[list[Any], str, Any]:
+    """The storeys' reports, the unit conflict and the unit suspect (a plan's; a written map has none)."""
     from pmk_nb.access.check import check_building, check_map
     from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
@@ -66,12 +68,13 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], str]:
         if args.not_windows:
             raise PmkError(f"{target}: --not-window applies to a plan (.gml), not to a written map",
                            hint="Convert the plan again with --not-window, then check the new map.")  # fmt: skip
-        return [check_map(target, chair_width=width)], ""
+        return [check_map(target, chair_width=width)], "", None
     from pmk_nb.indoorgml import read_building
 
     building = read_building(target, unit=args.unit, not_windows=args.not_windows)
     door = DEFAULT_DOOR_WIDTH if args.door_width is None else args.door_width
-    return check_building(building, args.resolution, chair_width=width, door_width=door), building.unit_conflict
+    reports = check_building(building, args.resolution, chair_width=width, door_width=door)
+    return reports, building.unit_conflict, building.unit_suspect
 
 
 MAX_NOT_CHECKED = 10  # transitions named per storey; the rest are counted
@@ -82,13 +85,14 @@ WINDOW_HINT = [
 ]
 
 
-def format_report(reports: list[Any], unit_conflict: str = "") -> list[str]:
-    """The text report: one summary line per storey, then each problem by name, then the transitions
+def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any = None) -> list[str]:
+    """The text report: the unit first when the doors are absurd in it (see units.unit_suspect: no door
+    is to blame then), one summary line per storey, then each problem by name, then the transitions
     it could not check (windows: a misjudged one hides a door, so they are named, not only counted)."""
     from pmk_nb.indoorgml.levels import RAISED
     from pmk_nb.raster.openings import SKIP_WINDOW
 
-    lines = []
+    lines = [f"suspect the unit first: {unit_suspect.message}"] if unit_suspect is not None else []
     for r in reports:
         lines.append(r.summary())
         lines.extend(f"  blocked: {k.describe()}" for k in r.blocked)
@@ -106,14 +110,15 @@ def format_report(reports: list[Any], unit_conflict: str = "") -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    reports, conflict = _reports(args)
+    reports, conflict, suspect = _reports(args)
     ok = all(r.ok for r in reports)
     if args.json:
-        doc = {"ok": ok, "unit_conflict": conflict, "storeys": [r.to_json() for r in reports]}
+        doc = {"ok": ok, "unit_conflict": conflict, "unit_suspect": None if suspect is None else asdict(suspect),
+               "storeys": [r.to_json() for r in reports]}  # fmt: skip
         json.dump(doc, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
     else:
-        print("\n".join(format_report(reports, conflict)))
+        print("\n".join(format_report(reports, conflict, suspect)))
         skipped = sum(len(r.not_checked) for r in reports)
         said = f"every transition checked ({skipped} not checked, above)" if skipped else "everywhere the graph says"
         print(f"ok: the chair can pass {said}" if ok else "problems found")

@@ -138,6 +138,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"    accessibility: {m.access.summary().split(': ', 1)[1]}")
     if building.unit_conflict:
         print(f"  unit warning: {building.unit_conflict} (--unit m|dm|cm|mm)")
+    if building.unit_suspect is not None:  # absurd doors: the unit before any door
+        print(f"  unit suspect: {building.unit_suspect.message}")
     problems = [m for m in result.maps if m.access is not None and (not m.access.ok or m.access.not_checked)]
     if problems:
         print(f"  details: pmk check {result.maps[0].files.yaml.parent}/<map>.yaml  (or pmk check {path})")

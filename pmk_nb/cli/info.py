@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import asdict
 from typing import Any
 
 from pmk_nb.cli.convert import add_not_window_option
@@ -48,6 +49,7 @@ def connectivity(building: Any) -> dict[str, Any]:
         "rules_by_storey": per_storey,
         "doors_without_transition": shut,
         "unit_conflict": building.unit_conflict,
+        "unit_suspect": None if building.unit_suspect is None else asdict(building.unit_suspect),
     }
 
 
@@ -63,6 +65,8 @@ def format_connectivity(c: dict[str, Any]) -> list[str]:
     ]
     if c["doors_without_transition"]:
         lines.append(f"    {c['doors_without_transition']} door boundaries join cells with no transition: kept shut")
+    if c["unit_suspect"]:
+        lines.append(f"  UNIT SUSPECT: {c['unit_suspect']['message']}")
     if c["unit_conflict"]:
         lines.append(f"  UNIT WARNING: {c['unit_conflict']} (pmk convert --unit m|dm|cm|mm)")
     return lines

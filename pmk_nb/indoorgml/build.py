@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections import defaultdict
 from collections.abc import Sequence
 
@@ -19,7 +18,8 @@ from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised
 from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, NavGraph, State, Storey, Transition
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
-from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit
+from pmk_nb.indoorgml.unit_evidence import gather
+from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit, unit_suspect
 
 MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
 
@@ -91,7 +91,7 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
     kinds = _kinds(cells, bool(alma), warnings)
     bfps = _classify_boundaries(doc, cells, warnings)
-    choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
+    choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, bfps))
     unit, reason = choice.unit, choice.reason
     s = UNIT_SCALE[unit]
     plan = plan_storeys(
@@ -122,7 +122,7 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
         unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
         graph=graph, georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
-        warnings=warnings, links=links, unit_conflict=choice.conflict,
+        warnings=warnings, links=links, unit_conflict=choice.conflict, unit_suspect=choice.suspect,
     )  # fmt: skip
 
 
@@ -219,40 +219,6 @@ def _round(z: float | None) -> float | None:
     return None if z is None else round(z, 6)
 
 
-def _door_widths(
-    bfps: dict[str, tuple[Footprint, str]], cells: list[KeptCell], kinds: dict[str, CellKind]
-) -> list[float]:
-    """Widths of door lines and door cells in file units: the evidence for the unit guess."""
-    widths = [
-        fp.geometry.length
-        for fp, d in bfps.values()
-        if d and fp.geometry is not None and fp.geometry.geom_type == "LineString"
-    ]
-    for c in cells:
-        if kinds[c.raw.id] in (CellKind.CONNECTION, CellKind.ANCHOR) and c.fp.geometry is not None:
-            xy = shapely.get_coordinates(c.fp.geometry.minimum_rotated_rectangle)
-            sides = [math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1))]
-            if sides:
-                widths.append(max(sides))
-    return widths
-
-
-def _evidence(cells: list[KeptCell], kinds: dict[str, CellKind], door_widths: list[float]) -> UnitEvidence:
-    """Sizes in file units that say which unit the file uses (see :mod:`pmk_nb.indoorgml.units`)."""
-    minx, miny, maxx, maxy = shapely.total_bounds([c.fp.geometry for c in cells]).tolist()
-    big = sorted(cells, key=lambda c: c.fp.geometry.area)[len(cells) // 2 :]  # rooms, not windows or doors
-    big_ids = {c.raw.id for c in big}  # by id: comparing the records themselves made this O(cells²)
-    heights = [c.fp.z_max - c.fp.z_min for c in big if c.fp.z_min is not None and c.fp.z_max is not None]
-    corridors, areas = [], []
-    for c in cells:
-        kind = kinds[c.raw.id]
-        if kind is CellKind.TRANSITION and c.fp.geometry.length > 0:
-            corridors.append(2 * c.fp.geometry.area / c.fp.geometry.length)  # mean width of a long shape
-        elif kind.is_free and not kind.is_door and c.raw.id in big_ids:
-            areas.append(c.fp.geometry.area)
-    return UnitEvidence(door_widths, heights, corridors, areas, max(maxx - minx, maxy - miny))
-
-
 def _choose_unit(
     doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence
 ) -> UnitChoice:
@@ -261,7 +227,7 @@ def _choose_unit(
     if unit == "auto":
         choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
     elif unit in UNIT_SCALE:
-        choice = UnitChoice(unit, f"given: {unit}")
+        choice = UnitChoice(unit, f"given: {unit}", suspect=unit_suspect(evidence, unit))
     else:
         raise IndoorGMLError(
             f"{doc.path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}", path=str(doc.path)

@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
+    from pmk_nb.indoorgml.units import UnitSuspect
+
 
 class CellKind(str, Enum):
     """What a cell is for the wheelchair; decides free/occupied in the grid."""
@@ -134,6 +136,7 @@ class Building:
     warnings: list[str] = field(default_factory=list)
     links: list[Link] = field(default_factory=list)  # transitions between kept cells, one per pair
     unit_conflict: str = ""  # plain words when the unit evidence disagrees ('' when it agrees)
+    unit_suspect: UnitSuspect | None = None  # the unit, not the doors, is the likely fault (a unit given by hand)
     _by_storey: tuple[tuple[int, int], dict[str | None, list[Boundary]]] | None = field(
         default=None, init=False, repr=False, compare=False
     )

@@ -17,7 +17,7 @@ import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import TYPE_CHECKING, Any
 
 from pmk_nb.access.check import check_chair_width, check_grid
 from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport
@@ -118,14 +118,6 @@ def _wanted_storeys(building: Building, storeys: Sequence[str] | None) -> list[s
     return wanted
 
 
-def _copy_of(path: Path) -> Content:
-    def write(out: BinaryIO) -> None:
-        with path.open("rb") as inp:
-            shutil.copyfileobj(inp, out, 1 << 20)
-
-    return write
-
-
 def _stage_storeys(
     building: Building,
     wanted: list[str],
@@ -174,12 +166,13 @@ def _stage_storeys(
 
 
 def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
-    """Move the staged files into ``out_dir`` (images and previews first, YAMLs last)."""
+    """Move the staged files into ``out_dir`` (images and previews first, YAMLs last): renamed, as the
+    staging folder lies inside ``out_dir`` (a copy of a 100 M-cell map cost 0.9 s)."""
     from pmk_nb.rosmap.files import MapFiles
 
     data = [p for m in staged for p in (m.files.image, m.files.preview, m.rooms) if p is not None]
     yamls = [m.files.yaml for m in staged]
-    contents = [(p.name, _copy_of(p)) for p in data + yamls]
+    contents: list[tuple[str, Content]] = [(p.name, p) for p in data + yamls]  # moved, not copied
     try:
         replace_all(out_dir, contents)
     except OSError as err:

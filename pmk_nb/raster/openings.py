@@ -40,6 +40,7 @@ from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.doorface import door_face
 from pmk_nb.raster.doorslide import DEFAULT_INSET, place
+from pmk_nb.raster.nearby import Nearby
 from pmk_nb.raster.outside import outer_guesses
 from pmk_nb.raster.thickness import MIN_WALL
 
@@ -241,7 +242,7 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
         face = door_face(door.footprint, room.footprint, gap, ctx.max_gap + ctx.tol, ctx.tol)
         return _made(link, "door", _runs(face) if face.length > shared.length + 2 * ctx.tol else runs, a, b, gap, ctx)
     near = ctx.max_gap + ctx.tol
-    lines = _door_lines(link, shared, ctx.doors, near, ctx.tol)
+    lines = _door_lines(link, shared, ctx.near.doors_near(shared, near + ctx.tol), near, ctx.tol)
     if lines:
         segs = [s for run in runs for s in _project(run, [g for g in lines if run.distance(g) <= near])]
         if segs:
@@ -251,7 +252,7 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
         if not crossing.is_empty:
             point = crossing.centroid
             return _made(link, "line", [place(runs, ctx.door_width, ctx.inset, point)], a, b, gap, ctx)
-    virtual = any(v.distance(shared) <= gap + ctx.tol for v in ctx.virtual)
+    virtual = bool(ctx.near.virtual_within(shared, gap + ctx.tol))
     if _corridor_like(a, b, virtual, ctx.walls_as_gaps, gap):
         return _made(link, "corridor", runs, a, b, gap, ctx)
     return _made(link, "middle", [place(runs, ctx.door_width, ctx.inset)], a, b, gap, ctx)
@@ -275,7 +276,7 @@ def _bridge(link: Link, a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening 
     if path is None:
         path = shapely.shortest_line(a.footprint, b.footprint)
     lane = shapely.buffer(path, ctx.door_width / 2, cap_style="flat")
-    if any(shapely.intersection(lane, c).area > ctx.tol * ctx.door_width for c in ctx.others(a, b)):
+    if any(shapely.intersection(lane, c).area > ctx.tol * ctx.door_width for c in ctx.near.others(a, b, lane)):
         return None
     mid = path.interpolate(0.5, normalized=True)
     xy = shapely.get_coordinates(path)
@@ -294,11 +295,8 @@ class _Context:
     max_gap: float
     tol: float
     walls_as_gaps: bool
-    cells: tuple[Cell, ...] = ()
+    near: Nearby  # the doors, virtual boundaries and cells near a link (R-trees: linear, not quadratic)
     inset: float = DEFAULT_INSET
-
-    def others(self, a: Cell, b: Cell) -> list[BaseGeometry]:
-        return [c.footprint for c in self.cells if c.id not in (a.id, b.id)]
 
 
 def plan_openings(
@@ -317,7 +315,8 @@ def plan_openings(
     virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
     gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
     walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
-    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, tuple(cells.values()), inset)
+    near = Nearby(list(cells.values()), doors, virtual)
+    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, near, inset)
     openings = [_opening(k, cells, ctx) for k in links]
     graph = _Graph.of(cells, links)
     shut = _shut(doors, graph, max_gap)
