@@ -58,6 +58,14 @@ def test_a_bare_short_boundary_facing_the_outside_stays_wall_a_door_by_type_open
 
 
 @V
+@pytest.mark.parametrize("name", ["Main entrance", "Eingang Nord", "정문 입구"], ids=["en", "de", "ko"])
+def test_a_bare_line_named_entrance_on_the_outer_wall_opens(tmp_path: Path, v2: bool, name: str) -> None:
+    """An entrance by name is a door's word, not a guess from the length: it stays open on the outer wall."""
+    wall = _outer_wall(tmp_path, _labelled("E1", name=name), v2)
+    assert wall.count(FREE) == len(wall), wall
+
+
+@V
 def test_a_window_between_two_linked_rooms_is_not_their_door(tmp_path: Path, v2: bool) -> None:
     """An inner window (x = 5, y 2.6-3.8) is no door evidence: the link opens by its own line instead."""
     window = _labelled("W1", name="window").replace("1.5 0.0 2.7 0.0", "5 2.6 5 3.8")
