@@ -53,7 +53,8 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--wall-thickness", type=float, default=0.10, help="wall band in metres (default 0.10)")
     p.add_argument(
         "--max-wall-gap", type=float, default=0.5, metavar="M",
-        help="gaps between cells up to M metres wide are walls the file left out: occupied (default 0.5, 0 = off)",
+        help="walls the file left out as gaps: a door or transition opens one up to M metres wide; a gap no"
+        " transition crosses is wall up to the thickest wall, at least max(M, 1 m) (default 0.5, 0 = off)",
     )  # fmt: skip
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")

@@ -189,15 +189,16 @@ def _classify_boundaries(
         if owners.get(rb.id) and not owners[rb.id] & kept:
             dropped += 1
             continue
+        dual = rb.id in trans_dual or (rb.duality in trans_ids if rb.duality else False)
         if rb.kind_name in doorlib.DOOR_TYPES:
             evidence = "type"
-        elif doorlib.says_door(rb.id, rb.name, rb.description):
-            evidence = "name"
+        elif (said := doorlib.named_evidence(dual, rb.kind_name, rb.id, rb.name, rb.description)) is not None:
+            evidence = said  # a door by name; a window is wall unless a transition crosses it
         elif fp.geometry is not None and doorlib.partial_edge(
             fp.geometry, doorlib.near(cell_tree, cell_geoms, fp.geometry)
         ):
             evidence = "partial"
-        elif rb.id in trans_dual or (rb.duality in trans_ids if rb.duality else False):
+        elif dual:
             evidence = "duality"  # the face a transition crosses: may be a whole wall, not a door
         else:
             evidence = ""

@@ -1,10 +1,11 @@
 """Which boundaries are doors, and which layers carry the building's geometry.
 
 Doors, in order of evidence: a navi ConnectionBoundary/AnchorBoundary/NavigableBoundary/
-TransferBoundary; a boundary that is the dual of a Transition (a passable boundary); a name,
-id or description saying "door"; and, for bare CellSpaceBoundaries (PNU 313 writes doors only as
-short LineStrings on a room's outline, with no name, type or duality), a boundary that covers only
-part of the cell edge it lies on - a full edge is a wall, a partial one an opening.
+TransferBoundary; a name, id or description saying "door" (one saying "window" is wall, unless a
+transition is dual to it); for bare CellSpaceBoundaries (PNU 313 writes doors only as short
+LineStrings on a room's outline, with no name, type or duality), a boundary that covers only part
+of the cell edge it lies on - a full edge is a wall, a partial one an opening; and a boundary that
+is the dual of a Transition (a passable boundary).
 """
 
 from __future__ import annotations
@@ -20,6 +21,10 @@ from shapely.geometry.base import BaseGeometry
 
 DOOR_TYPES = {"connectionboundary", "anchorboundary", "navigableboundary", "transferboundary"}
 DOOR_WORD = re.compile(r"door|t(?:ü|ue)r|porta|puerta|출입문", re.IGNORECASE)
+# a window in any language exporters write: no door, whatever its length (Fenstertür included)
+WINDOW_WORD = re.compile(r"window|fenster|fen[eê]tre|finestra|ventana|janela|okno|창문|창호|窗|窓", re.IGNORECASE)
+# an entrance, said of a boundary (not of a cell: an "entrance hall" is a room)
+ENTRANCE_WORD = re.compile(r"entrance|entry|eingang|entr[ée]e|ingresso|entrada|입구|出入口|入口", re.IGNORECASE)
 CORRIDOR_WORD = re.compile(r"corridor|hall|flur|gang|korridor|diele|lobby|passage|복도|로비|통로", re.IGNORECASE)
 PARTIAL = 0.9  # a boundary shorter than 90 % of the outline edge it sits on is an opening
 NEAR = 0.15  # a boundary within 15 % of its length from an outline lies on it (hand-drawn doors)
@@ -27,6 +32,16 @@ NEAR = 0.15  # a boundary within 15 % of its length from an outline lies on it (
 
 def says_door(*texts: str) -> bool:
     return any(DOOR_WORD.search(t or "") for t in texts)
+
+
+def named_evidence(dual: bool, *texts: str) -> str | None:
+    """A boundary's door evidence from its words (type, id, name, description), or None when they say
+    nothing: a window is wall (``""``) unless a transition is dual to it (``"duality"``): a
+    floor-to-ceiling window is short along its wall, but no way out; a door or entrance by name is
+    ``"name"``."""
+    if any(WINDOW_WORD.search(t or "") for t in texts):
+        return "duality" if dual else ""
+    return "name" if says_door(*texts) or any(ENTRANCE_WORD.search(t or "") for t in texts) else None
 
 
 def says_corridor(*texts: str) -> bool:

@@ -320,7 +320,7 @@ class MapsFolder:
         Args:
             resolution: metres per cell (e.g. 0.05).
             storeys: storey names to convert; default all.
-            max_wall_gap: gaps between cells up to this many metres wide are walls the file left out (0: off).
+            max_wall_gap: openings reach this far across walls left out as gaps; gaps are wall up to max(this, 1 m).
             progress: :class:`~pmk_nb.progress.Progress` reports (read, rasterise, write, done).
             not_windows: cells (names or ids) the window/sill rule must leave navigable; layers: layers to draw.
 
