@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections import defaultdict
 from collections.abc import Sequence
 
@@ -65,9 +64,7 @@ def _version(doc: RawDocument, alma: str) -> str:
 def _kind(raw: RawCell, alma: bool) -> CellKind:
     kind = KIND_BY_NAME.get(raw.kind_name)
     if kind is not None:
-        return kind
-    if doorlib.says_door(raw.id, raw.name):
-        return CellKind.CONNECTION
+        return kind  # a name saying "door" is weighed later, with the cell's size (_named_doors)
     # ALMA convention (original app and idsia reader): only navi spaces are navigable
     return CellKind.NON_NAVIGABLE if alma else CellKind.NAVIGABLE
 
@@ -89,9 +86,11 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
     alma = detect_alma(doc)
     cells = select_layers(usable_cells(doc, warnings), doc, alma, warnings)
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
-    kinds = _kinds(cells, bool(alma), warnings)
+    kinds = {c.raw.id: _kind(c.raw, bool(alma)) for c in cells}
     bfps = _classify_boundaries(doc, cells, warnings)
     choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
+    if _named_doors(cells, kinds, UNIT_SCALE[choice.unit], warnings):  # they are door-width evidence now
+        choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
     unit, reason = choice.unit, choice.reason
     s = UNIT_SCALE[unit]
     plan = plan_storeys(
@@ -126,12 +125,17 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
     )  # fmt: skip
 
 
-def _kinds(cells: list[KeptCell], alma: bool, warnings: list[str]) -> dict[str, CellKind]:
-    kinds = {c.raw.id: _kind(c.raw, alma) for c in cells}
-    named_doors = sum(1 for c in cells if kinds[c.raw.id] is CellKind.CONNECTION and c.raw.kind_name == "cellspace")
-    if named_doors:
-        warnings.append(f"{named_doors} plain CellSpaces named 'door' treated as connection (door) cells")
-    return kinds
+def _named_doors(cells: list[KeptCell], kinds: dict[str, CellKind], s: float, warnings: list[str]) -> bool:
+    """Make door (connection) cells of the plain cells named "door" that are door-sized in the unit judged
+    without them (scale ``s``); a larger one stays what it was (a room) and is listed. True if any became a door."""
+    named = [c for c in cells if c.raw.kind_name not in KIND_BY_NAME and doorlib.says_door(c.raw.id, c.raw.name)]
+    rooms = [f"{c.raw.id} ({c.raw.name})" for c in named if not doorlib.door_sized(c.fp.geometry, s)]
+    doors = [c for c in named if doorlib.door_sized(c.fp.geometry, s)]
+    kinds.update((c.raw.id, CellKind.CONNECTION) for c in doors)
+    warnings += [f"{len(doors)} plain CellSpaces named 'door' treated as connection (door) cells"] if doors else []
+    warnings += [f"{len(rooms)} cells named 'door' kept as rooms: larger than a door ({doorlib.DOOR_DEPTH:g} m deep, "
+                 f"{doorlib.DOOR_SPAN:g} m wide): {rooms[:8]}"] if rooms else []  # fmt: skip
+    return bool(doors)
 
 
 def _boundary_refs(cells: list[KeptCell]) -> dict[str, list[str]]:
@@ -229,10 +233,7 @@ def _door_widths(
     ]
     for c in cells:
         if kinds[c.raw.id] in (CellKind.CONNECTION, CellKind.ANCHOR) and c.fp.geometry is not None:
-            xy = shapely.get_coordinates(c.fp.geometry.minimum_rotated_rectangle)
-            sides = [math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1))]
-            if sides:
-                widths.append(max(sides))
+            widths.append(doorlib.rect_sides(c.fp.geometry)[1])
     return widths
 
 

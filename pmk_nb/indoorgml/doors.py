@@ -23,10 +23,27 @@ DOOR_WORD = re.compile(r"door|t(?:ü|ue)r|porta|puerta|출입문", re.IGNORECASE
 CORRIDOR_WORD = re.compile(r"corridor|hall|flur|gang|korridor|diele|lobby|passage|복도|로비|통로", re.IGNORECASE)
 PARTIAL = 0.9  # a boundary shorter than 90 % of the outline edge it sits on is an opening
 NEAR = 0.15  # a boundary within 15 % of its length from an outline lies on it (hand-drawn doors)
+DOOR_DEPTH = 1.0  # m: the deepest a door cell is (a leaf and its frame in a thick wall)
+DOOR_SPAN = 4.0  # m: the widest a door cell is (a wide double or sliding door; pnu_abc's Door1 is 3.05 m)
 
 
 def says_door(*texts: str) -> bool:
     return any(DOOR_WORD.search(t or "") for t in texts)
+
+
+def rect_sides(geom: BaseGeometry) -> tuple[float, float]:
+    """Short and long side of ``geom``'s minimum rotated rectangle: a cell's depth and width whatever its
+    angle on the plan."""
+    xy = shapely.get_coordinates(shapely.minimum_rotated_rectangle(geom))
+    sides = sorted(math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1)))
+    return (sides[0], sides[-1]) if sides else (0.0, 0.0)
+
+
+def door_sized(geom: BaseGeometry, scale: float) -> bool:
+    """Whether a cell (file units, ``scale`` metres per unit) is no larger than a door: at most
+    :data:`DOOR_DEPTH` deep and :data:`DOOR_SPAN` wide. A name saying "door" decides only for such a cell."""
+    short, long = rect_sides(geom)
+    return short * scale <= DOOR_DEPTH and long * scale <= DOOR_SPAN
 
 
 def says_corridor(*texts: str) -> bool:
