@@ -155,10 +155,14 @@ def continues_door(line: BaseGeometry, doors: list[BaseGeometry]) -> bool:
 
 
 def overlap_fraction(candidate: list[BaseGeometry], base: list[BaseGeometry]) -> float:
-    """Share of ``candidate``'s area already covered by ``base`` (0 when either is empty)."""
+    """Share of ``candidate``'s area already covered by ``base``'s outlines (0 when either is empty). Holes
+    count as covered: a layer whose cells fill the voids of the base layer's cells (InEditor's "sub" layer
+    in a corridor's stair core) describes the same building."""
     if not candidate or not base:
         return 0.0
     a = shapely.union_all(candidate)
     if a.area <= 0:
         return 0.0
-    return float(a.intersection(shapely.union_all(base)).area / a.area)
+    parts = shapely.get_parts(np.asarray(base, dtype=object))
+    outlines = shapely.polygons(shapely.get_exterior_ring(parts[shapely.get_num_interior_rings(parts) > 0]))
+    return float(a.intersection(shapely.union_all([*parts, *outlines])).area / a.area)
