@@ -51,3 +51,27 @@ def test_the_unit_is_judged_without_the_names(tmp_path: Path) -> None:
     path = _plan(tmp_path, cells, _graph([("A", "D1"), ("D1", "B")]))
     assert read_building(path, unit="cm").cells["D1"].kind is CellKind.CONNECTION
     assert read_building(path, unit="m").cells["D1"].kind is not CellKind.CONNECTION
+
+
+def _named_boundary(bid: str, name: str, line: tuple[tuple[float, float], ...]) -> str:
+    pts = " ".join(f"{x} {y}" for x, y in line)
+    return (
+        f'<cellSpaceBoundaryMember><CellSpaceBoundary gml:id="{bid}"><gml:name>{name}</gml:name>'
+        f"<cellSpaceBoundaryGeometry><geometry2D><gml:LineString><gml:posList>{pts}</gml:posList></gml:LineString>"
+        f"</geometry2D></cellSpaceBoundaryGeometry></CellSpaceBoundary></cellSpaceBoundaryMember>"
+    )
+
+
+@SPELLINGS
+def test_wall_named_door_stays_a_wall(tmp_path: Path, v2: bool) -> None:
+    """The whole 6 m wall between two rooms, named "wall by the door": a wall, with the transition's opening
+    in it; a 0.9 m boundary named "door" in the next wall is still a door."""
+    cells = _cell("A", (0, 0, 5, 6)) + _cell("B", (5, 0, 10, 6)) + _cell("C", (10, 0, 15, 6))
+    bounds = _named_boundary("W", "wall by the door", ((5, 0), (5, 6)))
+    bounds += _named_boundary("D", "door", ((10, 2), (10, 2.9)))
+    b = read_building(_plan(tmp_path, cells, _graph([("A", "B"), ("B", "C")], v2=v2), bounds, v2=v2), unit="m")
+    assert not b.boundaries["W"].is_door and b.boundaries["D"].is_door
+    assert any("1 boundaries named 'door' kept as walls" in w and "'W'" in w for w in b.warnings)
+    grid = rasterise_storey(b, b.storeys[0].name, RES)
+    assert grid.value_at(5.0, 0.3) != FREE and grid.value_at(5.0, 5.7) != FREE  # the wall's ends stay wall
+    assert grid.value_at(10.0, 2.45) == FREE

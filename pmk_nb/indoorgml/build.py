@@ -88,9 +88,7 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
     kinds = {c.raw.id: _kind(c.raw, bool(alma)) for c in cells}
     bfps = _classify_boundaries(doc, cells, warnings)
-    choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
-    if _named_doors(cells, kinds, UNIT_SCALE[choice.unit], warnings):  # they are door-width evidence now
-        choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
+    choice = _unit_and_names(doc, cells, unit, alma, kinds, bfps, warnings)
     unit, reason = choice.unit, choice.reason
     s = UNIT_SCALE[unit]
     plan = plan_storeys(
@@ -125,17 +123,21 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
     )  # fmt: skip
 
 
-def _named_doors(cells: list[KeptCell], kinds: dict[str, CellKind], s: float, warnings: list[str]) -> bool:
-    """Make door (connection) cells of the plain cells named "door" that are door-sized in the unit judged
-    without them (scale ``s``); a larger one stays what it was (a room) and is listed. True if any became a door."""
-    named = [c for c in cells if c.raw.kind_name not in KIND_BY_NAME and doorlib.says_door(c.raw.id, c.raw.name)]
-    rooms = [f"{c.raw.id} ({c.raw.name})" for c in named if not doorlib.door_sized(c.fp.geometry, s)]
-    doors = [c for c in named if doorlib.door_sized(c.fp.geometry, s)]
-    kinds.update((c.raw.id, CellKind.CONNECTION) for c in doors)
-    warnings += [f"{len(doors)} plain CellSpaces named 'door' treated as connection (door) cells"] if doors else []
-    warnings += [f"{len(rooms)} cells named 'door' kept as rooms: larger than a door ({doorlib.DOOR_DEPTH:g} m deep, "
-                 f"{doorlib.DOOR_SPAN:g} m wide): {rooms[:8]}"] if rooms else []  # fmt: skip
-    return bool(doors)
+def _unit_and_names(
+    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, kinds: dict[str, CellKind],
+    bfps: dict[str, tuple[Footprint, str]], warnings: list[str],
+) -> UnitChoice:  # fmt: skip
+    """The unit judged without the doors only names make, then with those doors.named_doors finds door-sized."""
+    unnamed = {b: (fp, "" if ev == "name" else ev) for b, (fp, ev) in bfps.items()}
+    choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(unnamed, cells, kinds)))
+    plain = [(c.raw.id, c.raw.name, c.fp.geometry) for c in cells if c.raw.kind_name not in KIND_BY_NAME]
+    named = [(b, fp.geometry) for b, (fp, ev) in bfps.items() if ev == "name"]
+    doors, walls = doorlib.named_doors(plain, named, UNIT_SCALE[choice.unit], warnings)
+    kinds.update(dict.fromkeys(doors, CellKind.CONNECTION))
+    bfps.update((b, (bfps[b][0], "")) for b in walls)
+    if doors or len(walls) < len(named):  # door widths the first judgement left out
+        choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
+    return choice
 
 
 def _boundary_refs(cells: list[KeptCell]) -> dict[str, list[str]]:

@@ -39,11 +39,36 @@ def rect_sides(geom: BaseGeometry) -> tuple[float, float]:
     return (sides[0], sides[-1]) if sides else (0.0, 0.0)
 
 
-def door_sized(geom: BaseGeometry, scale: float) -> bool:
-    """Whether a cell (file units, ``scale`` metres per unit) is no larger than a door: at most
-    :data:`DOOR_DEPTH` deep and :data:`DOOR_SPAN` wide. A name saying "door" decides only for such a cell."""
+def door_sized(geom: BaseGeometry | None, scale: float, depth: bool = True) -> bool:
+    """Whether a cell or boundary (file units, ``scale`` metres per unit) is no larger than a door: at most
+    :data:`DOOR_SPAN` wide and (``depth``: a cell) :data:`DOOR_DEPTH` deep. A name saying "door" decides only
+    for such a shape; a shape without geometry has no size to refute it."""
+    if geom is None:
+        return True
     short, long = rect_sides(geom)
-    return short * scale <= DOOR_DEPTH and long * scale <= DOOR_SPAN
+    return long * scale <= DOOR_SPAN and (not depth or short * scale <= DOOR_DEPTH)
+
+
+def named_doors(
+    cells: Iterable[tuple[str, str, BaseGeometry]], boundaries: list[tuple[str, BaseGeometry | None]], scale: float,
+    notes: list[str],
+) -> tuple[set[str], list[str]]:  # fmt: skip
+    """Which of the plain cells (id, name, footprint: no navi type says what they are) that their id or name
+    calls a door, and of the boundaries (id, geometry) only their name calls one, are door-sized at ``scale``
+    metres per file unit: (ids of door cells, ids of boundaries to keep as walls); ``notes`` gets what was
+    decided. The name decides only then: a 5 x 4 m "Door-side lounge" is a room, and is listed."""
+    cells = [(cid, name, geom) for cid, name, geom in cells if says_door(cid, name)]
+    doors = {cid for cid, _, geom in cells if door_sized(geom, scale)}
+    rooms = [f"{cid} ({name})" for cid, name, _ in cells if cid not in doors]
+    walls = [bid for bid, geom in boundaries if not door_sized(geom, scale, depth=False)]
+    if doors:
+        notes.append(f"{len(doors)} plain CellSpaces named 'door' treated as connection (door) cells")
+    if rooms:
+        notes.append(f"{len(rooms)} cells named 'door' kept as rooms: larger than a door ({DOOR_DEPTH:g} m deep, "
+                     f"{DOOR_SPAN:g} m wide): {rooms[:8]}")  # fmt: skip
+    if walls:
+        notes.append(f"{len(walls)} boundaries named 'door' kept as walls: wider than {DOOR_SPAN:g} m: {walls[:8]}")
+    return doors, walls
 
 
 def says_corridor(*texts: str) -> bool:
