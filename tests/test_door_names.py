@@ -51,6 +51,8 @@ def test_the_unit_is_judged_without_the_names(tmp_path: Path) -> None:
     path = _plan(tmp_path, cells, _graph([("A", "D1"), ("D1", "B")]))
     assert read_building(path, unit="cm").cells["D1"].kind is CellKind.CONNECTION
     assert read_building(path, unit="m").cells["D1"].kind is not CellKind.CONNECTION
+    auto = read_building(path)  # judged without the name (a 90 x 20 'door'), then it counts as a 0.9 m door
+    assert auto.unit == "cm" and auto.cells["D1"].kind is CellKind.CONNECTION
 
 
 def _named_boundary(bid: str, name: str, line: tuple[tuple[float, float], ...]) -> str:

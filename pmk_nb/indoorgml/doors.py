@@ -59,7 +59,7 @@ def named_doors(
     decided. The name decides only then: a 5 x 4 m "Door-side lounge" is a room, and is listed."""
     cells = [(cid, name, geom) for cid, name, geom in cells if says_door(cid, name)]
     doors = {cid for cid, _, geom in cells if door_sized(geom, scale)}
-    rooms = [f"{cid} ({name})" for cid, name, _ in cells if cid not in doors]
+    rooms = [f"{cid} ({name})" if name else cid for cid, name, _ in cells if cid not in doors]
     walls = [bid for bid, geom in boundaries if not door_sized(geom, scale, depth=False)]
     if doors:
         notes.append(f"{len(doors)} plain CellSpaces named 'door' treated as connection (door) cells")
