@@ -65,9 +65,7 @@ def _version(doc: RawDocument, alma: str) -> str:
 def _kind(raw: RawCell, alma: bool) -> CellKind:
     kind = KIND_BY_NAME.get(raw.kind_name)
     if kind is not None:
-        return kind
-    if doorlib.says_door(raw.id, raw.name):
-        return CellKind.CONNECTION
+        return kind  # a name saying "door" is weighed later, with the cell's size (_named_doors)
     # ALMA convention (original app and idsia reader): only navi spaces are navigable
     return CellKind.NON_NAVIGABLE if alma else CellKind.NAVIGABLE
 
@@ -92,9 +90,9 @@ def build_building(
     alma = detect_alma(doc)
     cells, skipped = select_layers(usable_cells(doc, warnings), doc, alma, warnings, layers)
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
-    kinds = _kinds(cells, bool(alma), warnings)
+    kinds = {c.raw.id: _kind(c.raw, bool(alma)) for c in cells}
     bfps = _classify_boundaries(doc, cells, warnings)
-    choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, bfps))
+    choice = _unit_and_names(doc, cells, unit, alma, kinds, bfps, warnings)
     unit, reason = choice.unit, choice.reason
     s = UNIT_SCALE[unit]
     plan = plan_storeys(
@@ -131,12 +129,21 @@ def build_building(
     )  # fmt: skip
 
 
-def _kinds(cells: list[KeptCell], alma: bool, warnings: list[str]) -> dict[str, CellKind]:
-    kinds = {c.raw.id: _kind(c.raw, alma) for c in cells}
-    named_doors = sum(1 for c in cells if kinds[c.raw.id] is CellKind.CONNECTION and c.raw.kind_name == "cellspace")
-    if named_doors:
-        warnings.append(f"{named_doors} plain CellSpaces named 'door' treated as connection (door) cells")
-    return kinds
+def _unit_and_names(
+    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, kinds: dict[str, CellKind],
+    bfps: dict[str, tuple[Footprint, str]], warnings: list[str],
+) -> UnitChoice:  # fmt: skip
+    """The unit judged without the doors only names make, then with those doors.named_doors finds door-sized."""
+    unnamed = {b: (fp, "" if ev == "name" else ev) for b, (fp, ev) in bfps.items()}
+    choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, unnamed))
+    plain = [(c.raw.id, c.raw.name, c.fp.geometry) for c in cells if c.raw.kind_name not in KIND_BY_NAME]
+    named = [(b, fp.geometry) for b, (fp, ev) in bfps.items() if ev == "name"]
+    doors, walls = doorlib.named_doors(plain, named, UNIT_SCALE[choice.unit], warnings)
+    kinds.update(dict.fromkeys(doors, CellKind.CONNECTION))
+    bfps.update((b, (bfps[b][0], "")) for b in walls)
+    if doors or len(walls) < len(named):  # door widths the first judgement left out
+        choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, bfps))
+    return choice
 
 
 def _boundary_refs(cells: list[KeptCell]) -> dict[str, list[str]]:

@@ -28,6 +28,8 @@ ENTRANCE_WORD = re.compile(r"entrance|entry|eingang|entr[ée]e|ingresso|entrada|
 CORRIDOR_WORD = re.compile(r"corridor|hall|flur|gang|korridor|diele|lobby|passage|복도|로비|통로", re.IGNORECASE)
 PARTIAL = 0.9  # a boundary shorter than 90 % of the outline edge it sits on is an opening
 NEAR = 0.15  # a boundary within 15 % of its length from an outline lies on it (hand-drawn doors)
+DOOR_DEPTH = 1.0  # m: the deepest a door cell is (a leaf and its frame in a thick wall)
+DOOR_SPAN = 4.0  # m: the widest a door cell is (a wide double or sliding door; pnu_abc's Door1 is 3.05 m)
 
 
 def says_door(*texts: str) -> bool:
@@ -42,6 +44,46 @@ def named_evidence(dual: bool, *texts: str) -> str | None:
     if any(WINDOW_WORD.search(t or "") for t in texts):
         return "duality" if dual else ""
     return "name" if says_door(*texts) or any(ENTRANCE_WORD.search(t or "") for t in texts) else None
+
+
+def rect_sides(geom: BaseGeometry) -> tuple[float, float]:
+    """Short and long side of ``geom``'s minimum rotated rectangle: a cell's depth and width whatever its
+    angle on the plan."""
+    xy = shapely.get_coordinates(shapely.minimum_rotated_rectangle(geom))
+    sides = sorted(math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1)))
+    return (sides[0], sides[-1]) if sides else (0.0, 0.0)
+
+
+def door_sized(geom: BaseGeometry | None, scale: float, depth: bool = True) -> bool:
+    """Whether a cell or boundary (file units, ``scale`` metres per unit) is no larger than a door: at most
+    :data:`DOOR_SPAN` wide and (``depth``: a cell) :data:`DOOR_DEPTH` deep. A name saying "door" decides only
+    for such a shape; a shape without geometry has no size to refute it."""
+    if geom is None:
+        return True
+    short, long = rect_sides(geom)
+    return long * scale <= DOOR_SPAN and (not depth or short * scale <= DOOR_DEPTH)
+
+
+def named_doors(
+    cells: Iterable[tuple[str, str, BaseGeometry]], boundaries: list[tuple[str, BaseGeometry | None]], scale: float,
+    notes: list[str],
+) -> tuple[set[str], list[str]]:  # fmt: skip
+    """Which of the plain cells (id, name, footprint: no navi type says what they are) that their id or name
+    calls a door, and of the boundaries (id, geometry) only their name calls one, are door-sized at ``scale``
+    metres per file unit: (ids of door cells, ids of boundaries to keep as walls); ``notes`` gets what was
+    decided. The name decides only then: a 5 x 4 m "Door-side lounge" is a room, and is listed."""
+    cells = [(cid, name, geom) for cid, name, geom in cells if says_door(cid, name)]
+    doors = {cid for cid, _, geom in cells if door_sized(geom, scale)}
+    rooms = [f"{cid} ({name})" if name else cid for cid, name, _ in cells if cid not in doors]
+    walls = [bid for bid, geom in boundaries if not door_sized(geom, scale, depth=False)]
+    if doors:
+        notes.append(f"{len(doors)} plain CellSpaces named 'door' treated as connection (door) cells")
+    if rooms:
+        notes.append(f"{len(rooms)} cells named 'door' kept as rooms: larger than a door ({DOOR_DEPTH:g} m deep, "
+                     f"{DOOR_SPAN:g} m wide): {rooms[:8]}")  # fmt: skip
+    if walls:
+        notes.append(f"{len(walls)} boundaries named 'door' kept as walls: wider than {DOOR_SPAN:g} m: {walls[:8]}")
+    return doors, walls
 
 
 def says_corridor(*texts: str) -> bool:

@@ -17,7 +17,9 @@ from collections import defaultdict
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError, UnknownLayer
 from pmk_nb.indoorgml.footprint import Footprint, cell_footprints
@@ -140,10 +142,17 @@ def _inside(cells: list[KeptCell], base: list[KeptCell]) -> tuple[float, int]:
     for c in cells:
         area = c.fp.geometry.area
         near = [base[i].fp.geometry for i in tree.query(c.fp.geometry) if _same_level(c.fp, base[i].fp)]
-        part = c.fp.geometry.intersection(shapely.union_all(near)).area if near and area > 0 else 0.0
+        part = c.fp.geometry.intersection(_filled(near)).area if near and area > 0 else 0.0
         total, inside = total + area, inside + part
         straddling += 0.05 < part / area < 0.95 if area > 0 else 0
     return (inside / total if total > 0 else 0.0), straddling
+
+
+def _filled(geoms: list[BaseGeometry]) -> BaseGeometry:
+    """The union of ``geoms`` with their holes filled: a layer whose cells fill the voids of the base
+    layer's cells (InEditor's "sub" layer in a corridor's stair core) describes the same building."""
+    parts = shapely.get_parts(np.asarray(geoms, dtype=object))
+    return shapely.union_all(shapely.polygons(shapely.get_exterior_ring(parts)))
 
 
 def _note(
