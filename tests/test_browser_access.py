@@ -130,7 +130,7 @@ def test_the_maps_screen_says_a_plans_doubts_before_and_after_converting(tmp_pat
             _access_panel(page, "lost")
             panel = page.locator(".pmk-access")
             expect(panel).to_contain_text("nothing checked: 2 of 2 transitions name states that are not in the file")
-            expect(page.locator(".pmk-maps-plan-notes")).to_contain_text("Navigation graph not used")
+            expect(page.locator(".pmk-maps-plan-notes")).to_contain_text("the navigation graph was not used")
             _access_panel(page, "house")
             expect(panel).to_contain_text("Suspect the unit first: all doors are 90 m wide in metres")
             select = page.locator(".pmk-maps-list select")

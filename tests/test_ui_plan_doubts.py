@@ -76,7 +76,7 @@ def test_plan_notes_name_each_layer_not_drawn_and_the_layers_offered(tmp_path: P
 def test_plan_notes_say_a_lost_graph_and_a_suspect_unit_first(tmp_path: Path) -> None:
     (tmp_path / "g").mkdir()
     [lost] = plan_notes(read_building(lost_graph_plan(tmp_path / "g"), unit="m"))
-    assert lost.startswith("Navigation graph not used: 2 of 2 transitions name states that are not in the file")
+    assert lost == "2 of 2 transitions name states that are not in the file: the navigation graph was not used"
     house = cm_house(tmp_path)
     assert plan_notes(read_building(house)) == ()  # read in its own unit: nothing to doubt
     [first, *_] = plan_notes(read_building(house, unit="m"))
@@ -143,7 +143,7 @@ def test_the_access_panel_names_the_unit_before_any_door_and_a_lost_graph(
     assert "Suspect the unit first:" in text and "all doors are 90 m wide in metres" in text
     assert text.index("Suspect the unit first") < text.index("passages fit")
     _storeys_shown(screen, "lost", lost_graph_plan(tmp_path).read_bytes())
-    assert "Navigation graph not used" in screen.storeys_panel.table.value
+    assert "the navigation graph was not used" in screen.storeys_panel.table.value
     screen.resolution.value = "0.05"
     _converted(screen)
     text = screen.access_panel.text.value

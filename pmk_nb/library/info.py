@@ -83,7 +83,7 @@ def plan_notes(building: Building) -> tuple[str, ...]:
     notes = [building.unit_suspect.message] if building.unit_suspect is not None else []
     graph = building.graph_status
     if graph.lost:
-        notes.append(f"Navigation graph not used: {graph.reason or 'the file has none'}. Nothing can be checked.")
+        notes.append(graph.reason or "the file has no navigation graph: nothing can be checked")
     elif graph.dangling:
         notes.append(graph.reason or f"{graph.dangling} of {graph.transitions} transitions name nothing in the file")
     notes += [f"Layer {n.id!r} ({n.cells} cells) not drawn: {n.reason}" for n in building.skipped_layers]
