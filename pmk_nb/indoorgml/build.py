@@ -12,6 +12,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
+from pmk_nb.indoorgml.entrances import exit_boundaries
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
 from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
@@ -361,6 +362,7 @@ def _boundaries(
     out: dict[str, Boundary] = {}
     cell_list = list(cells.values())
     tree = shapely.STRtree([c.footprint for c in cell_list])
+    exits = exit_boundaries(doc.transitions, _state_cells(doc), cells)
     for rb in doc.boundaries:
         if rb.id not in bfps:
             continue
@@ -374,7 +376,8 @@ def _boundaries(
             storey = touching[0].storey if touching else None
         if storey is None and len(storeys) == 1:
             storey = storeys[0].name
-        out[rb.id] = Boundary(rb.id, bool(evidence), geom, storey, rb.name, rb.virtual, evidence)
+        entrance = bool(evidence) and (rb.kind_name == "anchorboundary" or rb.id in exits)
+        out[rb.id] = Boundary(rb.id, bool(evidence), geom, storey, rb.name, rb.virtual, evidence, entrance)
     return out
 
 

@@ -60,6 +60,9 @@ class Boundary:
     name: str = ""
     virtual: bool = False  # a boundary with no wall (isVirtual), e.g. between pieces of one corridor
     evidence: str = ""  # why it is a door: type / name / partial (edge) / duality (a transition's face)
+    # a way out of the building: an AnchorBoundary, or the face of a transition to a state with no cell
+    # (an OUTSIDE state); the rasteriser leaves only these open towards the unknown outside
+    entrance: bool = False
 
 
 @dataclass

@@ -1,0 +1,92 @@
+"""The free space's outer edge is a wall: no free cell touches the unknown outside, but at entrances.
+
+Nav2's planners take unknown as passable by default (``allow_unknown: true``), so a free cell beside an
+unknown one is a way out of the building that nobody drew. Walls along cell outlines close every edge
+the file draws, but openings cut afterwards can reach past it: a door cell standing out of the outer
+wall (a free bar into the unknown), a door boundary in a façade, the band that opens a door across a
+gap between rooms. :func:`seal_outside` is the one rule behind all of them: every unknown cell next
+to a free one (8-neighbourhood, so no diagonal slips through) becomes occupied - one cell of wall on
+the free space's outer edge - except in front of an entrance, where the file itself says the
+building is left: an AnchorSpace cell, an AnchorBoundary, or the face of a transition to a state with
+no cell (see :attr:`pmk_nb.indoorgml.model.Boundary.entrance`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Protocol
+
+import numpy as np
+import shapely
+
+from pmk_nb.grid import FREE, OCCUPIED
+from pmk_nb.indoorgml.model import CellKind
+from pmk_nb.raster.scanline import Frame
+from pmk_nb.raster.spans import fill_polygons
+from pmk_nb.raster.walls import door_gaps
+
+if TYPE_CHECKING:
+    from pmk_nb.indoorgml.model import Building, Cell
+    from pmk_nb.raster.openings import OpeningPlan
+
+
+class _StoreyPlan(Protocol):
+    """What :func:`entrance_zones` reads of the rasteriser's storey plan."""
+
+    frame: Frame
+    half: float
+    cells: list[Cell]
+    openings: OpeningPlan
+
+
+_PORCH = 103  # transient: an outside cell in front of an entrance, left as it is
+
+
+def entrance_zones(building: Building, storey: str, plan: _StoreyPlan, max_gap: float) -> list[Any]:
+    """Where the free space may meet the outside: in front of each entrance cell and entrance boundary,
+    as far as the opening reaches (half a wall and a cell, plus the gap its line bridges, ``max_gap`` at
+    most), and one more such reach for the cells beside it."""
+    cells, shut = plan.cells, plan.openings.shut_doors
+    reach = plan.half + plan.frame.resolution
+    pad = 2 * reach  # reach is half a wall plus a grid cell: the free band of an opening never goes further
+    zones: list[Any] = [shapely.buffer(c.footprint, pad) for c in cells if c.kind is CellKind.ANCHOR]
+    skipped = {b.id for b in shut}
+    lines = [
+        b.geometry for b in building.doors_of(storey) if b.entrance and b.id not in skipped and b.geometry is not None
+    ]
+    if lines:
+        rooms = [c.footprint for c in cells if c.kind.is_free and not c.kind.is_door]
+        gaps = door_gaps(lines, rooms, max_gap=max_gap)
+        zones += [shapely.buffer(g, gap + pad, cap_style="flat") for g, gap in zip(lines, gaps, strict=True)]
+    return zones
+
+
+def seal_outside(grid: np.ndarray, frame: Frame, zones: list[Any], outside: int, keep: tuple[int, ...]) -> int:
+    """Every ``outside`` cell 8-adjacent to a free cell becomes occupied, but in ``zones`` (entrances).
+
+    ``keep``: the other values the grid holds while drawing (marked walls), which a zone never takes.
+    Works in strips of 64 Ki cells with a one-row halo: no full-size temporary, linear in the grid.
+    Returns the number of cells sealed.
+    """
+    if zones:
+        fill_polygons(grid, frame, zones, _PORCH, keep=(FREE, OCCUPIED, *keep))
+    height, width = grid.shape
+    step = max(1, 65536 // max(1, width))
+    sealed = 0
+    for start in range(0, height, step):
+        stop = min(height, start + step)
+        lo, hi = max(0, start - 1), min(height, stop + 1)
+        free = grid[lo:hi] == FREE
+        wide = free.copy()  # free or beside a free cell in its row, then in the rows above and below
+        wide[:, 1:] |= free[:, :-1]
+        wide[:, :-1] |= free[:, 1:]
+        near = wide.copy()
+        near[1:] |= wide[:-1]
+        near[:-1] |= wide[1:]
+        near = near[start - lo : start - lo + stop - start]
+        block = grid[start:stop]
+        hit = near & (block == outside)
+        sealed += int(np.count_nonzero(hit))
+        block[hit] = OCCUPIED
+        if zones:
+            np.copyto(block, outside, where=block == _PORCH, casting="unsafe")
+    return sealed
