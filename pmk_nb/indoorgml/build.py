@@ -12,13 +12,13 @@ from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
-from pmk_nb.indoorgml.entrances import exit_boundaries
+from pmk_nb.indoorgml.entrances import entrance_ids
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
 from pmk_nb.indoorgml.graph import resolve_links
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
 from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, NavGraph, State, Storey, Transition
-from pmk_nb.indoorgml.scan import RawCell, RawDocument
+from pmk_nb.indoorgml.scan import DRAFT_VERSION, RawCell, RawDocument, is_draft
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit
 
@@ -41,18 +41,19 @@ def detect_alma(doc: RawDocument) -> str:
     uris = {v.lower() for v in doc.namespaces.values()}
     if any("idsia.ch/alma" in u for u in uris):
         return "alma namespace"
-    if doc.root == "multilayeredgraph" and any(c.alma_inline for c in doc.cells):
+    inline = any(c.alma_inline for c in doc.cells) and not is_draft(doc)  # the 0.8/0.9 drafts nest cells too
+    if doc.root == "multilayeredgraph" and inline:
         return "MultiLayeredGraph root with cells inline in State/duality"
-    if doc.translation is not None and any(c.alma_inline for c in doc.cells):
+    if doc.translation is not None and inline:
         return "cells inline in State/duality and a map-frame translation"
-    if {"indoorCore", "indoorNavi"} & set(doc.namespaces) and any(c.alma_inline for c in doc.cells):
+    if {"indoorCore", "indoorNavi"} & set(doc.namespaces) and inline:
         return "indoorCore/indoorNavi prefixes with cells inline in State/duality"
     return ""
 
 
 def _version(doc: RawDocument, alma: str) -> str:
-    if alma:
-        return "alma"
+    if alma or is_draft(doc):
+        return "alma" if alma else DRAFT_VERSION
     uris = " ".join(doc.namespaces.values()).lower()
     if "indoorgml/2.0" in uris or doc.has_primal_layer:
         return "2.0"
@@ -362,7 +363,7 @@ def _boundaries(
     out: dict[str, Boundary] = {}
     cell_list = list(cells.values())
     tree = shapely.STRtree([c.footprint for c in cell_list])
-    exits = exit_boundaries(doc.transitions, _state_cells(doc), cells)
+    ways_out = entrance_ids(doc, _state_cells(doc), cells)
     for rb in doc.boundaries:
         if rb.id not in bfps:
             continue
@@ -376,8 +377,7 @@ def _boundaries(
             storey = touching[0].storey if touching else None
         if storey is None and len(storeys) == 1:
             storey = storeys[0].name
-        entrance = bool(evidence) and (rb.kind_name == "anchorboundary" or rb.id in exits)
-        out[rb.id] = Boundary(rb.id, bool(evidence), geom, storey, rb.name, rb.virtual, evidence, entrance)
+        out[rb.id] = Boundary(rb.id, bool(evidence), geom, storey, rb.name, rb.virtual, evidence, rb.id in ways_out)
     return out
 
 

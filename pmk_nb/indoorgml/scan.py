@@ -35,7 +35,11 @@ TRANSITION_NAMES = {"transition", "edge"}
 LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer"}
 ROOT_NAMES = {"indoorfeatures", "multilayeredgraph", "primalspacefeatures", "indoorgml"}
 GEOREF_NAMES = {"translation", "rotation", "lla", "lla_origin"}
-_DECODED = frozenset(CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAMES | LAYER_NAMES | GEOREF_NAMES)
+# "duality": the 0.8/0.9 drafts (namespace "indoorCore") write each cell as the State's duality element itself
+_DECODED = frozenset(
+    CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAMES | LAYER_NAMES | GEOREF_NAMES | {"duality"}
+)
+_GEOMETRY_NAMES = {"geometry3d", "geometry2d"}
 _STOREY_TEXT = re.compile(r"\b(?:storey|story|level|floor)\s*[=:]\s*\"?([^\";:,\s]+)", re.IGNORECASE)
 
 
@@ -112,6 +116,14 @@ class RawDocument:
     has_level: bool = False
     has_primal_layer: bool = False
     stats: RingStats = field(default_factory=RingStats)
+
+
+DRAFT_VERSION = "0.8/0.9 draft"
+
+
+def is_draft(doc: RawDocument) -> bool:
+    """A file of the pre-standard 0.8/0.9 drafts: its core namespace is the bare word "indoorCore" (no URI)."""
+    return any(v.strip().lower() == "indoorcore" for v in doc.namespaces.values())
 
 
 def _href(elem: etree._Element | None) -> str | None:
@@ -233,6 +245,8 @@ class _Scanner:
         in_member = len(self.stack) > 1 and self.stack[-2][0] == "cellspacemember"
         if (name in CELL_NAMES or in_member) and not gml.is_gml(elem):
             self._cell(elem, name)
+        elif name == "duality" and self._draft_cell(elem):
+            self._cell(elem, "cellspace")  # the drafts have no cell types: every cell is a space
         elif name in BOUNDARY_NAMES and not gml.is_gml(elem):
             self._boundary(elem, name)
         elif name in STATE_NAMES and not gml.is_gml(elem):
@@ -245,6 +259,8 @@ class _Scanner:
             doc.states.append(RawState(elem.get(GML_ID) or f"state{len(doc.states)}", point, cell, self._layer()))
         elif name in TRANSITION_NAMES and not gml.is_gml(elem):
             connects = [h for h in (_href(c) for c in elem if local(c) == "connects") if h]
+            if not connects:  # the 0.8/0.9 drafts: <start> and <end> instead of two <connects>
+                connects = [h for h in (_href(_child(elem, k)) for k in ("start", "end")) if h]
             weight_el = _child(elem, "weight")
             try:
                 weight = float(_text(weight_el)) if _text(weight_el) else None
@@ -276,6 +292,12 @@ class _Scanner:
             if parent is not None and name.endswith("member"):
                 while elem.getprevious() is not None:
                     del parent[0]
+
+    def _draft_cell(self, elem: etree._Element) -> bool:
+        """A State's duality that is a cell itself (its own gml:id and a Geometry2D/3D inside), as the
+        0.8/0.9 drafts write it; 1.0 points at the cell, ALMA nests a CellSpace in it."""
+        in_state = len(self.stack) > 1 and self.stack[-2][0] in STATE_NAMES
+        return in_state and elem.get(GML_ID) is not None and any(local(c) in _GEOMETRY_NAMES for c in elem)
 
     def _cell(self, elem: etree._Element, name: str) -> None:
         kids = _kids(elem)
