@@ -172,21 +172,28 @@ def test_shared_files_never_put_free_beside_unknown(path: str) -> None:
 _ROOM_BOX = st.tuples(st.integers(0, 3), st.integers(0, 2), st.integers(2, 4), st.integers(2, 3))
 
 
-@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(
     gaps=st.lists(st.sampled_from([0.0, 0.2, 0.8, 1.5]), min_size=2, max_size=2),
     doors=st.lists(
         st.tuples(st.integers(0, 2), st.sampled_from(["cell", "line", "anchor"]), st.booleans()), max_size=4
     ),
+    gap_doors=st.lists(st.booleans(), min_size=2, max_size=2),
+    res=st.sampled_from([0.05, 0.1]),
     v2=st.booleans(),
 )
-def test_random_plans_never_put_free_beside_unknown(tmp_path: Path, gaps: list[float], doors: list, v2: bool) -> None:
-    """Three rooms in a row with random gaps, and door cells, door lines and entrances on their outer
-    walls or between them: the only free cells beside unknown are in front of entrances."""
+def test_random_plans_never_put_free_beside_unknown(
+    tmp_path: Path, gaps: list[float], doors: list, gap_doors: list[bool], res: float, v2: bool
+) -> None:
+    """Three rooms in a row with random gaps (door lines across some), and door cells, door lines and
+    entrances on their outer walls: the only free cells beside unknown are in front of entrances."""
     xs, x, cells, bnds = [], 0.0, "", ""
     for i in range(3):
         xs.append(x)
         cells += _cell(f"R{i}", (x, 0, x + 4, 3))
+        if i < 2 and gap_doors[i]:  # a door line in the middle of the gap to the next room
+            mid = x + 4 + gaps[i] / 2
+            bnds += _boundary(f"G{i}", ((mid, 1.0), (mid, 2.0)), "navi:ConnectionBoundary")
         x += 4 + (gaps[i] if i < 2 else 0)
     for k, (room, kind, top) in enumerate(doors):
         x0 = xs[room] + 0.5 + k * 0.8
@@ -199,6 +206,6 @@ def test_random_plans_never_put_free_beside_unknown(tmp_path: Path, gaps: list[f
     pairs = [("R0", "R1"), ("R1", "R2")] + [
         (f"R{r}", f"D{k}") for k, (r, kind, _) in enumerate(doors) if kind != "line"
     ]
-    path = _plan(tmp_path, cells, _graph(pairs, v2=v2), bnds, v2=v2)
-    b, grid = _convert(path)
-    assert _leaks(b, b.storeys[0].name, grid, near=0.3) == 0
+    b = read_building(_plan(tmp_path, cells, _graph(pairs, v2=v2), bnds, v2=v2), unit="m")
+    grid = rasterise_storey(b, b.storeys[0].name, res)
+    assert _leaks(b, b.storeys[0].name, grid, near=0.3 + res) == 0

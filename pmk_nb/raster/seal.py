@@ -6,8 +6,8 @@ the file draws, but openings cut afterwards can reach past it: a door cell stand
 wall (a free bar into the unknown), a door boundary in a façade, the band that opens a door across a
 gap between rooms. :func:`seal_outside` is the one rule behind all of them: every unknown cell next
 to a free one (8-neighbourhood, so no diagonal slips through) becomes occupied - one cell of wall on
-the free space's outer edge - except in front of an entrance, where the file itself says the
-building is left: an AnchorSpace cell, an AnchorBoundary, or the face of a transition to a state with
+the free space's outer edge - except next to an entrance's own opening, where the file itself says
+the building is left: an AnchorSpace cell, an AnchorBoundary, or the face of a transition to a state with
 no cell (see :attr:`pmk_nb.indoorgml.model.Boundary.entrance`).
 """
 
@@ -38,16 +38,16 @@ class _StoreyPlan(Protocol):
     openings: OpeningPlan
 
 
-_PORCH = 103  # transient: an outside cell in front of an entrance, left as it is
+_ENTRY = 103  # transient: a free cell of an entrance's own opening, which may face the outside
 
 
 def entrance_zones(building: Building, storey: str, plan: _StoreyPlan, max_gap: float) -> list[Any]:
-    """Where the free space may meet the outside: in front of each entrance cell and entrance boundary,
-    as far as the opening reaches (half a wall and a cell, plus the gap its line bridges, ``max_gap`` at
-    most), and one more such reach for the cells beside it."""
+    """The free cells of each entrance's own opening: the entrance cell or line, as far as its opening
+    reaches (half a wall and a cell, plus the gap its line bridges, ``max_gap`` at most), plus a cell
+    for rounding. Free cells beyond (a room, a lane laid along the façade) are sealed as any other."""
     cells, shut = plan.cells, plan.openings.shut_doors
     reach = plan.half + plan.frame.resolution
-    pad = 2 * reach  # reach is half a wall plus a grid cell: the free band of an opening never goes further
+    pad = reach + plan.frame.resolution
     zones: list[Any] = [shapely.buffer(c.footprint, pad) for c in cells if c.kind is CellKind.ANCHOR]
     skipped = {b.id for b in shut}
     lines = [
@@ -61,14 +61,15 @@ def entrance_zones(building: Building, storey: str, plan: _StoreyPlan, max_gap: 
 
 
 def seal_outside(grid: np.ndarray, frame: Frame, zones: list[Any], outside: int, keep: tuple[int, ...]) -> int:
-    """Every ``outside`` cell 8-adjacent to a free cell becomes occupied, but in ``zones`` (entrances).
+    """Every ``outside`` cell 8-adjacent to a free cell becomes occupied, unless its only free
+    neighbours lie in ``zones`` (entrances' openings: the way out stays open).
 
-    ``keep``: the other values the grid holds while drawing (marked walls), which a zone never takes.
+    ``keep``: the other values the grid holds while drawing (marked walls), never touched.
     Works in strips of 64 Ki cells with a one-row halo: no full-size temporary, linear in the grid.
     Returns the number of cells sealed.
     """
     if zones:
-        fill_polygons(grid, frame, zones, _PORCH, keep=(FREE, OCCUPIED, *keep))
+        fill_polygons(grid, frame, zones, _ENTRY, keep=(OCCUPIED, outside, *keep))
     height, width = grid.shape
     step = max(1, 65536 // max(1, width))
     sealed = 0
@@ -87,6 +88,10 @@ def seal_outside(grid: np.ndarray, frame: Frame, zones: list[Any], outside: int,
         hit = near & (block == outside)
         sealed += int(np.count_nonzero(hit))
         block[hit] = OCCUPIED
-        if zones:
-            np.copyto(block, outside, where=block == _PORCH, casting="unsafe")
+    if zones:  # the entrances' cells are free again (rows they cover only)
+        _, y0, _, y1 = shapely.total_bounds(np.asarray(zones, dtype=object)).tolist()
+        r0 = max(0, int((y0 - frame.y0) / frame.resolution) - 1)
+        r1 = min(height, int((y1 - frame.y0) / frame.resolution) + 2)
+        rows = grid[r0:r1]
+        np.copyto(rows, FREE, where=rows == _ENTRY, casting="unsafe")
     return sealed
