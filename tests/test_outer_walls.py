@@ -22,6 +22,8 @@ from hypothesis import strategies as st
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.model import Building, CellKind
+from pmk_nb.raster.scanline import Frame
+from pmk_nb.raster.seal import seal_outside
 from pmk_nb.raster.storey import rasterise_storey
 from tests.shared_data import INDOORGML_DATA
 from tests.test_access_rules import RES, _boundary, _cell, _graph, _plan
@@ -209,3 +211,20 @@ def test_random_plans_never_put_free_beside_unknown(
     b = read_building(_plan(tmp_path, cells, _graph(pairs, v2=v2), bnds, v2=v2), unit="m")
     grid = rasterise_storey(b, b.storeys[0].name, res)
     assert _leaks(b, b.storeys[0].name, grid, near=0.3 + res) == 0
+
+
+def test_seal_is_the_plain_8_neighbour_rule_across_strips() -> None:
+    """The strip-wise seal equals a whole-grid dilation, also where strips are one to three rows tall
+    (rows wider than the 64 Ki-cell strip) and across the halo rows."""
+    rng = np.random.default_rng(7)
+    for trial in range(300):
+        h, w = (int(rng.integers(1, 9)), int(rng.integers(20_000, 70_000))) if trial % 2 else rng.integers(1, 40, 2)
+        grid = rng.choice(np.array([UNKNOWN, FREE, OCCUPIED, 101], dtype=np.int8), size=(h, w), p=[0.5, 0.2, 0.2, 0.1])
+        pad = np.pad(grid == FREE, 1)
+        near = np.zeros(grid.shape, dtype=bool)
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                near |= pad[1 + dr : 1 + dr + h, 1 + dc : 1 + dc + w]
+        want = np.where(near & (grid == UNKNOWN), OCCUPIED, grid)
+        seal_outside(grid, Frame(0.0, 0.0, 1.0, w, h), [], UNKNOWN, (101,))
+        assert (grid == want).all(), (trial, h, w)

@@ -77,17 +77,24 @@ def seal_outside(grid: np.ndarray, frame: Frame, zones: list[Any], outside: int,
         stop = min(height, start + step)
         lo, hi = max(0, start - 1), min(height, stop + 1)
         free = grid[lo:hi] == FREE
+        if not free.any():
+            continue
         wide = free.copy()  # free or beside a free cell in its row, then in the rows above and below
         wide[:, 1:] |= free[:, :-1]
         wide[:, :-1] |= free[:, 1:]
-        near = wide.copy()
-        near[1:] |= wide[:-1]
-        near[:-1] |= wide[1:]
-        near = near[start - lo : start - lo + stop - start]
+        mid, n = start - lo, stop - start
+        near = wide[mid : mid + n].copy()
+        near[1:] |= wide[mid : mid + n - 1]  # the row below (row 0 = bottom), then the row above
+        near[:-1] |= wide[mid + 1 : mid + n]
+        if mid:
+            near[0] |= wide[0]
+        if hi > stop:
+            near[-1] |= wide[-1]
         block = grid[start:stop]
-        hit = near & (block == outside)
-        sealed += int(np.count_nonzero(hit))
-        block[hit] = OCCUPIED
+        near &= block == outside
+        if near.any():
+            sealed += int(np.count_nonzero(near))
+            np.copyto(block, OCCUPIED, where=near)
     if zones:  # the entrances' cells are free again (rows they cover only)
         _, y0, _, y1 = shapely.total_bounds(np.asarray(zones, dtype=object)).tolist()
         r0 = max(0, int((y0 - frame.y0) / frame.resolution) - 1)
