@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.model import Building, CellKind
+from pmk_nb.raster.openings import plan_openings
 from pmk_nb.raster.scanline import Frame
 from pmk_nb.raster.seal import seal_outside
 from pmk_nb.raster.storey import rasterise_storey
@@ -155,6 +156,19 @@ def test_door_across_a_wide_gap_is_walled_along_its_sides(tmp_path: Path, v2: bo
     door = _boundary("D1", ((5.4, 1.5), (5.4, 2.5)), "navi:ConnectionBoundary")
     _, grid = _convert(_plan(tmp_path, rooms, _graph([("A", "B")], v2=v2), door, v2=v2))
     assert grid.value_at(5.4, 2.0) == FREE  # the door still joins the rooms
+    assert len(_free_on_unknown(grid)) == 0
+
+
+@SPELLINGS
+def test_lane_across_a_gap_is_walled_along_its_sides(tmp_path: Path, v2: bool) -> None:
+    """PNU abc F2: a stair landing 1.5 m from the corridor, linked by the graph with nothing drawn between:
+    the lane laid across the gap was filled wider than the walls along it (29 free cells on unknown)."""
+    rooms = ROOM + _cell("B", (6.5, 0, 11.5, 4))
+    b, grid = _convert(_plan(tmp_path, rooms, _graph([("A", "B")], v2=v2), v2=v2))
+    [lane] = plan_openings(b, b.storeys[0].name).openings
+    assert lane.rule == "bridge" and lane.path is not None
+    mid = lane.path.interpolate(0.5, normalized=True)
+    assert grid.value_at(mid.x, mid.y) == FREE  # the lane joins the rooms
     assert len(_free_on_unknown(grid)) == 0
 
 
