@@ -16,6 +16,7 @@ from lxml import etree
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import gml
+from pmk_nb.indoorgml.drafts import draft_cell
 from pmk_nb.indoorgml.gml import GML_FAMILY, Coord, CoordError, PolygonZ, RingStats, local, local_name
 from pmk_nb.indoorgml.xmlsafe import GML_ID, iter_events
 from pmk_nb.progress import ProgressCallback
@@ -32,14 +33,11 @@ BOUNDARY_NAMES = {
 }  # fmt: skip
 STATE_NAMES = {"state", "node"}
 TRANSITION_NAMES = {"transition", "edge"}
-LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer"}
+LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer", "thematiclayer"}
 ROOT_NAMES = {"indoorfeatures", "multilayeredgraph", "primalspacefeatures", "indoorgml"}
 GEOREF_NAMES = {"translation", "rotation", "lla", "lla_origin"}
-# "duality": the 0.8/0.9 drafts (namespace "indoorCore") write each cell as the State's duality element itself
-_DECODED = frozenset(
-    CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAMES | LAYER_NAMES | GEOREF_NAMES | {"duality"}
-)
-_GEOMETRY_NAMES = {"geometry3d", "geometry2d"}
+_DECODED = frozenset(CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAMES | LAYER_NAMES | GEOREF_NAMES)
+_DECODED |= {"duality"}  # the 0.8/0.9 drafts write a cell as the State's duality itself (drafts.draft_cell)
 _STOREY_TEXT = re.compile(r"\b(?:storey|story|level|floor)\s*[=:]\s*\"?([^\";:,\s]+)", re.IGNORECASE)
 
 
@@ -97,6 +95,11 @@ class RawLayer:
     cls: str = ""
     usage: str = ""
     function: str = ""
+    name: str = ""
+    kind_name: str = ""  # spacelayer (1.x), primalspacelayer / dualspacelayer / thematiclayer (2.0)
+    theme: str = ""  # 2.0 ThematicLayer theme: Physical, Virtual, Tangible, Unknown
+    semantic_extension: bool = False  # 2.0 ThematicLayer semanticExtension
+    parent: str = ""  # 2.0: the ThematicLayer a primal/dual layer sits in
 
 
 @dataclass
@@ -118,21 +121,27 @@ class RawDocument:
     stats: RingStats = field(default_factory=RingStats)
 
 
-DRAFT_VERSION = "0.8/0.9 draft"
+_XPOINTER = re.compile(r"""xpointer\(\s*(?:id\(\s*['"]([^'"]+)['"]\s*\)|.*@(?:gml:)?id\s*=\s*['"]([^'"]+)['"].*)\)""")
 
 
-def is_draft(doc: RawDocument) -> bool:
-    """A file of the pre-standard 0.8/0.9 drafts: its core namespace is the bare word "indoorCore" (no URI)."""
-    return any(v.strip().lower() == "indoorcore" for v in doc.namespaces.values())
+def href_id(ref: str | None) -> str | None:
+    """The gml:id an ``xlink:href`` names, however it is spelled: ``#id``, ``id``, ``file.gml#id``,
+    ``#xpointer(id('id'))`` or ``#xpointer(//*[@gml:id='id'])`` (GML 3.2 allows both shorthand and
+    XPointer), with stray whitespace. The file part is dropped: every id is looked up in this file."""
+    if not ref:
+        return None
+    tail = ref.strip().rsplit("#", 1)[-1].strip()
+    m = _XPOINTER.fullmatch(tail)
+    if m:
+        tail = m.group(1) or m.group(2) or ""
+    return tail or None
 
 
 def _href(elem: etree._Element | None) -> str | None:
+    """The id ``elem`` links to: its ``xlink:href`` (or an un-namespaced ``href``, as some exporters write)."""
     if elem is None:
         return None
-    ref = elem.get(XLINK_HREF)
-    if ref:
-        return ref.rsplit("#", 1)[-1].strip() or None
-    return None
+    return href_id(elem.get(XLINK_HREF) or elem.get("href"))
 
 
 def _child(elem: etree._Element, name: str) -> etree._Element | None:
@@ -245,7 +254,7 @@ class _Scanner:
         in_member = len(self.stack) > 1 and self.stack[-2][0] == "cellspacemember"
         if (name in CELL_NAMES or in_member) and not gml.is_gml(elem):
             self._cell(elem, name)
-        elif name == "duality" and self._draft_cell(elem):
+        elif name == "duality" and draft_cell(elem, self.stack[-2][0] if len(self.stack) > 1 else ""):
             self._cell(elem, "cellspace")  # the drafts have no cell types: every cell is a space
         elif name in BOUNDARY_NAMES and not gml.is_gml(elem):
             self._boundary(elem, name)
@@ -258,9 +267,8 @@ class _Scanner:
                 cell = dual[0].get(GML_ID)
             doc.states.append(RawState(elem.get(GML_ID) or f"state{len(doc.states)}", point, cell, self._layer()))
         elif name in TRANSITION_NAMES and not gml.is_gml(elem):
-            connects = [h for h in (_href(c) for c in elem if local(c) == "connects") if h]
-            if not connects:  # the 0.8/0.9 drafts: <start> and <end> instead of two <connects>
-                connects = [h for h in (_href(_child(elem, k)) for k in ("start", "end")) if h]
+            ends = [c for c in elem if local(c) in ("connects", "start", "end")]  # start/end: the 0.8/0.9 drafts
+            connects = [h for h in map(_href, ends) if h]
             weight_el = _child(elem, "weight")
             try:
                 weight = float(_text(weight_el)) if _text(weight_el) else None
@@ -275,14 +283,7 @@ class _Scanner:
                 )
             )  # fmt: skip
         elif name in LAYER_NAMES:
-            doc.layers.append(
-                RawLayer(
-                    elem.get(GML_ID) or f"layer{len(doc.layers) + 1}",
-                    _text(_child(elem, "class")),
-                    _text(_child(elem, "usage")),
-                    _text(_child(elem, "function")),
-                )
-            )
+            self._layer_record(elem, name)
         elif name in GEOREF_NAMES and not gml.is_gml(elem):
             self._georef(elem, name)
         else:
@@ -292,12 +293,6 @@ class _Scanner:
             if parent is not None and name.endswith("member"):
                 while elem.getprevious() is not None:
                     del parent[0]
-
-    def _draft_cell(self, elem: etree._Element) -> bool:
-        """A State's duality that is a cell itself (its own gml:id and a Geometry2D/3D inside), as the
-        0.8/0.9 drafts write it; 1.0 points at the cell, ALMA nests a CellSpace in it."""
-        in_state = len(self.stack) > 1 and self.stack[-2][0] in STATE_NAMES
-        return in_state and elem.get(GML_ID) is not None and any(local(c) in _GEOMETRY_NAMES for c in elem)
 
     def _cell(self, elem: etree._Element, name: str) -> None:
         kids = _kids(elem)
@@ -326,6 +321,22 @@ class _Scanner:
             alma_inline=in_state is not None,
         )
         self.doc.cells.append(cell)
+
+    def _layer_record(self, elem: etree._Element, name: str) -> None:
+        """A layer's words (1.x class/usage/function; 2.0 ThematicLayer theme) and the ThematicLayer it sits in."""
+        kids = _kids(elem)
+        if elem.get(GML_ID) is None and any(k in LAYER_NAMES for k in kids):
+            return  # 2.0's property `primalSpaceLayer` around the feature `PrimalSpaceLayer`: same name lower-cased
+        thematic = self._ancestor({"thematiclayer"})
+        self.doc.layers.append(
+            RawLayer(
+                elem.get(GML_ID) or f"layer{len(self.doc.layers) + 1}",
+                _text(kids.get("class")), _text(kids.get("usage")), _text(kids.get("function")),
+                name=_text(kids.get("name")), kind_name=name, theme=_text(kids.get("theme")),
+                semantic_extension=_text(kids.get("semanticextension")).lower() in ("true", "1"),
+                parent=(thematic[1] or "") if thematic else "",
+            )
+        )  # fmt: skip
 
     def _boundary(self, elem: etree._Element, name: str) -> None:
         kids = _kids(elem)

@@ -63,6 +63,7 @@ class ConvertOptions:
     chair_width: float = DEFAULT_CHAIR_WIDTH  # metres: the accessibility check's chair
     check: bool = True  # run the accessibility check and keep its report in the rooms file
     not_windows: tuple[str, ...] = ()  # cells (ids or names) the window/sill rule must leave navigable
+    layers: tuple[str, ...] = ()  # space layers (ids or names) to draw instead of the navigable one
 
 
 @dataclass(frozen=True)
@@ -158,7 +159,8 @@ def _stage_storeys(
             )  # fmt: skip
         rooms = sidecar_path(files.yaml)
         doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
-        doc[CHOICES_KEY] = ConvertChoices(opts.unit, tuple(opts.not_windows)).to_json()  # kept for the next time
+        choices = ConvertChoices(opts.unit, tuple(opts.not_windows), tuple(opts.layers))
+        doc[CHOICES_KEY] = choices.to_json()  # kept for the next time
         rooms.write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
         staged.append(StoreyMap(storey, files, grid.width, grid.height, grid.resolution, rooms, report))
         del grid  # one storey's grid in memory at a time
@@ -220,7 +222,8 @@ def convert_plan(
     res = _check_options(resolution, opts)
     emit(progress, "read", 0.0, Path(source).name)
     building = read_building(
-        source, unit=opts.unit, progress=sub_range(progress, 0.0, _READ_END), not_windows=opts.not_windows
+        source, unit=opts.unit, progress=sub_range(progress, 0.0, _READ_END), not_windows=opts.not_windows,
+        layers=opts.layers,
     )
     wanted = _wanted_storeys(building, opts.storeys)
     stems = storey_map_names(name, [s.name for s in building.storeys])

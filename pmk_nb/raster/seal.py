@@ -18,11 +18,12 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 import shapely
 
-from pmk_nb.grid import FREE, OCCUPIED
+from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN
 from pmk_nb.indoorgml.model import CellKind
+from pmk_nb.raster.outside import facing_outside
 from pmk_nb.raster.scanline import Frame
 from pmk_nb.raster.spans import fill_polygons
-from pmk_nb.raster.walls import door_gaps
+from pmk_nb.raster.walls import door_gaps, door_geometry
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell
@@ -30,33 +31,44 @@ if TYPE_CHECKING:
 
 
 class _StoreyPlan(Protocol):
-    """What :func:`entrance_zones` reads of the rasteriser's storey plan."""
+    """What :func:`seal_storey` reads of the rasteriser's storey plan."""
 
     frame: Frame
     half: float
     cells: list[Cell]
     openings: OpeningPlan
+    outside_mark: int
 
 
 _ENTRY = 103  # transient: a free cell of an entrance's own opening, which may face the outside
 
 
+def seal_storey(
+    grid: np.ndarray, building: Building, storey: str, plan: _StoreyPlan, max_gap: float, wall: int
+) -> None:
+    """The step after the doors: seal the free space's outer edge, but at entrances (nothing to do when
+    everything outside the cells becomes occupied anyway). ``wall``: the rasteriser's wall mark."""
+    if plan.outside_mark == UNKNOWN:
+        seal_outside(grid, plan.frame, entrance_zones(building, storey, plan, max_gap), UNKNOWN, (wall,))
+
+
 def entrance_zones(building: Building, storey: str, plan: _StoreyPlan, max_gap: float) -> list[Any]:
-    """The free cells of each entrance's own opening: the entrance cell or line, as far as its opening
-    reaches (half a wall and a cell, plus the gap its line bridges, ``max_gap`` at most), plus a cell
-    for rounding. Free cells beyond (a room, a lane laid along the façade) are sealed as any other."""
-    cells, shut = plan.cells, plan.openings.shut_doors
+    """The free cells of each way out's own opening: AnchorSpace cells, and door lines drawn as openings
+    that face the outside (no cell on one side within ``max_gap``: a door the file gives there, by type,
+    name or transition; rule 4 has shut the guessed ones), each as far as its opening reaches (half a
+    wall and a cell, plus the gap its line bridges), plus a cell for rounding. Free cells beyond (a
+    room, a lane laid along the facade, a door cell standing out) are sealed as any other."""
+    cells = plan.cells
     reach = plan.half + plan.frame.resolution
     pad = reach + plan.frame.resolution
     zones: list[Any] = [shapely.buffer(c.footprint, pad) for c in cells if c.kind is CellKind.ANCHOR]
-    skipped = {b.id for b in shut}
-    lines = [
-        b.geometry for b in building.doors_of(storey) if b.entrance and b.id not in skipped and b.geometry is not None
-    ]
-    if lines:
+    _, lines = door_geometry(building, storey, [], skip=plan.openings.shut_doors)
+    outward = facing_outside(lines, [c.footprint for c in cells], max_gap) if lines else []
+    ways = [line for line, out in zip(lines, outward, strict=True) if out]
+    if ways:
         rooms = [c.footprint for c in cells if c.kind.is_free and not c.kind.is_door]
-        gaps = door_gaps(lines, rooms, max_gap=max_gap)
-        zones += [shapely.buffer(g, gap + pad, cap_style="flat") for g, gap in zip(lines, gaps, strict=True)]
+        gaps = door_gaps(ways, rooms, max_gap=max_gap)
+        zones += [shapely.buffer(g, gap + pad, cap_style="flat") for g, gap in zip(ways, gaps, strict=True)]
     return zones
 
 

@@ -6,15 +6,15 @@ rule (:mod:`pmk_nb.raster.scanline`), in this order:
 
 1. free cells (navigable, general, transition, anchor and connection spaces) -> 0;
 2. non-navigable cells -> 100;
-3. wall gaps: regions between cells narrower than ``max_wall_gap`` (walls the file leaves out, e.g.
-   ALMA) are wall, except across door boundaries (:func:`walls.gap_walls`);
+3. wall gaps: regions between cells narrower than the thickest wall (at least 1 m, :mod:`thickness`)
+   are wall (ALMA leaves walls out as gaps), except across doors and openings (:func:`walls.gap_walls`);
 4. walls: every free cell's rings, minus the stretches where a door sits, drawn as a band of
    ``wall_thickness`` centred on the line *and* as a 4-connected supercover line, so rooms that share
    an edge never merge even when the wall is thinner than a cell;
 5. doors opened after the walls: door cells and door boundaries clear the wall across their width, plus
    a passage line across it (only towards cells the graph links a door cell to) for coarse resolutions;
-6. everything outside all cells stays unknown (or occupied with ``outside="occupied"``), but free cells never
-   touch it: one cell of wall seals the free space's outer edge, except in front of entrances (``seal``).
+6. everything outside all cells stays unknown (or occupied with ``outside="occupied"``), and free cells
+   never touch unknown: one cell of wall seals them, except at entrances (:mod:`seal`).
 """
 
 from __future__ import annotations
@@ -41,8 +41,9 @@ from pmk_nb.raster.scanline import (
     supercover_cells,
     write_rects,
 )
-from pmk_nb.raster.seal import entrance_zones, seal_outside
+from pmk_nb.raster.seal import seal_storey
 from pmk_nb.raster.spans import fill_polygons
+from pmk_nb.raster.thickness import thickest_wall
 from pmk_nb.raster.wallcut import wall_segments
 from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_walls, passages, shrink_segments
 
@@ -252,7 +253,8 @@ def _draw_walls(grid: np.ndarray, plan: _Plan, tick: _Ticker) -> np.ndarray:
     frame, res = plan.frame, plan.frame.resolution
     tol = max(0.01, 0.25 * res)
     gaps = door_gaps(plan.door_lines, plan.rooms, max_gap=max(_MAX_DOOR_GAP, plan.max_gap))
-    gap_fill = gap_walls([c.footprint for c in plan.cells] + plan.door_polys, plan.door_lines, gaps, plan.max_gap, tol)
+    walls = thickest_wall(plan.openings, gaps, plan.max_gap)  # a gap no transition crosses is wall up to this
+    gap_fill = gap_walls([c.footprint for c in plan.cells] + plan.door_polys, plan.door_lines, gaps, walls, tol)
     fill_polygons(grid, frame, [gap_fill], _WALL, keep=(FREE, OCCUPIED))
     segments = wall_segments(plan.rooms, plan.door_polys, plan.door_lines, gaps, tol)
     fill_segment_bands(grid, frame, segments, plan.half, _WALL, plan.spare)
@@ -346,9 +348,7 @@ def rasterise_storey(
     grid = _fill_cells(plan, storey, tick)
     gaps = _draw_walls(grid, plan, tick)
     _open_doors(grid, plan, gaps, tick)
-    if plan.outside_mark == UNKNOWN:  # the free space's outer edge is wall, but at entrances (raster.seal)
-        ways_out = entrance_zones(building, storey, plan, max(_MAX_DOOR_GAP, plan.max_gap))
-        seal_outside(grid, plan.frame, ways_out, UNKNOWN, (_WALL,))
+    seal_storey(grid, building, storey, plan, max(_MAX_DOOR_GAP, plan.max_gap), _WALL)  # outer edge: wall
     _finish(grid, plan.outside_mark, tick)
     return OccupancyGrid(
         data=grid, resolution=plan.frame.resolution, origin=(plan.frame.x0, plan.frame.y0, 0.0), frame_id="map",

@@ -59,6 +59,7 @@ class ChoicesPanel:
         self.windows_box = w.VBox([self.windows_help, self.windows], layout=w.Layout(display="none"))
         self.widget = w.VBox([self.unit, self.unit_error, self.windows_box], layout=w.Layout(width="100%"))
         self._shown: tuple[object, ...] | None = None  # (map name, its last choices, the cells offered)
+        self._layers: tuple[str, ...] = ()  # the layers the last conversion drew (--layer), kept as they were
 
     def show(self, entry: MapEntry | None, docs: list[dict[str, Any] | None]) -> None:
         """The choices of ``entry``'s last conversion, and the cells its reports took for windows (``docs``:
@@ -70,6 +71,7 @@ class ChoicesPanel:
         if shown == self._shown:
             return
         self._shown = shown
+        self._layers = last.layers  # chosen by `pmk maps convert --layer`: kept when the screen converts again
         self.unit.value = last.unit
         self.unit_error.value = ""
         action = "Choosing cells that are not windows"
@@ -106,4 +108,4 @@ class ChoicesPanel:
         """
         unit = self._valid_unit(self.unit.value)
         ticked = [str(b.description) for b in self.windows.children if isinstance(b, w.Checkbox) and b.value is True]
-        return ConvertChoices(unit, tuple(ticked))
+        return ConvertChoices(unit, tuple(ticked), self._layers)
