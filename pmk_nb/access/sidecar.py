@@ -63,6 +63,7 @@ def sidecar_json(building: Building, storey: str, plan: OpeningPlan, report: dic
         "unit_conflict": building.unit_conflict,
         "graph": building.graph_status.to_json(),  # the Maps screen says when it was lost
         "skipped_layers": [asdict(n) for n in building.skipped_layers],
+        "unit_suspect": asdict(building.unit_suspect) if building.unit_suspect is not None else None,
         "rooms": [
             {"id": c.id, "name": c.name, "kind": c.kind.value, "z_min": c.z_min, "polygon": _geo(c.footprint)}
             for c in cells

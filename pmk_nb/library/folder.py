@@ -348,7 +348,7 @@ class MapsFolder:
                 f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell.",
                 name=entry.name, hint="Use a coarser resolution (a larger number).",
             ) from err  # fmt: skip
-        if unit == "auto":  # what storeys() reads too: the list learns them for free
+        if unit == "auto" and not layers:  # what storeys() reads too (the plan as read by default): for free
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
         new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p}
         self._remove_superseded(old, new_names, set(result.stems.values()))

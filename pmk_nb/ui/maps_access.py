@@ -154,6 +154,10 @@ class AccessPanel:
             return
         self.widget.layout.display = "flex"
         parts, images, conflict, layers = [], [], "", []
+        suspect = next((s for doc in docs if isinstance(s := (doc or {}).get("unit_suspect"), dict)), None)
+        if suspect is not None:  # before any door: a wrong unit makes every door look wrong
+            parts.append(f"<p class='pmk-warn pmk-access-unit'><b>Suspect the unit first:</b> "
+                         f"{escape(str(suspect.get('message', '')))}</p>")  # fmt: skip
         for gm, doc in zip(entry.generated, docs, strict=True):
             parts.append(_storey_html(gm, doc))
             conflict = conflict or (doc or {}).get("unit_conflict", "")
