@@ -65,18 +65,22 @@ def facing_outside(lines: list[BaseGeometry], cells: list[BaseGeometry], reach: 
         return []
     if not cells:
         return [True] * len(lines)
-    arr = np.asarray(lines, dtype=object)
+    arr, n = np.asarray(lines, dtype=object), len(lines)
     tree = shapely.STRtree(cells)
-    p0, p1 = (shapely.get_coordinates(shapely.get_point(arr, i)) for i in (0, -1))
-    mid = shapely.get_coordinates(shapely.line_interpolate_point(arr, 0.5, normalized=True))
+    coords, index = shapely.get_coordinates(arr, return_index=True)
+    counts = np.bincount(index, minlength=n)
+    last = np.cumsum(counts) - 1
+    p0, p1 = coords[np.maximum(last - counts + 1, 0)], coords[np.maximum(last, 0)]
+    mid = (p0 + p1) / 2
+    bent = counts > 2
+    if bent.any():
+        mid[bent] = shapely.get_coordinates(shapely.line_interpolate_point(arr[bent], 0.5, normalized=True))
     d = p1 - p0
     length = np.hypot(d[:, 0], d[:, 1])
     normal = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.where(length > 0, length, 1.0)[:, None] * 1e-3
-    both = length > 0
-    for probe in (mid + normal, mid - normal):
-        hit = np.zeros(len(arr), dtype=bool)
-        hit[tree.query(shapely.points(probe), predicate="within")[0]] = True
-        both &= hit
+    hit = np.zeros(2 * n, dtype=bool)
+    hit[tree.query(shapely.points(np.vstack([mid + normal, mid - normal])), predicate="within")[0]] = True
+    both = hit[:n] & hit[n:] & (length > 0)
     out = [False] * len(lines)
     for i in np.flatnonzero(~both).tolist():
         out[i] = not all(_faces_a_cell(lines[i], side * reach, tree, cells) for side in (1.0, -1.0))
