@@ -11,6 +11,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
+from pmk_nb.indoorgml.drafts import DRAFT_VERSION, is_draft
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
 from pmk_nb.indoorgml.graph import graph_status, linked_pairs, nav_graph, resolve_links, state_cells
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
@@ -40,18 +41,19 @@ def detect_alma(doc: RawDocument) -> str:
     uris = {v.lower() for v in doc.namespaces.values()}
     if any("idsia.ch/alma" in u for u in uris):
         return "alma namespace"
-    if doc.root == "multilayeredgraph" and any(c.alma_inline for c in doc.cells):
+    inline = any(c.alma_inline for c in doc.cells) and not is_draft(doc)  # the 0.8/0.9 drafts nest cells too
+    if doc.root == "multilayeredgraph" and inline:
         return "MultiLayeredGraph root with cells inline in State/duality"
-    if doc.translation is not None and any(c.alma_inline for c in doc.cells):
+    if doc.translation is not None and inline:
         return "cells inline in State/duality and a map-frame translation"
-    if {"indoorCore", "indoorNavi"} & set(doc.namespaces) and any(c.alma_inline for c in doc.cells):
+    if {"indoorCore", "indoorNavi"} & set(doc.namespaces) and inline:
         return "indoorCore/indoorNavi prefixes with cells inline in State/duality"
     return ""
 
 
 def _version(doc: RawDocument, alma: str) -> str:
-    if alma:
-        return "alma"
+    if alma or is_draft(doc):
+        return "alma" if alma else DRAFT_VERSION
     uris = " ".join(doc.namespaces.values()).lower()
     if "indoorgml/2.0" in uris or doc.has_primal_layer:
         return "2.0"

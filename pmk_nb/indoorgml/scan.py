@@ -16,6 +16,7 @@ from lxml import etree
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import gml
+from pmk_nb.indoorgml.drafts import draft_cell
 from pmk_nb.indoorgml.gml import GML_FAMILY, Coord, CoordError, PolygonZ, RingStats, local, local_name
 from pmk_nb.indoorgml.xmlsafe import GML_ID, iter_events
 from pmk_nb.progress import ProgressCallback
@@ -36,6 +37,7 @@ LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer", "thematiclaye
 ROOT_NAMES = {"indoorfeatures", "multilayeredgraph", "primalspacefeatures", "indoorgml"}
 GEOREF_NAMES = {"translation", "rotation", "lla", "lla_origin"}
 _DECODED = frozenset(CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAMES | LAYER_NAMES | GEOREF_NAMES)
+_DECODED |= {"duality"}  # the 0.8/0.9 drafts write a cell as the State's duality itself (drafts.draft_cell)
 _STOREY_TEXT = re.compile(r"\b(?:storey|story|level|floor)\s*[=:]\s*\"?([^\";:,\s]+)", re.IGNORECASE)
 
 
@@ -252,6 +254,8 @@ class _Scanner:
         in_member = len(self.stack) > 1 and self.stack[-2][0] == "cellspacemember"
         if (name in CELL_NAMES or in_member) and not gml.is_gml(elem):
             self._cell(elem, name)
+        elif name == "duality" and draft_cell(elem, self.stack[-2][0] if len(self.stack) > 1 else ""):
+            self._cell(elem, "cellspace")  # the drafts have no cell types: every cell is a space
         elif name in BOUNDARY_NAMES and not gml.is_gml(elem):
             self._boundary(elem, name)
         elif name in STATE_NAMES and not gml.is_gml(elem):
@@ -263,7 +267,8 @@ class _Scanner:
                 cell = dual[0].get(GML_ID)
             doc.states.append(RawState(elem.get(GML_ID) or f"state{len(doc.states)}", point, cell, self._layer()))
         elif name in TRANSITION_NAMES and not gml.is_gml(elem):
-            connects = [h for h in (_href(c) for c in elem if local(c) == "connects") if h]
+            ends = [c for c in elem if local(c) in ("connects", "start", "end")]  # start/end: the 0.8/0.9 drafts
+            connects = [h for h in map(_href, ends) if h]
             weight_el = _child(elem, "weight")
             try:
                 weight = float(_text(weight_el)) if _text(weight_el) else None

@@ -1,9 +1,8 @@
 """Rasterise a building's storeys into occupancy grids, straight from the vector geometry.
 
-The original app drew every polygon on a 100 px/m bitmap and shrank it by ``resolution / 0.01``;
-that costs 10 000 pixels per square metre whatever the target resolution, and shrinking with
-nearest-neighbour could drop thin walls and doors. Here each storey is rasterised once, at the
-target resolution, with the cell-centre rule (:mod:`pmk_nb.raster.scanline`), in this order:
+Not drawn on a 100 px/m bitmap and shrunk (the original app: 10 000 pixels per m² at any resolution,
+and thin walls lost): each storey is rasterised once, at the target resolution, with the cell-centre
+rule (:mod:`pmk_nb.raster.scanline`), in this order:
 
 1. free cells (navigable, general, transition, anchor and connection spaces) -> 0;
 2. non-navigable cells -> 100;
@@ -14,7 +13,8 @@ target resolution, with the cell-centre rule (:mod:`pmk_nb.raster.scanline`), in
    an edge never merge even when the wall is thinner than a cell;
 5. doors opened after the walls: door cells and door boundaries clear the wall across their width, plus
    a passage line across it (only towards cells the graph links a door cell to) for coarse resolutions;
-6. everything outside all cells stays unknown (or occupied with ``outside="occupied"``).
+6. everything outside all cells stays unknown (or occupied with ``outside="occupied"``), and free cells
+   never touch unknown: one cell of wall seals them, except at entrances (:mod:`seal`).
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ from pmk_nb.raster.scanline import (
     supercover_cells,
     write_rects,
 )
+from pmk_nb.raster.seal import seal_storey
 from pmk_nb.raster.spans import fill_polygons
 from pmk_nb.raster.thickness import thickest_wall
 from pmk_nb.raster.wallcut import wall_segments
@@ -347,6 +348,7 @@ def rasterise_storey(
     grid = _fill_cells(plan, storey, tick)
     gaps = _draw_walls(grid, plan, tick)
     _open_doors(grid, plan, gaps, tick)
+    seal_storey(grid, building, storey, plan, max(_MAX_DOOR_GAP, plan.max_gap), _WALL)  # outer edge: wall
     _finish(grid, plan.outside_mark, tick)
     return OccupancyGrid(
         data=grid, resolution=plan.frame.resolution, origin=(plan.frame.x0, plan.frame.y0, 0.0), frame_id="map",

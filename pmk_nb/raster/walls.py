@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
+from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.nearby import grown_box
 from pmk_nb.raster.parts import door_frame, polygon_parts, polygons_of
 
@@ -247,7 +248,8 @@ def door_neighbours(
     door_cells: list[Cell], rooms: list[Cell], links: list[Link], reach: float
 ) -> list[tuple[Any, Any] | None]:
     """Per door cell, (cells the graph links it to, other free cells) within 2 ``reach``, each as one
-    geometry; None for a door cell the graph never names (a file without a graph: every side opens)."""
+    geometry; for a door cell the graph never names (a file without a graph), every nearby cell counts
+    as linked. None for an entrance (AnchorSpace): every side opens, the outside too."""
     linked: dict[str, set[str]] = {}
     for k in links:
         linked.setdefault(k.a, set()).add(k.b)
@@ -257,13 +259,16 @@ def door_neighbours(
     out: list[tuple[Any, Any] | None] = []
     for door in door_cells:
         mine = linked.get(door.id)
-        if not mine or tree is None:
+        if door.kind is CellKind.ANCHOR or tree is None:
             out.append(None)
             continue
         hits = tree.query(door.footprint, predicate="dwithin", distance=2 * reach).tolist()
         near = [others[i] for i in hits if others[i].id != door.id]
-        mine_near = [c.footprint for c in near if c.id in mine]
-        out.append((shapely.union_all(mine_near), shapely.union_all([c.footprint for c in near if c.id not in mine])))
+        ours = [not mine or c.id in mine for c in near]
+        out.append((
+            shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if o]),
+            shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if not o]),
+        ))  # fmt: skip
     return out
 
 
@@ -274,8 +279,9 @@ def passages(
     """Segments across each door (perpendicular to the wall), ``reach`` beyond it on both sides.
 
     ``sides`` (from :func:`door_neighbours`, one per leading door polygon) keeps a door cell's passage
-    inside the door on a side where only cells it is not linked to lie: the graph decides, and a door
-    cell 0.13 m from a room it has no transition to must not join it (a leak).
+    inside the door on a side where no cell it is linked to lies: the graph decides, and a door cell
+    0.13 m from a room it has no transition to must not join it (a leak); nor may a door cell standing
+    out of the outer wall reach into the unknown outside (unless it is an entrance: ``sides`` None).
     """
     d = door_segs[:, 2:4] - door_segs[:, 0:2]
     length = np.hypot(d[:, 0], d[:, 1])
@@ -297,8 +303,8 @@ def passages(
             near = sides[i] if sides is not None and i < len(sides) else None
             for k, sign in enumerate((-1.0, 1.0)) if near is not None else ():
                 probe = shapely.LineString([c + sign * u * ls / 2, c + sign * u * (ls / 2 + 2 * reach)])
-                if probe.intersects(near[1]) and not probe.intersects(near[0]):
-                    ends[k] = ls / 2  # only cells the graph does not link on this side: stay inside the door
+                if not probe.intersects(near[0]):
+                    ends[k] = 0.0  # no cell the graph links on this side (or none at all): stop mid-door
             a, b = c - u * ends[0], c + u * ends[1]
             segs.append(np.array([[a[0], a[1], b[0], b[1]]]))
     return np.vstack(segs)
