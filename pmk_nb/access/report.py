@@ -275,9 +275,9 @@ def check_storey(
         point_runs.append(strip_runs(a, free, own >> 1))
         chair_runs.append(strip_runs(a, eroded, own))
     point, chair = _Regions(point_runs, grid.width), _Regions(chair_runs, grid.width, core=True)
-    for o in openings:
+    for o, wide in zip(openings, free_widths(grid, [o.segments for o in openings]), strict=True):
         a, b = index[o.link.a], index[o.link.b]
-        passes, wide = point.joined(a, b, doors), free_width(grid, o.segments)
+        passes = point.joined(a, b, doors)
         fits = chair.joined(a, b, doors)  # on the grid alone: the opening's width only informs
         report.links.append(
             LinkCheck(o.link.id, (o.link.a, o.link.b), o.names, o.rule, round(o.width, 3), passes, fits, round(wide, 3))
@@ -294,25 +294,39 @@ def _not_checked(skip: Skipped, by_id: dict[str, Cell]) -> NotChecked:
     return NotChecked(skip.link.id, ends, skip.names, skip.reason, skip.names[shut[0] if shut else 1])
 
 
-def free_width(grid: OccupancyGrid, segments: tuple[BaseGeometry, ...]) -> float:
-    """The longest free stretch along any of ``segments`` in ``grid`` (metres), sampled every half cell."""
-    best = 0.0
+def free_widths(grid: OccupancyGrid, openings: Sequence[Sequence[BaseGeometry]]) -> list[float]:
+    """Per opening, the longest free stretch along any of its segments in ``grid`` (metres), sampled
+    every half cell: informative (the chair's verdict is on the grid), all openings in one pass."""
+    segs = [(i, seg) for i, segments in enumerate(openings) for seg in segments]
+    best = [0.0] * len(openings)
+    if not segs:
+        return best
     res = grid.resolution
-    data = np.asarray(grid.data)
-    for seg in segments:
-        n = max(2, int(seg.length / (res / 2)) + 1)
-        pts = shapely.get_coordinates(seg.interpolate(np.linspace(0.0, seg.length, n)))
-        cols = np.floor((pts[:, 0] - grid.origin[0]) / res).astype(int)
-        rows = np.floor((pts[:, 1] - grid.origin[1]) / res).astype(int)
-        ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
-        free = np.zeros(n, dtype=bool)
-        free[ok] = data[rows[ok], cols[ok]] == FREE
-        run = longest = 0
-        for f in free.tolist():
-            run = run + 1 if f else 0
-            longest = max(longest, run)
-        best = max(best, max(longest - 1, 0) * seg.length / (n - 1))
+    lengths = np.array([seg.length for _, seg in segs])
+    n = np.maximum(2, (lengths / (res / 2)).astype(np.int64) + 1)  # samples per segment
+    first = np.cumsum(n) - n
+    k = np.arange(int(n.sum())) - np.repeat(first, n)  # sample index within its segment
+    along = k * np.repeat(lengths / (n - 1), n)
+    pts = shapely.get_coordinates(shapely.line_interpolate_point(np.repeat([seg for _, seg in segs], n), along))
+    cols = np.floor((pts[:, 0] - grid.origin[0]) / res).astype(np.int64)
+    rows = np.floor((pts[:, 1] - grid.origin[1]) / res).astype(np.int64)
+    ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
+    free = np.zeros(len(k), dtype=bool)
+    free[ok] = np.asarray(grid.data)[rows[ok], cols[ok]] == FREE
+    # longest run of free samples per segment: samples since the last blocked one (or the segment's start)
+    idx = np.arange(len(k))
+    last = np.where(~free, idx, np.where(k == 0, idx - 1, -1))
+    np.maximum.accumulate(last, out=last)
+    run = np.where(free, idx - last, 0)
+    longest = np.maximum.reduceat(run, first)
+    for (i, _), m, steps, length in zip(segs, longest.tolist(), n.tolist(), lengths.tolist(), strict=True):
+        best[i] = max(best[i], max(m - 1, 0) * length / (steps - 1))
     return best
+
+
+def free_width(grid: OccupancyGrid, segments: Sequence[BaseGeometry]) -> float:
+    """The longest free stretch along any of ``segments`` in ``grid`` (metres): :func:`free_widths` of one."""
+    return free_widths(grid, [segments])[0]
 
 
 def _unreachable(links: list[LinkCheck], by_id: dict[str, Cell]) -> list[str]:
