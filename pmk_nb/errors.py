@@ -38,6 +38,20 @@ class IndoorGMLError(PmkError):
         self.element = element
 
 
+class UnknownLayer(IndoorGMLError):
+    """``--layer NAME`` names no space layer of the file with cells to draw.
+
+    Attributes:
+        layer: the name asked for.
+        known: the file's layers that can be drawn (id, and name when it has one).
+    """
+
+    def __init__(self, message: str, *, path: str, layer: str, known: list[str], hint: str = "") -> None:
+        super().__init__(message, path=path, element=layer, hint=hint)
+        self.layer = layer
+        self.known = known
+
+
 class OccupancyError(PmkError):
     """A storey cannot be rasterised."""
 

@@ -179,7 +179,7 @@ def test_the_text_report_names_ten_and_counts_the_rest() -> None:
 def test_fzk_haus_window_cells_are_named_and_the_check_still_passes(capsys: pytest.CaptureFixture[str]) -> None:
     """FZK-Haus links its 11 window cells (0.3 m deep, in the outer walls, sills 0.8-0.95 m above the floor
     beside them, checked by hand): all are named not checked as windows, never as failures (the check
-    fails on FZK-Haus for other links: its attic door and porches, see test_access_real_files)."""
+    fails on FZK-Haus for other links: its two entrance door cells, see test_access_real_files)."""
     path = INDOORGML_DATA / "fzk_haus_poslist.gml"
     b = read_building(path)
     reports = check_building(b, 0.05, chair_width=0.7)

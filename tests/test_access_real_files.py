@@ -5,11 +5,12 @@ three stair cells to corridors 1.5-1.8 m away (nothing drawn between them): a "b
 across the gap. Its two north restrooms are reached through a door cell 1.1-1.4 m wide, which the
 check lets a way cross (it is part of the wall).
 
-FZK-Haus (issue 31, rule 9): 3 of its 12 links are not passable for a 0.60 m chair on the written
+FZK-Haus (issue 31, rule 9): 2 of its 12 links are not passable for a 0.60 m chair on the written
 0.05 m grid, as an independent distance transform of the grid agrees (tests/test_access_property.py):
-the attic's door to the room drawn inside it is cut into a corner (the chair's centre only noses 0.1 m
-past the wall, never into the room), and the two 0.3 m deep entrance porches lead to the unknown
-outside, where no chair fits. They were called passable from the 0.88-0.9 m free along the opening.
+its two entrance door cells (0.3 m deep: the outer wall's depth, at floor level) lead only to the
+unknown outside, and no chair fits in them. They were called passable from the 0.88 m free along
+the opening. (Its attic door, cut into a corner, was a
+third until rule 8 slid it along the wall to its full 0.9 m.)
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from tests.shared_data import INDOORGML_DATA as INDOORGML_DIR
 EXPECTED = {
     "fjk_haus_v1_0_3.gml": (12, 12, 12, 0),
     "fjk_haus_v1_0_nowrapper.gml": (12, 12, 12, 0),
-    "fzk_haus_poslist.gml": (12, 12, 9, 0),  # the attic door in a corner, two porches: see the note
+    "fzk_haus_poslist.gml": (12, 12, 10, 0),  # two entrance door cells, dead ends: see the note
     "ineditor_example2_5floors.gml": (8, 8, 8, 0),
     "pnu201_3floors_navi_corrected.gml": (81, 81, 81, 0),
     "pnu_abc_3floors_4layers.gml": (33, 33, 33, 0),
@@ -53,7 +54,7 @@ def test_transitions_passable_per_file(name: str) -> None:
 
 
 def test_pmk_check_exit_codes_and_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["check", str(INDOORGML_DIR / "fzk_haus_poslist.gml")]) == 1  # the attic and porches, see the note
+    assert main(["check", str(INDOORGML_DIR / "fzk_haus_poslist.gml")]) == 1  # the entrance door cells, see the note
     out = capsys.readouterr().out
     assert "storey 0: 9/11 transitions passable for a 0.70 m chair" in out and "problems found" in out
     assert main(["check", str(INDOORGML_DIR / "pnu_abc_3floors_4layers.gml")]) == 0

@@ -109,3 +109,44 @@ def test_a_window_that_is_a_door_is_kept_navigable_from_the_maps_screen(tmp_path
             page.screenshot(path=str(ARTIFACTS / "maps-not-window.png"), full_page=True)
     [gm] = maps.entry("balcony").generated
     assert (sidecar_doc(gm.yaml) or {})["choices"] == {"unit": "auto", "not_windows": ["office window"]}
+
+
+def test_the_maps_screen_says_a_plans_doubts_before_and_after_converting(tmp_path: Path) -> None:
+    """Issue 31: a sensor layer not drawn (and offered to draw), a lost navigation graph ("nothing checked"),
+    and a unit that makes every door absurd, named before any door, as a kiosk user sees them."""
+    from playwright.sync_api import expect
+
+    from tests.test_ui_plan_doubts import cm_house, lost_graph_plan, zoned_plan
+
+    plans = {name: tmp_path / name for name in ("zoned", "lost", "house")}
+    for folder in plans.values():
+        folder.mkdir()
+    with serve_kiosk(tmp_path, label="access-doubts") as (url, world):
+        maps = MapsFolder(world.maps_dir)
+        maps.import_file(zoned_plan(plans["zoned"]), "zoned")
+        maps.convert(maps.import_file(lost_graph_plan(plans["lost"]), "lost").name, 0.05)
+        maps.convert(maps.import_file(cm_house(plans["house"]), "house").name, 0.5, unit="m")
+        with chromium_page(url, viewport=VIEWPORT) as page:
+            _access_panel(page, "lost")
+            panel = page.locator(".pmk-access")
+            expect(panel).to_contain_text("nothing checked: 2 of 2 transitions name states that are not in the file")
+            expect(page.locator(".pmk-maps-plan-notes")).to_contain_text("Navigation graph not used")
+            _access_panel(page, "house")
+            expect(panel).to_contain_text("Suspect the unit first: all doors are 90 m wide in metres")
+            select = page.locator(".pmk-maps-list select")
+            labels = select.locator("option").all_inner_texts()
+            select.select_option(index=next(i for i, t in enumerate(labels) if t.startswith("zoned")))
+            notes = page.locator(".pmk-maps-plan-notes")
+            expect(notes).to_contain_text("Layer 'L2' (2 cells) not drawn: a thematic layer", timeout=30_000)
+            boxes = page.locator(".pmk-maps-layer input[type=checkbox]")
+            expect(boxes).to_have_count(2)
+            expect(boxes.nth(0)).to_be_checked()
+            expect(boxes.nth(1)).not_to_be_checked()
+            notes.scroll_into_view_if_needed()
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.screenshot(path=str(ARTIFACTS / "maps-plan-doubts.png"), full_page=True)
+            boxes.nth(1).check()
+            page.locator("button.pmk-maps-convert").click()
+            expect(page.locator(".pmk-maps-status")).to_contain_text("Converted zoned", timeout=60_000)
+    [gm] = maps.entry("zoned").generated
+    assert (sidecar_doc(gm.yaml) or {})["choices"]["layers"] == ["TOPO", "L2"]

@@ -47,10 +47,13 @@ def check_grid(
     if plan is None:
         plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
     cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
-    return check_storey(
+    report = check_storey(
         storey, grid, cells, plan.openings, chair_width=chair_width, wall_thickness=wall_thickness, max_gap=max_gap,
         skipped=plan.skipped,
     )  # fmt: skip
+    status = building.graph_status
+    report.graph_lost = status.reason if status.lost else ""  # a lost graph checks nothing, whatever resolved
+    return report
 
 
 def check_building(
@@ -84,8 +87,12 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
 def check_plan_file(plan: StoreyPlanFile, grid: OccupancyGrid, *, chair_width: float) -> StoreyReport:
     """A written map against its rooms file, with the wall thickness and gap the map was written with
     (its YAML), and the links left unchecked: ``pmk check MAP.yaml`` and the route planner agree."""
-    return check_storey(
+    report = check_storey(
         plan.storey, grid, plan.cells, plan.openings, chair_width=check_chair_width(chair_width),
         wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS)),
         max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)), skipped=plan.skipped,
     )  # fmt: skip
+    graph = plan.raw.get("graph")  # the plan's graph status, in rooms files written since issue 31
+    if isinstance(graph, dict) and graph.get("lost"):
+        report.graph_lost = str(graph.get("reason") or "the plan's navigation graph was lost")
+    return report

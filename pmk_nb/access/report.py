@@ -101,6 +101,7 @@ class StoreyReport:
     leaks: list[Leak] = field(default_factory=list)
     rules: dict[str, int] = field(default_factory=dict)
     not_checked: list[NotChecked] = field(default_factory=list)  # never a failure: see the module note
+    graph_lost: str = ""  # why the plan's navigation graph could not be used (GraphStatus.reason), if lost
 
     @property
     def blocked(self) -> list[LinkCheck]:
@@ -112,8 +113,14 @@ class StoreyReport:
         return [k for k in self.links if k.point and not k.chair]
 
     @property
+    def checked(self) -> bool:
+        """The graph said something about this storey: links to check, or links named as not checked."""
+        return not self.graph_lost and (self.graph or bool(self.not_checked))
+
+    @property
     def ok(self) -> bool:
-        return not self.blocked and not self.unreachable and not self.leaks
+        """Checked and no problem: a storey with no graph (absent or lost) is never "ok"."""
+        return self.checked and not self.blocked and not self.unreachable and not self.leaks
 
     def counts(self) -> dict[str, int]:
         return {
@@ -129,8 +136,10 @@ class StoreyReport:
 
     def summary(self) -> str:
         c = self.counts()
+        if self.graph_lost:
+            return f"storey {self.storey}: NOTHING CHECKED: {self.graph_lost}"
         if not self.graph and not self.not_checked:
-            return f"storey {self.storey}: no navigation graph in the file; nothing to check"
+            return f"storey {self.storey}: NOTHING CHECKED: no transition of the navigation graph on this storey"
         head = (
             f"storey {self.storey}: {c['passable_chair']}/{c['links']} transitions passable for a "
             f"{self.chair_width:.2f} m chair ({c['passable_point']}/{c['links']} for a point)"
@@ -148,6 +157,7 @@ class StoreyReport:
         out = asdict(self)
         out["counts"] = self.counts()
         out["ok"] = self.ok
+        out["checked"] = self.checked
         return out
 
 

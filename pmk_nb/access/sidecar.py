@@ -8,7 +8,7 @@ rooms and plan routes without the building file. Geometry is GeoJSON (``shapely.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -61,6 +61,9 @@ def sidecar_json(building: Building, storey: str, plan: OpeningPlan, report: dic
         "source": Path(building.source).name,
         "unit": building.unit,
         "unit_conflict": building.unit_conflict,
+        "graph": building.graph_status.to_json(),  # the Maps screen says when it was lost
+        "skipped_layers": [asdict(n) for n in building.skipped_layers],
+        "unit_suspect": asdict(building.unit_suspect) if building.unit_suspect is not None else None,
         "rooms": [
             {"id": c.id, "name": c.name, "kind": c.kind.value, "z_min": c.z_min, "polygon": _geo(c.footprint)}
             for c in cells

@@ -18,7 +18,7 @@ from pathlib import Path
 from pmk_nb.errors import PmkError
 from pmk_nb.fileio import atomic_write
 
-AREAS = ("convert", "deploy", "sim", "link", "live", "drive")
+AREAS = ("convert", "scale", "deploy", "sim", "link", "live", "drive")
 
 
 def bench_dir() -> Path:

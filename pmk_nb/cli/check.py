@@ -1,8 +1,9 @@
 """`pmk check FILE_OR_MAP [--chair-width W] [--json]`: can a wheelchair go where the building's graph says?
 
 Like a linter: exit 0 when every transition is passable for the chair and nothing leaks, 1 when the
-check finds a problem (listed), 2 on bad input. A ``.gml`` file is rasterised in memory (nothing is
-written); a map ``.yaml`` is checked as written, against the rooms file beside it.
+check finds a problem (listed), 2 on bad input, 3 when nothing could be checked (see EXIT_CODES). A
+``.gml`` file is rasterised in memory (nothing is written); a map ``.yaml`` is checked as written,
+against the rooms file beside it.
 """
 
 from __future__ import annotations
@@ -10,20 +11,29 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.cli.convert import add_not_window_option
+from pmk_nb.cli.convert import add_layer_option, add_not_window_option
 from pmk_nb.errors import PmkError
+
+EXIT_OK, EXIT_PROBLEMS, EXIT_NOTHING_CHECKED = 0, 1, 3  # 2: bad input (every PmkError, cli/__init__)
+EXIT_CODES = (
+    "Exit codes: 0 = every transition checked is passable for the chair; 1 = problems found (listed); "
+    "2 = bad input (unreadable plan or map, unknown layer or option); 3 = nothing could be checked on a "
+    "storey or the whole plan: its navigation graph is absent, or lost (its transitions name states that "
+    "are not in the file), or gives no transition on that storey (said why, never reported ok)"
+)
 
 
 def add_parser(subparsers: Any) -> None:
     p = subparsers.add_parser(
         "check",
-        help="wheelchair accessibility of a building plan or a written map (exit 1: problems found)",
+        help="wheelchair accessibility of a building plan or a written map (exit 1: problems, 3: nothing checked)",
         description="Check that a chair of the given width can pass every transition of the building's "
         "navigation graph, name doors narrower than the chair, rooms it cannot reach and rooms that leak "
-        "into each other. Exit 0: all passable; 1: problems found; 2: bad input.",
+        "into each other. " + EXIT_CODES + ".",
     )
     p.add_argument("target", type=Path, help="an IndoorGML file (.gml) or a converted map (.yaml)")
     p.add_argument("--chair-width", type=float, default=None, metavar="W",
@@ -34,6 +44,7 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--door-width", type=float, default=None, metavar="M",
                    help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
     add_not_window_option(p)
+    add_layer_option(p)
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.set_defaults(run=run)
 
@@ -52,7 +63,8 @@ def chair_width_arg(given: float | None) -> float:
     return profile_chair_width(given, profile)
 
 
-def _reports(args: argparse.Namespace) -> tuple[list[Any], str]:
+def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
+    """The storeys' reports and the plan's Building (None for a written map: its rooms file says the rest)."""
     from pmk_nb.access.check import check_building, check_map
     from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
@@ -63,15 +75,16 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], str]:
     if not target.is_file():
         raise PmkError(f"{target}: no such file", hint="Name an IndoorGML file (.gml) or a map YAML (.yaml).")
     if target.suffix.lower() in (".yaml", ".yml"):
-        if args.not_windows:
-            raise PmkError(f"{target}: --not-window applies to a plan (.gml), not to a written map",
-                           hint="Convert the plan again with --not-window, then check the new map.")  # fmt: skip
-        return [check_map(target, chair_width=width)], ""
+        if args.not_windows or args.layers:
+            opt = "--not-window" if args.not_windows else "--layer"
+            raise PmkError(f"{target}: {opt} applies to a plan (.gml), not to a written map",
+                           hint=f"Convert the plan again with {opt}, then check the new map.")  # fmt: skip
+        return [check_map(target, chair_width=width)], None
     from pmk_nb.indoorgml import read_building
 
-    building = read_building(target, unit=args.unit, not_windows=args.not_windows)
+    building = read_building(target, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
     door = DEFAULT_DOOR_WIDTH if args.door_width is None else args.door_width
-    return check_building(building, args.resolution, chair_width=width, door_width=door), building.unit_conflict
+    return check_building(building, args.resolution, chair_width=width, door_width=door), building
 
 
 MAX_NOT_CHECKED = 10  # transitions named per storey; the rest are counted
@@ -82,13 +95,14 @@ WINDOW_HINT = [
 ]
 
 
-def format_report(reports: list[Any], unit_conflict: str = "") -> list[str]:
-    """The text report: one summary line per storey, then each problem by name, then the transitions
+def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any = None) -> list[str]:
+    """The text report: the unit first when the doors are absurd in it (see units.unit_suspect: no door
+    is to blame then), one summary line per storey, then each problem by name, then the transitions
     it could not check (windows: a misjudged one hides a door, so they are named, not only counted)."""
     from pmk_nb.indoorgml.levels import RAISED
     from pmk_nb.raster.openings import SKIP_WINDOW
 
-    lines = []
+    lines = [f"suspect the unit first: {unit_suspect.message}"] if unit_suspect is not None else []
     for r in reports:
         lines.append(r.summary())
         lines.extend(f"  blocked: {k.describe()}" for k in r.blocked)
@@ -105,16 +119,46 @@ def format_report(reports: list[Any], unit_conflict: str = "") -> list[str]:
     return lines
 
 
+def exit_code(reports: list[Any]) -> int:
+    """1 when a checked storey has a problem; else 3 when a storey (or the plan) could not be checked; else 0."""
+    if any(r.checked and not r.ok for r in reports):
+        return EXIT_PROBLEMS
+    return EXIT_OK if reports and all(r.checked for r in reports) else EXIT_NOTHING_CHECKED
+
+
+def verdict(reports: list[Any], code: int) -> str:
+    """The last line: what the exit code means for this plan."""
+    if code == EXIT_PROBLEMS:
+        return "problems found"
+    if code == EXIT_NOTHING_CHECKED:
+        names = ", ".join(r.storey for r in reports if not r.checked) or "-"
+        return f"not checked (exit 3): nothing could be checked on storey(s) {names}; see above"
+    skipped = sum(len(r.not_checked) for r in reports)
+    said = f"every transition checked ({skipped} not checked, above)" if skipped else "everywhere the graph says"
+    return f"ok: the chair can pass {said}"
+
+
 def run(args: argparse.Namespace) -> int:
-    reports, conflict = _reports(args)
-    ok = all(r.ok for r in reports)
+    from pmk_nb.indoorgml.summary import graph_lines, layer_lines
+
+    reports, building = _reports(args)
+    code = exit_code(reports)
+    conflict = building.unit_conflict if building is not None else ""
+    suspect = building.unit_suspect if building is not None else None
     if args.json:
-        doc = {"ok": ok, "unit_conflict": conflict, "storeys": [r.to_json() for r in reports]}
+        doc = {
+            "ok": code == EXIT_OK, "exit_code": code, "unit_conflict": conflict,
+            "unit_suspect": None if suspect is None else asdict(suspect),
+            "graph": None if building is None else building.graph_status.to_json(),
+            "skipped_layers": [] if building is None else [asdict(n) for n in building.skipped_layers],
+            "storeys": [r.to_json() for r in reports],
+        }  # fmt: skip
         json.dump(doc, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
     else:
-        print("\n".join(format_report(reports, conflict)))
-        skipped = sum(len(r.not_checked) for r in reports)
-        said = f"every transition checked ({skipped} not checked, above)" if skipped else "everywhere the graph says"
-        print(f"ok: the chair can pass {said}" if ok else "problems found")
-    return 0 if ok else 1
+        head = [] if building is None else [
+            *graph_lines(building.graph_status.to_json()), *layer_lines([asdict(n) for n in building.skipped_layers])
+        ]  # fmt: skip
+        print("\n".join(head + format_report(reports, conflict, suspect)))
+        print(verdict(reports, code))
+    return code

@@ -53,7 +53,8 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--wall-thickness", type=float, default=0.10, help="wall band in metres (default 0.10)")
     p.add_argument(
         "--max-wall-gap", type=float, default=0.5, metavar="M",
-        help="gaps between cells up to M metres wide are walls the file left out: occupied (default 0.5, 0 = off)",
+        help="walls the file left out as gaps: a door or transition opens one up to M metres wide; a gap no"
+        " transition crosses is wall up to the thickest wall, at least max(M, 1 m) (default 0.5, 0 = off)",
     )  # fmt: skip
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
@@ -63,6 +64,14 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--chair-width", type=float, default=None, metavar="W",
                    help="chair width for the access summary (default: the chair profile's, or 0.70)")  # fmt: skip
     add_not_window_option(p)
+    add_layer_option(p)
+
+
+def add_layer_option(p: argparse.ArgumentParser) -> None:
+    """--layer: draw the named space layer(s) instead of the navigable one the reader picks (one wording)."""
+    p.add_argument("--layer", action="append", default=[], dest="layers", metavar="NAME",
+                   help="draw this space layer (id or name) instead of the navigable one (repeatable; "
+                   "`pmk info` lists the layers not drawn and why)")  # fmt: skip
 
 
 def add_not_window_option(p: argparse.ArgumentParser) -> None:
@@ -113,6 +122,7 @@ def run(args: argparse.Namespace) -> int:
         outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
         max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large, door_width=args.door_width,
         chair_width=chair_width_arg(args.chair_width), not_windows=tuple(args.not_windows),
+        layers=tuple(args.layers),
     )  # fmt: skip
     bar = TextProgress(sys.stderr, enabled=bool(show))
     try:
@@ -126,6 +136,12 @@ def run(args: argparse.Namespace) -> int:
         bar.close()
     building = result.building
     print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(result.maps)} storey(s)")
+    from dataclasses import asdict
+
+    from pmk_nb.indoorgml.summary import graph_lines, layer_lines
+
+    for line in graph_lines(building.graph_status.to_json()) + layer_lines(list(map(asdict, building.skipped_layers))):
+        print(line)
     for m in result.maps:
         w_m, h_m = m.size_m
         extra = f", {m.files.preview.name}" if m.files.preview else ""
@@ -137,6 +153,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"    accessibility: {m.access.summary().split(': ', 1)[1]}")
     if building.unit_conflict:
         print(f"  unit warning: {building.unit_conflict} (--unit m|dm|cm|mm)")
+    if building.unit_suspect is not None:  # absurd doors: the unit before any door
+        print(f"  unit suspect: {building.unit_suspect.message}")
     problems = [m for m in result.maps if m.access is not None and (not m.access.ok or m.access.not_checked)]
     if problems:
         print(f"  details: pmk check {result.maps[0].files.yaml.parent}/<map>.yaml  (or pmk check {path})")

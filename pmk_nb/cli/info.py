@@ -5,9 +5,10 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import asdict
 from typing import Any
 
-from pmk_nb.cli.convert import add_not_window_option
+from pmk_nb.cli.convert import add_layer_option, add_not_window_option
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -22,6 +23,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--unit", default="auto", choices=UNIT_CHOICES,
                    help="coordinate unit of the file (default: auto-detect, see the reason printed)")  # fmt: skip
     add_not_window_option(p)
+    add_layer_option(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(run=run)
     return p
@@ -48,6 +50,7 @@ def connectivity(building: Any) -> dict[str, Any]:
         "rules_by_storey": per_storey,
         "doors_without_transition": shut,
         "unit_conflict": building.unit_conflict,
+        "unit_suspect": None if building.unit_suspect is None else asdict(building.unit_suspect),
     }
 
 
@@ -63,6 +66,8 @@ def format_connectivity(c: dict[str, Any]) -> list[str]:
     ]
     if c["doors_without_transition"]:
         lines.append(f"    {c['doors_without_transition']} door boundaries join cells with no transition: kept shut")
+    if c["unit_suspect"]:
+        lines.append(f"  UNIT SUSPECT: {c['unit_suspect']['message']}")
     if c["unit_conflict"]:
         lines.append(f"  UNIT WARNING: {c['unit_conflict']} (pmk convert --unit m|dm|cm|mm)")
     return lines
@@ -71,7 +76,7 @@ def format_connectivity(c: dict[str, Any]) -> list[str]:
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.indoorgml import format_summary, read_building, summarize
 
-    building = read_building(args.file, unit=args.unit, not_windows=args.not_windows)
+    building = read_building(args.file, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
     summary = summarize(building)
     summary["connectivity"] = connectivity(building)
     if args.json:

@@ -167,6 +167,8 @@ def accessibility_line(yaml_path: Path) -> str:
     c = report.get("counts")
     if not c:
         return ""
+    if report.get("graph_lost") or report.get("checked") is False:  # never "0/0 passable": nothing was checked
+        return f"NOTHING CHECKED: {report.get('graph_lost') or 'no transition of the navigation graph on this storey'}"
     return (
         f"{c['passable_chair']}/{c['links']} transitions passable for a {report['chair_width']:.2f} m chair, "
         f"{c['narrow']} narrow, {c['unreachable']} unreachable, {c['leaks']} leaks"
@@ -190,7 +192,7 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             progress=progress,
             door_width=args.door_width,
             chair_width=chair_width_arg(args.chair_width),
-            not_windows=args.not_windows,
+            not_windows=args.not_windows, layers=args.layers,
         )
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections import defaultdict
 from collections.abc import Sequence
 
@@ -13,13 +12,14 @@ from shapely.geometry.base import BaseGeometry
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
-from pmk_nb.indoorgml.graph import resolve_links
+from pmk_nb.indoorgml.graph import graph_status, linked_pairs, nav_graph, resolve_links, state_cells
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
-from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, NavGraph, State, Storey, Transition
+from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
-from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit
+from pmk_nb.indoorgml.unit_evidence import gather
+from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit, unit_suspect
 
 MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
 
@@ -65,9 +65,7 @@ def _version(doc: RawDocument, alma: str) -> str:
 def _kind(raw: RawCell, alma: bool) -> CellKind:
     kind = KIND_BY_NAME.get(raw.kind_name)
     if kind is not None:
-        return kind
-    if doorlib.says_door(raw.id, raw.name):
-        return CellKind.CONNECTION
+        return kind  # a name saying "door" is weighed later, with the cell's size (_named_doors)
     # ALMA convention (original app and idsia reader): only navi spaces are navigable
     return CellKind.NON_NAVIGABLE if alma else CellKind.NAVIGABLE
 
@@ -82,25 +80,28 @@ def _zs(v: float | None, s: float) -> float | None:
     return None if v is None else v * s
 
 
-def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequence[str] = ()) -> Building:
+def build_building(
+    doc: RawDocument, sha256: str, unit: str, not_windows: Sequence[str] = (), layers: Sequence[str] = ()
+) -> Building:
     """Interpret ``doc``: cells -> kinds -> boundaries and doors -> unit -> storeys -> the model.
-    ``not_windows``: ids or names of cells the window rule must leave free (see levels.not_window_ids)."""
+    ``not_windows``: ids or names of cells the window rule must leave free (see levels.not_window_ids);
+    ``layers``: ids or names of the layers to draw instead of the navigable one (see layers.select_layers)."""
     warnings: list[str] = []
     alma = detect_alma(doc)
-    cells = select_layers(usable_cells(doc, warnings), doc, alma, warnings)
+    cells, skipped = select_layers(usable_cells(doc, warnings), doc, alma, warnings, layers)
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
-    kinds = _kinds(cells, bool(alma), warnings)
+    kinds = {c.raw.id: _kind(c.raw, bool(alma)) for c in cells}
     bfps = _classify_boundaries(doc, cells, warnings)
-    choice = _choose_unit(doc, cells, unit, alma, _evidence(cells, kinds, _door_widths(bfps, cells, kinds)))
+    choice = _unit_and_names(doc, cells, unit, alma, kinds, bfps, warnings)
     unit, reason = choice.unit, choice.reason
     s = UNIT_SCALE[unit]
     plan = plan_storeys(
         [CellZ(c.raw.id, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), c.raw.storey_hint, c.raw.storey_source) for c in cells]
     )
     cell_notes: list[str] = []
-    linked = _linked_pairs(doc)
+    linked = linked_pairs(doc)
     model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked, keep)
-    graph = _graph(doc, model_cells, s)
+    graph = nav_graph(doc, model_cells, s)
     links = resolve_links(graph, model_cells)
     stairs = frozenset(c.raw.id for c in cells if c.fp.stepped)
     levels = split_levels(
@@ -109,8 +110,9 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
     if levels is not plan:  # split levels: cells, windows and links are decided again on the new storeys
         plan, cell_notes = levels, []
         model_cells = _model_cells(cells, kinds, plan, s, cell_notes, linked, keep)
-        graph = _graph(doc, model_cells, s)
+        graph = nav_graph(doc, model_cells, s)
         links = resolve_links(graph, model_cells)
+    status = graph_status(doc, graph, model_cells, warnings)
     warnings.extend(plan.notes + cell_notes)
     storeys = [
         Storey(n, plan.elevation[n], [i for i, c in model_cells.items() if c.storey == n], plan.source[n])
@@ -122,16 +124,26 @@ def build_building(doc: RawDocument, sha256: str, unit: str, not_windows: Sequen
         unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
         graph=graph, georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
-        warnings=warnings, links=links, unit_conflict=choice.conflict,
+        warnings=warnings, links=links, unit_conflict=choice.conflict, unit_suspect=choice.suspect,
+        skipped_layers=skipped, graph_status=status,
     )  # fmt: skip
 
 
-def _kinds(cells: list[KeptCell], alma: bool, warnings: list[str]) -> dict[str, CellKind]:
-    kinds = {c.raw.id: _kind(c.raw, alma) for c in cells}
-    named_doors = sum(1 for c in cells if kinds[c.raw.id] is CellKind.CONNECTION and c.raw.kind_name == "cellspace")
-    if named_doors:
-        warnings.append(f"{named_doors} plain CellSpaces named 'door' treated as connection (door) cells")
-    return kinds
+def _unit_and_names(
+    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, kinds: dict[str, CellKind],
+    bfps: dict[str, tuple[Footprint, str]], warnings: list[str],
+) -> UnitChoice:  # fmt: skip
+    """The unit judged without the doors only names make, then with those doors.named_doors finds door-sized."""
+    unnamed = {b: (fp, "" if ev == "name" else ev) for b, (fp, ev) in bfps.items()}
+    choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, unnamed))
+    plain = [(c.raw.id, c.raw.name, c.fp.geometry) for c in cells if c.raw.kind_name not in KIND_BY_NAME]
+    named = [(b, fp.geometry) for b, (fp, ev) in bfps.items() if ev == "name"]
+    doors, walls = doorlib.named_doors(plain, named, UNIT_SCALE[choice.unit], warnings)
+    kinds.update(dict.fromkeys(doors, CellKind.CONNECTION))
+    bfps.update((b, (bfps[b][0], "")) for b in walls)
+    if doors or len(walls) < len(named):  # door widths the first judgement left out
+        choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, bfps))
+    return choice
 
 
 def _boundary_refs(cells: list[KeptCell]) -> dict[str, list[str]]:
@@ -149,8 +161,7 @@ def _owners(doc: RawDocument) -> dict[str, set[str]]:
     for raw in doc.cells:
         for r in raw.boundary_refs:
             owners[r].add(raw.id)
-    state_cell = {st.id: st.cell for st in doc.states}
-    state_cell.update({raw.duality: raw.id for raw in doc.cells if raw.alma_inline and raw.duality})
+    state_cell = state_cells(doc)
     for t in doc.transitions:
         if t.duality:
             owners[t.duality].update(c for c in (state_cell.get(x) for x in t.connects) if c)
@@ -185,15 +196,16 @@ def _classify_boundaries(
         if owners.get(rb.id) and not owners[rb.id] & kept:
             dropped += 1
             continue
+        dual = rb.id in trans_dual or (rb.duality in trans_ids if rb.duality else False)
         if rb.kind_name in doorlib.DOOR_TYPES:
             evidence = "type"
-        elif doorlib.says_door(rb.id, rb.name, rb.description):
-            evidence = "name"
+        elif (said := doorlib.named_evidence(dual, rb.kind_name, rb.id, rb.name, rb.description)) is not None:
+            evidence = said  # a door by name; a window is wall unless a transition crosses it
         elif fp.geometry is not None and doorlib.partial_edge(
             fp.geometry, doorlib.near(cell_tree, cell_geoms, fp.geometry)
         ):
             evidence = "partial"
-        elif rb.id in trans_dual or (rb.duality in trans_ids if rb.duality else False):
+        elif dual:
             evidence = "duality"  # the face a transition crosses: may be a whole wall, not a door
         else:
             evidence = ""
@@ -218,40 +230,6 @@ def _round(z: float | None) -> float | None:
     return None if z is None else round(z, 6)
 
 
-def _door_widths(
-    bfps: dict[str, tuple[Footprint, str]], cells: list[KeptCell], kinds: dict[str, CellKind]
-) -> list[float]:
-    """Widths of door lines and door cells in file units: the evidence for the unit guess."""
-    widths = [
-        fp.geometry.length
-        for fp, d in bfps.values()
-        if d and fp.geometry is not None and fp.geometry.geom_type == "LineString"
-    ]
-    for c in cells:
-        if kinds[c.raw.id] in (CellKind.CONNECTION, CellKind.ANCHOR) and c.fp.geometry is not None:
-            xy = shapely.get_coordinates(c.fp.geometry.minimum_rotated_rectangle)
-            sides = [math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1))]
-            if sides:
-                widths.append(max(sides))
-    return widths
-
-
-def _evidence(cells: list[KeptCell], kinds: dict[str, CellKind], door_widths: list[float]) -> UnitEvidence:
-    """Sizes in file units that say which unit the file uses (see :mod:`pmk_nb.indoorgml.units`)."""
-    minx, miny, maxx, maxy = shapely.total_bounds([c.fp.geometry for c in cells]).tolist()
-    big = sorted(cells, key=lambda c: c.fp.geometry.area)[len(cells) // 2 :]  # rooms, not windows or doors
-    big_ids = {c.raw.id for c in big}  # by id: comparing the records themselves made this O(cells²)
-    heights = [c.fp.z_max - c.fp.z_min for c in big if c.fp.z_min is not None and c.fp.z_max is not None]
-    corridors, areas = [], []
-    for c in cells:
-        kind = kinds[c.raw.id]
-        if kind is CellKind.TRANSITION and c.fp.geometry.length > 0:
-            corridors.append(2 * c.fp.geometry.area / c.fp.geometry.length)  # mean width of a long shape
-        elif kind.is_free and not kind.is_door and c.raw.id in big_ids:
-            areas.append(c.fp.geometry.area)
-    return UnitEvidence(door_widths, heights, corridors, areas, max(maxx - minx, maxy - miny))
-
-
 def _choose_unit(
     doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence
 ) -> UnitChoice:
@@ -260,7 +238,7 @@ def _choose_unit(
     if unit == "auto":
         choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
     elif unit in UNIT_SCALE:
-        choice = UnitChoice(unit, f"given: {unit}")
+        choice = UnitChoice(unit, f"given: {unit}", suspect=unit_suspect(evidence, unit))
     else:
         raise IndoorGMLError(
             f"{doc.path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}", path=str(doc.path)
@@ -275,23 +253,6 @@ def _choose_unit(
             path=str(doc.path), element=worst.raw.id,
         )  # fmt: skip
     return choice
-
-
-def _state_cells(doc: RawDocument) -> dict[str, str | None]:
-    """The cell each state stands for: its duality, or the cell written inside it (ALMA)."""
-    inline = {c.duality: c.id for c in doc.cells if c.alma_inline and c.duality}
-    return {rs.id: rs.cell or inline.get(rs.id) for rs in doc.states}
-
-
-def _linked_pairs(doc: RawDocument) -> frozenset[frozenset[str]]:
-    """Cell pairs a transition joins through their states' duality (or cell ids named directly)."""
-    cell_of = _state_cells(doc)
-    pairs = set()
-    for t in doc.transitions:
-        ends = [cell_of.get(ref, ref) for ref in t.connects[:2]]
-        if len(ends) == 2 and all(ends) and ends[0] != ends[1]:
-            pairs.add(frozenset(ends))
-    return frozenset(pairs)
 
 
 def _model_cells(
@@ -376,22 +337,3 @@ def _boundaries(
             storey = storeys[0].name
         out[rb.id] = Boundary(rb.id, bool(evidence), geom, storey, rb.name, rb.virtual, evidence)
     return out
-
-
-def _graph(doc: RawDocument, cells: dict[str, Cell], s: float) -> NavGraph:
-    graph = NavGraph()
-    cell_of = _state_cells(doc)
-    for rs in doc.states:
-        point = None
-        if rs.point is not None:
-            z = rs.point[2] * s if len(rs.point) > 2 else 0.0
-            point = (rs.point[0] * s, rs.point[1] * s, z)
-        cell = cell_of[rs.id]
-        graph.states[rs.id] = State(rs.id, point, cell if cell in cells else None, rs.layer)
-    for t in doc.transitions:
-        if len(t.connects) >= 2:
-            line = None
-            if t.line is not None and len(t.line) >= 2:
-                line = shapely.LineString([(p[0] * s, p[1] * s) for p in t.line])
-            graph.transitions.append(Transition(t.id, t.connects[0], t.connects[1], t.weight, t.layer, line))
-    return graph

@@ -1,10 +1,11 @@
 """Which boundaries are doors, and which layers carry the building's geometry.
 
 Doors, in order of evidence: a navi ConnectionBoundary/AnchorBoundary/NavigableBoundary/
-TransferBoundary; a boundary that is the dual of a Transition (a passable boundary); a name,
-id or description saying "door"; and, for bare CellSpaceBoundaries (PNU 313 writes doors only as
-short LineStrings on a room's outline, with no name, type or duality), a boundary that covers only
-part of the cell edge it lies on - a full edge is a wall, a partial one an opening.
+TransferBoundary; a name, id or description saying "door" (one saying "window" is wall, unless a
+transition is dual to it); for bare CellSpaceBoundaries (PNU 313 writes doors only as short
+LineStrings on a room's outline, with no name, type or duality), a boundary that covers only part
+of the cell edge it lies on - a full edge is a wall, a partial one an opening; and a boundary that
+is the dual of a Transition (a passable boundary).
 """
 
 from __future__ import annotations
@@ -20,13 +21,69 @@ from shapely.geometry.base import BaseGeometry
 
 DOOR_TYPES = {"connectionboundary", "anchorboundary", "navigableboundary", "transferboundary"}
 DOOR_WORD = re.compile(r"door|t(?:ü|ue)r|porta|puerta|출입문", re.IGNORECASE)
+# a window in any language exporters write: no door, whatever its length (Fenstertür included)
+WINDOW_WORD = re.compile(r"window|fenster|fen[eê]tre|finestra|ventana|janela|okno|창문|창호|窗|窓", re.IGNORECASE)
+# an entrance, said of a boundary (not of a cell: an "entrance hall" is a room)
+ENTRANCE_WORD = re.compile(r"entrance|entry|eingang|entr[ée]e|ingresso|entrada|입구|出入口|入口", re.IGNORECASE)
 CORRIDOR_WORD = re.compile(r"corridor|hall|flur|gang|korridor|diele|lobby|passage|복도|로비|통로", re.IGNORECASE)
 PARTIAL = 0.9  # a boundary shorter than 90 % of the outline edge it sits on is an opening
 NEAR = 0.15  # a boundary within 15 % of its length from an outline lies on it (hand-drawn doors)
+DOOR_DEPTH = 1.0  # m: the deepest a door cell is (a leaf and its frame in a thick wall)
+DOOR_SPAN = 4.0  # m: the widest a door cell is (a wide double or sliding door; pnu_abc's Door1 is 3.05 m)
 
 
 def says_door(*texts: str) -> bool:
     return any(DOOR_WORD.search(t or "") for t in texts)
+
+
+def named_evidence(dual: bool, *texts: str) -> str | None:
+    """A boundary's door evidence from its words (type, id, name, description), or None when they say
+    nothing: a window is wall (``""``) unless a transition is dual to it (``"duality"``): a
+    floor-to-ceiling window is short along its wall, but no way out; a door or entrance by name is
+    ``"name"``."""
+    if any(WINDOW_WORD.search(t or "") for t in texts):
+        return "duality" if dual else ""
+    return "name" if says_door(*texts) or any(ENTRANCE_WORD.search(t or "") for t in texts) else None
+
+
+def rect_sides(geom: BaseGeometry) -> tuple[float, float]:
+    """Short and long side of ``geom``'s minimum rotated rectangle: a cell's depth and width whatever its
+    angle on the plan."""
+    xy = shapely.get_coordinates(shapely.minimum_rotated_rectangle(geom))
+    sides = sorted(math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1)))
+    return (sides[0], sides[-1]) if sides else (0.0, 0.0)
+
+
+def door_sized(geom: BaseGeometry | None, scale: float, depth: bool = True) -> bool:
+    """Whether a cell or boundary (file units, ``scale`` metres per unit) is no larger than a door: at most
+    :data:`DOOR_SPAN` wide and (``depth``: a cell) :data:`DOOR_DEPTH` deep. A name saying "door" decides only
+    for such a shape; a shape without geometry has no size to refute it."""
+    if geom is None:
+        return True
+    short, long = rect_sides(geom)
+    return long * scale <= DOOR_SPAN and (not depth or short * scale <= DOOR_DEPTH)
+
+
+def named_doors(
+    cells: Iterable[tuple[str, str, BaseGeometry]], boundaries: list[tuple[str, BaseGeometry | None]], scale: float,
+    notes: list[str],
+) -> tuple[set[str], list[str]]:  # fmt: skip
+    """Which of the plain cells (id, name, footprint: no navi type says what they are) that their id or name
+    calls a door, and of the boundaries (id, geometry) only their name calls one, are door-sized at ``scale``
+    metres per file unit: (ids of door cells, ids of boundaries to keep as walls); ``notes`` gets what was
+    decided. The name decides only then: a 5 x 4 m "Door-side lounge" is a room, and is listed."""
+    cells = [(cid, name, geom) for cid, name, geom in cells if says_door(cid, name)]
+    doors = {cid for cid, _, geom in cells if door_sized(geom, scale)}
+    rooms = [f"{cid} ({name})" if name else cid for cid, name, _ in cells if cid not in doors]
+    walls = [bid for bid, geom in boundaries if not door_sized(geom, scale, depth=False)]
+    if doors:
+        notes.append(f"{len(doors)} plain CellSpaces named 'door' treated as connection (door) cells")
+    if rooms:
+        notes.append(f"{len(rooms)} cells named 'door' kept as rooms: larger than a door ({DOOR_DEPTH:g} m deep, "
+                     f"{DOOR_SPAN:g} m wide): {rooms[:8]}")  # fmt: skip
+    if walls:
+        notes.append(f"{len(walls)} boundaries named 'door' kept as walls: wider than {DOOR_SPAN:g} m: {walls[:8]}")
+    return doors, walls
 
 
 def says_corridor(*texts: str) -> bool:
@@ -135,13 +192,3 @@ def continues_door(line: BaseGeometry, doors: list[BaseGeometry]) -> bool:
         if abs(u[0] * v[0] + u[1] * v[1]) > _COS3 and off_line <= eps:
             return True
     return False
-
-
-def overlap_fraction(candidate: list[BaseGeometry], base: list[BaseGeometry]) -> float:
-    """Share of ``candidate``'s area already covered by ``base`` (0 when either is empty)."""
-    if not candidate or not base:
-        return 0.0
-    a = shapely.union_all(candidate)
-    if a.area <= 0:
-        return 0.0
-    return float(a.intersection(shapely.union_all(base)).area / a.area)

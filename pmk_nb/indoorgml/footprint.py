@@ -1,8 +1,11 @@
 """2D footprints of cells and boundaries (file units; scaling happens later).
 
 A 3D solid's footprint is the union of its roughly horizontal faces projected to the plane (floor
-and ceiling coincide for prisms; stairs give the union of their steps); vertical surfaces become
-LineStrings. Every polygon is validated; self-intersections are repaired with ``make_valid`` and
+and ceiling coincide for prisms; stairs give the union of their steps); a cell drawn with walls only
+(no face with area in plan) is the area its walls enclose; vertical surfaces become LineStrings. A
+solid's interior shells are voids, never floor: one that reaches into the lower half of the cell is
+cut out of the footprint (a block of rooms a corridor rings round, a column), one higher up is not.
+Every polygon is validated; self-intersections are repaired with ``make_valid`` and
 reported, because one bad ring in an editor export should not sink a whole building.
 """
 
@@ -89,6 +92,42 @@ def _plan_size(poly: PolygonZ) -> float:
 
 def cell_footprint(polys: list[PolygonZ]) -> Footprint:
     """Footprint of a cell from its polygons (2D polygon, flat 3D polygon, or solid faces)."""
+    voids = [p for p in polys if p.void]
+    if voids:
+        polys = [p for p in polys if not p.void]
+    fp = _solid_footprint(polys)
+    if voids and fp.geometry is not None:
+        fp.geometry = _cut_voids(fp, voids)
+    return fp
+
+
+def _cut_voids(fp: Footprint, voids: list[PolygonZ]) -> BaseGeometry | None:
+    """``fp``'s geometry less the plan of each void (interior shell) that reaches into the lower half of the
+    cell, where a chair moves; None if nothing is left."""
+    geom = fp.geometry
+    shells: dict[int, list[PolygonZ]] = {}
+    for p in voids:
+        shells.setdefault(p.void, []).append(PolygonZ(p.exterior, p.interiors))
+    for shell in shells.values():
+        void = _solid_footprint(shell)
+        no_z = fp.z_min is None or fp.z_max is None or void.z_min is None  # a 2D void: a hole
+        if void.geometry is not None and (no_z or void.z_min - fp.z_min < 0.5 * (fp.z_max - fp.z_min)):
+            geom = polygonal(geom.difference(void.geometry))
+    return None if geom is None or geom.is_empty or geom.area <= 0 else geom
+
+
+def _walls_plan(polys: list[PolygonZ]) -> BaseGeometry:
+    """The area enclosed by the plan of faces that have none of their own (a cell drawn as walls)."""
+    lines = [shapely.linestrings([c[:2] for c in p.exterior]) for p in polys if len(p.exterior) >= 2]
+    lines = [g for g in lines if g.length > 0]
+    if not lines:
+        return Polygon()
+    noded = shapely.get_parts(shapely.union_all(lines))
+    return polygonal(shapely.union_all(shapely.get_parts(shapely.polygonize(noded))))
+
+
+def _solid_footprint(polys: list[PolygonZ]) -> Footprint:
+    """:func:`cell_footprint` of faces that are not voids."""
     spreads = [_z_spread(p) for p in polys]
     zr = [z for z in spreads if z is not None]
     z_min = min(z[0] for z in zr) if zr else None
@@ -109,6 +148,8 @@ def cell_footprint(polys: list[PolygonZ]) -> Footprint:
         repaired |= fixed
         if not g.is_empty and g.area > 0:
             geoms.append(g)
+    if not geoms and (walls := _walls_plan(polys)).area > 0:
+        geoms.append(walls)
     if not geoms:
         return Footprint(None, z_min, z_max, repaired, is_stair)
     union = geoms[0] if len(geoms) == 1 else shapely.union_all(geoms)  # one valid polygon is its own union
@@ -131,8 +172,8 @@ def floor_height(polys: list[PolygonZ], x: float, y: float, tol: float) -> float
     best: float | None = None
     for poly in polys:
         xyz = np.asarray([c[:3] for c in poly.exterior if len(c) > 2], dtype=float)
-        if len(xyz) < 3:
-            continue
+        if len(xyz) < 3 or poly.void:
+            continue  # no height, or the floor of a void (not of the cell)
         centre = xyz.mean(axis=0)
         normal = np.linalg.svd(xyz - centre, full_matrices=False)[2][-1]
         if abs(normal[2]) < WALL_TILT:
@@ -205,7 +246,7 @@ def cell_footprints(cells: Sequence[list[PolygonZ]]) -> list[Footprint]:
     plan's room) is made in one vectorised call with the others; any other cell goes through the full rules."""
     simple = [
         i for i, polys in enumerate(cells)
-        if len(polys) == 1 and not polys[0].interiors and len(polys[0].exterior) >= 4
+        if len(polys) == 1 and not polys[0].interiors and not polys[0].void and len(polys[0].exterior) >= 4
         and all(len(c) == 2 for c in polys[0].exterior)
     ]  # fmt: skip
     out: list[Footprint | None] = [None] * len(cells)

@@ -1,7 +1,11 @@
 """GML 3.2 coordinate and geometry decoding, tolerant of what editors write in the wild.
 
 ``gml:pos`` / ``gml:posList`` with or without ``srsDimension`` (inferred from the token count or
-from which reading closes the ring), ``gml:coordinates``, unclosed rings and repeated points. The
+from which reading closes the ring), ``gml:coordinates`` (with its ``cs``, ``ts`` and ``decimal``),
+unclosed rings and repeated points. Surfaces are read wherever GML 3.2 puts them: Polygon, the patches
+of Surface / PolyhedralSurface / TriangulatedSurface / Tin (PolygonPatch, Triangle, Rectangle), inside
+MultiSurface, CompositeSurface, Shell, OrientableSurface (the orientation does not change a plan) and
+Solid / CompositeSolid / MultiSolid, whose interior shells are voids (:attr:`PolygonZ.void`). The
 result is plain tuples; the footprint maths lives in :mod:`pmk_nb.indoorgml.footprint`.
 """
 
@@ -32,9 +36,10 @@ class RingStats:
 class PolygonZ:
     exterior: list[Coord]
     interiors: list[list[Coord]] = field(default_factory=list)
+    void: int = 0  # > 0: a face of a solid's interior shell (a void, not space), numbered per shell
 
 
-_SURFACES = frozenset(("polygon", "polygonpatch", "triangle"))
+_SURFACES = frozenset(("polygon", "polygonpatch", "triangle", "rectangle"))
 _LINES = frozenset(("linestring", "linestringsegment"))
 _COORDS = frozenset(("pos", "poslist", "coordinates"))
 
@@ -45,13 +50,14 @@ class GmlTags:
     tags seen by then are all the tags it holds; names match as :func:`local` does (any case, any GML
     version's namespace)."""
 
-    __slots__ = ("coords", "lines", "pos", "surfaces")
+    __slots__ = ("coords", "lines", "pos", "solids", "surfaces")
 
     def __init__(self) -> None:
         self.surfaces: tuple[str, ...] = ()
         self.lines: tuple[str, ...] = ()
         self.coords: tuple[str, ...] = ()
         self.pos: tuple[str, ...] = ()
+        self.solids: tuple[str, ...] = ()  # gml:Solid: its interior shells are voids
 
     def note(self, tag: str) -> None:
         """Record one tag the first time the document uses it (the caller remembers which it has seen)."""
@@ -66,6 +72,8 @@ class GmlTags:
             self.coords += (tag,)
             if name == "pos":
                 self.pos += (tag,)
+        elif name == "solid":
+            self.solids += (tag,)
 
 
 class CoordError(ValueError):
@@ -135,9 +143,14 @@ def _closes(points: list[Coord]) -> bool:
     return len(points) >= 2 and all(abs(a - b) < 1e-9 for a, b in zip(points[0], points[-1], strict=True))
 
 
-def poslist_coords(elem: etree._Element, stats: RingStats, ring: bool, hint: int | None) -> list[Coord]:
-    """Decode a posList; without srsDimension infer 2 or 3 from count / ring closure / hint."""
-    values = _floats(elem.text, elem)
+def poslist_coords(
+    elem: etree._Element, stats: RingStats, ring: bool, hint: int | None, values: list[float] | None = None
+) -> list[Coord]:  # fmt: skip
+    """Decode a posList (or the flat run of numbers ``values`` read from ``elem``) into points: the
+    srsDimension here or on an ancestor, else ``count``, else the reading that fits (or closes the ring),
+    else ``hint``."""
+    if values is None:
+        values = _floats(elem.text, elem)
     dim = _srs_dimension(elem)
     count = elem.get("count")
     if dim is None and count and count.isdigit() and int(count) > 0 and len(values) % int(count) == 0:
@@ -154,10 +167,27 @@ def poslist_coords(elem: etree._Element, stats: RingStats, ring: bool, hint: int
             dim = hint or (fits[0] if fits else 2)
     if len(values) % dim:
         raise CoordError(
-            f"<gml:posList> holds {len(values)} numbers, not a multiple of srsDimension={dim}",
+            f"<gml:{_name(elem)}> holds {len(values)} numbers, not a multiple of srsDimension={dim}",
             elem.sourceline,
         )
     return _split(values, dim)
+
+
+def coordinates_coords(elem: etree._Element, stats: RingStats, ring: bool, hint: int | None) -> list[Coord]:
+    """The deprecated gml:coordinates: tuples split by ``ts`` (default a space), numbers by ``cs`` (default a
+    comma), ``decimal`` the decimal mark (default a point). Tuples that do not all hold 2 or 3 numbers
+    ("1, 2 3, 4": a space after the comma) are read as one run of numbers, like a posList."""
+    cs, ts, decimal = elem.get("cs") or ",", elem.get("ts") or " ", elem.get("decimal") or "."
+    text = elem.text or ""
+    tuples = text.split() if ts.isspace() else text.split(ts)
+    rows = [[n for n in (t.split() if cs.isspace() else t.split(cs)) if n.strip()] for t in tuples]
+    rows = [r for r in rows if r]
+    numbers = [n.strip() for r in rows for n in r]
+    values = _floats(" ".join(n.replace(decimal, ".") for n in numbers) if decimal != "." else " ".join(numbers), elem)
+    dims = {len(r) for r in rows}
+    if len(dims) == 1 and dims <= {2, 3} and len(values) == sum(map(len, rows)):
+        return _split(values, dims.pop())
+    return poslist_coords(elem, stats, ring, hint, values)
 
 
 def pos_coord(elem: etree._Element) -> Coord:
@@ -177,16 +207,31 @@ def coords_of(
 ) -> list[Coord]:  # fmt: skip
     """All coordinates under a LinearRing/LineString/Point, in document order."""
     pts: list[Coord] = []
-    for el in container.iter(*tags.coords) if tags.coords else ():
+    els = list(container.iter(*tags.coords)) if tags.coords else []
+    if ring and hint is None and len(els) > 1 and local_name(els[0].tag) == "poslist":  # curve segments
+        hint = _chained_dimension([e for e in els if local_name(e.tag) == "poslist"])
+    for el in els:
         name = local_name(el.tag)
         if name == "pos":
             pts.append(pos_coord(el))
         elif name == "poslist":
             pts.extend(poslist_coords(el, stats, ring, hint))
         elif name == "coordinates":
-            for tup in (el.text or "").split():
-                pts.append(tuple(_floats(tup, el)))
+            pts.extend(coordinates_coords(el, stats, ring, hint))
     return pts
+
+
+def _chained_dimension(parts: list[etree._Element]) -> int | None:
+    """The dimension (2 or 3) in which several posLists chain end to start into a closed ring (the
+    segments of a gml:Ring), when no srsDimension says; None if not exactly one does."""
+    runs = [_floats(e.text, e) for e in parts]
+    fits = []
+    for d in (2, 3):
+        if all(len(v) % d == 0 and v for v in runs):
+            segs = [_split(v, d) for v in runs]
+            chained = all(a[-1] == b[0] for a, b in zip(segs, segs[1:] + segs[:1], strict=True))
+            fits += [d] if chained else []
+    return fits[0] if len(fits) == 1 else None
 
 
 def clean_ring(points: list[Coord], stats: RingStats) -> list[Coord]:
@@ -203,9 +248,24 @@ def clean_ring(points: list[Coord], stats: RingStats) -> list[Coord]:
     return out
 
 
+def _voids(root: etree._Element, tags: GmlTags) -> dict[etree._Element, int]:
+    """The surfaces of the interior shells of the solids below ``root``, numbered by shell (from 1). The
+    dict keeps the element proxies alive, so lxml hands out the same ones again in the walk that asks."""
+    out: dict[etree._Element, int] = {}
+    shell = 0
+    for solid in root.iter(*tags.solids):
+        for part in solid:
+            if local(part) == "interior" and is_gml(part):
+                shell += 1
+                out.update((el, shell) for el in part.iter(*tags.surfaces))
+    return out
+
+
 def polygons_under(root: etree._Element, stats: RingStats, hint: int | None, tags: GmlTags) -> list[PolygonZ]:
-    """Every gml:Polygon / PolygonPatch / Triangle below ``root`` (surfaces of solids included)."""
+    """Every gml:Polygon / PolygonPatch / Triangle / Rectangle below ``root`` (surfaces of solids included;
+    those of a solid's interior shells marked as voids)."""
     out: list[PolygonZ] = []
+    voids = _voids(root, tags) if tags.solids else {}
     for el in root.iter(*tags.surfaces) if tags.surfaces else ():
         exterior: list[Coord] = []
         interiors: list[list[Coord]] = []
@@ -219,10 +279,11 @@ def polygons_under(root: etree._Element, stats: RingStats, hint: int | None, tag
                     exterior = ring
                 elif len(ring) >= 4:
                     interiors.append(ring)
+        void = voids.get(el, 0) if voids else 0
         if len(exterior) >= 4:
-            out.append(PolygonZ(exterior, interiors))
+            out.append(PolygonZ(exterior, interiors, void))
         elif exterior:
-            out.append(PolygonZ(exterior, []))  # degenerate: kept so the caller can report it
+            out.append(PolygonZ(exterior, [], void))  # degenerate: kept so the caller can report it
     return out
 
 

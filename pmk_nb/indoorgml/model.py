@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
+    from pmk_nb.indoorgml.units import UnitSuspect
+
 
 class CellKind(str, Enum):
     """What a cell is for the wheelchair; decides free/occupied in the grid."""
@@ -117,6 +119,42 @@ class Georeference:
     srs_name: str | None = None
 
 
+@dataclass(frozen=True)
+class LayerNote:
+    """A space layer of the file that is not drawn, and why (shown by ``pmk info`` and ``pmk convert``)."""
+
+    id: str
+    cells: int  # its cells with a footprint
+    reason: str
+    name: str = ""
+
+
+LOST_SHARE = 0.9  # a graph whose transitions are this share dangling (or none resolved) is lost
+
+
+@dataclass(frozen=True)
+class GraphStatus:
+    """How much of the file's navigation graph could be used: the access check trusts only what resolved.
+
+    ``resolved``: transitions whose two ends name cells of the plan (directly, through their states'
+    duality, or a state's point); ``dangling``: transitions with an end naming nothing in the file."""
+
+    transitions: int = 0
+    resolved: int = 0
+    dangling: int = 0
+    absent: bool = True
+    reason: str = ""
+
+    @property
+    def lost(self) -> bool:
+        """No graph, or one that joins (nearly) nothing: nothing can be checked against it."""
+        return self.absent or self.resolved == 0 or self.dangling >= LOST_SHARE * self.transitions
+
+    def to_json(self) -> dict[str, object]:
+        return {"transitions": self.transitions, "resolved": self.resolved, "dangling": self.dangling,
+                "absent": self.absent, "lost": self.lost, "reason": self.reason}  # fmt: skip
+
+
 @dataclass
 class Building:
     source: str  # path of the file read
@@ -134,6 +172,9 @@ class Building:
     warnings: list[str] = field(default_factory=list)
     links: list[Link] = field(default_factory=list)  # transitions between kept cells, one per pair
     unit_conflict: str = ""  # plain words when the unit evidence disagrees ('' when it agrees)
+    skipped_layers: list[LayerNote] = field(default_factory=list)  # layers of the file not drawn, and why
+    graph_status: GraphStatus = field(default_factory=GraphStatus)
+    unit_suspect: UnitSuspect | None = None  # the unit, not the doors, is the likely fault (a unit given by hand)
     _by_storey: tuple[tuple[int, int], dict[str | None, list[Boundary]]] | None = field(
         default=None, init=False, repr=False, compare=False
     )

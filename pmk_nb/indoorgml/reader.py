@@ -25,7 +25,7 @@ def _sha256(path: Path) -> str:
 
 def read_building(
     path: str | os.PathLike[str], *, unit: str = "auto", progress: ProgressCallback | None = None,
-    not_windows: Sequence[str] = (),
+    not_windows: Sequence[str] = (), layers: Sequence[str] = (),
 ) -> Building:  # fmt: skip
     """Read an IndoorGML file (1.0, 1.0.x, 1.1, 2.0 drafts, ALMA style) into a :class:`Building`.
 
@@ -35,6 +35,8 @@ def read_building(
         progress: ``read`` reports (fraction of the file's bytes) while the file streams in.
         not_windows: ids or names of cells the window/sill rule must leave navigable (a door it
             misjudged; ``pmk check`` names the cells it took for windows).
+        layers: ids or names of the space layers to draw, instead of the navigable one the reader
+            picks (``Building.skipped_layers`` names each layer not drawn and why).
 
     Returns:
         The building, all coordinates in metres.
@@ -42,6 +44,7 @@ def read_building(
     Raises:
         IndoorGMLError: the file is missing, unsafe (DOCTYPE with entities), malformed, not
             IndoorGML, or holds no usable cell; the message names the file (and line/cell).
+            :class:`~pmk_nb.errors.UnknownLayer` when ``layers`` names no layer with cells.
     """
     p = Path(path)
     if unit not in UNIT_CHOICES:
@@ -49,4 +52,4 @@ def read_building(
     if not p.is_file():
         raise IndoorGMLError(f"{p}: no such file", path=str(p))
     doc = scan(p, progress)
-    return build_building(doc, _sha256(p), unit, not_windows)
+    return build_building(doc, _sha256(p), unit, not_windows, layers)

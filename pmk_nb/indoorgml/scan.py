@@ -32,7 +32,7 @@ BOUNDARY_NAMES = {
 }  # fmt: skip
 STATE_NAMES = {"state", "node"}
 TRANSITION_NAMES = {"transition", "edge"}
-LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer"}
+LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer", "thematiclayer"}
 ROOT_NAMES = {"indoorfeatures", "multilayeredgraph", "primalspacefeatures", "indoorgml"}
 GEOREF_NAMES = {"translation", "rotation", "lla", "lla_origin"}
 _DECODED = frozenset(CELL_NAMES | BOUNDARY_NAMES | STATE_NAMES | TRANSITION_NAMES | LAYER_NAMES | GEOREF_NAMES)
@@ -93,6 +93,11 @@ class RawLayer:
     cls: str = ""
     usage: str = ""
     function: str = ""
+    name: str = ""
+    kind_name: str = ""  # spacelayer (1.x), primalspacelayer / dualspacelayer / thematiclayer (2.0)
+    theme: str = ""  # 2.0 ThematicLayer theme: Physical, Virtual, Tangible, Unknown
+    semantic_extension: bool = False  # 2.0 ThematicLayer semanticExtension
+    parent: str = ""  # 2.0: the ThematicLayer a primal/dual layer sits in
 
 
 @dataclass
@@ -114,13 +119,27 @@ class RawDocument:
     stats: RingStats = field(default_factory=RingStats)
 
 
+_XPOINTER = re.compile(r"""xpointer\(\s*(?:id\(\s*['"]([^'"]+)['"]\s*\)|.*@(?:gml:)?id\s*=\s*['"]([^'"]+)['"].*)\)""")
+
+
+def href_id(ref: str | None) -> str | None:
+    """The gml:id an ``xlink:href`` names, however it is spelled: ``#id``, ``id``, ``file.gml#id``,
+    ``#xpointer(id('id'))`` or ``#xpointer(//*[@gml:id='id'])`` (GML 3.2 allows both shorthand and
+    XPointer), with stray whitespace. The file part is dropped: every id is looked up in this file."""
+    if not ref:
+        return None
+    tail = ref.strip().rsplit("#", 1)[-1].strip()
+    m = _XPOINTER.fullmatch(tail)
+    if m:
+        tail = m.group(1) or m.group(2) or ""
+    return tail or None
+
+
 def _href(elem: etree._Element | None) -> str | None:
+    """The id ``elem`` links to: its ``xlink:href`` (or an un-namespaced ``href``, as some exporters write)."""
     if elem is None:
         return None
-    ref = elem.get(XLINK_HREF)
-    if ref:
-        return ref.rsplit("#", 1)[-1].strip() or None
-    return None
+    return href_id(elem.get(XLINK_HREF) or elem.get("href"))
 
 
 def _child(elem: etree._Element, name: str) -> etree._Element | None:
@@ -259,14 +278,7 @@ class _Scanner:
                 )
             )  # fmt: skip
         elif name in LAYER_NAMES:
-            doc.layers.append(
-                RawLayer(
-                    elem.get(GML_ID) or f"layer{len(doc.layers) + 1}",
-                    _text(_child(elem, "class")),
-                    _text(_child(elem, "usage")),
-                    _text(_child(elem, "function")),
-                )
-            )
+            self._layer_record(elem, name)
         elif name in GEOREF_NAMES and not gml.is_gml(elem):
             self._georef(elem, name)
         else:
@@ -304,6 +316,22 @@ class _Scanner:
             alma_inline=in_state is not None,
         )
         self.doc.cells.append(cell)
+
+    def _layer_record(self, elem: etree._Element, name: str) -> None:
+        """A layer's words (1.x class/usage/function; 2.0 ThematicLayer theme) and the ThematicLayer it sits in."""
+        kids = _kids(elem)
+        if elem.get(GML_ID) is None and any(k in LAYER_NAMES for k in kids):
+            return  # 2.0's property `primalSpaceLayer` around the feature `PrimalSpaceLayer`: same name lower-cased
+        thematic = self._ancestor({"thematiclayer"})
+        self.doc.layers.append(
+            RawLayer(
+                elem.get(GML_ID) or f"layer{len(self.doc.layers) + 1}",
+                _text(kids.get("class")), _text(kids.get("usage")), _text(kids.get("function")),
+                name=_text(kids.get("name")), kind_name=name, theme=_text(kids.get("theme")),
+                semantic_extension=_text(kids.get("semanticextension")).lower() in ("true", "1"),
+                parent=(thematic[1] or "") if thematic else "",
+            )
+        )  # fmt: skip
 
     def _boundary(self, elem: etree._Element, name: str) -> None:
         kids = _kids(elem)

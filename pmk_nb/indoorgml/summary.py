@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import asdict
 from typing import Any
 
 import shapely
@@ -46,7 +47,9 @@ def summarize(building: Building) -> dict[str, Any]:
         "boundaries": len(building.boundaries),
         "doors": {"boundaries": door_boundaries, "cells": door_cells, "total": door_boundaries + door_cells},
         "graph": {"states": len(building.graph.states), "transitions": len(building.graph.transitions)},
+        "graph_status": building.graph_status.to_json(),
         "layers": list(building.layers),
+        "skipped_layers": [asdict(note) for note in building.skipped_layers],
         "geometry_layers": sorted({c.layer for c in building.cells.values()}),
         "georeference": {
             "translation": [_r(g.translation[0]), _r(g.translation[1])],
@@ -56,6 +59,28 @@ def summarize(building: Building) -> dict[str, Any]:
         },
         "warnings": list(building.warnings),
     }
+
+
+def layer_lines(skipped: list[dict[str, Any]]) -> list[str]:
+    """The layers not drawn and why (``pmk info``, ``pmk convert``); ``--layer`` draws one on request."""
+    if not skipped:
+        return []
+    hint = "; pmk convert --layer NAME draws one" if any(note["cells"] for note in skipped) else ""
+    lines = [f"  layers not drawn ({len(skipped)}{hint}):"]
+    for note in skipped:
+        label = f"{note['id']} ({note['name']})" if note["name"] and note["name"] != note["id"] else note["id"]
+        lines.append(f"    - {label}, {note['cells']} cells: {note['reason']}")
+    return lines
+
+
+def graph_lines(status: dict[str, Any]) -> list[str]:
+    """The graph's state in one loud line when it is lost or absent, or partly dangling."""
+    if status["lost"]:
+        return [f"  NAVIGATION GRAPH NOT USED: {status['reason']}"]
+    if status["dangling"]:
+        return [f"  graph warning: {status['dangling']} of {status['transitions']} transitions name states "
+                f"that are not in the file; {status['resolved']} join drawn cells"]  # fmt: skip
+    return []
 
 
 def format_summary(summary: dict[str, Any]) -> str:
@@ -69,6 +94,8 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"  graph: {summary['graph']['states']} states, {summary['graph']['transitions']} transitions",
         f"  layers: {', '.join(summary['layers']) or '-'} (geometry from: "
         f"{', '.join(x or '(primal features)' for x in summary['geometry_layers'])})",
+        *layer_lines(summary["skipped_layers"]),
+        *graph_lines(summary["graph_status"]),
         f"  storeys: {len(summary['storeys'])}",
     ]
     for st in summary["storeys"]:

@@ -1,20 +1,31 @@
-"""Choosing the length unit of a file that does not say (no IndoorGML file in the wild does).
+"""Choosing the length unit of a file that does not say (almost no IndoorGML file in the wild does).
 
-``unit="auto"`` weighs every piece of evidence the plan offers, in metres under each candidate unit:
+``unit="auto"`` weighs every size the plan carries. Each kind of measure has a plausible range in
+metres (m² for areas) and a weight; under each candidate unit, a kind earns its weight times the share
+of its items that fall in the range, so one odd door does not sink a plan and thirty good ones count
+for more than their median:
 
-* door widths (door boundaries and door cells), median in 0.5-3 m - weight 3: a wheelchair map is
-  useless when doors are 0.15 m or 15 m wide;
-* cell heights (z_max - z_min of the larger half of the 3D cells), median in 2.2-6 m - weight 2: a
-  storey's height (windows and door cells are small and short, so they are left out);
-* corridor widths (the short side of TransitionSpace cells), median in 0.8-8 m - weight 1;
-* room areas (the larger half of the free cells), median in 2-500 m² - weight 1;
-* the plan's extent, 3 m to 1 km - weight 1 (UTM-sized coordinates have a small extent too).
+* door widths (door boundaries and door cells), 0.5-3 m - weight 4: a wheelchair map is useless when
+  doors are 0.09 m or 9 m wide;
+* door heights (z extent of 3D doors), 1.8-3 m - 1;
+* cell heights (z_max - z_min of the larger half of the 3D cells: rooms, not windows), 2.2-6 m - 2;
+* storey heights (floor to floor between the levels the rooms start at), 2.2-6 m - 1;
+* stair risers (treads of a stair drawn as a solid, see :func:`footprint.stepped`), 0.1-0.26 m - 2
+  (steep cellar and attic stairs rise a quarter metre; FJK-Haus's cellar stair is drawn at 0.25 m);
+* room areas (the larger half of the free cells), 4-200 m² - 1 (rooms range from closets to halls);
+* corridor widths (the mean width of TransitionSpace cells), 0.8-8 m - 1;
+* faces a transition crosses (its duality), 0.5-3 m - 0.5: some exporters draw them as the door, others
+  as the whole wall, so they count little (and are never called a conflict);
+* the plan's extent, 5-500 m - 1;
+* a known exporter (a comment such as "CityGML to IndoorGML") or a metric projected CRS in srsName - 6.
 
-The unit with the highest score wins; ties go to the unit the extent alone suggests (<= 250 units ->
-metres, <= 1000 -> decimetres, <= 100 000 -> centimetres, else millimetres). ALMA files are
-centimetres (thesis ch. 3.2). When the winner fails a piece of evidence that another unit satisfies
-(PNU 201: doors say metres, 20-unit storeys say decimetres), the choice is kept but the conflict is
-said in plain words, so nobody quietly gets 20 m storeys.
+The unit with the highest score wins (ties: the unit the extent alone suggests, then metres); the
+reason says which evidence agreed and how many items. ALMA files are centimetres (thesis ch. 3.2).
+Kinds whose items mostly fall outside their range at the chosen unit are named in ``conflict`` with
+the unit they fit; a heavy kind (weight 2+) even when it fits none, a light one that fits no unit is
+only odd (PNU 201: doors and extent say metres, its 20-unit storeys fit no unit), so nobody quietly
+gets 20 m storeys. :func:`unit_suspect` judges any unit, chosen or given by hand: when
+most doors are absurd in it and fit another unit, ``pmk check`` names the unit before any door.
 """
 
 from __future__ import annotations
@@ -24,34 +35,55 @@ from dataclasses import dataclass, field
 UNIT_SCALE: dict[str, float] = {"m": 1.0, "dm": 0.1, "cm": 0.01, "mm": 0.001}
 UNIT_CHOICES = ("auto", *UNIT_SCALE)
 UNIT_WORDS = {"m": "metres", "dm": "decimetres", "cm": "centimetres", "mm": "millimetres"}
-DOOR_RANGE = (0.5, 3.0)
+DOOR_RANGE = (0.5, 3.0)  # 0.5: narrow closet and toilet doors are real, and the check must name them
+MOSTLY = 0.5  # a kind agrees with a unit when more than half its items fit
+STRONG = 2  # a kind this heavy (door widths, cell heights, risers) is named even when it fits no unit
+SLACK = 1e-9  # 80 m² drawn in decimetres is 80.00000000001 m²: range ends are inclusive up to rounding
 
 
 @dataclass(frozen=True)
 class Clue:
-    """One kind of evidence: its values in file units, the plausible range in metres (or m²), a weight."""
+    """One kind of evidence: its items in file units, the plausible range in metres (or m²), a weight."""
 
-    name: str
+    name: str  # plural words: "door widths"
     values: tuple[float, ...]
     low: float
     high: float
-    weight: int
+    weight: float
     power: int = 1  # 2 for areas
 
-    @property
-    def median(self) -> float:
-        v = sorted(self.values)
-        return v[len(v) // 2]
+    def metres(self, unit: str, v: float | None = None) -> float:
+        """``v`` (default: the median item) in metres (m²) under ``unit``."""
+        if v is None:
+            s = sorted(self.values)
+            v = s[len(s) // 2]
+        return v * UNIT_SCALE[unit] ** self.power
 
-    def metres(self, unit: str) -> float:
-        return self.median * UNIT_SCALE[unit] ** self.power
+    def agree(self, unit: str) -> int:
+        """How many items fall in the plausible range under ``unit``."""
+        f = UNIT_SCALE[unit] ** self.power
+        lo, hi = self.low * (1 - SLACK), self.high * (1 + SLACK)
+        return sum(1 for v in self.values if lo <= v * f <= hi)
+
+    def share(self, unit: str) -> float:
+        return self.agree(unit) / len(self.values) if self.values else 0.0
 
     def fits(self, unit: str) -> bool:
-        return bool(self.values) and self.low <= self.metres(unit) <= self.high
+        return self.share(unit) > MOSTLY
+
+    def points(self, unit: str) -> float:
+        return self.weight * self.share(unit)
+
+    def size(self, unit: str) -> str:
+        """The median item under ``unit`` in words: "0.9 m" / "20 m²"."""
+        return f"{self.metres(unit):.3g} m{'²' if self.power == 2 else ''}"
 
     def describe(self, unit: str) -> str:
-        sq = "²" if self.power == 2 else ""
-        return f"{self.name} {self.metres(unit):.3g} m{sq}"
+        """Which items agreed with ``unit``: "9 of 10 door widths (median 0.9 m)"."""
+        n = len(self.values)
+        if n == 1:
+            return f"{self.name} {self.size(unit)}"
+        return f"{self.agree(unit)} of {n} {self.name} (median {self.size(unit)})"
 
 
 @dataclass
@@ -63,16 +95,49 @@ class UnitEvidence:
     corridor_widths: list[float] = field(default_factory=list)
     room_areas: list[float] = field(default_factory=list)
     extent: float = 0.0
+    door_heights: list[float] = field(default_factory=list)
+    storey_heights: list[float] = field(default_factory=list)
+    stair_risers: list[float] = field(default_factory=list)
+    passage_widths: list[float] = field(default_factory=list)  # faces a transition crosses
+    exporter: tuple[str, str] | None = None  # (unit, what the file says: "written by ...") for a known writer
 
     def clues(self) -> list[Clue]:
+        pos = lambda vs: tuple(v for v in vs if v > 0)  # noqa: E731 - 2D cells have no height
         out = [
-            Clue("median door width", tuple(self.door_widths), *DOOR_RANGE, 3),
-            Clue("median cell height", tuple(h for h in self.cell_heights if h > 0), 2.2, 6.0, 2),
-            Clue("median corridor width", tuple(self.corridor_widths), 0.8, 8.0, 1),
-            Clue("median room area", tuple(self.room_areas), 2.0, 500.0, 1, power=2),
-            Clue("plan extent", (self.extent,) if self.extent > 0 else (), 3.0, 1000.0, 1),
+            Clue("door widths", pos(self.door_widths), *DOOR_RANGE, 4),
+            Clue("door heights", pos(self.door_heights), 1.8, 3.0, 1),
+            Clue("cell heights", pos(self.cell_heights), 2.2, 6.0, 2),
+            Clue("storey heights", pos(self.storey_heights), 2.2, 6.0, 1),
+            Clue("stair risers", pos(self.stair_risers), 0.1, 0.26, 2),
+            Clue("room areas", pos(self.room_areas), 4.0, 200.0, 1, power=2),
+            Clue("corridor widths", pos(self.corridor_widths), 0.8, 8.0, 1),
+            Clue("transition faces", pos(self.passage_widths), *DOOR_RANGE, 0.5),
+            Clue("plan extent", pos([self.extent]), 5.0, 500.0, 1),
         ]
         return [c for c in out if c.values]
+
+    def score(self, unit: str) -> float:
+        """The weight of the evidence that agrees with ``unit`` (see the module docstring)."""
+        total = sum(c.points(unit) for c in self.clues())
+        if self.exporter is not None and self.exporter[0] == unit:
+            total += EXPORTER_WEIGHT
+        return total
+
+
+EXPORTER_WEIGHT = 6.0
+
+
+@dataclass(frozen=True)
+class UnitSuspect:
+    """The unit, before any door, is the likely fault: most doors are absurd in it and fit another unit."""
+
+    unit: str  # the unit the plan was read in
+    better: str  # the unit the doors fit
+    probable: bool  # the whole plan fits ``better`` better (else only the doors do: a doubt)
+    door_width: float  # median door width in metres under ``unit``
+    doors_wrong: int  # doors outside 0.5-3 m under ``unit``
+    doors: int
+    message: str  # plain words, with the fix (--unit)
 
 
 @dataclass(frozen=True)
@@ -80,6 +145,7 @@ class UnitChoice:
     unit: str
     reason: str
     conflict: str = ""  # plain words when some evidence disagrees with the choice
+    suspect: UnitSuspect | None = None  # the doors are absurd in this unit and fit another (see unit_suspect)
 
 
 def _extent_unit(extent: float) -> str:
@@ -95,30 +161,71 @@ def choose_unit(*, alma: bool, alma_why: str, evidence: UnitEvidence) -> UnitCho
         return UnitChoice("cm", f"auto: ALMA style ({alma_why}) -> centimetres")
     clues = evidence.clues()
     by_extent = _extent_unit(evidence.extent)
-
-    def score(u: str) -> tuple[int, bool, bool]:
-        return sum(c.weight for c in clues if c.fits(u)), u == by_extent, u == "m"
-
-    unit = max(UNIT_SCALE, key=score)
-    fitting = [c for c in clues if c.fits(unit)]
-    if not fitting:
+    scores = {u: evidence.score(u) for u in UNIT_SCALE}
+    unit = max(UNIT_SCALE, key=lambda u: (round(scores[u], 6), u == by_extent, u == "m"))
+    said = [c.describe(unit) for c in clues if c.fits(unit)]
+    if evidence.exporter is not None and evidence.exporter[0] == unit:
+        said.insert(0, evidence.exporter[1])
+    if not said:
         return UnitChoice(unit, f"auto: no size looks like a building in any unit; by the plan extent -> {unit}")
-    reason = f"auto: {UNIT_WORDS[unit]} ({'; '.join(c.describe(unit) for c in fitting)})"
-    failed = [c for c in clues if not c.fits(unit)]
-    conflicts = []
-    for c in failed:
-        others = [u for u in UNIT_SCALE if c.fits(u)]
-        said = f"the {c.name} is {c.describe(unit).removeprefix(c.name + ' ')} in {UNIT_WORDS[unit]}"
+    runner = max((u for u in UNIT_SCALE if u != unit), key=lambda u: scores[u])
+    reason = (
+        f"auto: {UNIT_WORDS[unit]} ({'; '.join(said)}; score {scores[unit]:.1f}, "
+        f"next {UNIT_WORDS[runner]} {scores[runner]:.1f})"
+    )
+    return UnitChoice(unit, reason, _conflict(evidence, unit), unit_suspect(evidence, unit))
+
+
+def _conflict(evidence: UnitEvidence, unit: str) -> str:
+    """Plain words for the evidence that disagrees with ``unit`` ('' when none does)."""
+    clues = evidence.clues()
+    agreeing = [c.name for c in clues if c.fits(unit)]
+    if evidence.exporter is not None and evidence.exporter[0] == unit:
+        agreeing.insert(0, "writer named in the file")
+    against = []
+    for c in clues:
+        if c.fits(unit) or c.weight < 1:  # a weak kind (transition faces) is no conflict
+            continue
+        here = f"the {c.name} are {c.size(unit)} in {UNIT_WORDS[unit]} ({c.agree(unit)} of {len(c.values)} fit)"
+        others = sorted((u for u in UNIT_SCALE if c.fits(u)), key=c.share, reverse=True)
         if others:
-            conflicts.append(f"{said}, which fits {UNIT_WORDS[others[0]]} ({c.describe(others[0])}) better")
-        else:
+            against.append(f"{here}: they say {UNIT_WORDS[others[0]]} ({c.describe(others[0])})")
+        elif c.weight >= STRONG:  # odd in every unit: worth saying for the sizes a building is made to
             sq = "²" if c.power == 2 else ""
-            conflicts.append(f"{said} (expected {c.low:g}-{c.high:g} m{sq}; no unit gives that)")
-    conflict = ""
-    if conflicts:
-        conflict = (
-            f"The unit evidence conflicts: {UNIT_WORDS[unit]} was chosen because of the "
-            f"{', '.join(c.name for c in fitting)}, but {'; and '.join(conflicts)}. "
-            "If the maps come out the wrong size, choose the unit by hand."
-        )
-    return UnitChoice(unit, reason, conflict)
+            against.append(f"{here} and fit no unit (expected {c.low:g}-{c.high:g} m{sq})")
+    if evidence.exporter is not None and evidence.exporter[0] != unit:
+        against.append(f"the file is {evidence.exporter[1]}, which means {UNIT_WORDS[evidence.exporter[0]]}")
+    if not against:
+        return ""
+    because = f" because of the {', '.join(agreeing)}" if agreeing else ""
+    return (
+        f"The unit evidence disagrees: {UNIT_WORDS[unit]} was chosen{because}, but {'; and '.join(against)}. "
+        "If the maps come out the wrong size, choose the unit by hand."
+    )
+
+
+def unit_suspect(evidence: UnitEvidence, unit: str) -> UnitSuspect | None:
+    """Is ``unit`` the fault behind absurd doors? A suspect when most doors fall outside 0.5-3 m in it
+    but fit another unit. *Probable* when that unit also scores higher overall (its rooms, heights and
+    extent make sense too: a unit given by hand that is wrong); else a doubt worth naming before any
+    door (the doors say one unit, the rest another)."""
+    doors = next((c for c in evidence.clues() if c.name == "door widths"), None)
+    if doors is None or doors.fits(unit):
+        return None
+    others = [u for u in UNIT_SCALE if u != unit and doors.fits(u)]
+    if not others:
+        return None
+    better = max(others, key=evidence.score)
+    probable = evidence.score(better) > evidence.score(unit)
+    n, wrong = len(doors.values), len(doors.values) - doors.agree(unit)
+    width = doors.metres(unit)
+    lo, hi = DOOR_RANGE
+    who = "all doors are" if wrong == n else f"{wrong} of {n} doors are not {lo:g}-{hi:g} m wide; the median door is"
+    symptom = f"{who} {width:.2g} m wide in {UNIT_WORDS[unit]}"
+    if probable:
+        fits = "; ".join(c.describe(better) for c in evidence.clues() if c.fits(better))
+        said = f"the plan is probably in {UNIT_WORDS[better]} ({fits})"
+    else:
+        rest = ", ".join(c.name for c in evidence.clues() if c.fits(unit)) or "the plan's other sizes"
+        said = f"in {UNIT_WORDS[better]} they would be {doors.size(better)}, but the {rest} say {UNIT_WORDS[unit]}"
+    return UnitSuspect(unit, better, probable, width, wrong, n, f"{symptom}: {said}; try --unit {better}")

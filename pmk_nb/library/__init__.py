@@ -4,15 +4,29 @@
 Maps screen and notebook 01); ``folder`` holds :class:`MapsFolder` (list, import, download, convert,
 delete); ``scan`` reads the generated map sets back, ``info`` the storeys of a plan, ``download``
 fetches a plan from a URL and ``naming`` is the one rule for generated file names.
+
+The names below are imported on first use, so ``pmk convert`` (which needs ``convert`` only) does not
+pay for the maps folder and the downloader's HTTP, TLS and e-mail modules (issue 31: a small plan's
+whole convert in 0.5 s).
 """
 
 from __future__ import annotations
 
-from pmk_nb.library.convert import ConvertOptions, ConvertResult, StoreyMap, convert_plan
-from pmk_nb.library.folder import MapEntry, MapsFolder, check_name, default_maps_dir
-from pmk_nb.library.info import StoreyInfo
-from pmk_nb.library.naming import safe_file_part, storey_map_names
-from pmk_nb.library.scan import GeneratedMap
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from pmk_nb.library.convert import ConvertOptions, ConvertResult, StoreyMap, convert_plan
+    from pmk_nb.library.folder import MapEntry, MapsFolder, check_name, default_maps_dir
+    from pmk_nb.library.info import StoreyInfo
+    from pmk_nb.library.naming import safe_file_part, storey_map_names
+    from pmk_nb.library.scan import GeneratedMap
+
+_WHERE = {
+    "ConvertOptions": "convert", "ConvertResult": "convert", "StoreyMap": "convert", "convert_plan": "convert",
+    "MapEntry": "folder", "MapsFolder": "folder", "check_name": "folder", "default_maps_dir": "folder",
+    "StoreyInfo": "info", "safe_file_part": "naming", "storey_map_names": "naming", "GeneratedMap": "scan",
+}  # fmt: skip
 
 __all__ = [
     "ConvertOptions",
@@ -28,3 +42,15 @@ __all__ = [
     "safe_file_part",
     "storey_map_names",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _WHERE:
+        raise AttributeError(f"module 'pmk_nb.library' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"pmk_nb.library.{_WHERE[name]}"), name)
+    globals()[name] = value  # once is enough
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -1,5 +1,6 @@
 """The choices a conversion needs from the user when the plan cannot say: its unit, and which cells the
-window/sill rule took for windows that are really doors.
+window/sill rule took for windows that are really doors, and the space layers to draw when the user
+asks for another than the navigable one.
 
 The Maps screen offers both (the command line has ``--unit`` and ``--not-window``). What was chosen is
 kept in each written storey's rooms file, under ``choices``, so that converting again (a finer
@@ -22,9 +23,11 @@ CHOICES_KEY = "choices"  # where a rooms file keeps them
 class ConvertChoices:
     unit: str = "auto"  # "auto" (judged from the plan) or one of pmk_nb.indoorgml.units.UNIT_SCALE
     not_windows: tuple[str, ...] = ()  # cell names or ids the window/sill rule must leave navigable
+    layers: tuple[str, ...] = ()  # space layers (ids or names) drawn instead of the navigable one
 
     def to_json(self) -> dict[str, Any]:
-        return {"unit": self.unit, "not_windows": list(self.not_windows)}
+        layers = {"layers": list(self.layers)} if self.layers else {}  # only when asked: older readers ignore it
+        return {"unit": self.unit, "not_windows": list(self.not_windows), **layers}
 
 
 def read_choices(doc: Mapping[str, Any] | None) -> ConvertChoices | None:
@@ -35,9 +38,14 @@ def read_choices(doc: Mapping[str, Any] | None) -> ConvertChoices | None:
         return None
     unit = raw.get("unit")
     words = raw.get("not_windows")
-    if unit not in UNIT_CHOICES or not isinstance(words, list) or not all(isinstance(x, str) for x in words):
+    layers = raw.get("layers", [])  # absent in rooms files written before --layer
+    if unit not in UNIT_CHOICES or not _strings(words) or not _strings(layers):
         return None
-    return ConvertChoices(str(unit), tuple(words))
+    return ConvertChoices(str(unit), tuple(words), tuple(layers))
+
+
+def _strings(value: Any) -> bool:
+    return isinstance(value, list) and all(isinstance(x, str) for x in value)
 
 
 def last_choices(docs: Iterable[Mapping[str, Any] | None]) -> ConvertChoices:

@@ -311,7 +311,7 @@ class MapsFolder:
         max_wall_gap: float = 0.5,
         door_width: float = DEFAULT_DOOR_WIDTH,
         chair_width: float = DEFAULT_CHAIR_WIDTH,
-        not_windows: Sequence[str] = (),
+        not_windows: Sequence[str] = (), layers: Sequence[str] = (),
     ) -> list[GeneratedMap]:
         """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2): runs
         :func:`pmk_nb.library.convert.convert_plan` (all storeys or none are written), then removes the
@@ -320,9 +320,9 @@ class MapsFolder:
         Args:
             resolution: metres per cell (e.g. 0.05).
             storeys: storey names to convert; default all.
-            max_wall_gap: gaps between cells up to this many metres wide are walls the file left out (0: off).
+            max_wall_gap: openings reach this far across walls left out as gaps; gaps are wall up to max(this, 1 m).
             progress: :class:`~pmk_nb.progress.Progress` reports (read, rasterise, write, done).
-            not_windows: cells (names or ids) the window/sill rule must leave navigable.
+            not_windows: cells (names or ids) the window/sill rule must leave navigable; layers: layers to draw.
 
         Raises:
             LibraryError: unknown map, bad arguments, or any reader / rasteriser / writer error
@@ -330,7 +330,7 @@ class MapsFolder:
         """
         entry = self.entry(name)
         options = ConvertOptions(
-            unit=unit, storeys=storeys, wall_thickness=wall_thickness, max_wall_gap=max_wall_gap,
+            unit=unit, storeys=storeys, wall_thickness=wall_thickness, max_wall_gap=max_wall_gap, layers=tuple(layers),
             image_format=image_format, door_width=door_width, chair_width=chair_width, not_windows=tuple(not_windows),
         )  # fmt: skip
         self._ensure_root()
@@ -348,7 +348,7 @@ class MapsFolder:
                 f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell.",
                 name=entry.name, hint="Use a coarser resolution (a larger number).",
             ) from err  # fmt: skip
-        if unit == "auto":  # what storeys() reads too: the list learns them for free
+        if unit == "auto" and not layers:  # what storeys() reads too (the plan as read by default): for free
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
         new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p}
         self._remove_superseded(old, new_names, set(result.stems.values()))

@@ -20,7 +20,7 @@ from pmk_nb.errors import IndoorGMLError, LibraryError
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building
 
-__all__ = ["StoreyCache", "StoreyInfo", "storeys_of"]
+__all__ = ["LayerOption", "StoreyCache", "StoreyInfo", "layer_options", "plan_notes", "storeys_of"]
 
 _Key = tuple[int, int]  # (mtime_ns, size) of the source when it was read
 
@@ -38,6 +38,8 @@ class StoreyInfo:
     extent: tuple[float, float, float, float] | None
     unit_conflict: str = ""  # the building's unit evidence disagrees (said before converting), with the fix
     unit: str = "m"  # the unit the file was read in (judged from its sizes): what ``extent`` was scaled by
+    notes: tuple[str, ...] = ()  # the plan's doubts, said before converting (see plan_notes)
+    layers: tuple[LayerOption, ...] = ()  # the space layers with cells: what the Maps screen offers to draw
 
     @property
     def size(self) -> tuple[float, float] | None:
@@ -63,16 +65,58 @@ class StoreyInfo:
         return f"{self.name}: {self.cells} cells, {self.doors} doors, {dims}"
 
 
+@dataclass(frozen=True)
+class LayerOption:
+    """A space layer with cells, and whether the converter draws it when nothing is asked (the navigable one)."""
+
+    id: str
+    name: str
+    cells: int
+    drawn: bool
+    reason: str = ""  # why it is not drawn
+
+
+def plan_notes(building: Building) -> tuple[str, ...]:
+    """What a user must know before trusting a map of ``building``, in plain words: the unit suspected
+    first (it makes every door wrong), then a navigation graph lost or partly dangling (nothing, or less,
+    can be checked), then each layer not drawn and why."""
+    notes = [building.unit_suspect.message] if building.unit_suspect is not None else []
+    graph = building.graph_status
+    if graph.lost:
+        notes.append(f"Navigation graph not used: {graph.reason or 'the file has none'}. Nothing can be checked.")
+    elif graph.dangling:
+        notes.append(graph.reason or f"{graph.dangling} of {graph.transitions} transitions name nothing in the file")
+    notes += [f"Layer {n.id!r} ({n.cells} cells) not drawn: {n.reason}" for n in building.skipped_layers]
+    return tuple(notes)
+
+
+def layer_options(building: Building) -> tuple[LayerOption, ...]:
+    """The layers drawn (those of the building's cells) and the ones with cells left out, in file order."""
+    drawn = {c.layer for c in building.cells.values()}
+    skipped = {n.id: n for n in building.skipped_layers if n.cells}
+    out = []
+    for lid in building.layers:
+        if lid in skipped:
+            n = skipped[lid]
+            out.append(LayerOption(lid, n.name, n.cells, False, n.reason))
+        elif lid in drawn:
+            count = sum(1 for c in building.cells.values() if c.layer == lid)
+            out.append(LayerOption(lid, "", count, True))
+    return tuple(out)
+
+
 def storeys_of(building: Building) -> list[StoreyInfo]:
     """The storeys of a read building, via ``summarize`` (the same numbers as ``pmk info``)."""
     from pmk_nb.indoorgml import summarize
 
     result = []
+    notes, layers = plan_notes(building), layer_options(building)
     for st in summarize(building)["storeys"]:
         ext: dict[str, Any] | None = st["extent"]
         extent = (*map(float, ext["min"]), *map(float, ext["max"])) if ext else None
         result.append(StoreyInfo(name=str(st["name"]), cells=int(st["cells"]), doors=int(st["doors"]), extent=extent,  # type: ignore[arg-type]
-                                 unit_conflict=building.unit_conflict, unit=building.unit))  # fmt: skip
+                                 unit_conflict=building.unit_conflict, unit=building.unit, notes=notes,
+                                 layers=layers))  # fmt: skip
     return result
 
 

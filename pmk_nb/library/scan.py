@@ -115,9 +115,14 @@ def _image_size(image: Path) -> tuple[int, int, str]:
     """(width, height, "") from the image header, or (0, 0, reason)."""
     from PIL import Image, UnidentifiedImageError
 
+    from pmk_nb.rosmap.image import header_size
+
     try:
-        with Image.open(image) as im:
-            width, height = im.size
+        size = header_size(image)
+        if size is None:
+            with Image.open(image) as im:
+                size = im.size
+        width, height = size
     except FileNotFoundError:
         return 0, 0, f"image file {image} is missing"
     except (OSError, UnidentifiedImageError, ValueError) as err:

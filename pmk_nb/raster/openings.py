@@ -9,11 +9,12 @@ separates them, up to ``max_gap``), by the first rule with evidence:
    (a ConnectionBoundary or a boundary named "door", then a partial edge, then a transition's dual
    face) - so a plain wall that a transition is merely dual to is not opened when a real door sits
    beside it, and a dual face that spans the whole wall is no door at all;
-2. ``line``: where the transition's own LineString crosses the shared boundary, ``door_width`` wide;
+2. ``line``: where the transition's own LineString crosses the shared boundary, ``door_width`` wide, on
+   one straight stretch clear of corners and crossing walls (:mod:`pmk_nb.raster.doorslide`);
 3. ``corridor``: both cells corridor-like (TransitionSpace, or named corridor/hall/lobby), or the
    boundary is virtual, or the file draws walls as gaps and these two cells touch (no wall): the
    whole shared boundary;
-4. ``middle``: ``door_width`` at the middle of the longest run of the shared boundary.
+4. ``middle``: ``door_width`` at the middle of the longest straight stretch of the shared boundary.
 
 Two cells further apart than ``max_gap`` share no wall to open. When the space between them (at most
 :data:`MAX_BRIDGE` metres, along the transition's own line or else the shortest way) crosses no other
@@ -38,6 +39,10 @@ from shapely import ops
 from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.doorface import door_face
+from pmk_nb.raster.doorslide import DEFAULT_INSET, place
+from pmk_nb.raster.nearby import Nearby
+from pmk_nb.raster.outside import outer_guesses
+from pmk_nb.raster.thickness import MIN_WALL
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -171,14 +176,6 @@ def _runs(shared: BaseGeometry) -> list[BaseGeometry]:
     return sorted(shapely.get_parts(shared).tolist(), key=lambda g: -g.length)
 
 
-def _window(run: BaseGeometry, centre: float, width: float) -> BaseGeometry:
-    """``width`` of ``run`` around distance ``centre`` along it, shifted to stay on it, clipped if short."""
-    if run.length <= width:
-        return run
-    start = min(max(centre - width / 2, 0.0), run.length - width)
-    return ops.substring(run, start, start + width)
-
-
 def _door_lines(link: Link, shared: BaseGeometry, doors: list[Boundary], gap: float, tol: float) -> list[BaseGeometry]:
     """Door boundary lines on the shared boundary, strongest evidence only; a full dual face is a wall."""
     near = shapely.buffer(shared, gap + tol)
@@ -245,7 +242,7 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
         face = door_face(door.footprint, room.footprint, gap, ctx.max_gap + ctx.tol, ctx.tol)
         return _made(link, "door", _runs(face) if face.length > shared.length + 2 * ctx.tol else runs, a, b, gap, ctx)
     near = ctx.max_gap + ctx.tol
-    lines = _door_lines(link, shared, ctx.doors, near, ctx.tol)
+    lines = _door_lines(link, shared, ctx.near.doors_near(shared, near + ctx.tol), near, ctx.tol)
     if lines:
         segs = [s for run in runs for s in _project(run, [g for g in lines if run.distance(g) <= near])]
         if segs:
@@ -254,12 +251,11 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
         crossing = shapely.intersection(link.line, shapely.buffer(shared, gap + ctx.tol))
         if not crossing.is_empty:
             point = crossing.centroid
-            run = min(runs, key=lambda r: r.distance(point))
-            return _made(link, "line", [_window(run, run.project(point), ctx.door_width)], a, b, gap, ctx)
-    virtual = any(v.distance(shared) <= gap + ctx.tol for v in ctx.virtual)
+            return _made(link, "line", [place(runs, ctx.door_width, ctx.inset, point)], a, b, gap, ctx)
+    virtual = bool(ctx.near.virtual_within(shared, gap + ctx.tol))
     if _corridor_like(a, b, virtual, ctx.walls_as_gaps, gap):
         return _made(link, "corridor", runs, a, b, gap, ctx)
-    return _made(link, "middle", [_window(runs[0], runs[0].length / 2, ctx.door_width)], a, b, gap, ctx)
+    return _made(link, "middle", [place(runs, ctx.door_width, ctx.inset)], a, b, gap, ctx)
 
 
 def _bridge(link: Link, a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening | None:
@@ -280,7 +276,7 @@ def _bridge(link: Link, a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening 
     if path is None:
         path = shapely.shortest_line(a.footprint, b.footprint)
     lane = shapely.buffer(path, ctx.door_width / 2, cap_style="flat")
-    if any(shapely.intersection(lane, c).area > ctx.tol * ctx.door_width for c in ctx.others(a, b)):
+    if any(shapely.intersection(lane, c).area > ctx.tol * ctx.door_width for c in ctx.near.others(a, b, lane)):
         return None
     mid = path.interpolate(0.5, normalized=True)
     xy = shapely.get_coordinates(path)
@@ -299,17 +295,16 @@ class _Context:
     max_gap: float
     tol: float
     walls_as_gaps: bool
-    cells: tuple[Cell, ...] = ()
-
-    def others(self, a: Cell, b: Cell) -> list[BaseGeometry]:
-        return [c.footprint for c in self.cells if c.id not in (a.id, b.id)]
+    near: Nearby  # the doors, virtual boundaries and cells near a link (R-trees: linear, not quadratic)
+    inset: float = DEFAULT_INSET
 
 
 def plan_openings(
     building: Building, storey: str, *, door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = 0.5,
-    tol: float = 0.01,
+    tol: float = 0.01, inset: float = DEFAULT_INSET,
 ) -> OpeningPlan:  # fmt: skip
-    """The openings of every same-storey link between two free cells, and the door lines left shut."""
+    """The openings of every same-storey link between two free cells, and the door lines left shut.
+    ``inset``: how far a door placed by rule line or middle keeps from a corner or crossing wall."""
     cells = {c.id: c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty}
     links: list[Link] = []
     not_free: list[Link] = []  # a link to a window or obstacle: no opening, named as not checked
@@ -320,12 +315,16 @@ def plan_openings(
     virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
     gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
     walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
-    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, tuple(cells.values()))
+    near = Nearby(list(cells.values()), doors, virtual)
+    ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, near, inset)
     openings = [_opening(k, cells, ctx) for k in links]
     graph = _Graph.of(cells, links)
     shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
         shut += [d for d in doors if d.evidence == "duality" and d not in shut]
+    crossing = [k.line for k in building.links if k.line is not None and storey in k.storeys]
+    reach = max(MIN_WALL, max_gap) + tol  # a cell across the thickest wall faces the door: not the outside
+    shut += [d for d in outer_guesses(doors, [c.footprint for c in cells.values()], crossing, reach) if d not in shut]
     skipped = tuple(_skipped(k, cells) for k in not_free)
     return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)), skipped)
 

@@ -7,8 +7,8 @@ target resolution, with the cell-centre rule (:mod:`pmk_nb.raster.scanline`), in
 
 1. free cells (navigable, general, transition, anchor and connection spaces) -> 0;
 2. non-navigable cells -> 100;
-3. wall gaps: regions between cells narrower than ``max_wall_gap`` (files that leave walls out as
-   gaps between cells, e.g. ALMA) are wall, except across door boundaries (:func:`walls.gap_walls`);
+3. wall gaps: regions between cells narrower than the thickest wall (at least 1 m, :mod:`thickness`)
+   are wall (ALMA leaves walls out as gaps), except across doors and openings (:func:`walls.gap_walls`);
 4. walls: every free cell's rings, minus the stretches where a door sits, drawn as a band of
    ``wall_thickness`` centred on the line *and* as a 4-connected supercover line, so rooms that share
    an edge never merge even when the wall is thinner than a cell;
@@ -42,6 +42,7 @@ from pmk_nb.raster.scanline import (
     write_rects,
 )
 from pmk_nb.raster.spans import fill_polygons
+from pmk_nb.raster.thickness import thickest_wall
 from pmk_nb.raster.wallcut import wall_segments
 from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_walls, passages, shrink_segments
 
@@ -251,7 +252,8 @@ def _draw_walls(grid: np.ndarray, plan: _Plan, tick: _Ticker) -> np.ndarray:
     frame, res = plan.frame, plan.frame.resolution
     tol = max(0.01, 0.25 * res)
     gaps = door_gaps(plan.door_lines, plan.rooms, max_gap=max(_MAX_DOOR_GAP, plan.max_gap))
-    gap_fill = gap_walls([c.footprint for c in plan.cells] + plan.door_polys, plan.door_lines, gaps, plan.max_gap, tol)
+    walls = thickest_wall(plan.openings, gaps, plan.max_gap)  # a gap no transition crosses is wall up to this
+    gap_fill = gap_walls([c.footprint for c in plan.cells] + plan.door_polys, plan.door_lines, gaps, walls, tol)
     fill_polygons(grid, frame, [gap_fill], _WALL, keep=(FREE, OCCUPIED))
     segments = wall_segments(plan.rooms, plan.door_polys, plan.door_lines, gaps, tol)
     fill_segment_bands(grid, frame, segments, plan.half, _WALL, plan.spare)

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
+from pmk_nb.raster.nearby import grown_box
 from pmk_nb.raster.parts import door_frame, polygon_parts, polygons_of
 
 if TYPE_CHECKING:
@@ -202,8 +203,9 @@ def door_jambs(room_arr: np.ndarray, door_polys: list[Any], tol: float) -> list[
     if not door_polys:
         return out
     tree = shapely.STRtree(room_arr) if len(room_arr) else None
+    touching = _doors_within(door_polys, tol)
     for i, door in enumerate(door_polys):
-        near = [d for j, d in enumerate(door_polys) if j != i and d.distance(door) <= tol]
+        near = [door_polys[j] for j in touching[i]]
         if tree is not None:
             near += list(room_arr[tree.query(shapely.buffer(door, tol), predicate="intersects")])
         ring = shapely.boundary(door)
@@ -211,6 +213,24 @@ def door_jambs(room_arr: np.ndarray, door_polys: list[Any], tol: float) -> list[
             ring = shapely.difference(ring, shapely.buffer(shapely.union_all(near), tol))
         if not ring.is_empty:
             out.append(ring)
+    return out
+
+
+def _doors_within(door_polys: list[Any], tol: float) -> list[list[int]]:
+    """Per door polygon, the other door polygons at most ``tol`` away, in list order.
+
+    An R-tree picks the candidates (bounding boxes within 2 ``tol``, so no pair at ``tol`` is lost to
+    round-off) and the exact distance decides, as the pairwise test did: linear in the doors, not
+    quadratic.
+    """
+    arr = np.asarray(door_polys, dtype=object)
+    left, right = shapely.STRtree(arr).query(grown_box(arr, 2 * tol + 1e-9))
+    keep = left != right
+    left, right = left[keep], right[keep]
+    keep = shapely.distance(arr[right], arr[left]) <= tol
+    out: list[list[int]] = [[] for _ in door_polys]
+    for i, j in sorted(zip(left[keep].tolist(), right[keep].tolist(), strict=True)):
+        out[i].append(j)
     return out
 
 

@@ -265,3 +265,26 @@ def preview_image(grid: OccupancyGrid, px_per_m: float, max_side: int) -> tuple[
     rows = np.minimum(((np.arange(ph) + 0.5) * grid.height / ph).astype(np.int64), grid.height - 1)
     picked = grid.data[np.ix_(grid.height - 1 - rows, cols)]  # image row 0 = top = last grid row
     return np.ascontiguousarray(_GRAY_LUT[picked.view(np.uint8)]), pw / width_m
+
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def header_size(path: Path) -> tuple[int, int] | None:
+    """(width, height) read from a PGM or PNG header without decoding, else None (another format: ask
+    Pillow). Pillow refuses to even open an image over its decompression-bomb limit, and a large map of
+    ours (a 1 km plan at 0.05 m) is one: listing it must still say its size."""
+    with open(path, "rb") as fh:
+        head = fh.read(512)
+    if head.startswith(PNG_SIGNATURE) and head[12:16] == b"IHDR":
+        return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+    if head[:2] not in (b"P5", b"P2"):
+        return None
+    words: list[bytes] = []
+    for line in head[2:].split(b"\n"):
+        words += line.split(b"#", 1)[0].split()
+        if len(words) >= 2:
+            break
+    if len(words) < 2 or not all(w.isdigit() for w in words[:2]):
+        return None
+    return int(words[0]), int(words[1])

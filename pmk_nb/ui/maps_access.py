@@ -66,6 +66,8 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
     if doc is None:
         return f"<p><b>{label}</b>: no accessibility check for this map (convert it again to get one).</p>"
     report = doc.get("accessibility")
+    if report and report.get("graph_lost"):
+        return f"<p class='pmk-warn'><b>⚠ {label}</b>: nothing checked: {escape(report['graph_lost'])}</p>"
     if not report or not (report.get("graph") or report.get("not_checked")):
         return f"<p><b>{label}</b>: the plan has no navigation graph here, so there is nothing to check against.</p>"
     if not report.get("graph"):  # every transition of the storey leads to a window or a non-navigable cell
@@ -100,6 +102,16 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
 
 
 MAX_NOT_CHECKED = 10  # cells named; the rest are counted
+
+
+def _layers_html(layers: list[dict[str, Any]]) -> str:
+    """The plan's layers not drawn, and why (a thematic layer drawn would make walls across rooms)."""
+    items = "".join(
+        f"<li>{escape(str(n.get('id', '')))} ({n.get('cells', 0)} cells): {escape(str(n.get('reason', '')))}</li>"
+        for n in layers
+    )
+    head = "<p><b>Layers not drawn</b> (pmk convert --layer NAME draws one):</p>"
+    return f"{head}<ul class='pmk-access-list'>{items}</ul>"
 
 
 def _not_checked_items(report: dict[str, Any]) -> list[str]:
@@ -141,12 +153,17 @@ class AccessPanel:
             self.widget.layout.display = "none"
             return
         self.widget.layout.display = "flex"
-        parts, images, conflict = [], [], ""
+        parts, images, conflict, layers = [], [], "", []
+        suspect = next((s for doc in docs if isinstance(s := (doc or {}).get("unit_suspect"), dict)), None)
+        if suspect is not None:  # before any door: a wrong unit makes every door look wrong
+            parts.append(f"<p class='pmk-warn pmk-access-unit'><b>Suspect the unit first:</b> "
+                         f"{escape(str(suspect.get('message', '')))}</p>")  # fmt: skip
         for gm, doc in zip(entry.generated, docs, strict=True):
             parts.append(_storey_html(gm, doc))
             conflict = conflict or (doc or {}).get("unit_conflict", "")
+            layers = layers or (doc or {}).get("skipped_layers") or []
             report = (doc or {}).get("accessibility") or {}
-            if doc is not None and not report.get("ok", True):
+            if doc is not None and not report.get("ok", True) and report.get("checked", True):  # problems to mark
                 png = marked_preview(gm, doc)
                 if png is not None:
                     img = w.Image(value=png, format="png", layout=w.Layout(max_width="100%", height="auto"))
@@ -154,5 +171,7 @@ class AccessPanel:
                     images.append(img)
         if conflict:
             parts.append(f"<p class='pmk-warn'><b>Size warning:</b> {escape(conflict)}</p>")
+        if layers:
+            parts.append(_layers_html(layers))
         self.text.value = "<div class='pmk-heading-small'>Wheelchair access</div>" + "".join(parts)
         self.images.children = tuple(images)

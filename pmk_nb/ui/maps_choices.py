@@ -1,4 +1,4 @@
-"""The Maps screen's conversion choices: the plan's unit, and the cells that are not windows.
+"""The Maps screen's conversion choices: the plan's unit, the layers to draw, the cells that are not windows.
 
 Both answer something the converter can only guess: a file in an editor's own unit, and a door the
 window/sill rule took for a window (the accessibility panel names those cells). A kiosk user has no
@@ -9,7 +9,7 @@ converting again keeps them.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
@@ -22,6 +22,7 @@ from pmk_nb.ui.widgets import checkbox, escape, field_error, guard, tick_exactly
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import MapEntry
+    from pmk_nb.library.info import LayerOption
     from pmk_nb.ui.context import AppContext
 
 UNIT_LABELS = {
@@ -31,6 +32,10 @@ UNIT_LABELS = {
     "cm": "centimetres",
     "mm": "millimetres",
 }
+LAYERS_HELP = (
+    "The navigation graph's layer is drawn; thematic layers (zones, sensors) are not, or their outlines "
+    "would become walls across rooms. Tick the layers to draw instead, then Convert."
+)
 WINDOWS_HELP = (
     "These cells were taken for windows or sills from their height. Tick any that is really a door or "
     "floor, then Convert: it stays navigable and its passages are checked."
@@ -57,8 +62,18 @@ class ChoicesPanel:
         self.windows = w.VBox([])
         self.windows.add_class("pmk-maps-not-windows")
         self.windows_box = w.VBox([self.windows_help, self.windows], layout=w.Layout(display="none"))
-        self.widget = w.VBox([self.unit, self.unit_error, self.windows_box], layout=w.Layout(width="100%"))
+        self.layers_help = w.HTML(f"<div><b>Layers to draw</b><br>{escape(LAYERS_HELP)}</div>")
+        self.layers = w.VBox([])
+        self.layers.add_class("pmk-maps-layers")
+        self.layers_error = field_error()
+        self.layers_box = w.VBox([self.layers_help, self.layers, self.layers_error], layout=w.Layout(display="none"))
+        self.widget = w.VBox(
+            [self.unit, self.unit_error, self.layers_box, self.windows_box], layout=w.Layout(width="100%")
+        )
         self._shown: tuple[object, ...] | None = None  # (map name, its last choices, the cells offered)
+        self._layers: tuple[str, ...] = ()  # the layers the last conversion drew (--layer), kept as they were
+        self._auto: tuple[str, ...] = ()  # the layers the converter draws when none is asked for
+        self._offered: tuple[LayerOption, ...] | None = None  # None: nothing offered yet for this map
 
     def show(self, entry: MapEntry | None, docs: list[dict[str, Any] | None]) -> None:
         """The choices of ``entry``'s last conversion, and the cells its reports took for windows (``docs``:
@@ -70,12 +85,54 @@ class ChoicesPanel:
         if shown == self._shown:
             return
         self._shown = shown
+        self._layers = last.layers  # chosen here or by `pmk maps convert --layer`: kept when converting again
+        self._offered = None  # a new map or conversion: its layers are offered afresh
+        self.set_layers(())
         self.unit.value = last.unit
         self.unit_error.value = ""
         action = "Choosing cells that are not windows"
         boxes = [checkbox(self.ctx, n, ticked, "pmk-maps-not-window", action, self._on_tick) for n, ticked in offer]
         self.windows.children = tuple(boxes)
         self.windows_box.layout.display = "flex" if boxes else "none"
+
+    def set_layers(self, options: Sequence[LayerOption]) -> None:
+        """Offer the plan's layers with cells when it has more than one (``options``, from its storeys): ticked
+        are those the last conversion drew (asked for), else those the converter draws by itself. The same
+        options again (a refresh) keep what the user ticked since."""
+        if tuple(options) == self._offered:
+            return
+        self._offered = tuple(options)
+        self._auto = tuple(o.id for o in options if o.drawn)
+        ticked = set(self._layers) or set(self._auto)
+        action = "Choosing the layers to draw"
+        boxes = [
+            checkbox(self.ctx, o.id, o.id in ticked, "pmk-maps-layer", action, self._on_layer) for o in options
+        ] if len(options) > 1 else []  # fmt: skip
+        self.layers.children = tuple(boxes)
+        self.layers_error.value = ""
+        self.layers_box.layout.display = "flex" if boxes else "none"
+
+    def _ticked_layers(self) -> list[str]:
+        return [str(b.description) for b in self.layers.children if isinstance(b, w.Checkbox) and b.value is True]
+
+    def _on_layer(self, change: dict[str, Any]) -> None:
+        if not isinstance(change.get("new"), bool):
+            raise LibraryError("A layer box must be ticked or not.")
+        self.layers_error.value = "" if self._ticked_layers() else "Tick at least one layer to draw."
+
+    def tick_layers(self, ids: list[str]) -> None:
+        """Tick exactly the layers ``ids`` (what clicking their boxes does)."""
+        tick_exactly(self.layers.children, ids, "No layer {unknown} in this plan (layers: {known}).")
+
+    def _chosen_layers(self) -> tuple[str, ...]:
+        """The layers to ask for: none when the boxes say what the converter draws by itself."""
+        if not self.layers.children:
+            return self._layers
+        ticked = self._ticked_layers()
+        if not ticked:
+            self.layers_error.value = "Tick at least one layer to draw."
+            raise LibraryError("Tick at least one layer to draw.")
+        return () if set(ticked) == set(self._auto) else tuple(ticked)
 
     def _valid_unit(self, unit: object) -> str:
         """``unit`` if it is one of the list, else the error said under the field and raised."""
@@ -102,8 +159,8 @@ class ChoicesPanel:
         """What to convert with, checked again here: a page can set any synced value.
 
         Raises:
-            LibraryError: a unit that is not one of the list.
+            LibraryError: a unit that is not one of the list; no layer ticked.
         """
         unit = self._valid_unit(self.unit.value)
         ticked = [str(b.description) for b in self.windows.children if isinstance(b, w.Checkbox) and b.value is True]
-        return ConvertChoices(unit, tuple(ticked))
+        return ConvertChoices(unit, tuple(ticked), self._chosen_layers())

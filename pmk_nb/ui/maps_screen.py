@@ -90,7 +90,7 @@ class MapsScreen:
         self._pending_send: GeneratedMap | None = None
         self.status = w.HTML("")
         self.status.add_class("pmk-maps-status")
-        self.storeys_panel = StoreysPanel(ctx, on_loaded=lambda _name: self._relabel())
+        self.storeys_panel = StoreysPanel(ctx, on_loaded=self._storeys_loaded)
         self.access_panel = AccessPanel()  # wheelchair access of the converted storeys
         self.choices = ChoicesPanel(ctx, on_unit=self.storeys_panel.set_unit)  # the plan's unit, not-windows
         self.convert_row = w.VBox(
@@ -232,6 +232,14 @@ class MapsScreen:
         docs = [sidecar_doc(g.yaml) for g in entry.generated]  # the rooms files, read once for both panels
         self.access_panel.show(entry, docs)
         self.choices.show(entry, docs)
+        if self.storeys_panel.storeys:  # known at once: the layers the plan offers
+            self.choices.set_layers(self.storeys_panel.storeys[0].layers)
+
+    def _storeys_loaded(self, name: str) -> None:
+        """Storeys read in the background arrived for the map shown: relabel the list, offer its layers."""
+        self._relabel()
+        if self.storeys_panel.name == name and self.storeys_panel.storeys:
+            self.choices.set_layers(self.storeys_panel.storeys[0].layers)
 
     def _generated_card(self, gm: GeneratedMap, several: bool) -> w.Widget:
         return generated_card(self.ctx, gm, several, self.send)
@@ -271,7 +279,7 @@ class MapsScreen:
             return self.ctx.maps.convert(
                 entry.name, resolution, storeys=storeys, progress=progress_callback(self.convert_progress, self.status),
                 chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
-                unit=choices.unit, not_windows=choices.not_windows,
+                unit=choices.unit, not_windows=choices.not_windows, layers=choices.layers,
             )
 
         def done(generated: list[GeneratedMap]) -> None:

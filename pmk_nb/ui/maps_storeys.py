@@ -42,15 +42,23 @@ def _metres(v: float) -> str:
 
 
 def unit_warning(storeys: list[StoreyInfo]) -> str:
-    """The plan's unit conflict, said before converting (with the override to use), or ""."""
+    """The plan's doubts (unit suspected, graph lost, layers not drawn) and its unit conflict, said before
+    converting, with what to do about each, or ""."""
+    notes = storeys[0].notes if storeys else ()
+    parts = []
+    if notes:
+        items = "".join(f"<li>{escape(n)}</li>" for n in notes)
+        offer = any(not o.drawn for o in storeys[0].layers)
+        hint = "A layer not drawn can be drawn instead: tick it under <i>Layers to draw</i>." if offer else ""
+        parts.append(f"<div class='pmk-maps-plan-notes pmk-warn'><b>Before you convert</b><ul>{items}</ul>{hint}</div>")
     conflict = next((s.unit_conflict for s in storeys if s.unit_conflict), "")
-    if not conflict:
-        return ""
-    return (
-        f"<div class='pmk-maps-unit-warning pmk-field-error'>Units: {escape(conflict)}. If the map comes out the "
-        "wrong size, choose the unit the file uses under <i>Plan's unit</i> and convert again (command line: "
-        "<code>pmk convert --unit m|dm|cm|mm</code>).</div>"
-    )
+    if conflict:
+        parts.append(
+            f"<div class='pmk-maps-unit-warning pmk-field-error'>Units: {escape(conflict)}. If the map comes out "
+            "the wrong size, choose the unit the file uses under <i>Plan's unit</i> and convert again (command "
+            "line: <code>pmk convert --unit m|dm|cm|mm</code>).</div>"
+        )
+    return "".join(parts)
 
 
 class StoreysPanel:

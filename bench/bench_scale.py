@@ -1,0 +1,288 @@
+"""Converter scaling (issue 31): whole `pmk convert` processes, as a user runs them, beside the goals.
+
+Three tables, each row a fresh process (interpreter start and imports included):
+
+* **scaling**: a generated storey at 1x, 2x, 4x and 8x the plan (rooms, door cells, door lines,
+  transitions and area all grow together) at 0.1 m: time and peak memory, ratio to 1x. Goal: no step
+  quadratic, n x the plan in at most 1.2 n x the time (4x <= 4.8x).
+* **small plans**: the sample maps (sample_maps/*.gml) at 0.05 m, run as `python -m pmk_nb.cli convert`.
+  Goal: a plan writing < 1 MB converts in <= 0.5 s and <= 150 MB.
+* **100 M cells**: the 4x storey at the resolution that makes about 100 M cells. Goals: the process in
+  <= 3 x the time spent writing its files (the map_server set: PGM, preview PNG and YAML, encoded,
+  written and fsynced; moving the staged set into place), peak memory <= 3 x (grid + input file).
+
+Time is given twice: wall (what the user waits) and CPU (user + system of the process, which other jobs
+on a shared machine disturb far less); goals are judged on both. Peak = the process's maximum RSS.
+
+Generated storey (IndoorGML 1.0, State/Transition graph): nx x ny rooms 3.8 m square on a 4 m pitch (the
+walls are 0.2 m gaps the file leaves out), a door cell (navi:ConnectionSpace) filling each vertical
+wall gap and a door line (navi:ConnectionBoundary) in each horizontal one, every door joined by
+transitions: 1x = 16 x 16 rooms (256 rooms, 240 door cells, 720 transitions, 64 m x 64 m).
+
+Usage: .venv/bin/python bench/bench_scale.py [--quick]   -> writes bench/results-scale.md
+(``--quick``: no 8x row and no 100 M-cell row.)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parent.parent
+SAMPLE_MAPS = ROOT / "sample_maps"
+RES = 0.1
+SCALES = ((1, 16, 16), (2, 32, 16), (4, 32, 32), (8, 64, 32))  # (factor, nx, ny)
+SLACK = 1.2  # n x the plan may take 1.2 n x the time
+SMALL_S, SMALL_MB, SMALL_OUT_MB = 0.5, 150.0, 1.0
+WRITE_RATIO, MEMORY_RATIO, BIG_CELLS = 3.0, 3.0, 100e6
+REPEAT_SMALL = 3  # the small plans run this many times (median): they take fractions of a second
+
+NS = (
+    'xmlns="http://www.opengis.net/indoorgml/1.0/core" xmlns:gml="http://www.opengis.net/gml/3.2" '
+    'xmlns:xlink="http://www.w3.org/1999/xlink" xmlns:navi="http://www.opengis.net/indoorgml/1.0/navigation"'
+)
+
+
+def _cell(cid: str, x0: float, y0: float, x1: float, y1: float, tag: str = "CellSpace") -> str:
+    ring = f"{x0:g} {y0:g} {x1:g} {y0:g} {x1:g} {y1:g} {x0:g} {y1:g} {x0:g} {y0:g}"
+    return (
+        f'<cellSpaceMember><{tag} gml:id="{cid}"><cellSpaceGeometry><Geometry2D><gml:Polygon><gml:exterior>'
+        f"<gml:LinearRing><gml:posList>{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon>"
+        f"</Geometry2D></cellSpaceGeometry></{tag}></cellSpaceMember>\n"
+    )
+
+
+def _door_line(bid: str, x0: float, y: float, x1: float) -> str:
+    return (
+        f'<cellSpaceBoundaryMember><navi:ConnectionBoundary gml:id="{bid}"><cellSpaceBoundaryGeometry>'
+        f"<geometry2D><gml:LineString><gml:posList>{x0:g} {y:g} {x1:g} {y:g}</gml:posList></gml:LineString>"
+        f"</geometry2D></cellSpaceBoundaryGeometry></navi:ConnectionBoundary></cellSpaceBoundaryMember>\n"
+    )
+
+
+def storey_gml(folder: Path, nx: int, ny: int) -> tuple[Path, dict[str, int]]:
+    """The generated storey of nx x ny rooms (see the module docstring) and its counts."""
+    cells, lines, pairs = [], [], []
+    for i in range(nx):
+        for j in range(ny):
+            x, y, room = i * 4.0, j * 4.0, f"R{i}_{j}"
+            cells.append(_cell(room, x, y, x + 3.8, y + 3.8))
+            if i + 1 < nx:
+                door = f"D{i}_{j}"
+                cells.append(_cell(door, x + 3.8, y + 1.45, x + 4.0, y + 2.35, "navi:ConnectionSpace"))
+                pairs += [(room, door), (door, f"R{i + 1}_{j}")]
+            if j + 1 < ny:
+                lines.append(_door_line(f"B{i}_{j}", x + 1.45, y + 3.9, x + 2.35))
+                pairs.append((room, f"R{i}_{j + 1}"))
+    states = "".join(
+        f'<stateMember><State gml:id="S{c}"><duality xlink:href="#{c}"/></State></stateMember>\n'
+        for c in sorted({c for p in pairs for c in p})
+    )
+    edges = "".join(
+        f'<transitionMember><Transition gml:id="T{k}"><connects xlink:href="#S{a}"/><connects xlink:href="#S{b}"/>'
+        f"</Transition></transitionMember>\n"
+        for k, (a, b) in enumerate(pairs)
+    )
+    path = folder / f"storey_{nx}x{ny}.gml"
+    path.write_text(
+        f'<?xml version="1.0"?>\n<IndoorFeatures {NS} gml:id="F"><primalSpaceFeatures><PrimalSpaceFeatures gml:id="P">'
+        f"{''.join(cells)}{''.join(lines)}</PrimalSpaceFeatures></primalSpaceFeatures><multiLayeredGraph>"
+        f'<MultiLayeredGraph gml:id="G"><spaceLayers gml:id="L"><spaceLayerMember><SpaceLayer gml:id="SL">'
+        f'<nodes gml:id="N">{states}</nodes><edges gml:id="E">{edges}</edges></SpaceLayer></spaceLayerMember>'
+        f"</spaceLayers></MultiLayeredGraph></multiLayeredGraph></IndoorFeatures>\n",
+        encoding="utf-8",
+    )
+    counts = {"rooms": nx * ny, "door cells": (nx - 1) * ny, "transitions": len(pairs)}
+    return path, counts
+
+
+# --- the measured process -------------------------------------------------------------------------
+
+
+def child(report: str, argv: list[str]) -> int:
+    """`pmk convert ARGV` in this process, with the time spent writing files recorded in ``report``:
+    the map set (:func:`pmk_nb.rosmap.files.write_map`: PGM, preview PNG, YAML, each fsynced) and moving
+    the staged sets into place (``replace_all``)."""
+    import pmk_nb.library.convert as convert
+    import pmk_nb.rosmap.files as files
+    from pmk_nb.cli import main
+
+    spent = {"write_s": 0.0, "write_cpu": 0.0, "cells": 0}
+
+    def timed(fn: Any, grid_arg: bool = False) -> Any:
+        def run(*args: Any, **kw: Any) -> Any:
+            w, c = time.perf_counter(), time.process_time()
+            try:
+                return fn(*args, **kw)
+            finally:
+                spent["write_s"] += time.perf_counter() - w
+                spent["write_cpu"] += time.process_time() - c
+                if grid_arg:
+                    spent["cells"] += args[0].width * args[0].height
+
+        return run
+
+    files.write_map = timed(files.write_map, grid_arg=True)
+    convert.replace_all = timed(convert.replace_all)
+    code = main(["convert", *argv])
+    Path(report).write_text(json.dumps(spent), encoding="utf-8")
+    return code
+
+
+# compiled modules are kept here for the whole run, as an installed package has them (a checkout run with
+# PYTHONDONTWRITEBYTECODE would compile every module in every process: +0.1 s)
+PYCACHE = tempfile.TemporaryDirectory(prefix="bench-scale-pycache-")
+
+
+def run(argv: list[str], wrapped: bool) -> dict[str, Any]:
+    """One `pmk convert` process: wall and CPU seconds, peak RSS (MB), output MB (and writing time)."""
+    with tempfile.TemporaryDirectory(prefix="bench-scale-") as tmp:
+        out, report = Path(tmp) / "out", Path(tmp) / "report.json"
+        args = [*argv, "--out", str(out), "--no-progress"]
+        cmd = [sys.executable, __file__, "--child", str(report), *args] if wrapped else [
+            sys.executable, "-m", "pmk_nb.cli", "convert", *args]  # fmt: skip
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+        env.update(
+            PYTHONPATH=str(ROOT), PYTHONPYCACHEPREFIX=PYCACHE.name, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1"
+        )
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, cwd=ROOT)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - t0
+        err = proc.stderr.read().decode(errors="replace") if proc.stderr else ""
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        if proc.returncode != 0:
+            raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {err.strip()[-300:]}")
+        r = {"wall": wall, "cpu": usage.ru_utime + usage.ru_stime, "peak_mb": usage.ru_maxrss / 1024,
+             "out_mb": sum(p.stat().st_size for p in out.iterdir()) / 1e6}  # fmt: skip
+        if wrapped:
+            r.update(json.loads(report.read_text(encoding="utf-8")))
+    return r
+
+
+# --- tables ---------------------------------------------------------------------------------------
+
+
+def _verdict(ok: bool) -> str:
+    return "met" if ok else "**not met**"
+
+
+def scaling(folder: Path, quick: bool) -> list[str]:
+    rows, base = [], None
+    for factor, nx, ny in SCALES[:3] if quick else SCALES:
+        path, n = storey_gml(folder, nx, ny)
+        r = run([str(path), "-r", str(RES)], wrapped=True)
+        base = base or r
+        r.update(n, factor=factor, wall_x=r["wall"] / base["wall"], cpu_x=r["cpu"] / base["cpu"])
+        rows.append(r)
+        print(f"scale {factor}x: {r['wall']:.2f} s wall, {r['cpu']:.2f} s CPU", file=sys.stderr, flush=True)
+    lines = [
+        "### Scaling: n x the plan, whole `pmk convert` process",
+        "",
+        f"Generated storey at {RES} m (1x = 16 x 16 rooms; see bench_scale.py); ratio = time / time of 1x "
+        f"(goal <= {SLACK:g} n; the fixed start-up of about 0.4 s is part of every row).",
+        "",
+        "| plan | rooms | door cells | transitions | cells | wall s | CPU s | wall / 1x | CPU / 1x | peak MB "
+        "| goal (wall / CPU) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
+    ]
+    for r in rows:
+        limit = SLACK * r["factor"]
+        goal = "-" if r["factor"] == 1 else f"{_verdict(r['wall_x'] <= limit)} / {_verdict(r['cpu_x'] <= limit)}"
+        lines.append(
+            f"| {r['factor']}x | {r['rooms']} | {r['door cells']} | {r['transitions']} | {r['cells'] / 1e6:.2f} M "
+            f"| {r['wall']:.2f} | {r['cpu']:.2f} | {r['wall_x']:.2f} | {r['cpu_x']:.2f} | {r['peak_mb']:.0f} | {goal} |"
+        )
+    return lines
+
+
+def small_plans() -> list[str]:
+    lines = [
+        "",
+        f"### Small plans: `python -m pmk_nb.cli convert FILE -r 0.05`, fresh process (median of {REPEAT_SMALL})",
+        "",
+        f"Goal for a plan writing < {SMALL_OUT_MB:g} MB: <= {SMALL_S} s and <= {SMALL_MB:g} MB peak, imports "
+        "included (modules compiled once beforehand, as installed).",
+        "",
+        "| plan | output MB | wall s | CPU s | peak MB | goal (wall / CPU) |",
+        "|---|---:|---:|---:|---:|---|",
+    ]
+    for path in sorted(SAMPLE_MAPS.glob("*.gml")):
+        runs = [run([str(path), "-r", "0.05"], wrapped=False) for _ in range(REPEAT_SMALL)]
+        r = {k: statistics.median(x[k] for x in runs) for k in ("wall", "cpu", "peak_mb", "out_mb")}
+        small = r["out_mb"] < SMALL_OUT_MB
+        goal = "- (writes more)" if not small else (
+            f"{_verdict(r['wall'] <= SMALL_S and r['peak_mb'] <= SMALL_MB)} / "
+            f"{_verdict(r['cpu'] <= SMALL_S and r['peak_mb'] <= SMALL_MB)}")  # fmt: skip
+        lines.append(
+            f"| {path.name} | {r['out_mb']:.2f} | {r['wall']:.2f} | {r['cpu']:.2f} | {r['peak_mb']:.0f} | {goal} |"
+        )
+        print(f"small {path.name}: {r['wall']:.2f} s wall", file=sys.stderr, flush=True)
+    return lines
+
+
+def big_storey(folder: Path) -> list[str]:
+    nx, ny = 32, 32
+    path, n = storey_gml(folder, nx, ny)
+    res = round(((nx * 4.0) * (ny * 4.0) / BIG_CELLS) ** 0.5, 5)
+    r = run([str(path), "-r", str(res)], wrapped=True)
+    held_mb = r["cells"] / 1e6 + path.stat().st_size / 1e6  # one byte per cell
+    print(f"100 M cells: {r['wall']:.2f} s wall, write {r['write_s']:.2f} s", file=sys.stderr, flush=True)
+    wall_x, cpu_x, mem_x = r["wall"] / r["write_s"], r["cpu"] / max(r["write_cpu"], 1e-9), r["peak_mb"] / held_mb
+    return [
+        "",
+        f"### 100 M cells: the 4x storey ({n['rooms']} rooms, {n['transitions']} transitions) at {res} m",
+        "",
+        "write = time in writing the files (PGM, preview PNG, YAML: encode, disk, fsync; moving the staged set "
+        f"into place), measured inside the process; goals: process / write <= {WRITE_RATIO:g}, peak <= "
+        f"{MEMORY_RATIO:g} x (grid + input).",
+        "",
+        "| cells | input MB | output MB | wall s | write s | wall / write | CPU s | write CPU s | CPU / write CPU "
+        "| peak MB | peak / (grid + input) |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        f"| {r['cells'] / 1e6:.0f} M | {path.stat().st_size / 1e6:.1f} | {r['out_mb']:.0f} | {r['wall']:.2f} | "
+        f"{r['write_s']:.2f} | {wall_x:.1f} | {r['cpu']:.2f} | {r['write_cpu']:.2f} | {cpu_x:.1f} | "
+        f"{r['peak_mb']:.0f} | {mem_x:.2f} |",
+        "",
+        f"- process / write <= {WRITE_RATIO:g}: wall {_verdict(wall_x <= WRITE_RATIO)}, CPU "
+        f"{_verdict(cpu_x <= WRITE_RATIO)}",
+        f"- peak <= {MEMORY_RATIO:g} x (grid + input): {_verdict(mem_x <= MEMORY_RATIO)}",
+    ]
+
+
+def main() -> int:
+    if len(sys.argv) >= 3 and sys.argv[1] == "--child":
+        sys.path.insert(0, str(ROOT))
+        return child(sys.argv[2], sys.argv[3:])
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="no 8x row, no 100 M-cell row")
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results-scale.md")
+    args = ap.parse_args()
+    started = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="bench-scale-plans-") as tmp:
+        lines = ["## Convert scaling and whole-process goals (issue 31)", "", f"`bench/bench_scale.py`"
+                 f"{' --quick' if args.quick else ''}: each row a fresh process, interpreter start and imports "
+                 "included. Time twice: wall (what the user waits) and CPU (user + system of the process, which "
+                 "other jobs on a shared machine disturb far less); goals judged on both. Peak = the process's "
+                 "maximum RSS.", ""]  # fmt: skip
+        for path in sorted(SAMPLE_MAPS.glob("*.gml")):  # not measured: compiles the modules once
+            run([str(path), "-r", "0.05"], wrapped=True)
+        lines += scaling(Path(tmp), args.quick) + small_plans()
+        if not args.quick:
+            lines += big_storey(Path(tmp))
+    lines += ["", f"Total benchmark time {time.perf_counter() - started:.0f} s.", ""]
+    args.out.write_text("\n".join(lines), encoding="utf-8")
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
