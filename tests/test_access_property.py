@@ -6,8 +6,8 @@ unknown both block, so does the grid's edge), thresholded at the chair's half-wi
 exactly that distance blocks, as Nav2's inscribed radius does), labelled 4-connected. A link the
 report calls passable must join a core pixel of each cell in one component: a pixel at least the
 half-width inside the cell's outline (the chair wholly in the cell), or any pixel of a cell no chair
-fits in (a doorway, a porch); a cell's pixels exclude those of the other cell of the link when that
-one is drawn inside it. Conversely, a link called blocked must not be open within its two cells and
+fits in (a doorway, a porch; within half a pixel of one thinner than a pixel); a cell's pixels
+exclude those of the other cell of the link when that one is drawn inside it. Conversely, a link called blocked must not be open within its two cells and
 the 0.2 m round them (less every other cell): the report's own search may use more (walls, gaps,
 door cells), never less, so such a way would be one it missed.
 
@@ -67,7 +67,8 @@ class Clearance:
 
     def core(self, cell: shapely.Geometry, other: shapely.Geometry) -> tuple[np.ndarray, np.ndarray]:
         """(rows, cols) of ``cell``'s core pixels, less those of ``other`` when drawn inside it."""
-        shapes = [shapely.buffer(cell, -self.r), cell]
+        half = self.grid.resolution / 2
+        shapes = [shapely.buffer(cell, -self.r), cell, shapely.buffer(cell, half, join_style="mitre")]
         for shape in shapes:
             if shape.is_empty:
                 continue
@@ -165,8 +166,9 @@ def plans(draw: st.DrawFn) -> tuple[str, str, list[tuple[str, str]], dict[int, s
         x = xs[i + 1]
         if kind == "door":
             bounds += _boundary(f"D{i}", ((x, y), (x, y + w)), "navi:ConnectionBoundary")
-        if kind == "door cell":
-            cells += _cell(f"C{i}", (x - gap / 2 - 0.05, y, x + gap / 2 + 0.05, y + w), "navi:ConnectionSpace")
+        if kind == "door cell":  # as deep as the wall, or a sliver thinner than a pixel
+            dd = draw(st.sampled_from([0.02, 0.05, 0.15]))
+            cells += _cell(f"C{i}", (x - gap / 2 - dd, y, x + gap / 2 + dd, y + w), "navi:ConnectionSpace")
             pairs += [(f"R{i}", f"C{i}"), (f"C{i}", f"R{i + 1}")]
             continue
         if kind == "line":
@@ -238,3 +240,13 @@ def test_a_door_as_wide_as_the_chair_is_not_passable(tmp_path: Path, v2: bool) -
         door = _boundary("D1", ((5, 1.0), (5, 1.0 + width)), "navi:ConnectionBoundary")
         _, _, report = _grid_and_report(_plan(tmp_path, ROOMS, _graph([("A", "B")], v2=v2), door, v2=v2))
         assert [k.chair for k in report.links] == [passes], (width, report.links)
+
+
+@SPELLINGS
+def test_a_door_cell_thinner_than_a_pixel_is_reached_through_its_pixels(tmp_path: Path, v2: bool) -> None:
+    """A 1.2 m door drawn as a 4 cm sliver holding no pixel centre (0vollov0's sample_2 draws its doors
+    so): the chair reaches it where the pixels within half a cell of it lie, and passes both links."""
+    rooms = _cell("A", (0, 0, 5.03, 4)) + _cell("D", (5.03, 1, 5.07, 2.2), "navi:ConnectionSpace")
+    rooms += _cell("B", (5.07, 0, 10, 4))
+    _, _, report = _grid_and_report(_plan(tmp_path, rooms, _graph([("A", "D"), ("D", "B")], v2=v2), v2=v2))
+    assert [k.chair for k in report.links] == [True, True] and report.ok, report.links

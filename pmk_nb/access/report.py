@@ -8,9 +8,10 @@ For each storey, on the grid actually written, for a chair of a given width:
   half-width r from every pixel that is not free, occupied and unknown alike, see
   :mod:`pmk_nb.access.pixels`) and goes from the *core* of one cell to the core of the other. A
   cell's core is where the chair fits wholly inside it: its pixels at least r inside its outline,
-  or all its pixels for a cell no chair fits in (a doorway, a porch). So a chair that only noses
-  past a door cut into a corner does not count as in the room, and a porch too shallow for the
-  chair against the unknown outside is not passable however wide its opening (still named);
+  or all its pixels for a cell no chair fits in (a doorway, a porch; for one thinner than a pixel,
+  the pixels within half a cell of it). So a chair that only noses past a door cut into a corner
+  does not count as in the room, and a porch too shallow for the chair against the unknown outside
+  is not passable however wide its opening (still named);
 * a link passable for a point but not for the chair is a *narrow door*, named by its cells;
 * cells the graph joins to the storey but the chair cannot reach are *unreachable*;
 * two cells with no transition between them that are joined in the map (r = 0) *leak*;
@@ -244,9 +245,13 @@ class _Owners:
 
 def core_rects(frame: Frame, footprint: BaseGeometry, depth: float) -> tuple[np.ndarray, ...]:
     """The pixels of ``footprint`` at least ``depth`` inside it (where a chair of radius ``depth`` is
-    wholly in the cell), or all its pixels when none is (a doorway, a porch: no chair fits in it)."""
-    rects = polygon_rects(frame, [shapely.buffer(footprint, -depth)])
-    return rects if len(rects[0]) else polygon_rects(frame, [footprint])
+    wholly in the cell), or all its pixels when none is (a doorway, a porch: no chair fits in it), or
+    for a cell thinner than a pixel (a door drawn as a 4 cm sliver) the pixels within half a cell."""
+    for shape in (shapely.buffer(footprint, -depth), footprint):
+        rects = polygon_rects(frame, [shape])
+        if len(rects[0]):
+            return rects
+    return polygon_rects(frame, [shapely.buffer(footprint, frame.resolution / 2, join_style="mitre")])
 
 
 def _strips(
