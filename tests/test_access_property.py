@@ -7,9 +7,10 @@ exactly that distance blocks, as Nav2's inscribed radius does), labelled 4-conne
 report calls passable must join a core pixel of each cell in one component: a pixel at least the
 half-width inside the cell's outline (the chair wholly in the cell), or any pixel of a cell no chair
 fits in (a doorway, a porch; within half a pixel of one thinner than a pixel); a cell's pixels
-exclude those of the other cell of the link when that one is drawn inside it. Conversely, a link called blocked must not be open within its two cells and
-the 0.2 m round them (less every other cell): the report's own search may use more (walls, gaps,
-door cells), never less, so such a way would be one it missed.
+exclude those of the other cell of the link when that one is drawn inside it. Conversely, a link
+called blocked must not be open within its two cells and the 0.2 m round them (less every other
+cell): the report's own search may use more (walls, gaps, door cells), never less, so such a way
+would be one it missed.
 
 Synthetic plans (1.0 State/Transition and 2.0 Node/Edge spellings) put rooms in a row with doors,
 door lines, door cells and porches of random widths around the chair's, and a room drawn inside a
