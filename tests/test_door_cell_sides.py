@@ -34,7 +34,10 @@ def test_a_door_cell_linked_on_one_side_does_not_open_to_the_other(tmp_path: Pat
     assert grid.value_at(*GAP_TO_B) == OCCUPIED
     assert grid.value_at(5.075, 1.55) == FREE  # the side the graph links still opens
     assert report.leaks == [], report.summary()
-    assert {k.cells: k.chair for k in report.links}[("A", "D")]
+    [ad] = [k for k in report.links if k.cells == ("A", "D")]
+    # open for a point; not for the chair since issue 31: D leads nowhere (its far side is wall) and its
+    # 0.3 m depth holds no 0.70 m chair, so the chair's centre never reaches it on the written grid
+    assert ad.point and not ad.chair and ad.free_width > 0.7, ad
 
 
 @SPELLINGS

@@ -1,11 +1,16 @@
 """Pixel tools for the accessibility check, in numpy alone: erode by a disc, label connected regions.
 
-The erosion is where a chair's centre may be: a free pixel whose every pixel centre within the
-chair's radius less half a cell is free: a chair of width w needs 2 * floor(w / 2 / res - 0.5) + 1
-free pixels across (13 for 0.70 m at 0.05 m), so a door as wide as the chair passes even when the
-rasteriser rounds a cell off its jambs, and one a tenth of a metre narrower does not.
+The erosion is the chair's configuration space, as Nav2's inflation sees it: the free pixels whose
+distance to the nearest pixel that is not free (occupied or unknown; outside the grid counts as not
+free) is more than the chair's half-width, pixel centre to pixel centre, i.e. whose closed disc of
+that radius holds only free pixels. It is exact (the same pixels as
+``scipy.ndimage.distance_transform_edt(free) > r``): a chair of width w needs
+2 * floor(w / 2 / res) + 1 free pixels across (15 for 0.70 m at 0.05 m). It runs on row strips with
+prefix sums per row, about six times faster than scipy's distance transform on the same strips and
+without its float64 and int32 arrays.
 Labelling works on runs of pixels per row, joined across rows with a vectorised union-find, so a
-storey of a few million pixels labels in well under a second without scipy.
+storey of a few million pixels labels in well under a second, and it can keep regions of different
+owners apart and say which touch, which scipy's labelling cannot.
 """
 
 from __future__ import annotations
@@ -20,12 +25,14 @@ STRIP_MAX_CELLS = 1 << 19
 
 
 def disc_radius_px(radius_m: float, resolution: float) -> float:
-    """The disc used for a chair of ``radius_m`` on a grid of ``resolution`` (pixels, may be 0)."""
-    return max(0.0, radius_m / resolution - 0.5 + 1e-9)  # 0.35 / 0.05 is 6.999...
+    """The disc used for a chair of ``radius_m`` on a grid of ``resolution`` (pixels, may be 0): a pixel at
+    exactly this distance blocks the chair (Nav2 calls it inscribed), so the disc is closed."""
+    return max(0.0, radius_m / resolution + 1e-9)  # 0.35 / 0.05 is 6.999...
 
 
 def erode(mask: np.ndarray, radius_px: float) -> np.ndarray:
-    """Pixels of ``mask`` whose whole disc of ``radius_px`` lies in ``mask`` (outside the array = not free)."""
+    """Pixels of ``mask`` whose whole closed disc of ``radius_px`` lies in ``mask`` (outside the array = not
+    free): where the distance transform of ``mask`` exceeds ``radius_px``."""
     if radius_px < 1.0:
         return mask.copy()
     h, w = mask.shape

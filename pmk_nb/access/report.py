@@ -4,7 +4,14 @@ For each storey, on the grid actually written, for a chair of a given width:
 
 * every link (a transition between two cells of the storey) is *passable* when a free path joins the
   two cells while staying inside them and the wall between them, for a point (r = 0) and for the
-  chair (free space eroded by its half-width, see :mod:`pmk_nb.access.pixels`);
+  chair: for the chair the path runs in its configuration space (the free pixels farther than its
+  half-width r from every pixel that is not free, occupied and unknown alike, see
+  :mod:`pmk_nb.access.pixels`) and goes from the *core* of one cell to the core of the other. A
+  cell's core is where the chair fits wholly inside it: its pixels at least r inside its outline,
+  or all its pixels for a cell no chair fits in (a doorway, a porch; for one thinner than a pixel,
+  the pixels within half a cell of it). So a chair that only noses past a door cut into a corner
+  does not count as in the room, and a porch too shallow for the chair against the unknown outside
+  is not passable however wide its opening (still named);
 * a link passable for a point but not for the chair is a *narrow door*, named by its cells;
 * cells the graph joins to the storey but the chair cannot reach are *unreachable*;
 * two cells with no transition between them that are joined in the map (r = 0) *leak*;
@@ -160,11 +167,16 @@ class _Regions:
 
     Pixels are owned by the cell whose footprint holds their centre (0: in no cell - walls, gaps and
     the openings cut in them). Two cells are joined when a chain of touching regions owned by one of
-    them or by no cell leads from one to the other: labelled once per storey, asked per link.
+    them or by no cell leads from one to the other: labelled once per storey, asked per link. With
+    ``core``, owners are ``2 * cell + (1 in the cell's core)`` (see :class:`_Owners`) and the chain
+    must start and end in the cores.
     """
 
-    def __init__(self, runs: list[tuple[np.ndarray, ...]], width: int) -> None:
-        labels, self.owner, edges = join_strip_runs(runs, width)
+    def __init__(self, runs: list[tuple[np.ndarray, ...]], width: int, *, core: bool = False) -> None:
+        labels, owner, edges = join_strip_runs(runs, width)
+        self.shift = int(core)
+        self.owner = owner >> self.shift  # the cell
+        self.start = owner if core else None  # the cell and whether in its core
         self.by_owner: dict[int, list[int]] = {}
         for lab, own in zip(labels.tolist(), self.owner[labels].tolist(), strict=True):
             self.by_owner.setdefault(int(own), []).append(lab)
@@ -177,10 +189,12 @@ class _Regions:
         """Whether a chain of regions owned by ``a``, ``b``, no cell or a cell of ``via`` joins them."""
         allowed = {a, b, 0, *via}
         todo = list(self.by_owner.get(a, []))
+        if self.start is not None:
+            todo = [lab for lab in todo if self.start[lab] & 1]
         seen = set(todo)
         while todo:
             lab = todo.pop()
-            if self.owner[lab] == b:
+            if self.owner[lab] == b and (self.start is None or self.start[lab] & 1):
                 return True
             for nxt in self.next.get(lab, []):
                 if nxt not in seen and int(self.owner[nxt]) in allowed:
@@ -195,20 +209,28 @@ class _Owners:
 
     Cells are painted largest first, so a room drawn inside a hall's footprint keeps its own pixels; a
     door cell also owns the half cell round it: the jamb pixels its openings clear are the doorway, not
-    a leak. The narrowest integer type that holds every index is used (one byte for up to 254 cells).
+    a leak. The narrowest integer type that holds every value is used (one byte for up to 126 cells).
+    With ``core_radius`` (the chair's half-width, metres) the value is ``2 * (1 + index) + 1`` in the
+    cell's core (see the module note), ``2 * (1 + index)`` elsewhere in it, 0 in no cell.
     """
 
-    def __init__(self, grid: OccupancyGrid, cells: list[Cell]) -> None:
+    def __init__(self, grid: OccupancyGrid, cells: list[Cell], core_radius: float | None = None) -> None:
         frame = Frame(float(grid.origin[0]), float(grid.origin[1]), grid.resolution, grid.width, grid.height)
         self.width = grid.width
-        self.dtype = np.uint8 if len(cells) < 255 else np.int16 if len(cells) < 32767 else np.int32
+        top = (2 * len(cells) + 1) if core_radius is not None else len(cells)
+        self.dtype = np.uint8 if top < 255 else np.int16 if top < 32767 else np.int32
         self.layers: list[tuple[int, tuple[np.ndarray, ...]]] = []
         for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
             door = cell.kind.is_door
             shape = shapely.buffer(cell.footprint, grid.resolution / 2, join_style="mitre") if door else cell.footprint
             rects = polygon_rects(frame, [shape])
-            if len(rects[0]):
+            if not len(rects[0]):
+                continue
+            if core_radius is None:
                 self.layers.append((i + 1, rects))
+            else:  # the core is painted over its own cell's pixels, before any smaller cell
+                core = core_rects(frame, cell.footprint, core_radius)
+                self.layers += [(2 * (i + 1), rects)] + ([(2 * (i + 1) + 1, core)] if len(core[0]) else [])
         self.top = np.array([int(r[0].min()) for _, r in self.layers], dtype=np.int64)
         self.bottom = np.array([int(r[1].max()) for _, r in self.layers], dtype=np.int64)
 
@@ -219,6 +241,17 @@ class _Owners:
             value, (ra, rb, s, t) = self.layers[k]
             write_rects(out, np.maximum(ra, a) - a, np.minimum(rb, b) - a, s, t, value)
         return out
+
+
+def core_rects(frame: Frame, footprint: BaseGeometry, depth: float) -> tuple[np.ndarray, ...]:
+    """The pixels of ``footprint`` at least ``depth`` inside it (where a chair of radius ``depth`` is
+    wholly in the cell), or all its pixels when none is (a doorway, a porch: no chair fits in it), or
+    for a cell thinner than a pixel (a door drawn as a 4 cm sliver) the pixels within half a cell."""
+    for shape in (shapely.buffer(footprint, -depth), footprint):
+        rects = polygon_rects(frame, [shape])
+        if len(rects[0]):
+            return rects
+    return polygon_rects(frame, [shapely.buffer(footprint, frame.resolution / 2, join_style="mitre")])
 
 
 def _strips(
@@ -252,17 +285,15 @@ def check_storey(
     index = {c.id: i + 1 for i, c in enumerate(cells)}
     doors = frozenset(index[c.id] for c in cells if c.kind.is_door)
     point_runs, chair_runs = [], []  # one sweep: each strip's owners are painted once for both
-    for a, free, eroded, own in _strips(grid, _Owners(grid, cells), disc_radius_px(chair_width / 2, grid.resolution)):
-        point_runs.append(strip_runs(a, free, own))
+    owners = _Owners(grid, cells, chair_width / 2)
+    for a, free, eroded, own in _strips(grid, owners, disc_radius_px(chair_width / 2, grid.resolution)):
+        point_runs.append(strip_runs(a, free, own >> 1))
         chair_runs.append(strip_runs(a, eroded, own))
-    point, chair = _Regions(point_runs, grid.width), _Regions(chair_runs, grid.width)
-    r = chair_width / 2
-    for o in openings:
+    point, chair = _Regions(point_runs, grid.width), _Regions(chair_runs, grid.width, core=True)
+    for o, wide in zip(openings, free_widths(grid, [o.segments for o in openings]), strict=True):
         a, b = index[o.link.a], index[o.link.b]
-        passes, wide = point.joined(a, b, doors), free_width(grid, o.segments)
-        fits = chair.joined(a, b, doors)
-        if not fits and passes and any(shapely.buffer(by_id[c].footprint, -r).is_empty for c in (o.link.a, o.link.b)):
-            fits = wide >= chair_width - grid.resolution  # a doorway or porch cell thinner than the chair
+        passes = point.joined(a, b, doors)
+        fits = chair.joined(a, b, doors)  # on the grid alone: the opening's width only informs
         report.links.append(
             LinkCheck(o.link.id, (o.link.a, o.link.b), o.names, o.rule, round(o.width, 3), passes, fits, round(wide, 3))
         )
@@ -278,25 +309,39 @@ def _not_checked(skip: Skipped, by_id: dict[str, Cell]) -> NotChecked:
     return NotChecked(skip.link.id, ends, skip.names, skip.reason, skip.names[shut[0] if shut else 1])
 
 
-def free_width(grid: OccupancyGrid, segments: tuple[BaseGeometry, ...]) -> float:
-    """The longest free stretch along any of ``segments`` in ``grid`` (metres), sampled every half cell."""
-    best = 0.0
+def free_widths(grid: OccupancyGrid, openings: Sequence[Sequence[BaseGeometry]]) -> list[float]:
+    """Per opening, the longest free stretch along any of its segments in ``grid`` (metres), sampled
+    every half cell: informative (the chair's verdict is on the grid), all openings in one pass."""
+    segs = [(i, seg) for i, segments in enumerate(openings) for seg in segments]
+    best = [0.0] * len(openings)
+    if not segs:
+        return best
     res = grid.resolution
-    data = np.asarray(grid.data)
-    for seg in segments:
-        n = max(2, int(seg.length / (res / 2)) + 1)
-        pts = shapely.get_coordinates(seg.interpolate(np.linspace(0.0, seg.length, n)))
-        cols = np.floor((pts[:, 0] - grid.origin[0]) / res).astype(int)
-        rows = np.floor((pts[:, 1] - grid.origin[1]) / res).astype(int)
-        ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
-        free = np.zeros(n, dtype=bool)
-        free[ok] = data[rows[ok], cols[ok]] == FREE
-        run = longest = 0
-        for f in free.tolist():
-            run = run + 1 if f else 0
-            longest = max(longest, run)
-        best = max(best, max(longest - 1, 0) * seg.length / (n - 1))
+    lengths = np.array([seg.length for _, seg in segs])
+    n = np.maximum(2, (lengths / (res / 2)).astype(np.int64) + 1)  # samples per segment
+    first = np.cumsum(n) - n
+    k = np.arange(int(n.sum())) - np.repeat(first, n)  # sample index within its segment
+    along = k * np.repeat(lengths / (n - 1), n)
+    pts = shapely.get_coordinates(shapely.line_interpolate_point(np.repeat([seg for _, seg in segs], n), along))
+    cols = np.floor((pts[:, 0] - grid.origin[0]) / res).astype(np.int64)
+    rows = np.floor((pts[:, 1] - grid.origin[1]) / res).astype(np.int64)
+    ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
+    free = np.zeros(len(k), dtype=bool)
+    free[ok] = np.asarray(grid.data)[rows[ok], cols[ok]] == FREE
+    # longest run of free samples per segment: samples since the last blocked one (or the segment's start)
+    idx = np.arange(len(k))
+    last = np.where(~free, idx, np.where(k == 0, idx - 1, -1))
+    np.maximum.accumulate(last, out=last)
+    run = np.where(free, idx - last, 0)
+    longest = np.maximum.reduceat(run, first)
+    for (i, _), m, steps, length in zip(segs, longest.tolist(), n.tolist(), lengths.tolist(), strict=True):
+        best[i] = max(best[i], max(m - 1, 0) * length / (steps - 1))
     return best
+
+
+def free_width(grid: OccupancyGrid, segments: Sequence[BaseGeometry]) -> float:
+    """The longest free stretch along any of ``segments`` in ``grid`` (metres): :func:`free_widths` of one."""
+    return free_widths(grid, [segments])[0]
 
 
 def _unreachable(links: list[LinkCheck], by_id: dict[str, Cell]) -> list[str]:
