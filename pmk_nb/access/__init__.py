@@ -4,6 +4,7 @@ Public API: :func:`check_storey` / :class:`StoreyReport` (:mod:`.report`), :func
 :func:`check_map` (:mod:`.check`), and the pixel tools in :mod:`.pixels`.
 """
 
-from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, LinkCheck, NotChecked, StoreyReport, check_storey, free_width
+from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, LinkCheck, NotChecked, StoreyReport, check_storey
+from pmk_nb.access.widths import free_width
 
 __all__ = ["DEFAULT_CHAIR_WIDTH", "LinkCheck", "NotChecked", "StoreyReport", "check_storey", "free_width"]

@@ -34,6 +34,7 @@ import numpy as np
 import shapely
 
 from pmk_nb.access.pixels import disc_radius_px, erode_rows, join_strip_runs, strip_runs
+from pmk_nb.access.widths import free_widths
 from pmk_nb.grid import FREE
 from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.raster.scanline import Frame, write_rects
@@ -47,6 +48,7 @@ if TYPE_CHECKING:
     from pmk_nb.raster.openings import Opening, Skipped
 
 DEFAULT_CHAIR_WIDTH = 0.70  # metres
+SKIP_OUTSIDE = "outside"  # a doorway that opens onto the map's edge: where it leads is not drawn
 
 
 @dataclass(frozen=True)
@@ -87,8 +89,9 @@ class NotChecked:
 
     def describe(self) -> str:
         other = self.names[1] if self.cell == self.names[0] else self.names[0]
-        why = "judged a window/sill" if self.reason == SKIP_WINDOW else "non-navigable in the file"
-        return f"{other} <-> {self.cell} ({why})"
+        why = {SKIP_WINDOW: "judged a window/sill", SKIP_OUTSIDE: "a doorway out of the map: nothing drawn beyond it"}
+        why_text = why.get(self.reason, "non-navigable in the file")
+        return f"{other} <-> {self.cell} ({why_text})"
 
 
 @dataclass
@@ -132,7 +135,8 @@ class StoreyReport:
             "unreachable": len(self.unreachable),
             "leaks": len(self.leaks),
             "to_windows": sum(k.reason == SKIP_WINDOW for k in self.not_checked),
-            "to_non_navigable": sum(k.reason != SKIP_WINDOW for k in self.not_checked),
+            "to_outside": sum(k.reason == SKIP_OUTSIDE for k in self.not_checked),
+            "to_non_navigable": sum(k.reason not in (SKIP_WINDOW, SKIP_OUTSIDE) for k in self.not_checked),
         }
 
     def summary(self) -> str:
@@ -149,7 +153,8 @@ class StoreyReport:
         )
         extra = [f"{c[k]} {k}" for k in ("narrow", "unreachable", "leaks") if c[k]]
         out = head + (f"; {', '.join(extra)}" if extra else "")
-        for key, what in (("to_windows", "cells judged windows/sills"), ("to_non_navigable", "non-navigable cells")):
+        for key, what in (("to_windows", "cells judged windows/sills"), ("to_outside", "doorways out of the map"),
+                          ("to_non_navigable", "non-navigable cells")):  # fmt: skip
             if c[key]:
                 out += f"; {c[key]} transition{' leads' if c[key] == 1 else 's lead'} to {what} (not checked)"
         return out
@@ -298,50 +303,55 @@ def check_storey(
             LinkCheck(o.link.id, (o.link.a, o.link.b), o.names, o.rule, round(o.width, 3), passes, fits, round(wide, 3))
         )
         report.rules[o.rule] = report.rules.get(o.rule, 0) + 1
-    report.unreachable = _unreachable(report.links, by_id)
+    _doorways_out(report, grid, by_id)
+    report.unreachable = _unreachable(report.links, by_id) if report.links else []
     report.leaks = _leaks([o.link for o in openings], cells, index, point, max_gap)
     return report
+
+
+def _doorways_out(report: StoreyReport, grid: OccupancyGrid, by_id: dict[str, Cell]) -> None:
+    """Move to ``not_checked`` the links into a doorway (a door cell, or a cell too thin for the chair) that
+    opens onto the map's edge, an entrance whose outside the plan does not draw: a point passes, but no
+    chair can stand in a 0.3 m doorway with nothing known beyond it. That is not a narrow door, and the map
+    cannot say where it leads."""
+    kept = []
+    for k in report.links:
+        door = next((c for c in k.cells if _doorway(by_id[c], report.chair_width / 2)
+                     and _touches_unknown(grid, by_id[c])), None)  # fmt: skip
+        if k.point and not k.chair and door is not None:
+            ends = (by_id[k.cells[0]].name or k.cells[0], by_id[k.cells[1]].name or k.cells[1])
+            report.not_checked.append(NotChecked(k.link, k.cells, ends, SKIP_OUTSIDE, by_id[door].name or door))
+        else:
+            kept.append(k)
+    report.links = kept
+
+
+def _doorway(cell: Cell, radius: float) -> bool:
+    """A door cell, or a cell no chair of ``radius`` fits in (a 0.3 m niche in the outer wall)."""
+    return cell.kind.is_door or shapely.buffer(cell.footprint, -radius).is_empty
+
+
+def _touches_unknown(grid: OccupancyGrid, cell: Cell) -> bool:
+    """Whether an unknown pixel lies within a pixel and a half of ``cell``'s outline."""
+    from pmk_nb.grid import UNKNOWN
+
+    res = grid.resolution
+    x0, y0, x1, y1 = cell.footprint.buffer(1.5 * res).bounds
+    c0, c1 = max(int((x0 - grid.origin[0]) / res), 0), min(int((x1 - grid.origin[0]) / res) + 1, grid.width)
+    r0, r1 = max(int((y0 - grid.origin[1]) / res), 0), min(int((y1 - grid.origin[1]) / res) + 1, grid.height)
+    block = np.asarray(grid.data)[r0:r1, c0:c1]
+    rows, cols = np.nonzero(block == UNKNOWN)
+    if not len(rows):
+        return False
+    xs = grid.origin[0] + (cols + c0 + 0.5) * res
+    ys = grid.origin[1] + (rows + r0 + 0.5) * res
+    return bool(shapely.dwithin(cell.footprint, shapely.points(xs, ys), 1.5 * res).any())
 
 
 def _not_checked(skip: Skipped, by_id: dict[str, Cell]) -> NotChecked:
     ends = (skip.link.a, skip.link.b)
     shut = [i for i, c in enumerate(ends) if c in by_id and not by_id[c].kind.is_free]
     return NotChecked(skip.link.id, ends, skip.names, skip.reason, skip.names[shut[0] if shut else 1])
-
-
-def free_widths(grid: OccupancyGrid, openings: Sequence[Sequence[BaseGeometry]]) -> list[float]:
-    """Per opening, the longest free stretch along any of its segments in ``grid`` (metres), sampled
-    every half cell: informative (the chair's verdict is on the grid), all openings in one pass."""
-    segs = [(i, seg) for i, segments in enumerate(openings) for seg in segments]
-    best = [0.0] * len(openings)
-    if not segs:
-        return best
-    res = grid.resolution
-    lengths = np.array([seg.length for _, seg in segs])
-    n = np.maximum(2, (lengths / (res / 2)).astype(np.int64) + 1)  # samples per segment
-    first = np.cumsum(n) - n
-    k = np.arange(int(n.sum())) - np.repeat(first, n)  # sample index within its segment
-    along = k * np.repeat(lengths / (n - 1), n)
-    pts = shapely.get_coordinates(shapely.line_interpolate_point(np.repeat([seg for _, seg in segs], n), along))
-    cols = np.floor((pts[:, 0] - grid.origin[0]) / res).astype(np.int64)
-    rows = np.floor((pts[:, 1] - grid.origin[1]) / res).astype(np.int64)
-    ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)
-    free = np.zeros(len(k), dtype=bool)
-    free[ok] = np.asarray(grid.data)[rows[ok], cols[ok]] == FREE
-    # longest run of free samples per segment: samples since the last blocked one (or the segment's start)
-    idx = np.arange(len(k))
-    last = np.where(~free, idx, np.where(k == 0, idx - 1, -1))
-    np.maximum.accumulate(last, out=last)
-    run = np.where(free, idx - last, 0)
-    longest = np.maximum.reduceat(run, first)
-    for (i, _), m, steps, length in zip(segs, longest.tolist(), n.tolist(), lengths.tolist(), strict=True):
-        best[i] = max(best[i], max(m - 1, 0) * length / (steps - 1))
-    return best
-
-
-def free_width(grid: OccupancyGrid, segments: Sequence[BaseGeometry]) -> float:
-    """The longest free stretch along any of ``segments`` in ``grid`` (metres): :func:`free_widths` of one."""
-    return free_widths(grid, [segments])[0]
 
 
 def _unreachable(links: list[LinkCheck], by_id: dict[str, Cell]) -> list[str]:

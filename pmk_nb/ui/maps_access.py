@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 import shapely
 
+from pmk_nb.access.report import SKIP_OUTSIDE
 from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.ui.widgets import escape
 
@@ -101,6 +102,9 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
     return head + (f"<ul class='pmk-access-list'>{listing}</ul>" if listing else "")
 
 
+NOT_PASSABLE = "cells marked not passable"
+NOT_CHECKED_WHAT = {SKIP_WINDOW: "cells taken for windows or sills", SKIP_OUTSIDE: "doorways out of the map",
+                    "": NOT_PASSABLE}  # why a passage was not checked -> what it leads into  # fmt: skip
 MAX_NOT_CHECKED = 10  # cells named; the rest are counted
 
 
@@ -120,8 +124,11 @@ def _not_checked_items(report: dict[str, Any]) -> list[str]:
     rule misjudged: say so, since nothing else would show it."""
     skipped = report.get("not_checked") or []
     items = []
-    for windows, what in ((True, "cells taken for windows or sills"), (False, "cells marked not passable")):
-        these = [x for x in skipped if (x["reason"] == SKIP_WINDOW) == windows]
+    groups: dict[str, list[dict[str, Any]]] = {what: [] for what in NOT_CHECKED_WHAT.values()}
+    for x in skipped:
+        groups[NOT_CHECKED_WHAT.get(x["reason"], NOT_PASSABLE)].append(x)
+    for what, these in groups.items():
+        windows = what == NOT_CHECKED_WHAT[SKIP_WINDOW]
         if not these:
             continue
         cells = list(dict.fromkeys(x["cell"] for x in these))
