@@ -205,3 +205,13 @@ def test_a_new_page_id_does_not_clear_the_latch_after_stop() -> None:
     assert gate.tick(0.06, True) is None and not gate.driving
     gate.on_event(StickEvent("p2", 2, 2, 0.07, 0.0, 1.0, True), 0.08)  # a new press of the new page
     assert gate.tick(0.09, True) == pytest.approx((0.5, 0.0))
+
+
+def test_an_unusable_shared_folder_drives_nothing(tmp_path: Path) -> None:
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("a file where the folder should be")
+    mono = Clock(50.0)
+    session = DriveSession(FakeLink(mono), clock=mono, claim=DriveClaim(blocker, "127.0.0.1", 9090))
+    session.feed(msg("p", 1, 1, mono.t))
+    assert not session.driving and session.gate.last_stop is StopReason.NO_CLAIM
+    assert tick(session) is None and not session.push(0.3, 0.0)

@@ -91,6 +91,7 @@ class DriveSession:
         self.claim = claim
         #: the shared state at the latest tick (None without a claim, or before the first tick)
         self.claim_view: ClaimView | None = None
+        self._claim_error: OSError | None = None
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -207,11 +208,18 @@ class DriveSession:
                 view = claim.release_stop()
             if view.hold is Hold.FREE:
                 view = claim.acquire()
-        except OSError:
-            log.exception("reading the drive claim failed")
+        except OSError as err:
+            self._claim_failed(err)
             return StopReason.NO_CLAIM
-        self.claim_view = view
+        self.claim_view, self._claim_error = view, None
         return None if view.hold is Hold.MINE else _BLOCKED.get(view.hold, StopReason.OTHER_DRIVER)
+
+    def _claim_failed(self, err: OSError) -> None:
+        """Logged once per failure, not at every tick; nothing drives meanwhile."""
+        self.claim_view = None
+        if self._claim_error is None:
+            log.error("the drive claim %s cannot be read or written: %s", getattr(self.claim, "path", "?"), err)
+        self._claim_error = err
 
     def _blocked(self) -> StopReason | None:
         """At a tick: why this session may not go on driving (the heartbeat is written here too)."""
@@ -220,9 +228,10 @@ class DriveSession:
             return None
         try:
             view = self.claim_view = claim.view()
-        except OSError:
-            log.exception("reading the drive claim failed")
+        except OSError as err:
+            self._claim_failed(err)
             return StopReason.NO_CLAIM
+        self._claim_error = None
         # FREE too: this press was admitted, and nobody else holds the chair (a read before the admit)
         return None if view.hold in (Hold.MINE, Hold.FREE) else _BLOCKED.get(view.hold, StopReason.STOP_BUTTON)
 
@@ -282,12 +291,15 @@ def drive_for(
     *,
     limits: SpeedLimits | None = None,
     topic: str | None = None,
+    claim: DriveClaim | None = None,
 ) -> StopReason | None:
     """Drive at (v, w) for ``seconds`` (blocking), then stop; returns why it stopped early, or None.
 
-    The same gate as the joystick: limits apply, and a stale link stops the chair at once.
+    The same gate as the joystick: limits apply, and a stale link stops the chair at once. With a
+    ``claim`` (e.g. ``DriveClaim(config_dir() / "drive", host, port)``) it drives only when no
+    dashboard page does, and a Stop on any page stops it.
     """
-    with DriveSession(link, limits, topic=topic) as session:
+    with DriveSession(link, limits, topic=topic, claim=claim) as session:
         deadline = time.monotonic() + max(0.0, seconds)
         session.push(v, w)
         while time.monotonic() < deadline:

@@ -215,8 +215,9 @@ class DrivePanel:
         if self.claim_button.description != label:
             self.claim_button.description = label
         display = "" if mode else "none"
-        if self.claim_button.layout.display != display:
+        if self.claim_button.layout.display != display:  # in Slow's place: this page cannot drive now
             self.claim_button.layout.display = display
+            self.slow.layout.display = "none" if mode else ""
 
     def claim_action(self) -> None:
         """The claim button: what it does is decided from the shared state now, not from the page
@@ -237,10 +238,13 @@ class DrivePanel:
             self._armed = (mode, time.monotonic())
         else:
             self._armed = None
-            if mode == "take":
-                session.take_over()
-            else:
-                session.release_stop(force=mode == "force")
+            try:
+                if mode == "take":
+                    session.take_over()
+                else:
+                    session.release_stop(force=mode == "force")
+            except OSError as err:  # the shared folder went away: nothing changes, nothing drives
+                log.warning("changing the drive claim failed: %s", err)
         self.refresh()
 
     # -- callbacks (kernel thread) -------------------------------------------------------------------
