@@ -44,6 +44,12 @@ def test_stop_on_another_page_stops_the_chair_and_that_page_cannot_drive(world: 
             expect(status_b).to_contain_text("Driven from another page (since ", timeout=5_000)
             expect(page_b.locator(".pmk-drive-locked .pmk-drive-pad")).to_be_visible()
             expect(page_b.locator("button.pmk-drive-claim")).to_contain_text("Take over driving")
+            for _ in range(3):  # a kernel that falls behind on this shared machine stops by itself (deadman)
+                if watch.moving(*watch.odom[-1][1:]):
+                    break
+                page_a.mouse.up()
+                page_a.wait_for_timeout(300)
+                press_forward(page_a, watch, centre)
             assert watch.moving(*watch.odom[-1][1:]), "A stopped driving before B's Stop"
             stop = time.monotonic()
             page_b.locator("button.pmk-drive-stop").click()
@@ -51,7 +57,7 @@ def test_stop_on_another_page_stops_the_chair_and_that_page_cannot_drive(world: 
             assert stopped is not None and stopped <= STOP_WITHIN, f"stopped {stopped} s after B's Stop"
             page_a.wait_for_timeout(800)  # A's finger is still down: its keepalives come, nothing moves
             assert all(watch.still(v, w) for t, v, w in watch.odom if t > stop + STOP_WITHIN)
-            expect(page_a.locator(".pmk-drive-status")).to_contain_text("Stopped from another page at ")
+            expect(page_a.locator(".pmk-drive-status")).to_contain_text("Stopped from another page (since ")
             expect(status_b).to_contain_text("Stopped from this page")
             expect(page_b.locator("button.pmk-drive-claim")).to_contain_text("Release the Stop")
             shot(page_b, "two-pages")

@@ -70,10 +70,10 @@ def claim_state(view: ClaimView | None) -> tuple[str | None, str | None]:
         return None, None
     if view.hold is Hold.OTHER_DRIVER:
         if view.stop_by_me:
-            return "Stopped from this page: the chair stays stopped until you release it.", "release"
+            return "Stopped from this page until you release it.", "release"
         return f"Driven from another page (since {hhmm(view.owner_since)}).", "take"
     if view.hold is Hold.STOPPED_ELSEWHERE:
-        text = f"Stopped from another page at {hhmm(view.stop_at)}. It drives again when released there."
+        text = f"Stopped from another page (since {hhmm(view.stop_at)}) until released there."
         return text, (None if view.setter_live else "force")
     return None, None
 
@@ -128,7 +128,7 @@ class DrivePanel:
         self.page.add_class("pmk-drive-page")
         self._page_shown = False
         self.widget = w.VBox(
-            [self.stop_button, self.pad, self.slow, self.status, self.claim_button, self.channel, self.page]
+            [self.stop_button, self.pad, self.slow, self.claim_button, self.status, self.channel, self.page]
         )
         self.widget.add_class("pmk-drive")
         self.widget.layout.display = "none"
