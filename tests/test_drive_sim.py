@@ -129,3 +129,55 @@ def test_drive_for_from_python_respects_the_limits_and_the_topic(chair: Any, ros
     assert 0.2 < sim.pose[0] - x0 < 0.45
     assert drive_for(link, 0.2, 0.0, 0.3, topic="/wheelchair/cmd_vel") is None
     assert wait_until(lambda: len(other.got) >= 4, 1.0) and other.got[-1][1:] == (0.0, 0.0)
+
+
+def test_stop_on_another_page_stops_the_driving_page_and_holds_until_released_there(
+    chair: Any, link_factory: Any, tmp_path: Any
+) -> None:
+    """Two kernels (two sessions, two links, one shared folder): B's Stop stops A's driving within
+    0.5 s though A's finger stays down, A cannot drive until B releases, B's stick is refused."""
+    from pmk_nb.drive import DriveClaim
+
+    sim, link_a, wire = chair
+    link_b = link_factory(sim)
+    link_b.start_streams()
+    assert wait_until(lambda: link_b.latest_odom() is not None, 10.0)
+    folder = tmp_path / "drive"
+    a = DriveSession(link_a, claim=DriveClaim(folder, "127.0.0.1", sim.port)).start()
+    b = DriveSession(link_b, claim=DriveClaim(folder, "127.0.0.1", sim.port)).start()
+    t0 = time.monotonic()
+    seq = press = 0
+
+    def keep_a(seconds: float, new_press: bool = False) -> None:  # A's page: keepalives every 100 ms
+        nonlocal seq, press
+        press += int(new_press)
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            seq += 1
+            a.feed(page_message(seq, press, (time.monotonic() - t0) * 1000.0))
+            time.sleep(0.1)
+
+    try:
+        keep_a(0.8, new_press=True)
+        assert sim.velocity[0] == pytest.approx(0.5, abs=0.01)
+        b.feed(json.dumps({"page": "b", "seq": 1, "press": 1, "t": 0.0, "x": 0.0, "y": -1.0, "held": True,
+                           "hidden": False}))  # fmt: skip
+        assert not b.driving and b.gate.last_stop is StopReason.OTHER_DRIVER
+        stopped_at = time.monotonic()
+        b.stop()
+        keep_a(0.6)  # A's finger stays down
+        assert sim.velocity == (0.0, 0.0) and not a.driving
+        assert a.gate.last_stop is StopReason.STOPPED_ELSEWHERE
+        halted = [m for m in wire.since(stopped_at) if m[1:] != (0.0, 0.0)]
+        assert not halted or halted[-1][0] <= stopped_at + 0.1, "A kept publishing after B's Stop"
+        zeros = [m for m in wire.since(stopped_at) if m[1:] == (0.0, 0.0)]
+        assert zeros and zeros[0][0] - stopped_at <= 0.5
+        keep_a(0.5, new_press=True)  # A presses anew: still stopped from B
+        assert sim.velocity == (0.0, 0.0) and not a.driving
+        b.release_stop()
+        keep_a(0.6, new_press=True)  # released on B: A's next press drives
+        assert sim.velocity[0] == pytest.approx(0.5, abs=0.01)
+    finally:
+        a.close()
+        b.close()
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)

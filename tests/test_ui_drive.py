@@ -59,13 +59,13 @@ def page(seq: int, press: int, held: bool = True, **kw: Any) -> str:
     return json.dumps({**msg, "held": held, "hidden": False, **kw})
 
 
-def test_drive_panel_drives_the_chair_through_its_channel(sim_factory: Any, link_factory: Any) -> None:
+def test_drive_panel_drives_the_chair_through_its_channel(sim_factory: Any, link_factory: Any, tmp_path: Any) -> None:
     sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0))
     link = link_factory(sim)
     link.start_streams()
     assert wait_until(lambda: link.latest_odom() is not None, 10.0)
     stops: list[StopReason] = []
-    panel = DrivePanel(on_stop=stops.append)
+    panel = DrivePanel(on_stop=stops.append, claims_dir=tmp_path)
     assert panel.widget.layout.display == "none"
     profile = ChairProfile(name="sim", host="127.0.0.1", port=sim.port, max_linear=0.3)
     session = panel.attach(link, profile)
@@ -98,13 +98,13 @@ def test_drive_panel_drives_the_chair_through_its_channel(sim_factory: Any, link
 
 
 def test_the_drive_toggle_shows_the_stick_only_when_asked_and_stops_when_switched_off(
-    sim_factory: Any, link_factory: Any
+    sim_factory: Any, link_factory: Any, tmp_path: Any
 ) -> None:
     sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0))
     link = link_factory(sim)
     link.start_streams()
     assert wait_until(lambda: link.latest_odom() is not None, 10.0)
-    panel = DrivePanel()
+    panel = DrivePanel(claims_dir=tmp_path)
     assert panel.toggle.layout.display == "none"  # no preview, no link: nothing to switch on
     panel.toggle.value = True  # a page can set the trait anyway: no link, so nothing drives
     assert panel.session is None and panel.widget.layout.display == "none"
@@ -124,3 +124,62 @@ def test_the_drive_toggle_shows_the_stick_only_when_asked_and_stops_when_switche
     panel.toggle.value = True
     panel.offer(None, None)  # the preview stops: Drive goes off and hides
     assert panel.toggle.value is False and panel.toggle.layout.display == "none" and panel.session is None
+
+
+def test_two_panels_one_driver_take_over_needs_two_taps_and_stop_holds_for_both(
+    sim_factory: Any, link_factory: Any, tmp_path: Any
+) -> None:
+    """Two pages = two panels (two kernels) on one settings folder, each with its own link."""
+    sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0))
+    links = [link_factory(sim), link_factory(sim)]
+    for link in links:
+        link.start_streams()
+        assert wait_until(lambda link=link: link.latest_odom() is not None, 10.0)
+    profile = ChairProfile(name="sim", host="127.0.0.1", port=sim.port, max_linear=0.3)
+    a, b = DrivePanel(claims_dir=tmp_path), DrivePanel(claims_dir=tmp_path)
+    a.attach(links[0], profile)
+    b.attach(links[1], profile)
+
+    def hold(panel: DrivePanel, first: int, press: int, n: int = 4) -> None:
+        for seq in range(first, first + n):
+            panel.channel.value = page(seq, press)
+            time.sleep(0.1)
+
+    try:
+        hold(a, 1, 1)
+        assert sim.velocity[0] == pytest.approx(0.3, abs=0.01)
+        b.channel.value = page(1, 1, y=-1.0)  # B's stick while A drives: refused, A drives on
+        time.sleep(0.1)
+        b.refresh()
+        assert b.session is not None and not b.session.driving
+        assert b.status.value.startswith("Driven from another page (since ")
+        assert "pmk-drive-locked" in b.pad._dom_classes and b.claim_button.layout.display == ""
+        assert b.claim_button.description == "Take over driving"
+        b.claim_button.click()  # one tap only arms it
+        hold(a, 5, 1, 2)
+        assert sim.velocity[0] == pytest.approx(0.3, abs=0.01)
+        assert b.claim_button.description == "Tap again to confirm"
+        b.claim_button.click()  # the second tap takes over: A stops at its next tick
+        assert a.session is not None
+        hold(a, 7, 1, 3)
+        assert sim.velocity == (0.0, 0.0) and not a.session.driving
+        a.refresh()
+        assert a.status.value.startswith("Driven from another page") and "pmk-drive-locked" in a.pad._dom_classes
+        hold(b, 2, 2)  # B drives now; A's Stop stops B and holds until A releases it
+        assert sim.velocity[0] == pytest.approx(0.3, abs=0.01)
+        a.stop_button.click()
+        assert wait_until(lambda: sim.velocity == (0.0, 0.0), 0.5)
+        hold(b, 6, 3)  # a new press on B: still stopped
+        assert sim.velocity == (0.0, 0.0)
+        b.refresh()
+        a.refresh()
+        assert b.status.value.startswith("Stopped from another page (since ")
+        assert b.claim_button.layout.display == "none"  # B's own page is still open: released there only
+        assert a.claim_button.description == "Release the Stop"
+        a.claim_button.click()
+        hold(b, 10, 4)
+        assert sim.velocity[0] == pytest.approx(0.3, abs=0.01)
+    finally:
+        a.detach()
+        b.detach()
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 0.5)

@@ -9,19 +9,24 @@ chair link's ``publish_cmd_vel`` / ``is_connected`` / ``latest_odom``.
   clock offset that tells how old a message is.
 * ``gate``: the deadman: commands only while held and fresh; one zero on release, then silence;
   a command older than 200 ms is dropped; a stale link, a hidden page or missing keepalives stop.
+* ``claim``: one driving page per chair and the chair-wide Stop latch, in a file all kernels see.
 * ``session``: the gate plus the bounded publisher thread (20 Hz), and :func:`drive_for` for scripts.
 """
 
+from pmk_nb.drive.claim import ClaimView, DriveClaim, Hold
 from pmk_nb.drive.gate import DriveGate, GateTiming, StopReason
 from pmk_nb.drive.limits import SpeedLimits, stick_to_twist
 from pmk_nb.drive.session import DriveSession, drive_for
 from pmk_nb.drive.stick import ClockOffset, StickEvent, StickMessageError, parse_stick_message
 
 __all__ = [
+    "ClaimView",
     "ClockOffset",
+    "DriveClaim",
     "DriveGate",
     "DriveSession",
     "GateTiming",
+    "Hold",
     "SpeedLimits",
     "StickEvent",
     "StickMessageError",

@@ -13,11 +13,16 @@ Rules (issue 11), in the kernel's monotonic clock:
 
 After Stop or a safety stop the same press never drives again: the user lifts the finger and
 presses anew. Late messages of the old press that arrive in a burst (a kernel that was busy)
-cannot restart the chair.
+cannot restart the chair, and neither can a message that names a new page: its current press
+counts as stopped too (only a later press drives).
+
+Whether this page may drive at all (one driver per chair, a Stop on another page) is asked of an
+``admit`` callback when a press starts (:mod:`pmk_nb.drive.claim` through the session).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 
@@ -25,6 +30,8 @@ from pmk_nb.drive.limits import SpeedLimits, stick_to_twist
 from pmk_nb.drive.stick import ClockOffset, StickEvent
 
 ZERO = (0.0, 0.0)
+#: Asked when a press is about to drive: None to drive, or why not (that press is then over).
+Admit = Callable[[], "StopReason | None"]
 
 
 class StopReason(str, Enum):
@@ -34,6 +41,9 @@ class StopReason(str, Enum):
     KEEPALIVE = "no news from the page"
     LINK = "link stale"
     CLOSED = "closed"
+    OTHER_DRIVER = "another page drives"  # taken over, or another page held the chair first
+    STOPPED_ELSEWHERE = "stopped on another page"  # the chair-wide Stop latch (drive/claim.py)
+    NO_CLAIM = "drive claim unreadable"  # the shared state cannot be read: nothing drives
 
 
 @dataclass(frozen=True)
@@ -70,14 +80,17 @@ class DriveGate:
         self._seq = -1
         self._press = -1  # the press being driven
         self._stopped_press = -1  # presses up to this one may not drive any more
+        self._latched = False  # a stop (not a release) since the last press that drove
         self._zero_pending = False
         self._twist_press: int | None = None  # the press of Python's commands, None when released
 
     # -- inputs ----------------------------------------------------------------------------------
-    def on_event(self, event: StickEvent, now: float) -> None:
+    def on_event(self, event: StickEvent, now: float, admit: Admit | None = None) -> None:
         """A message from the page (already validated), received at kernel time ``now``."""
         if event.page != self._page:  # a new page load: its own clock and counters
-            self._page, self._seq, self._stopped_press = event.page, -1, -1
+            # after a stop, the new page's current press is over too: a new id is no way around Stop
+            self._page, self._seq = event.page, -1
+            self._stopped_press = event.press if self._latched else -1
             self.clock.reset()
             if self.driving:
                 self._stop(StopReason.RELEASED)
@@ -97,9 +110,24 @@ class DriveGate:
         if now - sent_at > self.timing.max_age:
             self.stats.dropped_late += 1
             return
+        if not (self.driving and event.press == self._press) and self._refused(event.press, admit):
+            return
         self._take(event.press, stick_to_twist(event.x, event.y, self.limits, self.slow), sent_at)
 
-    def on_twist(self, v: float, w: float, now: float) -> bool:
+    def _refused(self, press: int, admit: Admit | None) -> bool:
+        """Ask ``admit`` before a press drives; a refused press is over (a later one may drive)."""
+        cause = admit() if admit is not None else None
+        if cause is None:
+            return False
+        self._stopped_press = max(self._stopped_press, press)
+        self.stats.ignored += 1
+        if self.driving:
+            self._stop(cause)
+        else:
+            self.last_stop = cause
+        return True
+
+    def on_twist(self, v: float, w: float, now: float, admit: Admit | None = None) -> bool:
         """A command from Python in the kernel (fresh by construction), clamped to the limits.
 
         Like a held stick: the first call presses, :meth:`release` lifts; after a stop the calls
@@ -109,6 +137,8 @@ class DriveGate:
             self._twist_press = max(self._press, self._stopped_press) + 1
         if self._twist_press <= self._stopped_press:
             self.stats.ignored += 1
+            return False
+        if not (self.driving and self._twist_press == self._press) and self._refused(self._twist_press, admit):
             return False
         self._take(self._twist_press, self.limits.clamp(v, w, self.slow), now)
         return True
@@ -124,11 +154,12 @@ class DriveGate:
 
     def _take(self, press: int, twist: tuple[float, float], sent_at: float) -> None:
         self.driving, self._press, self._target, self._sent_at = True, press, twist, sent_at
-        self._zero_pending = False
+        self._zero_pending = self._latched = False
 
     def _stop(self, cause: StopReason) -> None:
         if cause is not StopReason.RELEASED:
             self._stopped_press = max(self._stopped_press, self._press)
+            self._latched = True
         if self.driving:
             self.stop_count += 1
         self.driving = False

@@ -26,6 +26,7 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
+from pmk_nb.drive.claim import ClaimView, DriveClaim, Hold
 from pmk_nb.drive.gate import DriveGate, GateTiming, StopReason
 from pmk_nb.drive.limits import SpeedLimits
 from pmk_nb.drive.stick import StickEvent, StickMessageError, parse_stick_message
@@ -33,6 +34,7 @@ from pmk_nb.drive.stick import StickEvent, StickMessageError, parse_stick_messag
 log = logging.getLogger(__name__)
 DEFAULT_RATE = 20.0  # Hz
 MIN_RATE, MAX_RATE = 10.0, 50.0
+_BLOCKED = {Hold.OTHER_DRIVER: StopReason.OTHER_DRIVER, Hold.STOPPED_ELSEWHERE: StopReason.STOPPED_ELSEWHERE}
 
 
 class OdometryLike(Protocol):
@@ -61,6 +63,8 @@ class DriveSession:
         on_stop: called with the reason when the gate stops the chair; runs on the publisher
             thread, so it must be quick.
         clock: monotonic seconds, the same clock as the odometry's ``received``.
+        claim: this page's handle on the chair's shared drive state (one driver per chair, the
+            chair-wide Stop); None for a script that is the only driver it knows of.
     """
 
     def __init__(
@@ -73,6 +77,7 @@ class DriveSession:
         timing: GateTiming | None = None,
         on_stop: Callable[[StopReason], None] | None = None,
         clock: Callable[[], float] = time.monotonic,
+        claim: DriveClaim | None = None,
     ) -> None:
         if not MIN_RATE <= rate <= MAX_RATE:
             raise ValueError(f"rate must be {MIN_RATE:g} to {MAX_RATE:g} Hz, got {rate!r}")
@@ -83,6 +88,10 @@ class DriveSession:
         self._stops_reported = 0
         self.last_error: StickMessageError | None = None
         self._clock = clock
+        self.claim = claim
+        #: the shared state at the latest tick (None without a claim, or before the first tick)
+        self.claim_view: ClaimView | None = None
+        self._claim_error: OSError | None = None
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
@@ -107,6 +116,11 @@ class DriveSession:
             thread.join(2.0)
         if pending is not None:
             self._publish(0.0, 0.0)
+        if self.claim is not None:
+            try:
+                self.claim.leave()
+            except OSError as err:  # its heartbeat stops anyway: gone after a few seconds
+                log.warning("leaving the drive claim %s failed: %s", self.claim.path, err)
 
     def __enter__(self) -> DriveSession:
         return self.start()
@@ -142,7 +156,7 @@ class DriveSession:
             self.last_error = err
             return None
         with self._lock:
-            self.gate.on_event(event, now)
+            self.gate.on_event(event, now, self._admit if self.claim is not None else None)
         return event
 
     def push(self, v: float, w: float) -> bool:
@@ -152,16 +166,74 @@ class DriveSession:
         before driving again.
         """
         with self._lock:
-            return self.gate.on_twist(v, w, self._clock())
+            return self.gate.on_twist(v, w, self._clock(), self._admit if self.claim is not None else None)
 
     def release(self) -> None:
         with self._lock:
             self.gate.release()
 
     def stop(self) -> None:
-        """The Stop button: one zero at the next tick, and this press drives no more."""
+        """The Stop button: one zero at the next tick, this press drives no more, and (with a claim)
+        the chair-wide latch stops every other page's session at its next tick until released here."""
         with self._lock:
             self.gate.stop(StopReason.STOP_BUTTON)
+        if self.claim is not None:
+            try:
+                self.claim_view = self.claim.stop()
+            except OSError:
+                log.exception("latching the Stop for the other pages failed")
+
+    def take_over(self) -> ClaimView | None:
+        """The explicit take-over: this page becomes the driver (the other page stops at its next tick)."""
+        if self.claim is not None:
+            self.claim_view = self.claim.take_over()
+        return self.claim_view
+
+    def release_stop(self, *, force: bool = False) -> ClaimView | None:
+        """Release this page's Stop latch (``force``: also one whose page is gone; an explicit action)."""
+        if self.claim is not None:
+            self.claim_view = self.claim.release_stop(force=force)
+        return self.claim_view
+
+    # -- the claim -----------------------------------------------------------------------------------
+    def _admit(self) -> StopReason | None:
+        """A press is about to drive (under the lock): this page's own Stop is released by it, a free
+        chair is claimed; any other state refuses the press."""
+        claim = self.claim
+        if claim is None:
+            return None
+        try:
+            view = claim.view()
+            if view.hold is Hold.STOPPED_HERE:
+                view = claim.release_stop()
+            if view.hold is Hold.FREE:
+                view = claim.acquire()
+        except OSError as err:
+            self._claim_failed(err)
+            return StopReason.NO_CLAIM
+        self.claim_view, self._claim_error = view, None
+        return None if view.hold is Hold.MINE else _BLOCKED.get(view.hold, StopReason.OTHER_DRIVER)
+
+    def _claim_failed(self, err: OSError) -> None:
+        """Logged once per failure, not at every tick; nothing drives meanwhile."""
+        self.claim_view = None
+        if self._claim_error is None:
+            log.error("the drive claim %s cannot be read or written: %s", getattr(self.claim, "path", "?"), err)
+        self._claim_error = err
+
+    def _blocked(self) -> StopReason | None:
+        """At a tick: why this session may not go on driving (the heartbeat is written here too)."""
+        claim = self.claim
+        if claim is None:
+            return None
+        try:
+            view = self.claim_view = claim.view()
+        except OSError as err:
+            self._claim_failed(err)
+            return StopReason.NO_CLAIM
+        self._claim_error = None
+        # FREE too: this press was admitted, and nobody else holds the chair (a read before the admit)
+        return None if view.hold in (Hold.MINE, Hold.FREE) else _BLOCKED.get(view.hold, StopReason.STOP_BUTTON)
 
     # -- the publisher -----------------------------------------------------------------------------
     def link_ok(self, now: float) -> bool:
@@ -180,7 +252,10 @@ class DriveSession:
         while not stop.is_set():
             now = self._clock()
             ok = self.link_ok(now)
+            blocked = self._blocked()
             with self._lock:
+                if blocked is not None and self.gate.driving:
+                    self.gate.stop(blocked)
                 twist = self.gate.tick(now, ok)
             if twist is not None and not self._publish(*twist) and twist != (0.0, 0.0):
                 with self._lock:
@@ -216,12 +291,15 @@ def drive_for(
     *,
     limits: SpeedLimits | None = None,
     topic: str | None = None,
+    claim: DriveClaim | None = None,
 ) -> StopReason | None:
     """Drive at (v, w) for ``seconds`` (blocking), then stop; returns why it stopped early, or None.
 
-    The same gate as the joystick: limits apply, and a stale link stops the chair at once.
+    The same gate as the joystick: limits apply, and a stale link stops the chair at once. With a
+    ``claim`` (e.g. ``DriveClaim(config_dir() / "drive", host, port)``) it drives only when no
+    dashboard page does, and a Stop on any page stops it.
     """
-    with DriveSession(link, limits, topic=topic) as session:
+    with DriveSession(link, limits, topic=topic, claim=claim) as session:
         deadline = time.monotonic() + max(0.0, seconds)
         session.push(v, w)
         while time.monotonic() < deadline:

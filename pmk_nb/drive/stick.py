@@ -64,6 +64,11 @@ def _field(raw: dict[str, Any], name: str, kind: type) -> Any:
     accepted = (int, float) if kind is float else (kind,)
     if isinstance(value, bool) or not isinstance(value, accepted):
         raise StickMessageError(f"{name}: expected a {kind.__name__}, got {value!r}", field=name)
+    if kind is float and isinstance(value, int):
+        try:  # JSON integers are unbounded: 10**400 fits 512 characters but no float
+            return float(value)
+        except OverflowError:
+            raise StickMessageError(f"{name}: a number out of range", field=name) from None
     return value
 
 

@@ -6,18 +6,30 @@ nothing can drive. The page
 side is :mod:`pmk_nb.ui.drive_script`; every message it posts lands in :meth:`DrivePanel._on_message`
 on the kernel's thread and goes through :class:`pmk_nb.drive.DriveSession`, whose publisher
 thread decides what reaches the chair. Texts are for the person in the chair: no jargon.
+
+One driving page per chair (issue 30): each panel has a kernel-side id and a
+:class:`pmk_nb.drive.DriveClaim` in the settings folder's ``drive/``, shared by every page's kernel.
+Another page's panel shows "Driven from another page (since hh:mm)", its stick is refused (and
+greyed), and **Take over driving** (tap twice) moves the claim; the previous driver's session stops
+at its next tick. Stop on any page latches the chair-wide Stop until that page releases it (its
+next press, or **Release the Stop**); a Stop whose page is gone is released only by an explicit
+double tap on another page.
 """
 
 from __future__ import annotations
 
 import logging
+import time
+import uuid
 from collections.abc import Callable
+from datetime import datetime
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.drive import DriveSession, SpeedLimits, StopReason
-from pmk_nb.ui.drive_script import CHANNEL_CLASS, PAD_HTML, page_html
+from pmk_nb.drive import ClaimView, DriveClaim, DriveSession, Hold, SpeedLimits, StopReason
+from pmk_nb.ui.drive_script import CHANNEL_CLASS, LOCKED_CLASS, PAD_HTML, page_html
 from pmk_nb.ui.widgets import TOUCH_PX, button
 
 if TYPE_CHECKING:
@@ -35,7 +47,35 @@ STOPPED: dict[StopReason, str] = {
     StopReason.KEEPALIVE: "Stopped: the connection is too slow. Lift your finger and press again.",
     StopReason.LINK: "Stopped: no news from the chair. Wait for Live, then press again.",
     StopReason.CLOSED: READY,
+    StopReason.OTHER_DRIVER: "Another page drives the chair.",
+    StopReason.STOPPED_ELSEWHERE: "Stopped from another page.",
+    StopReason.NO_CLAIM: "Stopped: cannot tell whether another page drives. Ask for help.",
 }
+CONFIRM_S = 5.0  # a second tap within this long confirms a take-over
+#: the claim button's modes: (label, needs a confirming second tap)
+CLAIM_ACTIONS = {
+    "take": ("Take over driving", True),
+    "release": ("Release the Stop", False),
+    "force": ("Release the other page's Stop", True),
+}
+
+
+def hhmm(wall: float | None) -> str:
+    return datetime.fromtimestamp(wall).strftime("%H:%M") if wall is not None else "?"
+
+
+def claim_state(view: ClaimView | None) -> tuple[str | None, str | None]:
+    """(status text, claim button mode) when the shared state keeps this page from driving."""
+    if view is None:
+        return None, None
+    if view.hold is Hold.OTHER_DRIVER:
+        if view.stop_by_me:
+            return "Stopped from this page until you release it.", "release"
+        return f"Driven from another page (since {hhmm(view.owner_since)}).", "take"
+    if view.hold is Hold.STOPPED_ELSEWHERE:
+        text = f"Stopped from another page (since {hhmm(view.stop_at)}) until released there."
+        return text, (None if view.setter_live else "force")
+    return None, None
 
 
 def limits_of(profile: ChairProfile | None) -> SpeedLimits:
@@ -52,9 +92,13 @@ def limits_of(profile: ChairProfile | None) -> SpeedLimits:
 class DrivePanel:
     """The widgets and their wiring; :meth:`attach` a link to drive, :meth:`detach` to stop."""
 
-    def __init__(self, on_stop: Callable[[StopReason], None] | None = None) -> None:
+    def __init__(self, on_stop: Callable[[StopReason], None] | None = None, *, claims_dir: Path | None = None) -> None:
         self.on_stop = on_stop
         self.session: DriveSession | None = None
+        self.member = uuid.uuid4().hex  # this page's id for the other pages: the kernel's, not the page's
+        self.claims_dir = claims_dir
+        self._armed: tuple[str, float] | None = None  # (claim mode, when) after a first tap
+        self._locked = False
         self._offer: tuple[ChairLink, ChairProfile | None] | None = None
         self.toggle = w.ToggleButton(
             value=False, description="Drive", icon="gamepad", tooltip="Show the joystick to drive the chair by hand"
@@ -74,13 +118,18 @@ class DrivePanel:
         self.slow.layout = w.Layout(height="48px", width="180px")
         self.slow.add_class("pmk-drive-slow")
         self.slow.observe(self._on_slow, names="value")
+        self.claim_button = button(CLAIM_ACTIONS["take"][0], "pmk-drive-claim", style="warning", width="180px")
+        self.claim_button.layout.display = "none"
+        self.claim_button.on_click(lambda _b: self.claim_action())
         self.status = w.HTML(READY)
         self.status.add_class("pmk-drive-status")
         self.status.layout = w.Layout(max_width="180px")  # wraps under Stop and Slow (an inline style wins)
         self.page = w.Output(layout=w.Layout(display="none"))
         self.page.add_class("pmk-drive-page")
         self._page_shown = False
-        self.widget = w.VBox([self.stop_button, self.pad, self.slow, self.status, self.channel, self.page])
+        self.widget = w.VBox(
+            [self.stop_button, self.pad, self.slow, self.claim_button, self.status, self.channel, self.page]
+        )
         self.widget.add_class("pmk-drive")
         self.widget.layout.display = "none"
 
@@ -112,7 +161,13 @@ class DrivePanel:
             self.page.append_display_data(HTML(page_html()))
             self._page_shown = True
         topic = profile.cmd_vel_topic if profile is not None else None
-        self.session = DriveSession(link, limits_of(profile), topic=topic, on_stop=self.on_stop).start()
+        folder = self.claims_dir
+        if folder is None:
+            from pmk_nb.chair.profiles import config_dir
+
+            folder = config_dir() / "drive"
+        claim = DriveClaim(folder, link.host, link.port, member=self.member)
+        self.session = DriveSession(link, limits_of(profile), topic=topic, on_stop=self.on_stop, claim=claim).start()
         self.session.slow = bool(self.slow.value)
         self.status.value = READY
         self.widget.layout.display = "flex"
@@ -137,13 +192,60 @@ class DrivePanel:
         session = self.session
         if session is None:
             return
+        view = session.claim_view
+        text, mode = claim_state(view)
         if session.driving:
-            text = DRIVING + (" (slow)" if session.slow else "")
-        else:
+            text, mode = DRIVING + (" (slow)" if session.slow else ""), None
+        elif text is None:
             cause = session.gate.last_stop
             text = STOPPED[cause] if cause is not None else READY
         if self.status.value != text:
             self.status.value = text
+        locked = view is not None and not view.may_drive
+        if locked != self._locked:  # greyed and inert on the page; the kernel refuses it anyway
+            self._locked = locked
+            (self.pad.add_class if locked else self.pad.remove_class)(LOCKED_CLASS)
+        self._show_claim_button(mode)
+
+    def _show_claim_button(self, mode: str | None) -> None:
+        armed = self._armed
+        if armed is not None and (armed[0] != mode or time.monotonic() - armed[1] > CONFIRM_S):
+            self._armed = armed = None
+        label = "Tap again to confirm" if armed is not None else CLAIM_ACTIONS[mode][0] if mode else ""
+        if self.claim_button.description != label:
+            self.claim_button.description = label
+        display = "" if mode else "none"
+        if self.claim_button.layout.display != display:  # in Slow's place: this page cannot drive now
+            self.claim_button.layout.display = display
+            self.slow.layout.display = "none" if mode else ""
+
+    def claim_action(self) -> None:
+        """The claim button: what it does is decided from the shared state now, not from the page
+        (a page can click a hidden button); a take-over or a forced release needs a second tap."""
+        session = self.session
+        if session is None or session.claim is None:
+            return
+        try:
+            _text, mode = claim_state(session.claim.view())
+        except OSError as err:
+            log.warning("reading the drive claim failed: %s", err)
+            return
+        if mode is None:
+            self._armed = None
+        elif CLAIM_ACTIONS[mode][1] and (
+            self._armed is None or self._armed[0] != mode or time.monotonic() - self._armed[1] > CONFIRM_S
+        ):
+            self._armed = (mode, time.monotonic())
+        else:
+            self._armed = None
+            try:
+                if mode == "take":
+                    session.take_over()
+                else:
+                    session.release_stop(force=mode == "force")
+            except OSError as err:  # the shared folder went away: nothing changes, nothing drives
+                log.warning("changing the drive claim failed: %s", err)
+        self.refresh()
 
     # -- callbacks (kernel thread) -------------------------------------------------------------------
     def _on_message(self, change: dict[str, Any]) -> None:

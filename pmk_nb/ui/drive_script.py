@@ -42,6 +42,8 @@ STYLE = f"""<style>
 .{PAD_CLASS}.pmk-drive-held {{ background: #b3e5fc; border-color: #0277bd; cursor: grabbing; }}
 .pmk-drive-knob {{ position: absolute; left: 50%; top: 50%; width: 64px; height: 64px; margin: -32px 0 0 -32px;
   border-radius: 50%; background: #1f6feb; box-shadow: 0 2px 6px rgba(0,0,0,.35); pointer-events: none; }}
+.pmk-drive-locked .{PAD_CLASS} {{ opacity: 0.4; cursor: not-allowed; }}
+.pmk-drive-claim button, button.pmk-drive-claim {{ white-space: normal; height: auto; min-height: 48px; }}
 .pmk-drive-stop button, button.pmk-drive-stop {{ min-height: 72px; font-size: 1.4em; font-weight: bold; }}
 .pmk-drive-status {{ max-width: 180px; text-align: center; font-size: 0.9em; line-height: 1.25; }}
 .pmk-drive .pmk-drive-status, .pmk-drive .pmk-drive-status .widget-html-content {{ white-space: normal !important;
@@ -103,6 +105,7 @@ SCRIPT = """<script>
     pad.dataset.pmkBound = '1';
     pad.addEventListener('pointerdown', function (e) {
       e.preventDefault();
+      if (pad.closest('.__LOCKED__')) return;  // another page drives: the kernel refuses it too
       try { pad.setPointerCapture(e.pointerId); } catch (err) { /* synthetic pointer */ }
       pad.focus({ preventScroll: true });
       start('pointer'); fromPointer(pad, e); send(false); draw();
@@ -129,6 +132,7 @@ SCRIPT = """<script>
     if (!KEYS[e.key] || e.altKey || e.ctrlKey || e.metaKey || !keysAllowed(e)) return;
     e.preventDefault(); e.stopPropagation();
     if (keys[e.key]) return;  // auto-repeat: the keepalive carries on
+    if (!held && document.querySelector('.__LOCKED__ .__PAD__')) return;
     if (!held) start('keys');
     if (via !== 'keys') return;
     keys[e.key] = true; fromKeys(); send(false); draw();
@@ -151,7 +155,14 @@ SCRIPT = """<script>
   setInterval(bindAll, 300);
 })();
 </script>"""
-_TOKENS = {"__CHANNEL__": CHANNEL_CLASS, "__PAD__": PAD_CLASS, "__MOVE__": MOVE_MS, "__KEEPALIVE__": KEEPALIVE_MS}
+LOCKED_CLASS = "pmk-drive-locked"  # on the pad's box while another page drives or a Stop holds
+_TOKENS = {
+    "__LOCKED__": LOCKED_CLASS,
+    "__CHANNEL__": CHANNEL_CLASS,
+    "__PAD__": PAD_CLASS,
+    "__MOVE__": MOVE_MS,
+    "__KEEPALIVE__": KEEPALIVE_MS,
+}
 for _token, _value in _TOKENS.items():
     SCRIPT = SCRIPT.replace(_token, str(_value))
 

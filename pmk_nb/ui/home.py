@@ -105,7 +105,7 @@ class HomeScreen:
         self.goal = GoalPanel(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
         self.goal.speak = self.rooms.speech.say  # "Going to the destination.", "Arrived at …"
         # the joystick, Stop and Slow (pmk_nb/ui/drive_panel.py): over the map while Drive is on
-        self.drive = DrivePanel()
+        self.drive = DrivePanel(claims_dir=ctx.config_dir / "drive")  # shared by every page's kernel
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
         self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
