@@ -100,6 +100,28 @@ class DownloadError(LibraryError):
         self.url = url
 
 
+class AddressRefused(DownloadError):
+    """A download (or one of its redirects) would reach a local or private address.
+
+    Attributes:
+        host: the host name of the URL or redirect that was refused.
+        address: the resolved address that is not public.
+        reason: which kind of address it is ("loopback address", "private (LAN) address", ...).
+    """
+
+    def __init__(self, *, url: str, host: str, address: str, reason: str) -> None:
+        where = f"{host} is a {reason}" if host == address else f"{host} resolves to {address}, a {reason}"
+        super().__init__(
+            f"download of {url} refused: {where}; downloads reach only public addresses",
+            url=url,
+            hint="To download from a server on this machine or the lab network, use --allow-local "
+            "(pmk maps download / pmk dashboard).",
+        )
+        self.host = host
+        self.address = address
+        self.reason = reason
+
+
 class ChairLinkError(PmkError):
     """The rosbridge connection to a chair failed or a chair service misbehaved."""
 

@@ -266,6 +266,7 @@ def _closed_port() -> int:
 
 
 def test_download_then_confirm_overwrite(screen: MapsScreen, ctx: AppContext, web: str) -> None:
+    ctx.maps.allow_local = True  # the test server is on 127.0.0.1 (pmk dashboard --allow-local)
     screen.tabs.selected_index = 1
     screen.downloader.url.value, screen.downloader.name.value = f"{web}/house.gml", "clinic"
     screen.downloader.button.click()
@@ -288,12 +289,22 @@ def test_download_then_confirm_overwrite(screen: MapsScreen, ctx: AppContext, we
 def test_download_failures_are_explained(
     screen: MapsScreen, ctx: AppContext, web: str, path: str | None, expect: str
 ) -> None:
+    ctx.maps.allow_local = True  # the test server is on 127.0.0.1 (pmk dashboard --allow-local)
     url = f"{web}{path}" if path else f"http://127.0.0.1:{_closed_port()}/x.gml"
     screen.downloader.url.value, screen.downloader.name.value = url, "bad"
     screen.downloader.button.click()
     wait_until(lambda: "pmk-msg-error" in screen.downloader.status.value, what="failure message")
     assert expect in screen.downloader.status.value
     assert not ctx.maps.exists("bad")
+
+
+def test_a_loopback_download_is_refused_by_default(screen: MapsScreen, ctx: AppContext, web: str) -> None:
+    """Issue 30 (SSRF): the page could make the kernel fetch a loopback or LAN address and show it."""
+    screen.downloader.url.value, screen.downloader.name.value = f"{web}/house.gml", "inside"
+    screen.downloader.button.click()
+    wait_until(lambda: "pmk-msg-error" in screen.downloader.status.value, what="refusal")
+    assert "loopback address" in screen.downloader.status.value and "--allow-local" in screen.downloader.status.value
+    assert not ctx.maps.exists("inside")
 
 
 def test_download_validates_inputs(screen: MapsScreen, ctx: AppContext) -> None:
