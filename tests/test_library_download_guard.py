@@ -159,3 +159,18 @@ def test_a_redirect_to_a_local_address_is_refused_before_connecting(
     assert info.value.address == address and info.value.url == target.format(port=port)
     assert net == [PUBLIC] and _Handler.seen == ["/moved"]  # the redirect's target was never reached
     assert isinstance(info.value, DownloadError)
+
+
+def test_pmk_dashboard_allow_local_reaches_the_kernels_maps_folder(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """``pmk dashboard --allow-local`` -> the kernel's environment -> MapsFolder (the Maps screen's)."""
+    from pmk_nb.cli import dashboard, main
+
+    seen: list[dict[str, str]] = []
+    monkeypatch.setattr(dashboard, "preflight", lambda args, env: None)
+    monkeypatch.setattr(dashboard, "serve", lambda args, env, tmp, token: seen.append(env) or 0)
+    for argv, expected in ((["--allow-local"], True), ([], False)):
+        assert main(["dashboard", "--port", "8866", *argv]) == 0
+        monkeypatch.setenv(netguard.ALLOW_LOCAL_ENV, seen[-1][netguard.ALLOW_LOCAL_ENV])
+        assert _folder(tmp_path).allow_local is expected
