@@ -94,6 +94,8 @@ def net(monkeypatch: pytest.MonkeyPatch, port: int) -> list[Any]:
         ("fc00::1", "private"),
         ("::ffff:127.0.0.1", "IPv4-mapped loopback"),
         ("::ffff:10.0.0.1", "IPv4-mapped private"),
+        ("2002:c0a8:0101::1", "6to4 private"),
+        ("64:ff9b::7f00:1", "NAT64 loopback"),
         ("0.0.0.0", "unspecified"),
         ("::", "unspecified"),
         ("224.0.0.1", "multicast"),
@@ -106,7 +108,9 @@ def test_non_public_addresses_are_named(address: str, reason: str) -> None:
     assert reason in (netguard.refusal(address) or "")
 
 
-@pytest.mark.parametrize("address", [PUBLIC, "8.8.8.8", "2606:4700:4700::1111", "::ffff:8.8.8.8"])
+@pytest.mark.parametrize(
+    "address", [PUBLIC, "8.8.8.8", "2606:4700:4700::1111", "::ffff:8.8.8.8", "2002:0808:0808::1", "64:ff9b::808:808"]
+)
 def test_public_addresses_pass(address: str) -> None:
     assert netguard.refusal(address) is None
 

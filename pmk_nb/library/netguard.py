@@ -25,6 +25,7 @@ from pmk_nb.errors import AddressRefused
 #: Set to "1" by ``pmk dashboard --allow-local`` so the kernel's Maps screen may download from a lab server.
 ALLOW_LOCAL_ENV = "PMK_ALLOW_LOCAL_DOWNLOADS"
 _CGNAT = ipaddress.ip_network("100.64.0.0/10")
+_NAT64 = ipaddress.ip_network("64:ff9b::/96")
 _Address = ipaddress.IPv4Address | ipaddress.IPv6Address
 
 
@@ -34,9 +35,16 @@ def refusal(address: str) -> str | None:
         ip: _Address = ipaddress.ip_address(address.split("%", 1)[0])
     except ValueError:
         return "not an IP address"
-    if isinstance(ip, ipaddress.IPv6Address) and ip.ipv4_mapped is not None:
-        inner = refusal(str(ip.ipv4_mapped))
-        return f"IPv4-mapped {inner}" if inner else None
+    if isinstance(ip, ipaddress.IPv6Address):
+        embedded = (  # IPv6 forms that reach an IPv4 address: judged by that address
+            ("IPv4-mapped", ip.ipv4_mapped),
+            ("6to4", ip.sixtofour),
+            ("NAT64", ipaddress.IPv4Address(int(ip) & 0xFFFFFFFF) if ip in _NAT64 else None),
+        )
+        for form, inner_ip in embedded:
+            if inner_ip is not None:
+                inner = refusal(str(inner_ip))
+                return f"{form} {inner}" if inner else None
     checks = (
         (ip.is_unspecified, "unspecified address"),
         (ip.is_loopback, "loopback address"),
