@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+import stat
 import tempfile
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -61,14 +62,14 @@ def atomic_open(path: str | os.PathLike[str], *, mode: int = 0o644) -> Iterator[
         raise
 
 
-def private_dir(path: str | os.PathLike[str]) -> Path:
-    """Create ``path`` (and missing parents) 0700, or tighten it to 0700 if it exists and is ours.
+def private_dir(path: str | os.PathLike[str], *, tighten: bool = False) -> Path:
+    """Create ``path`` (and missing parents) 0700; with ``tighten``, also make an existing one 0700.
 
     The settings folder holds profiles, the PIN's record and the trusted host keys: other users of
-    the machine need not even list it (issue 30: it was created 0755). An existing folder from an
-    older version is tightened too, because its files' 0600 hides their content but not their
-    names, and a lax folder lets another user swap files in; a folder owned by someone else is left
-    alone (we cannot chmod it, and it is not ours to change).
+    the machine need not even list it (issue 30: it was created 0755). ``tighten`` is for the
+    settings folder itself (a lax one from an older version: its files' 0600 hides their content,
+    not their names, and a group-writable folder lets someone swap files in). It changes only a
+    folder this user owns that is not a shared sticky folder (/tmp): never a parent such as ~ or /etc.
     """
     folder = Path(path)
     missing = [p for p in (folder, *folder.parents) if not p.exists()]
@@ -76,7 +77,8 @@ def private_dir(path: str | os.PathLike[str]) -> Path:
         with contextlib.suppress(FileExistsError):
             part.mkdir(mode=0o700)
     info = folder.stat()
-    if info.st_uid == os.getuid() and info.st_mode & _SHARED_BITS:
+    shared = info.st_mode & stat.S_ISVTX
+    if tighten and info.st_uid == os.getuid() and not shared and info.st_mode & _SHARED_BITS:
         os.chmod(folder, 0o700)
     return folder
 
