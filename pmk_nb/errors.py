@@ -80,6 +80,49 @@ class MapFormatError(PmkError):
         self.path = path
 
 
+# nav2_msgs/srv/LoadMap result codes (what a map server answers for each failure)
+MAP_DOES_NOT_EXIST = 1
+INVALID_MAP_DATA = 2
+INVALID_MAP_METADATA = 3
+
+
+class MapLoadError(MapFormatError):
+    """A map could not be loaded; ``code`` is the Nav2 LoadMap result a map server would return."""
+
+    def __init__(self, message: str, code: int, *, path: str | None = None, hint: str = "") -> None:
+        super().__init__(message, path=path, hint=hint)
+        self.code = code
+
+
+class MapOutsideFolder(MapLoadError):
+    """A map's YAML, or the image it names, lies outside the map server's folder (symlinks followed).
+
+    Attributes:
+        path: the file as named; folder: the folder it must be in; what: "YAML" or "image".
+    """
+
+    def __init__(self, message: str, *, path: str, folder: str, what: str) -> None:
+        code = MAP_DOES_NOT_EXIST if what == "YAML" else INVALID_MAP_DATA
+        super().__init__(message, code, path=path, hint="Keep the map's YAML and image inside the maps folder.")
+        self.folder = folder
+        self.what = what
+
+
+class MapImageTooLarge(MapLoadError):
+    """A map image's header declares more pixels than a map server decodes (checked before decoding).
+
+    Attributes:
+        width, height: from the header (None when only the decoder could tell it is too large).
+        limit: the pixel cap it exceeds.
+    """
+
+    def __init__(self, message: str, *, path: str, width: int | None, height: int | None, limit: int) -> None:
+        super().__init__(message, INVALID_MAP_DATA, path=path)
+        self.width = width
+        self.height = height
+        self.limit = limit
+
+
 class LibraryError(PmkError):
     """A maps-folder operation failed (download, import, convert, delete)."""
 
@@ -98,6 +141,28 @@ class DownloadError(LibraryError):
     def __init__(self, message: str, *, url: str, hint: str = "") -> None:
         super().__init__(message, hint=hint)
         self.url = url
+
+
+class AddressRefused(DownloadError):
+    """A download (or one of its redirects) would reach a local or private address.
+
+    Attributes:
+        host: the host name of the URL or redirect that was refused.
+        address: the resolved address that is not public.
+        reason: which kind of address it is ("loopback address", "private (LAN) address", ...).
+    """
+
+    def __init__(self, *, url: str, host: str, address: str, reason: str) -> None:
+        where = f"{host} is a {reason}" if host == address else f"{host} resolves to {address}, a {reason}"
+        super().__init__(
+            f"download of {url} refused: {where}; downloads reach only public addresses",
+            url=url,
+            hint="To download from a server on this machine or the lab network, use --allow-local "
+            "(pmk maps download / pmk dashboard).",
+        )
+        self.host = host
+        self.address = address
+        self.reason = reason
 
 
 class ChairLinkError(PmkError):
@@ -142,6 +207,25 @@ class TransferError(PmkError):
         super().__init__(message, hint=hint)
         self.host = host
         self.path = path
+
+
+class UnknownHostKey(TransferError):
+    """The chair presented an SSH host key nobody has confirmed yet (strict checking, the dashboard).
+
+    Attributes:
+        key_type, fingerprint ("SHA256:..."), key_base64: the key as presented, so the one key the
+            user saw and confirmed is the one recorded (:func:`pmk_nb.chair.ssh.trust_host_key`).
+        known_hosts: the file it would be recorded in; ``host`` is the known_hosts name.
+    """
+
+    def __init__(
+        self, message: str, *, host: str, key_type: str, fingerprint: str, key_base64: str, known_hosts: str
+    ) -> None:
+        super().__init__(message, host=host)
+        self.key_type = key_type
+        self.fingerprint = fingerprint
+        self.key_base64 = key_base64
+        self.known_hosts = known_hosts
 
 
 class DeployError(PmkError):

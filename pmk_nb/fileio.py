@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+import stat
 import tempfile
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -21,7 +22,10 @@ Writer = Callable[[BinaryIO], None]
 #: (moved into place by :func:`replace_all`).
 Content = bytes | str | Writer | Path
 
-__all__ = ["Content", "Writer", "atomic_open", "atomic_write", "replace_all"]
+__all__ = ["Content", "Writer", "atomic_open", "atomic_write", "private_dir", "replace_all"]
+
+#: Permission bits a private file or folder must not have (group and others).
+_SHARED_BITS = 0o077
 
 
 def _write(fh: BinaryIO, content: Content) -> None:
@@ -58,10 +62,37 @@ def atomic_open(path: str | os.PathLike[str], *, mode: int = 0o644) -> Iterator[
         raise
 
 
+def private_dir(path: str | os.PathLike[str], *, tighten: bool = False) -> Path:
+    """Create ``path`` (and missing parents) 0700; with ``tighten``, also make an existing one 0700.
+
+    The settings folder holds profiles, the PIN's record and the trusted host keys: other users of
+    the machine need not even list it (issue 30: it was created 0755). ``tighten`` is for the
+    settings folder itself (a lax one from an older version: its files' 0600 hides their content,
+    not their names, and a group-writable folder lets someone swap files in). It changes only a
+    folder this user owns that is not a shared sticky folder (/tmp): never a parent such as ~ or /etc.
+    """
+    folder = Path(path)
+    missing = [p for p in (folder, *folder.parents) if not p.exists()]
+    for part in reversed(missing):  # mkdir(parents=True) would give the parents the umask's mode
+        with contextlib.suppress(FileExistsError):
+            part.mkdir(mode=0o700)
+    info = folder.stat()
+    shared = info.st_mode & stat.S_ISVTX
+    if tighten and info.st_uid == os.getuid() and not shared and info.st_mode & _SHARED_BITS:
+        os.chmod(folder, 0o700)
+    return folder
+
+
 def atomic_write(path: str | os.PathLike[str], content: Content, *, mode: int = 0o644, mkdir: bool = False) -> None:
-    """Replace ``path`` with ``content`` atomically (``mkdir`` creates missing parent folders first)."""
+    """Replace ``path`` with ``content`` atomically (``mkdir`` creates missing parent folders first).
+
+    A private file (``mode`` without group/other bits: settings, secrets) gets a private folder
+    (:func:`private_dir`); other files get the umask's.
+    """
     target = Path(path)
-    if mkdir:
+    if mkdir and not mode & _SHARED_BITS:
+        private_dir(target.parent)
+    elif mkdir:
         target.parent.mkdir(parents=True, exist_ok=True)
     with atomic_open(target, mode=mode) as fh:
         _write(fh, content)

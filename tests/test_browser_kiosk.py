@@ -174,6 +174,9 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
         expect(page.locator(".pmk-maps-preview").first).to_be_visible()
         _shot(page, "3-maps-converted")
         page.locator("button.pmk-maps-send").first.click()
+        expect(page.locator(".pmk-maps-hostkey")).to_contain_text("SHA256:", timeout=60_000)  # first use: asked
+        _shot(page, "4a-maps-host-key")
+        page.locator("button.pmk-maps-hostkey-yes").click()
         expect(page.locator(".pmk-maps-status")).to_contain_text("Sent", timeout=90_000)
         _shot(page, "4-maps-sent")
         page.get_by_role("tab", name="Download").click()

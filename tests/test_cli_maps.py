@@ -94,13 +94,15 @@ def test_import_refuses_html(capsys: pytest.CaptureFixture[str], maps: Path, tmp
 
 
 def test_download(capsys: pytest.CaptureFixture[str], maps: Path, web: str) -> None:
-    code, out, _ = pmk(capsys, maps, "download", f"{web}/map.gml", "remote")
+    code, _, err = pmk(capsys, maps, "download", f"{web}/map.gml", "remote")  # a loopback server: refused
+    assert code == 2 and "127.0.0.1 is a loopback address" in err and "--allow-local" in err
+    code, out, _ = pmk(capsys, maps, "download", f"{web}/map.gml", "remote", "--allow-local")
     assert code == 0 and "as map 'remote'" in out
     assert (maps / "remote.gml").read_bytes() == two_rooms()
 
-    code, _, err = pmk(capsys, maps, "download", f"{web}/index.html", "page")
+    code, _, err = pmk(capsys, maps, "download", f"{web}/index.html", "page", "--allow-local")
     assert code == 2 and "web page" in err
-    code, _, err = pmk(capsys, maps, "download", f"{web}/nothing.gml", "x")
+    code, _, err = pmk(capsys, maps, "download", f"{web}/nothing.gml", "x", "--allow-local")
     assert code == 2 and "HTTP 404" in err
     code, _, err = pmk(capsys, maps, "download", "file:///etc/hostname", "x")
     assert code == 2 and "only http:// and https://" in err

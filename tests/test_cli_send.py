@@ -66,7 +66,8 @@ def test_send_storey_with_password_from_stdin(
     pmk: Pmk, house: MapsFolder, sim_factory: Any, sshd_server: SshdServer, remote_maps_dir: str,
     link_factory: Callable[[Any], ChairLink], tmp_path: Path,
 ) -> None:  # fmt: skip
-    sim = sim_factory(grid=room_grid(), reload_services=("map_update",))
+    # the sim's map server reads only its maps folder (issue 30): the sshd user's home, where the upload lands
+    sim = sim_factory(grid=room_grid(), reload_services=("map_update",), maps_dir=sshd_server.home)
     add_profile(pmk, sim, sshd_server, remote_maps_dir, tmp_path)
 
     several = pmk("send", "house", "--chair", "bench-chair", "--password-stdin", stdin=sshd_server.password + "\n")

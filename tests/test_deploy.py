@@ -185,8 +185,9 @@ def test_openssh_upload_then_sim_reload(
     link_factory: Callable[[Any], ChairLink],
     tmp_path: Path,
 ) -> None:
-    """The real sshd writes into the test user's home; the simulator's map server loads that path."""
-    sim = sim_factory(grid=grid_of(30, 30, seed=13), reload_services=("change_map",))
+    """The real sshd writes into the test user's home; the simulator's map server loads that path (its
+    maps folder is that home: a map server reads only its folder, issue 30)."""
+    sim = sim_factory(grid=grid_of(30, 30, seed=13), reload_services=("change_map",), maps_dir=sshd_server.home)
     new = grid_of(75, 55, seed=14, origin=(0.5, 0.25))
     files = write_map(new, tmp_path / "local", "real")
     profile = profile_for(sshd_server, tmp_path, remote_maps_dir, name="real", host="127.0.0.1", port=sim.port)

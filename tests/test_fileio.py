@@ -53,3 +53,41 @@ def test_a_file_on_another_file_system_is_copied(tmp_path: Path, monkeypatch: py
     replace_all(tmp_path, [("m.pgm", image)])
     assert (tmp_path / "m.pgm").read_bytes() == b"P5 new" and image.exists()
     assert (tmp_path / "m.pgm").stat().st_ino != image.stat().st_ino
+
+
+def test_the_settings_folder_is_private(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 30: the settings folder was created 0755; now 0700, and an old lax one is tightened."""
+    previous = os.umask(0o022)
+    try:
+        _settings_folder_is_private(tmp_path, monkeypatch)
+    finally:
+        os.umask(previous)
+
+
+def _settings_folder_is_private(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from pmk_nb.chair.profiles import ChairProfile, ProfileStore
+
+    fresh = tmp_path / "new" / "pmk_nb"
+    monkeypatch.setenv("PMK_CONFIG_DIR", str(fresh))
+    ProfileStore().save(ChairProfile(name="lab", host="127.0.0.1"))
+    assert stat.S_IMODE(fresh.stat().st_mode) == 0o700
+    assert stat.S_IMODE(fresh.parent.stat().st_mode) == 0o700  # a missing parent too
+    old = tmp_path / "old"
+    old.mkdir()
+    os.chmod(old, 0o755)
+    ProfileStore(old / "profiles.json").save(ChairProfile(name="lab", host="127.0.0.1"))
+    assert stat.S_IMODE(old.stat().st_mode) == 0o700  # the settings folder of an older version: tightened
+    shared_tmp = tmp_path / "tmp"
+    shared_tmp.mkdir()
+    os.chmod(shared_tmp, 0o1777)
+    beside = tmp_path / "home"
+    beside.mkdir()
+    os.chmod(beside, 0o755)
+    fileio.atomic_write(shared_tmp / "known_hosts", "", mode=0o600, mkdir=True)  # a file's existing folder:
+    fileio.atomic_write(beside / "known_hosts", "", mode=0o600, mkdir=True)  # never changed
+    assert stat.S_IMODE(beside.stat().st_mode) == 0o755 and stat.S_IMODE(shared_tmp.stat().st_mode) == 0o1777
+    fileio.private_dir(shared_tmp, tighten=True)  # nor a shared sticky folder, even when asked
+    assert stat.S_IMODE(shared_tmp.stat().st_mode) == 0o1777
+    shared = tmp_path / "maps"
+    fileio.atomic_write(shared / "m.yaml", "", mkdir=True)  # a shared file keeps a shared folder
+    assert stat.S_IMODE(shared.stat().st_mode) == 0o755

@@ -76,9 +76,9 @@ def test_load_map_nav2_codes(sim_factory, ros_factory, maps, url, code):
     assert (reply["map"]["info"]["width"] > 0) == (code == 0)
 
 
-def test_map_update_original_service(sim_chair, ros_factory, maps):
-    _, _, walled = maps
-    ros = ros_factory(sim_chair)
+def test_map_update_original_service(sim_factory, ros_factory, maps):
+    folder, _, walled = maps
+    ros = ros_factory(sim_factory(maps_dir=folder))  # the map server reads only its maps folder (issue 30)
     assert call(ros, "/map_update", "map_server_pmk/MapUpdate", {"path": str(walled)}) == {"done": True}
     assert latest_map(ros).width == 120
     assert call(ros, "/map_update", "map_server_pmk/MapUpdate", {"path": "/nowhere/x.yaml"}) == {"done": False}

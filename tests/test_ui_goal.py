@@ -129,3 +129,21 @@ def test_how_a_tapped_goal_ends_is_said_in_words() -> None:
     assert _ending(GoalStatus.ARRIVED)[1] == "Arrived at the destination."
     assert _ending(GoalStatus.CANCELLED)[1] == "Stopped, goal cancelled."
     assert _ending(GoalStatus.ABORTED)[1] == _ending(GoalStatus.REJECTED)[1] == "Could not reach the destination."
+
+
+def test_an_error_note_is_escaped_not_markup() -> None:
+    """Issue 30: a failed send put the error's text into the panel's HTML unescaped."""
+    from pmk_nb.errors import ChairLinkError
+
+    class _Failing:
+        def navigate_to(self, *_goal: float) -> None:
+            raise ChairLinkError("bad answer <img src=x onerror=alert(1)>")
+
+    panel = GoalPanel(LiveView(600, 400))
+    errors: list[str] = []
+    panel.on_error = errors.append
+    panel.speak = lambda _said: None
+    panel._send(_Failing(), (1.0, 2.0, 0.0))
+    panel.refresh()
+    assert "<img" not in panel.status.value and "&lt;img src=x onerror=alert(1)&gt;" in panel.status.value
+    assert errors and "<img" in errors[0]  # the message itself is plain text; its renderer escapes it

@@ -39,6 +39,12 @@ def send_buttons(screen: MapsScreen) -> list[Any]:
     return screen._send_buttons()
 
 
+def trust_sim_key(sim: Any, known_hosts: Path) -> None:
+    """Record the simulator's SSH host key, as a user confirming it once would (tests/test_ui_host_key.py)."""
+    kind, blob = sim.sftp_host_key.split()[:2]
+    known_hosts.write_text(f"[127.0.0.1]:{sim.sftp_port} {kind} {blob}\n")
+
+
 @pytest.mark.parametrize("raw", ["0.05", " 0.1 ", "1", "0,05"])
 def test_resolution_accepts(raw: str) -> None:
     assert 0 < parse_resolution(raw) <= 1
@@ -158,6 +164,7 @@ def test_convert_and_send_to_the_simulator(
             known_hosts=str(tmp_path / "known_hosts"),
         )
     )
+    trust_sim_key(sim, tmp_path / "known_hosts")
     # password auth with no stored password: Send asks for it in the page
     send_buttons(screen)[1].click()
     assert screen.password_box.layout.display == "flex"
@@ -193,6 +200,7 @@ def test_send_with_key_login_to_a_key_only_chair(
     assert sim.sftp_password is None
     profile = sim_profile(sim, tmp_path, name="keyed", auth="key", key_file=str(private))
     ctx.profiles.save(profile)
+    trust_sim_key(sim, Path(profile.known_hosts))
     send_buttons(screen)[0].click()
     assert screen.password_box.layout.display == "none"  # no password asked for
     wait_until(lambda: ctx.current_map or errors(ctx), what="the map to be sent")
@@ -266,6 +274,7 @@ def _closed_port() -> int:
 
 
 def test_download_then_confirm_overwrite(screen: MapsScreen, ctx: AppContext, web: str) -> None:
+    ctx.maps.allow_local = True  # the test server is on 127.0.0.1 (pmk dashboard --allow-local)
     screen.tabs.selected_index = 1
     screen.downloader.url.value, screen.downloader.name.value = f"{web}/house.gml", "clinic"
     screen.downloader.button.click()
@@ -288,12 +297,22 @@ def test_download_then_confirm_overwrite(screen: MapsScreen, ctx: AppContext, we
 def test_download_failures_are_explained(
     screen: MapsScreen, ctx: AppContext, web: str, path: str | None, expect: str
 ) -> None:
+    ctx.maps.allow_local = True  # the test server is on 127.0.0.1 (pmk dashboard --allow-local)
     url = f"{web}{path}" if path else f"http://127.0.0.1:{_closed_port()}/x.gml"
     screen.downloader.url.value, screen.downloader.name.value = url, "bad"
     screen.downloader.button.click()
     wait_until(lambda: "pmk-msg-error" in screen.downloader.status.value, what="failure message")
     assert expect in screen.downloader.status.value
     assert not ctx.maps.exists("bad")
+
+
+def test_a_loopback_download_is_refused_by_default(screen: MapsScreen, ctx: AppContext, web: str) -> None:
+    """Issue 30 (SSRF): the page could make the kernel fetch a loopback or LAN address and show it."""
+    screen.downloader.url.value, screen.downloader.name.value = f"{web}/house.gml", "inside"
+    screen.downloader.button.click()
+    wait_until(lambda: "pmk-msg-error" in screen.downloader.status.value, what="refusal")
+    assert "loopback address" in screen.downloader.status.value and "--allow-local" in screen.downloader.status.value
+    assert not ctx.maps.exists("inside")
 
 
 def test_download_validates_inputs(screen: MapsScreen, ctx: AppContext) -> None:

@@ -23,7 +23,7 @@ import platformdirs
 
 from pmk_nb.chair.secrets import PasswordCache, SecretBackend, SshAccount
 from pmk_nb.errors import SettingsError
-from pmk_nb.fileio import atomic_write
+from pmk_nb.fileio import atomic_write, private_dir
 
 POSE_SOURCES = ("odometry", "pose_topic", "tf")
 AUTH_METHODS = ("password", "key")
@@ -251,7 +251,8 @@ class ProfileStore:
         return raw
 
     def _write(self, data: dict[str, Any]) -> None:
-        atomic_write(self.path, json.dumps(data, indent=2) + "\n", mode=0o600, mkdir=True)
+        private_dir(self.path.parent, tighten=True)  # the settings folder: 0700, an older lax one too
+        atomic_write(self.path, json.dumps(data, indent=2) + "\n", mode=0o600)
 
     def _read_for_update(self) -> dict[str, Any]:
         """Current content; a broken file is moved aside to ``.bak`` (never silently overwritten)."""

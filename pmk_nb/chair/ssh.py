@@ -1,7 +1,9 @@
 """SSH connections to the chair with verified host keys (used by the map transfer and `pmk chair test`).
 
 Host keys live in our own known_hosts file (``ChairProfile.known_hosts_path``). Unknown keys are
-trusted on first use (recorded, fingerprint reported) or refused in strict mode; a *changed* key is
+trusted on first use (recorded, fingerprint reported) or refused in strict mode (the dashboard's:
+:class:`UnknownHostKey` carries the key it shows for confirmation, then :func:`trust_host_key`
+records that key); a *changed* key is
 always refused with the command that clears the old entry. Every network step has a timeout and
 every failure becomes a TransferError naming user@host:port and what to check.
 """
@@ -22,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import paramiko
 from paramiko.sftp import SFTP_OP_UNSUPPORTED
 
-from pmk_nb.errors import TransferError
+from pmk_nb.errors import TransferError, UnknownHostKey
 from pmk_nb.fileio import atomic_write
 
 if TYPE_CHECKING:
@@ -64,11 +66,13 @@ class VerifyingHostKeyPolicy(paramiko.MissingHostKeyPolicy):
     def missing_host_key(self, client: paramiko.SSHClient, hostname: str, key: paramiko.PKey) -> None:
         fp = fingerprint(key)
         if self.strict:
-            raise TransferError(
+            raise UnknownHostKey(
                 f"{hostname}: unknown SSH host key {key.get_name()} {fp} and strict host key checking is on; "
                 f"check the fingerprint on the chair (ssh-keygen -lf /etc/ssh/ssh_host_*_key.pub), then add "
-                f"the key to {self.known_hosts} or connect once with host_key_check='tofu'"
-            )
+                f"the key to {self.known_hosts} or connect once with host_key_check='tofu'",
+                host=hostname, key_type=key.get_name(), fingerprint=fp, key_base64=key.get_base64(),
+                known_hosts=str(self.known_hosts),
+            )  # fmt: skip
         append_known_host(self.known_hosts, hostname, key)
         client.get_host_keys().add(hostname, key.get_name(), key)
         self.recorded = HostKeyInfo(hostname, key.get_name(), fp, True, self.known_hosts)
@@ -76,10 +80,20 @@ class VerifyingHostKeyPolicy(paramiko.MissingHostKeyPolicy):
 
 def append_known_host(path: Path, hostname: str, key: paramiko.PKey) -> None:
     """Add one line to a known_hosts file atomically, keeping other entries (0600, like ssh's own)."""
+    _append_line(path, f"{hostname} {key.get_name()} {key.get_base64()}")
+
+
+def trust_host_key(unknown: UnknownHostKey) -> None:
+    """Record the key a user saw and confirmed (the dashboard's first-use step): exactly that key, so a
+    different one presented at the next connection is refused as changed."""
+    _append_line(Path(unknown.known_hosts), f"{unknown.host} {unknown.key_type} {unknown.key_base64}")
+
+
+def _append_line(path: Path, line: str) -> None:
     old = path.read_text(encoding="utf-8") if path.exists() else ""
     if old and not old.endswith("\n"):
         old += "\n"
-    atomic_write(path, old + f"{hostname} {key.get_name()} {key.get_base64()}\n", mode=0o600, mkdir=True)
+    atomic_write(path, old + line + "\n", mode=0o600, mkdir=True)
 
 
 class SftpUnsupported(OSError):

@@ -40,6 +40,11 @@ def add_parser(subparsers: Any) -> None:
         help="locked-down tablet page: Home only with big buttons, Maps and Settings behind the PIN set in "
         "Settings, screen kept on; implies --preview-on-start",
     )
+    p.add_argument(
+        "--allow-local",
+        action="store_true",
+        help="let the Maps screen download from loopback and LAN addresses (a lab server); refused by default",
+    )
     p.set_defaults(run=run)
 
 
@@ -53,6 +58,9 @@ def run(args: argparse.Namespace) -> int:
     if args.preview_on_start or args.kiosk:
         env[AUTOSTART_ENV] = "1"
     env[KIOSK_ENV] = "1" if args.kiosk else "0"
+    from pmk_nb.library.netguard import ALLOW_LOCAL_ENV  # here: the HTTP modules stay out of `pmk --help`
+
+    env[ALLOW_LOCAL_ENV] = "1" if getattr(args, "allow_local", False) else "0"
     token = preflight(args, env)
     with sigterm_as_interrupt(), tempfile.TemporaryDirectory(prefix="pmk-dashboard-") as tmp:
         return serve(args, env, Path(tmp), token)

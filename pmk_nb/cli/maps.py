@@ -48,6 +48,11 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     dl.add_argument("--timeout", type=float, default=30.0, help="seconds without data before giving up")
     dl.add_argument("--deadline", type=float, default=120.0, help="seconds the whole download may take")
     dl.add_argument("--max-mb", type=float, default=50.0, help="refuse files larger than this (MiB)")
+    dl.add_argument(
+        "--allow-local",
+        action="store_true",
+        help="also download from loopback and LAN addresses (a lab server); refused by default",
+    )
 
     cv = sub.add_parser(
         "convert", parents=[common], help="generate map_server files (YAML + image + preview) from a map"
@@ -79,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     from pmk_nb.library.folder import MapsFolder
 
-    folder = MapsFolder(args.dir)
+    folder = MapsFolder(args.dir, allow_local=getattr(args, "allow_local", None) or None)
     action = args.maps_command
     if action == "list":
         return _list(folder)

@@ -19,6 +19,7 @@ from urllib.parse import urlsplit
 
 from pmk_nb import __version__
 from pmk_nb.errors import DownloadError, LibraryError
+from pmk_nb.library.netguard import guarded_handlers
 from pmk_nb.progress import ProgressCallback, emit
 
 DEFAULT_TIMEOUT = 30.0  # seconds without any data (a stall)
@@ -83,6 +84,7 @@ def fetch(
     deadline: float = DEFAULT_DEADLINE,
     max_bytes: int = DEFAULT_MAX_BYTES,
     progress: ProgressCallback | None = None,
+    allow_local: bool = False,
 ) -> int:
     """Stream the body of ``url`` into ``out``.
 
@@ -94,16 +96,19 @@ def fetch(
             beat ``timeout`` is cut off here.
         max_bytes: the download is refused past this many bytes.
         progress: ``download`` reports; the fraction is None when the server sends no Content-Length.
+        allow_local: also reach loopback, LAN and other non-public addresses (labs); by default the
+            host and every redirect's host must resolve to public addresses only
+            (:mod:`pmk_nb.library.netguard`).
 
     Returns:
         The number of bytes written.
 
     Raises:
         DownloadError: naming the cause (redirect, DNS, refused, HTTP status, timeout, deadline, size,
-            short body); LibraryError for a malformed URL.
+            short body); AddressRefused for a non-public address; LibraryError for a malformed URL.
     """
     _, host = check_url(url)
-    opener = urllib.request.build_opener(_HttpOnlyRedirects)
+    opener = urllib.request.build_opener(_HttpOnlyRedirects, *guarded_handlers(allow_local))
     request = urllib.request.Request(
         url.strip(), headers={"User-Agent": f"pmk-nb/{__version__}", "Accept": "application/xml, text/xml, */*"}
     )

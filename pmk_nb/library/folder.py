@@ -11,7 +11,6 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import os
-import re
 import shutil
 import tempfile
 from collections.abc import Callable, Sequence
@@ -27,15 +26,13 @@ from pmk_nb.indoorgml.sniff import check_indoorgml
 from pmk_nb.library.convert import ConvertOptions, convert_plan
 from pmk_nb.library.download import DEFAULT_DEADLINE, DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
 from pmk_nb.library.info import StoreyCache, StoreyInfo
+from pmk_nb.library.naming import SOURCE_SUFFIXES, check_name
+from pmk_nb.library.netguard import ALLOW_LOCAL_ENV
 from pmk_nb.library.scan import GeneratedMap, scan_generated
 from pmk_nb.progress import ProgressCallback
 from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
 __all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "StoreyInfo", "check_name", "default_maps_dir"]
-
-SOURCE_SUFFIXES = (".gml", ".xml")
-MAX_NAME_LENGTH = 100
-_NAME_RE = re.compile(r"^[\w .-]+$")
 
 
 def default_maps_dir() -> Path:
@@ -52,34 +49,6 @@ def default_maps_dir() -> Path:
     except OSError as err:
         raise LibraryError(f"cannot create the maps folder {path}: {err.strerror or err}") from err
     return path
-
-
-def check_name(name: str) -> str:
-    """Validate a map name given by the user; returns it without a ``.gml``/``.xml`` suffix.
-
-    Raises:
-        LibraryError: empty, too long, a path separator, a leading dot, or other characters than
-            letters, digits, space, ``-``, ``_`` and ``.``.
-    """
-    if not isinstance(name, str) or not name.strip():
-        raise LibraryError("a map name is required")
-    if name.lower().endswith(SOURCE_SUFFIXES):
-        name = name[:-4]
-    problem = None
-    if "/" in name or "\\" in name or os.sep in name:
-        problem = "must not contain a path separator"
-    elif name.startswith("."):
-        problem = "must not start with a dot"
-    elif name != name.strip():
-        problem = "must not start or end with a space"
-    elif len(name) > MAX_NAME_LENGTH:
-        problem = f"is {len(name)} characters long; at most {MAX_NAME_LENGTH} are allowed"
-    elif not _NAME_RE.match(name):
-        bad = sorted({c for c in name if not _NAME_RE.match(c)})
-        problem = f"contains {''.join(bad)!r}; use letters, digits, space, '-', '_' and '.'"
-    if problem:
-        raise LibraryError(f"invalid map name {name!r}: it {problem}")
-    return name
 
 
 @dataclass
@@ -109,10 +78,13 @@ class MapsFolder:
 
     Args:
         root: the folder; defaults to :func:`default_maps_dir`. It is created when first written to.
+        allow_local: downloads may reach loopback and LAN addresses (labs); None reads the environment
+            (``pmk dashboard --allow-local`` sets it for the kernel).
     """
 
-    def __init__(self, root: str | os.PathLike[str] | None = None) -> None:
+    def __init__(self, root: str | os.PathLike[str] | None = None, *, allow_local: bool | None = None) -> None:
         self.root = Path(root).expanduser() if root is not None else default_maps_dir()
+        self.allow_local = os.environ.get(ALLOW_LOCAL_ENV) == "1" if allow_local is None else bool(allow_local)
         self._sha_cache: dict[Path, tuple[int, int, str]] = {}
         self._storey_cache = StoreyCache()
 
@@ -280,7 +252,7 @@ class MapsFolder:
 
         The name is checked before any network access; the body goes to a temp file that is checked
         to be IndoorGML and then renamed into place, so a failure leaves no file behind and an
-        existing map untouched.
+        existing map untouched. Only public addresses are reached unless the folder ``allow_local``.
 
         Raises:
             LibraryError: invalid name or URL, name taken without ``overwrite``, DNS / connection /
@@ -292,7 +264,8 @@ class MapsFolder:
         self._ensure_root()
 
         def save(out: BinaryIO) -> None:
-            fetch(url, out, timeout=timeout, deadline=deadline, max_bytes=max_bytes, progress=progress)
+            limits = {"timeout": timeout, "deadline": deadline, "max_bytes": max_bytes}
+            fetch(url, out, **limits, progress=progress, allow_local=self.allow_local)
 
         failure = f"cannot save the download as {name!r} in {self.root}"
         return self._add_source(name, overwrite, ".part", save, "url", what=f"the file at {url}", failure=failure)
@@ -397,4 +370,3 @@ def _lookup_name(name: str) -> str:
     if not isinstance(name, str) or not name or "/" in name or "\\" in name or name.startswith("."):
         raise LibraryError(f"invalid map name {name!r}")
     return name[:-4] if name.lower().endswith(SOURCE_SUFFIXES) else name
-

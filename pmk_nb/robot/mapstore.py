@@ -1,8 +1,9 @@
 """The PMK map server's state, shared by the ROS 2 (rclpy) and ROS 1 (rospy) nodes: no ROS here.
 
 A request names a YAML path; the store reads it with the project's reader (:func:`pmk_nb.rosmap.read_map`,
-so the chair publishes exactly what the dashboard previewed), refuses anything outside its maps
-folder (symlinks followed) and answers with Nav2's result codes. ``info`` is the cheap answer a deploy
+so the chair publishes exactly what the dashboard previewed), refuses a YAML or an image outside its
+maps folder (symlinks followed) and an image too large to decode (:mod:`pmk_nb.rosmap.guard`), and
+answers with Nav2's result codes. ``info`` is the cheap answer a deploy
 confirms with: header facts, metadata and the SHA-256 of the grid as published.
 """
 
@@ -64,7 +65,7 @@ class MapStore:
         if path is None:
             return MAP_DOES_NOT_EXIST, f"refused {request!r}: outside the maps folder {self.maps_dir}"
         try:
-            grid = read_map(path, reader=self.reader)
+            grid = read_map(path, reader=self.reader, within=self.maps_dir)  # the image confined too
         except MapLoadError as err:
             return err.code, str(err)
         except Exception as err:  # an unexpected reader failure is Nav2's "undefined"

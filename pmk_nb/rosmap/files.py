@@ -20,9 +20,14 @@ from typing import Any
 import numpy as np
 
 from pmk_nb import __version__
+from pmk_nb.errors import INVALID_MAP_DATA as INVALID_MAP_DATA  # the Nav2 codes and error: re-exported
+from pmk_nb.errors import INVALID_MAP_METADATA as INVALID_MAP_METADATA
+from pmk_nb.errors import MAP_DOES_NOT_EXIST as MAP_DOES_NOT_EXIST
 from pmk_nb.errors import MapFormatError
+from pmk_nb.errors import MapLoadError as MapLoadError
 from pmk_nb.fileio import Content, Writer, replace_all
 from pmk_nb.grid import OccupancyGrid, nice_ceil
+from pmk_nb.rosmap.guard import check_pixels, confine, pixel_cap
 from pmk_nb.rosmap.image import (
     MODES,
     READERS,
@@ -34,24 +39,11 @@ from pmk_nb.rosmap.image import (
     write_pgm,
 )
 
-# nav2_msgs/srv/LoadMap result codes
-MAP_DOES_NOT_EXIST = 1
-INVALID_MAP_DATA = 2
-INVALID_MAP_METADATA = 3
-
 NAV2_MAX_CELLS_PER_SIDE = 32767
 PREVIEW_MAX_SIDE = 4096
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.196
 _STANDARD_KEYS = ("image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode")
-
-
-class MapLoadError(MapFormatError):
-    """A map could not be loaded; ``code`` is the Nav2 LoadMap result a map server would return."""
-
-    def __init__(self, message: str, code: int, *, path: str | None = None) -> None:
-        super().__init__(message, path=path)
-        self.code = code
 
 
 @dataclass
@@ -183,23 +175,35 @@ def read_map_yaml(yaml_path: str | Path) -> MapYaml:
     )
 
 
-def read_map(yaml_path: str | Path, *, reader: ImageReader = "ros1") -> OccupancyGrid:
+def read_map(
+    yaml_path: str | Path, *, reader: ImageReader = "ros1", within: Path | None = None, max_pixels: int | None = None
+) -> OccupancyGrid:
     """Load a map as the map server ``reader`` ("ros1", "nav2_humble", "nav2_jazzy") would publish it.
 
-    Returns an OccupancyGrid (row 0 = bottom) whose ``meta`` holds the YAML's extra keys.
+    Returns an OccupancyGrid (row 0 = bottom) whose ``meta`` holds the YAML's extra keys. ``within``
+    (a map server's folder) confines the YAML and its image, symlinks followed; ``max_pixels``
+    (default ``PMK_MAP_MAX_PIXELS`` or :data:`~pmk_nb.rosmap.guard.MAX_MAP_PIXELS`) caps the image's
+    size, read from its header before decoding.
 
     Raises:
         MapLoadError: code 3 for YAML problems, 2 when the image is missing or unreadable (or, for
-            nav2_jazzy, wider/taller than 32767 cells).
+            nav2_jazzy, wider/taller than 32767 cells); MapOutsideFolder, MapImageTooLarge.
     """
     if reader not in READERS:
         raise ValueError(f"unknown map reader {reader!r}; use one of {', '.join(READERS)}")
+    if within is not None:
+        confine(Path(yaml_path), within, what="YAML")
     info = read_map_yaml(yaml_path)
+    if within is not None:
+        confine(info.image, within, what="image", yaml=info.path)
     try:
+        check_pixels(info.image, pixel_cap() if max_pixels is None else max_pixels)
         img = decode_image(info.image)
     except FileNotFoundError as err:
         msg = f"{info.path}: image file {info.image} not found"
         raise MapLoadError(msg, INVALID_MAP_DATA, path=str(info.image)) from err
+    except MapLoadError:
+        raise
     except Exception as err:  # Pillow raises many types for corrupt files
         msg = f"{info.path}: cannot read image {info.image}: {err}"
         raise MapLoadError(msg, INVALID_MAP_DATA, path=str(info.image)) from err

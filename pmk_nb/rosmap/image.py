@@ -271,13 +271,20 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
 def header_size(path: Path) -> tuple[int, int] | None:
-    """(width, height) read from a PGM or PNG header without decoding, else None (another format: ask
-    Pillow). Pillow refuses to even open an image over its decompression-bomb limit, and a large map of
-    ours (a 1 km plan at 0.05 m) is one: listing it must still say its size."""
+    """(width, height) read from a PGM, PNG or BMP header without decoding, else None (another format:
+    ask Pillow). Pillow refuses to even open an image over its decompression-bomb limit, and a large map
+    of ours (a 1 km plan at 0.05 m) is one: listing it must still say its size; map readers check it
+    against their pixel cap before decoding (issue 30)."""
     with open(path, "rb") as fh:
         head = fh.read(512)
     if head.startswith(PNG_SIGNATURE) and head[12:16] == b"IHDR":
         return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+    if head[:2] == b"BM" and len(head) >= 26:
+        if int.from_bytes(head[14:18], "little") == 12:  # OS/2 BITMAPCOREHEADER: 16-bit sides
+            return int.from_bytes(head[18:20], "little"), int.from_bytes(head[20:22], "little")
+        width = int.from_bytes(head[18:22], "little", signed=True)
+        height = int.from_bytes(head[22:26], "little", signed=True)  # negative: rows stored top-down
+        return abs(width), abs(height)
     if head[:2] not in (b"P5", b"P2"):
         return None
     words: list[bytes] = []

@@ -119,7 +119,7 @@ class MapServer:
         host_path = self.fs.map_server_path(path)
         async with self._lock:
             try:
-                grid = await asyncio.to_thread(read_map, host_path, reader=self.image_reader)
+                grid = await asyncio.to_thread(read_map, host_path, reader=self.image_reader, within=self.fs.maps_dir)
                 await self.set_grid(grid, host_path)
             except MapLoadError as err:
                 return err.code, str(err)

@@ -7,7 +7,8 @@ is the same file the map server loads for any of those paths.
 
 Map server only (the sim runs on the host, tests hand it real files): a relative path resolves
 against ``maps_dir`` (its working folder), ``~`` is not expanded (real map servers do not), and an
-absolute host path outside the virtual maps folder is used as it is.
+absolute host path outside the virtual maps folder is used as it is, and then refused by the reader
+(``read_map(within=maps_dir)``: a chair's map server reads only its maps folder, issue 30).
 """
 
 from __future__ import annotations

@@ -30,9 +30,14 @@ log = logging.getLogger(__name__)
 
 
 def status_html(goal: Goal | None, progress: GoalProgress | None, note: str = "") -> str:
-    """The panel's text: the goal, its status word, the metres left and the route's message."""
+    """The panel's text: the goal, its status word, the metres left and the route's message.
+
+    ``note`` is plain text (an error's words can quote a server or a file), escaped here.
+    """
     if goal is None:
-        return note or "No destination. Press <b>Set destination</b>, then tap the map (drag to set the heading)."
+        if note:
+            return escape(note)
+        return "No destination. Press <b>Set destination</b>, then tap the map (drag to set the heading)."
     where = f"Destination ({goal[0]:.2f}, {goal[1]:.2f})"
     if progress is None:
         return f"{where}: <b class='pmk-goal-word'>sending</b>{escape(note)}"

@@ -18,6 +18,7 @@ import ipywidgets as w
 from pmk_nb.access.check import profile_chair_width
 from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
+from pmk_nb.ui.host_key_prompt import HostKeyPrompt, strict
 from pmk_nb.ui.maps_access import AccessPanel
 from pmk_nb.ui.maps_cards import generated_card, map_label
 from pmk_nb.ui.maps_choices import ChoicesPanel
@@ -26,6 +27,7 @@ from pmk_nb.ui.maps_import import ImportPanel
 from pmk_nb.ui.maps_storeys import StoreysPanel
 from pmk_nb.ui.widgets import (
     button,
+    buttons_in,
     escape,
     field_error,
     guard,
@@ -90,6 +92,7 @@ class MapsScreen:
         self._pending_send: GeneratedMap | None = None
         self.status = w.HTML("")
         self.status.add_class("pmk-maps-status")
+        self.host_key = HostKeyPrompt(ctx, self.send_progress, self.status)  # first SSH host key (issue 30)
         self.storeys_panel = StoreysPanel(ctx, on_loaded=self._storeys_loaded)
         self.access_panel = AccessPanel()  # wheelchair access of the converted storeys
         self.choices = ChoicesPanel(ctx, on_unit=self.storeys_panel.set_unit)  # the plan's unit, not-windows
@@ -112,6 +115,7 @@ class MapsScreen:
                 self.generated_box,
                 self.access_panel.widget,
                 self.password_box,
+                self.host_key.widget,
                 self.send_progress,
                 self.status,
             ],
@@ -328,6 +332,7 @@ class MapsScreen:
         set_progress(self.send_progress, 0.0)
         name = Path(gm.yaml).stem
         self.status.value = f"Sending {escape(name)} to {escape(profile.name)}…"
+        failed = show_failure(self.send_progress, self.status)
 
         def work() -> Any:
             from pmk_nb.chair.deploy import deploy
@@ -339,7 +344,7 @@ class MapsScreen:
                 link.connect(timeout=CONNECT_TIMEOUT)
             return deploy(
                 files,
-                profile,
+                strict(profile),  # an unknown host key stops before the upload, for self.host_key to ask
                 password=password,
                 link=link,
                 progress=progress_callback(self.send_progress, self.status),
@@ -358,13 +363,13 @@ class MapsScreen:
             "Sending",
             work,
             on_done=done,
-            on_error=show_failure(self.send_progress, self.status),
+            on_error=lambda err: self.host_key.ask(err, lambda: self.send(gm, password)) or failed(err),
             busy=[*self._send_buttons(), self.convert_button],
             exclusive=self._files_lock,
         )
 
     def _send_buttons(self) -> list[w.Button]:
-        return _buttons_in(self.generated_box)
+        return buttons_in(self.generated_box)
 
     def _password_entered(self) -> Any:
         gm = self._pending_send
@@ -391,9 +396,3 @@ class MapsScreen:
 
     def close(self) -> None:
         self.widget.close()
-
-
-def _buttons_in(widget: w.Widget) -> list[w.Button]:
-    if isinstance(widget, w.Button):
-        return [widget]
-    return [b for child in getattr(widget, "children", ()) for b in _buttons_in(child)]

@@ -301,6 +301,13 @@ def run_in_thread(
     return thread
 
 
+def buttons_in(widget: w.Widget) -> list[w.Button]:
+    """Every button inside ``widget`` (to disable them while a job runs)."""
+    if isinstance(widget, w.Button):
+        return [widget]
+    return [b for child in getattr(widget, "children", ()) for b in buttons_in(child)]
+
+
 class ConfirmBox:
     """An explicit in-page "are you sure?" step (a Voilà page has no modal dialogs).
 
