@@ -73,3 +73,10 @@ def generated_card(
     )
     card.add_class("pmk-maps-card")
     return card
+
+
+def buttons_in(widget: w.Widget) -> list[w.Button]:
+    """Every button in a widget tree (the Send buttons of the cards, disabled while sending)."""
+    if isinstance(widget, w.Button):
+        return [widget]
+    return [b for child in getattr(widget, "children", ()) for b in buttons_in(child)]

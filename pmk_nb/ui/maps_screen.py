@@ -18,8 +18,9 @@ import ipywidgets as w
 from pmk_nb.access.check import profile_chair_width
 from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
+from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.maps_access import AccessPanel
-from pmk_nb.ui.maps_cards import generated_card, map_label
+from pmk_nb.ui.maps_cards import buttons_in, generated_card, map_label
 from pmk_nb.ui.maps_choices import ChoicesPanel
 from pmk_nb.ui.maps_download import DownloadPanel
 from pmk_nb.ui.maps_import import ImportPanel
@@ -32,6 +33,7 @@ from pmk_nb.ui.widgets import (
     heading,
     progress_bar,
     progress_callback,
+    replace_children,
     run_in_thread,
     set_progress,
     show_failure,
@@ -211,7 +213,7 @@ class MapsScreen:
             self.title.value = "<div class='pmk-heading'>Select a map</div>"
             self.details.value = "<p>Tap a map in the list, or import / download one.</p>"
             self.convert_row.layout.display = "none"
-            self.generated_box.children = ()
+            replace_children(self.generated_box, ())
             self.storeys_panel.show(None)
             self.access_panel.show(None, [])
             self.choices.show(None, [])
@@ -228,7 +230,7 @@ class MapsScreen:
         self.storeys_panel.show(entry)
         known = self.ctx.maps.cached_storeys(entry)  # one storey of several converted: still say which
         several = len(entry.generated) > 1 or (known is not None and len(known) > 1)
-        self.generated_box.children = tuple(self._generated_card(g, several) for g in entry.generated)
+        replace_children(self.generated_box, [self._generated_card(g, several) for g in entry.generated])
         docs = [sidecar_doc(g.yaml) for g in entry.generated]  # the rooms files, read once for both panels
         self.access_panel.show(entry, docs)
         self.choices.show(entry, docs)
@@ -256,6 +258,7 @@ class MapsScreen:
         self.info_widget.value = f"<div>Maps: {len(self.entries)}</div><div>Current map: <b>{cur}</b></div>"
 
     # -- convert -----------------------------------------------------------------------------------
+    @needs_pin("Converting")
     def convert(self) -> Any:
         """Convert the selected map at the typed resolution (in a thread); returns the thread."""
         entry = self._selected()
@@ -310,6 +313,7 @@ class MapsScreen:
         show_failure(self.convert_progress, self.status)(err)
 
     # -- send --------------------------------------------------------------------------------------
+    @needs_pin("Sending")
     def send(self, gm: GeneratedMap, password: str | None = None) -> Any:
         """Upload a generated map to the chair, reload it there and make it the current map."""
         profile = self.ctx.profile()
@@ -364,8 +368,9 @@ class MapsScreen:
         )
 
     def _send_buttons(self) -> list[w.Button]:
-        return _buttons_in(self.generated_box)
+        return buttons_in(self.generated_box)
 
+    @needs_pin("Sending")  # it also stores the password
     def _password_entered(self) -> Any:
         gm = self._pending_send
         password = self.password.value
@@ -391,9 +396,3 @@ class MapsScreen:
 
     def close(self) -> None:
         self.widget.close()
-
-
-def _buttons_in(widget: w.Widget) -> list[w.Button]:
-    if isinstance(widget, w.Button):
-        return [widget]
-    return [b for child in getattr(widget, "children", ()) for b in _buttons_in(child)]

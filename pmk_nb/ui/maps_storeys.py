@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import LibraryError
-from pmk_nb.ui.widgets import checkbox, escape, field_error, run_in_thread, tick_exactly
+from pmk_nb.ui.widgets import checkbox, escape, field_error, replace_children, run_in_thread, tick_exactly
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import MapEntry, StoreyInfo
@@ -131,7 +131,7 @@ class StoreysPanel:
     def _set_choices(self, storeys: list[StoreyInfo]) -> None:
         boxes = [checkbox(self.ctx, s.name, True, "pmk-maps-storey-check", "Choosing storeys", self._on_check)
                  for s in storeys]  # fmt: skip
-        self.choices.children = tuple(boxes)
+        replace_children(self.choices, boxes)
         self.choice_box.layout.display = "flex" if boxes else "none"
 
     def _on_check(self, change: dict[str, Any]) -> None:
