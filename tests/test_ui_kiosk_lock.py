@@ -20,7 +20,7 @@ from pmk_nb.ui import build_app
 from pmk_nb.ui.app import Dashboard
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.kiosk import KioskGate
-from pmk_nb.ui.kiosk_pin import LOCKOUT_S, MAX_TRIES, TRIES_FILE, KioskLock, PinStore
+from pmk_nb.ui.kiosk_pin import LOCKOUT_S, MAX_LOCKOUT_S, MAX_TRIES, TRIES_FILE, KioskLock, PinCheck, PinStore
 from tests.helpers import app_context, wait_until
 from tests.indoorgml_samples import two_rooms
 
@@ -222,8 +222,29 @@ def test_the_pin_lockout_is_the_kiosks_not_the_pages(tmp_path: Path) -> None:
     assert reloaded.check(PIN).wait_s == LOCKOUT_S  # fail closed ...
     now[0] += LOCKOUT_S + 1
     assert reloaded.check(PIN).ok  # ... for one lockout
-    tries.write_text(json.dumps({"failures": 0, "locked_until": now[0] + 10**9}))  # the clock went back
-    assert reloaded.check(PIN).wait_s <= LOCKOUT_S
+    tries.write_text(json.dumps({"failures": 0, "locked_until": now[0] + 10**9, "lockouts": 1}))  # clock went back
+    assert reloaded.check(PIN).wait_s == LOCKOUT_S
+    now[0] += LOCKOUT_S + 1
+    assert reloaded.check(PIN).ok
+
+
+def test_lockouts_in_a_row_double_up_to_a_cap(tmp_path: Path) -> None:
+    """A script guessing on and on: 30 s, 60 s, 120 s ... at most MAX_LOCKOUT_S; the right PIN resets it."""
+    now = [0.0]
+    PinStore(tmp_path).set_pin(PIN, PIN)
+    pins = PinStore(tmp_path, clock=lambda: now[0])
+    waits = []
+    for _ in range(6):  # 30 * 2**5 > MAX_LOCKOUT_S
+        for _ in range(MAX_TRIES - 1):
+            assert pins.check("0000") == PinCheck(False)
+        answer = pins.check("0000")
+        waits.append(answer.wait_s)
+        now[0] += answer.wait_s + 1
+    assert waits[:3] == [LOCKOUT_S, 2 * LOCKOUT_S, 4 * LOCKOUT_S] and waits[-1] == MAX_LOCKOUT_S
+    assert pins.check(PIN).ok
+    for _ in range(MAX_TRIES):
+        answer = pins.check("0000")
+    assert answer.wait_s == LOCKOUT_S  # a success ends the row
 
 
 def test_the_lockout_survives_a_new_app_context(tmp_path: Path) -> None:

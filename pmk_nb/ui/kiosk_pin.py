@@ -2,7 +2,8 @@
 
 Kept free of widgets so the CLI can read :data:`KIOSK_ENV` without importing ipywidgets.  The hash
 lives in ``kiosk_pin.json`` (mode 0600) in the settings folder; wrong guesses are slowed down
-(:data:`MAX_TRIES` then :data:`LOCKOUT_S` seconds) so a four-digit PIN cannot be tried through.
+(:data:`MAX_TRIES` then :data:`LOCKOUT_S` seconds, doubled at each lockout in a row up to
+:data:`MAX_LOCKOUT_S`) so a four-digit PIN cannot be tried through.
 The wrong-PIN count and the lockout live beside it (``kiosk_pin_tries.json``), shared by every page
 of the kiosk: a reload or a second page starts no fresh count.  :class:`KioskLock` is what the
 kernel asks before it builds a screen behind the PIN or runs one of its actions.
@@ -36,6 +37,8 @@ LOCKED = ("maps", "settings")
 PIN_MIN, PIN_MAX = 4, 12
 MAX_TRIES = 5
 LOCKOUT_S = 30.0
+#: Lockouts in a row double up to this (five guesses per 15 min: weeks for every four-digit PIN).
+MAX_LOCKOUT_S = 900.0
 _SCRYPT = {"n": 2**14, "r": 8, "p": 1}
 
 
@@ -116,37 +119,38 @@ class PinStore:
         """
         now = float(self._clock())
         with self._lock, _folder_lock(self.path.parent):
-            failures, locked_until = self._read_tries(now)
+            failures, locked_until, lockouts = self._read_tries(now)
             if now < locked_until:
                 return PinCheck(False, locked_until - now)
             stored_salt, stored_hash = self._read()
             if hmac.compare_digest(_digest(pin.strip(), stored_salt), stored_hash):
-                if failures:
-                    self._write_tries(0, 0.0)
+                if failures or lockouts:
+                    self._write_tries(0, 0.0, 0)
                 return PinCheck(True)
             if failures + 1 >= MAX_TRIES:
-                self._write_tries(0, now + LOCKOUT_S)
-                return PinCheck(False, LOCKOUT_S)
-            self._write_tries(failures + 1, 0.0)
+                wait = min(LOCKOUT_S * 2.0**lockouts, MAX_LOCKOUT_S)
+                self._write_tries(0, now + wait, lockouts + 1)
+                return PinCheck(False, wait)
+            self._write_tries(failures + 1, 0.0, lockouts)
         return PinCheck(False)
 
-    def _read_tries(self, now: float) -> tuple[int, float]:
-        """(wrong PINs so far, lockout end); a damaged file or a lockout ending beyond its length (the
-        clock went back) starts a fresh lockout: fail closed, but never for ever."""
+    def _read_tries(self, now: float) -> tuple[int, float, int]:
+        """(wrong PINs so far, lockout end, lockouts in a row); a damaged file or a lockout ending
+        beyond the longest (the clock went back) starts a fresh lockout: fail closed, never for ever."""
         try:
             record = json.loads(self.tries_path.read_text(encoding="utf-8"))
-            failures, until = int(record["failures"]), float(record["locked_until"])
-            if not 0 <= failures < MAX_TRIES or not until - now <= LOCKOUT_S:  # NaN too
+            failures, until, lockouts = int(record["failures"]), float(record["locked_until"]), int(record["lockouts"])
+            if not 0 <= failures < MAX_TRIES or not 0 <= lockouts <= 64 or not until - now <= MAX_LOCKOUT_S:  # NaN too
                 raise ValueError("out of range")
-            return failures, until
+            return failures, until, lockouts
         except FileNotFoundError:
-            return 0, 0.0
+            return 0, 0.0, 0
         except (OSError, ValueError, KeyError, TypeError, OverflowError):
-            self._write_tries(0, now + LOCKOUT_S)
-            return 0, now + LOCKOUT_S
+            self._write_tries(0, now + LOCKOUT_S, 1)
+            return 0, now + LOCKOUT_S, 1
 
-    def _write_tries(self, failures: int, locked_until: float) -> None:
-        record = {"failures": failures, "locked_until": locked_until}
+    def _write_tries(self, failures: int, locked_until: float, lockouts: int) -> None:
+        record = {"failures": failures, "locked_until": locked_until, "lockouts": lockouts}
         try:
             atomic_write(self.tries_path, json.dumps(record) + "\n", mode=0o600)
         except OSError as err:
