@@ -115,7 +115,7 @@ def test_every_action_of_a_locked_screen_refuses_by_itself(
     kiosk_app: tuple[Dashboard, KioskGate, set[str]], tmp_path: Path
 ) -> None:
     """The handlers of screens kept from before the lock, called as a forged message would call them."""
-    app, gate, _before = kiosk_app
+    app, gate, before = kiosk_app
     ctx: AppContext = app.ctx
     ctx.profiles.save(ChairProfile(name="chair", host="127.0.0.1", port=1, ssh_user="pmk"))
     _unlock(app, gate, "maps")
@@ -125,10 +125,12 @@ def test_every_action_of_a_locked_screen_refuses_by_itself(
     maps.convert_button.click()
     wait_until(lambda: ctx.maps.entry("house").generated and not maps._files_lock.locked(), what="a conversion")
     gm = ctx.maps.entry("house").generated[0]
+    maps.refresh()  # new cards: the replaced ones must not stay live in the kernel either
     send = _find(maps.widget, "pmk-maps-send")
     app.show("settings")
     settings = app.screens["settings"]
     app.show("home")
+    assert _locked_models(before) == []
     cfg, maps_dir = tmp_path / "cfg", tmp_path / "maps"
     disk, profile_text = _disk(cfg, maps_dir), (cfg / "profiles.json").read_text()
     notes = len(ctx.notifications)
