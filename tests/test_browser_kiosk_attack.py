@@ -17,7 +17,8 @@ from typing import Any
 import pytest
 
 from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
-from pmk_nb.ui.kiosk_pin import KIOSK_ENV, PinStore
+from pmk_nb.ui.context import STATE_FILE
+from pmk_nb.ui.kiosk_pin import KIOSK_ENV, PIN_FILE, PinStore
 from tests.test_browser_kiosk import VIEWPORT, chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
@@ -42,6 +43,7 @@ ATTACK_JS = """async ([attack, lockedRe]) => {
     for (const m of byClass('pmk-settings-max-angular')) { m.set('value', '2.0'); m.save_changes(); }
     for (const m of byClass('pmk-settings-save')) m.send({event: 'click'}, {});
     for (const m of byClass('pmk-kiosk-pin-remove')) m.send({event: 'click'}, {});
+    for (const m of byClass('pmk-maps-send')) m.send({event: 'click'}, {});
   }
   const listed = await new Promise((resolve, reject) => {
     const comm = manager.kernel.createComm('jupyter.widget.control');
@@ -61,6 +63,12 @@ ATTACK_JS = """async ([attack, lockedRe]) => {
 }"""
 
 
+def _files(config: Path, chair_maps: Path) -> dict[str, bytes | None]:
+    """The settings a page script went for (profiles, PIN, current map) and the chair's maps folder."""
+    names = [config / n for n in (PROFILES_FILE, PIN_FILE, STATE_FILE)] + sorted(chair_maps.rglob("*"))
+    return {str(p): p.read_bytes() if p.is_file() else None for p in names}
+
+
 def _attack(page: Any, attack: bool) -> dict[str, Any]:
     return page.evaluate(ATTACK_JS, [attack, LOCKED_RE])
 
@@ -71,13 +79,13 @@ def test_a_page_script_cannot_reach_settings_or_maps_of_a_locked_kiosk(tmp_path:
     with serve_kiosk(tmp_path, label="kiosk-attack", env={KIOSK_ENV: "1"}) as (url, world):
         PinStore(world.config_dir).set_pin(PIN, PIN)  # before the page (and its kernel) starts
         profiles = world.config_dir / PROFILES_FILE
-        before = profiles.read_bytes()
+        before = _files(world.config_dir, world.chair_dir)
         with chromium_page(url, viewport=VIEWPORT) as page:
             expect(page.locator(".pmk-kiosk button.pmk-nav-home")).to_be_visible(timeout=120_000)
             seen = _attack(page, attack=True)
             assert seen["kernel"] > 50 and seen["managed"] > 50, seen  # the kernel and the page did answer
             time.sleep(3.0)  # what a forged Save would have written by now (it takes milliseconds)
-            assert profiles.read_bytes() == before, "a page script changed the chair's settings"
+            assert _files(world.config_dir, world.chair_dir) == before, "a page script changed settings or maps"
             assert ProfileStore(profiles, secrets=False).last_used().max_linear == 0.5  # type: ignore[union-attr]
             assert PinStore(world.config_dir).is_set(), "a page script removed the PIN"
             assert seen["found"] == [] and seen["listed"] == [], f"Settings/Maps models while locked: {seen}"
