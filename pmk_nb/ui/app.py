@@ -120,9 +120,9 @@ class Dashboard(w.VBox):
 
     def _screen(self, name: str) -> Any:
         """The screen ``name``, built now if it was not (behind the kiosk PIN: only once unlocked)."""
+        if not self.ctx.may_open(name):  # also a screen built before another page set the PIN
+            self.ctx.require_unlocked(f"Opening {name.title()}")
         if name not in self.screens:
-            if not self.ctx.may_open(name):
-                self.ctx.require_unlocked(f"Opening {name.title()}")
             self.screens[name] = self._builders[name]()
         return self.screens[name]
 
