@@ -251,3 +251,18 @@ class SettingsError(PmkError):
     def __init__(self, message: str, *, field: str | None = None, hint: str = "") -> None:
         super().__init__(message, hint=hint)
         self.field = field
+
+
+class KioskLocked(PmkError):
+    """A kiosk page asked for an action of a screen behind the PIN while it is locked.
+
+    Raised by the kernel itself (``AppContext.require_unlocked``), whatever sent the request: a
+    button of a screen that was open before the lock, or a message a page script made up.
+
+    Attributes:
+        action: what was refused, in the dashboard's words ("Saving settings").
+    """
+
+    def __init__(self, message: str, *, action: str, hint: str = "") -> None:
+        super().__init__(message, hint=hint)
+        self.action = action

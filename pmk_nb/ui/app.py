@@ -19,7 +19,7 @@ import ipywidgets as w
 
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.context import AppContext, Notification, autostart_from_env
-from pmk_nb.ui.widgets import button, escape, guard, style_widget
+from pmk_nb.ui.widgets import button, close_tree, escape, guard, style_widget
 
 log = logging.getLogger(__name__)
 
@@ -52,11 +52,14 @@ class Dashboard(w.VBox):
         from pmk_nb.ui.settings_screen import SettingsScreen
 
         self.ctx = ctx
-        self.screens: dict[str, Any] = {
-            "home": HomeScreen(ctx, autostart=autostart_preview),
-            "maps": MapsScreen(ctx),
-            "settings": SettingsScreen(ctx),
+        self._builders: dict[str, Callable[[], Any]] = {
+            "home": lambda: HomeScreen(ctx, autostart=autostart_preview),
+            "maps": lambda: MapsScreen(ctx),
+            "settings": lambda: SettingsScreen(ctx),
         }
+        # A locked kiosk page builds no screen behind the PIN: a widget that does not exist cannot
+        # be reached by a page script speaking the widget protocol (``ctx.may_open``).
+        self.screens: dict[str, Any] = {n: self._builders[n]() for n in SCREENS if ctx.may_open(n)}
         self.current = "home"
         self.nav_buttons: dict[str, w.Button] = {}
         for name in SCREENS:
@@ -93,14 +96,14 @@ class Dashboard(w.VBox):
 
     def show(self, name: str) -> None:
         """Switch to a screen; leaving Home stops the live preview (as the Android app did)."""
-        if name not in self.screens:
+        if name not in SCREENS:
             raise ValueError(f"unknown screen {name!r}; expected one of {', '.join(SCREENS)}")
         if self.gate is not None and not self.gate(name):
             return
+        screen = self._screen(name)
         previous = self.current
         if previous == "home" and name != "home":
             self.screens["home"].stop_preview()
-        screen = self.screens[name]
         self.current = name
         self.content.children = (screen.widget,)
         self.info_slot.children = (screen.info_widget,)
@@ -112,6 +115,28 @@ class Dashboard(w.VBox):
         on_show = getattr(screen, "on_show", None)
         if on_show is not None:
             on_show()
+        for other in [n for n in self.screens if not self.ctx.may_open(n)]:  # locked again: gone
+            self.drop(other)
+
+    def _screen(self, name: str) -> Any:
+        """The screen ``name``, built now if it was not (behind the kiosk PIN: only once unlocked)."""
+        if not self.ctx.may_open(name):  # also a screen built before another page set the PIN
+            self.ctx.require_unlocked(f"Opening {name.title()}")
+        if name not in self.screens:
+            self.screens[name] = self._builders[name]()
+        return self.screens[name]
+
+    def drop(self, name: str) -> None:
+        """Stop a screen and close its whole widget tree: its models leave the kernel and the page."""
+        screen = self.screens.pop(name, None)
+        if screen is None:
+            return
+        try:
+            screen.close()
+        except Exception:
+            log.exception("closing the %s screen failed", name)
+        close_tree(screen.widget)
+        close_tree(screen.info_widget)
 
     def _on_notification(self, note: Notification) -> None:
         """The latest message with no place of its own; any later one (even inline) clears it."""
@@ -168,6 +193,10 @@ def build_app(
             profiles = ProfileStore(cfg / PROFILES_FILE) if cfg is not None else ProfileStore()
             maps = MapsFolder(Path(maps_dir) if maps_dir is not None else None)
             ctx = AppContext(maps, profiles, config_dir=cfg)
+        if ctx.kiosk is None:  # a kiosk page (PMK_KIOSK): locked before any screen is built
+            from pmk_nb.ui.kiosk_pin import kiosk_lock
+
+            ctx.kiosk = kiosk_lock(ctx.config_dir)
         if autostart_preview is None:
             autostart_preview = autostart_from_env()
         app = Dashboard(ctx, autostart_preview=autostart_preview)
@@ -178,7 +207,7 @@ def build_app(
     # One chair connection per page: closed when the kernel goes (Voilà culls idle kernels).
     atexit.register(app.ctx.close)
     # Kiosk mode and the page's lifecycle (pmk_nb/ui/kiosk.py, pmk_nb/ui/page_lifecycle.py): both do
-    # nothing outside a Voilà page / without PMK_KIOSK.
+    # nothing outside a Voilà page / without a kiosk lock (PMK_KIOSK).
     from pmk_nb.ui import kiosk, page_lifecycle
 
     kiosk.apply(app)

@@ -10,6 +10,7 @@ small JSON state file in the config dir (``PMK_CONFIG_DIR`` overrides), like the
 
 from __future__ import annotations
 
+import functools
 import json
 import logging
 import os
@@ -17,14 +18,18 @@ import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
+from pmk_nb.errors import KioskLocked
 from pmk_nb.fileio import atomic_write
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.client import ChairLink
     from pmk_nb.chair.profiles import ChairProfile, ProfileStore
     from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.ui.kiosk_pin import KioskLock
+
+F = TypeVar("F", bound=Callable[..., Any])
 
 log = logging.getLogger(__name__)
 
@@ -46,6 +51,24 @@ def default_config_dir() -> Path:
     from pmk_nb.chair.profiles import config_dir
 
     return config_dir()
+
+
+def needs_pin(action: str) -> Callable[[F], F]:
+    """Decorator for the actions of a screen behind the kiosk PIN (methods of objects with ``ctx``).
+
+    The action refuses with :class:`~pmk_nb.errors.KioskLocked` while the kiosk page is locked,
+    whoever called it; :func:`~pmk_nb.ui.widgets.guard` turns that into the page's message.
+    """
+
+    def wrap(fn: F) -> F:
+        @functools.wraps(fn)
+        def wrapper(self: Any, *args: Any, **kwargs: Any) -> Any:
+            self.ctx.require_unlocked(action)
+            return fn(self, *args, **kwargs)
+
+        return wrapper  # type: ignore[return-value]
+
+    return wrap
 
 
 @dataclass(frozen=True)
@@ -99,6 +122,25 @@ class AppContext:
         self._current_map = self._load_current_map()
         self._closed = False
         self._profile_unreadable = False  # reported once per breakage, not on every poll
+        #: The kiosk page's lock (set by ``build_app`` on a kiosk page); None: nothing is locked.
+        self.kiosk: KioskLock | None = None
+
+    # -- kiosk lock --------------------------------------------------------------------------------
+    def may_open(self, screen: str) -> bool:
+        """True when ``screen`` may be built and shown now (always, outside a locked kiosk page)."""
+        return self.kiosk is None or self.kiosk.allows(screen)
+
+    def require_unlocked(self, action: str) -> None:
+        """The kernel's own check before an action of a screen behind the kiosk PIN.
+
+        Called by the action itself (see :func:`needs_pin`), not by the button that shows it: a
+        page script can send a click for any widget it knows, or keep one from before the lock.
+
+        Raises:
+            KioskLocked: this kiosk page is locked.
+        """
+        if self.kiosk is not None and self.kiosk.locked:
+            raise KioskLocked("the kiosk is locked.", action=action, hint="Open the screen with the PIN first.")
 
     # -- chair -------------------------------------------------------------------------------------
     def profile(self) -> ChairProfile | None:

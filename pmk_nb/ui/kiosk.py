@@ -6,6 +6,11 @@ Maps or Settings (:class:`KioskGate`, through the Dashboard's ``gate`` hook), go
 again, and the page asks the browser to keep the screen on (Screen Wake Lock API) and says so
 where the browser cannot.  The PIN is set in Settings (:func:`pin_section`); until one is set,
 Maps and Settings stay open and say how to lock them.
+
+The prompt is only the face of the lock: the kernel decides (:class:`~pmk_nb.ui.kiosk_pin.KioskLock`
+in ``AppContext.kiosk``).  While locked, the Maps and Settings widgets do not exist (the Dashboard
+builds them once the PIN is accepted and closes them on the way back Home), and each of their
+actions checks the lock itself (``AppContext.require_unlocked``).
 """
 
 from __future__ import annotations
@@ -16,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import SettingsError
-from pmk_nb.ui.kiosk_pin import PIN_MAX, PIN_MIN, PinStore, kiosk_from_env
+from pmk_nb.ui.kiosk_pin import LOCKED, PIN_MAX, PIN_MIN, KioskLock, PinStore
 from pmk_nb.ui.widgets import button, escape, guard, heading, text
 
 if TYPE_CHECKING:
@@ -24,7 +29,7 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-LOCKED = ("maps", "settings")
+__all__ = ["LOCKED", "KioskGate", "apply", "pin_section", "wake_lock_html"]
 # !important: the app's own sheet (style.py) sets the 56 px touch size with a more specific selector
 KIOSK_CSS = """<style>
 .pmk-kiosk button.jupyter-button, .pmk-kiosk .jupyter-button { min-height: 64px !important; font-size: 1.25em; }
@@ -69,10 +74,10 @@ def wake_lock_html() -> str:
 class KioskGate:
     """Asks for the PIN before Maps or Settings; unlocked until the user goes back Home."""
 
-    def __init__(self, app: Any, pins: PinStore) -> None:
+    def __init__(self, app: Any, lock: KioskLock) -> None:
         self.app = app
-        self.pins = pins
-        self.unlocked = False
+        self.lock = lock
+        self.pins = lock.pins
         self._target = ""
         self.title = w.HTML("")
         self.pin = text("", "PIN", "pmk-kiosk-pin", password=True)
@@ -90,10 +95,10 @@ class KioskGate:
 
     def allows(self, name: str) -> bool:
         """The Dashboard's gate: True lets ``show(name)`` go on; False shows the PIN prompt instead."""
-        if name not in LOCKED:
-            self.unlocked = False  # back Home (or elsewhere): lock again
+        if name not in self.lock.screens:
+            self.lock.lock()  # back Home (or elsewhere): lock again; the Dashboard drops the screens
             return True
-        if self.unlocked or not self.pins.is_set():
+        if self.lock.allows(name):
             return True
         self._target = name
         self.app.screens["home"].stop_preview()
@@ -119,7 +124,7 @@ class KioskGate:
             return self._say(f"Too many wrong PINs: try again in {answer.wait_s:.0f} s.")
         if not answer.ok:
             return self._say("Wrong PIN.")
-        self.unlocked = True
+        self.lock.unlock()
         self.status.value = ""
         self.app.show(self._target or "settings")
         return True
@@ -149,6 +154,7 @@ def pin_section(ctx: AppContext) -> w.Widget:
         )
 
     def set_pin(_b: object) -> None:
+        ctx.require_unlocked("Setting the kiosk PIN")  # changing a PIN needs it; the first one does not
         try:
             pins.set_pin(str(new.value or ""), str(repeat.value or ""))
         except SettingsError as err:
@@ -156,10 +162,13 @@ def pin_section(ctx: AppContext) -> w.Widget:
             return
         finally:
             new.value, repeat.value = "", ""
+        if ctx.kiosk is not None:
+            ctx.kiosk.unlock()  # who just set the PIN knows it: this page stays open until back Home
         message.value = "<div class='pmk-msg-info'>PIN saved.</div>"
         show_state()
 
     def remove_pin(_b: object) -> None:
+        ctx.require_unlocked("Removing the kiosk PIN")
         pins.clear()
         message.value = "<div class='pmk-msg-info'>PIN removed.</div>"
         show_state()
@@ -175,15 +184,17 @@ def pin_section(ctx: AppContext) -> w.Widget:
 
 
 def apply(app: Any) -> KioskGate | None:
-    """Make ``app`` the kiosk page when ``PMK_KIOSK`` asks for it; returns the gate (None: not a kiosk)."""
-    if not kiosk_from_env():
+    """Make ``app`` the kiosk page when its session has a kiosk lock (``build_app`` sets one when
+    ``PMK_KIOSK`` asks for it); returns the gate (None: not a kiosk)."""
+    lock = app.ctx.kiosk
+    if lock is None:
         return None
     from IPython.display import HTML, display
 
-    gate = KioskGate(app, PinStore(app.ctx.config_dir))
+    gate = KioskGate(app, lock)
     app.gate = gate.allows
     app.add_class("pmk-kiosk")
-    for name in LOCKED:
+    for name in lock.screens:
         app.nav_buttons[name].icon = "lock"
     display(HTML(KIOSK_CSS + wake_lock_html()))
     return gate

@@ -16,7 +16,7 @@ import shapely
 
 from pmk_nb.access.report import SKIP_OUTSIDE
 from pmk_nb.raster.openings import SKIP_WINDOW
-from pmk_nb.ui.widgets import escape
+from pmk_nb.ui.widgets import escape, replace_children
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import GeneratedMap, MapEntry
@@ -156,7 +156,7 @@ class AccessPanel:
         """``docs``: the rooms file of each of ``entry``'s generated maps (read once by the screen)."""
         if entry is None or not entry.generated:
             self.text.value = ""
-            self.images.children = ()
+            replace_children(self.images, ())
             self.widget.layout.display = "none"
             return
         self.widget.layout.display = "flex"
@@ -181,4 +181,4 @@ class AccessPanel:
         if layers:
             parts.append(_layers_html(layers))
         self.text.value = "<div class='pmk-heading-small'>Wheelchair access</div>" + "".join(parts)
-        self.images.children = tuple(images)
+        replace_children(self.images, images)

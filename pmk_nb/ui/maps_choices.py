@@ -18,7 +18,7 @@ from pmk_nb.errors import LibraryError
 from pmk_nb.indoorgml.units import UNIT_CHOICES
 from pmk_nb.library.choices import ConvertChoices, last_choices, offered, window_cells
 from pmk_nb.ui.style import TOUCH_PX
-from pmk_nb.ui.widgets import checkbox, escape, field_error, guard, tick_exactly
+from pmk_nb.ui.widgets import checkbox, escape, field_error, guard, replace_children, tick_exactly
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import MapEntry
@@ -92,7 +92,7 @@ class ChoicesPanel:
         self.unit_error.value = ""
         action = "Choosing cells that are not windows"
         boxes = [checkbox(self.ctx, n, ticked, "pmk-maps-not-window", action, self._on_tick) for n, ticked in offer]
-        self.windows.children = tuple(boxes)
+        replace_children(self.windows, boxes)
         self.windows_box.layout.display = "flex" if boxes else "none"
 
     def set_layers(self, options: Sequence[LayerOption]) -> None:
@@ -108,7 +108,7 @@ class ChoicesPanel:
         boxes = [
             checkbox(self.ctx, o.id, o.id in ticked, "pmk-maps-layer", action, self._on_layer) for o in options
         ] if len(options) > 1 else []  # fmt: skip
-        self.layers.children = tuple(boxes)
+        replace_children(self.layers, boxes)
         self.layers_error.value = ""
         self.layers_box.layout.display = "flex" if boxes else "none"
 

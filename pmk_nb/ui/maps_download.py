@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import ipywidgets as w
 
 from pmk_nb.errors import AlreadyExists
+from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.widgets import (
     ConfirmBox,
     button,
@@ -56,6 +57,7 @@ class DownloadPanel:
             layout=w.Layout(align_items="flex-start", width="100%"),
         )  # fmt: skip
 
+    @needs_pin("Downloading")
     def download(self, *, overwrite: bool = False) -> threading.Thread | None:
         """Download the URL into the maps folder (in a thread); asks before replacing a map."""
         url, name = self.url.value, self.name.value

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import AlreadyExists, LibraryError
+from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.widgets import TOUCH_PX, ConfirmBox, escape, guard
 
 if TYPE_CHECKING:
@@ -87,6 +88,7 @@ class ImportPanel:
             return
         self.import_bytes(filename, data)
 
+    @needs_pin("Importing a map")
     def import_bytes(self, filename: str, data: bytes, *, overwrite: bool = False) -> MapEntry | None:
         """Store an uploaded file in the maps folder (asks before replacing a map of the same name)."""
         name = Path(filename).stem

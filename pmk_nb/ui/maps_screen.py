@@ -1,9 +1,8 @@
 """Maps screen: the maps folder (list, import, download), conversion to ROS maps, sending to the chair.
 
-Mirrors the original's two tabs (thesis 5.2.3.3): the list of available IndoorGML maps with a
-resolution and Convert ("parse") button, and once converted a preview and a Send button per storey;
-and a Download tab (URL + name).  Sending a map makes it the Home screen's current map.  Slow work
-runs in a thread with a progress bar; every failure becomes a message in the page.
+Mirrors the original's two tabs (thesis 5.2.3.3): the IndoorGML maps with a resolution and Convert
+("parse"), once converted a preview and a Send button per storey; and a Download tab (URL + name).
+Sending a map makes it Home's current map. Slow work runs in a thread; every failure becomes a message.
 """
 
 from __future__ import annotations
@@ -18,6 +17,7 @@ import ipywidgets as w
 from pmk_nb.access.check import profile_chair_width
 from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
+from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.host_key_prompt import HostKeyPrompt, strict
 from pmk_nb.ui.maps_access import AccessPanel
 from pmk_nb.ui.maps_cards import generated_card, map_label
@@ -34,6 +34,7 @@ from pmk_nb.ui.widgets import (
     heading,
     progress_bar,
     progress_callback,
+    replace_children,
     run_in_thread,
     set_progress,
     show_failure,
@@ -215,7 +216,7 @@ class MapsScreen:
             self.title.value = "<div class='pmk-heading'>Select a map</div>"
             self.details.value = "<p>Tap a map in the list, or import / download one.</p>"
             self.convert_row.layout.display = "none"
-            self.generated_box.children = ()
+            replace_children(self.generated_box, ())
             self.storeys_panel.show(None)
             self.access_panel.show(None, [])
             self.choices.show(None, [])
@@ -232,18 +233,16 @@ class MapsScreen:
         self.storeys_panel.show(entry)
         known = self.ctx.maps.cached_storeys(entry)  # one storey of several converted: still say which
         several = len(entry.generated) > 1 or (known is not None and len(known) > 1)
-        self.generated_box.children = tuple(self._generated_card(g, several) for g in entry.generated)
+        replace_children(self.generated_box, [self._generated_card(g, several) for g in entry.generated])
         docs = [sidecar_doc(g.yaml) for g in entry.generated]  # the rooms files, read once for both panels
         self.access_panel.show(entry, docs)
         self.choices.show(entry, docs)
-        if self.storeys_panel.storeys:  # known at once: the layers the plan offers
-            self.choices.set_layers(self.storeys_panel.storeys[0].layers)
+        self.choices.set_layers(self.storeys_panel.layers())  # when the storeys are known at once
 
-    def _storeys_loaded(self, name: str) -> None:
+    def _storeys_loaded(self, _name: str) -> None:
         """Storeys read in the background arrived for the map shown: relabel the list, offer its layers."""
         self._relabel()
-        if self.storeys_panel.name == name and self.storeys_panel.storeys:
-            self.choices.set_layers(self.storeys_panel.storeys[0].layers)
+        self.choices.set_layers(self.storeys_panel.layers())
 
     def _generated_card(self, gm: GeneratedMap, several: bool) -> w.Widget:
         return generated_card(self.ctx, gm, several, self.send)
@@ -260,6 +259,7 @@ class MapsScreen:
         self.info_widget.value = f"<div>Maps: {len(self.entries)}</div><div>Current map: <b>{cur}</b></div>"
 
     # -- convert -----------------------------------------------------------------------------------
+    @needs_pin("Converting")
     def convert(self) -> Any:
         """Convert the selected map at the typed resolution (in a thread); returns the thread."""
         entry = self._selected()
@@ -314,6 +314,7 @@ class MapsScreen:
         show_failure(self.convert_progress, self.status)(err)
 
     # -- send --------------------------------------------------------------------------------------
+    @needs_pin("Sending")
     def send(self, gm: GeneratedMap, password: str | None = None) -> Any:
         """Upload a generated map to the chair, reload it there and make it the current map."""
         profile = self.ctx.profile()
@@ -371,6 +372,7 @@ class MapsScreen:
     def _send_buttons(self) -> list[w.Button]:
         return buttons_in(self.generated_box)
 
+    @needs_pin("Sending")  # it also stores the password
     def _password_entered(self) -> Any:
         gm = self._pending_send
         password = self.password.value

@@ -15,10 +15,11 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import LibraryError
-from pmk_nb.ui.widgets import checkbox, escape, field_error, run_in_thread, tick_exactly
+from pmk_nb.ui.widgets import checkbox, escape, field_error, replace_children, run_in_thread, tick_exactly
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import MapEntry, StoreyInfo
+    from pmk_nb.library.info import LayerOption
     from pmk_nb.ui.context import AppContext
 
 
@@ -122,6 +123,10 @@ class StoreysPanel:
             self.table.value = storeys_table(storeys, self.unit) + unit_warning(storeys)
         self._set_choices(storeys if len(storeys) > 1 else [])
 
+    def layers(self) -> tuple[LayerOption, ...]:
+        """The plan's layers with cells (the same for every storey), () while its storeys are unknown."""
+        return self.storeys[0].layers if self.storeys else ()
+
     def set_unit(self, unit: str) -> None:
         """Show the sizes the plan has when read in ``unit`` (the Maps screen's unit choice)."""
         self.unit = unit
@@ -131,7 +136,7 @@ class StoreysPanel:
     def _set_choices(self, storeys: list[StoreyInfo]) -> None:
         boxes = [checkbox(self.ctx, s.name, True, "pmk-maps-storey-check", "Choosing storeys", self._on_check)
                  for s in storeys]  # fmt: skip
-        self.choices.children = tuple(boxes)
+        replace_children(self.choices, boxes)
         self.choice_box.layout.display = "flex" if boxes else "none"
 
     def _on_check(self, change: dict[str, Any]) -> None:

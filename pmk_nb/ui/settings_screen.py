@@ -17,6 +17,7 @@ import ipywidgets as w
 
 from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, ChairProfile
 from pmk_nb.errors import PmkError, SettingsError
+from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.kiosk import pin_section
 from pmk_nb.ui.widgets import TOUCH_PX, button, error_text, escape, field_error, guard, heading, run_in_thread, text
 
@@ -259,6 +260,7 @@ class SettingsScreen:
             self._show_field_error(err, outcome)
             return None
 
+    @needs_pin("Saving settings")
     def save(self) -> ChairProfile | None:
         """Validate and save the form; it becomes the current chair. Returns None when invalid."""
         profile = self._checked_form_profile("Not saved")
@@ -275,6 +277,7 @@ class SettingsScreen:
         self._reload_profiles(select=profile.name)
         return profile
 
+    @needs_pin("Testing the connection")  # it connects wherever the form says
     def test_connection(self) -> Any:
         """Connect to the chair in the form (in a thread) and show status and published map info."""
         profile = self._checked_form_profile("Not tested")

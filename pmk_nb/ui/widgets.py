@@ -125,6 +125,39 @@ def tick_exactly(boxes: Sequence[w.Widget], names: Sequence[str], refusal: str) 
         b.value = b.description in names
 
 
+def close_tree(widget: w.Widget) -> None:
+    """Close ``widget`` and every widget it holds (children, layout, style): their models leave the
+    kernel and the page, so no message can reach them any more (``Widget.close`` closes one model)."""
+    seen: set[int] = set()
+    todo: list[object] = [widget]
+    while todo:
+        item = todo.pop()
+        if isinstance(item, list | tuple):
+            todo.extend(item)
+            continue
+        if not isinstance(item, w.Widget) or id(item) in seen:
+            continue
+        seen.add(id(item))
+        todo.extend(getattr(item, name, None) for name in item.keys if name != "comm")
+        item.close()
+
+
+def replace_children(box: w.Box, children: Sequence[w.Widget]) -> None:
+    """Show ``children`` in ``box``, closing the widgets it drops (else their models stay live in the
+    kernel, reachable by a page script); into a closed box (its screen was dropped while a thread
+    worked), the new widgets are closed at once."""
+    new = tuple(children)
+    if box.comm is None:
+        for child in new:
+            close_tree(child)
+        return
+    keep = {id(c) for c in new}
+    old = [c for c in box.children if id(c) not in keep]
+    box.children = new
+    for child in old:
+        close_tree(child)
+
+
 def field_error() -> w.HTML:
     """An (initially empty) error line shown under a form field."""
     err = w.HTML("")
