@@ -15,7 +15,7 @@ import pytest
 from ipywidgets.widgets.widget import _instances  # the kernel's registry of live widget models
 
 from pmk_nb.chair.profiles import ChairProfile
-from pmk_nb.errors import KioskLocked
+from pmk_nb.errors import KioskLocked, UnknownHostKey
 from pmk_nb.ui import build_app
 from pmk_nb.ui.app import Dashboard
 from pmk_nb.ui.context import AppContext
@@ -147,6 +147,10 @@ def test_every_action_of_a_locked_screen_refuses_by_itself(
     send.click()
     with pytest.raises(KioskLocked):
         maps.send(gm)
+    forged = UnknownHostKey("first key", host="127.0.0.1", key_type="ssh-ed25519", fingerprint="SHA256:x",
+                            key_base64="AAAA", known_hosts=str(cfg / "known_hosts"))  # fmt: skip
+    with pytest.raises(KioskLocked):  # "Trust and send" writes known_hosts
+        maps.host_key._trust(forged, lambda: maps.send(gm))
     maps._pending_send, maps.password.value = gm, "hunter2"
     maps.password_ok.click()
     maps.import_confirm.ask("replace?", lambda: maps.import_bytes("house.gml", two_rooms(("F1",), width=9.0)))

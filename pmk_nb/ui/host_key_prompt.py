@@ -15,6 +15,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from pmk_nb.errors import UnknownHostKey
+from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.widgets import ConfirmBox, set_progress
 
 if TYPE_CHECKING:
@@ -42,6 +43,7 @@ class HostKeyPrompt:
     """A confirm box under the Maps screen's Send; ``widget`` goes in the screen."""
 
     def __init__(self, ctx: AppContext, bar: w.FloatProgress, status: w.HTML) -> None:
+        self.ctx = ctx
         self.box = ConfirmBox(ctx, "pmk-maps-hostkey", yes="Trust and send", no="Cancel")
         self.widget = self.box.widget
         self.pending: UnknownHostKey | None = None
@@ -63,6 +65,7 @@ class HostKeyPrompt:
         )
         return True
 
+    @needs_pin("Trusting the chair's host key")  # it writes known_hosts: a locked kiosk page may not
     def _trust(self, unknown: UnknownHostKey, retry: Callable[[], object]) -> None:
         from pmk_nb.chair.ssh import trust_host_key
 
