@@ -113,7 +113,7 @@ def run(request: pytest.FixtureRequest, node_client: Path, tmp_path_factory: pyt
     sim = SimChair(ros=ros, maps_dir=tmp / "ALMA_MAPS").start()
     try:
         start = sim.pose
-        result = run_client(node_client, sim, tmp / "no_such_map.yaml")
+        result = run_client(node_client, sim, tmp / "ALMA_MAPS" / "no_such_map.yaml")  # in its folder: missing
         yield {
             "ros": ros,
             "result": result,

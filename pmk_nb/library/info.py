@@ -79,14 +79,14 @@ class LayerOption:
 def plan_notes(building: Building) -> tuple[str, ...]:
     """What a user must know before trusting a map of ``building``, in plain words: the unit suspected
     first (it makes every door wrong), then a navigation graph lost or partly dangling (nothing, or less,
-    can be checked), then each layer not drawn and why."""
+    can be checked), then each layer with cells not drawn and why (a layer of states alone draws nothing)."""
     notes = [building.unit_suspect.message] if building.unit_suspect is not None else []
     graph = building.graph_status
     if graph.lost:
         notes.append(graph.reason or "the file has no navigation graph: nothing can be checked")
     elif graph.dangling:
         notes.append(graph.reason or f"{graph.dangling} of {graph.transitions} transitions name nothing in the file")
-    notes += [f"Layer {n.id!r} ({n.cells} cells) not drawn: {n.reason}" for n in building.skipped_layers]
+    notes += [f"Layer {n.id!r} ({n.cells} cells) not drawn: {n.reason}" for n in building.skipped_layers if n.cells]
     return tuple(notes)
 
 

@@ -114,7 +114,7 @@ def _layers_html(layers: list[dict[str, Any]]) -> str:
         f"<li>{escape(str(n.get('id', '')))} ({n.get('cells', 0)} cells): {escape(str(n.get('reason', '')))}</li>"
         for n in layers
     )
-    head = "<p><b>Layers not drawn</b> (pmk convert --layer NAME draws one):</p>"
+    head = "<p><b>Layers not drawn</b> (tick one under <i>Layers to draw</i> and convert again to draw it):</p>"
     return f"{head}<ul class='pmk-access-list'>{items}</ul>"
 
 
@@ -168,7 +168,7 @@ class AccessPanel:
         for gm, doc in zip(entry.generated, docs, strict=True):
             parts.append(_storey_html(gm, doc))
             conflict = conflict or (doc or {}).get("unit_conflict", "")
-            layers = layers or (doc or {}).get("skipped_layers") or []
+            layers = layers or [n for n in (doc or {}).get("skipped_layers") or [] if n.get("cells")]  # graphs only: no
             report = (doc or {}).get("accessibility") or {}
             if doc is not None and not report.get("ok", True) and report.get("checked", True):  # problems to mark
                 png = marked_preview(gm, doc)
