@@ -38,7 +38,7 @@ def add_parser(subparsers: Any) -> None:
         "--kiosk",
         action="store_true",
         help="locked-down tablet page: Home only with big buttons, Maps and Settings behind the PIN set in "
-        "Settings, screen kept on; implies --preview-on-start",
+        "Settings, screen kept on, a token even on loopback (printed in the URL); implies --preview-on-start",
     )
     p.set_defaults(run=run)
 
@@ -53,6 +53,6 @@ def run(args: argparse.Namespace) -> int:
     if args.preview_on_start or args.kiosk:
         env[AUTOSTART_ENV] = "1"
     env[KIOSK_ENV] = "1" if args.kiosk else "0"
-    token = preflight(args, env)
+    token = preflight(args, env, kiosk=args.kiosk)
     with sigterm_as_interrupt(), tempfile.TemporaryDirectory(prefix="pmk-dashboard-") as tmp:
         return serve(args, env, Path(tmp), token)
