@@ -141,31 +141,31 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         self.budget = OutputBudget()
         self._overflowed = False
 
-    def _refusal(self) -> str | None:
-        """Why this connection may not have the kernel (None: it may)."""
+    def _refusal(self) -> tuple[int, str] | None:
+        """(HTTP status, why) when this connection may not have the kernel; None when it may."""
         offered = self.websocket_handler.request.headers.get("Sec-WebSocket-Protocol", "")
         if V1_PROTOCOL not in [p.strip() for p in offered.split(",")]:
-            return "the legacy protocol is not served"
+            return 400, "the legacy protocol is not served"
         page = self._page_sessions.get(self.kernel_id)
         if page is not None and page != self.session.session:
-            return "another page's session"
+            return 409, "another page's session"
         if self.kernel_id in self._channels:
-            return "the kernel already has its page's channel"
+            return 409, "the kernel already has its page's channel"
         return None
 
     async def prepare(self) -> None:
-        why = self._refusal()
-        if why is not None:
-            self.log.warning("Kernel %s: refused a websocket (%s)", self.kernel_id, why)
-            raise web.HTTPError(409 if "channel" in why or "session" in why else 400, why)
+        refusal = self._refusal()
+        if refusal is not None:
+            self.log.warning("Kernel %s: refused a websocket (%s)", self.kernel_id, refusal[1])
+            raise web.HTTPError(*refusal)
         await super().prepare()
 
     def connect(self) -> asyncio.Future[None] | None:  # type: ignore[override]
-        why = self._refusal()  # again: another socket may have been admitted while this one was prepared
-        if why is not None:
-            self.log.warning("Kernel %s: closed a websocket (%s)", self.kernel_id, why)
-            self.websocket_handler.close(POLICY_VIOLATION, why)
-            done: asyncio.Future[None] = asyncio.get_event_loop().create_future()
+        refusal = self._refusal()  # again: another socket may have been admitted while this one was prepared
+        if refusal is not None:
+            self.log.warning("Kernel %s: closed a websocket (%s)", self.kernel_id, refusal[1])
+            self.websocket_handler.close(POLICY_VIOLATION, refusal[1])
+            done: asyncio.Future[None] = asyncio.get_running_loop().create_future()
             done.set_result(None)
             return done
         known = set(self.multi_kernel_manager.list_kernel_ids())
