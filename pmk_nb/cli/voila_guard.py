@@ -17,6 +17,11 @@ configuration (``voila.json``, :func:`pmk_nb.cli.voila.server_config`):
     scripts always offer it); and a connection whose unsent output passes :data:`MAX_UNSENT_BYTES`
     is closed (nothing more is queued for it meanwhile).
 
+The refusals are what bound the server: with them switched off in an experiment, a silent legacy
+socket grew the server from 100 to 265 MB in 12 s although only one message went through its
+``write_message`` (the growth is queued before the websocket, in the connection's own ZMQ channels),
+and the output budget never tripped.  The budget is a back-stop for the page's own socket only.
+
 This module is the one seam to jupyter_server's kernel-websocket internals (``ZMQChannelsWebsocketConnection``'s
 ``prepare``/``connect``/``disconnect``/``write_message``, ``_open_sessions``); tests/test_voila_guard_seam.py
 pins them in the installed version.
