@@ -161,14 +161,14 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
     async def prepare(self) -> None:
         refusal = self._refusal()
         if refusal is not None:
-            self.log.warning("Kernel %s: refused a websocket (%s)", self.kernel_id, refusal[1])
+            self.multi_kernel_manager.log.warning("Kernel %s: refused a websocket (%s)", self.kernel_id, refusal[1])
             raise web.HTTPError(*refusal)
         await super().prepare()
 
     def connect(self) -> asyncio.Future[None] | None:  # type: ignore[override]
         refusal = self._refusal()  # again: another socket may have been admitted while this one was prepared
         if refusal is not None:
-            self.log.warning("Kernel %s: closed a websocket (%s)", self.kernel_id, refusal[1])
+            self.multi_kernel_manager.log.warning("Kernel %s: closed a websocket (%s)", self.kernel_id, refusal[1])
             self.websocket_handler.close(POLICY_VIOLATION, refusal[1])
             done: asyncio.Future[None] = asyncio.get_running_loop().create_future()
             done.set_result(None)
@@ -204,7 +204,8 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
             if not self._overflowed:
                 self._overflowed = True
                 behind = self.budget.unsent >> 20
-                self.log.warning("Kernel %s: a websocket %d MB behind; closing it", self.kernel_id, behind)
+                log = self.multi_kernel_manager.log  # (this object's own logger is not Voilà's)
+                log.warning("Kernel %s: a websocket %d MB behind; closing it", self.kernel_id, behind)
                 handler.close(POLICY_VIOLATION, "too far behind")
             return None
         future = handler.write_message(message, binary)
