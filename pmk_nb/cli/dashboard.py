@@ -38,7 +38,7 @@ def add_parser(subparsers: Any) -> None:
         "--kiosk",
         action="store_true",
         help="locked-down tablet page: Home only with big buttons, Maps and Settings behind the PIN set in "
-        "Settings, screen kept on; implies --preview-on-start",
+        "Settings, screen kept on, a token even on loopback (printed in the URL); implies --preview-on-start",
     )
     p.add_argument(
         "--allow-local",
@@ -61,6 +61,6 @@ def run(args: argparse.Namespace) -> int:
     from pmk_nb.library.netguard import ALLOW_LOCAL_ENV  # here: the HTTP modules stay out of `pmk --help`
 
     env[ALLOW_LOCAL_ENV] = "1" if getattr(args, "allow_local", False) else "0"
-    token = preflight(args, env)
+    token = preflight(args, env, kiosk=args.kiosk)
     with sigterm_as_interrupt(), tempfile.TemporaryDirectory(prefix="pmk-dashboard-") as tmp:
         return serve(args, env, Path(tmp), token)

@@ -37,7 +37,8 @@ def run(args: argparse.Namespace) -> int:
     from pmk_nb.cli.demo_setup import prepare_demo
 
     check_port_number(args.port)
-    token = preflight(args, dict(os.environ))  # before the simulator starts: a refused --ip or a taken port fails fast
+    # before the simulator starts: a refused --ip or a taken port fails fast
+    token = preflight(args, dict(os.environ), kiosk=not args.no_kiosk)
     with sigterm_as_interrupt():
         print("Preparing the demo: converting the sample map, starting the simulated chair...", flush=True)
         demo = prepare_demo(args.dir, gml=args.gml)

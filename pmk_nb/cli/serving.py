@@ -90,6 +90,18 @@ def check_port_free(ip: str, port: int) -> None:
             ) from None  # fmt: skip
 
 
+def server_names(ip: str) -> list[str]:
+    """Host names a page may use for a server on ``ip`` besides its addresses: none on loopback
+    (``localhost`` is always allowed), the machine's own names when it serves the LAN."""
+    if is_loopback(ip):
+        return []
+    name = socket.gethostname().lower()
+    names = [name, f"{name}.local", socket.getfqdn().lower()]
+    if ip not in ("0.0.0.0", "", "::"):
+        names.append(ip.lower())  # --ip given as a name
+    return sorted(set(names))
+
+
 def local_host(ip: str) -> str:
     """Where this machine reaches a server listening on ``ip`` (all interfaces -> loopback)."""
     return "127.0.0.1" if ip in ("0.0.0.0", "", "::") else ip

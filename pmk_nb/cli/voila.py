@@ -18,6 +18,9 @@ Server choices, and why:
     connected kernels: a live page answers the page heartbeat every 2 s (see
     :mod:`pmk_nb.ui.page_lifecycle`), so only a kernel whose page stopped pinging ever looks idle.
   * ``show_tracebacks`` stays False: the app reports errors itself.
+  * Only this server's own names are served (Host and Origin checked, token or not), a kernel has
+    one websocket (its page's, binary protocol, bounded output), see :mod:`pmk_nb.cli.voila_guard`;
+    a kiosk always requires a token, on loopback too (:func:`preflight`).
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ import argparse
 import json
 import subprocess
 import sys
+import webbrowser
 from pathlib import Path
 
 from pmk_nb.cli import serving
@@ -41,6 +45,8 @@ DEFAULT_PORT = serving.DEFAULT_PORT
 DEFAULT_IP = serving.DEFAULT_IP
 VOILA_START_TIMEOUT = 120.0
 KERNEL_MANAGER = "pmk_nb.cli.voila_kernels.PageBoundKernelManager"
+IDENTITY_PROVIDER = "pmk_nb.cli.voila_guard.HostCheckingIdentityProvider"
+KERNEL_CONNECTION = "pmk_nb.cli.voila_guard.PageChannelConnection"
 CONFIG_FILE = "voila.json"
 #: seconds Voilà waits for the notebook's output while rendering a page (nbclient's default, 4 s, on a
 #: loaded machine drops the app's output: "Timeout waiting for IOPub output" and a blank page)
@@ -70,21 +76,27 @@ def dashboard_notebook() -> dict[str, object]:
     }
 
 
-def server_config(token: str | None = None) -> dict[str, object]:
-    """Voilà's config file: websocket pings (integers, which the command line would make strings), token."""
+def server_config(token: str | None = None, ip: str = DEFAULT_IP) -> dict[str, object]:
+    """Voilà's config file: websocket pings (integers, which the command line would make strings), token,
+    the guards of :mod:`pmk_nb.cli.voila_guard` (Host/Origin for ``ip``, one bounded channel per kernel)."""
+    tornado: dict[str, object] = {"ws_ping_interval": WS_PING_INTERVAL_MS, "ws_ping_timeout": WS_PING_TIMEOUT_MS}
+    if serving.is_loopback(ip):  # jupyter_server's own Host check as well (it knows loopback names only)
+        tornado.update(allow_remote_access=False, local_hostnames=["localhost"])
     voila: dict[str, object] = {
-        "tornado_settings": {"ws_ping_interval": WS_PING_INTERVAL_MS, "ws_ping_timeout": WS_PING_TIMEOUT_MS},
+        "tornado_settings": tornado,
+        "identity_provider_class": IDENTITY_PROVIDER,
+        "kernel_websocket_connection_class": KERNEL_CONNECTION,
     }
     if token:
         voila["token"] = token
     return {"Voila": voila}
 
 
-def write_dashboard_notebook(directory: Path, *, token: str | None = None) -> Path:
+def write_dashboard_notebook(directory: Path, *, token: str | None = None, ip: str = DEFAULT_IP) -> Path:
     """Write ``dashboard.ipynb`` and the server's ``voila.json`` (0600) into ``directory``; return the notebook."""
     path = directory / "dashboard.ipynb"
     atomic_write(path, json.dumps(dashboard_notebook(), indent=1) + "\n", mkdir=True)
-    atomic_write(directory / CONFIG_FILE, json.dumps(server_config(token), indent=1) + "\n", mode=0o600)
+    atomic_write(directory / CONFIG_FILE, json.dumps(server_config(token, ip), indent=1) + "\n", mode=0o600)
     return path
 
 
@@ -138,13 +150,18 @@ def server_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
 
 
-def preflight(args: argparse.Namespace, env: dict[str, str]) -> str | None:
+def preflight(args: argparse.Namespace, env: dict[str, str], *, kiosk: bool = False) -> str | None:
     """Check ``--ip``/``--token``/``--port`` before anything starts; return the token to require (or None).
+
+    A kiosk gets a random token when none is given, on loopback too: its page can move the chair, and
+    any local program or web page (DNS rebinding) could otherwise open it.
 
     Raises:
         ServingRefused: beyond loopback without a token, a short token, or the port is taken.
     """
     token = serving.resolve_token(args.token, env)
+    if kiosk and not token:
+        token = serving.resolve_token(serving.AUTO_TOKEN, env)
     serving.check_serving(args.ip, token)
     serving.check_port_free(args.ip, args.port)
     return token
@@ -156,13 +173,16 @@ def serve(args: argparse.Namespace, env: dict[str, str], workdir: Path, token: s
     ``token`` comes from :func:`preflight`; the port is checked again (something may have taken it meanwhile).
     """
     serving.check_port_free(args.ip, args.port)
-    notebook = write_dashboard_notebook(workdir, token=token)
-    cmd = voila_command(notebook, port=args.port, ip=args.ip, open_browser=not args.no_browser)
+    notebook = write_dashboard_notebook(workdir, token=token, ip=args.ip)
+    # Voilà would open its URL without the token (a login page): with one, we open the right URL ourselves
+    cmd = voila_command(notebook, port=args.port, ip=args.ip, open_browser=not args.no_browser and not token)
     voila = subprocess.Popen(cmd, env=env, cwd=workdir)
     try:
         wait_for_port(serving.local_host(args.ip), args.port, voila, "Voilà", VOILA_START_TIMEOUT)
         for line in serving.url_lines(args.ip, args.port, token):
             print(line, flush=True)
+        if token and not args.no_browser:
+            webbrowser.open(serving.dashboard_url(serving.local_host(args.ip), args.port, token))
         return wait_children([voila])
     finally:
         stop_process(voila)

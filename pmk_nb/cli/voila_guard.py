@@ -1,0 +1,222 @@
+"""Who may reach the dashboard's server and its kernels: the Host, the Origin, one bounded channel per page.
+
+Voilà's defaults trust every client that has the URL (issue 30): any ``Host`` header was served (DNS
+rebinding: a web page on ``evil.example`` whose name later resolves to 127.0.0.1 could drive the
+dashboard), a token-carrying websocket skipped the Origin check, and a page script could open more
+websockets to its own kernel.  One such socket speaking the legacy JSON protocol and never reading
+grew the server from 102 MB to 1.7 GB in 30 s (every live-view frame re-serialized and queued for
+it), new pages got no answer, and its kernel outlived the page.  Both classes here are plugged in by
+configuration (``voila.json``, :func:`pmk_nb.cli.voila.server_config`):
+
+  * :class:`HostCheckingIdentityProvider` (``Voila.identity_provider_class``): a request whose Host
+    is not one this server listens on is refused (403), and an Origin is checked even when the
+    request carries the token.
+  * :class:`PageChannelConnection` (``Voila.kernel_websocket_connection_class``): a kernel has at
+    most one websocket, the page's own (the first session that connected; a reconnect of that page
+    is admitted once its old socket is closed); only the binary v1 protocol is spoken (the page's
+    scripts always offer it); and a connection whose unsent output passes :data:`MAX_UNSENT_BYTES`
+    is closed (nothing more is queued for it meanwhile).
+
+The refusals are what bound the server: with them switched off in an experiment, a silent legacy
+socket grew the server from 100 to 265 MB in 12 s although only one message went through its
+``write_message`` (the growth is queued before the websocket, in the connection's own ZMQ channels),
+and the output budget never tripped.  The budget is a back-stop for the page's own socket only.
+
+This module is the one seam to jupyter_server's kernel-websocket internals (``ZMQChannelsWebsocketConnection``'s
+``prepare``/``connect``/``disconnect``/``write_message``, ``_open_sessions``); tests/test_voila_guard_seam.py
+pins them in the installed version.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import ipaddress
+import re
+import socket
+from functools import lru_cache
+from typing import Any, ClassVar
+
+from jupyter_server.auth.identity import PasswordIdentityProvider
+from jupyter_server.services.kernels.connection.channels import ZMQChannelsWebsocketConnection
+from tornado import web
+
+from pmk_nb.cli.serving import DEFAULT_IP, server_names
+
+V1_PROTOCOL = "v1.kernel.websocket.jupyter.org"
+#: unsent bytes after which a kernel websocket is closed.  The page itself stays within a second and
+#: a half of the kernel's output (page_lifecycle's flow control: a few MB at most, a map image included)
+MAX_UNSENT_BYTES = 32 * 1024 * 1024
+POLICY_VIOLATION = 1008  # websocket close code
+ANY_ADDRESS = ("0.0.0.0", "", "::")
+LOOPBACK_NAMES = ("localhost", "127.0.0.1", "::1")
+
+
+def request_host(host_header: str) -> str:
+    """The host part of a ``Host`` header, lower case, without port or IPv6 brackets."""
+    match = re.match(r"^\[([^\]]*)\](:\d+)?$|^([^:]*)(:\d+)?$", host_header.strip())
+    if match is None:
+        return host_header.strip().lower()  # a bare IPv6 address, or garbage (compared as is)
+    return (match.group(1) or match.group(3) or "").lower()
+
+
+@lru_cache(maxsize=64)
+def is_own_address(host: str) -> bool:
+    """Whether ``host`` is an IP address of this machine (it can be bound to)."""
+    try:
+        addr = ipaddress.ip_address(host)
+    except ValueError:
+        return False
+    family = socket.AF_INET6 if addr.version == 6 else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as sock:
+        try:
+            sock.bind((str(addr), 0))
+        except OSError:
+            return False
+    return True
+
+
+def host_allowed(host: str, listen_ip: str, names: list[str]) -> bool:
+    """``host`` (from :func:`request_host`) names this server: a loopback address or name, the address
+    it listens on, one of ``names`` (the machine's own names when serving the LAN), or, listening on
+    every interface, any address of this machine."""
+    if not host:
+        return False
+    if host in LOOPBACK_NAMES or host in names or host == listen_ip.lower():
+        return True
+    try:
+        if ipaddress.ip_address(host).is_loopback:
+            return True
+    except ValueError:
+        return False  # a name we were not told about: what DNS rebinding sends
+    return listen_ip in ANY_ADDRESS and is_own_address(host)
+
+
+class OutputBudget:
+    """Bytes queued on a websocket and not yet sent; over ``limit``, nothing more is queued."""
+
+    def __init__(self, limit: int = MAX_UNSENT_BYTES) -> None:
+        self.limit = limit
+        self.unsent = 0
+
+    def over(self) -> bool:
+        return self.unsent > self.limit
+
+    def queued(self, size: int) -> None:
+        self.unsent += size
+
+    def sent(self, size: int) -> None:
+        self.unsent = max(0, self.unsent - size)
+
+
+@lru_cache(maxsize=4)
+def _names(ip: str) -> list[str]:
+    return server_names(ip)
+
+
+class HostCheckingIdentityProvider(PasswordIdentityProvider):
+    """Voilà's identity provider, refusing foreign ``Host`` headers and checking Origin even with the token.
+
+    The address it listens on is Voilà's own ``ip`` (this provider's parent is the Voilà app)."""
+
+    @property
+    def listen_ip(self) -> str:
+        return str(getattr(self.parent, "ip", None) or DEFAULT_IP)
+
+    def get_user(self, handler: web.RequestHandler) -> Any:
+        host = request_host(handler.request.headers.get("Host", ""))
+        if not host_allowed(host, self.listen_ip, _names(self.listen_ip)):
+            self.log.warning("Refused a request for Host %r (not this server: DNS rebinding?)", host[:100])
+            raise web.HTTPError(403)
+        return super().get_user(handler)
+
+    def should_check_origin(self, handler: web.RequestHandler) -> bool:
+        """Always: a token in the URL is no proof that the request comes from our own page."""
+        return True
+
+
+class PageChannelConnection(ZMQChannelsWebsocketConnection):
+    """A kernel's websocket: the page's own only, v1 protocol only, output bounded (see the module doc)."""
+
+    _channels: ClassVar[dict[str, PageChannelConnection]] = {}  # kernel id -> its open, admitted channel
+    _page_sessions: ClassVar[dict[str, str]] = {}  # kernel id -> the session id of its page
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self._admitted = False
+        self.budget = OutputBudget()
+        self._overflowed = False
+
+    def _refusal(self) -> tuple[int, str] | None:
+        """(HTTP status, why) when this connection may not have the kernel; None when it may."""
+        offered = self.websocket_handler.request.headers.get("Sec-WebSocket-Protocol", "")
+        if V1_PROTOCOL not in [p.strip() for p in offered.split(",")]:
+            return 400, "the legacy protocol is not served"
+        page = self._page_sessions.get(self.kernel_id)
+        if page is not None and page != self.session.session:
+            return 409, "another page's session"
+        if self.kernel_id in self._channels:
+            return 409, "the kernel already has its page's channel"
+        return None
+
+    async def prepare(self) -> None:
+        refusal = self._refusal()
+        if refusal is not None:
+            self.multi_kernel_manager.log.warning("Kernel %s: refused a websocket (%s)", self.kernel_id, refusal[1])
+            raise web.HTTPError(*refusal)
+        await super().prepare()
+
+    def connect(self) -> asyncio.Future[None] | None:  # type: ignore[override]
+        refusal = self._refusal()  # again: another socket may have been admitted while this one was prepared
+        if refusal is not None:
+            self.multi_kernel_manager.log.warning("Kernel %s: closed a websocket (%s)", self.kernel_id, refusal[1])
+            self.websocket_handler.close(POLICY_VIOLATION, refusal[1])
+            done: asyncio.Future[None] = asyncio.get_running_loop().create_future()
+            done.set_result(None)
+            return done
+        known = set(self.multi_kernel_manager.list_kernel_ids())
+        for table in (self._channels, self._page_sessions):
+            for kid in [k for k in table if k not in known]:
+                table.pop(kid, None)
+        self._admitted = True
+        self._channels[self.kernel_id] = self
+        self._page_sessions.setdefault(self.kernel_id, self.session.session)
+        return super().connect()
+
+    def disconnect(self) -> None:
+        if not self._admitted:  # refused in connect(): it never counted as a connection
+            if self._open_sessions.get(self.session_key) is self.websocket_handler:
+                self._open_sessions.pop(self.session_key, None)
+            return
+        if self._channels.get(self.kernel_id) is self:
+            self._channels.pop(self.kernel_id, None)
+        self._admitted = False
+        super().disconnect()
+
+    @property
+    def write_message(self) -> Any:  # type: ignore[override]
+        """The handler's ``write_message``, counting what is not yet sent (see :meth:`_bounded_write`)."""
+        return self._bounded_write
+
+    def _bounded_write(self, message: bytes | str | dict[str, Any], binary: bool = False) -> Any:
+        """Queue ``message`` unless this socket is :data:`MAX_UNSENT_BYTES` behind; then close it."""
+        handler = self.websocket_handler
+        if self.budget.over():
+            if not self._overflowed:
+                self._overflowed = True
+                behind = self.budget.unsent >> 20
+                log = self.multi_kernel_manager.log  # (this object's own logger is not Voilà's)
+                log.warning("Kernel %s: a websocket %d MB behind; closing it", self.kernel_id, behind)
+                handler.close(POLICY_VIOLATION, "too far behind")
+            return None
+        future = handler.write_message(message, binary)
+        if future is None:  # Voilà drops some messages (execute_input)
+            return None
+        size = len(message) if isinstance(message, bytes | str) else 0
+        self.budget.queued(size)
+        future.add_done_callback(lambda f: self._written(f, size))
+        return future
+
+    def _written(self, future: asyncio.Future[Any], size: int) -> None:
+        self.budget.sent(size)
+        if not future.cancelled():
+            future.exception()  # a closed socket: retrieved, not logged as "never retrieved"

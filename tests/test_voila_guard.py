@@ -1,0 +1,187 @@
+"""The dashboard server's guards (issue 30, findings 2 and 4): unit tests of pmk_nb.cli.voila_guard and
+the served config, then a real Voilà started as ``pmk dashboard`` starts it, attacked over HTTP.
+
+Host and Origin: a page request for ``Host: evil.example`` was served, and a kernel websocket from a
+rebinding page (Host and Origin ``evil.example``) or with the token and a foreign Origin was
+accepted.  Kernel sockets: a second websocket to a page's kernel was accepted, in the legacy protocol
+too.  A kiosk served on loopback needed no token.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import httpx
+import pytest
+from websockets.exceptions import InvalidStatus
+from websockets.sync.client import connect
+
+from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
+from pmk_nb.cli.serving import server_names
+from pmk_nb.cli.voila import preflight, server_config, voila_command, write_dashboard_notebook
+from pmk_nb.cli.voila_guard import V1_PROTOCOL, OutputBudget, host_allowed, is_own_address, request_host
+
+# --- units -----------------------------------------------------------------------------------------
+
+
+def test_request_host_drops_port_brackets_and_case() -> None:
+    assert request_host("Evil.Example:8866") == "evil.example"
+    assert request_host("[::1]:8866") == "::1"
+    assert request_host("127.0.0.1") == "127.0.0.1"
+    assert request_host("") == ""
+
+
+def test_loopback_serves_loopback_names_only() -> None:
+    for host in ("localhost", "127.0.0.1", "127.0.0.2", "::1"):
+        assert host_allowed(host, "127.0.0.1", []), host
+    for host in ("evil.example", "", "localhost.evil.example", "8.8.8.8", "0.0.0.0"):
+        assert not host_allowed(host, "127.0.0.1", []), host
+
+
+def test_lan_serving_also_allows_the_machines_names_and_addresses() -> None:
+    assert host_allowed("tablet-host", "0.0.0.0", ["tablet-host"])
+    assert host_allowed("192.0.2.7", "192.0.2.7", [])  # the address it was told to listen on
+    assert not host_allowed("evil.example", "0.0.0.0", ["tablet-host"])
+    assert not host_allowed("192.0.2.7", "0.0.0.0", [])  # TEST-NET: not an address of this machine
+    assert is_own_address("127.0.0.1") and not is_own_address("192.0.2.7") and not is_own_address("name")
+    assert socket.gethostname().lower() in server_names("0.0.0.0") and server_names("127.0.0.1") == []
+
+
+def test_output_budget_stops_queueing_past_its_limit() -> None:
+    budget = OutputBudget(limit=1000)
+    budget.queued(600)
+    assert not budget.over()
+    budget.queued(600)
+    assert budget.over()
+    budget.sent(600)
+    assert not budget.over() and budget.unsent == 600
+    budget.sent(10_000)
+    assert budget.unsent == 0
+
+
+def test_the_served_config_plugs_in_both_guards() -> None:
+    config = server_config("t" * 20, "127.0.0.1")
+    voila = config["Voila"]
+    assert isinstance(voila, dict)
+    assert voila["identity_provider_class"].endswith("HostCheckingIdentityProvider")
+    assert voila["kernel_websocket_connection_class"].endswith("PageChannelConnection")
+    assert voila["tornado_settings"]["allow_remote_access"] is False
+    lan = server_config("t" * 20, "0.0.0.0")
+    assert "allow_remote_access" not in lan["Voila"]["tornado_settings"]  # type: ignore[index]
+
+
+def test_a_kiosk_gets_a_token_on_loopback_too() -> None:
+    args = argparse.Namespace(token=None, ip="127.0.0.1", port=free_port())
+    assert preflight(args, {}) is None
+    token = preflight(args, {}, kiosk=True)
+    assert token and len(token) >= 16
+
+
+# --- a real Voilà ------------------------------------------------------------------------------------
+
+
+def _serve(tmp_path: Path, token: str | None = None) -> Iterator[tuple[int, subprocess.Popen[bytes]]]:
+    env = {**os.environ, "PMK_MAPS_DIR": str(tmp_path / "maps"), "PMK_CONFIG_DIR": str(tmp_path / "config")}
+    port = free_port()
+    notebook = write_dashboard_notebook(tmp_path / "served", token=token)
+    log = (tmp_path / "voila.log").open("wb")
+    voila = subprocess.Popen(
+        voila_command(notebook, port=port), env=env, cwd=notebook.parent, stdout=log, stderr=subprocess.STDOUT
+    )
+    try:
+        wait_for_port("127.0.0.1", port, voila, "Voilà", 120.0)
+        yield port, voila
+    finally:
+        stop_process(voila)
+        log.close()
+
+
+@pytest.fixture
+def served(tmp_path: Path) -> Iterator[tuple[int, subprocess.Popen[bytes]]]:
+    yield from _serve(tmp_path)
+
+
+def _kernel_id(page: httpx.Response) -> str:
+    found = re.search(r'"kernelId":\s*"([0-9a-f-]{36})"', page.text)
+    assert page.status_code == 200 and found, f"no page: {page.status_code}"
+    return found.group(1)
+
+
+def _ws_status(url: str, *, host: str | None = None, origin: str | None = None, v1: bool = True) -> int:
+    """101 when the websocket opened (then closed again), else the HTTP status it was refused with."""
+    headers = {"Host": host} if host else None
+    try:
+        with connect(
+            url, origin=origin, additional_headers=headers, subprotocols=[V1_PROTOCOL] if v1 else None,  # type: ignore[arg-type]
+            open_timeout=60,
+        ):  # fmt: skip
+            return 101
+    except InvalidStatus as err:
+        return err.response.status_code
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(300)
+def test_a_foreign_host_or_origin_is_refused_and_a_kernel_takes_one_socket(
+    served: tuple[int, subprocess.Popen[bytes]],
+) -> None:
+    port, _voila = served
+    base = f"http://127.0.0.1:{port}/"
+    refused = httpx.get(base, headers={"Host": f"evil.example:{port}"}, timeout=120)
+    assert refused.status_code in (400, 403), f"Host: evil.example was served ({refused.status_code})"
+    kernel = _kernel_id(httpx.get(base, timeout=120))
+    channels = f"ws://127.0.0.1:{port}/api/kernels/{kernel}/channels?session_id="
+    rebound = _ws_status(channels + "a", host=f"evil.example:{port}", origin=f"http://evil.example:{port}")
+    assert rebound in (400, 403), f"a rebinding page's websocket: {rebound}"
+    assert _ws_status(channels + "a", origin=f"http://evil.example:{port}") in (400, 403)
+    assert _ws_status(channels + "a", v1=False) in (400, 409), "the legacy protocol was served"
+    with connect(channels + "page", origin=f"http://127.0.0.1:{port}", subprotocols=[V1_PROTOCOL], open_timeout=60):
+        second = _ws_status(channels + "other", origin=f"http://127.0.0.1:{port}")
+        assert second == 409, f"a second socket to the page's kernel: {second}"
+    for name in ("localhost", "[::1]"):  # the loopback names are served (no kernel needed: the login page)
+        assert httpx.get(base + "login", headers={"Host": f"{name}:{port}"}, timeout=60).status_code in (200, 302), name
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(300)
+def test_a_token_does_not_excuse_a_foreign_origin(tmp_path: Path) -> None:
+    token = "k" * 24
+    for port, _voila in _serve(tmp_path, token=token):
+        base = f"http://127.0.0.1:{port}/"
+        assert httpx.get(base, timeout=60).status_code in (302, 403), "served without the token"
+        kernel = _kernel_id(httpx.get(base + f"?token={token}", timeout=120))
+        channels = f"ws://127.0.0.1:{port}/api/kernels/{kernel}/channels?token={token}&session_id=s"
+        assert _ws_status(channels, origin=f"http://evil.example:{port}") in (400, 403)
+        assert _ws_status(channels, origin=f"http://127.0.0.1:{port}") == 101
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(300)
+def test_pmk_dashboard_kiosk_on_loopback_requires_the_printed_token(tmp_path: Path) -> None:
+    env = {**os.environ, "PMK_MAPS_DIR": str(tmp_path / "maps"), "PMK_CONFIG_DIR": str(tmp_path / "config")}
+    port = free_port()
+    served = subprocess.Popen(
+        [sys.executable, "-m", "pmk_nb.cli", "dashboard", "--kiosk", "--port", str(port), "--no-browser"],
+        env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+    )  # fmt: skip
+    try:
+        assert served.stdout is not None
+        line = served.stdout.readline()
+        assert line.startswith("PMK dashboard: http://127.0.0.1:"), line
+        assert re.search(r"\?token=[\w-]{16,}", line), f"the kiosk URL carries no token: {line}"
+        printed = line.split()[2]
+        bare = printed.split("?", 1)[0]
+        started = time.monotonic()
+        assert httpx.get(bare, timeout=60).status_code in (302, 403), "the kiosk page opened without the token"
+        assert time.monotonic() - started < 30
+        _kernel_id(httpx.get(printed, timeout=120))
+    finally:
+        stop_process(served)
