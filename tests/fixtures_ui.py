@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.ui.context import AppContext
+from pmk_nb.ui.maps_screen import MapsScreen
 from tests.helpers import app_context
 
 
@@ -16,3 +17,11 @@ def ctx(tmp_path: Path) -> Iterator[AppContext]:
     """An app context on the test's own maps folder and profiles (see :func:`tests.helpers.app_context`)."""
     with app_context(tmp_path) as context:
         yield context
+
+
+@pytest.fixture
+def screen(ctx: AppContext) -> Iterator[MapsScreen]:
+    """The Maps screen on that context, closed after the test."""
+    s = MapsScreen(ctx)
+    yield s
+    s.close()

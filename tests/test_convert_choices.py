@@ -8,7 +8,6 @@ is the balcony plan of test_not_window: its "office window" (1 m up a wall) is r
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -30,13 +29,6 @@ from pmk_nb.ui.maps_screen import MapsScreen
 from tests.test_not_window import _balcony
 
 WINDOW = "office window"
-
-
-@pytest.fixture
-def screen(ctx: AppContext) -> Iterator[MapsScreen]:
-    s = MapsScreen(ctx)
-    yield s
-    s.close()
 
 
 def _report(not_checked: list[dict[str, str]]) -> dict[str, object]:

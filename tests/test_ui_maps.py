@@ -24,13 +24,6 @@ SAMPLE_MAPS = Path(__file__).resolve().parent.parent / "sample_maps"
 NOW = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)  # FileUpload's kernel-side value format
 
 
-@pytest.fixture
-def screen(ctx: AppContext) -> Iterator[MapsScreen]:
-    s = MapsScreen(ctx)
-    yield s
-    s.close()
-
-
 def errors(ctx: AppContext) -> list[str]:
     return [n.message for n in ctx.notifications if n.level == "error"]
 

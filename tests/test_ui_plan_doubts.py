@@ -7,7 +7,6 @@ panel names the unit first when it makes every door absurd, and says "nothing ch
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -28,13 +27,6 @@ from tests.test_units_evidence import _door, _house
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.x", "2.0"])
 THEMATIC = "a thematic layer"
-
-
-@pytest.fixture
-def screen(ctx: AppContext) -> Iterator[MapsScreen]:
-    s = MapsScreen(ctx)
-    yield s
-    s.close()
 
 
 def zoned_plan(tmp_path: Path, v2: bool = False) -> Path:
