@@ -172,7 +172,7 @@ def test_pmk_dashboard_allow_local_reaches_the_kernels_maps_folder(
     from pmk_nb.cli import dashboard, main
 
     seen: list[dict[str, str]] = []
-    monkeypatch.setattr(dashboard, "preflight", lambda args, env: None)
+    monkeypatch.setattr(dashboard, "preflight", lambda args, env, kiosk=False: None)
     monkeypatch.setattr(dashboard, "serve", lambda args, env, tmp, token: seen.append(env) or 0)
     for argv, expected in ((["--allow-local"], True), ([], False)):
         assert main(["dashboard", "--port", "8866", *argv]) == 0
