@@ -35,7 +35,7 @@ import shapely
 
 from pmk_nb.access.pixels import disc_radius_px, erode_rows, join_strip_runs, strip_runs
 from pmk_nb.access.widths import free_widths
-from pmk_nb.grid import FREE
+from pmk_nb.grid import FREE, UNKNOWN
 from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.raster.scanline import Frame, write_rects
 from pmk_nb.raster.spans import polygon_rects
@@ -333,8 +333,6 @@ def _doorway(cell: Cell, radius: float) -> bool:
 
 def _touches_unknown(grid: OccupancyGrid, cell: Cell) -> bool:
     """Whether an unknown pixel lies within a pixel and a half of ``cell``'s outline."""
-    from pmk_nb.grid import UNKNOWN
-
     res = grid.resolution
     x0, y0, x1, y1 = cell.footprint.buffer(1.5 * res).bounds
     c0, c1 = max(int((x0 - grid.origin[0]) / res), 0), min(int((x1 - grid.origin[0]) / res) + 1, grid.width)
