@@ -4,15 +4,20 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 PYTEST_ARGS ?=
+# two workers: browser, Voilà, notebook and real-stack tests on one (conftest.py), the rest on the other
+XDIST ?= -n 2 --dist loadgroup
 JS_STAMP := tests/js/node_modules/.package-lock.json
 
-.PHONY: demo test lint bench soak system-deps venv clean ros2
+.PHONY: demo test check lint bench soak system-deps venv clean ros2
 
 demo: $(STAMP)  ## convert the sample, start the simulated chair and the Voilà kiosk, print the URL
 	$(BIN)/pmk demo
 
 test: $(STAMP) system-deps $(JS_STAMP) ros2 lint  ## install everything the tests need and run the whole suite
-	$(BIN)/python -m pytest $(PYTEST_ARGS)
+	$(BIN)/python -m pytest $(XDIST) $(PYTEST_ARGS)
+
+check: $(STAMP) system-deps $(JS_STAMP) lint  ## the fast tier: everything but browser, Voilà, notebook and real-stack tests
+	$(BIN)/python -m pytest -n 2 -m "not heavy" $(PYTEST_ARGS)
 
 lint: $(STAMP)
 	$(BIN)/ruff check pmk_nb tests bench conftest.py
