@@ -121,8 +121,9 @@ class Listener:
             return [b for at, b in self.beats if at >= t]
 
 
-def test_beats_while_a_goal_runs_then_idle_then_silence(sim_factory, link_factory, ros_factory) -> None:
-    sim = sim_factory(ros="ros2", start_pose=START)
+@pytest.mark.parametrize("ros", ["ros2", "ros1"])  # Nav2 action; move_base actionlib (std_msgs/String per version)
+def test_beats_while_a_goal_runs_then_idle_then_silence(sim_factory, link_factory, ros_factory, ros: str) -> None:
+    sim = sim_factory(ros=ros, start_pose=START)
     link = link_factory(sim)
     listener = Listener(ros_factory(sim))
     time.sleep(0.3)  # the subscription is in place before the first beat
