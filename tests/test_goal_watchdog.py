@@ -182,3 +182,19 @@ def test_beats_stop_when_the_link_drops_and_the_watch_trips(sim_factory, ros_fac
     finally:
         link.close()
         proxy.close()
+
+
+def test_closing_the_link_mid_goal_stops_the_beats_without_idle(sim_factory, link_factory, ros_factory) -> None:
+    """A dashboard that lets go of a running goal (its kernel closes the link) leaves nobody watching:
+    no "idle" (that would disarm the watchdog), just silence."""
+    sim = sim_factory(ros="ros2", start_pose=START)
+    link = link_factory(sim)
+    listener = Listener(ros_factory(sim))
+    time.sleep(0.3)
+    link.navigate_to(*FAR)
+    assert wait_until(lambda: len(listener.since(0)) >= 2, 3.0)
+    link.close()
+    closed = time.monotonic()
+    time.sleep(1.5)
+    assert [b for b in listener.since(closed) if not b.active] == []
+    assert listener.since(closed + 0.3) == []

@@ -107,6 +107,7 @@ class GoalHeartbeat:
                 beat = Beat(self.client, bool(self._goals), len(self._goals), next(self._seq))
             if link is not None:
                 self._send(link, beat)
+            del link  # no strong reference while waiting: a dropped link can be collected
             self._wake.wait(self.period)
             self._wake.clear()
 
