@@ -93,6 +93,14 @@ def test_anything_but_a_beat_is_refused(text: str) -> None:
     assert Beat.decode(text) is None
 
 
+@pytest.mark.parametrize("args", [["--silence", "0"], ["--silence", "-1"], ["--actions", "navigate_to_pose"]])
+def test_the_command_refuses_bad_options_before_starting_ros(args: list[str]) -> None:
+    from pmk_nb.cli import main
+
+    with pytest.raises(SystemExit, match="goal-watchdog"):
+        main(["robot", "goal-watchdog", *args])
+
+
 def test_a_beat_survives_its_wire_format() -> None:
     beat = Beat("pmk-tablet-1", True, 2, 17)
     assert Beat.decode(beat.encode()) == beat

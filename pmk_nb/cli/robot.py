@@ -16,7 +16,9 @@ from pmk_nb.robot.mapstore import DEFAULT_MAPS
 
 
 def add_parser(subparsers: Any) -> None:
-    p = subparsers.add_parser("robot", help="chair-side ROS 2 nodes: the PMK map server, the simulated chair")
+    p = subparsers.add_parser(
+        "robot", help="chair-side ROS nodes: the PMK map server, the simulated chair, the goal watchdog"
+    )
     sub = p.add_subparsers(dest="node", metavar="NODE", required=True)
     ms = sub.add_parser(
         "map-server",
