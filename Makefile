@@ -45,8 +45,8 @@ system-deps:
 	test -x /usr/bin/chromium || missing="$$missing chromium"; \
 	test -x /usr/bin/espeak-ng || missing="$$missing espeak-ng"; \
 	test -x /usr/bin/rosmaster && test -f /usr/share/nav_msgs/msg/MapMetaData.msg \
-	  && /usr/bin/python3 -c 'import rospy, genpy, nav_msgs.srv, numpy, yaml, PIL' 2>/dev/null \
-	  || missing="$$missing python3-rospy python3-rosmaster python3-nav-msgs python3-geometry-msgs python3-genpy ros-nav-msgs python3-numpy python3-yaml python3-pil"; \
+	  && /usr/bin/python3 -c 'import rospy, genpy, nav_msgs.srv, actionlib_msgs.msg, numpy, yaml, PIL' 2>/dev/null \
+	  || missing="$$missing python3-rospy python3-rosmaster python3-nav-msgs python3-geometry-msgs python3-actionlib-msgs python3-genpy ros-nav-msgs python3-numpy python3-yaml python3-pil"; \
 	if [ -n "$$missing" ]; then \
 	  if [ "$$(id -u)" != 0 ]; then echo "make: need root to install:$$missing (or install them yourself)"; exit 1; fi; \
 	  echo "installing Debian packages:$$missing"; \

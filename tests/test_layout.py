@@ -14,6 +14,7 @@ MAX_MODULE_LINES = 400
 MAX_FUNCTION_LINES = 80
 # Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
 TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
+TOP_LEVEL |= {"goalbeat.py"}  # the goal heartbeat's wire format: the link (chair/) and the watchdog (robot/)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
@@ -131,6 +132,11 @@ ALLOWED_IMPORTS["cli"] |= {"guide", "speech"}
 ALLOWED_IMPORTS["drive"] = set(SHARED)
 ALLOWED_IMPORTS["ui"] |= {"drive"}
 ALLOWED_IMPORTS["cli"] |= {"drive"}
+# The goal heartbeat's wire format (issue 24): the link speaks it, the chair's goal watchdog hears it.
+ALLOWED_IMPORTS["goalbeat"] = set()
+ALLOWED_IMPORTS["chair"] |= {"goalbeat"}
+ALLOWED_IMPORTS["robot"] |= {"goalbeat"}
+ALLOWED_IMPORTS["cli"] |= {"goalbeat"}
 
 
 def _package_of(path: Path) -> str:

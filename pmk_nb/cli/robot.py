@@ -1,7 +1,9 @@
 """``pmk robot``: the chair-side ROS 2 nodes (run them where rclpy and our interfaces are installed).
 
 - ``pmk robot map-server [--maps DIR] [--map NAME]``: the PMK map server (see pmk_nb.robot.mapserver);
-- ``pmk robot sim-node``: the simulated chair behind real rclpy topics (see pmk_nb.robot.simnode).
+- ``pmk robot sim-node``: the simulated chair behind real rclpy topics (see pmk_nb.robot.simnode);
+- ``pmk robot goal-watchdog [--silence S] [--ros1]``: cancels navigation goals when the dashboard's
+  heartbeat stops (see pmk_nb.robot.goalwatch).
 """
 
 from __future__ import annotations
@@ -14,7 +16,9 @@ from pmk_nb.robot.mapstore import DEFAULT_MAPS
 
 
 def add_parser(subparsers: Any) -> None:
-    p = subparsers.add_parser("robot", help="chair-side ROS 2 nodes: the PMK map server, the simulated chair")
+    p = subparsers.add_parser(
+        "robot", help="chair-side ROS nodes: the PMK map server, the simulated chair, the goal watchdog"
+    )
     sub = p.add_subparsers(dest="node", metavar="NODE", required=True)
     ms = sub.add_parser(
         "map-server",
@@ -68,6 +72,28 @@ def add_parser(subparsers: Any) -> None:
         "--no-map-odom", action="store_true", help="publish no map->odom (another node localises, e.g. AMCL)"
     )
     sn.set_defaults(run=run_sim_node)
+    _add_goal_watchdog(sub)
+
+
+def _add_goal_watchdog(sub: Any) -> None:
+    from pmk_nb.goalbeat import SILENCE_S, TOPIC
+    from pmk_nb.robot.watchdog_ros1 import CANCEL_TOPIC
+    from pmk_nb.robot.watchdog_ros2 import ACTIONS
+
+    gw = sub.add_parser(
+        "goal-watchdog",
+        help="cancel navigation goals when the dashboard's goal heartbeat falls silent",
+        description="Runs beside Nav2 (rclpy) or move_base (--ros1, rospy). A bridge may keep a lost "
+        "client's goals alive; this node ends them when the dashboard that sent them stops beating.",
+    )
+    gw.add_argument("--silence", type=float, default=SILENCE_S, help=f"seconds of silence (default {SILENCE_S:g})")
+    gw.add_argument("--topic", default=TOPIC, help=f"heartbeat topic (default {TOPIC})")
+    gw.add_argument(
+        "--actions", default=",".join(ACTIONS), help=f"ROS 2 actions to cancel (default {','.join(ACTIONS)})"
+    )
+    gw.add_argument("--cancel-topic", default=CANCEL_TOPIC, help=f"--ros1: actionlib cancel topic ({CANCEL_TOPIC})")
+    gw.add_argument("--ros1", action="store_true", help="the rospy node for move_base, with the system Python")
+    gw.set_defaults(run=run_goal_watchdog)
 
 
 def _map_request(name: str | None) -> str | None:
@@ -96,20 +122,39 @@ def run_map_server(args: argparse.Namespace) -> int:
 
 def _exec_ros1_map_server(args: argparse.Namespace) -> int:
     """Replace this process by the rospy node under the system Python (rospy is not in the venv)."""
+    argv = ["--maps", str(args.maps)]
+    argv += ["--map", _map_request(args.map)] if args.map else []
+    argv += ["--reply-map-cells", str(args.reply_map_cells)] if args.reply_map_cells is not None else []
+    return _exec_ros1("map-server", "pmk_nb.robot.ros1_mapserver", argv)
+
+
+def _exec_ros1(command: str, module: str, argv: list[str]) -> int:
+    """Replace this process by ``module`` under the system Python that has Debian's rospy."""
     import os
 
     import pmk_nb
     from pmk_nb.robot import ros1_mapserver as ros1
 
     if not os.access(ros1.SYSTEM_PYTHON, os.X_OK):
-        raise SystemExit(f"pmk robot map-server --ros1: {ros1.SYSTEM_PYTHON} not found (install python3-rospy)")
+        raise SystemExit(f"pmk robot {command} --ros1: {ros1.SYSTEM_PYTHON} not found (install python3-rospy)")
     root = str(Path(pmk_nb.__file__).resolve().parent.parent)
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (root, os.environ.get("PYTHONPATH")) if p)}
-    argv = [ros1.SYSTEM_PYTHON, "-m", "pmk_nb.robot.ros1_mapserver", "--maps", str(args.maps)]
-    argv += ["--map", _map_request(args.map)] if args.map else []
-    argv += ["--reply-map-cells", str(args.reply_map_cells)] if args.reply_map_cells is not None else []
-    os.execve(ros1.SYSTEM_PYTHON, argv, env)
+    os.execve(ros1.SYSTEM_PYTHON, [ros1.SYSTEM_PYTHON, "-m", module, *argv], env)
     return 0  # pragma: no cover - execve does not return
+
+
+def run_goal_watchdog(args: argparse.Namespace) -> int:
+    if args.silence <= 0:
+        raise SystemExit(f"pmk robot goal-watchdog: --silence must be > 0 s, got {args.silence:g}")
+    if args.ros1:
+        argv = ["--silence", str(args.silence), "--topic", args.topic, "--cancel-topic", args.cancel_topic]
+        return _exec_ros1("goal-watchdog", "pmk_nb.robot.watchdog_ros1", argv)
+    from pmk_nb.robot import watchdog_ros2
+
+    actions = tuple(a.strip() for a in args.actions.split(",") if a.strip())
+    if not actions or not all(a.startswith("/") for a in actions):
+        raise SystemExit(f"pmk robot goal-watchdog: --actions takes absolute action names, got {args.actions!r}")
+    return watchdog_ros2.run(args.silence, actions, args.topic)
 
 
 def run_sim_node(args: argparse.Namespace) -> int:

@@ -204,6 +204,11 @@ def navigate(
         goal_routes.start_legs(link, route, handle, [*[(px, py, None) for px, py in points], goal], frame)
     else:
         goal_routes.start_leg(link, route, handle, goal, frame)
+    # -- goal heartbeat (issue 24, W): beats while this goal runs, "idle" when it ends ----------------
+    from pmk_nb.chair.link import heartbeat
+
+    heartbeat.track(link, handle)
+    # -- end goal heartbeat ----------------------------------------------------------------------------
     if route.kind == "nav2":
         _abort_on_link_loss(link, handle)
     return handle
