@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link.client import ChairLink, LinkState
 from pmk_nb.chair.link.tls import ChairTls, pinned, trust_certificate
 from pmk_nb.chair.link.transport import LinkRos
 from pmk_nb.errors import (
@@ -22,6 +22,7 @@ from pmk_nb.errors import (
 )
 from pmk_nb.sim.server import SimChair
 from pmk_nb.tlscert import file_fingerprint, write_self_signed
+from tests.helpers import wait_until
 
 NAMES = ("127.0.0.1", "localhost")
 
@@ -57,11 +58,17 @@ def test_wss_link_pins_on_first_use_then_refuses_a_changed_certificate(
         link.connect(timeout=5.0)  # over wss now: a real rosbridge round trip
         info = link.map_info(5.0)
         assert info.width > 0 and link.is_connected
-        link.close()
 
         sim.stop()
         sim.tls = cert_b  # the "chair" now presents another certificate on the same address
         sim.start()
+        ros = link.ros  # roslibpy reconnects by itself: that socket is checked too
+        assert ros is not None
+        wait_until(lambda: ros.refusal is not None, timeout=15.0, what="the reconnect's refusal")
+        assert isinstance(ros.refusal, ChairCertificateChanged) and not link.is_connected
+        assert link.state is LinkState.DISCONNECTED  # not "connecting" forever: reconnects stopped
+        assert sim.client_count == 0
+        link.close()
         with pytest.raises(ChairCertificateChanged) as changed:
             link.connect(timeout=5.0)
         err = changed.value

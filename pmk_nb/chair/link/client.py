@@ -246,7 +246,7 @@ class ChairLink:
     @property
     def state(self) -> LinkState:
         ros = self._ros
-        if ros is None:
+        if ros is None or ros.refusal is not None:  # a certificate refused: no reconnect will come
             return LinkState.DISCONNECTED
         if not ros.is_connected:
             return LinkState.CONNECTING
