@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import os
 import re
+import select
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -34,6 +36,41 @@ def _pmk(cfg: Path, *args: str) -> subprocess.CompletedProcess[str]:
     )
 
 
+def _pmk_on_a_terminal(cfg: Path, answer: str, *args: str) -> tuple[int, str]:
+    """`pmk ARGS` on a pseudo-terminal (a person at a shell): ``answer`` is typed at the question."""
+    main, sub = os.openpty()
+    env = {**os.environ, "PMK_CONFIG_DIR": str(cfg)}
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "pmk_nb.cli", *args], stdin=sub, stdout=sub, stderr=sub, env=env, cwd=ROOT
+    )
+    os.close(sub)
+    seen = b""
+    deadline = time.monotonic() + 60
+    try:
+        while b"[y/N]" not in seen and time.monotonic() < deadline:
+            ready, _, _ = select.select([main], [], [], 1.0)
+            if ready:
+                seen += os.read(main, 4096)
+        assert b"[y/N]" in seen, seen.decode(errors="replace")
+        os.write(main, answer.encode() + b"\n")
+        while time.monotonic() < deadline:
+            ready, _, _ = select.select([main], [], [], 1.0)
+            try:
+                chunk = os.read(main, 4096) if ready else b""
+            except OSError:  # the child closed the terminal
+                break
+            if ready and not chunk:
+                break
+            seen += chunk
+            if proc.poll() is not None and not ready:
+                break
+        return proc.wait(30), seen.decode(errors="replace")
+    finally:
+        os.close(main)
+        if proc.poll() is None:
+            proc.kill()
+
+
 def test_chair_test_over_wss_refuses_then_pins_the_given_fingerprint(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -56,6 +93,9 @@ def test_chair_test_over_wss_refuses_then_pins_the_given_fingerprint(
         assert fingerprint in refused.stdout and "FAILED" in refused.stdout
         tls = ProfileStore(cfg / "profiles.json", secrets=False).get("simtls").link_options()["tls"]
         assert not tls.known_certs.exists()
+
+        code, said = _pmk_on_a_terminal(cfg, "n", "chair", "test", "--no-ssh")  # a person says no
+        assert code == 1 and fingerprint in said and not tls.known_certs.exists(), said
 
         wrong = "00" + fingerprint[2:] if not fingerprint.startswith("00") else "11" + fingerprint[2:]
         mismatch = _pmk(cfg, "chair", "test", "--no-ssh", "--trust-fingerprint", wrong)
