@@ -124,3 +124,18 @@ def test_scheme_mismatch_is_named_both_ways(sim_factory: Any, certs: Any, tmp_pa
     with _link(plain_sim, ChairTls(known_certs=tmp_path / "k")) as link, pytest.raises(ChairLinkError) as err:
         link.connect(timeout=3.0)
     assert type(err.value) is ChairLinkError and "TLS handshake" in str(err.value)
+
+
+def test_trusting_never_replaces_a_pin_made_meanwhile(tmp_path: Path) -> None:
+    """Two pages asked about the same first certificate... and another one was pinned in between:
+    "Trust" on the stale question refuses as a change instead of adding a second pin."""
+    store = tmp_path / "known_certs"
+    first, other = "AA:" * 31 + "AA", "BB:" * 31 + "BB"
+    store.write_text(f"[127.0.0.1]:9 sha256 {first}\n")
+    stale = UnknownChairCertificate("first", host="127.0.0.1", port=9, presented=other, known_certs=str(store))
+    with pytest.raises(ChairCertificateChanged):
+        trust_certificate(stale)
+    trust_certificate(
+        UnknownChairCertificate("same", host="127.0.0.1", port=9, presented=first, known_certs=str(store))
+    )
+    assert store.read_text() == f"[127.0.0.1]:9 sha256 {first}\n"

@@ -70,12 +70,13 @@ def pinned(tls: ChairTls, host: str, port: int) -> str | None:
     return None
 
 
-def check_peer(tls: ChairTls, host: str, port: int, der: bytes | None) -> str:
+def check_peer(tls: ChairTls, host: str, port: int, der: bytes | None, *, presented: str | None = None) -> str:
     """The presented certificate's fingerprint once trusted; raises a ChairCertificateError otherwise.
 
     With a CA file OpenSSL has already verified it during the handshake (see :func:`handshake_failure`).
+    ``presented`` stands for ``der`` when only the fingerprint is at hand.
     """
-    presented = fingerprint(der) if der else None
+    presented = fingerprint(der) if der else presented
     store = str(tls.known_certs)
     if presented is None:
         raise ChairCertificateError(
@@ -122,4 +123,8 @@ def trust_certificate(unknown: UnknownChairCertificate) -> None:
     presented at the next connection is refused as changed."""
     if unknown.host is None or unknown.port is None or unknown.presented is None:
         raise ValueError("an UnknownChairCertificate always names the chair and its certificate")
+    store = ChairTls(Path(unknown.known_certs))
+    if pinned(store, unknown.host, unknown.port) is not None:  # pinned meanwhile (another page): check it
+        check_peer(store, unknown.host, unknown.port, None, presented=unknown.presented)
+        return
     append_line(Path(unknown.known_certs), f"{entry_name(unknown.host, unknown.port)} sha256 {unknown.presented}")
