@@ -139,3 +139,25 @@ def test_trusting_never_replaces_a_pin_made_meanwhile(tmp_path: Path) -> None:
         UnknownChairCertificate("same", host="127.0.0.1", port=9, presented=first, known_certs=str(store))
     )
     assert store.read_text() == f"[127.0.0.1]:9 sha256 {first}\n"
+
+
+def test_wss_on_the_twisted_transport_is_refused_with_the_reason(tmp_path: Path) -> None:
+    """A process where Twisted came first (a plain roslibpy.Ros): a wss link says why it cannot run,
+    instead of connecting without the certificate check. A subprocess: the binding is process-wide."""
+    import subprocess
+    import sys
+
+    code = (
+        "import roslibpy.comm.comm_autobahn\n"  # what a plain roslibpy.Ros imports: Twisted bound
+        "from pathlib import Path\n"
+        "from pmk_nb.chair.link.tls import ChairTls\n"
+        "from pmk_nb.chair.link.transport import LinkRos\n"
+        "from pmk_nb.errors import ChairLinkError\n"
+        "try:\n"
+        f"    LinkRos('127.0.0.1', 9, thread_name='t', tls=ChairTls(Path({str(tmp_path / 'k')!r})))\n"
+        "except ChairLinkError as err:\n"
+        "    print('refused', err.host, err.port)\n"
+    )
+    root = Path(__file__).resolve().parents[1]
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, cwd=root)
+    assert done.stdout.strip() == "refused 127.0.0.1 9", done.stdout + done.stderr
