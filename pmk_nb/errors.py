@@ -192,6 +192,46 @@ class ChairTimeout(ChairLinkError):
         self.seconds = seconds
 
 
+class ChairCertificateError(ChairLinkError):
+    """A ``wss://`` chair's TLS certificate is not trusted; nothing was sent to the chair.
+
+    Attributes:
+        presented: SHA-256 fingerprint of the certificate the chair presented ("AB:CD:..." as
+            ``openssl x509 -fingerprint -sha256`` prints it), None when the handshake gave none.
+        known_certs: the file that holds the pinned fingerprints (the SSH known_hosts' sibling).
+    """
+
+    def __init__(
+        self, message: str, *, host: str, port: int, presented: str | None, known_certs: str, hint: str = ""
+    ) -> None:
+        super().__init__(message, host=host, port=port, hint=hint)
+        self.presented = presented
+        self.known_certs = known_certs
+
+
+class UnknownChairCertificate(ChairCertificateError):
+    """First contact: no fingerprint is pinned for this chair yet. Only a person who compared
+    ``presented`` with the chair's may pin it (:func:`pmk_nb.chair.link.tls.trust_certificate`)."""
+
+
+class ChairCertificateChanged(ChairCertificateError):
+    """The chair presented another certificate than the pinned one (``expected``): refused."""
+
+    def __init__(self, message: str, *, host: str, port: int, presented: str, expected: str, known_certs: str) -> None:
+        super().__init__(message, host=host, port=port, presented=presented, known_certs=known_certs)
+        self.expected = expected
+
+
+class ChairCertificateUntrusted(ChairCertificateError):
+    """The certificate failed the check against the profile's CA file (``ca_file``); ``reason`` is
+    OpenSSL's verify message (e.g. "certificate has expired", "Hostname mismatch")."""
+
+    def __init__(self, message: str, *, host: str, port: int, presented: str | None, ca_file: str, reason: str) -> None:
+        super().__init__(message, host=host, port=port, presented=presented, known_certs="")
+        self.ca_file = ca_file
+        self.reason = reason
+
+
 class UnsupportedOperation(PmkError):
     """The other side does not offer an operation (e.g. an SFTP server without POSIX rename)."""
 

@@ -22,7 +22,7 @@ Writer = Callable[[BinaryIO], None]
 #: (moved into place by :func:`replace_all`).
 Content = bytes | str | Writer | Path
 
-__all__ = ["Content", "Writer", "atomic_open", "atomic_write", "private_dir", "replace_all"]
+__all__ = ["Content", "Writer", "append_line", "atomic_open", "atomic_write", "private_dir", "replace_all"]
 
 #: Permission bits a private file or folder must not have (group and others).
 _SHARED_BITS = 0o077
@@ -96,6 +96,15 @@ def atomic_write(path: str | os.PathLike[str], content: Content, *, mode: int = 
         target.parent.mkdir(parents=True, exist_ok=True)
     with atomic_open(target, mode=mode) as fh:
         _write(fh, content)
+
+
+def append_line(path: str | os.PathLike[str], line: str) -> None:
+    """Add one line to a small private list (known_hosts, known_certs) atomically, keeping the others (0600)."""
+    target = Path(path)
+    old = target.read_text(encoding="utf-8") if target.exists() else ""
+    if old and not old.endswith("\n"):
+        old += "\n"
+    atomic_write(target, old + line + "\n", mode=0o600, mkdir=True)
 
 
 def replace_all(folder: str | os.PathLike[str], contents: Sequence[tuple[str, Content]], *, mode: int = 0o644) -> None:

@@ -117,3 +117,21 @@ def test_link_ros_counts_ids_and_releases_its_thread() -> None:
     finally:
         ros.shutdown(1.0)
     assert not ros.loop_thread.is_alive()
+
+
+def test_wss_connect_is_roslibpys_own_with_the_links_context() -> None:
+    """LinkFactory._connect_async (wss links only) is roslibpy's attempt with the link's TLS context:
+    roslibpy must still open connections through it, the same way, and build our protocol class."""
+    from autobahn.asyncio.websocket import WebSocketAdapterFactory, WebSocketAdapterProtocol
+
+    factory_cls = comm_asyncio.AsyncioRosBridgeClientFactory
+    assert "asyncio.ensure_future(self._connect_async())" in inspect.getsource(factory_cls._open_connection)
+    attempt = inspect.getsource(factory_cls._connect_async)
+    assert "ssl_module.create_default_context()" in attempt  # no way to pass our own context
+    assert "await loop.create_connection(self, self.host, self.port, ssl=ssl)" in attempt
+    assert "self._schedule_reconnect()" in attempt
+    assert factory_cls.protocol is comm_asyncio.AsyncioRosBridgeProtocol
+    assert LinkFactory.protocol.__mro__[1] is comm_asyncio.AsyncioRosBridgeProtocol
+    # the certificate check runs before Autobahn starts the websocket in connection_made
+    assert "proto = self.protocol()" in inspect.getsource(WebSocketAdapterFactory.__call__)
+    assert "self._connectionMade()" in inspect.getsource(WebSocketAdapterProtocol.connection_made)

@@ -86,18 +86,34 @@ class ChairProfile:
     speech_on: bool = True
     speech_voice: str = "en"
     speech_rate: float = 1.0
+    # TLS to rosbridge (wss://, pmk_nb.chair.link.tls): the CA file that signs the chair's certificate,
+    # else its fingerprint pinned on first use in known_certs (beside known_hosts)
+    tls: bool = False
+    tls_ca_file: str | None = None
 
     @property
     def known_hosts_path(self) -> Path:
         return Path(self.known_hosts).expanduser() if self.known_hosts else default_known_hosts()
 
+    @property
+    def known_certs_path(self) -> Path:
+        """The pinned TLS fingerprints of chairs: the SSH known_hosts file's sibling, same rules."""
+        return self.known_hosts_path.with_name("known_certs")
+
+    @property
+    def bridge_url(self) -> str:
+        return f"{'wss' if self.tls else 'ws'}://{self.host}:{self.port}"
+
     def link_options(self) -> dict[str, Any]:
-        """The stream settings a ChairLink to this chair takes (topics, pose source), as keywords."""
+        """What a ChairLink to this chair takes (topics, pose source, TLS trust), as keywords."""
+        from pmk_nb.chair.link.tls import ChairTls  # ssl only; the link package loads on use
+
         return {
             "odom_topic": self.odom_topic,
             "scan_topic": self.scan_topic,
             "pose_source": self.pose_source,
             "pose_topic": self.pose_topic,
+            "tls": ChairTls(self.known_certs_path, self.tls_ca_file or None) if self.tls else None,
         }
 
     def validate(self) -> None:
@@ -138,6 +154,7 @@ class ChairProfile:
             _bad("host_key_check", self.host_key_check, "use 'tofu' (trust on first use) or 'strict'")
         _check_drive(self)
         _check_speech(self)
+        _check_tls(self)
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -197,6 +214,16 @@ def _check_speech(profile: ChairProfile) -> None:
     rate = profile.speech_rate
     if isinstance(rate, bool) or not isinstance(rate, int | float) or not 0.5 <= rate <= 2.0:
         _bad("speech_rate", rate, "give a speaking rate from 0.5 to 2 (1 = normal)")
+
+
+def _check_tls(profile: ChairProfile) -> None:
+    if not isinstance(profile.tls, bool):
+        _bad("tls", profile.tls, "use true (wss://) or false (ws://)")
+    ca_file = profile.tls_ca_file
+    if ca_file and not profile.tls:
+        _bad("tls_ca_file", ca_file, "a CA file is for TLS: turn TLS on, or leave the CA file empty")
+    if ca_file and not Path(ca_file).expanduser().is_file():
+        _bad("tls_ca_file", ca_file, "the CA file does not exist (leave it empty to pin the chair's certificate)")
 
 
 def _check_topic(field: str, topic: object) -> None:

@@ -25,7 +25,7 @@ import paramiko
 from paramiko.sftp import SFTP_OP_UNSUPPORTED
 
 from pmk_nb.errors import TransferError, UnknownHostKey
-from pmk_nb.fileio import atomic_write
+from pmk_nb.fileio import append_line
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile
@@ -80,20 +80,13 @@ class VerifyingHostKeyPolicy(paramiko.MissingHostKeyPolicy):
 
 def append_known_host(path: Path, hostname: str, key: paramiko.PKey) -> None:
     """Add one line to a known_hosts file atomically, keeping other entries (0600, like ssh's own)."""
-    _append_line(path, f"{hostname} {key.get_name()} {key.get_base64()}")
+    append_line(path, f"{hostname} {key.get_name()} {key.get_base64()}")
 
 
 def trust_host_key(unknown: UnknownHostKey) -> None:
     """Record the key a user saw and confirmed (the dashboard's first-use step): exactly that key, so a
     different one presented at the next connection is refused as changed."""
-    _append_line(Path(unknown.known_hosts), f"{unknown.host} {unknown.key_type} {unknown.key_base64}")
-
-
-def _append_line(path: Path, line: str) -> None:
-    old = path.read_text(encoding="utf-8") if path.exists() else ""
-    if old and not old.endswith("\n"):
-        old += "\n"
-    atomic_write(path, old + line + "\n", mode=0o600, mkdir=True)
+    append_line(Path(unknown.known_hosts), f"{unknown.host} {unknown.key_type} {unknown.key_base64}")
 
 
 class SftpUnsupported(OSError):

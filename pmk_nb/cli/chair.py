@@ -27,6 +27,7 @@ _FIELDS: list[tuple[str, type, str]] = [
     ("footprint-radius", float, "chair radius in metres (0.35)"),
     ("known-hosts", str, "known_hosts file for the chair's SSH key"),
     ("host-key-check", str, "tofu (trust on first use) | strict"),
+    ("tls-ca-file", str, "with --tls: CA file that signs the chair's certificate (default: pin it on first use)"),
 ]
 
 
@@ -38,6 +39,9 @@ def add_parser(subparsers: Any) -> None:
     add.add_argument("name", help="name of the new profile")
     for option, kind, text in _FIELDS:
         add.add_argument(f"--{option}", type=kind, help=text)
+    add.add_argument(
+        "--tls", action=argparse.BooleanOptionalAction, default=None, help="rosbridge over TLS (wss://) or not"
+    )
     add.add_argument("--password-stdin", action="store_true", help="remember a password read from stdin")
     add.set_defaults(run=run_add)
     show = sub.add_parser("show", help="print a profile as JSON")
@@ -51,6 +55,12 @@ def add_parser(subparsers: Any) -> None:
     test.add_argument("--password-stdin", action="store_true", help="read the SSH password from stdin")
     test.add_argument("--timeout", type=float, default=5.0, help="seconds to wait for the chair (default 5)")
     test.add_argument("--no-ssh", action="store_true", help="only test rosbridge")
+    test.add_argument(
+        "--trust-fingerprint",
+        metavar="SHA256",
+        help="wss: pin the chair's certificate without a question when it has this SHA-256 fingerprint "
+        "(openssl x509 -noout -fingerprint -sha256 on the chair); for scripts and kiosks without a terminal",
+    )
     test.set_defaults(run=run_test)
     p.set_defaults(run=run_list)
 
@@ -80,7 +90,7 @@ def run_list(args: argparse.Namespace) -> int:
         mark = "*" if last is not None and profile.name == last.name else " "
         who = f"{profile.ssh_user}@" if profile.ssh_user else ""
         ssh = f"{who}{profile.host}:{profile.ssh_port}"
-        print(f"{mark} {profile.name:20} ws://{profile.host}:{profile.port}  ssh {ssh}")
+        print(f"{mark} {profile.name:20} {profile.bridge_url}  ssh {ssh}")
     return 0
 
 
@@ -93,6 +103,8 @@ def run_add(args: argparse.Namespace) -> int:
         for option, _kind, _text in _FIELDS
         if getattr(args, option.replace("-", "_")) is not None
     }
+    if args.tls is not None:
+        changes["tls"] = args.tls
     try:
         current = store.get(args.name)
     except SettingsError:
@@ -125,6 +137,37 @@ def run_delete(args: argparse.Namespace) -> int:
     return 0
 
 
+def certificate_trusted(err: BaseException | None, expected: str | None) -> bool:
+    """First contact with a wss chair: pin its certificate when a person says so (a terminal) or it
+    has the ``--trust-fingerprint`` given; without a terminal nothing is trusted (False: refused)."""
+    import sys
+
+    from pmk_nb.chair.link.tls import trust_certificate
+    from pmk_nb.errors import UnknownChairCertificate
+    from pmk_nb.tlscert import parse_fingerprint
+
+    if not isinstance(err, UnknownChairCertificate):
+        return False
+    if expected is not None:
+        wanted = parse_fingerprint(expected)
+        if wanted is None:
+            raise SettingsError(f"--trust-fingerprint {expected!r}: give a SHA-256 fingerprint (64 hex digits)")
+        if wanted != err.presented:
+            print(f"the chair's certificate is SHA-256 {err.presented}, not the {wanted} given: refused")
+            return False
+    elif sys.stdin.isatty():
+        print(f"First TLS connection to {err.host}:{err.port}. The chair's certificate has the SHA-256 fingerprint")
+        print(f"  {err.presented}")
+        print("Compare it with the chair's: openssl x509 -noout -fingerprint -sha256 -in CERTFILE")
+        if input("Trust this certificate? [y/N] ").strip().lower() not in ("y", "yes"):
+            return False
+    else:  # no terminal, no fingerprint given: never trust silently (the report says what to do)
+        return False
+    trust_certificate(err)
+    print(f"pinned in {err.known_certs}")
+    return True
+
+
 def run_test(args: argparse.Namespace) -> int:
     """Like the Settings screen's Connect button, plus an SSH login: report each part, fail if any fails."""
     from pmk_nb.chair.deploy import close_links, link_for
@@ -133,21 +176,24 @@ def run_test(args: argparse.Namespace) -> int:
     store = _store()
     profile = _profile(store, args.name)
     failures = 0
+    url = profile.bridge_url
     try:
         link = link_for(profile)
         report = link.test_connection(timeout=args.timeout)
+        if not report.ok and certificate_trusted(report.error, args.trust_fingerprint):
+            report = link.test_connection(timeout=args.timeout)
         if report.ok:
             info = report.map_info
             about = f"map {info.width}x{info.height} at {info.resolution:g} m" if info else "no map published"
-            print(f"rosbridge ws://{profile.host}:{profile.port}: ok ({about}, {report.elapsed:.2f} s)")
+            print(f"rosbridge {url}: ok ({about}, {report.elapsed:.2f} s)")
             for note in report.notes:
                 print(f"note: {note}")
         else:
             failures += 1
-            print(f"rosbridge ws://{profile.host}:{profile.port}: FAILED: {report.reason}")
+            print(f"rosbridge {url}: FAILED: {report.reason}")
     except PmkError as err:
         failures += 1
-        print(f"rosbridge ws://{profile.host}:{profile.port}: FAILED: {err}")
+        print(f"rosbridge {url}: FAILED: {err}")
     finally:
         close_links()
     if not args.no_ssh:

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import signal
+import tempfile
 import threading
 from pathlib import Path
 from typing import Any
@@ -75,7 +77,35 @@ def add_parser(subparsers: Any) -> None:
         metavar="FROM:TO",
         help="degrees (0 = ahead, + = left) where the laser is blind and reports NaN, e.g. --laser-blind=-20:40",
     )
+    _add_tls_options(p)
     p.set_defaults(run=run)
+
+
+def _add_tls_options(p: argparse.ArgumentParser) -> None:
+    """wss:// as rosbridge_suite serves it with its certfile/keyfile parameters (issue 24)."""
+    p.add_argument("--certfile", type=Path, default=None, help="serve wss:// with this PEM certificate")
+    p.add_argument("--keyfile", type=Path, default=None, help="the certificate's private key (PEM)")
+    p.add_argument(
+        "--tls",
+        action="store_true",
+        help="serve wss:// with a throwaway self-signed certificate (its SHA-256 fingerprint is printed)",
+    )
+
+
+def _tls_files(args: argparse.Namespace, stack: contextlib.ExitStack) -> tuple[Path, Path] | None:
+    if (args.certfile is None) != (args.keyfile is None):
+        raise SimError("--certfile and --keyfile go together: give both, or --tls for a throwaway certificate")
+    if args.certfile is not None:
+        if args.tls:
+            raise SimError("--tls makes its own certificate: give it, or --certfile/--keyfile, not both")
+        return args.certfile.expanduser(), args.keyfile.expanduser()
+    if not args.tls:
+        return None
+    from pmk_nb.tlscert import write_self_signed
+
+    folder = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="pmk-sim-tls-")))
+    names = [args.host] + [n for n in ("localhost", "127.0.0.1") if n != args.host]
+    return write_self_signed(folder, names)
 
 
 def describe(sim: SimChair) -> list[str]:
@@ -100,6 +130,10 @@ def describe(sim: SimChair) -> list[str]:
             prints = ", ".join(sim.sftp_authorized_fingerprints)
             lines.append(f"  sftp authorized keys: {prints} (from {sim.sftp_authorized_key})")
         lines.append(f"  sftp host key: {sim.sftp_host_key_fingerprint} ({sim.sftp_host_key})")
+    if sim.tls is not None:
+        from pmk_nb.tlscert import file_fingerprint
+
+        lines.append(f"  tls certificate: SHA-256 {file_fingerprint(sim.tls[0])} ({sim.tls[0]})")
     return lines
 
 
@@ -141,6 +175,11 @@ def _positive_metres(text: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     _check_sftp_args(args)
+    with contextlib.ExitStack() as stack:
+        return _serve(args, _tls_files(args, stack))
+
+
+def _serve(args: argparse.Namespace, tls: tuple[Path, Path] | None) -> int:
     grid = None if args.map is not None else sample_floor()
     sim = SimChair(
         args.map,
@@ -160,6 +199,7 @@ def run(args: argparse.Namespace) -> int:
         sftp_authorized_key=args.sftp_authorized_key.expanduser() if args.sftp_authorized_key else None,
         sftp_password_login=not args.no_sftp_password,
         maps_dir=args.maps_dir,
+        tls=tls,
     )
     stop = threading.Event()
     previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}

@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import math
 import shutil
+import ssl
 import tempfile
 import threading
 import time
@@ -69,9 +70,11 @@ class SimChair:
         seed: int = 0,
         client_queue: int = 200,
         nav_actions: bool = True,
+        tls: tuple[Path | str, Path | str] | None = None,
     ) -> None:
         """``ros``: "ros1" or "ros2" message spelling; ``nav_actions=False``: goal topics only, no
-        move_base / Nav2 action servers (a chair without a navigation action server)."""
+        move_base / Nav2 action servers (a chair without a navigation action server); ``tls``:
+        ``(certfile, keyfile)`` to serve ``wss://`` as rosbridge does with its certfile/keyfile."""
         if ros not in ROS_VERSIONS:
             raise SimError(f"unknown ROS version {ros!r}: use 'ros1' or 'ros2'")
         if odom_rate <= 0 or scan_rate <= 0:
@@ -108,6 +111,7 @@ class SimChair:
             rng=np.random.default_rng(seed),
         )
         self.engine.navigator.offer_actions = nav_actions
+        self.tls = (Path(tls[0]), Path(tls[1])) if tls is not None else None
 
     def _init_sftp(
         self, port: int | None, user: str, password: str | None, authorized_key: str | Path | None, password_login: bool
@@ -157,7 +161,7 @@ class SimChair:
 
     @property
     def url(self) -> str:
-        return f"ws://{self.host}:{self._port}"
+        return f"{'wss' if self.tls else 'ws'}://{self.host}:{self._port}"
 
     @property
     def sftp_authorized_fingerprints(self) -> list[str]:
@@ -315,7 +319,13 @@ class SimChair:
         self.engine.attach(bridge)
         await self.mapserver.set_grid(grid, source)
         server = await serve(
-            bridge.handle, self.host, self._port, compression=None, max_size=16 * 2**20, reuse_address=True
+            bridge.handle,
+            self.host,
+            self._port,
+            compression=None,
+            max_size=16 * 2**20,
+            reuse_address=True,
+            ssl=self._server_tls(),
         )
         sftp = None
         try:
@@ -331,6 +341,14 @@ class SimChair:
                 task.cancel()
         finally:
             await self._shutdown(server, bridge, sftp)
+
+    def _server_tls(self) -> ssl.SSLContext | None:
+        """The TLS context of ``wss://`` (read at each start: a test swaps the certificate between starts)."""
+        if self.tls is None:
+            return None
+        ctx = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+        ctx.load_cert_chain(str(self.tls[0]), str(self.tls[1]))
+        return ctx
 
     async def _shutdown(self, server: Server, bridge: Bridge, sftp: Any) -> None:
         server.close(close_connections=False)

@@ -6,15 +6,20 @@ always connects with strict checking: an unknown key stops the send before authe
 uploading, the page shows its SHA256 fingerprint with how to check it on the chair, and only "Trust
 and send" records THAT key (:func:`pmk_nb.chair.ssh.trust_host_key`) and sends again. A changed key
 stays refused (ssh.open_sftp).
+
+Issue 24: a ``wss://`` chair's TLS certificate gets the same step in Settings
+(:class:`CertificatePrompt`): the link refuses an unknown certificate (never trusts it alone), the
+page shows its SHA-256 fingerprint, and only "Trust and connect" pins THAT fingerprint
+(:func:`pmk_nb.chair.link.tls.trust_certificate`). A changed certificate stays refused.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
-from pmk_nb.errors import UnknownHostKey
+from pmk_nb.errors import UnknownChairCertificate, UnknownHostKey
 from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.widgets import ConfirmBox, set_progress
 
@@ -30,13 +35,21 @@ def strict(profile: ChairProfile) -> ChairProfile:
     return dataclasses.replace(profile, host_key_check="strict")
 
 
-def unknown_key(err: BaseException | None) -> UnknownHostKey | None:
-    """The UnknownHostKey behind ``err`` (a deploy wraps the transfer's error), if any."""
+E = TypeVar("E", bound=BaseException)
+
+
+def cause_of(err: BaseException | None, kind: type[E]) -> E | None:
+    """The ``kind`` error behind ``err`` (a deploy wraps the transfer's error), if any."""
     for _ in range(5):  # bounded walk down the cause chain
-        if err is None or isinstance(err, UnknownHostKey):
+        if err is None or isinstance(err, kind):
             return err
         err = err.__cause__
     return None
+
+
+def unknown_key(err: BaseException | None) -> UnknownHostKey | None:
+    """The UnknownHostKey behind ``err``, if any."""
+    return cause_of(err, UnknownHostKey)
 
 
 class HostKeyPrompt:
@@ -71,4 +84,37 @@ class HostKeyPrompt:
 
         self.pending = None
         trust_host_key(unknown)
+        retry()
+
+
+class CertificatePrompt:
+    """A confirm box under Settings' Test connection for a wss chair's first certificate."""
+
+    def __init__(self, ctx: AppContext) -> None:
+        self.ctx = ctx
+        self.box = ConfirmBox(ctx, "pmk-settings-cert", yes="Trust and connect", no="Cancel")
+        self.widget = self.box.widget
+        self.pending: UnknownChairCertificate | None = None
+
+    def ask(self, err: BaseException | None, retry: Callable[[], object]) -> bool:
+        """Show the confirm step when ``err`` is an unknown certificate; False (box hidden) otherwise."""
+        unknown = cause_of(err, UnknownChairCertificate)
+        self.pending = unknown
+        if unknown is None:
+            self.box.hide()
+            return False
+        self.box.ask(
+            f"First TLS connection to {unknown.host}:{unknown.port}: nothing was sent. The chair's certificate "
+            f"has the SHA-256 fingerprint {unknown.presented}. Compare it with the chair's "
+            "(openssl x509 -noout -fingerprint -sha256 -in CERTFILE) before trusting it.",
+            lambda: self._trust(unknown, retry),
+        )
+        return True
+
+    @needs_pin("Trusting the chair's certificate")  # it writes known_certs: a locked kiosk page may not
+    def _trust(self, unknown: UnknownChairCertificate, retry: Callable[[], object]) -> None:
+        from pmk_nb.chair.link.tls import trust_certificate
+
+        self.pending = None
+        trust_certificate(unknown)
         retry()

@@ -18,6 +18,7 @@ import ipywidgets as w
 from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, ChairProfile
 from pmk_nb.errors import PmkError, SettingsError
 from pmk_nb.ui.context import needs_pin
+from pmk_nb.ui.host_key_prompt import CertificatePrompt
 from pmk_nb.ui.kiosk import pin_section
 from pmk_nb.ui.widgets import TOUCH_PX, button, error_text, escape, field_error, guard, heading, run_in_thread, text
 
@@ -73,6 +74,53 @@ def _parse_port(field: str, raw: object) -> int:
     return port
 
 
+def _form_fields() -> dict[str, w.Widget]:
+    """The form's inputs by profile field (text values, parsed in ``form_profile``)."""
+    fields: dict[str, w.Widget] = {
+        "name": text("", "Wheelchair name", "pmk-settings-name"),
+        "host": text("", "Wheelchair IP / host", "pmk-settings-host", placeholder="192.168.1.20"),
+        "port": text("9090", "rosbridge port", "pmk-settings-port"),
+        "tls": w.ToggleButtons(
+            options=[("ws (plain)", "False"), ("wss (TLS)", "True")], value="False", description="rosbridge over"
+        ),
+        "tls_ca_file": text("", "TLS CA file (else pin)", "pmk-settings-tls-ca", placeholder="empty: pin"),
+        "odom_topic": _combobox("/odom", "Odometry topic", "pmk-settings-odom"),
+        "scan_topic": _combobox("/scan", "Laser topic", "pmk-settings-scan"),
+        "pose_source": w.Dropdown(
+            options=[(_POSE_LABELS[s], s) for s in POSE_SOURCES],
+            value="odometry",
+            description="Position from",
+            **_wide(),
+        ),
+        "pose_topic": _combobox("/amcl_pose", "Pose topic", "pmk-settings-pose-topic"),
+        "ssh_user": text("", "SSH user", "pmk-settings-user"),
+        "ssh_port": text("22", "SSH port", "pmk-settings-ssh-port"),
+        "auth": w.ToggleButtons(
+            options=list(AUTH_METHODS),
+            value="password",
+            style={"button_width": "140px"},
+        ),
+        "password": text("", "SSH password", "pmk-settings-password", password=True),
+        "key_file": text("", "SSH key file", "pmk-settings-key", placeholder="~/.ssh/id_ed25519"),
+        "remote_maps_dir": text("~/ALMA_MAPS", "Maps folder on chair", "pmk-settings-remote-dir"),
+        "cmd_vel_topic": _combobox("/cmd_vel", "Drive commands topic", "pmk-settings-cmd-vel"),
+        **{
+            f: text(str(_DEFAULTS[f]), label, f"pmk-settings-{f.replace('_', '-')}")
+            for f, label in DRIVE_NUMBERS.items()
+        },
+        # spoken feedback (pmk_nb/ui/speech_output.py); text values like the rest of the form
+        "speech_on": w.ToggleButtons(options=[("Speak", "True"), ("Silent", "False")], value="True"),
+        "speech_voice": text("en", "Voice (language code)", "pmk-settings-speech-voice", placeholder="en"),
+        "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
+        "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
+    }
+    fields["speech_on"].add_class("pmk-settings-speech-on")
+    fields["tls"].add_class("pmk-settings-tls")
+    fields["pose_source"].add_class("pmk-settings-pose-source")
+    fields["auth"].add_class("pmk-settings-auth")
+    return fields
+
+
 class SettingsScreen:
     """The Settings screen; ``widget`` is its form, ``info_widget`` the connection status panel."""
 
@@ -84,43 +132,7 @@ class SettingsScreen:
         self.profile_picker = w.Dropdown(options=[], description="Saved chairs", **_wide())
         self.profile_picker.add_class("pmk-settings-profile")
         self.profile_picker.observe(guard(ctx, "Loading a chair profile")(self._on_pick), names="value")
-        self.fields: dict[str, w.Widget] = {
-            "name": text("", "Wheelchair name", "pmk-settings-name"),
-            "host": text("", "Wheelchair IP / host", "pmk-settings-host", placeholder="192.168.1.20"),
-            "port": text("9090", "rosbridge port", "pmk-settings-port"),
-            "odom_topic": _combobox("/odom", "Odometry topic", "pmk-settings-odom"),
-            "scan_topic": _combobox("/scan", "Laser topic", "pmk-settings-scan"),
-            "pose_source": w.Dropdown(
-                options=[(_POSE_LABELS[s], s) for s in POSE_SOURCES],
-                value="odometry",
-                description="Position from",
-                **_wide(),
-            ),
-            "pose_topic": _combobox("/amcl_pose", "Pose topic", "pmk-settings-pose-topic"),
-            "ssh_user": text("", "SSH user", "pmk-settings-user"),
-            "ssh_port": text("22", "SSH port", "pmk-settings-ssh-port"),
-            "auth": w.ToggleButtons(
-                options=list(AUTH_METHODS),
-                value="password",
-                style={"button_width": "140px"},
-            ),
-            "password": text("", "SSH password", "pmk-settings-password", password=True),
-            "key_file": text("", "SSH key file", "pmk-settings-key", placeholder="~/.ssh/id_ed25519"),
-            "remote_maps_dir": text("~/ALMA_MAPS", "Maps folder on chair", "pmk-settings-remote-dir"),
-            "cmd_vel_topic": _combobox("/cmd_vel", "Drive commands topic", "pmk-settings-cmd-vel"),
-            **{
-                f: text(str(_DEFAULTS[f]), label, f"pmk-settings-{f.replace('_', '-')}")
-                for f, label in DRIVE_NUMBERS.items()
-            },
-            # spoken feedback (pmk_nb/ui/speech_output.py); text values like the rest of the form
-            "speech_on": w.ToggleButtons(options=[("Speak", "True"), ("Silent", "False")], value="True"),
-            "speech_voice": text("en", "Voice (language code)", "pmk-settings-speech-voice", placeholder="en"),
-            "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
-            "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
-        }
-        self.fields["speech_on"].add_class("pmk-settings-speech-on")
-        self.fields["pose_source"].add_class("pmk-settings-pose-source")
-        self.fields["auth"].add_class("pmk-settings-auth")
+        self.fields = _form_fields()
         self.errors = {name: field_error() for name in self.fields}
         self.fields["auth"].observe(guard(ctx, "Choosing SSH login")(lambda _c: self._auth_visibility()), "value")
         self.save_button = button("Save", "pmk-settings-save", icon="save", style="primary")
@@ -133,6 +145,7 @@ class SettingsScreen:
         self.status.add_class("pmk-settings-status")
         self.map_info = w.HTML("")
         self.map_info.add_class("pmk-settings-mapinfo")
+        self.cert_prompt = CertificatePrompt(ctx)  # a wss chair's first certificate (issue 24)
         self.info_widget = w.VBox([self.status, self.map_info])
         self.rows = {name: w.VBox([field, self.errors[name]]) for name, field in self.fields.items()}
         auth_label = w.HTML("SSH login")
@@ -148,6 +161,7 @@ class SettingsScreen:
                 self.profile_picker,
                 *self.rows.values(),
                 actions,
+                self.cert_prompt.widget,  # under Test connection, like the Maps screen's host key box
                 self.message,
                 pin_section(ctx),  # the kiosk PIN (pmk_nb/ui/kiosk.py)
             ],
@@ -209,6 +223,8 @@ class SettingsScreen:
             name=values["name"],
             host=values["host"],
             port=_parse_port("port", values["port"]),
+            tls=values["tls"] == "True",
+            tls_ca_file=values["tls_ca_file"] or None,
             odom_topic=values["odom_topic"],
             scan_topic=values["scan_topic"],
             pose_source=values["pose_source"],
@@ -285,6 +301,7 @@ class SettingsScreen:
             return None
         self._set_state("Connecting")
         self.map_info.value = ""
+        self.cert_prompt.box.hide()
 
         def work() -> tuple[ConnectionReport, dict[str, list[str]]]:
             from pmk_nb.chair.link.client import ChairLink
@@ -304,6 +321,7 @@ class SettingsScreen:
             report, found = result
             self.last_report = report
             if not report.ok:
+                self.cert_prompt.ask(report.error, self.test_connection)  # shown for an unknown certificate only
                 self._set_state("Failed", report.reason)
                 return
             self._set_state("Connected")

@@ -41,6 +41,7 @@ from pmk_nb.chair.link.registry import close_all_links, get_link
 from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
 from pmk_nb.chair.link.streams import PoseSource, StreamConfig, StreamHub
+from pmk_nb.chair.link.tls import ChairTls
 from pmk_nb.chair.link.transport import LinkRos, ServerStatus
 from pmk_nb.chair.messages import MapInfo, Odometry, Pose2D, Scan
 from pmk_nb.chair.reload import (
@@ -79,10 +80,11 @@ class ChairLink:
         map_metadata_topic: str = "/map_metadata",
         ping_interval: float | None = None,
         ping_timeout: float | None = None,
+        tls: ChairTls | None = None,
     ) -> None:
         if stale_after <= 0:
             raise ValueError(f"stale_after must be > 0 s, got {stale_after}")
-        self.host, self.port = host, int(port)
+        self.host, self.port, self.tls = host, int(port), tls  # tls: wss, trusted as pmk_nb.chair.link.tls says
         self.stale_after = float(stale_after)
         self._publish = Publishers(cmd_vel_topic, goal_topic)
         self.reconnect_initial, self.reconnect_max = reconnect_initial, reconnect_max
@@ -174,9 +176,9 @@ class ChairLink:
                 return None
             if self._ros is not None:  # half-way (reconnecting): start over cleanly
                 self._teardown_ros()
-            probe = probe_rosbridge(self.host, self.port, max(0.05, deadline - time.monotonic()))
+            probe = probe_rosbridge(self.host, self.port, max(0.05, deadline - time.monotonic()), self.tls)
             if not probe.ok:
-                return ConnectFailure(probe.reason, probe.timeout)
+                return ConnectFailure(probe.reason, probe.timeout, probe.error)
             self._ros_version = probe.ros_version
             ros = LinkRos(
                 self.host,
@@ -186,13 +188,14 @@ class ChairLink:
                 max_delay=self.reconnect_max,
                 ping_interval=self.ping_interval,
                 ping_timeout=self.ping_timeout,
+                tls=self.tls,
             )
-            ready = threading.Event()
             ros.on("ready", self._on_ready)
-            ros.factory.on_ready(lambda _proto: ready.set())
             ros.connect()
-            if not ready.wait(max(0.05, deadline - time.monotonic())):
+            if not ros.settled.wait(max(0.05, deadline - time.monotonic())) or ros.refusal is not None:
                 ros.shutdown(1.0)
+                if ros.refusal is not None:  # the certificate changed between the probe and this socket
+                    return ConnectFailure(str(ros.refusal), None, ros.refusal)
                 return ConnectFailure(f"timed out opening the rosbridge websocket within {timeout:.1f} s", timeout)
             self._ros = ros
             self._connected_at = time.monotonic()
@@ -243,7 +246,7 @@ class ChairLink:
     @property
     def state(self) -> LinkState:
         ros = self._ros
-        if ros is None:
+        if ros is None or ros.refusal is not None:  # a certificate refused: no reconnect will come
             return LinkState.DISCONNECTED
         if not ros.is_connected:
             return LinkState.CONNECTING

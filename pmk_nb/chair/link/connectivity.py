@@ -37,6 +37,7 @@ class ConnectionReport:
     elapsed: float
     rosapi: bool | None = None  # False: the bridge has no rosapi (topics cannot be listed)
     notes: tuple[str, ...] = ()  # plain-word remarks for a successful test (no rosapi, ...)
+    error: ChairLinkError | None = None  # a typed refusal behind ``reason`` (an untrusted TLS certificate)
 
 
 def big_map_stuck(timeout: float) -> str:
@@ -63,8 +64,11 @@ class ConnectFailure:
 
     reason: str
     timeout: float | None = None
+    refusal: ChairLinkError | None = None  # typed (a TLS certificate not trusted): raised as it is
 
     def error(self, host: str, port: int) -> ChairLinkError:
+        if self.refusal is not None:
+            return self.refusal
         message = f"Cannot connect to the chair at {host}:{port}: {self.reason}"
         if self.timeout is not None:
             return ChairTimeout(message, operation=OPEN_WEBSOCKET, seconds=self.timeout, host=host, port=port)
@@ -76,14 +80,16 @@ def run_connection_test(link: ChairLink, timeout: float) -> ConnectionReport:
     t0 = time.monotonic()
     deadline = t0 + timeout
 
-    def report(ok: bool, reason: str, info: MapInfo | None = None) -> ConnectionReport:
+    def report(
+        ok: bool, reason: str, info: MapInfo | None = None, error: ChairLinkError | None = None
+    ) -> ConnectionReport:
         rosapi = link.discovery.rosapi
         notes = (no_rosapi_note(),) if rosapi is False else ()
-        return ConnectionReport(ok, reason, info, link.ros_version, time.monotonic() - t0, rosapi, notes)
+        return ConnectionReport(ok, reason, info, link.ros_version, time.monotonic() - t0, rosapi, notes, error)
 
     failure = link.try_connect(timeout)
     if failure is not None:
-        return report(False, failure.reason)
+        return report(False, failure.reason, error=failure.refusal)
     socket = getattr(link.ros, "protocol", None)
     try:
         info = link.map_info(max(0.1, deadline - time.monotonic()))

@@ -11,21 +11,55 @@ roslibpy internals touched here (pinned and checked by ``tests/test_roslibpy_sea
   no-op, so the real constructor runs entirely on the link's own manager and loop.
 * ``AsyncioRosBridgeClientFactory._stop``: set by :meth:`LinkFactory.stop_reconnecting`; roslibpy
   has no public way to stop the reconnect loop of a connection that is not open.
+* ``AsyncioRosBridgeClientFactory._connect_async`` (wss links only): roslibpy opens TLS with
+  ``ssl.create_default_context()`` and no way to pass another; the link's version is roslibpy's with
+  the link's context (:mod:`pmk_nb.chair.link.tls`), and a certificate refused ends the reconnects.
+  Its protocol class checks the certificate in ``connection_made``, after the TLS handshake and
+  before Autobahn sends the websocket's first byte.
 """
 
 from __future__ import annotations
 
 import asyncio
+import ssl
 import threading
 from typing import Any
 
-from roslibpy.comm.comm_asyncio import AsyncioEventLoopManager, AsyncioRosBridgeClientFactory
+from roslibpy.comm.comm_asyncio import (
+    AsyncioEventLoopManager,
+    AsyncioRosBridgeClientFactory,
+    AsyncioRosBridgeProtocol,
+)
 
 from pmk_nb.chair.link.backoff import set_backoff, set_pings
+from pmk_nb.chair.link.tls import ChairTls, check_peer, handshake_failure
+from pmk_nb.errors import ChairCertificateError
+
+
+class CheckedProtocol(AsyncioRosBridgeProtocol):
+    """roslibpy's protocol; on a wss link the chair's certificate is checked before the websocket starts."""
+
+    refused = False
+
+    def connection_made(self, transport: Any) -> None:
+        try:
+            self.factory.check_certificate(transport)
+        except ChairCertificateError as err:
+            self.refused = True
+            transport.abort()
+            self.factory.refuse(err)
+            return
+        super().connection_made(transport)
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        if not self.refused:  # Autobahn never started on a refused socket
+            super().connection_lost(exc)
 
 
 class LinkFactory(AsyncioRosBridgeClientFactory):
-    """roslibpy's asyncio factory on a private loop, with link-specific reconnect backoff."""
+    """roslibpy's asyncio factory on a private loop, with link-specific reconnect backoff (and TLS trust)."""
+
+    protocol = CheckedProtocol
 
     def __init__(
         self,
@@ -36,8 +70,12 @@ class LinkFactory(AsyncioRosBridgeClientFactory):
         max_delay: float,
         ping_interval: float,
         ping_timeout: float,
+        tls: ChairTls | None = None,
+        chair: tuple[str, int] = ("", 0),
     ) -> None:
         self.link_manager = manager
+        self.tls, self.chair = tls, chair
+        self.refusal: ChairCertificateError | None = None
         # set before the constructor, which derives the first reconnect delay from them
         set_backoff(self, initial_delay, max_delay)
         super().__init__(url, loop=manager.loop)
@@ -54,6 +92,41 @@ class LinkFactory(AsyncioRosBridgeClientFactory):
     def stop_reconnecting(self) -> None:
         """No further reconnect attempts (roslibpy has no public switch; see the seam test)."""
         self._stop = True
+
+    def check_certificate(self, transport: Any) -> None:
+        """On the loop, right after the TLS handshake: raises a ChairCertificateError when not trusted."""
+        if self.tls is None:
+            return
+        tls_object = transport.get_extra_info("ssl_object")
+        der = tls_object.getpeercert(binary_form=True) if tls_object is not None else None
+        check_peer(self.tls, *self.chair, der)
+
+    def refuse(self, err: ChairCertificateError) -> None:
+        """A certificate not trusted: keep why, stop reconnecting, tell the link (event "refused")."""
+        self.refusal = err
+        self.stop_reconnecting()
+        self.emit("refused", err)
+
+    async def _connect_async(self) -> None:
+        """roslibpy's connect attempt with the link's TLS context (see the module docstring)."""
+        if self.tls is None:
+            return await super()._connect_async()
+        loop = self.manager.loop
+        if loop is None or loop.is_closed():
+            return None
+        try:
+            await loop.create_connection(self, self.host, self.port, ssl=self.tls.context())
+        except asyncio.CancelledError:
+            raise
+        except ssl.SSLError as err:
+            refused = handshake_failure(self.tls, *self.chair, err)
+            if refused is not None:
+                self.refuse(refused)
+            else:
+                self._schedule_reconnect()
+        except Exception:  # as roslibpy: any other connect error means a retry
+            self._schedule_reconnect()
+        return None
 
     def loop_alive(self) -> bool:
         loop = self.link_manager.loop

@@ -12,11 +12,14 @@ never as "not a rosbridge server", which is kept for servers that answer somethi
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import socket
+import ssl
 import threading
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from websockets.exceptions import (
     ConnectionClosed,
@@ -26,10 +29,20 @@ from websockets.exceptions import (
 )
 from websockets.sync.client import connect as ws_connect
 
+from pmk_nb.chair.link.tls import check_peer, handshake_failure
+from pmk_nb.errors import ChairCertificateError
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link.tls import ChairTls
+    from pmk_nb.errors import ChairLinkError
+
 REFUSED = "connection refused"
 TIMED_OUT = "timed out"
 HOST_UNKNOWN = "host unknown"
 NOT_ROSBRIDGE = "not a rosbridge server"
+TLS_FAILED = "TLS failed"
+#: Added to a failed plain handshake: a wss-only bridge answers a ws client with TLS bytes.
+TLS_HINT = "; if the chair's rosbridge serves TLS (wss), turn TLS on in the chair profile"
 
 
 @dataclass(frozen=True)
@@ -40,6 +53,8 @@ class ProbeResult:
     reason: str
     ros_version: int | None = None
     timeout: float | None = None  # set when the reason is a timeout
+    error: ChairLinkError | None = None  # a typed refusal (a TLS certificate not trusted), when there is one
+    fingerprint: str | None = None  # wss: the chair's certificate, checked and trusted
 
 
 def _resolve(host: str, port: int, timeout: float) -> list[tuple] | str:
@@ -126,8 +141,39 @@ def _rosbridge_check(ws, deadline: float, host: str, port: int) -> ProbeResult: 
         return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} answered with op {op!r}")
 
 
-def probe_rosbridge(host: str, port: int, timeout: float = 5.0) -> ProbeResult:
-    """Check step by step that ``ws://host:port`` is a rosbridge server; never exceeds ``timeout``."""
+def _tls_wrap(
+    sock: socket.socket, tls: ChairTls, host: str, port: int, deadline: float
+) -> tuple[ssl.SSLSocket, str] | ProbeResult:
+    """The TLS handshake and the certificate check, before any websocket byte; closes ``sock`` on failure."""
+    try:
+        sock.settimeout(max(deadline - time.monotonic(), 0.01))
+        wrapped = tls.context().wrap_socket(sock, server_hostname=host)
+    except ssl.SSLError as err:
+        sock.close()
+        refused = handshake_failure(tls, host, port, err)
+        if refused is not None:
+            return ProbeResult(False, f"{TLS_FAILED}: {refused}", error=refused)
+        return ProbeResult(
+            False,
+            f"{TLS_FAILED}: {host}:{port} did not complete a TLS handshake ({err.reason or err}): does the chair's "
+            "rosbridge serve TLS? (start it with its certfile and keyfile, or turn TLS off in the chair profile)",
+        )
+    except TimeoutError:
+        sock.close()
+        return ProbeResult(False, f"{TIMED_OUT}: {host}:{port} accepted TCP but never completed the TLS handshake")
+    except OSError as err:
+        sock.close()
+        return ProbeResult(False, f"{TLS_FAILED}: {host}:{port} closed the connection during the TLS handshake ({err})")
+    try:
+        return wrapped, check_peer(tls, host, port, wrapped.getpeercert(binary_form=True))
+    except ChairCertificateError as err:
+        wrapped.close()
+        return ProbeResult(False, f"{TLS_FAILED}: {err}", error=err)
+
+
+def probe_rosbridge(host: str, port: int, timeout: float = 5.0, tls: ChairTls | None = None) -> ProbeResult:
+    """Check step by step that ``ws://host:port`` (``wss://`` with ``tls``: the certificate checked
+    first, see :mod:`.tls`) is a rosbridge server; never exceeds ``timeout``."""
     deadline = time.monotonic() + timeout
     infos = _resolve(host, port, timeout)
     if isinstance(infos, str):
@@ -135,6 +181,12 @@ def probe_rosbridge(host: str, port: int, timeout: float = 5.0) -> ProbeResult:
     sock = _tcp_connect(infos, host, port, deadline)
     if isinstance(sock, str):
         return ProbeResult(False, sock)
+    trusted = None
+    if tls is not None:
+        wrapped = _tls_wrap(sock, tls, host, port, deadline)
+        if isinstance(wrapped, ProbeResult):
+            return wrapped
+        sock, trusted = wrapped
     remaining = deadline - time.monotonic()
     try:
         with ws_connect(
@@ -146,7 +198,7 @@ def probe_rosbridge(host: str, port: int, timeout: float = 5.0) -> ProbeResult:
             ping_interval=None,
             compression=None,
         ) as ws:
-            return _rosbridge_check(ws, deadline, host, port)
+            return dataclasses.replace(_rosbridge_check(ws, deadline, host, port), fingerprint=trusted)
     except TimeoutError:
         return ProbeResult(
             False, f"{TIMED_OUT}: {host}:{port} accepted TCP but never completed the websocket handshake"
@@ -158,6 +210,7 @@ def probe_rosbridge(host: str, port: int, timeout: float = 5.0) -> ProbeResult:
     except (InvalidHandshake, WebSocketException, OSError, EOFError) as err:
         if isinstance(err, OSError) and isinstance(err.__cause__, TimeoutError):
             return ProbeResult(False, f"{TIMED_OUT}: {host}:{port} did not complete the websocket handshake")
-        return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} failed the websocket handshake ({err})")
+        hint = "" if tls is not None else TLS_HINT
+        return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} failed the websocket handshake ({err}){hint}")
     finally:
         sock.close()

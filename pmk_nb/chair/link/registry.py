@@ -25,13 +25,18 @@ def get_link(host: str, port: int = 9090, **kw: Any) -> ChairLink:
     """The kernel's link to ``host:port``, created on first use (not connected yet).
 
     Stream settings in ``kw`` that differ from the existing link's are applied with
-    :meth:`ChairLink.reconfigure`; other constructor options only count on creation.
+    :meth:`ChairLink.reconfigure`; another ``tls`` replaces the link; other constructor options
+    only count on creation.
     """
     from pmk_nb.chair.link.client import ChairLink  # lazy: link.py re-exports this module's functions
 
     key = (host, int(port))
     with _LOCK:
         link = _LINKS.get(key)
+        if link is not None and link.tls != kw.get("tls"):  # ws <-> wss or another trust: a new socket
+            _LINKS.pop(key)
+            link.close()
+            link = None
         if link is None:
             link = ChairLink(host, int(port), **kw)
             _LINKS[key] = link

@@ -41,8 +41,11 @@ from typing import TYPE_CHECKING, Any
 
 import roslibpy
 
+from pmk_nb.errors import ChairLinkError
+
 if TYPE_CHECKING:
     from pmk_nb.chair.link.factory import LinkFactory
+    from pmk_nb.chair.link.tls import ChairTls
 
 STATUS_KEPT = 20
 
@@ -55,6 +58,12 @@ class ServerStatus:
     msg: str
     id: str = ""
 
+
+#: Why a wss link cannot run on the Twisted transport (its TLS check is the asyncio factory's).
+_TWISTED_TLS = (
+    "TLS (wss) to the chair needs roslibpy's asyncio transport, but this process already uses Twisted "
+    "(a plain roslibpy.Ros was created first): open the chair link before any other roslibpy connection"
+)
 
 #: roslibpy's module for its Twisted transport: once imported, asyncio cannot be used any more.
 TWISTED_MODULE = "roslibpy.comm.comm_autobahn"
@@ -103,28 +112,43 @@ class LinkRos(roslibpy.Ros):
         max_delay: float = 10.0,
         ping_interval: float = 5.0,
         ping_timeout: float = 5.0,
+        tls: ChairTls | None = None,
     ) -> None:
         module = _factory_module()
         self._id_counter = 0  # what Ros.__init__ would set (see the module docstring)
+        extra: dict[str, Any] = {}
         if module.__name__.endswith("twisted"):
+            if tls is not None:
+                raise ChairLinkError(_TWISTED_TLS, host=host, port=port)
             self.manager, self.loop_thread = module.start_loop(thread_name)
             factory_cls = module.TwistedLinkFactory
         else:
             self.manager, self.loop_thread = module.start_private_loop(thread_name)
             factory_cls = module.LinkFactory
+            extra = {"tls": tls, "chair": (host, port)}
         self.factory: LinkFactory = factory_cls(
-            factory_cls.create_url(host, port, False),
+            factory_cls.create_url(host, port, tls is not None),
             self.manager,
             initial_delay=initial_delay,
             max_delay=max_delay,
             ping_interval=ping_interval,
             ping_timeout=ping_timeout,
+            **extra,
         )
+        # set once the websocket opened or the chair's TLS certificate was refused (``refusal``)
+        self.settled = threading.Event()
+        self.factory.on("ready", lambda _proto: self.settled.set())
+        self.factory.on("refused", lambda _err: self.settled.set())
         self.is_connecting = False
         self.protocol: Any = None  # the open websocket protocol, from the factory's events
         self.statuses: collections.deque[ServerStatus] = collections.deque(maxlen=STATUS_KEPT)
         self.factory.on("ready", self._track_protocol)
         self.factory.on("close", self._drop_protocol)
+
+    @property
+    def refusal(self) -> ChairLinkError | None:
+        """Why the chair's TLS certificate was refused on this link's own socket, if it was."""
+        return getattr(self.factory, "refusal", None)
 
     def _track_protocol(self, proto: Any) -> None:
         self.protocol = proto
