@@ -17,6 +17,7 @@ TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
+PACKAGES |= {"catalogue"}  # STAC map catalogues: publish, browse, install (issue 27)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -131,6 +132,9 @@ ALLOWED_IMPORTS["cli"] |= {"guide", "speech"}
 ALLOWED_IMPORTS["drive"] = set(SHARED)
 ALLOWED_IMPORTS["ui"] |= {"drive"}
 ALLOWED_IMPORTS["cli"] |= {"drive"}
+ALLOWED_IMPORTS["catalogue"] = SHARED | {"library", "access", "indoorgml", "rosmap"}  # on top of the maps folder
+ALLOWED_IMPORTS["ui"] |= {"catalogue"}
+ALLOWED_IMPORTS["cli"] |= {"catalogue"}
 
 
 def _package_of(path: Path) -> str:
