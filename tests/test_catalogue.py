@@ -259,3 +259,34 @@ def test_georeferenced_plan_gets_a_footprint(tmp_path: Path) -> None:
     assert item["geometry"]["type"] == "Polygon" and len(item["bbox"]) == 4
     west, south, east, north = item["bbox"]
     assert -180 <= west < east <= 180 and -90 <= south < north <= 90
+
+
+def test_catalogue_tab_adds_a_url_searches_and_gets_a_building(site: Site, tmp_path: Path) -> None:
+    """The Catalogue tab's kernel side: the URL kept in settings, statuses, search, Get, refusals shown."""
+    from pmk_nb.ui.maps_catalogue import CataloguePanel
+    from tests.helpers import app_context
+
+    with app_context(tmp_path) as ctx:
+        ctx.maps.allow_local = True
+        panel = CataloguePanel(ctx, on_installed=lambda _r: None)
+        panel.url.value = "ftp://nowhere/catalog.json"
+        assert panel.add() is None and "http://" in panel.error.value
+        panel.url.value = site.url
+        panel.add().join(30)
+        assert json.loads((tmp_path / "cfg" / "catalogues.json").read_text()) == {"catalogues": [site.url]}
+        assert panel.catalogue is not None and panel.thumbnails["clinic"].startswith(b"\x89PNG")
+        assert panel.statuses() == {"clinic": "new"} and len(panel.results.children) == 1
+        panel.search.value = "nothing like it"
+        assert "No building matches" in panel.results.children[0].value
+        panel.search.value = "CLIN"
+        assert len(panel.results.children) == 1
+        panel.source.value = site.url
+        assert panel.get("../etc") is None  # a page can send any name: only the catalogue's buildings
+        panel.get("clinic").join(60)
+        assert "Installed clinic" in panel.status.value and panel.statuses() == {"clinic": "installed"}
+        assert ctx.maps.entry("clinic").status == "converted"
+        (site.root / "clinic" / "clinic_F1" / "clinic_F1.rooms.json").write_bytes(b"{}")  # tampered on the server
+        panel.get("clinic").join(60)
+        assert "differs from the catalogue" in panel.status.value
+        panel.remove()
+        assert panel.sources.urls() == [] and panel.results.children == ()
