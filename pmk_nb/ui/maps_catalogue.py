@@ -43,8 +43,8 @@ if TYPE_CHECKING:
 
 MAX_THUMBNAIL_BYTES = 512 * 1024
 MAX_SHOWN = 50  # cards drawn at once; the search narrows the rest
-_BADGES = {NEW: ("New", "pmk-cat-new"), CHANGED: ("Changed since installed", "pmk-cat-changed"),
-           INSTALLED: ("Installed", "pmk-cat-installed")}  # fmt: skip
+_BADGES = {NEW: ("New", "pmk-cat-new", "#1565c0"), CHANGED: ("Changed since installed", "pmk-cat-changed", "#b45309"),
+           INSTALLED: ("Installed", "pmk-cat-installed", "#2e7d32")}  # fmt: skip
 
 
 class CataloguePanel:
@@ -57,8 +57,10 @@ class CataloguePanel:
         self.sources = CatalogueSources(ctx.config_dir)
         self.catalogue: Catalogue | None = None
         self.thumbnails: dict[str, bytes] = {}
-        self.source = w.Dropdown(options=self.sources.urls(), description="Catalogue",
-                                 layout=w.Layout(width="100%", max_width="720px"))  # fmt: skip
+        self.source = w.Dropdown(
+            options=self.sources.urls(), description="Catalogue", style={"description_width": "200px"},
+            layout=w.Layout(width="100%", max_width="720px"),
+        )  # fmt: skip
         self.source.add_class("pmk-cat-source")
         self.url = text("", "Add a catalogue", "pmk-cat-url", placeholder="https://server/maps/catalog.json")
         self.add_button = button("Add", "pmk-cat-add", icon="plus", style="primary")
@@ -162,12 +164,13 @@ class CataloguePanel:
         replace_children(self.results, cards)
 
     def _card(self, b: Building, status: str) -> w.Widget:
-        label, css = _BADGES[status]
+        label, css, colour = _BADGES[status]
         storeys = ", ".join(
             f"{escape(s.storey or s.id)} ({s.width}×{s.height} at {s.resolution:g} m)" for s in b.storeys
         )
         info = w.HTML(
-            f"<b>{escape(b.title)}</b> <span class='pmk-cat-badge {css}'>{label}</span><br>"
+            f"<b>{escape(b.title)}</b> <span class='pmk-cat-badge {css}' style='color:#fff;background:{colour};"
+            f"border-radius:4px;padding:0 6px'>{label}</span><br>"
             f"{len(b.storeys)} storey{'s' if len(b.storeys) != 1 else ''}: {storeys}<br>"
             f"{b.size / 1024:.0f} KiB · updated {escape(b.updated)}"
         )
