@@ -10,6 +10,8 @@ from __future__ import annotations
 import datetime as dt
 import json
 import shutil
+import urllib.error
+import urllib.request
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -149,10 +151,29 @@ def test_list_and_get_install_every_file_byte_for_byte(
     assert installed.pop(".catalogue-installs.json")
     assert installed == source  # byte for byte: source, YAMLs, images, rooms files, previews
     assert any(r[2] == 200 for r in site.requests)
+    # the server is a real static host: ranges and entity tags, as nginx or an object store serve them
+    pgm = site.url + "clinic/clinic_F1/clinic_F1.pgm"
+    with urllib.request.urlopen(urllib.request.Request(pgm, headers={"Range": "bytes=10-19"})) as resp:
+        assert resp.status == 206 and resp.read() == source["clinic_F1.pgm"][10:20]
+        etag = resp.headers["ETag"]
+    with pytest.raises(urllib.error.HTTPError) as not_modified:
+        urllib.request.urlopen(urllib.request.Request(pgm, headers={"If-None-Match": etag}))
+    assert not_modified.value.code == 304
 
     code, out, err = _pmk(capsys, maps, "catalogue", site.url, "--allow-local")
     assert code == 0 and "clinic  2 storey(s)" in out and "[installed]" in out
     assert "storey F2: clinic_F2 304x154 cells at 0.1 m" in out
+    rooms = site.root / "clinic" / "clinic_F2" / "clinic_F2.rooms.json"  # the lab publishes a new rooms file
+    rooms.write_bytes(rooms.read_bytes().replace(b'"Corridor"', b'"Main corridor"', 1))
+    item = site.root / "clinic" / "clinic_F2" / "clinic_F2.json"
+    doc = json.loads(item.read_text())
+    doc["assets"]["rooms"].update({"file:size": rooms.stat().st_size, "file:checksum": multihash(file_sha256(rooms))})
+    item.write_text(json.dumps(doc))
+    code, out, err = _pmk(capsys, maps, "catalogue", site.url, "--allow-local")
+    assert code == 0 and "[changed]" in out, (out, err)
+    code, out, err = _pmk(capsys, maps, "get", site.url, "clinic", "--allow-local")
+    assert code == 0 and (maps / "clinic_F2.rooms.json").read_bytes() == rooms.read_bytes()
+    assert "[installed]" in _pmk(capsys, maps, "catalogue", site.url, "--allow-local")[1]
 
     one = tmp_path / "one"
     code, out, err = _pmk(capsys, one, "get", site.url, "clinic", "--storey", "F2", "--allow-local")
@@ -290,3 +311,38 @@ def test_catalogue_tab_adds_a_url_searches_and_gets_a_building(site: Site, tmp_p
         assert "differs from the catalogue" in panel.status.value
         panel.remove()
         assert panel.sources.urls() == [] and panel.results.children == ()
+
+
+def test_publish_keeps_named_buildings_drops_deleted_ones_and_encodes_spaces(tmp_path: Path) -> None:
+    from tests.indoorgml_samples import two_rooms
+
+    plan = tmp_path / "wing.gml"
+    plan.write_bytes(two_rooms())
+    folder = MapsFolder(tmp_path / "maps", allow_local=True)
+    folder.convert(folder.import_file(plan, "east wing").name, 0.1)
+    folder.import_file(SAMPLE, "clinic")
+    folder.convert("clinic", 0.2)
+    www = tmp_path / "www"
+    publish(folder, www / "site")
+    catalog = json.loads((www / "site" / "catalog.json").read_text())
+    assert [lk["href"] for lk in catalog["links"] if lk["rel"] == "child"] == [
+        "./clinic/collection.json", "./east%20wing/collection.json"
+    ]  # fmt: skip
+    with serve_static(www) as s:
+        catalogue = read_catalogue(s.url + "site/", allow_local=True)
+        assert [b.id for b in catalogue.buildings] == ["clinic", "east wing"]
+        tablet = MapsFolder(tmp_path / "tablet", allow_local=True)
+        result = install(catalogue, "east wing", tablet)
+        assert sorted(result.files) == sorted(p.name for p in folder.root.iterdir() if p.name.startswith("east"))
+        assert tablet.entry("east wing").status == "converted"
+    folder.delete("east wing")
+    kept = publish(folder, www / "site", ["clinic"])  # named: the others stay listed
+    assert kept.removed == [] and (www / "site" / "east wing" / "collection.json").is_file()
+    everything = publish(folder, www / "site")  # all: a building gone from the maps folder goes
+    assert everything.removed == [www / "site" / "east wing"] and not (www / "site" / "east wing").exists()
+    (www / "site" / "other").mkdir()  # a folder publish did not make is never deleted
+    (www / "site" / "other" / "collection.json").write_text('{"type": "Collection", "assets": {}}')
+    doc = json.loads((www / "site" / "catalog.json").read_text())
+    doc["links"].append({"rel": "child", "href": "./other/collection.json"})
+    (www / "site" / "catalog.json").write_text(json.dumps(doc))
+    assert publish(folder, www / "site").removed == [] and (www / "site" / "other").is_dir()

@@ -8,6 +8,7 @@ name an image installed with it; only then are all files renamed into place in o
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import tempfile
@@ -87,7 +88,8 @@ def install(
     finally:
         shutil.rmtree(stage, ignore_errors=True)
     files = {a.file_name: a.sha256 for a in assets}
-    record.put(building.id, catalogue.url, files, all_storeys=len(chosen) == len(building.storeys))
+    with contextlib.suppress(OSError):  # installed either way; the record only tells "new" from "changed"
+        record.put(building.id, catalogue.url, files, all_storeys=len(chosen) == len(building.storeys))
     emit(progress, "done", 1.0, f"installed {building.id}")
     return InstallResult(building.id, [s.storey or s.id for s in chosen], list(files), sum(a.size for a in assets))
 

@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+from urllib.parse import unquote
 
 from pmk_nb.access.sidecar import sidecar_path
 from pmk_nb.catalogue import geo, stacdocs
@@ -105,14 +106,14 @@ def _publish_building(
     bdir = site / entry.name
     source_name = f"{entry.name}{entry.source.suffix.lower()}"
     size, sha = writer.put(bdir / source_name, entry.source)
-    source = stacdocs.asset("indoorgml", f"./{source_name}", size, multihash(sha))
+    source = stacdocs.asset("indoorgml", stacdocs.rel(".", source_name), size, multihash(sha))
     srs = geo.plan_srs(entry.source)
     extents = {s.name: s.extent for s in folder.storeys(entry.name)} if geo.utm_zone(srs) else {}
     old = _read_json(bdir / "collection.json")
     items = []
     for gm in entry.generated:
         extent = extents.get(gm.storey or "") or (next(iter(extents.values())) if len(extents) == 1 else None)
-        source_ref = {**source, "href": f"../{source_name}"}
+        source_ref = {**source, "href": stacdocs.rel("..", source_name)}
         items.append(_publish_item(entry.name, gm, bdir, source_ref, geo.footprint(srs, extent), title, stamp, writer))
     _remove_gone_items(bdir, old, {i["id"] for i in items}, writer.result)
     doc = stacdocs.collection(entry.name, items, source, title)
@@ -136,7 +137,7 @@ def _publish_item(
     assets = {"indoorgml": source}
     for key, name, content in files:
         size, sha = writer.put(idir / name, content)
-        assets[key] = stacdocs.asset(key, f"./{name}", size, multihash(sha))
+        assets[key] = stacdocs.asset(key, stacdocs.rel(".", name), size, multihash(sha))
     old = _read_json(idir / f"{item_id}.json")
     unchanged = old.get("assets") == assets and old.get("geometry") == geometry
     old_props = old.get("properties") or {}
@@ -168,7 +169,7 @@ def _remove_gone_items(bdir: Path, old: dict[str, Any], keep: set[str], result: 
     """Delete the folders of Items published before whose storey is gone (only plain child folders)."""
     for lk in old.get("links") or []:
         href = str(lk.get("href", "")) if isinstance(lk, dict) and lk.get("rel") == "item" else ""
-        parts = href.split("/")
+        parts = [unquote(p) for p in href.split("/")]
         if len(parts) == 3 and parts[0] == "." and parts[1] not in keep and _plain(parts[1]):
             target = bdir / parts[1]
             if target.is_dir() and not target.is_symlink():
@@ -184,7 +185,7 @@ def _children(
     children = [(name, name) for name in published]
     for lk in old_catalog.get("links") or []:
         href = str(lk.get("href", "")) if isinstance(lk, dict) and lk.get("rel") == "child" else ""
-        parts = href.split("/")
+        parts = [unquote(p) for p in href.split("/")]
         if len(parts) != 3 or parts[0] != "." or parts[2] != "collection.json" or not _plain(parts[1]):
             continue
         bid = parts[1]
@@ -192,10 +193,15 @@ def _children(
             continue
         if keep_others:
             children.append((bid, str(lk.get("title") or bid)))
-        elif not (site / bid).is_symlink():
+        elif _ours(site / bid):
             shutil.rmtree(site / bid)
             result.removed.append(site / bid)
     return sorted(children, key=lambda c: c[0].casefold())
+
+
+def _ours(folder: Path) -> bool:
+    """A building folder this command published (its IndoorGML source listed): never another catalogue's."""
+    return not folder.is_symlink() and "indoorgml" in (_read_json(folder / "collection.json").get("assets") or {})
 
 
 def _plain(name: str) -> bool:

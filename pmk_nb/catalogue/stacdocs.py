@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 from typing import Any
+from urllib.parse import quote
 
 STAC_VERSION = "1.1.0"
 FILE_EXTENSION = "https://stac-extensions.github.io/file/v2.1.0/schema.json"
@@ -29,6 +30,12 @@ MEDIA_TYPES = {
     ".gml": "application/gml+xml", ".xml": "application/xml", ".yaml": "application/yaml",
     ".pgm": "image/x-portable-graymap", ".png": "image/png", ".json": JSON,
 }  # fmt: skip
+
+
+def rel(*parts: str) -> str:
+    """A relative href from path parts (``"."`` or ``".."`` first), each part percent-encoded: map
+    names may hold spaces, which a URI may not."""
+    return "/".join(p if p in (".", "..") else quote(p) for p in parts)
 
 
 def dumps(doc: dict[str, Any]) -> str:
@@ -52,7 +59,7 @@ def asset(key: str, href: str, size: int, checksum: str) -> dict[str, Any]:
 def catalog(title: str, children: list[tuple[str, str]]) -> dict[str, Any]:
     """The root: ``children`` are (building id, title)."""
     links = [link("root", "./catalog.json", title=title)]
-    links += [link("child", f"./{bid}/collection.json", title=btitle) for bid, btitle in children]
+    links += [link("child", rel(".", bid, "collection.json"), title=btitle) for bid, btitle in children]
     return {
         "type": "Catalog", "stac_version": STAC_VERSION, "id": "pmk-maps", "title": title,
         "description": f"{title}: building plans (IndoorGML) and wheelchair maps (ROS map_server) published by pmk_nb",
@@ -68,7 +75,8 @@ def collection(
     bbox = [min(b[0] for b in boxes), min(b[1] for b in boxes), max(b[2] for b in boxes), max(b[3] for b in boxes)]
     times = sorted(i["properties"]["datetime"] for i in items) or [None]
     links = [link("root", "../catalog.json", title=catalog_title), link("parent", "../catalog.json")]
-    links += [link("item", f"./{i['id']}/{i['id']}.json", media=GEOJSON, title=i["properties"]["title"]) for i in items]
+    links += [link("item", rel(".", i["id"], f"{i['id']}.json"), media=GEOJSON, title=i["properties"]["title"])
+              for i in items]  # fmt: skip
     return {
         "type": "Collection", "stac_version": STAC_VERSION, "stac_extensions": [FILE_EXTENSION],
         "id": building, "title": building,
