@@ -346,3 +346,24 @@ def test_publish_keeps_named_buildings_drops_deleted_ones_and_encodes_spaces(tmp
     doc["links"].append({"rel": "child", "href": "./other/collection.json"})
     (www / "site" / "catalog.json").write_text(json.dumps(doc))
     assert publish(folder, www / "site").removed == [] and (www / "site" / "other").is_dir()
+
+
+def test_an_asset_on_another_host_needs_allow_host(
+    site: Site, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    mirror = tmp_path / "mirror"
+    mirror.mkdir()
+    pgm = site.root / "clinic" / "clinic_F1" / "clinic_F1.pgm"
+    shutil.copy(pgm, mirror)
+    with serve_static(mirror) as other:
+        host = other.url.split("/")[2]  # 127.0.0.1:PORT: another host than the catalogue's
+        item = site.root / "clinic" / "clinic_F1" / "clinic_F1.json"
+        doc = json.loads(item.read_text())
+        doc["assets"]["map-image"]["href"] = other.url + "clinic_F1.pgm"
+        item.write_text(json.dumps(doc))
+        maps = tmp_path / "tablet"
+        assert "leaves the catalogue's folder" in _refused(site, maps, capsys)
+        code, _out, err = _pmk(capsys, maps, "get", site.url, "clinic", "--allow-local", "--allow-host", host)
+        assert code == 0, err
+        assert (maps / "clinic_F1.pgm").read_bytes() == pgm.read_bytes()
+        assert [r[0] for r in other.requests] == ["/clinic_F1.pgm"]

@@ -125,11 +125,9 @@ class Reader:
         parts = urlsplit(target)
         if parts.scheme.lower() != self.scheme:
             return False
-        host = (parts.hostname or "").lower()
-        if host in self.allow_hosts and host != self.host:
-            return True
-        if parts.netloc.lower() != urlsplit(self.root).netloc.lower():
-            return False
+        netloc = parts.netloc.lower()
+        if netloc != urlsplit(self.root).netloc.lower():  # another host: only one allowed (name or name:port)
+            return bool({(parts.hostname or "").lower(), netloc} & self.allow_hosts) and "@" not in netloc
         raw = unquote(parts.path)
         if "\\" in raw or "\x00" in raw or any(seg in ("..", ".") for seg in raw.split("/")[1:-1]):
             return False
