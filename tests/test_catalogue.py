@@ -175,6 +175,16 @@ def test_list_and_get_install_every_file_byte_for_byte(
     assert code == 0 and (maps / "clinic_F2.rooms.json").read_bytes() == rooms.read_bytes()
     assert "[installed]" in _pmk(capsys, maps, "catalogue", site.url, "--allow-local")[1]
 
+    collection = site.root / "clinic" / "collection.json"  # the lab drops storey F2
+    doc = json.loads(collection.read_text())
+    doc["links"] = [lk for lk in doc["links"] if "clinic_F2" not in lk["href"]]
+    collection.write_text(json.dumps(doc))
+    code, out, err = _pmk(capsys, maps, "get", site.url, "clinic", "--allow-local")
+    assert code == 0, err
+    assert sorted(p.name for p in maps.iterdir() if "F2" in p.name) == []  # gone with it, F1 and the source stay
+    assert (maps / "clinic_F1.yaml").is_file() and (maps / "clinic.gml").is_file()
+    shutil.copy(published / "site" / "clinic" / "collection.json", collection)
+
     one = tmp_path / "one"
     code, out, err = _pmk(capsys, one, "get", site.url, "clinic", "--storey", "F2", "--allow-local")
     assert code == 0, err

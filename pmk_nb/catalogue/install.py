@@ -82,6 +82,8 @@ def install(
             done += a.size
         _check_staged(building, assets, stage)
         replace_all(folder.root, [(a.file_name, stage / a.file_name) for a in assets])
+        if rec is not None and rec.get("catalogue") == catalogue.url and len(chosen) == len(building.storeys):
+            _remove_dropped(folder, building.id, rec, {a.file_name for a in assets})
     except OSError as err:
         raise CatalogueError(f"cannot install {building.id!r} in {folder.root}: {err.strerror or err}",
                              url=catalogue.url, name=building.id) from err  # fmt: skip
@@ -92,6 +94,15 @@ def install(
         record.put(building.id, catalogue.url, files, all_storeys=len(chosen) == len(building.storeys))
     emit(progress, "done", 1.0, f"installed {building.id}")
     return InstallResult(building.id, [s.storey or s.id for s in chosen], list(files), sum(a.size for a in assets))
+
+
+def _remove_dropped(folder: MapsFolder, name: str, rec: dict[str, object], kept: set[str]) -> None:
+    """Files the last install from this catalogue brought that it no longer lists (a storey dropped)."""
+    files = rec.get("files")
+    for old in files if isinstance(files, dict) else {}:
+        path = folder.root / str(old)
+        if old not in kept and path.parent == folder.root and str(old).startswith(f"{name}_") and path.is_file():
+            path.unlink()
 
 
 def _choose(catalogue: Catalogue, building: Building, wanted: Sequence[str]) -> list[Storey]:
