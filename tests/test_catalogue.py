@@ -191,6 +191,11 @@ def test_list_and_get_install_every_file_byte_for_byte(
     assert sorted(p.name for p in one.iterdir() if not p.name.startswith(".")) == [
         "clinic.gml", "clinic_F2-visualization.png", "clinic_F2.pgm", "clinic_F2.rooms.json", "clinic_F2.yaml"
     ]  # fmt: skip
+    assert "[installed]" in _pmk(capsys, one, "catalogue", site.url, "--allow-local")[1]  # what it has is current
+    code, out, err = _pmk(capsys, one, "get", site.url, "clinic", "--storey", "F1", "--allow-local")
+    assert code == 0 and (one / "clinic_F1.yaml").is_file() and (one / "clinic_F2.yaml").is_file()
+    record = json.loads((one / ".catalogue-installs.json").read_text())["installs"]["clinic"]
+    assert {"clinic_F1.yaml", "clinic_F2.yaml", "clinic.gml"} <= set(record["files"])
 
 
 def _refused(site: Site, maps: Path, capsys: pytest.CaptureFixture[str], *extra: str) -> str:

@@ -90,8 +90,11 @@ def install(
     finally:
         shutil.rmtree(stage, ignore_errors=True)
     files = {a.file_name: a.sha256 for a in assets}
+    everything = len(chosen) == len(building.storeys)
+    same = rec is not None and rec.get("catalogue") == catalogue.url and isinstance(rec.get("files"), dict)
+    kept = {**rec["files"], **files} if same and not everything else files  # --storey adds to what is there
     with contextlib.suppress(OSError):  # installed either way; the record only tells "new" from "changed"
-        record.put(building.id, catalogue.url, files, all_storeys=len(chosen) == len(building.storeys))
+        record.put(building.id, catalogue.url, kept, all_storeys=everything or bool(same and rec.get("all_storeys")))
     emit(progress, "done", 1.0, f"installed {building.id}")
     return InstallResult(building.id, [s.storey or s.id for s in chosen], list(files), sum(a.size for a in assets))
 
