@@ -295,6 +295,11 @@ def test_georeferenced_plan_gets_a_footprint(tmp_path: Path) -> None:
     assert item["geometry"]["type"] == "Polygon" and len(item["bbox"]) == 4
     west, south, east, north = item["bbox"]
     assert -180 <= west < east <= 180 and -90 <= south < north <= 90
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        from stac_validator.validate import StacValidate
+    item_file = tmp_path / "site" / "geo" / "geo_F1" / "geo_F1.json"
+    assert StacValidate(str(item_file), schema_map=schema_map(tmp_path)).run()
 
 
 def test_catalogue_tab_adds_a_url_searches_and_gets_a_building(site: Site, tmp_path: Path) -> None:
@@ -382,3 +387,23 @@ def test_an_asset_on_another_host_needs_allow_host(
         assert code == 0, err
         assert (maps / "clinic_F1.pgm").read_bytes() == pgm.read_bytes()
         assert [r[0] for r in other.requests] == ["/clinic_F1.pgm"]
+
+
+def test_pmk_maps_publish_prints_what_it_wrote_and_refuses_an_unconverted_map(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    maps, site = tmp_path / "maps", tmp_path / "site"
+    MapsFolder(maps).import_file(SAMPLE, "clinic")
+    code, out, err = _pmk(capsys, maps, "publish", "--out", str(site))
+    assert code == 2 and "nothing to publish" in err and not site.exists()
+    code, out, err = _pmk(capsys, maps, "publish", "clinic", "--out", str(site))
+    assert code == 2 and "not converted yet" in err and "pmk maps convert clinic" in err
+    MapsFolder(maps).convert("clinic", 0.2)
+    code, out, err = _pmk(capsys, maps, "publish", "--out", str(site), "--title", "Ward 3")
+    assert code == 0, err
+    assert "published clinic" in out and "15 file(s) written, 0 unchanged" in out
+    assert "wrote clinic/collection.json" in out
+    assert json.loads((site / "catalog.json").read_text())["title"] == "Ward 3"
+    code, out, err = _pmk(capsys, maps, "publish", "--out", str(site))
+    assert code == 0 and "0 file(s) written, 15 unchanged" in out
+    assert json.loads((site / "catalog.json").read_text())["title"] == "Ward 3"  # kept when not given
