@@ -143,6 +143,19 @@ class DownloadError(LibraryError):
         self.url = url
 
 
+class DownloadTooLarge(DownloadError):
+    """A download is (or announces itself) over the size cap.
+
+    Attributes:
+        limit: the cap in bytes; size: the announced length, or the bytes received when cut off.
+    """
+
+    def __init__(self, message: str, *, url: str, limit: int, size: int, hint: str = "") -> None:
+        super().__init__(message, url=url, hint=hint)
+        self.limit = limit
+        self.size = size
+
+
 class AddressRefused(DownloadError):
     """A download (or one of its redirects) would reach a local or private address.
 
@@ -306,3 +319,79 @@ class KioskLocked(PmkError):
     def __init__(self, message: str, *, action: str, hint: str = "") -> None:
         super().__init__(message, hint=hint)
         self.action = action
+
+
+# -- map catalogues (issue 27): every refusal of an install is a type with the facts as fields --------
+class CatalogueError(LibraryError):
+    """A map catalogue cannot be published or read, or an install from it is refused (nothing installed).
+
+    Attributes:
+        url: the catalogue document or asset at fault (a path when publishing).
+    """
+
+    def __init__(self, message: str, *, url: str, name: str | None = None, hint: str = "") -> None:
+        super().__init__(message, name=name, hint=hint)
+        self.url = url
+
+
+class AssetMismatch(CatalogueError):
+    """A downloaded file's size or SHA-256 differs from what the catalogue declares.
+
+    Attributes:
+        asset: the asset's key; field: "size" or "checksum"; expected, actual: the two values.
+    """
+
+    def __init__(self, *, url: str, asset: str, field: str, expected: str | int, actual: str | int) -> None:
+        super().__init__(
+            f"{url}: {field} {actual} differs from the catalogue's {expected}; nothing installed",
+            url=url, hint="The file changed on the server or was tampered with: publish the catalogue again.",
+        )  # fmt: skip
+        self.asset = asset
+        self.field = field
+        self.expected = expected
+        self.actual = actual
+
+
+class AssetOutsideCatalogue(CatalogueError):
+    """A link or asset points outside the catalogue's own folder (``..``, an absolute path, another host).
+
+    Attributes:
+        href: the link as written; root: the catalogue's folder URL it must stay inside.
+    """
+
+    def __init__(self, *, url: str, href: str, root: str) -> None:
+        super().__init__(
+            f"{url}: link {href!r} leaves the catalogue's folder {root}; nothing installed",
+            url=url, hint="Only files inside the catalogue's folder are installed (--allow-host for another host).",
+        )  # fmt: skip
+        self.href = href
+        self.root = root
+
+
+class RedirectRefused(CatalogueError):
+    """The server redirects a catalogue file to another scheme (https -> http) or outside the catalogue.
+
+    Attributes:
+        target: where the redirect points.
+    """
+
+    def __init__(self, *, url: str, target: str) -> None:
+        super().__init__(f"{url}: the server redirects to {target!r}; refused, nothing installed", url=url)
+        self.target = target
+
+
+class AssetTooLarge(CatalogueError):
+    """A catalogue file is over the size cap (declared, or when the server sends more).
+
+    Attributes:
+        asset: the asset's key; size: bytes declared or received; limit: the cap in bytes.
+    """
+
+    def __init__(self, *, url: str, asset: str, size: int, limit: int) -> None:
+        super().__init__(
+            f"{url}: {size} bytes, more than the limit of {limit} bytes; nothing installed",
+            url=url, hint="Raise the limit (--max-mb) if you trust this catalogue.",
+        )  # fmt: skip
+        self.asset = asset
+        self.size = size
+        self.limit = limit

@@ -19,6 +19,7 @@ TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (s
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
+PACKAGES |= {"catalogue"}  # STAC map catalogues: publish, browse, install (issue 27)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -139,6 +140,9 @@ ALLOWED_IMPORTS["goalbeat"] = set()
 ALLOWED_IMPORTS["chair"] |= {"goalbeat"}
 ALLOWED_IMPORTS["robot"] |= {"goalbeat"}
 ALLOWED_IMPORTS["cli"] |= {"goalbeat"}
+ALLOWED_IMPORTS["catalogue"] = SHARED | {"library", "access", "indoorgml", "rosmap"}  # on top of the maps folder
+ALLOWED_IMPORTS["ui"] |= {"catalogue"}
+ALLOWED_IMPORTS["cli"] |= {"catalogue"}
 
 
 def _package_of(path: Path) -> str:

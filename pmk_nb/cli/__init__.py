@@ -20,7 +20,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "info": ("pmk_nb.cli.info", "describe an IndoorGML file: storeys, cells, doors, units"),
     "convert": ("pmk_nb.cli.convert", "IndoorGML file -> ROS map_server YAML + image per storey"),
     "check": ("pmk_nb.cli.check", "wheelchair accessibility of a building plan or a written map (exit 1: problems)"),
-    "maps": ("pmk_nb.cli.maps", "the maps folder: list, import, download, convert, delete"),
+    "maps": ("pmk_nb.cli.maps", "the maps folder: list, import, download, convert, delete; publish, catalogue, get"),
     "sim": ("pmk_nb.cli.sim", "run the simulated chair (rosbridge + SFTP)"),
     "send": ("pmk_nb.cli.send", "send a map to a chair and reload it there"),
     "chair": ("pmk_nb.cli.chair", "manage chair profiles; test a connection"),

@@ -1,5 +1,7 @@
 """`pmk maps list|import|download|convert|delete`: the MAPS screen of the original app, scriptable.
 
+publish|catalogue|get (map catalogues, issue 27) live in ``maps_catalogue``.
+
 Each sub-command is one :class:`~pmk_nb.library.folder.MapsFolder` call; errors are LibraryError (a
 PmkError), which ``pmk_nb.cli`` prints and turns into exit status 2.
 """
@@ -13,6 +15,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from pmk_nb.cli import maps_catalogue
 from pmk_nb.cli.check import chair_width_arg
 from pmk_nb.cli.convert import add_raster_options
 from pmk_nb.progress import Progress
@@ -64,6 +67,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
 
     rm = sub.add_parser("delete", parents=[common], help="delete a map and every file generated from it")
     rm.add_argument("name", help="building to delete from the maps folder")
+    maps_catalogue.add_parsers(sub, common)  # publish, catalogue, get (issue 27)
     p.set_defaults(run=run)
 
 
@@ -96,6 +100,8 @@ def _run(args: argparse.Namespace) -> int:
         return _download(folder, args)
     if action == "convert":
         return _convert(folder, args)
+    if action in maps_catalogue.ACTIONS:
+        return maps_catalogue.run(action, folder, args)
     if action == "delete":
         entry = folder.entry(args.name)
         folder.delete(entry.name)

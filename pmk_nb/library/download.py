@@ -14,11 +14,12 @@ import ssl
 import time
 import urllib.error
 import urllib.request
+from collections.abc import Callable
 from typing import IO, Any
 from urllib.parse import urlsplit
 
 from pmk_nb import __version__
-from pmk_nb.errors import DownloadError, LibraryError
+from pmk_nb.errors import DownloadError, DownloadTooLarge, LibraryError
 from pmk_nb.library.netguard import guarded_handlers
 from pmk_nb.progress import ProgressCallback, emit
 
@@ -49,14 +50,25 @@ def check_url(url: str) -> tuple[str, str]:
     return scheme, host
 
 
+#: Called with (URL, redirect target) before a redirect is followed; raises to refuse it.
+RedirectCheck = Callable[[str, str], None]
+
+
 class _HttpOnlyRedirects(urllib.request.HTTPRedirectHandler):
-    """Follow redirects, but never off http(s) (urllib would follow one to ftp:)."""
+    """Follow redirects, but never off http(s) (urllib would follow one to ftp:), and only where
+    the caller's check allows (a map catalogue keeps to its own scheme and folder)."""
+
+    def __init__(self, check: RedirectCheck | None = None) -> None:
+        super().__init__()
+        self.check = check
 
     def redirect_request(self, req: Any, fp: Any, code: int, msg: str, headers: Any, newurl: str) -> Any:
         if urlsplit(newurl).scheme.lower() not in _SCHEMES:
             raise DownloadError(
                 f"download of {req.full_url} refused: the server redirects to {newurl!r}", url=req.full_url
             )
+        if self.check is not None:
+            self.check(req.full_url, newurl)
         return super().redirect_request(req, fp, code, msg, headers, newurl)
 
 
@@ -85,6 +97,7 @@ def fetch(
     max_bytes: int = DEFAULT_MAX_BYTES,
     progress: ProgressCallback | None = None,
     allow_local: bool = False,
+    redirect_check: RedirectCheck | None = None,
 ) -> int:
     """Stream the body of ``url`` into ``out``.
 
@@ -99,6 +112,7 @@ def fetch(
         allow_local: also reach loopback, LAN and other non-public addresses (labs); by default the
             host and every redirect's host must resolve to public addresses only
             (:mod:`pmk_nb.library.netguard`).
+        redirect_check: called with (URL, target) before each redirect is followed; raising refuses it.
 
     Returns:
         The number of bytes written.
@@ -108,7 +122,7 @@ def fetch(
             short body); AddressRefused for a non-public address; LibraryError for a malformed URL.
     """
     _, host = check_url(url)
-    opener = urllib.request.build_opener(_HttpOnlyRedirects, *guarded_handlers(allow_local))
+    opener = urllib.request.build_opener(_HttpOnlyRedirects(redirect_check), *guarded_handlers(allow_local))
     request = urllib.request.Request(
         url.strip(), headers={"User-Agent": f"pmk-nb/{__version__}", "Accept": "application/xml, text/xml, */*"}
     )
@@ -143,16 +157,17 @@ def _copy_body(
 ) -> int:
     total = _content_length(response)
     if total is not None and total > max_bytes:
-        raise DownloadError(
-            f"download of {url} refused: the file is {_mib(total)}, more than the limit of {_mib(max_bytes)}", url=url
-        )
+        raise DownloadTooLarge(
+            f"download of {url} refused: the file is {_mib(total)}, more than the limit of {_mib(max_bytes)}",
+            url=url, limit=max_bytes, size=total,
+        )  # fmt: skip
     done = 0
     emit(progress, "download", 0.0 if total else None, _amount(0, total))
     while chunk := response.read1(_CHUNK):
         done += len(chunk)
         if done > max_bytes:
             msg = f"download of {url} aborted: more than the limit of {_mib(max_bytes)} received"
-            raise DownloadError(msg, url=url)
+            raise DownloadTooLarge(msg, url=url, limit=max_bytes, size=done)
         out.write(chunk)
         emit(progress, "download", done / total if total else None, _amount(done, total))
         if time.monotonic() > ends_at:

@@ -1,7 +1,8 @@
 """Maps screen: the maps folder (list, import, download), conversion to ROS maps, sending to the chair.
 
 Mirrors the original's two tabs (thesis 5.2.3.3): the IndoorGML maps with a resolution and Convert
-("parse"), once converted a preview and a Send button per storey; and a Download tab (URL + name).
+("parse"), once converted a preview and a Send button per storey; and a Download tab (URL + name);
+the Catalogue tab (``maps_catalogue``) installs buildings from STAC map catalogues.
 Sending a map makes it Home's current map. Slow work runs in a thread; every failure becomes a message.
 """
 
@@ -21,6 +22,7 @@ from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.host_key_prompt import HostKeyPrompt, strict
 from pmk_nb.ui.maps_access import AccessPanel
 from pmk_nb.ui.maps_cards import generated_card, map_label
+from pmk_nb.ui.maps_catalogue import CataloguePanel
 from pmk_nb.ui.maps_choices import ChoicesPanel
 from pmk_nb.ui.maps_download import DownloadPanel
 from pmk_nb.ui.maps_import import ImportPanel
@@ -127,7 +129,9 @@ class MapsScreen:
         list_tab = w.Box([left, right])
         list_tab.add_class("pmk-maps-listtab")
         self.downloader = DownloadPanel(ctx, on_downloaded=lambda _entry: self.refresh())
-        self.tabs = w.Tab(children=[list_tab, self.downloader.widget], titles=("Maps", "Download"))
+        self.catalogue = CataloguePanel(ctx, on_installed=lambda _result: self.refresh())  # issue 27
+        tabs = [list_tab, self.downloader.widget, self.catalogue.widget]
+        self.tabs = w.Tab(children=tabs, titles=("Maps", "Download", "Catalogue"))
         self.tabs.add_class("pmk-maps-tabs")
         self.widget = w.VBox([self.tabs], layout=w.Layout(width="100%"))
         self.widget.add_class("pmk-maps")
@@ -343,13 +347,9 @@ class MapsScreen:
             link = self.ctx.link()
             if not link.is_connected:
                 link.connect(timeout=CONNECT_TIMEOUT)
-            return deploy(
-                files,
-                strict(profile),  # an unknown host key stops before the upload, for self.host_key to ask
-                password=password,
-                link=link,
-                progress=progress_callback(self.send_progress, self.status),
-            )
+            progress = progress_callback(self.send_progress, self.status)
+            # strict: an unknown host key stops before the upload, for self.host_key to ask
+            return deploy(files, strict(profile), password=password, link=link, progress=progress)
 
         def done(_report: Any) -> None:
             set_progress(self.send_progress, None)
