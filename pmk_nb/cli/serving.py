@@ -47,6 +47,15 @@ def is_loopback(ip: str) -> bool:
         return False  # a host name: it may resolve to a LAN address
 
 
+def is_ip_address(host: str) -> bool:
+    """Whether ``host`` is an IP address (not a name)."""
+    try:
+        ipaddress.ip_address(host)
+    except ValueError:
+        return False
+    return True
+
+
 def resolve_token(option: str | None, env: dict[str, str]) -> str | None:
     """The token to require: ``--token`` ('auto' = a new random one), else ``$PMK_DASHBOARD_TOKEN``, else None."""
     value = option if option is not None else env.get(TOKEN_ENV) or None

@@ -91,7 +91,9 @@ def server_config(token: str | None = None, ip: str = DEFAULT_IP, tls: TlsFiles 
     if tls is not None:
         tornado["ssl_options"] = {"certfile": str(tls.certfile), "keyfile": str(tls.keyfile)}
     if serving.is_loopback(ip):  # jupyter_server's own Host check as well (it knows loopback names only)
-        tornado.update(allow_remote_access=False, local_hostnames=["localhost"])
+        # ... and the names the served certificate vouches for (voila_guard accepts them too)
+        names = ["localhost", *(n for n in (tls.names if tls else ()) if not serving.is_ip_address(n))]
+        tornado.update(allow_remote_access=False, local_hostnames=list(dict.fromkeys(names)))
     voila: dict[str, object] = {
         "tornado_settings": tornado,
         "identity_provider_class": IDENTITY_PROVIDER,
