@@ -82,10 +82,17 @@ def test_https_makes_a_certificate_once_in_the_config_folder_and_reuses_it(tmp_p
 def test_a_given_certificate_is_checked_before_anything_starts(tmp_path: Path) -> None:
     made = tablet_tls.self_signed(tmp_path / "a", ["localhost"])
     other = tablet_tls.self_signed(tmp_path / "b", ["localhost"])
+    from cryptography.hazmat.primitives import serialization
+
+    key = serialization.load_pem_private_key(made.keyfile.read_bytes(), password=None)
+    pem = serialization.PrivateFormat.PKCS8
+    locked = key.private_bytes(serialization.Encoding.PEM, pem, serialization.BestAvailableEncryption(b"secret"))
+    (tmp_path / "locked.key").write_bytes(locked)
     given = tablet_tls.resolve(_https_args(https=False, certfile=str(made.certfile), keyfile=str(made.keyfile)), {})
     assert given is not None and given.fingerprint == made.fingerprint and given.ca_file is None
     bad_cases = [
         {"https": False, "certfile": str(made.certfile), "keyfile": str(other.keyfile)},  # not its key
+        {"https": False, "certfile": str(made.certfile), "keyfile": str(tmp_path / "locked.key")},  # no prompt
         {"https": False, "certfile": str(made.keyfile), "keyfile": str(made.keyfile)},  # not a certificate
         {"https": False, "certfile": str(tmp_path / "missing.crt"), "keyfile": str(made.keyfile)},
         {"https": False, "certfile": str(made.certfile), "keyfile": None},  # half a pair

@@ -93,10 +93,13 @@ def load_pair(certfile: Path, keyfile: Path) -> TlsFiles:
     except ValueError:
         raise _refused("the certificate is not a PEM certificate", certfile) from None
     try:
-        ssl.create_default_context(ssl.Purpose.CLIENT_AUTH).load_cert_chain(certfile, keyfile)
+        # an empty password: an encrypted key fails here instead of prompting on the terminal
+        ssl.create_default_context(ssl.Purpose.CLIENT_AUTH).load_cert_chain(certfile, keyfile, password=b"")
     except OSError as err:  # ssl.SSLError is an OSError
-        why = err.strerror or str(err)
-        raise _refused(f"the key does not fit the certificate or cannot be read: {why}", keyfile) from None
+        why = "not its key, not PEM, or encrypted (give an unencrypted PEM key)"
+        if not isinstance(err, ssl.SSLError):
+            why = err.strerror or str(err)
+        raise _refused(f"cannot serve the certificate with this key: {why}", keyfile) from None
     return TlsFiles(certfile, keyfile, fingerprint(cert), certificate_names(cert))
 
 
