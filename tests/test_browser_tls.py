@@ -97,6 +97,8 @@ def test_the_kiosk_over_https_holds_its_wake_lock_where_plain_http_cannot(tmp_pa
                 secure = _state(page)
                 assert secure["secure"] and secure["api"], secure
                 assert secure["wake"] == {"asked": 1, "granted": 1, "refused": 0}, secure
+                login = [c for c in page.context.cookies() if c["name"].startswith("username-")]
+                assert login and all(c["secure"] for c in login), page.context.cookies()  # HTTPS only
                 # the kernel answers over wss: (no PIN yet, so Settings opens and says so)
                 page.locator("button.pmk-nav-settings").click()
                 expect(page.locator(".pmk-kiosk-pin-state")).to_contain_text("No PIN yet", timeout=60_000)

@@ -79,7 +79,9 @@ def test_https_makes_a_certificate_once_in_the_config_folder_and_reuses_it(tmp_p
     assert certificate_hosts(str(newer.certfile)) == newer.names  # what the server's Host check accepts
 
 
-def test_a_given_certificate_is_checked_before_anything_starts(tmp_path: Path) -> None:
+def test_a_given_certificate_is_checked_before_anything_starts(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     made = tablet_tls.self_signed(tmp_path / "a", ["localhost"])
     other = tablet_tls.self_signed(tmp_path / "b", ["localhost"])
     from cryptography.hazmat.primitives import serialization
@@ -103,6 +105,11 @@ def test_a_given_certificate_is_checked_before_anything_starts(tmp_path: Path) -
             tablet_tls.resolve(_https_args(**case), {})
         assert caught.value.reason == "bad-certificate" and "\n" not in str(caught.value), case
     assert tablet_tls.resolve(_https_args(https=False), {}) is None  # plain HTTP
+    # through the command line: one line, exit 2, before Voilà starts
+    argv = ["dashboard", "--certfile", str(made.certfile), "--keyfile", str(other.keyfile), "--no-browser"]
+    assert main([*argv, "--port", str(free_port())]) == 2
+    err = capsys.readouterr().err.strip()
+    assert str(other.keyfile) in err and len(err.splitlines()) == 1
 
 
 def test_beyond_loopback_plain_http_needs_insecure(capsys: pytest.CaptureFixture[str]) -> None:
@@ -153,7 +160,7 @@ def test_the_printed_lines_carry_the_https_url_fingerprint_and_a_qr_code_of_the_
     assert all(line.split(": ", 1)[1].startswith("https://") and f"?token={token}" in line for line in lan)
     made = tablet_tls.self_signed(tmp_path, tablet_tls.served_hosts("0.0.0.0"))
     lines = tls_lines("0.0.0.0", 8866, token, made, color=False)
-    assert lines[0] == f"  certificate SHA-256: {made.fingerprint}"
+    assert lines[0] == f"  new certificate SHA-256: {made.fingerprint}"
     assert str(made.ca_file) in lines[1] and str(made.ca_fingerprint) in lines[1]
     url = lines[2].split(": ", 1)[1]
     assert url.startswith("https://") and url.endswith(f":8866/?token={token}")
@@ -162,9 +169,9 @@ def test_the_printed_lines_carry_the_https_url_fingerprint_and_a_qr_code_of_the_
     drawn = _modules(lines[3:])
     expected = [[bool(m) for m in row] for row in segno.make(url, error="m").matrix_iter(scale=1, border=4)]
     assert drawn[: len(expected)] == expected and not any(drawn[len(expected) :][0])
-    # on loopback: no QR code (no tablet reaches it), still the fingerprint
-    assert tls_lines("127.0.0.1", 8866, token, made, color=False)[:2] == lines[:2]
-    assert len(tls_lines("127.0.0.1", 8866, token, made, color=False)) == 2
+    # reused: no longer "new"; on loopback: no QR code (no tablet reaches it), still the fingerprints
+    reused = tablet_tls.self_signed(tmp_path, ["localhost"])
+    assert tls_lines("127.0.0.1", 8866, token, reused, color=False) == [lines[0].replace(" new", ""), lines[1]]
     assert qr_lines(url, color=True)[0].startswith("\x1b[")
 
 

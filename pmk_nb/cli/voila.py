@@ -235,7 +235,8 @@ def tls_lines(ip: str, port: int, token: str | None, tls: TlsFiles | None, *, co
     trust on the tablet) over HTTPS; beyond loopback, a QR code of the tablet's URL with its token."""
     lines = []
     if tls is not None:
-        lines.append(f"  certificate SHA-256: {tls.fingerprint}")
+        # a new one: a tablet that checked the old fingerprint (and trusts no authority) must check again
+        lines.append(f"  {'new ' if tls.created else ''}certificate SHA-256: {tls.fingerprint}")
         if tls.ca_file is not None:
             lines.append(f"  to trust on the tablet (once): {tls.ca_file}  SHA-256 {tls.ca_fingerprint}")
     url = serving.tablet_url(ip, port, token, "https" if tls else "http")
