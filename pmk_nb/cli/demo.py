@@ -14,6 +14,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.cli import tablet_tls
 from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
 from pmk_nb.cli.voila import preflight, serve, server_options
 from pmk_nb.ui.kiosk_pin import KIOSK_ENV
@@ -39,6 +40,7 @@ def run(args: argparse.Namespace) -> int:
     check_port_number(args.port)
     # before the simulator starts: a refused --ip or a taken port fails fast
     token = preflight(args, dict(os.environ), kiosk=not args.no_kiosk)
+    tls = tablet_tls.resolve(args, dict(os.environ))  # --https: kept in the user's config folder, not the demo's
     with sigterm_as_interrupt():
         print("Preparing the demo: converting the sample map, starting the simulated chair...", flush=True)
         demo = prepare_demo(args.dir, gml=args.gml)
@@ -46,6 +48,6 @@ def run(args: argparse.Namespace) -> int:
             demo.env[KIOSK_ENV] = "0" if args.no_kiosk else "1"
             print(f"Simulated chair: rosbridge ws://127.0.0.1:{demo.ros_port}, SFTP port {demo.sftp_port}", flush=True)
             print("Open the URL below: the Home screen shows the chair patrolling the clinic.", flush=True)
-            return serve(args, demo.env, demo.root, token)
+            return serve(args, demo.env, demo.root, token, tls)
         finally:
             demo.stop()

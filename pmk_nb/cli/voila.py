@@ -17,6 +17,9 @@ Server choices, and why:
     connection whose tablet went to sleep.  Idle culling stays as a back-stop and now also culls
     connected kernels: a live page answers the page heartbeat every 2 s (see
     :mod:`pmk_nb.ui.page_lifecycle`), so only a kernel whose page stopped pinging ever looks idle.
+  * HTTPS (issue 24) when a certificate is given or made (:mod:`pmk_nb.cli.tablet_tls`): Voilà is
+    then started as :mod:`pmk_nb.cli.voila_tls` with ``ssl_options`` in ``voila.json``; beyond
+    loopback, plain HTTP needs ``--insecure`` (:func:`pmk_nb.cli.serving.check_transport`).
   * ``show_tracebacks`` stays False: the app reports errors itself.
   * Only this server's own names are served (Host and Origin checked, token or not), a kernel has
     one websocket (its page's, binary protocol, bounded output), see :mod:`pmk_nb.cli.voila_guard`;
@@ -31,11 +34,15 @@ import subprocess
 import sys
 import webbrowser
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pmk_nb.cli import serving
 from pmk_nb.cli.procs import stop_process, wait_children, wait_for_port
 from pmk_nb.cli.voila_kernels import WS_PING_INTERVAL_MS, WS_PING_TIMEOUT_MS
 from pmk_nb.fileio import atomic_write
+
+if TYPE_CHECKING:
+    from pmk_nb.cli.tablet_tls import TlsFiles
 
 DASHBOARD_SOURCE = "from pmk_nb.ui import build_app\n\nbuild_app()"
 DASHBOARD_TITLE = "PMK Wheelchair"
@@ -76,12 +83,17 @@ def dashboard_notebook() -> dict[str, object]:
     }
 
 
-def server_config(token: str | None = None, ip: str = DEFAULT_IP) -> dict[str, object]:
+def server_config(token: str | None = None, ip: str = DEFAULT_IP, tls: TlsFiles | None = None) -> dict[str, object]:
     """Voilà's config file: websocket pings (integers, which the command line would make strings), token,
-    the guards of :mod:`pmk_nb.cli.voila_guard` (Host/Origin for ``ip``, one bounded channel per kernel)."""
+    the guards of :mod:`pmk_nb.cli.voila_guard` (Host/Origin for ``ip``, one bounded channel per kernel),
+    the certificate to serve HTTPS with (read by :mod:`pmk_nb.cli.voila_tls`)."""
     tornado: dict[str, object] = {"ws_ping_interval": WS_PING_INTERVAL_MS, "ws_ping_timeout": WS_PING_TIMEOUT_MS}
+    if tls is not None:
+        tornado["ssl_options"] = {"certfile": str(tls.certfile), "keyfile": str(tls.keyfile)}
     if serving.is_loopback(ip):  # jupyter_server's own Host check as well (it knows loopback names only)
-        tornado.update(allow_remote_access=False, local_hostnames=["localhost"])
+        # ... and the names the served certificate vouches for (voila_guard accepts them too)
+        names = ["localhost", *(n for n in (tls.names if tls else ()) if not serving.is_ip_address(n))]
+        tornado.update(allow_remote_access=False, local_hostnames=list(dict.fromkeys(names)))
     voila: dict[str, object] = {
         "tornado_settings": tornado,
         "identity_provider_class": IDENTITY_PROVIDER,
@@ -92,11 +104,14 @@ def server_config(token: str | None = None, ip: str = DEFAULT_IP) -> dict[str, o
     return {"Voila": voila}
 
 
-def write_dashboard_notebook(directory: Path, *, token: str | None = None, ip: str = DEFAULT_IP) -> Path:
+def write_dashboard_notebook(
+    directory: Path, *, token: str | None = None, ip: str = DEFAULT_IP, tls: TlsFiles | None = None
+) -> Path:
     """Write ``dashboard.ipynb`` and the server's ``voila.json`` (0600) into ``directory``; return the notebook."""
     path = directory / "dashboard.ipynb"
     atomic_write(path, json.dumps(dashboard_notebook(), indent=1) + "\n", mkdir=True)
-    atomic_write(directory / CONFIG_FILE, json.dumps(server_config(token, ip), indent=1) + "\n", mode=0o600)
+    config = json.dumps(server_config(token, ip, tls), indent=1) + "\n"
+    atomic_write(directory / CONFIG_FILE, config, mode=0o600)
     return path
 
 
@@ -108,12 +123,14 @@ def voila_command(
     open_browser: bool = False,
     cull_idle_timeout: int = CULL_IDLE_TIMEOUT,
     cull_interval: int = CULL_INTERVAL,
+    tls: bool = False,
 ) -> list[str]:
-    """The command line that serves ``notebook`` with this interpreter's Voilà (config: beside the notebook)."""
+    """The command line that serves ``notebook`` with this interpreter's Voilà (config: beside the notebook);
+    ``tls``: Voilà with HTTPS (:mod:`pmk_nb.cli.voila_tls`; the certificate is in the config)."""
     cmd = [
         sys.executable,
         "-m",
-        "voila",
+        "pmk_nb.cli.voila_tls" if tls else "voila",
         str(notebook),
         f"--port={int(port)}",
         "--Voila.port_retries=0",
@@ -148,6 +165,20 @@ def server_options(p: argparse.ArgumentParser) -> None:
         f"(required beyond loopback; also read from ${serving.TOKEN_ENV})",
     )
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
+    p.add_argument(
+        "--https",
+        action="store_true",
+        help="serve HTTPS with a certificate made once in the config folder (tls/); prints its fingerprint "
+        "and a QR code of the URL",
+    )
+    p.add_argument("--certfile", metavar="FILE", help="serve HTTPS with this PEM certificate (chain); needs --keyfile")
+    p.add_argument("--keyfile", metavar="FILE", help="the PEM private key of --certfile")
+    p.add_argument(
+        "--insecure",
+        action="store_true",
+        help="allow plain HTTP beyond loopback (the tablet then has no Screen Wake Lock and the token travels "
+        "in clear)",
+    )
 
 
 def preflight(args: argparse.Namespace, env: dict[str, str], *, kiosk: bool = False) -> str | None:
@@ -157,33 +188,59 @@ def preflight(args: argparse.Namespace, env: dict[str, str], *, kiosk: bool = Fa
     any local program or web page (DNS rebinding) could otherwise open it.
 
     Raises:
-        ServingRefused: beyond loopback without a token, a short token, or the port is taken.
+        ServingRefused: beyond loopback without a token, a short token, plain HTTP beyond loopback
+            without ``--insecure``, or the port is taken.
     """
+    from pmk_nb.cli.tablet_tls import wants_tls
+
     token = serving.resolve_token(args.token, env)
     if kiosk and not token:
         token = serving.resolve_token(serving.AUTO_TOKEN, env)
     serving.check_serving(args.ip, token)
+    serving.check_transport(args.ip, tls=wants_tls(args), insecure=bool(getattr(args, "insecure", False)))
     serving.check_port_free(args.ip, args.port)
     return token
 
 
-def serve(args: argparse.Namespace, env: dict[str, str], workdir: Path, token: str | None) -> int:
+def serve(
+    args: argparse.Namespace, env: dict[str, str], workdir: Path, token: str | None, tls: TlsFiles | None = None
+) -> int:
     """Start Voilà on the generated notebook, print the URL it really serves, wait until it ends or we are stopped.
 
-    ``token`` comes from :func:`preflight`; the port is checked again (something may have taken it meanwhile).
+    ``token`` comes from :func:`preflight`, ``tls`` from :func:`pmk_nb.cli.tablet_tls.resolve`; the port
+    is checked again (something may have taken it meanwhile).
     """
     serving.check_port_free(args.ip, args.port)
-    notebook = write_dashboard_notebook(workdir, token=token, ip=args.ip)
+    notebook = write_dashboard_notebook(workdir, token=token, ip=args.ip, tls=tls)
     # Voilà would open its URL without the token (a login page): with one, we open the right URL ourselves
-    cmd = voila_command(notebook, port=args.port, ip=args.ip, open_browser=not args.no_browser and not token)
+    cmd = voila_command(
+        notebook, port=args.port, ip=args.ip, open_browser=not args.no_browser and not token, tls=tls is not None
+    )
     voila = subprocess.Popen(cmd, env=env, cwd=workdir)
+    scheme = "https" if tls else "http"
     try:
         wait_for_port(serving.local_host(args.ip), args.port, voila, "Voilà", VOILA_START_TIMEOUT)
-        for line in serving.url_lines(args.ip, args.port, token):
+        for line in serving.url_lines(args.ip, args.port, token, scheme) + tls_lines(args.ip, args.port, token, tls):
             print(line, flush=True)
         if token and not args.no_browser:
-            webbrowser.open(serving.dashboard_url(serving.local_host(args.ip), args.port, token))
+            webbrowser.open(serving.dashboard_url(serving.local_host(args.ip), args.port, token, scheme))
         return wait_children([voila])
     finally:
         stop_process(voila)
         (workdir / CONFIG_FILE).unlink(missing_ok=True)  # it holds the token
+
+
+def tls_lines(ip: str, port: int, token: str | None, tls: TlsFiles | None, *, color: bool | None = None) -> list[str]:
+    """What ``pmk dashboard`` prints after the URLs: the certificate's fingerprint (and the authority to
+    trust on the tablet) over HTTPS; beyond loopback, a QR code of the tablet's URL with its token."""
+    lines = []
+    if tls is not None:
+        # a new one: a tablet that checked the old fingerprint (and trusts no authority) must check again
+        lines.append(f"  {'new ' if tls.created else ''}certificate SHA-256: {tls.fingerprint}")
+        if tls.ca_file is not None:
+            lines.append(f"  to trust on the tablet (once): {tls.ca_file}  SHA-256 {tls.ca_fingerprint}")
+    url = serving.tablet_url(ip, port, token, "https" if tls else "http")
+    if url is not None:
+        lines.append(f"  scan on the tablet: {url}")
+        lines += serving.qr_lines(url, color=sys.stdout.isatty() if color is None else color)
+    return lines

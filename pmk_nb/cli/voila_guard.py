@@ -9,8 +9,9 @@ it), new pages got no answer, and its kernel outlived the page.  Both classes he
 configuration (``voila.json``, :func:`pmk_nb.cli.voila.server_config`):
 
   * :class:`HostCheckingIdentityProvider` (``Voila.identity_provider_class``): a request whose Host
-    is not one this server listens on is refused (403), and an Origin is checked even when the
-    request carries the token.
+    is not one this server listens on (or, over HTTPS, one its certificate names) is refused (403),
+    and an Origin is checked even when the request carries the token (jupyter_server compares the
+    Origin's host:port with Host, so ``https://`` pages pass as ``http://`` ones do).
   * :class:`PageChannelConnection` (``Voila.kernel_websocket_connection_class``): a kernel has at
     most one websocket, the page's own (the first session that connected; a reconnect of that page
     is admitted once its old socket is closed); only the binary v1 protocol is spoken (the page's
@@ -113,6 +114,19 @@ def _names(ip: str) -> list[str]:
     return server_names(ip)
 
 
+@lru_cache(maxsize=4)
+def certificate_hosts(certfile: str) -> tuple[str, ...]:
+    """The names and addresses the served certificate vouches for (lower case): a browser reaches this
+    server by them without a warning, so they are its own (a lab's certificate for ``pmk.ward.example``)."""
+    from cryptography import x509
+
+    from pmk_nb.cli.tablet_tls import certificate_names
+
+    with open(certfile, "rb") as fh:
+        cert = x509.load_pem_x509_certificate(fh.read())
+    return tuple(n.lower() for n in certificate_names(cert))
+
+
 class HostCheckingIdentityProvider(PasswordIdentityProvider):
     """Voilà's identity provider, refusing foreign ``Host`` headers and checking Origin even with the token.
 
@@ -122,9 +136,16 @@ class HostCheckingIdentityProvider(PasswordIdentityProvider):
     def listen_ip(self) -> str:
         return str(getattr(self.parent, "ip", None) or DEFAULT_IP)
 
+    @property
+    def names(self) -> list[str]:
+        """The machine's names (serving the LAN) and, over HTTPS, the names in the served certificate."""
+        tls = (getattr(self.parent, "tornado_settings", None) or {}).get("ssl_options") or {}
+        served = certificate_hosts(str(tls["certfile"])) if tls.get("certfile") else ()
+        return [*_names(self.listen_ip), *served]
+
     def get_user(self, handler: web.RequestHandler) -> Any:
         host = request_host(handler.request.headers.get("Host", ""))
-        if not host_allowed(host, self.listen_ip, _names(self.listen_ip)):
+        if not host_allowed(host, self.listen_ip, self.names):
             self.log.warning("Refused a request for Host %r (not this server: DNS rebinding?)", host[:100])
             raise web.HTTPError(403)
         return super().get_user(handler)
