@@ -28,6 +28,7 @@ from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 
 from pmk_nb.cli.serving import ServingRefused, is_loopback, lan_addresses, server_names
 from pmk_nb.fileio import atomic_write, private_dir
+from pmk_nb.tlscert import fingerprint as der_fingerprint
 
 TLS_DIR = "tls"
 CA_CERT, CA_KEY = "dashboard-ca.crt", "dashboard-ca.key"
@@ -62,8 +63,8 @@ class TlsFiles:
 
 
 def fingerprint(cert: x509.Certificate) -> str:
-    """SHA-256 of the DER certificate as colon-separated upper-case hex (what certificate viewers show)."""
-    return cert.fingerprint(hashes.SHA256()).hex(":").upper()
+    """SHA-256 of the certificate, spelled by the one helper (:func:`pmk_nb.tlscert.fingerprint`)."""
+    return der_fingerprint(cert.public_bytes(serialization.Encoding.DER))
 
 
 def certificate_names(cert: x509.Certificate) -> tuple[str, ...]:
