@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.actions import ActionEntry, ActionOps
+from pmk_nb.sim.bridge_modes import DEFAULT_BRIDGE, BridgeMode, facts
 from pmk_nb.sim.jsonfast import dumps
 from pmk_nb.sim.messages import canonical_type, conformance_error, is_type_name
 from pmk_nb.sim.services import ServiceEntry, ServiceOps
@@ -78,7 +79,9 @@ class TopicEntry:
 class Bridge(ServiceOps, ActionOps):
     """Registry + protocol handler. Create on the loop that will run it."""
 
-    def __init__(self, client_queue: int = 200) -> None:
+    def __init__(self, client_queue: int = 200, mode: BridgeMode = DEFAULT_BRIDGE) -> None:
+        self.mode: BridgeMode = mode
+        self.bridge_facts = facts(mode)
         self.topics: dict[str, TopicEntry] = {}
         self.services: dict[str, ServiceEntry] = {}
         self.actions: dict[str, ActionEntry] = {}
@@ -120,7 +123,7 @@ class Bridge(ServiceOps, ActionOps):
         writer = asyncio.create_task(client.run_writer())
         try:
             async for raw in ws:
-                self.dispatch(client, raw if isinstance(raw, str) else raw.decode("utf-8", "replace"))
+                self.receive(client, raw if isinstance(raw, str) else raw.decode("utf-8", "replace"))
         except Exception:
             pass
         finally:
