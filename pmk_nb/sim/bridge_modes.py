@@ -13,7 +13,9 @@
   the client's ``IncomingQueue`` thread (rosbridge_server websocket_handler.py) until the goal ends,
   so every later op of that client (cancel_action_goal, publish on /cmd_vel, service calls) waits
   behind the goal; the cancel then finds no ``client_handler_list`` entry and does nothing. After a
-  rejected goal the wait never ends: the client's ops are held until it reconnects.
+  rejected goal the wait never ends: the client's ops are held until it reconnects;
+* ``client_handler_list`` is a class attribute shared by every connection: a cancel naming a running
+  goal's id works from another connection (e.g. the same client after a reconnect).
 
 ``rs``: rosbridge-server-rs 0.1.6 (the real ROS 2 test tier). Its source was not available here and
 the tier builds no action type, so these are the simulator's documented behaviour, not measured:
@@ -43,13 +45,15 @@ class BridgeFacts:
     cancels_gone_clients_goals: bool
     answers_rejected_goals: bool
     ops_wait_behind_goal: bool
+    cancel_from_any_client: bool  # a goal id's cancel works from another connection
     nodes: tuple[str, ...]  # what /rosapi/nodes lists besides the chair's own nodes
 
 
 FACTS: dict[str, BridgeFacts] = {
     # rosbridge_suite's rosapi node makes a helper node "<rosapi>_params" (rosapi/params.py: init)
-    "official": BridgeFacts(False, False, True, (OFFICIAL_NODE, "/rosapi", "/rosapi_params")),
-    "rs": BridgeFacts(True, True, False, (OFFICIAL_NODE,)),  # rosapi is served by the bridge itself
+    # SendActionGoal.client_handler_list is a class attribute: one dict for every connection
+    "official": BridgeFacts(False, False, True, True, (OFFICIAL_NODE, "/rosapi", "/rosapi_params")),
+    "rs": BridgeFacts(True, True, False, False, (OFFICIAL_NODE,)),  # rosapi is served by the bridge itself
 }
 
 

@@ -225,8 +225,11 @@ class _ToPose:
         self.nav.start(NavGoal("ros2", parsed[0], via=via, ref=ref))
 
     def cancel(self, ref: GoalRef) -> None:
+        """rs: the client's own goal. rosbridge_suite keys its running goals by the client's id in a
+        class-level dict (``SendActionGoal.client_handler_list``), so any connection can cancel one."""
         goal = self.nav.current
-        mine = goal is not None and goal.ref is not None and goal.ref.client is ref.client
+        anyone = self.nav.bridge is not None and self.nav.bridge.bridge_facts.cancel_from_any_client
+        mine = goal is not None and goal.ref is not None and (anyone or goal.ref.client is ref.client)
         if mine and goal is not None and goal.ref is not None and goal.ref.goal_id == ref.goal_id:
             self.nav.cancel_current("cancelled by the client")
             return

@@ -17,6 +17,7 @@ import roslibpy
 from roslibpy.core import RosTimeoutError
 from roslibpy.ros1 import actionlib
 
+from pmk_nb.chair.link.goal_attach import ActionStatusFollower
 from pmk_nb.chair.link.goal_topic import start_topic
 from pmk_nb.chair.link.navigate import MOVE_BASE, NAV2_ACTION, GoalHandle, GoalRoute, GoalStatus, NavigationError
 from pmk_nb.chair.messages import make_stamp, quaternion_from_yaw
@@ -59,8 +60,10 @@ def through_poses_args(points: list[tuple[float, float]], goal: Goal3, frame: st
 
 
 def start_nav2(ros: roslibpy.Ros, handle: GoalHandle, action: tuple[str, str], args: dict[str, Any]) -> None:
-    """Send a Nav2 goal with roslibpy's ROS 2 ActionClient; feedback gives ``distance_remaining``."""
+    """Send a Nav2 goal with roslibpy's ROS 2 ActionClient; feedback gives ``distance_remaining``.
+    The action's status topic is followed too, for the goal's fate after a link loss."""
     client = roslibpy.ActionClient(ros, action[0], action[1])
+    handle.follower = ActionStatusFollower(ros, action[0])
     seen = [0]
 
     def feedback(values: Any) -> None:
@@ -78,6 +81,7 @@ def start_nav2(ros: roslibpy.Ros, handle: GoalHandle, action: tuple[str, str], a
         status = GoalStatus.ABORTED if seen[0] else GoalStatus.REJECTED
         handle.update(status, None, _why(res.get("values") if hasattr(res, "get") else res, status))
 
+    handle.follower.mark_sent()
     goal_id = client.send_goal(roslibpy.Goal(args), result, feedback, error)
     handle.bind_cancel(lambda: client.cancel_goal(goal_id))
 
