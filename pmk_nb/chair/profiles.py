@@ -86,6 +86,11 @@ class ChairProfile:
     speech_on: bool = True
     speech_voice: str = "en"
     speech_rate: float = 1.0
+    # goals (pmk_nb.chair.link.navigate.GoalPolicy): when the dashboard loses the chair, "finish"
+    # (let goals finish) or "cancel" (cancel them once the link is back); deadlines in seconds
+    goals_on_link_loss: str = "finish"
+    goal_accept_s: float = 5.0
+    goal_quiet_s: float = 30.0
 
     @property
     def known_hosts_path(self) -> Path:
@@ -99,6 +104,14 @@ class ChairProfile:
             "pose_source": self.pose_source,
             "pose_topic": self.pose_topic,
         }
+
+    def goal_policy(self) -> Any:
+        """The link's goal deadlines and link-loss setting, from this profile."""
+        from pmk_nb.chair.link.navigate import GoalPolicy
+
+        return GoalPolicy(
+            accept_s=self.goal_accept_s, quiet_s=self.goal_quiet_s, on_link_loss=self.goals_on_link_loss
+        )
 
     def validate(self) -> None:
         """Raise SettingsError naming the field and the fix; returns None when the profile is usable."""
@@ -138,6 +151,7 @@ class ChairProfile:
             _bad("host_key_check", self.host_key_check, "use 'tofu' (trust on first use) or 'strict'")
         _check_drive(self)
         _check_speech(self)
+        _check_goals(self)
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -187,6 +201,15 @@ def _check_drive(profile: ChairProfile) -> None:
         value = getattr(profile, field)
         if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value <= top:
             _bad(field, value, f"give a speed above 0 and at most {top:g} {unit}")
+
+
+def _check_goals(profile: ChairProfile) -> None:
+    if profile.goals_on_link_loss not in ("finish", "cancel"):
+        _bad("goals_on_link_loss", profile.goals_on_link_loss, "use 'finish' (let goals finish) or 'cancel'")
+    for field, top in (("goal_accept_s", 60.0), ("goal_quiet_s", 600.0)):
+        value = getattr(profile, field)
+        if isinstance(value, bool) or not isinstance(value, int | float) or not 0.2 <= value <= top:
+            _bad(field, value, f"give seconds from 0.2 to {top:g}")
 
 
 def _check_speech(profile: ChairProfile) -> None:
