@@ -109,9 +109,7 @@ class ChairProfile:
         """The link's goal deadlines and link-loss setting, from this profile."""
         from pmk_nb.chair.link.navigate import GoalPolicy
 
-        return GoalPolicy(
-            accept_s=self.goal_accept_s, quiet_s=self.goal_quiet_s, on_link_loss=self.goals_on_link_loss
-        )
+        return GoalPolicy(accept_s=self.goal_accept_s, quiet_s=self.goal_quiet_s, on_link_loss=self.goals_on_link_loss)
 
     def validate(self) -> None:
         """Raise SettingsError naming the field and the fix; returns None when the profile is usable."""
