@@ -83,6 +83,7 @@ def start_nav2(ros: roslibpy.Ros, handle: GoalHandle, action: tuple[str, str], a
 
     handle.follower.mark_sent()
     goal_id = client.send_goal(roslibpy.Goal(args), result, feedback, error)
+    handle.cancel_ref = (action[0], goal_id)  # for a cancel over a second connection (side_channel)
     handle.bind_cancel(lambda: client.cancel_goal(goal_id))
 
 

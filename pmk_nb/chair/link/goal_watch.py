@@ -9,9 +9,9 @@ Every :data:`TICK` it checks, in this order:
   the setting ``on_link_loss="cancel"`` the goal is cancelled once the link is back;
 * acceptance: nothing accepted the goal within ``accept_s`` -> ``no_answer`` and a cancel;
 * silence: no result or feedback for ``quiet_s`` -> ``progress().quiet_s`` is set;
-* a cancel: odometry must show the chair stopped within ``verify_s``; if not -> ``cancel_ignored``
-  and zero velocity at :data:`BURST_HZ` for :data:`BURST_S` s, from this thread (never from
-  roslibpy's I/O thread).
+* a cancel: odometry must show the chair stopped within ``verify_s``; if not -> ``cancel_ignored``,
+  the cancel again and zero velocity at :data:`BURST_HZ` for :data:`BURST_S` s over a second
+  connection (:mod:`pmk_nb.chair.link.side_channel`), from this thread (never roslibpy's I/O thread).
 
 Hooks (``on_end``) run when the watch ends, for things that live as long as the goal.
 """
@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING
 
 from pmk_nb.chair.link import goal_words as words
 from pmk_nb.chair.link.navigate import ARRIVE_TOLERANCE, GoalHandle, GoalPolicy, GoalStatus
+from pmk_nb.chair.link.side_channel import side_stop
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.client import ChairLink
@@ -171,8 +172,14 @@ class GoalWatch:
             self.zero_burst()
 
     def zero_burst(self) -> None:
-        """Zero velocity at BURST_HZ for BURST_S s (on this thread: never roslibpy's)."""
+        """Zero velocity at BURST_HZ for BURST_S s, with the cancel again, over a second connection
+        (rosbridge_suite holds the link's own behind the goal: see side_channel); over the link's
+        own connection when that fails. On this thread, never roslibpy's."""
         self.handle.zero_bursts += 1
+        link, topic = self.link, self.link._publish.cmd_vel_topic
+        url = f"ws://{link.host}:{link.port}"  # wss (TLS to the chair) must reuse the link's URL and context
+        if side_stop(url, topic, link.ros_version, self.handle.cancel_ref, hz=BURST_HZ, seconds=BURST_S):
+            return
         for _ in range(round(BURST_HZ * BURST_S)):
-            self.link.publish_cmd_vel(0.0, 0.0)
+            link.publish_cmd_vel(0.0, 0.0)
             time.sleep(1.0 / BURST_HZ)

@@ -114,6 +114,7 @@ class GoalHandle:
         self.cancel_honoured: bool | None = None  # None: not verified (yet)
         self.zero_bursts = 0  # zero-velocity bursts sent because a cancel was not honoured
         self.follower: Any = None  # Nav2: the action's status topic, for re-attaching after a link loss
+        self.cancel_ref: tuple[str, str] | None = None  # Nav2: (action, rosbridge goal id)
 
     def progress(self) -> GoalProgress:
         with self._lock:
@@ -263,8 +264,8 @@ def navigate(
         )
     route = detect_route(link)
     handle = GoalHandle(goal, route.label)
-    # odometry verifies a cancel; on rosbridge_suite nothing can be subscribed while a goal runs
-    link.start_streams()
+    if route.kind == "nav2":  # odometry verifies a cancel; rosbridge_suite holds a subscribe behind a goal
+        link.start_streams()
     if points and route.kind == "nav2" and route.through:
         handle.route = f"Nav2 NavigateThroughPoses ({route.through}), {len(points)} waypoint(s)"
         handle.update(text="sent")
