@@ -74,6 +74,8 @@ def test_a_cancel_the_official_bridge_holds_is_not_honoured(sim_factory, link_fa
     0.5 s later, so the handle says so, and the cancel and zero velocity at 20 Hz go again over a
     second connection, which that bridge does not hold: the chair stops and says cancelled (fact 3)."""
     sim, link = _chair(sim_factory, link_factory, "ros2", verify_s=0.5)
+    twists: list[dict] = []
+    sim.bridge.listen("/cmd_vel", "geometry_msgs/msg/Twist", twists.append)  # before the goal: no race
     handle = link.navigate_to(6.0, 6.0, 0.0)
     seen: list[GoalProgress] = []
     handle.on_update(seen.append)
@@ -85,6 +87,8 @@ def test_a_cancel_the_official_bridge_holds_is_not_honoured(sim_factory, link_fa
     assert len(ignored) == 1 and "did not honour the cancel" in ignored[0].message, seen
     assert handle.cancel_honoured is False and handle.zero_bursts == 1
     assert sim.pose[0] < 5.0 and wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)
+    assert wait_until(lambda: len(twists) >= 18, 2.0), len(twists)  # ~20 zero twists over ~1 s
+    assert all(t["linear"]["x"] == 0.0 and t["angular"]["z"] == 0.0 for t in twists)
 
 
 @pytest.mark.parametrize("ros", ["ros1", "ros2"])

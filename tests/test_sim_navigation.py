@@ -107,7 +107,14 @@ def test_through_poses_and_aborts_and_rejects(sim_factory, ros_factory) -> None:
 
 
 def test_move_base_actionlib_goal_cancel_and_status(sim_factory, ros_factory) -> None:
+    """ROS 1: rosbridge 0.11 has no action ops (issue 24, fact 4); move_base is actionlib topics."""
     sim = sim_factory(ros="ros1", start_pose=START)
+    import websockets.sync.client as ws_client
+
+    with ws_client.connect(f"ws://127.0.0.1:{sim.port}") as ws:
+        ws.send(json.dumps({"op": "send_action_goal", "id": "g", "action": "/move_base", "args": {}}))
+        answer = json.loads(ws.recv(3))
+        assert answer["op"] == "status" and "Unknown operation 'send_action_goal'" in answer["msg"]
     ros = ros_factory(sim)
     client = actionlib.ActionClient(ros, "/move_base", "move_base_msgs/MoveBaseAction")  # waits for /status
     target = {"target_pose": _pose(6.0, 6.0, {"secs": 0, "nsecs": 0})}

@@ -79,8 +79,9 @@ class TopicEntry:
 class Bridge(ServiceOps, ActionOps):
     """Registry + protocol handler. Create on the loop that will run it."""
 
-    def __init__(self, client_queue: int = 200, mode: BridgeMode = DEFAULT_BRIDGE) -> None:
+    def __init__(self, client_queue: int = 200, mode: BridgeMode = DEFAULT_BRIDGE, action_ops: bool = True) -> None:
         self.mode: BridgeMode = mode
+        self.action_ops = action_ops  # False: ROS 1 rosbridge (0.11) has no action ops at all
         self.bridge_facts = facts(mode)
         self.topics: dict[str, TopicEntry] = {}
         self.services: dict[str, ServiceEntry] = {}
@@ -146,7 +147,7 @@ class Bridge(ServiceOps, ActionOps):
             return
         op, op_id = msg["op"], msg.get("id")
         handler = getattr(self, f"_op_{op}", None)
-        if handler is None:
+        if handler is None or (not self.action_ops and op in ("send_action_goal", "cancel_action_goal")):
             client.status("error", f"Unknown operation '{op}'", op_id)
             return
         missing = [k for k in _REQUIRED.get(op, ()) if k not in msg]

@@ -312,7 +312,7 @@ class SimChair:
 
     async def _main(self, grid: OccupancyGrid, ready: threading.Event) -> None:
         self._stop_event = asyncio.Event()
-        bridge = Bridge(self.client_queue, self.bridge_mode)
+        bridge = Bridge(self.client_queue, self.bridge_mode, action_ops=self.ros == "ros2")
         self.bridge = bridge
         source = self.mapserver.source if self.mapserver else self.map_yaml
         self.mapserver = MapServer(bridge, self.names, self.fs, self.engine.install, self.reload_services)
