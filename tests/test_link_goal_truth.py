@@ -54,3 +54,24 @@ def test_link_loss_is_said_truthfully_and_the_goal_reattached(
         assert sim.pose[0] < goal[0] - 1.0 and wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)
     if chair == "stopped after the reconnect":  # the cancel went over the new connection
         assert handle.cancel_requested
+
+
+def test_a_goal_the_chair_no_longer_lists_is_read_from_the_pose(sim_factory) -> None:
+    """ROS 1: the link is down longer than move_base lists a finished goal (5 s), so no status ever
+    names it again: the pose says where the chair is; at the goal -> arrived, said as read from the pose."""
+    from pmk_nb.chair.link.client import ChairLink
+
+    sim = sim_factory(ros="ros1", start_pose=START)
+    link = ChairLink("127.0.0.1", sim.port, reconnect_initial=9.0, reconnect_max=9.0)
+    try:
+        link.connect(timeout=10.0)
+        handle = link.navigate_to(2.0, 6.0, 0.0)
+        assert wait_until(lambda: handle.progress().status is GoalStatus.MOVING, 10.0)
+        sim.disconnect_clients()
+        assert wait_until(lambda: handle.progress().status is GoalStatus.LINK_LOST, 2.0)
+        assert wait_until(lambda: sim.goal_status == "reached", 6.0)  # while the dashboard is away
+        final = handle.wait(16.0)
+        assert final.status is GoalStatus.ARRIVED, final
+        assert "pose is at the goal" in final.message
+    finally:
+        link.close()
