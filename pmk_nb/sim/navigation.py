@@ -91,6 +91,10 @@ class Navigator:
             bridge.listen("/goal_pose", n.msg("geometry_msgs", "PoseStamped"), self.on_topic_goal)
         bridge.listen("/move_base_simple/goal", n.msg("geometry_msgs", "PoseStamped"), self.on_topic_goal)
 
+    @property
+    def bridge_is_rs(self) -> bool:
+        return self.bridge is not None and self.bridge.mode == "rs"
+
     def task(self) -> asyncio.Task[None]:
         return asyncio.create_task(self._loop())
 
@@ -200,7 +204,9 @@ class Navigator:
             if self.status is not None:
                 self.status.set(goal.ref, _ROS2_CODES[outcome])
             values = {"error_code": _ERROR_CODES[outcome], "error_msg": "" if outcome == "succeeded" else why}
-            goal.ref.result(_ROS2_CODES[outcome], values)
+            # rosbridge-server-rs 0.1.6 answers a canceled goal with ``result: false`` (measured)
+            ok = not (outcome == "canceled" and self.bridge_is_rs)
+            goal.ref.result(_ROS2_CODES[outcome], values, ok)
         elif goal.kind == "ros1" and self.ros1 is not None:
             self.ros1.result(goal, outcome, why)
         if outcome != "succeeded":
@@ -220,7 +226,8 @@ class _ToPose:
     def _start(self, ref: GoalRef, parsed: Any, via: list[tuple[float, float]]) -> None:
         why = parsed if isinstance(parsed, str) else self.nav.check(*parsed)
         if why is not None:
-            ref.reject({"error_code": 1, "error_msg": f"goal rejected: {why}"})
+            self.nav.engine.note(f"goal rejected: {why}")  # the bridge does not pass the reason on
+            ref.reject()
             return
         self.nav.start(NavGoal("ros2", parsed[0], via=via, ref=ref))
 
@@ -247,7 +254,8 @@ class _ThroughPoses(_ToPose):
     def goal(self, ref: GoalRef, args: dict[str, Any]) -> None:
         poses = args.get("poses")
         if not isinstance(poses, list) or not poses:
-            ref.reject({"error_code": 1, "error_msg": "goal rejected: no poses"})
+            self.nav.engine.note("goal rejected: no poses")
+            ref.reject()
             return
         parsed = [parse_pose(p) for p in poses]
         bad = next((p for p in parsed if isinstance(p, str)), None)

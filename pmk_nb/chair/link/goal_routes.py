@@ -77,8 +77,12 @@ def start_nav2(ros: roslibpy.Ros, handle: GoalHandle, action: tuple[str, str], a
         status = NAV2_RESULTS.get(int(code), GoalStatus.ABORTED)
         handle.update(status, 0.0 if status is GoalStatus.ARRIVED else None, _why(res.get("values"), status))
 
-    def error(res: Any) -> None:
-        status = GoalStatus.ABORTED if seen[0] else GoalStatus.REJECTED
+    def error(res: Any) -> None:  # result: false; rosbridge-server-rs sends it for a canceled goal too
+        code = res.get("status") if hasattr(res, "get") else None
+        if NAV2_RESULTS.get(int(getattr(code, "value", code) or 0)) is GoalStatus.CANCELLED:
+            status = GoalStatus.CANCELLED
+        else:  # rs answers a rejected goal with status 6 (aborted): no feedback yet means rejected
+            status = GoalStatus.ABORTED if seen[0] else GoalStatus.REJECTED
         handle.update(status, None, _why(res.get("values") if hasattr(res, "get") else res, status))
 
     handle.follower.mark_sent()
