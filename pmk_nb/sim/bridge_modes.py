@@ -21,8 +21,8 @@
 NavigateToPose action server: a closed websocket cancels the client's goals (the server saw the
 cancel request 0.00 s after the close); a rejected goal is answered at once with status 6 (aborted),
 ``result: false`` and values "goal rejected" (no reason); a cancel reaches the server within 1 ms and
-the answer is status 5 (canceled) with ``result: false``. A cancel from another connection was not
-measured: the simulator accepts it only from the goal's own connection here.
+the answer is status 5 (canceled) with ``result: false``; a cancel naming the goal from another
+connection is refused with a status "unknown active goal" (the goal ran on and succeeded).
 
 The default is ``official``: the least optimistic of the two, and what most chairs run.
 """
