@@ -148,7 +148,7 @@ class SettingsScreen:
         self.info_widget = w.VBox([self.status, self.map_info])
         self.rows = {name: w.VBox([field, self.errors[name]]) for name, field in self.fields.items()}
         self._label_row("auth", "SSH login", "pmk-settings-auth")
-        self._label_row("goals_on_link_loss", "When the dashboard loses the chair")
+        self._label_row("goals_on_link_loss", "When the dashboard loses the chair", "pmk-settings-loss")
         actions = w.HBox([self.save_button, self.test_button])
         actions.add_class("pmk-row")
         self.widget = w.VBox(
