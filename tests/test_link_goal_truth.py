@@ -75,3 +75,20 @@ def test_a_goal_the_chair_no_longer_lists_is_read_from_the_pose(sim_factory) -> 
         assert "pose is at the goal" in final.message
     finally:
         link.close()
+
+
+def test_closing_the_link_ends_the_goal_watch(sim_factory, link_factory) -> None:
+    """A closed link (not a dropped one) says link lost and its goal watch thread ends: no thread per
+    abandoned goal left polling in a long-running kernel."""
+    import threading
+
+    sim = sim_factory(ros="ros2", start_pose=START, bridge="rs")
+    link = link_factory(sim)
+    before = set(threading.enumerate())
+    handle = link.navigate_to(*FAR)
+    watch = [t for t in threading.enumerate() if t.name == "pmk-goal-watch" and t not in before]
+    assert len(watch) == 1
+    assert wait_until(lambda: handle.progress().status is GoalStatus.MOVING, 10.0)
+    link.close()
+    assert wait_until(lambda: not watch[0].is_alive(), 2.0)
+    assert handle.progress().status is GoalStatus.LINK_LOST

@@ -75,6 +75,8 @@ class GoalWatch:
             while True:
                 now = time.monotonic()
                 self.tick(now)
+                if self.link.ros is None:  # the link was closed (not reconnecting): nothing more to learn
+                    return
                 if self.handle.progress().done:
                     ended = ended or now
                     if self._verifying is None or now - ended > LINGER_S:

@@ -81,7 +81,8 @@ def bridge_ignores_cancels(new_thread: bool | None) -> str:
         )
     return (
         "The chair runs rosbridge_suite with send_action_goals_in_new_thread off (its default): it ignores "
-        "Cancel until the goal has ended, holds the dashboard's other commands (even Stop) behind a running "
-        "goal, and keeps driving when the link drops. Start it with send_action_goals_in_new_thread:=true "
-        "and run pmk robot goal-watchdog on the chair."
+        "Cancel until the goal has ended and holds the dashboard's other commands (even Stop) behind a running "
+        "goal (the dashboard then sends Cancel and Stop again over a second connection), and keeps driving "
+        "when the link drops. Start it with send_action_goals_in_new_thread:=true and run pmk robot "
+        "goal-watchdog on the chair."
     )
