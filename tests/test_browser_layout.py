@@ -42,7 +42,7 @@ MUST_SHOW = {
     "maps": [".pmk-maps-list select", "button.pmk-maps-refresh", ".pmk-maps-import", ".pmk-maps-resolution input",
              "button.pmk-maps-convert", "button.pmk-maps-send"],
     "settings": [".pmk-settings-name input", ".pmk-settings-host input", ".pmk-settings-auth",
-                 "button.pmk-settings-save", "button.pmk-settings-test"],
+                 ".pmk-settings-goals-on-link-loss", "button.pmk-settings-save", "button.pmk-settings-test"],
 }  # fmt: skip
 
 

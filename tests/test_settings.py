@@ -54,6 +54,9 @@ def test_defaults_match_the_original_app(tmp_path: Path) -> None:
         ("reload_service", "change map"),
         ("host_key_check", "never"),
         ("ssh_user", "pmk user"),
+        ("goals_on_link_loss", "stop"),
+        ("goal_accept_s", 0.0),
+        ("goal_quiet_s", float("nan")),
     ],
 )
 def test_invalid_values_name_the_field(field: str, value: object) -> None:

@@ -49,6 +49,7 @@ def test_cli_serves_and_stops_on_sigterm(tmp_path):
         url = re.search(r"ws://127\.0\.0\.1:\d+", text)
         assert url, text
         assert "/odom [nav_msgs/msg/Odometry]" in text
+        assert "(ros2, bridge official)" in text  # the default bridge mode is said (issue 24)
         assert "/map_server/load_map [nav2_msgs/srv/LoadMap]" in text
         assert re.search(r"sftp: pmk@127\.0\.0\.1 port \d+ password \S+", text)
         assert "SHA256:" in text
@@ -198,3 +199,12 @@ def test_cli_ros_version_option_and_its_old_name(option):
 
     assert build_parser("sim").parse_args(["sim", option, "ros2"]).ros == "ros2"
     assert build_parser("sim").parse_args(["sim"]).ros == "ros1"
+
+
+def test_cli_bridge_option_picks_the_rosbridge_to_imitate() -> None:
+    from pmk_nb.cli import build_parser
+
+    assert build_parser("sim").parse_args(["sim"]).bridge == "official"
+    assert build_parser("sim").parse_args(["sim", "--bridge", "rs"]).bridge == "rs"
+    with pytest.raises(SystemExit):
+        build_parser("sim").parse_args(["sim", "--bridge", "ros1"])

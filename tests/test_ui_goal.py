@@ -97,9 +97,9 @@ def test_status_words_and_remaining_distance() -> None:
     assert "&lt;b&gt;" in status_html(goal, GoalProgress(GoalStatus.ABORTED, goal, None, "<b>")), "escaped"
 
 
-@pytest.mark.parametrize("ros", ["ros1", "ros2"])
-def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: str) -> None:
-    sim = sim_factory(ros=ros, start_pose=(1.0, 6.0, 0.0))
+@pytest.mark.parametrize(("ros", "bridge"), [("ros1", "official"), ("ros2", "rs")])
+def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: str, bridge: str) -> None:
+    sim = sim_factory(ros=ros, start_pose=(1.0, 6.0, 0.0), bridge=bridge)
     link = link_factory(sim)
     live = LiveView(600, 400)
     live.set_map(sim.grid)
@@ -123,12 +123,57 @@ def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: s
     assert said[1:] == [("stop", "Stopped, goal cancelled.")]
 
 
+def test_the_panel_says_the_official_bridge_ignored_the_cancel(sim_factory, link_factory) -> None:
+    """rosbridge_suite holds the cancel behind the goal: the panel says "cancel sent", then "cancel
+    not honoured" (the chair still moves); the cancel sent again on a second connection stops it."""
+    from pmk_nb.chair.link.navigate import GoalPolicy
+
+    sim = sim_factory(ros="ros2", start_pose=(1.0, 6.0, 0.0), bridge="official")
+    link = link_factory(sim)
+    link.goal_policy = GoalPolicy(verify_s=0.5)
+    panel = GoalPanel(LiveView(600, 400))
+    panel.speak = lambda _said: None
+    panel.attach(link)
+    panel.send((6.0, 6.0, 0.0))
+    assert wait_until(lambda: panel.handle is not None and panel.handle.progress().status is GoalStatus.MOVING, 10.0)
+    texts: list[str] = []
+    panel.handle.on_update(lambda _p: texts.append(panel.status.value))  # what a refresh then showed
+    panel.handle.on_update(lambda _p: panel.refresh())
+    panel.cancel()
+    assert "pmk-goal-cancel-sent" in panel.status.value
+    assert panel.handle.wait(5.0).status is GoalStatus.CANCELLED and sim.pose[0] < 5.0
+    shown = [t for t in texts if "data-status='cancel_ignored'" in t]
+    assert shown and "cancel not honoured" in shown[0] and "did not honour the cancel" in shown[0], texts
+    assert "pmk-goal-cancel-sent" not in shown[0] and panel.handle.zero_bursts == 1
+
+
+@pytest.mark.parametrize(
+    ("status", "word"),
+    [
+        (GoalStatus.LINK_LOST, "link lost"),
+        (GoalStatus.NO_ANSWER, "no answer"),
+        (GoalStatus.CANCEL_IGNORED, "cancel not honoured"),
+        (GoalStatus.UNKNOWN, "outcome unknown"),
+    ],
+)
+def test_the_states_the_link_cannot_vouch_for_are_shown_as_warnings(status: GoalStatus, word: str) -> None:
+    goal = (1.0, 2.0, 0.0)
+    text = status_html(goal, GoalProgress(status, goal, None, "Nav2: x"))
+    assert f"data-status='{status.value}'" in text and f">{word}</b>" in text and "pmk-warn" in text
+    assert "pmk-goal-quiet" not in text and "pmk-goal-cancel-sent" not in text
+    quiet = status_html(goal, GoalProgress(GoalStatus.MOVING, goal, 2.0, "Nav2: x", quiet_s=31.0))
+    assert "pmk-goal-quiet" in quiet and "for 31 s" in quiet and "pmk-warn'>moving" not in quiet
+    waiting = status_html(goal, GoalProgress(GoalStatus.MOVING, goal, 2.0, "Nav2: x"), cancel_pending=True)
+    assert "pmk-goal-cancel-sent" in waiting
+
+
 def test_how_a_tapped_goal_ends_is_said_in_words() -> None:
     from pmk_nb.ui.goal_panel import _ending
 
     assert _ending(GoalStatus.ARRIVED)[1] == "Arrived at the destination."
     assert _ending(GoalStatus.CANCELLED)[1] == "Stopped, goal cancelled."
     assert _ending(GoalStatus.ABORTED)[1] == _ending(GoalStatus.REJECTED)[1] == "Could not reach the destination."
+    assert _ending(GoalStatus.UNKNOWN) is None  # not known: shown, never announced as failed
 
 
 def test_an_error_note_is_escaped_not_markup() -> None:

@@ -71,6 +71,21 @@ def test_key_auth_shows_key_field_and_validates_it(ctx: AppContext, tmp_path: Pa
     assert screen.save() is not None and ctx.profiles.get("Chair A").key_file == str(key)
 
 
+def test_what_goals_do_when_the_dashboard_loses_the_chair(ctx: AppContext) -> None:
+    """Issue 24: a Settings control for the link-loss policy, saved in the profile, given to the link."""
+    screen = SettingsScreen(ctx)
+    fill(screen)
+    assert screen.fields["goals_on_link_loss"].value == "finish"  # the default: let goals finish
+    screen.fields["goals_on_link_loss"].value = "cancel"
+    assert screen.save() is not None
+    saved = ctx.profiles.get("Chair A")
+    assert saved.goals_on_link_loss == "cancel" and saved.goal_policy().on_link_loss == "cancel"
+    assert SettingsScreen(ctx).fields["goals_on_link_loss"].value == "cancel"
+    assert ctx.link().goal_policy.on_link_loss == "cancel"
+    with pytest.raises(Exception):  # noqa: B017 - traitlets refuses a value outside the options
+        screen.fields["goals_on_link_loss"].value = "stop"
+
+
 def test_a_page_cannot_push_non_text_into_fields(ctx: AppContext) -> None:
     screen = SettingsScreen(ctx)
     fill(screen)

@@ -279,7 +279,9 @@ def link_for(profile: ChairProfile) -> Any:
     """The kernel's shared ChairLink for this profile (not connected yet)."""
     from pmk_nb.chair.link.registry import get_link
 
-    return get_link(profile.host, profile.port, **profile.link_options())
+    link = get_link(profile.host, profile.port, **profile.link_options())
+    link.goal_policy = profile.goal_policy()
+    return link
 
 
 def close_links() -> None:

@@ -90,6 +90,11 @@ class ChairProfile:
     # else its fingerprint pinned on first use in known_certs (beside known_hosts)
     tls: bool = False
     tls_ca_file: str | None = None
+    # goals (pmk_nb.chair.link.navigate.GoalPolicy): when the dashboard loses the chair, "finish"
+    # (let goals finish) or "cancel" (cancel them once the link is back); deadlines in seconds
+    goals_on_link_loss: str = "finish"
+    goal_accept_s: float = 5.0
+    goal_quiet_s: float = 30.0
 
     @property
     def known_hosts_path(self) -> Path:
@@ -115,6 +120,12 @@ class ChairProfile:
             "pose_topic": self.pose_topic,
             "tls": ChairTls(self.known_certs_path, self.tls_ca_file or None) if self.tls else None,
         }
+
+    def goal_policy(self) -> Any:
+        """The link's goal deadlines and link-loss setting, from this profile."""
+        from pmk_nb.chair.link.navigate import GoalPolicy
+
+        return GoalPolicy(accept_s=self.goal_accept_s, quiet_s=self.goal_quiet_s, on_link_loss=self.goals_on_link_loss)
 
     def validate(self) -> None:
         """Raise SettingsError naming the field and the fix; returns None when the profile is usable."""
@@ -155,6 +166,7 @@ class ChairProfile:
         _check_drive(self)
         _check_speech(self)
         _check_tls(self)
+        _check_goals(self)
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -204,6 +216,15 @@ def _check_drive(profile: ChairProfile) -> None:
         value = getattr(profile, field)
         if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value <= top:
             _bad(field, value, f"give a speed above 0 and at most {top:g} {unit}")
+
+
+def _check_goals(profile: ChairProfile) -> None:
+    if profile.goals_on_link_loss not in ("finish", "cancel"):
+        _bad("goals_on_link_loss", profile.goals_on_link_loss, "use 'finish' (let goals finish) or 'cancel'")
+    for field, top in (("goal_accept_s", 60.0), ("goal_quiet_s", 600.0)):
+        value = getattr(profile, field)
+        if isinstance(value, bool) or not isinstance(value, int | float) or not 0.2 <= value <= top:
+            _bad(field, value, f"give seconds from 0.2 to {top:g}")
 
 
 def _check_speech(profile: ChairProfile) -> None:

@@ -11,6 +11,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE
 from pmk_nb.sim.demo import sample_floor
 from pmk_nb.sim.messages import ROS_VERSIONS
 from pmk_nb.sim.server import SimChair, SimError
@@ -58,6 +59,14 @@ def add_parser(subparsers: Any) -> None:
         choices=ROS_VERSIONS,
         default="ros1",
         help="message spelling the chair speaks (default ros1; --flavour is the old name)",
+    )
+    p.add_argument(
+        "--bridge",
+        choices=BRIDGE_MODES,
+        default=DEFAULT_BRIDGE,
+        help=f"which rosbridge's ROS 2 action-goal behaviour to reproduce (default {DEFAULT_BRIDGE}: rosbridge_suite "
+        "2.1.0, which keeps a lost client's goals, never answers a rejected goal and handles a cancel only "
+        "after the goal; rs: rosbridge-server-rs)",
     )
     p.add_argument("--odom-rate", type=float, default=50.0, help="Hz")
     p.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
@@ -114,7 +123,7 @@ def describe(sim: SimChair) -> list[str]:
     assert bridge is not None and sim.grid is not None
     grid = sim.grid
     lines = [
-        f"pmk sim: rosbridge v2 ({sim.ros}) at {sim.url}",
+        f"pmk sim: rosbridge v2 ({sim.ros}, bridge {sim.bridge_mode}) at {sim.url}",
         f"  map: {_map_name(sim)} ({grid.width}x{grid.height} cells, {grid.resolution:.3f} m/cell)",
         "  chair at x={:.2f} y={:.2f} theta={:.2f}".format(*sim.pose),
         f"  maps dir (chair ~/ALMA_MAPS): {sim.maps_dir}",
@@ -200,6 +209,7 @@ def _serve(args: argparse.Namespace, tls: tuple[Path, Path] | None) -> int:
         sftp_password_login=not args.no_sftp_password,
         maps_dir=args.maps_dir,
         tls=tls,
+        bridge=args.bridge,
     )
     stop = threading.Event()
     previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}

@@ -6,13 +6,21 @@ The simulator serves actions itself (an :class:`ActionServer` per name, register
 id ``cancel_action_goal`` names. Every ``action_result`` carries ``status`` (action_msgs/GoalStatus
 codes) and ``result`` (false when the goal was refused), as rosbridge sends them; a status is always
 present because roslibpy 2.1 reads it from ``values`` otherwise and fails on a text value.
+
+The bridge mode (:mod:`pmk_nb.sim.bridge_modes`) decides what a rejection and a closed socket do,
+and whether the client's later ops wait behind its goal (``official``: they are held in
+``ClientSession.held`` until the goal's result went out, for ever after a rejection).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import uuid
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
+from pmk_nb.sim.bridge_modes import BridgeFacts, facts
 from pmk_nb.sim.session import ClientSession, resolve_name
 
 # action_msgs/msg/GoalStatus
@@ -27,6 +35,9 @@ class GoalRef:
     client: ClientSession
     goal_id: str
     action: str  # the client's spelling
+    answers_rejects: bool = True  # False: rosbridge_suite, which never answers a rejected goal
+    on_result: Callable[[], None] | None = None  # the bridge releases the client's held ops
+    uuid: tuple[int, ...] = field(default_factory=lambda: tuple(uuid.uuid4().bytes))  # the action's goal id
 
     def feedback(self, values: dict[str, Any]) -> None:
         self.client.send_control({"op": "action_feedback", "id": self.goal_id, "action": self.action, "values": values})
@@ -34,6 +45,15 @@ class GoalRef:
     def result(self, status: int, values: dict[str, Any] | str, ok: bool = True) -> None:
         out = {"op": "action_result", "id": self.goal_id, "action": self.action, "values": values}
         self.client.send_control({**out, "status": status, "result": ok})
+        if self.on_result is not None:
+            self.on_result()
+
+    def reject(self) -> None:
+        """The action server refused the goal: answered as rosbridge-server-rs 0.1.6 does (measured:
+        status 6, ``result: false``, values "goal rejected", no reason), or silence for ever
+        (rosbridge_suite: ``SendGoal.goal_response_cb`` raises inside rclpy's callback, internal/actions.py)."""
+        if self.answers_rejects:
+            self.result(STATUS_ABORTED, "goal rejected", ok=False)
 
 
 class ActionServer(Protocol):
@@ -57,6 +77,26 @@ class ActionOps:
     """Mixin of :class:`pmk_nb.sim.protocol.Bridge`: the action registry and its two client ops."""
 
     actions: dict[str, ActionEntry]
+    bridge_facts: BridgeFacts = facts("rs")
+
+    dispatch: Callable[[ClientSession, str], None]
+
+    def receive(self, client: ClientSession, raw: str) -> None:
+        """One incoming message: handled now, or held behind the client's running goal (official)."""
+        if client.held is not None:
+            client.held.append(raw)
+        else:
+            self.dispatch(client, raw)
+
+    def _release(self, client: ClientSession) -> None:
+        """The goal the client's ops waited behind has ended: handle them in order (a next goal holds again)."""
+        held, client.held = client.held, None
+        while held:
+            raw = held.popleft()
+            if client.held is not None:
+                client.held.extend([raw, *held])
+                return
+            self.dispatch(client, raw)
 
     def add_action(self, name: str, type_name: str, server: ActionServer) -> None:
         self.actions[name] = ActionEntry(name, type_name, server)
@@ -66,10 +106,15 @@ class ActionOps:
         ref = GoalRef(client, str(msg.get("id") or f"send_action_goal:{spelled}"), spelled)
         entry = self.actions.get(resolve_name(spelled))
         args = msg.get("args") or {}
+        if self.bridge_facts.ops_wait_behind_goal:  # rosbridge_suite: this client's IncomingQueue waits
+            client.held = deque()
+            release = lambda: self._release(client)  # noqa: E731
+            ref = GoalRef(client, ref.goal_id, spelled, self.bridge_facts.answers_rejected_goals, release)
         if entry is None:
             client.status("error", f"send_action_goal {spelled}: action does not exist", msg.get("id"))
-            ref.result(STATUS_UNKNOWN, f"Action {spelled} does not exist", ok=False)
-            return
+            if self.bridge_facts.answers_rejected_goals:
+                ref.result(STATUS_UNKNOWN, f"Action {spelled} does not exist", ok=False)
+            return  # rosbridge_suite: no server, no goal response, the wait never ends
         if not isinstance(args, dict):
             client.status("error", f"send_action_goal {spelled}: args must be a JSON object", msg.get("id"))
             ref.result(STATUS_UNKNOWN, "args must be a JSON object", ok=False)
@@ -85,5 +130,8 @@ class ActionOps:
         entry.server.cancel(GoalRef(client, str(msg["id"]), spelled))
 
     def _drop_actions_of(self, client: ClientSession) -> None:
+        client.held = None  # IncomingQueue.finish: queued ops are dropped
+        if not self.bridge_facts.cancels_gone_clients_goals:
+            return  # rosbridge_suite: SendActionGoal has no finish(); the goals run on
         for entry in self.actions.values():
             entry.server.client_gone(client)

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim import actions as a2
+from pmk_nb.sim.action_status import ActionStatus
 from pmk_nb.sim.actions import GoalRef
 from pmk_nb.sim.messages import pose_msg, yaw_of
 from pmk_nb.sim.navigation_ros1 import Ros1Actionlib
@@ -75,6 +76,7 @@ class Navigator:
         self.ros1: Ros1Actionlib | None = None
         self.bridge: Bridge | None = None
         self.offer_actions = True  # False: a chair with goal topics only (no move_base / Nav2 actions)
+        self.status: ActionStatus | None = None  # ROS 2: the actions' _action/status topics
 
     def attach(self, bridge: Bridge) -> None:
         self.bridge = bridge
@@ -82,11 +84,16 @@ class Navigator:
         if self.offer_actions and n.ros == "ros2":
             bridge.add_action("/navigate_to_pose", "nav2_msgs/action/NavigateToPose", _ToPose(self))
             bridge.add_action("/navigate_through_poses", "nav2_msgs/action/NavigateThroughPoses", _ThroughPoses(self))
+            self.status = ActionStatus(bridge, n, ("/navigate_to_pose", "/navigate_through_poses"))
         elif self.offer_actions:
             self.ros1 = Ros1Actionlib(self, bridge, n)
         if n.ros == "ros2":
             bridge.listen("/goal_pose", n.msg("geometry_msgs", "PoseStamped"), self.on_topic_goal)
         bridge.listen("/move_base_simple/goal", n.msg("geometry_msgs", "PoseStamped"), self.on_topic_goal)
+
+    @property
+    def bridge_is_rs(self) -> bool:
+        return self.bridge is not None and self.bridge.mode == "rs"
 
     def task(self) -> asyncio.Task[None]:
         return asyncio.create_task(self._loop())
@@ -111,6 +118,8 @@ class Navigator:
         if self.current is not None:
             self.finish("canceled", "preempted by a new goal")
         self.current = goal
+        if goal.ref is not None and self.status is not None:
+            self.status.set(goal.ref, a2.STATUS_EXECUTING)
         self.engine.start_plan(goal.target[:2], goal.target[2], via=goal.via)
         self._feedback(goal)
 
@@ -192,8 +201,12 @@ class Navigator:
             return
         self.engine.goal_ended()
         if goal.kind == "ros2" and goal.ref is not None:
+            if self.status is not None:
+                self.status.set(goal.ref, _ROS2_CODES[outcome])
             values = {"error_code": _ERROR_CODES[outcome], "error_msg": "" if outcome == "succeeded" else why}
-            goal.ref.result(_ROS2_CODES[outcome], values)
+            # rosbridge-server-rs 0.1.6 answers a canceled goal with ``result: false`` (measured)
+            ok = not (outcome == "canceled" and self.bridge_is_rs)
+            goal.ref.result(_ROS2_CODES[outcome], values, ok)
         elif goal.kind == "ros1" and self.ros1 is not None:
             self.ros1.result(goal, outcome, why)
         if outcome != "succeeded":
@@ -213,13 +226,17 @@ class _ToPose:
     def _start(self, ref: GoalRef, parsed: Any, via: list[tuple[float, float]]) -> None:
         why = parsed if isinstance(parsed, str) else self.nav.check(*parsed)
         if why is not None:
-            ref.result(a2.STATUS_ABORTED, {"error_code": 1, "error_msg": f"goal rejected: {why}"}, ok=False)
+            self.nav.engine.note(f"goal rejected: {why}")  # the bridge does not pass the reason on
+            ref.reject()
             return
         self.nav.start(NavGoal("ros2", parsed[0], via=via, ref=ref))
 
     def cancel(self, ref: GoalRef) -> None:
+        """rs: the client's own goal. rosbridge_suite keys its running goals by the client's id in a
+        class-level dict (``SendActionGoal.client_handler_list``), so any connection can cancel one."""
         goal = self.nav.current
-        mine = goal is not None and goal.ref is not None and goal.ref.client is ref.client
+        anyone = self.nav.bridge is not None and self.nav.bridge.bridge_facts.cancel_from_any_client
+        mine = goal is not None and goal.ref is not None and (anyone or goal.ref.client is ref.client)
         if mine and goal is not None and goal.ref is not None and goal.ref.goal_id == ref.goal_id:
             self.nav.cancel_current("cancelled by the client")
             return
@@ -228,7 +245,7 @@ class _ToPose:
     def client_gone(self, client: ClientSession) -> None:
         goal = self.nav.current
         if goal is not None and goal.ref is not None and goal.ref.client is client:
-            self.nav.cancel_current("the client disconnected")  # rosbridge cancels a gone client's goals
+            self.nav.cancel_current("the client disconnected")  # only in bridge mode rs (see bridge_modes)
 
 
 class _ThroughPoses(_ToPose):
@@ -237,7 +254,8 @@ class _ThroughPoses(_ToPose):
     def goal(self, ref: GoalRef, args: dict[str, Any]) -> None:
         poses = args.get("poses")
         if not isinstance(poses, list) or not poses:
-            ref.result(a2.STATUS_ABORTED, {"error_code": 1, "error_msg": "goal rejected: no poses"}, ok=False)
+            self.nav.engine.note("goal rejected: no poses")
+            ref.reject()
             return
         parsed = [parse_pose(p) for p in poses]
         bad = next((p for p in parsed if isinstance(p, str)), None)

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.actions import ActionEntry, ActionOps
+from pmk_nb.sim.bridge_modes import DEFAULT_BRIDGE, BridgeMode, facts
 from pmk_nb.sim.jsonfast import dumps
 from pmk_nb.sim.messages import canonical_type, conformance_error, is_type_name
 from pmk_nb.sim.services import ServiceEntry, ServiceOps
@@ -78,7 +79,10 @@ class TopicEntry:
 class Bridge(ServiceOps, ActionOps):
     """Registry + protocol handler. Create on the loop that will run it."""
 
-    def __init__(self, client_queue: int = 200) -> None:
+    def __init__(self, client_queue: int = 200, mode: BridgeMode = DEFAULT_BRIDGE, action_ops: bool = True) -> None:
+        self.mode: BridgeMode = mode
+        self.action_ops = action_ops  # False: ROS 1 rosbridge (0.11) has no action ops at all
+        self.bridge_facts = facts(mode)
         self.topics: dict[str, TopicEntry] = {}
         self.services: dict[str, ServiceEntry] = {}
         self.actions: dict[str, ActionEntry] = {}
@@ -120,7 +124,7 @@ class Bridge(ServiceOps, ActionOps):
         writer = asyncio.create_task(client.run_writer())
         try:
             async for raw in ws:
-                self.dispatch(client, raw if isinstance(raw, str) else raw.decode("utf-8", "replace"))
+                self.receive(client, raw if isinstance(raw, str) else raw.decode("utf-8", "replace"))
         except Exception:
             pass
         finally:
@@ -143,7 +147,7 @@ class Bridge(ServiceOps, ActionOps):
             return
         op, op_id = msg["op"], msg.get("id")
         handler = getattr(self, f"_op_{op}", None)
-        if handler is None:
+        if handler is None or (not self.action_ops and op in ("send_action_goal", "cancel_action_goal")):
             client.status("error", f"Unknown operation '{op}'", op_id)
             return
         missing = [k for k in _REQUIRED.get(op, ()) if k not in msg]

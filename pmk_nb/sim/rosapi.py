@@ -5,7 +5,9 @@ Shapes follow rosapi: ``/rosapi/topics`` -> ``{topics, types}``, ``/rosapi/servi
 ``{time: {secs, nsecs}}`` (ROS 2: ``{sec, nanosec}``), ``/rosapi/topics_for_type`` -> ``{topics}``,
 ``/rosapi/service_type`` -> ``{type}``, ``/rosapi/services_for_type`` -> ``{services}``,
 ``/rosapi/nodes`` -> ``{nodes}``, (ROS 2) ``/rosapi/action_servers`` -> ``{action_servers}``,
-``/rosapi/get_ros_version`` -> ``{version, distro}``.
+``/rosapi/get_ros_version`` -> ``{version, distro}``, ``/rosapi/get_param`` (name ``node:param``)
+-> ``{value}`` (JSON text; the default when not set). The nodes and the bridge's own parameter
+follow the bridge mode (:mod:`pmk_nb.sim.bridge_modes`).
 """
 
 from __future__ import annotations
@@ -13,12 +15,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.sim.bridge_modes import NEW_THREAD_PARAM, OFFICIAL_NODE
 from pmk_nb.sim.messages import Names, canonical_type
 
 if TYPE_CHECKING:
     from pmk_nb.sim.protocol import Bridge
 
 NODES = ("/rosbridge_websocket", "/rosapi", "/map_server", "/pmk_sim")
+CHAIR_NODES = ("/map_server", "/pmk_sim")
 
 
 def register_rosapi(bridge: Bridge, names: Names, clock: Callable[[], float]) -> None:
@@ -57,7 +61,11 @@ def register_rosapi(bridge: Bridge, names: Names, clock: Callable[[], float]) ->
     add("services_for_type", "ServicesForType", services_for_type)
     add("service_type", "ServiceType", service_type)
     add("get_time", "GetTime", lambda _: {"time": names.stamp(clock())})
-    add("nodes", "Nodes", lambda _: {"nodes": list(NODES)})
+    nodes = NODES if names.ros == "ros1" else (*bridge.bridge_facts.nodes, *CHAIR_NODES)
+    add("nodes", "Nodes", lambda _: {"nodes": list(nodes)})
+    # rosbridge_suite's launch default; the rs bridge has no such parameter
+    params = {f"{OFFICIAL_NODE}:{NEW_THREAD_PARAM}": "false"} if bridge.mode == "official" else {}
+    add("get_param", "GetParam", lambda a: {"value": params.get(str(a.get("name")), str(a.get("default_value", "")))})
     if names.ros == "ros2":  # rosapi 2.x: the action servers (Nav2's navigate_to_pose, ...)
         add("action_servers", "GetActionServers", lambda _: {"action_servers": sorted(bridge.actions)})
     add(

@@ -25,6 +25,7 @@ from websockets.asyncio.server import Server, serve
 
 from pmk_nb.errors import PmkError
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE, BridgeMode
 from pmk_nb.sim.chair import DriveLimits
 from pmk_nb.sim.demo import demo_grid
 from pmk_nb.sim.engine import Engine
@@ -71,12 +72,17 @@ class SimChair:
         client_queue: int = 200,
         nav_actions: bool = True,
         tls: tuple[Path | str, Path | str] | None = None,
+        bridge: BridgeMode = DEFAULT_BRIDGE,
     ) -> None:
         """``ros``: "ros1" or "ros2" message spelling; ``nav_actions=False``: goal topics only, no
         move_base / Nav2 action servers (a chair without a navigation action server); ``tls``:
-        ``(certfile, keyfile)`` to serve ``wss://`` as rosbridge does with its certfile/keyfile."""
+        ``(certfile, keyfile)`` to serve ``wss://`` as rosbridge does with its certfile/keyfile;
+        ``bridge``: which real rosbridge's action-goal behaviour to reproduce (:mod:`pmk_nb.sim.bridge_modes`)."""
         if ros not in ROS_VERSIONS:
             raise SimError(f"unknown ROS version {ros!r}: use 'ros1' or 'ros2'")
+        if bridge not in BRIDGE_MODES:
+            raise SimError(f"unknown bridge {bridge!r}: use one of {', '.join(BRIDGE_MODES)}")
+        self.bridge_mode: BridgeMode = bridge
         if odom_rate <= 0 or scan_rate <= 0:
             raise SimError(f"rates must be positive (odom_rate={odom_rate}, scan_rate={scan_rate})")
         self.map_yaml = Path(map_yaml) if map_yaml is not None else None
@@ -310,7 +316,7 @@ class SimChair:
 
     async def _main(self, grid: OccupancyGrid, ready: threading.Event) -> None:
         self._stop_event = asyncio.Event()
-        bridge = Bridge(self.client_queue)
+        bridge = Bridge(self.client_queue, self.bridge_mode, action_ops=self.ros == "ros2")
         self.bridge = bridge
         source = self.mapserver.source if self.mapserver else self.map_yaml
         self.mapserver = MapServer(bridge, self.names, self.fs, self.engine.install, self.reload_services)

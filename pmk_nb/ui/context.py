@@ -172,6 +172,7 @@ class AppContext:
             raise SettingsError("No wheelchair configured yet: fill in and save the Settings screen first.")
         with self._lock:
             link = use_only(profile.host, int(profile.port), **profile.link_options())
+            link.goal_policy = profile.goal_policy()  # goal deadlines, what a link loss does (issue 24)
             self._chair = (link.host, link.port)
         return link
 

@@ -4,7 +4,10 @@ With "Set destination" on, a tap on the live map sets the goal and a drag from i
 heading (:mod:`pmk_nb.ui.goal_picker`); the mode turns itself off after one goal, so a drag pans
 the map again. The goal goes to the chair through :meth:`ChairLink.navigate_to` (Nav2, move_base or
 the goal topic, detected) on a worker thread; the status words are the handle's (accepted, moving,
-arrived, aborted, cancelled, rejected). The texts refresh with Home's info panel (:meth:`tick`).
+arrived, aborted, cancelled, rejected, and what the link cannot know: link lost, no answer, cancel
+not honoured, outcome unknown), worded in :mod:`pmk_nb.chair.link.goal_words`, plus a line when the
+chair has been silent or a cancel awaits its confirmation. The texts refresh with Home's info panel
+(:meth:`tick`).
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
+from pmk_nb.chair.link import goal_words as words
 from pmk_nb.chair.link.navigate import GoalStatus
 from pmk_nb.errors import PmkError
 from pmk_nb.speech import phrases
@@ -29,8 +33,11 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 
-def status_html(goal: Goal | None, progress: GoalProgress | None, note: str = "") -> str:
-    """The panel's text: the goal, its status word, the metres left and the route's message.
+def status_html(
+    goal: Goal | None, progress: GoalProgress | None, note: str = "", *, cancel_pending: bool = False
+) -> str:
+    """The panel's text: the goal, its status word, the metres left and the route's message; then a
+    warning when the chair has been silent, and "cancel sent" while a cancel awaits confirmation.
 
     ``note`` is plain text (an error's words can quote a server or a file), escaped here.
     """
@@ -42,11 +49,21 @@ def status_html(goal: Goal | None, progress: GoalProgress | None, note: str = ""
     if progress is None:
         return f"{where}: <b class='pmk-goal-word'>sending</b>{escape(note)}"
     left = "" if progress.remaining_m is None else f", {progress.remaining_m:.1f} m to go"
-    word = progress.status.value
+    state = progress.status.value
+    word = words.STATUS_WORDS.get(state, state)
+    extra = ""
+    if progress.quiet_s is not None and not progress.done:
+        extra += f"<br><b class='pmk-goal-quiet pmk-warn'>{escape(words.quiet(progress.quiet_s))}</b>"
+    if cancel_pending and not progress.done:
+        extra += f"<br><small class='pmk-goal-cancel-sent'>{escape(words.cancel_sent())}</small>"
+    warn = " pmk-warn" if progress.status in _WARN else ""
     return (
-        f"{where}: <b class='pmk-goal-word' data-status='{word}'>{word}</b>{left}"
-        f"<br><small>{escape(progress.message)}</small>"
+        f"{where}: <b class='pmk-goal-word{warn}' data-status='{state}'>{word}</b>{left}"
+        f"<br><small>{escape(progress.message)}</small>{extra}"
     )
+
+
+_WARN = (GoalStatus.LINK_LOST, GoalStatus.NO_ANSWER, GoalStatus.CANCEL_IGNORED, GoalStatus.UNKNOWN)
 
 
 class GoalPanel:
@@ -138,22 +155,28 @@ class GoalPanel:
     def refresh(self) -> None:
         handle = self.handle
         progress = handle.progress() if handle is not None else None
-        self.status.value = status_html(self.goal, progress, self._note)
+        pending = handle is not None and handle.cancel_requested and handle.cancel_honoured is None
+        pending = pending and progress is not None and progress.status is not GoalStatus.CANCEL_IGNORED
+        self.status.value = status_html(self.goal, progress, self._note, cancel_pending=pending)
         active = self.goal is not None and (progress is None or not progress.done) and not self._note
         self.cancel_button.layout.display = "" if active else "none"
         if progress is not None and progress.done and self.overlay.goal is not None:
             self.overlay.set_goal(None)  # the arrow goes; the text says how it ended
         if progress is not None and progress.done and handle is not self._spoken:
             self._spoken = handle
-            self._say(_ending(progress.status))
+            ending = _ending(progress.status)
+            if ending is not None:  # an unknown outcome is shown, not announced
+                self._say(ending)
 
     def _say(self, phrase: tuple[str, str]) -> None:
         if self.speak is not None:
             self.speak(phrase)
 
 
-def _ending(status: GoalStatus) -> tuple[str, str]:
-    """What is said when a tapped destination's goal ends."""
+def _ending(status: GoalStatus) -> tuple[str, str] | None:
+    """What is said when a tapped destination's goal ends (None: nothing certain to say)."""
+    if status is GoalStatus.UNKNOWN:
+        return None
     if status is GoalStatus.ARRIVED:
         return phrases.arrived("the destination")
     if status is GoalStatus.CANCELLED:

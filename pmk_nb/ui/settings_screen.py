@@ -57,6 +57,17 @@ def _combobox(value: str, label: str, css_class: str) -> w.Combobox:
     return box
 
 
+def _link_loss_toggle() -> w.ToggleButtons:
+    """Issue 24: what a goal does when the dashboard loses the chair (README: goal semantics)."""
+    toggle = w.ToggleButtons(
+        options=[("Let goals finish", "finish"), ("Cancel them", "cancel")],
+        value="finish",
+        style={"button_width": "160px"},
+    )
+    toggle.add_class("pmk-settings-goals-on-link-loss")
+    return toggle
+
+
 def _parse_number(field: str, raw: str) -> float:
     try:
         return float(raw.strip().replace(",", "."))
@@ -113,6 +124,7 @@ def _form_fields() -> dict[str, w.Widget]:
         "speech_voice": text("en", "Voice (language code)", "pmk-settings-speech-voice", placeholder="en"),
         "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
         "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
+        "goals_on_link_loss": _link_loss_toggle(),
     }
     fields["speech_on"].add_class("pmk-settings-speech-on")
     fields["tls"].add_class("pmk-settings-tls")
@@ -148,11 +160,8 @@ class SettingsScreen:
         self.cert_prompt = CertificatePrompt(ctx)  # a wss chair's first certificate (issue 24)
         self.info_widget = w.VBox([self.status, self.map_info])
         self.rows = {name: w.VBox([field, self.errors[name]]) for name, field in self.fields.items()}
-        auth_label = w.HTML("SSH login")
-        auth_label.add_class("pmk-settings-auth-label")
-        auth_row = w.HBox([auth_label, self.fields["auth"]])
-        auth_row.add_class("pmk-settings-auth-row")
-        self.rows["auth"].children = (auth_row, self.errors["auth"])
+        self._label_row("auth", "SSH login", "pmk-settings-auth")
+        self._label_row("goals_on_link_loss", "When the dashboard loses the chair", "pmk-settings-loss")
         actions = w.HBox([self.save_button, self.test_button])
         actions.add_class("pmk-row")
         self.widget = w.VBox(
@@ -170,6 +179,15 @@ class SettingsScreen:
         self.widget.add_class("pmk-settings")
         self._set_state("Disconnected")
         self._reload_profiles()
+
+    def _label_row(self, name: str, label: str, css: str = "") -> None:
+        """A field with its label to the left (``css``-label and ``css``-row classes when given)."""
+        head = w.HTML(label)
+        row = w.HBox([head, self.fields[name]])
+        if css:
+            head.add_class(f"{css}-label")
+            row.add_class(f"{css}-row")
+        self.rows[name].children = (row, self.errors[name])
 
     # -- form <-> profile ------------------------------------------------------------------------------
     def _reload_profiles(self, select: str | None = None) -> None:
@@ -240,11 +258,20 @@ class SettingsScreen:
             speech_voice=values["speech_voice"],
             speech_rate=_parse_number("speech_rate", values["speech_rate"]),
             chair_width=_parse_number("chair_width", values["chair_width"]),
+            goals_on_link_loss=values["goals_on_link_loss"],
         )
         if base is not None and base.name == profile.name:
             keep = {
                 f: getattr(base, f)
-                for f in ("reload_service", "reload_kind", "footprint_radius", "known_hosts", "host_key_check")
+                for f in (
+                    "reload_service",
+                    "reload_kind",
+                    "footprint_radius",
+                    "known_hosts",
+                    "host_key_check",
+                    "goal_accept_s",
+                    "goal_quiet_s",
+                )
             }
             profile = dataclasses.replace(profile, **keep)
         profile.validate()

@@ -117,8 +117,9 @@ _SCREENS = f"""
 .pmk-maps-card {{ flex-wrap: wrap; gap: 8px 12px; }}
 .pmk-app .pmk-maps-import {{ width: auto; }}
 .pmk-maps-storeys {{ max-width: 100%; overflow-x: auto; }}
-.pmk-settings-auth-row {{ flex-wrap: wrap; align-items: center; gap: 4px 8px; }}
-.pmk-settings-auth-label {{ width: 208px; text-align: right; padding-right: 8px; }}
+.pmk-settings-auth-row, .pmk-settings-loss-row {{ flex-wrap: wrap; align-items: center; gap: 4px 8px; }}
+.pmk-settings-auth-label, .pmk-settings-loss-label {{ width: 208px; text-align: right; padding-right: 8px; }}
+.pmk-settings-loss-row .widget-toggle-buttons {{ flex-wrap: wrap; max-width: 100%; }}
 """
 
 _TOP_BAR = f"""
@@ -147,7 +148,7 @@ _TOP_BAR = f"""
   .pmk-app .widget-dropdown > .widget-label, .pmk-app .widget-combobox > .widget-label
      {{ width: 100% !important; max-width: 100% !important; text-align: left; line-height: 1.3;
         height: auto; margin: 4px 0 2px 0; }}
-  .pmk-settings-auth-label {{ width: 100%; text-align: left; }}
+  .pmk-settings-auth-label, .pmk-settings-loss-label {{ width: 100%; text-align: left; }}
   .pmk-maps-right {{ flex-basis: 100%; }}
   .pmk-app .pmk-maps-list select {{ height: 260px; }}
 }}

@@ -34,7 +34,7 @@ import roslibpy
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
 from pmk_nb.chair.link.mapread import MapFacts, MapReader
-from pmk_nb.chair.link.navigate import GoalHandle, navigate
+from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
 from pmk_nb.chair.link.publish import Publishers
 from pmk_nb.chair.link.registry import close_all_links, get_link
@@ -103,6 +103,7 @@ class ChairLink:
         self._watch = StateWatch(lambda: self.state, f"pmk-link-watchdog-{self.host}:{self.port}")
         self.discovery = Discovery(self._call, f"{self.host}:{self.port}")
         self._maps = MapReader(self, map_topic, map_metadata_topic)
+        self.goal_policy = GoalPolicy()  # deadlines, and what a link loss does to goals (the profile's)
 
     def __repr__(self) -> str:
         return f"ChairLink({self.host!r}, {self.port}, state={self.state.value})"

@@ -15,6 +15,8 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from pmk_nb.chair.link import goal_words
+from pmk_nb.chair.link.bridge_kind import BridgeKind, detect_bridge
 from pmk_nb.chair.messages import MapInfo
 from pmk_nb.chair.reload import PREFERRED
 from pmk_nb.errors import ChairLinkError, ChairTimeout
@@ -38,6 +40,7 @@ class ConnectionReport:
     rosapi: bool | None = None  # False: the bridge has no rosapi (topics cannot be listed)
     notes: tuple[str, ...] = ()  # plain-word remarks for a successful test (no rosapi, ...)
     error: ChairLinkError | None = None  # a typed refusal behind ``reason`` (an untrusted TLS certificate)
+    bridge: BridgeKind | None = None  # ROS 2: which rosbridge server (how it treats goals)
 
 
 def big_map_stuck(timeout: float) -> str:
@@ -81,11 +84,18 @@ def run_connection_test(link: ChairLink, timeout: float) -> ConnectionReport:
     deadline = t0 + timeout
 
     def report(
-        ok: bool, reason: str, info: MapInfo | None = None, error: ChairLinkError | None = None
+        ok: bool,
+        reason: str,
+        info: MapInfo | None = None,
+        bridge: BridgeKind | None = None,
+        error: ChairLinkError | None = None,
     ) -> ConnectionReport:
         rosapi = link.discovery.rosapi
         notes = (no_rosapi_note(),) if rosapi is False else ()
-        return ConnectionReport(ok, reason, info, link.ros_version, time.monotonic() - t0, rosapi, notes, error)
+        if bridge is not None and bridge.keeps_lost_goals:
+            notes += (goal_words.bridge_ignores_cancels(bridge.goals_in_new_thread),)
+        elapsed = time.monotonic() - t0
+        return ConnectionReport(ok, reason, info, link.ros_version, elapsed, rosapi, notes, error, bridge)
 
     failure = link.try_connect(timeout)
     if failure is not None:
@@ -102,4 +112,7 @@ def run_connection_test(link: ChairLink, timeout: float) -> ConnectionReport:
             link.discovery.topics(max(0.1, min(link.rosapi_timeout, deadline - time.monotonic())))
         except ChairLinkError:
             pass  # RosapiMissing is remembered; a busy bridge stays "unknown"
-    return report(True, "connected", info)
+    bridge = None
+    if link.ros_version == 2 and link.discovery.rosapi is not False:
+        bridge = detect_bridge(link, max(0.1, min(link.rosapi_timeout, deadline - time.monotonic())))
+    return report(True, "connected", info, bridge)

@@ -17,6 +17,7 @@ import roslibpy
 from roslibpy.core import RosTimeoutError
 from roslibpy.ros1 import actionlib
 
+from pmk_nb.chair.link.goal_attach import ActionStatusFollower
 from pmk_nb.chair.link.goal_topic import start_topic
 from pmk_nb.chair.link.navigate import MOVE_BASE, NAV2_ACTION, GoalHandle, GoalRoute, GoalStatus, NavigationError
 from pmk_nb.chair.messages import make_stamp, quaternion_from_yaw
@@ -59,8 +60,10 @@ def through_poses_args(points: list[tuple[float, float]], goal: Goal3, frame: st
 
 
 def start_nav2(ros: roslibpy.Ros, handle: GoalHandle, action: tuple[str, str], args: dict[str, Any]) -> None:
-    """Send a Nav2 goal with roslibpy's ROS 2 ActionClient; feedback gives ``distance_remaining``."""
+    """Send a Nav2 goal with roslibpy's ROS 2 ActionClient; feedback gives ``distance_remaining``.
+    The action's status topic is followed too, for the goal's fate after a link loss."""
     client = roslibpy.ActionClient(ros, action[0], action[1])
+    handle.follower = ActionStatusFollower(ros, action[0])
     seen = [0]
 
     def feedback(values: Any) -> None:
@@ -74,11 +77,17 @@ def start_nav2(ros: roslibpy.Ros, handle: GoalHandle, action: tuple[str, str], a
         status = NAV2_RESULTS.get(int(code), GoalStatus.ABORTED)
         handle.update(status, 0.0 if status is GoalStatus.ARRIVED else None, _why(res.get("values"), status))
 
-    def error(res: Any) -> None:
-        status = GoalStatus.ABORTED if seen[0] else GoalStatus.REJECTED
+    def error(res: Any) -> None:  # result: false; rosbridge-server-rs sends it for a canceled goal too
+        code = res.get("status") if hasattr(res, "get") else None
+        if NAV2_RESULTS.get(int(getattr(code, "value", code) or 0)) is GoalStatus.CANCELLED:
+            status = GoalStatus.CANCELLED
+        else:  # rs answers a rejected goal with status 6 (aborted): no feedback yet means rejected
+            status = GoalStatus.ABORTED if seen[0] else GoalStatus.REJECTED
         handle.update(status, None, _why(res.get("values") if hasattr(res, "get") else res, status))
 
+    handle.follower.mark_sent()
     goal_id = client.send_goal(roslibpy.Goal(args), result, feedback, error)
+    handle.cancel_ref = (action[0], goal_id)  # for a cancel over a second connection (side_channel)
     handle.bind_cancel(lambda: client.cancel_goal(goal_id))
 
 

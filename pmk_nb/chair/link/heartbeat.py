@@ -9,11 +9,19 @@ that finished). The wire format is :mod:`pmk_nb.goalbeat`.
 Beats go out from one daemon thread per link, never from roslibpy's I/O thread (where goal updates
 arrive: the update callback only stores and wakes the thread). Nothing is queued while the socket
 is down: a burst of stale beats after a reconnect would tell the watchdog a lie.
+
+They travel on a second websocket of their own (:func:`side_channel.side_connect`, same URL and
+trust as the link), not the link's: rosbridge_suite 2.x with its default
+``send_action_goals_in_new_thread:=false`` handles a connection's messages behind that connection's
+running goal, so beats sent on the link would wait until the goal ended and the watchdog, hearing
+nothing, would cancel every goal after 3 s. They are sent only while the link itself is connected:
+the beats vouch for the dashboard's link, not for the second socket.
 """
 
 from __future__ import annotations
 
 import itertools
+import json
 import logging
 import os
 import socket
@@ -22,9 +30,15 @@ import uuid
 import weakref
 from typing import TYPE_CHECKING
 
+from websockets.exceptions import WebSocketException
+
+from pmk_nb.chair.link.side_channel import SIDE_ERRORS, side_connect
+from pmk_nb.chair.messages import spell_type
 from pmk_nb.goalbeat import RATE_HZ, TOPIC, Beat
 
 if TYPE_CHECKING:
+    from websockets.sync.client import ClientConnection
+
     from pmk_nb.chair.link.client import ChairLink
     from pmk_nb.chair.link.navigate import GoalHandle, GoalProgress
 
@@ -54,6 +68,7 @@ class GoalHeartbeat:
         self._idle_left = 0
         self._seq = itertools.count()
         self._thread: threading.Thread | None = None
+        self._ws: ClientConnection | None = None  # the beats' own websocket (beat thread only)
         self.sent: list[Beat] = []  # the beats that reached the socket (the last 20), for tests and logs
 
     @property
@@ -93,6 +108,12 @@ class GoalHeartbeat:
             self._thread.start()
 
     def _run(self) -> None:
+        try:
+            self._beat_loop()
+        finally:
+            self._close_socket()
+
+    def _beat_loop(self) -> None:
         while True:
             with self._lock:
                 link = self._link()
@@ -112,13 +133,29 @@ class GoalHeartbeat:
             self._wake.clear()
 
     def _send(self, link: ChairLink, beat: Beat) -> None:
-        try:
-            sent = link._publish.text(link.ros, link.ros_version, self.topic, beat.encode())
-        except Exception:  # a socket closing under us: the next beat tries again
-            LOG.debug("goal heartbeat not sent", exc_info=True)
+        ros = link.ros
+        if ros is None or not ros.is_connected:  # the link dropped: silence is the message
+            self._close_socket()
             return
-        if sent:
-            self.sent = [*self.sent[-19:], beat]
+        try:
+            if self._ws is None:
+                self._ws = side_connect(link, timeout=self.period)
+                kind = spell_type("std_msgs/String", link.ros_version)
+                self._ws.send(json.dumps({"op": "advertise", "topic": self.topic, "type": kind}))
+            self._ws.send(json.dumps({"op": "publish", "topic": self.topic, "msg": {"data": beat.encode()}}))
+        except (*SIDE_ERRORS, WebSocketException):  # the next beat opens a new socket
+            LOG.debug("goal heartbeat not sent", exc_info=True)
+            self._close_socket()
+            return
+        self.sent = [*self.sent[-19:], beat]
+
+    def _close_socket(self) -> None:
+        ws, self._ws = self._ws, None
+        if ws is not None:
+            try:
+                ws.close()
+            except (*SIDE_ERRORS, WebSocketException):
+                pass
 
 
 def for_link(link: ChairLink) -> GoalHeartbeat:

@@ -11,16 +11,24 @@ Which route a goal takes is detected, like the map reload service:
 ``progress().message`` names the route taken. Waypoints without NavigateThroughPoses are sent one
 after another. Updates arrive on roslibpy's I/O thread (or a small poller thread): ``on_update``
 callbacks must only store what they get.
+
+The status never claims more than the chair said (issue 24). A goal watch thread
+(:mod:`pmk_nb.chair.link.goal_watch`) turns silence into states: ``link_lost`` when the link drops
+(rosbridge_suite lets the goal run on), then re-attaches on reconnect; ``no_answer`` (and a cancel)
+when nothing accepted the goal in :attr:`GoalPolicy.accept_s`; ``quiet_s`` when the chair said
+nothing for :attr:`GoalPolicy.quiet_s`; ``cancel_ignored`` (and zero velocity at 20 Hz for 1 s) when
+odometry still shows motion :attr:`GoalPolicy.verify_s` after a cancel.
 """
 
 from __future__ import annotations
 
 import logging
 import threading
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from enum import Enum
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from pmk_nb.errors import ChairLinkError
 
@@ -42,9 +50,26 @@ class GoalStatus(str, Enum):
     ABORTED = "aborted"
     CANCELLED = "cancelled"
     REJECTED = "rejected"
+    LINK_LOST = "link_lost"  # the link dropped: the chair may still be driving
+    NO_ANSWER = "no_answer"  # nothing accepted the goal in time: the chair may have started
+    CANCEL_IGNORED = "cancel_ignored"  # odometry shows the chair moving after a cancel
+    UNKNOWN = "unknown"  # after the link came back the chair no longer reports the goal
 
 
-TERMINAL = frozenset({GoalStatus.ARRIVED, GoalStatus.ABORTED, GoalStatus.CANCELLED, GoalStatus.REJECTED})
+TERMINAL = frozenset(
+    {GoalStatus.ARRIVED, GoalStatus.ABORTED, GoalStatus.CANCELLED, GoalStatus.REJECTED, GoalStatus.UNKNOWN}
+)
+LINK_LOSS_POLICIES = ("finish", "cancel")
+
+
+@dataclass(frozen=True)
+class GoalPolicy:
+    """Deadlines and what to do after a link loss (profile fields ``goal_*``; see the README)."""
+
+    accept_s: float = 5.0  # no acceptance within it: no_answer, and a cancel is sent
+    quiet_s: float = 30.0  # no result or feedback for this long: said on screen
+    verify_s: float = 1.0  # after a cancel odometry must show the chair stopped within it
+    on_link_loss: str = "finish"  # "finish": let goals finish; "cancel": cancel them on reconnect
 
 
 @dataclass(frozen=True)
@@ -55,6 +80,7 @@ class GoalProgress:
     goal: tuple[float, float, float]
     remaining_m: float | None
     message: str
+    quiet_s: float | None = None  # no word from the chair for this long (None: recent news)
 
     @property
     def done(self) -> bool:
@@ -83,14 +109,22 @@ class GoalHandle:
         self._callbacks: list[UpdateCallback] = []
         self._cancel: Callable[[], None] | None = None
         self.cancel_requested = False
+        self.sent_at = self.last_news = time.monotonic()
+        self.cancel_at: float | None = None  # the latest cancel (the goal watch verifies it)
+        self.cancel_honoured: bool | None = None  # None: not verified (yet)
+        self.zero_bursts = 0  # zero-velocity bursts sent because a cancel was not honoured
+        self.follower: Any = None  # Nav2: the action's status topic, for re-attaching after a link loss
+        self.cancel_ref: tuple[str, str] | None = None  # Nav2: (action, rosbridge goal id)
 
     def progress(self) -> GoalProgress:
         with self._lock:
             return self._progress
 
     def cancel(self) -> None:
-        """Ask the chair to stop this goal; the status turns ``cancelled`` when the chair confirms."""
+        """Ask the chair to stop this goal; the status turns ``cancelled`` when the chair confirms.
+        Sent again on every call (a Stop pressed twice); the goal watch checks the chair stops."""
         self.cancel_requested = True
+        self.cancel_at, self.cancel_honoured = time.monotonic(), None
         cancel = self._cancel
         if cancel is not None and not self._done.is_set():
             cancel()
@@ -105,28 +139,61 @@ class GoalHandle:
         with self._lock:
             self._callbacks.append(cb)
 
-    # -- for the routes -----------------------------------------------------------------------------
+    # -- for the routes and the goal watch ----------------------------------------------------------
     def bind_cancel(self, fn: Callable[[], None]) -> None:
         self._cancel = fn
         if self.cancel_requested:
             fn()
 
-    def update(self, status: GoalStatus | None = None, remaining: float | None = None, text: str | None = None) -> None:
-        """New status / metres left / text (prefixed with the route); None keeps the old value."""
+    def update(
+        self,
+        status: GoalStatus | None = None,
+        remaining: float | None = None,
+        text: str | None = None,
+        *,
+        news: bool = True,
+    ) -> None:
+        """New status / metres left / text (prefixed with the route); None keeps the old value.
+
+        ``news``: the chair said it (the routes); False for what the goal watch concludes. A chair
+        still reporting "moving" does not undo ``cancel_ignored``: it is what that state says.
+        """
         with self._lock:
             old = self._progress
             if old.done:
                 return
+            if news:
+                self.last_news = time.monotonic()
+            if old.status is GoalStatus.CANCEL_IGNORED and status in (GoalStatus.ACCEPTED, GoalStatus.MOVING):
+                status, text = None, None
             new = replace(
                 old,
                 status=status or old.status,
                 remaining_m=remaining if remaining is not None else old.remaining_m,
                 message=old.message if text is None else f"{self.route}: {text}",
+                quiet_s=None if news else old.quiet_s,
             )
-            if new == old:
-                return
-            self._progress = new
-            callbacks = list(self._callbacks)
+            callbacks = self._store(old, new)
+        self._notify(new, callbacks)
+
+    def mark_quiet(self, seconds: float | None) -> None:
+        """The goal watch: the chair has said nothing for ``seconds`` (None: clear)."""
+        with self._lock:
+            old = self._progress
+            new = replace(old, quiet_s=seconds)
+            callbacks = None if old.done else self._store(old, new)
+        self._notify(new, callbacks)
+
+    def _store(self, old: GoalProgress, new: GoalProgress) -> list[UpdateCallback] | None:
+        """Keep ``new`` (lock held); the callbacks to run, None when nothing changed."""
+        if new == old:
+            return None
+        self._progress = new
+        return list(self._callbacks)
+
+    def _notify(self, new: GoalProgress, callbacks: list[UpdateCallback] | None) -> None:
+        if callbacks is None:
+            return
         if new.done:
             self._done.set()
         for cb in callbacks:
@@ -186,6 +253,7 @@ def navigate(
         ChairLinkError: rosapi did not answer while detecting the route.
     """
     from pmk_nb.chair.link import goal_routes
+    from pmk_nb.chair.link.goal_watch import GoalWatch
 
     goal = (float(x), float(y), float(yaw))
     points = [(float(px), float(py)) for px, py in waypoints]
@@ -196,6 +264,8 @@ def navigate(
         )
     route = detect_route(link)
     handle = GoalHandle(goal, route.label)
+    if route.kind == "nav2":  # odometry verifies a cancel; rosbridge_suite holds a subscribe behind a goal
+        link.start_streams()
     if points and route.kind == "nav2" and route.through:
         handle.route = f"Nav2 NavigateThroughPoses ({route.through}), {len(points)} waypoint(s)"
         handle.update(text="sent")
@@ -209,18 +279,7 @@ def navigate(
 
     heartbeat.track(link, handle)
     # -- end goal heartbeat ----------------------------------------------------------------------------
-    if route.kind == "nav2":
-        _abort_on_link_loss(link, handle)
+    watch = GoalWatch(link, handle, route.kind, getattr(link, "goal_policy", GoalPolicy()))
+    # Things that live as long as the goal hook in here: watch.on_end(stop) runs stop() when it ends.
+    watch.start()
     return handle
-
-
-def _abort_on_link_loss(link: ChairLink, handle: GoalHandle) -> None:
-    """rosbridge cancels a lost client's action goals and its answer can no longer reach us: say so."""
-    from pmk_nb.chair.link.state import LinkState
-
-    def on_state(state: LinkState) -> None:  # the link's watchdog thread
-        if state in (LinkState.CONNECTING, LinkState.DISCONNECTED):
-            handle.update(GoalStatus.ABORTED, None, "the link to the chair dropped; the chair cancels the goal")
-
-    remove = link.on_state_change(on_state)
-    handle.on_update(lambda p: remove() if p.done else None)

@@ -75,11 +75,3 @@ class Publishers:
         pose = {"position": {"x": float(x), "y": float(y), "z": 0.0}, "orientation": quaternion_from_yaw(theta)}
         topic.publish(roslibpy.Message({"header": header, "pose": pose}))
         return True
-
-    def text(self, ros: roslibpy.Ros | None, ros_version: int | None, name: str, data: str) -> bool:
-        """Publish one ``std_msgs/String`` on ``name`` (the goal heartbeat); False when not connected."""
-        topic = self._topic(ros, name, "std_msgs/String", ros_version)
-        if topic is None:
-            return False
-        topic.publish(roslibpy.Message({"data": data}))
-        return True

@@ -1,0 +1,186 @@
+"""The goal watch: one small daemon thread per goal that turns silence into true states.
+
+Every :data:`TICK` it checks, in this order:
+
+* the link: dropped -> ``link_lost`` ("the chair may still be driving": rosbridge_suite does not
+  cancel a lost client's goals). Back -> re-attach: the action's status topic (Nav2, via
+  :class:`~pmk_nb.chair.link.goal_attach.ActionStatusFollower`), actionlib's status (roslibpy
+  re-subscribes, so its events resume) or, failing both within :data:`REATTACH_S`, the pose. With
+  the setting ``on_link_loss="cancel"`` the goal is cancelled once the link is back;
+* acceptance: nothing accepted the goal within ``accept_s`` -> ``no_answer`` and a cancel;
+* silence: no result or feedback for ``quiet_s`` -> ``progress().quiet_s`` is set;
+* a cancel: odometry must show the chair stopped within ``verify_s``; if not -> ``cancel_ignored``,
+  the cancel again and zero velocity at :data:`BURST_HZ` for :data:`BURST_S` s over a second
+  connection (:mod:`pmk_nb.chair.link.side_channel`), from this thread (never roslibpy's I/O thread).
+
+Hooks (``on_end``) run when the watch ends, for things that live as long as the goal.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import threading
+import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+from pmk_nb.chair.link import goal_words as words
+from pmk_nb.chair.link.navigate import ARRIVE_TOLERANCE, GoalHandle, GoalPolicy, GoalStatus
+from pmk_nb.chair.link.side_channel import side_stop
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link.client import ChairLink
+
+LOG = logging.getLogger(__name__)
+TICK = 0.05
+REATTACH_S = 2.0  # after a reconnect: how long to wait for the chair's word before reading the pose
+BURST_HZ, BURST_S = 20.0, 1.0
+STOPPED_V, STOPPED_W = 0.03, 0.05  # m/s, rad/s: odometry this still counts as stopped
+LINGER_S = 3.0  # keep watching a finished goal this long while a cancel is being verified
+# action_msgs/GoalStatus (the action's status topic) -> ours
+STATUS_CODES = {
+    1: GoalStatus.MOVING,
+    2: GoalStatus.MOVING,
+    3: GoalStatus.MOVING,
+    4: GoalStatus.ARRIVED,
+    5: GoalStatus.CANCELLED,
+    6: GoalStatus.ABORTED,
+}
+
+
+class GoalWatch:
+    """Watches one goal (see the module docstring); ``start()`` once."""
+
+    def __init__(self, link: ChairLink, handle: GoalHandle, kind: str, policy: GoalPolicy) -> None:
+        self.link, self.handle, self.kind, self.policy = link, handle, kind, policy
+        self._stoppers: list[Callable[[], None]] = []
+        self.lost = False
+        self.was_lost = False
+        self.back_at: float | None = None
+        self._applied_code: int | None = None
+        self._verifying: float | None = None  # the cancel being verified (its time)
+        self._seen_cancel: float | None = None
+        self._thread = threading.Thread(target=self._run, daemon=True, name="pmk-goal-watch")
+
+    def on_end(self, stop: Callable[[], None]) -> None:
+        self._stoppers.append(stop)
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def _run(self) -> None:
+        ended: float | None = None
+        try:
+            while True:
+                now = time.monotonic()
+                self.tick(now)
+                if self.link.ros is None:  # the link was closed (not reconnecting): nothing more to learn
+                    return
+                if self.handle.progress().done:
+                    ended = ended or now
+                    if self._verifying is None or now - ended > LINGER_S:
+                        return
+                time.sleep(TICK)
+        except Exception:  # a bug must not leave the goal unwatched silently
+            LOG.exception("goal watch failed")
+        finally:
+            follower = self.handle.follower
+            if follower is not None:
+                follower.close()
+            for stop in self._stoppers:
+                try:
+                    stop()
+                except Exception:
+                    LOG.exception("goal watch hook failed")
+
+    def tick(self, now: float) -> None:
+        h, p = self.handle, self.handle.progress()
+        if not p.done and not self._link(now, p.goal[:2]):
+            return
+        if p.status is GoalStatus.PENDING and now - h.sent_at > self.policy.accept_s:
+            h.update(GoalStatus.NO_ANSWER, text=words.no_answer(self.policy.accept_s), news=False)
+            h.cancel()
+        quiet = now - h.last_news
+        if not p.done and quiet > self.policy.quiet_s and (p.quiet_s is None or quiet - p.quiet_s >= 1.0):
+            h.mark_quiet(quiet)
+        self._verify_cancel(now)
+
+    # -- link loss and re-attach ---------------------------------------------------------------------
+    def _link(self, now: float, goal: tuple[float, float]) -> bool:
+        """False while the link is down; re-attaches when it is back."""
+        h = self.handle
+        if not self.link.is_connected:
+            if not self.lost:
+                self.lost = self.was_lost = True
+                h.update(GoalStatus.LINK_LOST, text=words.link_lost(goal), news=False)
+            return False
+        if self.lost:
+            self.lost, self.back_at = False, now
+            h.update(text=words.link_back_asking(), news=False)
+            if self.policy.on_link_loss == "cancel":
+                h.cancel()
+                h.update(text=words.link_back_cancelling(), news=False)
+        if self.was_lost:
+            self._reattach(now, goal)
+        return True
+
+    def _reattach(self, now: float, goal: tuple[float, float]) -> None:
+        h, follower = self.handle, self.handle.follower
+        if follower is not None and follower.uuid is not None and follower.heard_at > (self.back_at or 0.0):
+            code = follower.code if follower.listed else None
+            if code is not None and code != self._applied_code:
+                self._applied_code = code
+                status = STATUS_CODES.get(code, GoalStatus.MOVING)
+                done = status in (GoalStatus.ARRIVED, GoalStatus.CANCELLED, GoalStatus.ABORTED)
+                text = words.link_back_outcome(status.value) if done else words.link_back_still_driving()
+                h.update(status, 0.0 if status is GoalStatus.ARRIVED else None, text)
+                return
+        if h.progress().status is not GoalStatus.LINK_LOST or self.kind == "topic":
+            return  # the chair spoke after the reconnect (or the goal topic's poller follows the pose)
+        if self.back_at is not None and now - self.back_at > REATTACH_S:
+            pose = self.link.latest_pose()
+            fresh = pose is not None and pose.received > self.back_at
+            here = (pose.x, pose.y) if fresh and pose is not None else None
+            if here is not None and math.dist(here, goal) <= ARRIVE_TOLERANCE:
+                h.update(GoalStatus.ARRIVED, math.dist(here, goal), words.link_back_at_goal(), news=False)
+            elif here is not None or now - self.back_at > 3 * REATTACH_S:
+                h.update(GoalStatus.UNKNOWN, text=words.link_back_unknown(here), news=False)
+            else:
+                self.link.start_streams()  # the pose tells where the chair is
+
+    # -- verified cancel -----------------------------------------------------------------------------
+    def _verify_cancel(self, now: float) -> None:
+        h = self.handle
+        if h.cancel_at is not None and h.cancel_at != self._seen_cancel:
+            self._seen_cancel = self._verifying = h.cancel_at
+            self.link.start_streams()  # odometry tells whether the chair stops
+            if h.progress().status is GoalStatus.CANCEL_IGNORED:
+                self.zero_burst()  # Stop pressed again: the chair is known to ignore the cancel
+        since = self._verifying
+        if since is None or h.cancel_honoured is not None:
+            return
+        odom = self.link.latest_odom()
+        fresh = odom is not None and odom.received > since
+        still = fresh and odom is not None and abs(odom.v) < STOPPED_V and abs(odom.w) < STOPPED_W
+        if still:
+            h.cancel_honoured, self._verifying = True, None
+        elif now - since > self.policy.verify_s:
+            if not fresh:
+                return  # no odometry: cannot tell; keep waiting (the panel says "cancel sent")
+            h.cancel_honoured = False
+            h.update(GoalStatus.CANCEL_IGNORED, text=words.cancel_ignored(self.policy.verify_s), news=False)
+            self._verifying = None
+            self.zero_burst()
+
+    def zero_burst(self) -> None:
+        """Zero velocity at BURST_HZ for BURST_S s, with the cancel again, over a second connection
+        (rosbridge_suite holds the link's own behind the goal: see side_channel); over the link's
+        own connection when that fails. On this thread, never roslibpy's."""
+        self.handle.zero_bursts += 1
+        link, topic = self.link, self.link._publish.cmd_vel_topic
+        if side_stop(link, topic, self.handle.cancel_ref, hz=BURST_HZ, seconds=BURST_S):
+            return
+        for _ in range(round(BURST_HZ * BURST_S)):
+            link.publish_cmd_vel(0.0, 0.0)
+            time.sleep(1.0 / BURST_HZ)
