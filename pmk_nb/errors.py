@@ -171,7 +171,7 @@ class AddressRefused(DownloadError):
             f"download of {url} refused: {where}; downloads reach only public addresses",
             url=url,
             hint="To download from a server on this machine or the lab network, use --allow-local "
-            "(pmk maps download / pmk dashboard).",
+            "(pmk maps download, catalogue, get; pmk dashboard).",
         )
         self.host = host
         self.address = address
