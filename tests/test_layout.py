@@ -1,5 +1,6 @@
-"""The package layout keeps its promises: one package per concept, small modules and functions,
-no control flow on error text, the core free of widget libraries, one atomic-write helper."""
+"""The package layout keeps its promises: one package per concept (modules sized by concept, not
+by a line cap), short functions, no control flow on error text, the core free of widget libraries,
+one atomic-write helper."""
 
 from __future__ import annotations
 
@@ -10,7 +11,6 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "pmk_nb"
-MAX_MODULE_LINES = 400
 MAX_FUNCTION_LINES = 80
 # Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
 TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
@@ -40,12 +40,6 @@ def test_top_level_holds_only_shared_modules_and_concept_packages() -> None:
         init = PKG / name / "__init__.py"
         has_doc = init.is_file() and ast.get_docstring(ast.parse(init.read_text()))
         assert has_doc, f"{name}/__init__.py needs a docstring"
-
-
-@pytest.mark.parametrize("path", _modules(), ids=_rel)
-def test_module_is_small(path: Path) -> None:
-    lines = len(path.read_text(encoding="utf-8").splitlines())
-    assert lines <= MAX_MODULE_LINES, f"{_rel(path)} has {lines} lines (> {MAX_MODULE_LINES}): split it"
 
 
 @pytest.mark.parametrize("path", _modules(), ids=_rel)
