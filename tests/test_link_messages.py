@@ -10,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from pmk_nb.chair import reload
-from pmk_nb.chair.link.tfmath import TfTree, Transform2D, wrap_angle
+from pmk_nb.chair.link.tfmath import TfTree
 from pmk_nb.chair.messages import (
     make_stamp,
     normalise_type,
@@ -27,6 +27,7 @@ from pmk_nb.chair.messages import (
     type_spellings,
     yaw_from_quaternion,
 )
+from pmk_nb.viewport import Transform2D, wrap_angle
 
 
 def _odom_msg(stamp: dict, yaw: float = 0.3) -> dict:

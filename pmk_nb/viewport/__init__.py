@@ -3,7 +3,8 @@
 No widgets here: ``pmk_nb.ui`` only draws what this package computes. ``view`` holds
 :class:`Viewport` (the rules of the original MapViewer, plus pan and follow on/off), ``mapimage``
 reduces the grid to screen pixels without losing a wall, ``outline`` turns a scan into hit points
-and a free-space polygon, ``laser`` into rays (the optional look).
+and a free-space polygon, ``laser`` into rays (the optional look), ``pose`` composes planar
+(x, y, yaw) transforms (a sensor's pose on the chair; the link's tf tree).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
 from pmk_nb.viewport.mapimage import MapTile, clean_occupancy, plan_tile, pool_window, tile_covers, window_image
 from pmk_nb.viewport.outline import LaserOutline, laser_outline
+from pmk_nb.viewport.pose import Transform2D, mounted, wrap_angle
 from pmk_nb.viewport.view import (
     MIN_CHAIR_RADIUS_PX,
     MIN_DOT_RADIUS_PX,
@@ -27,15 +29,18 @@ __all__ = [
     "LaserOutline",
     "LaserSegments",
     "MapTile",
+    "Transform2D",
     "Viewport",
     "clean_occupancy",
     "fit_canvas",
     "heading_point",
     "laser_outline",
     "laser_segments",
+    "mounted",
     "plan_tile",
     "pool_window",
     "ray_stride",
     "tile_covers",
     "window_image",
+    "wrap_angle",
 ]
