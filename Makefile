@@ -4,8 +4,8 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 PYTEST_ARGS ?=
-# two workers: browser, Voilà, notebook and real-stack tests on one (conftest.py), the rest on the other
-XDIST ?= -n 2 --dist loadgroup
+# two pytest-xdist workers (each test's real parts bind their own loopback ports and folders)
+XDIST ?= -n 2
 JS_STAMP := tests/js/node_modules/.package-lock.json
 
 .PHONY: demo test check lint bench soak system-deps venv clean ros2
