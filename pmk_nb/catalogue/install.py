@@ -16,8 +16,6 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-import yaml
-
 from pmk_nb.catalogue.hashes import file_sha256
 from pmk_nb.catalogue.remote import Asset, Building, Catalogue, Reader, Storey
 from pmk_nb.catalogue.state import InstallRecord
@@ -28,12 +26,14 @@ from pmk_nb.errors import (
     AssetTooLarge,
     CatalogueError,
     DownloadTooLarge,
+    MapLoadError,
 )
 from pmk_nb.fileio import replace_all
 from pmk_nb.indoorgml.sniff import check_indoorgml
 from pmk_nb.library.folder import MapsFolder
 from pmk_nb.library.naming import SOURCE_SUFFIXES, check_name
 from pmk_nb.progress import ProgressCallback, emit
+from pmk_nb.rosmap import read_map_yaml
 
 DEFAULT_MAX_BYTES = 200 * 1024 * 1024  # one file; a 100 M-cell map image is 100 MB
 #: Asset keys installed, in rename order: the map YAML that names the others last.
@@ -169,9 +169,8 @@ def _check_staged(building: Building, assets: list[Asset], stage: Path) -> None:
             check_indoorgml(stage / a.file_name, what=a.url, source="url")
         elif a.key == "map-yaml":
             try:
-                doc = yaml.safe_load((stage / a.file_name).read_text(encoding="utf-8"))
-            except (yaml.YAMLError, UnicodeDecodeError) as err:
+                image = read_map_yaml(stage / a.file_name).image_text  # the one YAML reader: a map server's rules
+            except MapLoadError as err:
                 raise CatalogueError(f"{a.url} is not a map YAML: {err}", url=a.url, name=building.id) from err
-            image = doc.get("image") if isinstance(doc, dict) else None
-            if not isinstance(image, str) or image not in names:
+            if image not in names:
                 raise AssetOutsideCatalogue(url=a.url, href=str(image), root="the files installed with it")

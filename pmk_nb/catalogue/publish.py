@@ -9,10 +9,8 @@ mirror (rsync, an object store sync) copies only that, and "changed since instal
 
 from __future__ import annotations
 
-import contextlib
 import datetime as dt
 import io
-import json
 import shutil
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -23,6 +21,7 @@ from urllib.parse import unquote
 from pmk_nb.access.sidecar import sidecar_path
 from pmk_nb.catalogue import geo, stacdocs
 from pmk_nb.catalogue.hashes import file_sha256, multihash
+from pmk_nb.catalogue.state import read_json_object
 from pmk_nb.errors import CatalogueError
 from pmk_nb.fileio import atomic_write
 from pmk_nb.library.folder import GeneratedMap, MapEntry, MapsFolder
@@ -56,7 +55,7 @@ def publish(
     if not entries:
         raise CatalogueError(f"nothing to publish: no converted map in {folder.root}", url=str(site))
     stamp = (now or dt.datetime.now(dt.UTC)).strftime("%Y-%m-%dT%H:%M:%SZ")
-    old_catalog = _read_json(site / "catalog.json")
+    old_catalog = read_json_object(site / "catalog.json")
     title = title or str(old_catalog.get("title") or "PMK maps")
     result = PublishResult(site=site, buildings=[e.name for e in entries])
     try:
@@ -109,7 +108,7 @@ def _publish_building(
     source = stacdocs.asset("indoorgml", stacdocs.rel(".", source_name), size, multihash(sha))
     srs = geo.plan_srs(entry.source)
     extents = {s.name: s.extent for s in folder.storeys(entry.name)} if geo.utm_zone(srs) else {}
-    old = _read_json(bdir / "collection.json")
+    old = read_json_object(bdir / "collection.json")
     items = []
     for gm in entry.generated:
         extent = extents.get(gm.storey or "") or (next(iter(extents.values())) if len(extents) == 1 else None)
@@ -138,7 +137,7 @@ def _publish_item(
     for key, name, content in files:
         size, sha = writer.put(idir / name, content)
         assets[key] = stacdocs.asset(key, stacdocs.rel(".", name), size, multihash(sha))
-    old = _read_json(idir / f"{item_id}.json")
+    old = read_json_object(idir / f"{item_id}.json")
     unchanged = old.get("assets") == assets and old.get("geometry") == geometry
     old_props = old.get("properties") or {}
     when = str(old_props["datetime"]) if unchanged and old_props.get("datetime") else stamp
@@ -201,16 +200,8 @@ def _children(
 
 def _ours(folder: Path) -> bool:
     """A building folder this command published (its IndoorGML source listed): never another catalogue's."""
-    return not folder.is_symlink() and "indoorgml" in (_read_json(folder / "collection.json").get("assets") or {})
+    return not folder.is_symlink() and "indoorgml" in (read_json_object(folder / "collection.json").get("assets") or {})
 
 
 def _plain(name: str) -> bool:
     return bool(name) and name not in (".", "..") and not name.startswith(".") and "\\" not in name
-
-
-def _read_json(path: Path) -> dict[str, Any]:
-    with contextlib.suppress(OSError, ValueError):
-        doc = json.loads(path.read_text(encoding="utf-8"))
-        if isinstance(doc, dict):
-            return doc
-    return {}

@@ -25,7 +25,8 @@ MAX_SOURCES = 50
 NEW, CHANGED, INSTALLED = "new", "changed", "installed"
 
 
-def _load(path: Path) -> dict[str, Any]:
+def read_json_object(path: Path) -> dict[str, Any]:
+    """A JSON object from ``path``; {} when it is missing, unreadable or not an object (a fresh start)."""
     with contextlib.suppress(OSError, ValueError):
         data = json.loads(path.read_text(encoding="utf-8"))
         if isinstance(data, dict):
@@ -40,7 +41,7 @@ class CatalogueSources:
         self.path = Path(config_dir) / SOURCES_FILE
 
     def urls(self) -> list[str]:
-        raw = _load(self.path).get("catalogues")
+        raw = read_json_object(self.path).get("catalogues")
         return [u for u in raw if isinstance(u, str)] if isinstance(raw, list) else []
 
     def add(self, url: str) -> list[str]:
@@ -73,11 +74,11 @@ class InstallRecord:
         self.path = Path(maps_root) / RECORD_FILE
 
     def get(self, name: str) -> dict[str, Any] | None:
-        entry = (_load(self.path).get("installs") or {}).get(name)
+        entry = (read_json_object(self.path).get("installs") or {}).get(name)
         return entry if isinstance(entry, dict) else None
 
     def put(self, name: str, catalogue_url: str, files: dict[str, str], *, all_storeys: bool) -> None:
-        data = _load(self.path)
+        data = read_json_object(self.path)
         installs = data.get("installs") if isinstance(data.get("installs"), dict) else {}
         stamp = dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
         installs[name] = {
