@@ -253,6 +253,20 @@ class UnsupportedOperation(PmkError):
         self.operation = operation
 
 
+class RosNotInstalled(UnsupportedOperation):
+    """A chair-side command (`pmk robot ...`) needs ROS and this Python cannot import it.
+
+    Attributes:
+        module: the module that is missing (``rclpy``, ``nav_msgs``, ...).
+        command: the command that needed it (``map-server``, ``sim-node``, ``goal-watchdog``).
+    """
+
+    def __init__(self, message: str, *, module: str, command: str, hint: str = "") -> None:
+        super().__init__(message, operation=command, hint=hint)
+        self.module = module
+        self.command = command
+
+
 class TransferError(PmkError):
     """Copying a map to the chair over SFTP failed."""
 

@@ -7,6 +7,7 @@ import argparse
 import pytest
 
 from pmk_nb.cli import COMMANDS, build_parser
+from pmk_nb.cli.options import ALIASES
 
 
 def _missing_help(parser: argparse.ArgumentParser, path: str) -> list[str]:
@@ -22,6 +23,8 @@ def _missing_help(parser: argparse.ArgumentParser, path: str) -> list[str]:
                     missing.append(f"{path} {name} (sub-command)")
                 missing += _missing_help(sub, f"{path} {name}")
             continue
+        if action.help == argparse.SUPPRESS and set(action.option_strings) <= set(ALIASES):
+            continue  # a deprecated spelling kept hidden (issue 29): its canonical option has the help
         if not action.help or action.help == argparse.SUPPRESS:
             missing.append(f"{path} {'/'.join(action.option_strings) or action.dest}")
     return missing

@@ -52,6 +52,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.run(args) or 0)
     except PmkError as err:
+        if getattr(args, "json", False):  # a script reads stdout: the error as JSON there too
+            from pmk_nb.cli.options import error_json, print_json
+
+            print_json(error_json(err, args.command))
         print(f"pmk {args.command}: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -7,6 +7,7 @@ import dataclasses
 import json
 from typing import Any
 
+from pmk_nb.cli.options import add_json, print_json
 from pmk_nb.errors import PmkError, SettingsError
 
 # option -> (ChairProfile field, type, help); everything but name, which is positional
@@ -24,7 +25,6 @@ _FIELDS: list[tuple[str, type, str]] = [
     ("remote-maps-dir", str, "maps folder on the chair (~/ALMA_MAPS)"),
     ("reload-service", str, "auto or a service name like /change_map"),
     ("reload-kind", str, "auto | ros1 | nav2 | mapupdate"),
-    ("footprint-radius", float, "chair radius in metres (0.35)"),
     ("known-hosts", str, "known_hosts file for the chair's SSH key"),
     ("host-key-check", str, "tofu (trust on first use) | strict"),
     ("tls-ca-file", str, "with --tls: CA file that signs the chair's certificate (default: pin it on first use)"),
@@ -34,11 +34,19 @@ _FIELDS: list[tuple[str, type, str]] = [
 def add_parser(subparsers: Any) -> None:
     p = subparsers.add_parser("chair", help="manage chair profiles (connection settings)")
     sub = p.add_subparsers(dest="action", metavar="ACTION")  # bare `pmk chair` lists
-    sub.add_parser("list", help="list profiles (* = default)").set_defaults(run=run_list)
+    listing = sub.add_parser("list", help="list profiles (* = default)")
+    add_json(listing, "the profiles and which is the default")
+    listing.set_defaults(run=run_list)
     add = sub.add_parser("add", help="create or update a profile (it becomes the default)")
     add.add_argument("name", help="name of the new profile")
     for option, kind, text in _FIELDS:
         add.add_argument(f"--{option}", type=kind, help=text)
+    add.add_argument(
+        "--chair-width", type=float, metavar="W",
+        help="the wheelchair's width in metres (0.70): map checks, and the live view's circle (radius W/2)",
+    )  # fmt: skip
+    # deprecated: the same concept as a radius (half the width); kept so old scripts still work
+    add.add_argument("--footprint-radius", type=float, default=None, help=argparse.SUPPRESS)
     add.add_argument(
         "--tls", action=argparse.BooleanOptionalAction, default=None, help="rosbridge over TLS (wss://) or not"
     )
@@ -46,6 +54,7 @@ def add_parser(subparsers: Any) -> None:
     add.set_defaults(run=run_add)
     show = sub.add_parser("show", help="print a profile as JSON")
     show.add_argument("name", nargs="?", help="profile (default: the last used one)")
+    add_json(show, "the profile (always JSON; accepted for symmetry)")
     show.set_defaults(run=run_show)
     delete = sub.add_parser("delete", help="delete a profile (and its remembered password)")
     delete.add_argument("name", help="profile to delete")
@@ -55,6 +64,7 @@ def add_parser(subparsers: Any) -> None:
     test.add_argument("--password-stdin", action="store_true", help="read the SSH password from stdin")
     test.add_argument("--timeout", type=float, default=5.0, help="seconds to wait for the chair (default 5)")
     test.add_argument("--no-ssh", action="store_true", help="only test rosbridge")
+    add_json(test, "each part's result (rosbridge, ssh: ok, detail, error type)")
     test.add_argument(
         "--trust-fingerprint",
         metavar="SHA256",
@@ -62,7 +72,7 @@ def add_parser(subparsers: Any) -> None:
         "(openssl x509 -noout -fingerprint -sha256 on the chair); for scripts and kiosks without a terminal",
     )
     test.set_defaults(run=run_test)
-    p.set_defaults(run=run_list)
+    p.set_defaults(run=run_list, json=False)
 
 
 def _store() -> Any:
@@ -84,6 +94,12 @@ def run_list(args: argparse.Namespace) -> int:
     store = _store()
     last = store.last_used()
     profiles = store.list()
+    if args.json:
+        print_json({
+            "profiles_file": str(store.path), "default": None if last is None else last.name,
+            "profiles": [pr.to_dict() for pr in profiles],
+        })  # fmt: skip
+        return 0
     if not profiles:
         print(f"no chair profiles in {store.path}")
     for profile in profiles:
@@ -105,6 +121,11 @@ def run_add(args: argparse.Namespace) -> int:
     }
     if args.tls is not None:
         changes["tls"] = args.tls
+    width = args.chair_width if args.chair_width is not None else None
+    if width is None and args.footprint_radius is not None:
+        width = 2 * args.footprint_radius
+    if width is not None:  # one concept: the width for checks, half of it for the circle drawn
+        changes["chair_width"], changes["footprint_radius"] = width, width / 2
     try:
         current = store.get(args.name)
     except SettingsError:
@@ -168,14 +189,15 @@ def certificate_trusted(err: BaseException | None, expected: str | None) -> bool
     return True
 
 
-def run_test(args: argparse.Namespace) -> int:
-    """Like the Settings screen's Connect button, plus an SSH login: report each part, fail if any fails."""
-    from pmk_nb.chair.deploy import close_links, link_for
-    from pmk_nb.cli.send import ask_password
+def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | None = None) -> dict[str, Any]:
+    """One line of `pmk chair test`: what was tested, whether it worked, and the error's type when not."""
+    return {"part": name, "target": target, "ok": ok, "detail": detail,
+            "error": None if err is None else type(err).__name__}  # fmt: skip
 
-    store = _store()
-    profile = _profile(store, args.name)
-    failures = 0
+
+def _test_bridge(profile: Any, args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:
+    from pmk_nb.chair.deploy import close_links, link_for
+
     url = profile.bridge_url
     try:
         link = link_for(profile)
@@ -185,34 +207,47 @@ def run_test(args: argparse.Namespace) -> int:
         if report.ok:
             info = report.map_info
             about = f"map {info.width}x{info.height} at {info.resolution:g} m" if info else "no map published"
-            print(f"rosbridge {url}: ok ({about}, {report.elapsed:.2f} s)")
-            for note in report.notes:
-                print(f"note: {note}")
-        else:
-            failures += 1
-            print(f"rosbridge {url}: FAILED: {report.reason}")
+            return _part("rosbridge", url, True, f"{about}, {report.elapsed:.2f} s"), list(report.notes)
+        return _part("rosbridge", url, False, str(report.reason), report.error), []
     except PmkError as err:
-        failures += 1
-        print(f"rosbridge {url}: FAILED: {err}")
+        return _part("rosbridge", url, False, str(err), err), []
     finally:
         close_links()
-    if not args.no_ssh:
-        from pmk_nb.chair.transfer import check_ssh
 
-        try:
-            password = ask_password(profile, store, args.password_stdin)
-            check = check_ssh(profile, password=password, timeout=args.timeout)
-            state = "exists" if check.exists else "will be created on first send"
-            trusted = " (newly trusted)" if check.host_key.newly_trusted else ""
-            print(
-                f"ssh {profile.ssh_user}@{profile.host}:{profile.ssh_port}: ok, host key "
-                f"{check.host_key.fingerprint}{trusted}; {check.remote_dir} {state}"
-            )
-            if password is not None and profile.auth == "password":
-                store.set_password(profile, password)
-        except PmkError as err:
-            failures += 1
-            print(f"ssh {profile.ssh_user}@{profile.host}:{profile.ssh_port}: FAILED: {err}")
-    if failures == 0:
+
+def _test_ssh(profile: Any, store: Any, args: argparse.Namespace) -> dict[str, Any]:
+    from pmk_nb.chair.transfer import check_ssh
+    from pmk_nb.cli.send import ask_password
+
+    target = f"{profile.ssh_user}@{profile.host}:{profile.ssh_port}"
+    try:
+        password = ask_password(profile, store, args.password_stdin)
+        check = check_ssh(profile, password=password, timeout=args.timeout)
+        state = "exists" if check.exists else "will be created on first send"
+        trusted = " (newly trusted)" if check.host_key.newly_trusted else ""
+        if password is not None and profile.auth == "password":
+            store.set_password(profile, password)
+        detail = f"host key {check.host_key.fingerprint}{trusted}; {check.remote_dir} {state}"
+        return _part("ssh", target, True, detail)
+    except PmkError as err:
+        return _part("ssh", target, False, str(err), err)
+
+
+def run_test(args: argparse.Namespace) -> int:
+    """Like the Settings screen's Connect button, plus an SSH login: report each part, fail if any fails."""
+    store = _store()
+    profile = _profile(store, args.name)
+    bridge, notes = _test_bridge(profile, args)
+    parts = [bridge] if args.no_ssh else [bridge, _test_ssh(profile, store, args)]
+    ok = all(part["ok"] for part in parts)
+    if ok:
         store.mark_used(profile.name)
-    return 1 if failures else 0
+    if args.json:
+        print_json({"ok": ok, "profile": profile.name, "parts": parts, "notes": notes})
+    else:
+        for part in parts:
+            print(f"{part['part']} {part['target']}: {'ok' if part['ok'] else 'FAILED'}: {part['detail']}")
+            if part["part"] == "rosbridge":
+                for note in notes:
+                    print(f"note: {note}")
+    return 0 if ok else 1

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.cli.convert import add_layer_option, add_not_window_option
+from pmk_nb.cli.options import add_json, add_resolution
 from pmk_nb.errors import PmkError
 
 EXIT_OK, EXIT_PROBLEMS, EXIT_NOTHING_CHECKED = 0, 1, 3  # 2: bad input (every PmkError, cli/__init__)
@@ -38,14 +39,13 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("target", type=Path, help="an IndoorGML file (.gml) or a converted map (.yaml)")
     p.add_argument("--chair-width", type=float, default=None, metavar="W",
                    help="chair width in metres (default: the chair profile's, Settings; else 0.70)")  # fmt: skip
-    p.add_argument("--resolution", "-r", type=float, default=0.05,
-                   help="metres per cell when checking a .gml file (default 0.05)")  # fmt: skip
+    add_resolution(p, what="metres per cell when checking a .gml file")
     p.add_argument("--unit", default="auto", help="unit of a .gml file's coordinates: auto (default), m, dm, cm, mm")
     p.add_argument("--door-width", type=float, default=None, metavar="M",
                    help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
     add_not_window_option(p)
     add_layer_option(p)
-    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    add_json(p, "the report")
     p.set_defaults(run=run)
 
 

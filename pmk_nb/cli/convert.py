@@ -11,8 +11,9 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TextIO
+from typing import Any, TextIO
 
+from pmk_nb.cli.options import add_json, add_resolution, print_json
 from pmk_nb.errors import GridTooLarge, PmkError
 from pmk_nb.progress import Progress
 
@@ -89,7 +90,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         "NAME.yaml + NAME.pgm + NAME-visualization.png (NAME_<storey>.* when there are several storeys).",
     )
     p.add_argument("file", type=Path, help="the IndoorGML (.gml) file")
-    p.add_argument("--resolution", "-r", type=float, required=True, help="metres per cell, e.g. 0.05")
+    add_resolution(p)
     p.add_argument("--storey", action="append", dest="storeys", metavar="S", help="only this storey (repeatable)")
     p.add_argument("--out", type=Path, default=Path("."), help="output folder (default: the current folder)")
     p.add_argument("--name", default=None, help="base name of the map files (default: the file's stem)")
@@ -98,10 +99,34 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     p.add_argument("--no-preview", action="store_true", help="skip NAME-visualization.png")
     p.add_argument("--max-cells", type=int, default=None, help="refuse grids with more cells than this")
     p.add_argument("--allow-large", action="store_true", help="allow grids over 32767 cells per side (not Nav2)")
+    add_json(p, "what was written (building, unit, storeys: files, size, accessibility)")
     bar = p.add_mutually_exclusive_group()
     bar.add_argument("--progress", dest="progress", action="store_true", default=None, help="always show progress")
     bar.add_argument("--no-progress", dest="progress", action="store_false", help="never show progress")
     p.set_defaults(run=run)
+
+
+def result_json(path: Path, result: Any) -> dict[str, Any]:
+    """`pmk convert --json`: the files written per storey and each storey's access verdict."""
+    from dataclasses import asdict
+
+    building = result.building
+    storeys = []
+    for m in result.maps:
+        files = m.files
+        storeys.append({
+            "storey": m.storey, "yaml": str(files.yaml), "image": str(files.image),
+            "preview": None if files.preview is None else str(files.preview),
+            "rooms": None if m.rooms is None else str(m.rooms),
+            "width": m.width, "height": m.height, "resolution": m.resolution,
+            "access": None if m.access is None else m.access.to_json(),
+        })  # fmt: skip
+    return {
+        "ok": True, "file": str(path), "unit": building.unit, "unit_reason": building.unit_reason,
+        "unit_conflict": building.unit_conflict or None,
+        "unit_suspect": None if building.unit_suspect is None else asdict(building.unit_suspect),
+        "graph": building.graph_status.to_json(), "storeys": storeys,
+    }  # fmt: skip
 
 
 def run(args: argparse.Namespace) -> int:
@@ -134,6 +159,9 @@ def run(args: argparse.Namespace) -> int:
         raise PmkError(err.message, hint=f"Use --resolution {err.suggested_resolution:g} or coarser.") from err
     finally:
         bar.close()
+    if args.json:
+        print_json(result_json(path, result))
+        return 0
     building = result.building
     print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(result.maps)} storey(s)")
     from dataclasses import asdict

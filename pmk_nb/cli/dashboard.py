@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.cli import tablet_tls
+from pmk_nb.cli.options import add_maps_dir
 from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
 from pmk_nb.cli.voila import preflight, serve, server_options
 from pmk_nb.ui.context import AUTOSTART_ENV
@@ -30,7 +31,7 @@ def add_parser(subparsers: Any) -> None:
         description="Serve the dashboard (Home, Maps, Settings) as a web page; Ctrl-C stops it.",
     )
     server_options(p)
-    p.add_argument("--maps-dir", type=Path, help="maps folder (default: $PMK_MAPS_DIR or the user data dir)")
+    add_maps_dir(p)
     p.add_argument("--config-dir", type=Path, help="settings folder (default: $PMK_CONFIG_DIR or user config)")
     p.add_argument(
         "--preview-on-start",

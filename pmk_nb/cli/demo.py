@@ -28,7 +28,8 @@ def add_parser(subparsers: Any) -> None:
         description="Convert the sample map, start a simulated chair and serve the dashboard in kiosk mode.",
     )
     server_options(p)
-    p.add_argument("--dir", type=Path, default=Path(".demo"), help="demo folder (default: ./.demo)")
+    p.add_argument("--demo-dir", dest="dir", type=Path, default=Path(".demo"), help="demo folder (default: ./.demo)")
+    p.add_argument("--dir", dest="dir", type=Path, default=argparse.SUPPRESS, help=argparse.SUPPRESS)  # deprecated
     p.add_argument("--gml", type=Path, help="IndoorGML file to use (default: sample_maps/clinic_floor.gml)")
     p.add_argument("--no-kiosk", action="store_true", help="serve the full dashboard instead of the kiosk page")
     p.set_defaults(run=run)

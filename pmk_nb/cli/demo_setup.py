@@ -24,13 +24,14 @@ from pathlib import Path
 from typing import Any
 
 import pmk_nb
+from pmk_nb.cli.options import DEFAULT_RESOLUTION
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.errors import PmkError
 from pmk_nb.fileio import atomic_write
 from pmk_nb.ui.context import AUTOSTART_ENV
 
 DEMO_PROFILE = "Simulated chair"
-DEMO_RESOLUTION = 0.05
+DEMO_RESOLUTION = DEFAULT_RESOLUTION
 DEMO_SFTP_USER = "pmk"
 SIM_START_TIMEOUT = 60.0
 KEY_NAME = "chair_key"

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 from pmk_nb.cli import maps_catalogue
 from pmk_nb.cli.check import chair_width_arg
 from pmk_nb.cli.convert import add_raster_options
+from pmk_nb.cli.options import add_json, add_maps_dir, add_resolution, print_json
 from pmk_nb.progress import Progress
 
 if TYPE_CHECKING:
@@ -30,14 +31,13 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         help="list, import, download, convert and delete maps in the maps folder",
         description="Manage the maps folder (ALMA_MAPS): IndoorGML sources and the maps generated from them.",
     )
-    dir_help = "maps folder (default: $PMK_MAPS_DIR or the user data folder)"
-    p.add_argument("--dir", help=dir_help)
-    # --dir is accepted after the action too (`pmk maps list --dir D`); SUPPRESS keeps the outer value
+    add_maps_dir(p, aliases=("--dir",))
+    # --maps-dir is accepted after the action too (`pmk maps list --maps-dir D`); SUPPRESS keeps the outer value
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--dir", default=argparse.SUPPRESS, help=dir_help)
+    add_maps_dir(common, aliases=("--dir",), default=argparse.SUPPRESS)
     sub = p.add_subparsers(dest="maps_command", metavar="ACTION", required=True)
 
-    sub.add_parser("list", parents=[common], help="list the IndoorGML maps and their generated files")
+    add_json(sub.add_parser("list", parents=[common], help="list the IndoorGML maps and their generated files"))
 
     imp = sub.add_parser("import", parents=[common], help="copy an IndoorGML file into the maps folder")
     imp.add_argument("path", help="IndoorGML file (.gml / .xml)")
@@ -61,7 +61,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         "convert", parents=[common], help="generate map_server files (YAML + image + preview) from a map"
     )
     cv.add_argument("name", help="building in the maps folder (see pmk maps list)")
-    cv.add_argument("-r", "--resolution", type=float, default=0.05, help="metres per cell (default 0.05)")
+    add_resolution(cv)
     cv.add_argument("--storey", action="append", dest="storeys", help="convert only this storey (repeatable)")
     add_raster_options(cv)
 
@@ -88,10 +88,10 @@ def run(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     from pmk_nb.library.folder import MapsFolder
 
-    folder = MapsFolder(args.dir, allow_local=getattr(args, "allow_local", None) or None)
+    folder = MapsFolder(args.maps_dir, allow_local=getattr(args, "allow_local", None) or None)
     action = args.maps_command
     if action == "list":
-        return _list(folder)
+        return _list(folder, as_json=args.json)
     if action == "import":
         entry = folder.import_file(args.path, args.name, overwrite=args.overwrite)
         print(f"imported {args.path} as map {entry.name!r} ({entry.source})")
@@ -118,8 +118,27 @@ def _describe(gm: GeneratedMap) -> str:
     return f"{storey}{gm.yaml.name} {gm.width}x{gm.height} cells at {gm.resolution:g} m{stale}"
 
 
-def _list(folder: MapsFolder) -> int:
+def _map_json(gm: GeneratedMap) -> dict[str, object]:
+    """One generated map for `pmk maps list --json` (keys documented in the README)."""
+    return {
+        "storey": gm.storey, "yaml": str(gm.yaml), "image": str(gm.image), "resolution": gm.resolution,
+        "width": gm.width, "height": gm.height, "stale": gm.stale, "broken": gm.broken or None,
+    }  # fmt: skip
+
+
+def _list(folder: MapsFolder, *, as_json: bool = False) -> int:
     entries: list[MapEntry] = folder.list()
+    if as_json:
+        print_json({
+            "maps_dir": str(folder.root),
+            "maps": [
+                {"name": e.name, "source": str(e.source), "size": e.size, "status": e.status,
+                 "generated": [_map_json(g) for g in e.generated]}
+                for e in entries
+            ],
+            "orphans": [_map_json(g) for g in folder.orphans()],
+        })  # fmt: skip
+        return 0
     print(f"maps folder: {folder.root}")
     if not entries:
         print("no maps yet: use `pmk maps import FILE` or `pmk maps download URL NAME`")
@@ -203,7 +222,8 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             progress=progress,
             door_width=args.door_width,
             chair_width=chair_width_arg(args.chair_width),
-            not_windows=args.not_windows, layers=args.layers,
+            not_windows=args.not_windows,
+            layers=args.layers,
         )
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:

@@ -1,6 +1,6 @@
 """``pmk robot``: the chair-side ROS 2 nodes (run them where rclpy and our interfaces are installed).
 
-- ``pmk robot map-server [--maps DIR] [--map NAME]``: the PMK map server (see pmk_nb.robot.mapserver);
+- ``pmk robot map-server [--maps-dir DIR] [--map NAME]``: the PMK map server (see pmk_nb.robot.mapserver);
 - ``pmk robot sim-node``: the simulated chair behind real rclpy topics (see pmk_nb.robot.simnode);
 - ``pmk robot goal-watchdog [--silence S] [--ros1]``: cancels navigation goals when the dashboard's
   heartbeat stops (see pmk_nb.robot.goalwatch).
@@ -9,9 +9,12 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.cli.options import add_maps_dir
+from pmk_nb.errors import RosNotInstalled
 from pmk_nb.robot.mapstore import DEFAULT_MAPS
 
 
@@ -25,7 +28,7 @@ def add_parser(subparsers: Any) -> None:
         help="the PMK map server: /map, /map_metadata, MapUpdate, Nav2 LoadMap, MapInfo",
         description="Publishes a map from the maps folder and reloads it on request (ROS 2, rclpy).",
     )
-    ms.add_argument("--maps", type=Path, default=DEFAULT_MAPS, help=f"maps folder (default {DEFAULT_MAPS})")
+    add_maps_dir(ms, aliases=("--maps",), default=DEFAULT_MAPS, help=f"maps folder (default {DEFAULT_MAPS})")
     ms.add_argument("--map", default=None, help="map to publish at start: NAME, NAME.yaml or a path in the folder")
     ms.add_argument(
         "--services",
@@ -57,8 +60,8 @@ def add_parser(subparsers: Any) -> None:
         help="the simulated chair as a ROS 2 node: /odom, /scan, /tf, /tf_static, /cmd_vel, /goal_pose",
         description="The simulator's physics, laser and tf behind rclpy publishers and subscribers.",
     )
-    sn.add_argument("--maps", type=Path, default=DEFAULT_MAPS, help="where the world map is read from")
-    sn.add_argument("--map", default=None, help="world map (NAME in --maps or a YAML path); default: a demo floor")
+    add_maps_dir(sn, aliases=("--maps",), default=DEFAULT_MAPS, help="where the world map is read from")
+    sn.add_argument("--map", default=None, help="world map (NAME in --maps-dir or a YAML path); default: a demo floor")
     sn.add_argument("--odom-rate", type=float, default=50.0, help="Hz")
     sn.add_argument("--scan-rate", type=float, default=20.0, help="Hz")
     sn.add_argument("--rays", type=int, default=720, help="laser rays per scan (default 720)")
@@ -96,6 +99,26 @@ def _add_goal_watchdog(sub: Any) -> None:
     gw.set_defaults(run=run_goal_watchdog)
 
 
+ROS2_HINT = (
+    "Run it where ROS 2 is installed and sourced (`source /opt/ros/jazzy/setup.bash`, with Nav2 for "
+    "nav2_msgs), or with the test stack this project builds: `make ros2`, then ~/.cache/pmk-ros's venv."
+)
+
+
+def run_ros2(command: str, node: Callable[[], int]) -> int:
+    """``node()``, with a missing ROS module said as what to install instead of a ModuleNotFoundError."""
+    try:
+        return node()
+    except ModuleNotFoundError as err:
+        missing = err.name or "rclpy"
+        if missing.startswith("pmk_nb"):
+            raise  # our own bug, not a missing ROS install
+        raise RosNotInstalled(
+            f"pmk robot {command} needs ROS 2, and Python module {missing!r} is not installed here",
+            module=missing, command=command, hint=ROS2_HINT,
+        ) from err  # fmt: skip
+
+
 def _map_request(name: str | None) -> str | None:
     if name is None or name.endswith((".yaml", ".yml")):
         return name
@@ -117,12 +140,14 @@ def run_map_server(args: argparse.Namespace) -> int:
     if set(without) - set(mapserver.OPTIONAL):
         raise SystemExit(f"pmk robot map-server: --without takes {', '.join(mapserver.OPTIONAL)}")
     cells = mapserver.REPLY_MAP_CELLS if args.reply_map_cells is None else args.reply_map_cells
-    return mapserver.run(args.maps, _map_request(args.map), services, cells, without)
+    return run_ros2(
+        "map-server", lambda: mapserver.run(args.maps_dir, _map_request(args.map), services, cells, without)
+    )
 
 
 def _exec_ros1_map_server(args: argparse.Namespace) -> int:
     """Replace this process by the rospy node under the system Python (rospy is not in the venv)."""
-    argv = ["--maps", str(args.maps)]
+    argv = ["--maps", str(args.maps_dir)]
     argv += ["--map", _map_request(args.map)] if args.map else []
     argv += ["--reply-map-cells", str(args.reply_map_cells)] if args.reply_map_cells is not None else []
     return _exec_ros1("map-server", "pmk_nb.robot.ros1_mapserver", argv)
@@ -154,20 +179,23 @@ def run_goal_watchdog(args: argparse.Namespace) -> int:
     actions = tuple(a.strip() for a in args.actions.split(",") if a.strip())
     if not actions or not all(a.startswith("/") for a in actions):
         raise SystemExit(f"pmk robot goal-watchdog: --actions takes absolute action names, got {args.actions!r}")
-    return watchdog_ros2.run(args.silence, actions, args.topic)
+    return run_ros2("goal-watchdog", lambda: watchdog_ros2.run(args.silence, actions, args.topic))
 
 
 def run_sim_node(args: argparse.Namespace) -> int:
     from pmk_nb.robot import simnode
 
     x, y, yaw = (float(v) for v in args.laser_offset.split(","))
-    return simnode.run(
-        args.maps,
-        _map_request(args.map),
-        odom_rate=args.odom_rate,
-        scan_rate=args.scan_rate,
-        laser_offset=(x, y, yaw),
-        follow_map=not args.no_follow_map,
-        map_odom=not args.no_map_odom,
-        rays=args.rays,
+    return run_ros2(
+        "sim-node",
+        lambda: simnode.run(
+            args.maps_dir,
+            _map_request(args.map),
+            odom_rate=args.odom_rate,
+            scan_rate=args.scan_rate,
+            laser_offset=(x, y, yaw),
+            follow_map=not args.no_follow_map,
+            map_odom=not args.no_map_odom,
+            rays=args.rays,
+        ),
     )

@@ -9,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.cli.options import add_json, add_maps_dir, error_json, print_json
 from pmk_nb.errors import DeployError, LibraryError, SettingsError
 from pmk_nb.progress import Progress
 
@@ -22,11 +23,12 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("name", help="map name in the maps folder (or a path to a map YAML file)")
     p.add_argument("--chair", metavar="PROFILE", help="chair profile (default: the last used one)")
     p.add_argument("--storey", help="which storey's map, when the building has several")
-    p.add_argument("--maps-dir", type=Path, help="maps folder (default: $PMK_MAPS_DIR or the user data dir)")
+    add_maps_dir(p)
     p.add_argument("--password-stdin", action="store_true", help="read the SSH password from standard input")
     p.add_argument("--timeout", type=float, default=15.0, help="network timeout per step in seconds (15)")
     p.add_argument("--reload-timeout", type=float, default=60.0, help="how long the map server may take (60)")
     p.add_argument("--confirm-timeout", type=float, default=10.0, help="how long to wait for the new map (10)")
+    add_json(p, "the deploy report (map, chair, service, remote path, seconds)")
     p.set_defaults(run=run)
 
 
@@ -136,18 +138,21 @@ def run(args: argparse.Namespace) -> int:
         profile = last
     files = pick_map(args.name, args.maps_dir, args.storey)
     password = ask_password(profile, store, args.password_stdin)
-    print(f"sending {files.yaml.name} to {profile.name} ({profile.host})")
+    if not args.json:
+        print(f"sending {files.yaml.name} to {profile.name} ({profile.host})")
     try:
         report = deploy(
             files,
             profile,
             password=password,
-            progress=print_progress(),
+            progress=(lambda p: None) if args.json else print_progress(),
             timeout=args.timeout,
             reload_timeout=args.reload_timeout,
             confirm_timeout=args.confirm_timeout,
         )
     except DeployError as err:
+        if args.json:
+            print_json(error_json(err, "send"))
         print(f"pmk send: error: {deploy_failure(err)}", file=sys.stderr)
         return 2
     finally:
@@ -155,9 +160,17 @@ def run(args: argparse.Namespace) -> int:
     if password is not None and profile.auth == "password":
         store.set_password(profile, password)
     store.mark_used(profile.name)
+    info = report.map_info
+    if args.json:
+        print_json({
+            "ok": True, "map": str(files.yaml), "chair": profile.name, "host": profile.host,
+            "remote_yaml": str(report.remote_yaml), "service": report.service.name,
+            "service_kind": report.service.kind, "elapsed_s": round(report.elapsed, 3),
+            "width": info.width, "height": info.height, "resolution": info.resolution, "notes": list(report.notes),
+        })  # fmt: skip
+        return 0
     for note in report.notes:
         print(f"note: {note}")
-    info = report.map_info
     print(
         f"done in {report.elapsed:.1f} s: {report.remote_yaml} loaded by {report.service.name} "
         f"({report.service.kind}); chair publishes {info.width}x{info.height} at {info.resolution:g} m"

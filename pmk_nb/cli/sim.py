@@ -11,6 +11,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.cli.options import add_maps_dir
 from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE
 from pmk_nb.sim.demo import sample_floor
 from pmk_nb.sim.messages import ROS_VERSIONS
@@ -33,7 +34,7 @@ def add_parser(subparsers: Any) -> None:
         default=None,
         help="map_server YAML to start with (default: sample clinic floor, else a built-in demo floor)",
     )
-    p.add_argument("--maps-dir", type=Path, default=None, help="the chair's ~/ALMA_MAPS folder (default: temp)")
+    add_maps_dir(p, help="the chair's ~/ALMA_MAPS folder (default: temp)")
     p.add_argument("--sftp-port", type=int, default=2222, help="SFTP port (0 = any free port)")
     p.add_argument("--no-sftp", action="store_true", help="do not start the SFTP endpoint")
     p.add_argument("--sftp-user", default="pmk", help="SFTP login name (default pmk)")
@@ -53,13 +54,9 @@ def add_parser(subparsers: Any) -> None:
         "conflicts with --sftp-password",
     )
     p.add_argument(
-        "--ros",
-        "--flavour",
-        dest="ros",
-        choices=ROS_VERSIONS,
-        default="ros1",
-        help="message spelling the chair speaks (default ros1; --flavour is the old name)",
+        "--ros", choices=ROS_VERSIONS, default="ros1", help="message spelling the chair speaks (default ros1)"
     )
+    p.add_argument("--flavour", dest="ros", choices=ROS_VERSIONS, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     p.add_argument(
         "--bridge",
         choices=BRIDGE_MODES,

@@ -1,0 +1,98 @@
+"""The options every `pmk` command shares: one name per concept, one default, one JSON shape.
+
+Issue 29: the maps folder was ``--dir``, ``--maps-dir`` or ``--maps`` by command, the chair's size
+``--chair-width`` beside ``--footprint-radius``, and ``convert`` required ``-r`` where the others
+defaulted to 0.05. Each concept now has one visible spelling (:data:`CANONICAL`); the old spellings
+still parse as hidden, deprecated aliases (:data:`ALIASES`), so scripts keep working.
+``tests/test_cli_options.py`` walks every parser against these tables.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+#: metres per cell when a command is not told: the one default of every converting command
+DEFAULT_RESOLUTION = 0.05
+
+#: concept (the argparse dest) -> its one visible option name
+CANONICAL: dict[str, str] = {
+    "maps_dir": "--maps-dir",
+    "chair_width": "--chair-width",
+    "resolution": "--resolution",
+    "json": "--json",
+}
+
+#: deprecated spelling -> the canonical option it stands for (parsed, never shown in --help)
+ALIASES: dict[str, str] = {
+    "--dir": "--maps-dir",  # pmk maps --dir (pmk demo's --dir is its own folder: --demo-dir)
+    "--maps": "--maps-dir",  # pmk robot map-server / sim-node --maps
+    "--footprint-radius": "--chair-width",  # pmk chair add: a radius, i.e. half the width
+    "--flavour": "--ros",  # pmk sim: the message spelling
+}
+
+#: short forms allowed beside a canonical name
+SHORT: dict[str, str] = {"resolution": "-r"}
+
+MAPS_DIR_HELP = "maps folder (default: $PMK_MAPS_DIR or the user data folder)"
+
+
+def add_maps_dir(
+    p: argparse.ArgumentParser,
+    *,
+    aliases: tuple[str, ...] = (),
+    default: Any = None,
+    help: str = MAPS_DIR_HELP,
+) -> None:
+    """``--maps-dir DIR`` (dest ``maps_dir``), plus hidden deprecated ``aliases`` of the same dest."""
+    p.add_argument("--maps-dir", type=Path, default=default, help=help)
+    for alias in aliases:
+        assert ALIASES.get(alias) == "--maps-dir", alias
+        p.add_argument(alias, dest="maps_dir", type=Path, default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+
+
+def add_resolution(p: argparse.ArgumentParser, *, what: str = "metres per cell") -> None:
+    """``--resolution/-r`` with the one default, :data:`DEFAULT_RESOLUTION`."""
+    p.add_argument(
+        "--resolution", "-r", type=float, default=DEFAULT_RESOLUTION,
+        help=f"{what} (default {DEFAULT_RESOLUTION:g})",
+    )  # fmt: skip
+
+
+def add_json(p: argparse.ArgumentParser, what: str = "the result") -> None:
+    """``--json``: the result as one JSON document on stdout; errors too (see :func:`error_json`)."""
+    p.add_argument("--json", action="store_true", help=f"print {what} as JSON on stdout (errors too)")
+
+
+def print_json(document: Any) -> None:
+    """One JSON document on stdout (paths as strings), newline-terminated."""
+    sys.stdout.write(json.dumps(document, indent=2, default=str) + "\n")
+    sys.stdout.flush()
+
+
+def _plain(value: Any) -> Any:
+    """``value`` when JSON can carry it as is, else its text (paths, enums, nested errors)."""
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    return str(value)
+
+
+def error_json(err: BaseException, command: str) -> dict[str, Any]:
+    """An error as the JSON a script reads: ``{"ok": false, "command", "error": TYPE, "message", "hint",
+    "fields": {attribute: value}}``; the fields are the error type's own (``path``, ``step``, ...)."""
+    fields = {k: _plain(v) for k, v in vars(err).items() if not k.startswith("_") and k not in ("message", "hint")}
+    return {
+        "ok": False,
+        "command": command,
+        "error": type(err).__name__,
+        "message": getattr(err, "message", str(err)),
+        "hint": getattr(err, "hint", ""),
+        "fields": fields,
+    }
