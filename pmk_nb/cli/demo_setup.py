@@ -82,6 +82,7 @@ def sim_command(
         "--sftp-authorized-key", str(public_key),
         "--no-sftp-password",
         "--maps-dir", str(chair_dir),
+        "--state-dir", str(chair_dir.parent / "sim_state"),  # same host key after a restart (issue 29)
         "--patrol",
         *extra,
     ]  # fmt: skip

@@ -14,6 +14,7 @@ from typing import Any
 from pmk_nb.cli.options import add_maps_dir
 from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE
 from pmk_nb.sim.demo import sample_floor
+from pmk_nb.sim.hostkey import default_state_dir
 from pmk_nb.sim.messages import ROS_VERSIONS
 from pmk_nb.sim.server import SimChair, SimError
 
@@ -35,6 +36,11 @@ def add_parser(subparsers: Any) -> None:
         help="map_server YAML to start with (default: sample clinic floor, else a built-in demo floor)",
     )
     add_maps_dir(p, help="the chair's ~/ALMA_MAPS folder (default: temp)")
+    p.add_argument(
+        "--state-dir", type=Path, default=None,
+        help="where the chair's SSH host key is kept, so a restart keeps it (default: $PMK_SIM_STATE_DIR or "
+        "the user state folder)",
+    )  # fmt: skip
     p.add_argument("--sftp-port", type=int, default=2222, help="SFTP port (0 = any free port)")
     p.add_argument("--no-sftp", action="store_true", help="do not start the SFTP endpoint")
     p.add_argument("--sftp-user", default="pmk", help="SFTP login name (default pmk)")
@@ -207,6 +213,7 @@ def _serve(args: argparse.Namespace, tls: tuple[Path, Path] | None) -> int:
         maps_dir=args.maps_dir,
         tls=tls,
         bridge=args.bridge,
+        state_dir=args.state_dir if args.state_dir is not None else default_state_dir(),
     )
     stop = threading.Event()
     previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}

@@ -73,11 +73,14 @@ class SimChair:
         nav_actions: bool = True,
         tls: tuple[Path | str, Path | str] | None = None,
         bridge: BridgeMode = DEFAULT_BRIDGE,
+        state_dir: Path | str | None = None,
     ) -> None:
         """``ros``: "ros1" or "ros2" message spelling; ``nav_actions=False``: goal topics only, no
         move_base / Nav2 action servers (a chair without a navigation action server); ``tls``:
         ``(certfile, keyfile)`` to serve ``wss://`` as rosbridge does with its certfile/keyfile;
-        ``bridge``: which real rosbridge's action-goal behaviour to reproduce (:mod:`pmk_nb.sim.bridge_modes`)."""
+        ``bridge``: which real rosbridge's action-goal behaviour to reproduce (:mod:`pmk_nb.sim.bridge_modes`);
+        ``state_dir``: where the SSH host key is kept across processes (:mod:`pmk_nb.sim.hostkey`; None:
+        a new key per object)."""
         if ros not in ROS_VERSIONS:
             raise SimError(f"unknown ROS version {ros!r}: use 'ros1' or 'ros2'")
         if bridge not in BRIDGE_MODES:
@@ -118,6 +121,7 @@ class SimChair:
         )
         self.engine.navigator.offer_actions = nav_actions
         self.tls = (Path(tls[0]), Path(tls[1])) if tls is not None else None
+        self.state_dir = Path(state_dir).expanduser() if state_dir is not None else None
 
     def _init_sftp(
         self, port: int | None, user: str, password: str | None, authorized_key: str | Path | None, password_login: bool

@@ -12,7 +12,8 @@ put on disk inside a root that points outside is therefore refused too. What is 
 local user swapping a folder for a symlink between that check and the open (clients cannot).
 Auth: the configured user with its password (unless password login is off), or with any of the
 authorized public keys if given (an OpenSSH public key line, or a file of them like authorized_keys).
-The ed25519 host key is generated once per SimChair and kept across restarts.
+The ed25519 host key is generated once per SimChair and kept across restarts; with a state folder
+(`pmk sim --state-dir`, :mod:`pmk_nb.sim.hostkey`) it is kept across processes too.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 
 import asyncssh
 
+from pmk_nb.sim.hostkey import load_host_key
 from pmk_nb.sim.paths import inside_roots
 
 if TYPE_CHECKING:
@@ -135,9 +137,9 @@ class SftpEndpoint:
 async def start_sftp(sim: SimChair) -> SftpEndpoint:
     """Listen on ``sim.host``:``sim``'s SFTP port and fill in the sim's port and fingerprint."""
     host_key = sim._sftp_host_key
-    if host_key is None:
-        host_key = asyncssh.generate_private_key("ssh-ed25519", comment="pmk-sim")
-        sim._sftp_host_key = host_key  # kept so a restarted sim presents the same key
+    if host_key is None:  # the state folder's key (issue 29), kept so a restarted sim presents the same key
+        host_key = load_host_key(sim.state_dir)
+        sim._sftp_host_key = host_key
     keys = sim._sftp_keys
     scratch = Path(tempfile.mkdtemp(prefix="pmk-sim-home-")).resolve()
     (scratch / sim.fs.home.lstrip("/") / "ALMA_MAPS").mkdir(parents=True)
