@@ -86,6 +86,27 @@ INVALID_MAP_DATA = 2
 INVALID_MAP_METADATA = 3
 
 
+class MapNotFound(MapFormatError):
+    """No map YAML at the path given (issue 29: this was reported as a missing rooms file).
+
+    Attributes:
+        name: the map asked for (the YAML's stem).
+        folder: the folder it was looked for in.
+        present: the maps (YAML stems) that folder does hold, sorted; empty when it holds none or is missing.
+    """
+
+    def __init__(self, path: str, *, name: str, folder: str, present: list[str]) -> None:
+        there = f"maps there: {', '.join(present)}" if present else "it holds no map"
+        super().__init__(
+            f"no map named {name!r} in {folder} ({there})", path=path,
+            hint="Convert the building plan first (pmk convert, pmk maps convert or MapsFolder.convert) "
+            "and pass the YAML path it returns.",
+        )  # fmt: skip
+        self.name = name
+        self.folder = folder
+        self.present = present
+
+
 class MapLoadError(MapFormatError):
     """A map could not be loaded; ``code`` is the Nav2 LoadMap result a map server would return."""
 

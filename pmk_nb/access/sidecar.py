@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import shapely
 
-from pmk_nb.errors import MapFormatError
+from pmk_nb.errors import MapFormatError, MapNotFound
 from pmk_nb.indoorgml.model import Cell, CellKind, Link
 from pmk_nb.raster.openings import Opening, Skipped
 
@@ -102,13 +102,26 @@ class StoreyPlanFile:
     skipped: tuple[Skipped, ...] = ()  # links left without an opening (none in files written before them)
 
 
+def map_missing(yaml_path: str | Path) -> None:
+    """Raise :class:`MapNotFound` (naming the maps that are there) when the map itself is not there:
+    a missing map is not a missing rooms file."""
+    p = Path(yaml_path)
+    if p.is_file():
+        return
+    folder = p.parent
+    present = sorted(y.stem for y in folder.glob("*.yaml")) if folder.is_dir() else []
+    raise MapNotFound(str(p), name=p.stem, folder=str(folder), present=present)
+
+
 def read_sidecar(yaml_path: str | Path) -> StoreyPlanFile:
     """Read the sidecar of map ``yaml_path``.
 
     Raises:
+        MapNotFound: no map at ``yaml_path`` (a missing map is not a missing rooms file).
         MapFormatError: no sidecar, or one this version cannot read (names the file).
     """
     path = sidecar_path(yaml_path)
+    map_missing(yaml_path)
     try:
         doc = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError as err:

@@ -150,6 +150,7 @@ def load_rooms(yaml_path: str | Path, grid: OccupancyGrid | None = None) -> Room
     """The rooms of the map ``yaml_path`` (its ``NAME.rooms.json``); ``grid`` if already loaded.
 
     Raises:
+        MapNotFound: no map at ``yaml_path`` (names the maps in that folder).
         MapFormatError: no rooms file beside the map, or a damaged one (names the file).
     """
     plan = read_sidecar(yaml_path)
