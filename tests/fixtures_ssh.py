@@ -131,7 +131,7 @@ def _write_config(work: Path, port: int, authorized: Path, host_key: Path) -> Pa
                 "ListenAddress 127.0.0.1",
                 f"HostKey {host_key}",
                 f"PidFile {work / 'sshd.pid'}",
-                f"AuthorizedKeysFile {authorized}",
+                f"AuthorizedKeysFile {authorized} .ssh/authorized_keys",  # the second: pmk chair add --key auto
                 "UsePAM no",
                 "StrictModes no",
                 "PasswordAuthentication yes",

@@ -51,6 +51,11 @@ def add_parser(subparsers: Any) -> None:
         "--tls", action=argparse.BooleanOptionalAction, default=None, help="rosbridge over TLS (wss://) or not"
     )
     add.add_argument("--password-stdin", action="store_true", help="remember a password read from stdin")
+    add.add_argument(
+        "--key", choices=("auto",), default=None,
+        help="auto: make an ed25519 key in the settings folder (if none), install it on the chair with one "
+        "password login (the password is not kept), then log in with the key: no password asked again",
+    )  # fmt: skip
     add.set_defaults(run=run_add)
     show = sub.add_parser("show", help="print a profile as JSON")
     show.add_argument("name", nargs="?", help="profile (default: the last used one)")
@@ -133,6 +138,8 @@ def run_add(args: argparse.Namespace) -> int:
             raise SettingsError(f"new profile {args.name!r} needs --host") from None
         current = ChairProfile(name=args.name, host=changes["host"])
     profile = dataclasses.replace(current, **changes)
+    if args.key == "auto":
+        return _add_with_key(store, profile, args)
     store.save(profile)
     if args.password_stdin:
         import sys
@@ -142,6 +149,26 @@ def run_add(args: argparse.Namespace) -> int:
     print(f"saved chair profile {profile.name!r} in {store.path} (now the default)")
     if store.backup_of_corrupt is not None:
         print(f"note: the unreadable profiles file was kept as {store.backup_of_corrupt}")
+    return 0
+
+
+def _add_with_key(store: Any, profile: Any, args: argparse.Namespace) -> int:
+    """`pmk chair add --key auto`: one password login installs the key; the profile keeps the key only."""
+    import getpass
+    import sys
+
+    from pmk_nb.chair.keysetup import setup_key
+
+    profile.validate()
+    if args.password_stdin:
+        password = sys.stdin.readline().rstrip("\r\n")
+    else:
+        password = getpass.getpass(f"password of {profile.ssh_user}@{profile.host} (once, to install the key): ")
+    keyed, added = setup_key(profile, password)
+    store.save(keyed)
+    state = "installed on the chair" if added else "already on the chair"
+    print(f"key {keyed.key_file} {state}; a key-only login works")
+    print(f"saved chair profile {keyed.name!r} in {store.path} (auth key, now the default)")
     return 0
 
 

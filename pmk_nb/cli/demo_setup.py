@@ -27,7 +27,6 @@ import pmk_nb
 from pmk_nb.cli.options import DEFAULT_RESOLUTION
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.errors import PmkError
-from pmk_nb.fileio import atomic_write
 from pmk_nb.ui.context import AUTOSTART_ENV
 
 DEMO_PROFILE = "Simulated chair"
@@ -89,24 +88,10 @@ def sim_command(
 
 
 def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
-    """A new ed25519 key pair: ``directory/name`` (OpenSSH private key, 0600) and ``name.pub``.
+    """A new ed25519 key pair for the demo chair (:func:`pmk_nb.chair.keysetup.make_key_pair`)."""
+    from pmk_nb.chair.keysetup import make_key_pair as make_pair
 
-    Made with ``cryptography`` (paramiko's own dependency), so no ``ssh-keygen`` is needed.
-    Returns (private key path, public key path).
-    """
-    from cryptography.hazmat.primitives import serialization
-    from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
-
-    key = Ed25519PrivateKey.generate()
-    private = key.private_bytes(
-        serialization.Encoding.PEM, serialization.PrivateFormat.OpenSSH, serialization.NoEncryption()
-    )
-    public = key.public_key().public_bytes(serialization.Encoding.OpenSSH, serialization.PublicFormat.OpenSSH)
-    directory.mkdir(parents=True, exist_ok=True)
-    private_path, public_path = directory / name, directory / f"{name}.pub"
-    atomic_write(private_path, private, mode=0o600)
-    atomic_write(public_path, public + b" pmk-demo\n", mode=0o644)
-    return private_path, public_path
+    return make_pair(directory, name, comment="pmk-demo")
 
 
 def prepare_demo(
