@@ -4,15 +4,22 @@ A password belongs to the SSH account it was typed for (user, host, SSH port), n
 name: a profile edited to point at another chair must not send the old chair's password there. The
 keyring entry is named the same way (``user@host:port`` under service ``pmk_nb``). Passwords never
 reach a file of ours; without a keyring they live in memory until the kernel ends.
+
+On a box without a desktop keyring, keyring finds keyrings.alt's plain-file backend (a 0600 file in
+the user's data folder) as its last resort. That is used only when chosen explicitly
+(``PYTHON_KEYRING_BACKEND=keyrings.alt.file.PlaintextKeyring`` or keyringrc.cfg): the easy default is an
+SSH key (`pmk chair add NAME --key auto`, :mod:`pmk_nb.chair.keysetup`), which needs no password at all.
 """
 
 from __future__ import annotations
 
+import os
 import threading
 from dataclasses import dataclass
 from typing import Protocol
 
 KEYRING_SERVICE = "pmk_nb"
+PLAIN_FILE_BACKEND = "keyrings.alt.file.PlaintextKeyring"
 MEMORY_ONLY = "memory (this session only: asked again next session)"
 
 
@@ -65,7 +72,36 @@ def detect_keyring() -> tuple[SecretBackend | None, str]:
         return None, "keyring has no usable backend"
     if type(backend).__name__ == "ChainerBackend" and not getattr(backend, "backends", None):
         return None, "keyring has no usable backend"
+    if is_plain_file(backend) and not plain_file_chosen():
+        return None, PLAIN_FILE_NOT_CHOSEN
     return keyring, f"system keyring ({type(backend).__name__})"
+
+
+#: why a plain-file keyring found on its own is not used, and the two ways forward (README: Passwords)
+PLAIN_FILE_NOT_CHOSEN = (
+    "only a plain-file keyring here (no desktop keyring): choose it with "
+    f"PYTHON_KEYRING_BACKEND={PLAIN_FILE_BACKEND}, or use an SSH key: pmk chair add NAME --key auto"
+)
+
+
+def is_plain_file(backend: object) -> bool:
+    """keyrings.alt's PlaintextKeyring: passwords in a 0600 file, readable by anyone who reads the user's files."""
+    cls = type(backend)
+    return f"{cls.__module__}.{cls.__name__}" == PLAIN_FILE_BACKEND
+
+
+def plain_file_chosen() -> bool:
+    """The plain-file keyring was chosen by the user, through keyring's own settings (the environment
+    variable or keyringrc.cfg), not merely found as the last resort of a box without a desktop keyring."""
+    if os.environ.get("PYTHON_KEYRING_BACKEND", "").strip() == PLAIN_FILE_BACKEND:
+        return True
+    try:
+        import keyring.core
+
+        configured = keyring.core.load_config()
+    except Exception:  # an unreadable keyringrc.cfg chooses nothing
+        return False
+    return configured is not None and is_plain_file(configured)
 
 
 class PasswordCache:
