@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -65,9 +66,11 @@ def test_conversion_notebook_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
     nb = run_notebook(NOTEBOOKS / "01-indoorgml-to-ros-map.ipynb", tmp_path, monkeypatch)
     outs = outputs(nb)
     images = [o for o in outs if "image/png" in o.get("data", {})]
-    assert len(images) >= 2  # the grid plot and the preview image
+    assert len(images) >= 3  # the grid plot, the rooms + graph beside the map (issue 29), the preview image
     text = "".join(o.get("text", "") for o in outs)
     assert "round trip OK" in text
+    graph = re.search(r"navigation graph: (\d+) nodes, (\d+) edges;", text)
+    assert graph and int(graph.group(1)) >= 10 and int(graph.group(2)) >= 10, text
 
 
 @pytest.mark.slow
