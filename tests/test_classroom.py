@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import socket
 import subprocess
 import sys
 import time
@@ -171,3 +172,23 @@ def test_two_classroom_pages_have_their_own_chairs(classroom: Any) -> None:
             p.end()
     assert classroom.cap.live() == {}  # seats given back
     assert not any((Path(classroom.settings.state_dir) / "pages").iterdir())  # page folders removed
+
+
+def test_closing_a_classroom_page_stops_its_chair_and_frees_its_seat(classroom: Any) -> None:
+    """The page gone (its app closed by the page watch) ends the chair even while the kernel lives on."""
+    from pmk_nb.ui.classroom_page import classroom_context
+
+    os.environ[CLASSROOM_ENV] = classroom.env[CLASSROOM_ENV]
+    try:
+        ctx = classroom_context(classroom.env["PMK_MAPS_DIR"])
+    finally:
+        del os.environ[CLASSROOM_ENV]
+    assert ctx is not None and ctx.seat is not None
+    port = ctx.seat.ros_port
+    assert os.getpid() in classroom.cap.live()
+    socket.create_connection(("127.0.0.1", port), timeout=5).close()
+    ctx.close()
+    assert os.getpid() not in classroom.cap.live()
+    with pytest.raises(OSError):
+        socket.create_connection(("127.0.0.1", port), timeout=2).close()
+    assert not ctx.seat.config_dir.exists()

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from pmk_nb.classroom import settings as classroom_settings
-from pmk_nb.classroom.seat import take_seat
+from pmk_nb.classroom.seat import Seat, take_seat
 from pmk_nb.ui.context import AppContext
 
 CLASSROOM_NOTE = (
@@ -19,6 +19,19 @@ CLASSROOM_NOTE = (
     f"Simulated at lower rates (odometry {classroom_settings.ODOM_RATE:g} Hz, laser "
     f"{classroom_settings.SCAN_RATE:g} Hz) so the whole class fits on one machine."
 )
+
+
+class ClassroomContext(AppContext):
+    """A classroom page's session: closing it (the page gone, :mod:`pmk_nb.ui.page_lifecycle`) also
+    stops its chair and gives the seat back, even where the server keeps the kernel a while (a
+    JupyterHub user's server culls idle kernels only after minutes)."""
+
+    seat: Seat | None = None
+
+    def close(self) -> None:
+        super().close()
+        if self.seat is not None:
+            self.seat.close()
 
 
 def classroom_context(maps_dir: str | Path | None) -> AppContext | None:
@@ -37,7 +50,8 @@ def classroom_context(maps_dir: str | Path | None) -> AppContext | None:
     seat = take_seat(settings)
     profiles = ProfileStore(seat.config_dir / PROFILES_FILE, secrets=False)
     maps = MapsFolder(Path(maps_dir) if maps_dir is not None else None)
-    ctx = AppContext(maps, profiles, config_dir=seat.config_dir)
+    ctx = ClassroomContext(maps, profiles, config_dir=seat.config_dir)
+    ctx.seat = seat
     ctx.set_current_map(settings.map_name, settings.map_yaml, settings.map_preview)
     ctx.notify(CLASSROOM_NOTE)
     return ctx
