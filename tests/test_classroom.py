@@ -192,3 +192,16 @@ def test_closing_a_classroom_page_stops_its_chair_and_frees_its_seat(classroom: 
     with pytest.raises(OSError):
         socket.create_connection(("127.0.0.1", port), timeout=2).close()
     assert not ctx.seat.config_dir.exists()
+
+
+def test_a_killed_kernels_page_folder_is_removed_by_the_next_seat(classroom: Any) -> None:
+    pages = Path(classroom.settings.state_dir) / "pages"
+    dead = subprocess.Popen(["true"])
+    dead.wait()
+    (pages / str(dead.pid)).mkdir(parents=True)  # a kernel killed before its atexit ran
+    page = Page(_page_env(classroom))
+    try:
+        assert "port" in page.info
+        assert not (pages / str(dead.pid)).exists()
+    finally:
+        page.end()

@@ -71,6 +71,7 @@ def take_seat(settings: ClassroomSettings) -> Seat:
     cap = ChairCap(Path(settings.state_dir), settings.max_chairs)
     cap.take(pid)
     config_dir = Path(settings.state_dir) / PAGES_DIR / str(pid)
+    _remove_dead_pages(config_dir.parent, cap)
     try:
         shutil.rmtree(config_dir, ignore_errors=True)  # a previous kernel with the same pid
         (config_dir / "chair_maps").mkdir(parents=True, mode=0o700)
@@ -118,3 +119,13 @@ def _write_profile(seat: Seat, settings: ClassroomSettings) -> None:
             known_hosts=str(seat.config_dir / "known_hosts"),
         )
     )
+
+
+def _remove_dead_pages(pages: Path, cap: ChairCap) -> None:
+    """Settings folders of kernels that ended without cleaning up (killed): their pid holds no seat."""
+    if not pages.is_dir():
+        return
+    live = {str(pid) for pid in cap.live()}
+    for folder in pages.iterdir():
+        if folder.name.isdigit() and folder.name not in live:
+            shutil.rmtree(folder, ignore_errors=True)

@@ -36,9 +36,11 @@ def add_parser(subparsers: Any) -> None:
         action="store_true",
         help="a simulated chair per page, parked until its student drives it (teaching); no shared patrolling chair",
     )
+    from pmk_nb.cli.hub_config import positive_int
+
     p.add_argument(
         "--max-chairs",
-        type=int,
+        type=positive_int,
         metavar="N",
         help="--classroom: refuse pages beyond N chairs at once (default: 5 a core, 300 MiB each of 3/4 of memory)",
     )

@@ -40,7 +40,7 @@ HUB_STOP_TIMEOUT = 30.0
 
 def add_parser(subparsers: Any) -> None:
     """Register ``pmk hub``."""
-    from pmk_nb.cli.hub_config import CULL_IDLE, PASSWORD_ENV
+    from pmk_nb.cli.hub_config import CULL_IDLE, PASSWORD_ENV, positive_int
 
     p = subparsers.add_parser(
         "hub",
@@ -58,8 +58,8 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--ip", default=serving.DEFAULT_IP, help="address to listen on (default 127.0.0.1)")
     p.add_argument("--dir", type=Path, default=Path(".hub"), help="the class folder (default: ./.hub)")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
-    p.add_argument("--max-chairs", type=int, metavar="N", help="chairs at once (default: from cores and memory)")
-    p.add_argument("--cull-idle", type=int, default=CULL_IDLE, metavar="S", help="stop a server idle S seconds")
+    p.add_argument("--max-chairs", type=positive_int, metavar="N", help="chairs at once (default: cores and memory)")
+    p.add_argument("--cull-idle", type=positive_int, default=CULL_IDLE, metavar="S", help="stop servers idle S s")
     p.add_argument("--proxy", metavar="PATH", help="configurable-http-proxy to use (default: PATH, then proxy/)")
     p.add_argument("--https", action="store_true", help="serve HTTPS with a certificate made once (tls/)")
     p.add_argument("--certfile", metavar="FILE", help="serve HTTPS with this PEM certificate; needs --keyfile")
@@ -69,9 +69,10 @@ def add_parser(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.cli.hub_config import PASSWORD_ENV, check_password, find_proxy, parse_users
+    from pmk_nb.cli.hub_config import PASSWORD_ENV, check_jupyterhub, check_password, find_proxy, parse_users
 
     check_port_number(args.port)
+    check_jupyterhub()
     env = dict(os.environ)
     users = parse_users(args.users)
     password = check_password(args.password or env.get(PASSWORD_ENV), args.ip)

@@ -109,6 +109,35 @@ def check_password(password: str | None, ip: str) -> str:
     return password
 
 
+def check_jupyterhub() -> None:
+    """JupyterHub and its idle culler must be installed (the optional extra ``hub``).
+
+    Raises:
+        ServingRefused: reason ``"no-jupyterhub"``.
+    """
+    import importlib.util
+
+    missing = [m for m in ("jupyterhub", "jupyterhub_idle_culler") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise serving.ServingRefused(
+            f"pmk hub needs {' and '.join(missing)}: pip install 'pmk_nb[hub]' (make hub does it)",
+            ip="", port=None, reason="no-jupyterhub",
+        )  # fmt: skip
+
+
+def positive_int(text: str) -> int:
+    """``--max-chairs``: a whole number of at least 1 (argparse type)."""
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
+    return value
+
+
 def find_proxy(explicit: str | None = None) -> tuple[str, ...]:
     """JupyterHub's proxy: ``--proxy``, else ``configurable-http-proxy`` on PATH, else the source tree's
     ``proxy/node_modules`` (``make hub`` installs it there).
