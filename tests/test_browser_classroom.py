@@ -75,12 +75,16 @@ def test_two_classroom_pages_drive_their_own_chairs(tmp_path: Path) -> None:
             assert all(w.still(*w.odom[-1][1:]) for w in watches)  # parked, no patrol
             cx, cy, r = centre
             start = time.monotonic()
-            page_a.mouse.move(cx, cy)
-            page_a.mouse.down()
-            page_a.mouse.move(cx + 1.3 * r, cy, steps=3)  # full right: turn on the spot, no wall in the way
-            moved = [w.first(start, w.moving, 10.0) for w in watches]
+            for _ in range(3):  # a kernel that falls behind on this shared machine stops by itself (deadman)
+                page_a.mouse.move(cx, cy)
+                page_a.mouse.down()
+                page_a.mouse.move(cx + 1.3 * r, cy, steps=3)  # full right: turn on the spot, no wall in the way
+                if _wait_for(lambda: any(w.first(start, w.moving, 0.0) is not None for w in watches), 10.0):
+                    break
+                page_a.mouse.up()
             page_a.wait_for_timeout(500)
             page_a.mouse.up()
+            moved = [w.first(start, w.moving, 0.0) for w in watches]
             ARTIFACTS.mkdir(exist_ok=True)
             page_a.screenshot(path=str(ARTIFACTS / "classroom-two-pages.png"))
             assert sum(m is not None for m in moved) == 1, f"chairs that moved: {moved}"  # A's, and only A's
