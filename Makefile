@@ -7,16 +7,20 @@ PYTEST_ARGS ?=
 # two pytest-xdist workers (each test's real parts bind their own loopback ports and folders)
 XDIST ?= -n 2
 JS_STAMP := tests/js/node_modules/.package-lock.json
+PROXY_STAMP := proxy/node_modules/.package-lock.json
 
-.PHONY: demo test check lint bench soak system-deps venv clean ros2
+.PHONY: demo hub test check lint bench soak system-deps venv clean ros2
 
 demo: $(STAMP)  ## convert the sample, start the simulated chair and the Voilà kiosk, print the URL
 	$(BIN)/pmk demo
 
-test: $(STAMP) system-deps $(JS_STAMP) ros2 lint  ## install everything the tests need and run the whole suite
+hub: $(STAMP) $(PROXY_STAMP)  ## JupyterHub for a class on this machine: make hub USERS=ana,ben PASSWORD=...
+	PMK_HUB_PASSWORD="$(PASSWORD)" $(BIN)/pmk hub --users "$(USERS)"
+
+test: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) ros2 lint  ## install everything the tests need and run the whole suite
 	$(BIN)/python -m pytest $(XDIST) $(PYTEST_ARGS)
 
-check: $(STAMP) system-deps $(JS_STAMP) lint  ## the fast tier: everything but browser, Voilà, notebook and real-stack tests
+check: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) lint  ## the fast tier: everything but browser, Voilà, notebook and real-stack tests
 	$(BIN)/python -m pytest -n 2 -m "not heavy" $(PYTEST_ARGS)
 
 lint: $(STAMP)
@@ -33,7 +37,7 @@ venv: $(STAMP)
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev]'
+	$(BIN)/python -m pip install --quiet -e '.[dev,hub]'
 	touch $(STAMP)
 
 # Real parts the tests use: OpenSSH server (SFTP tests), Debian's Chromium (kiosk tests), espeak-ng
@@ -60,8 +64,14 @@ $(JS_STAMP): tests/js/package.json tests/js/package-lock.json
 	cd tests/js && npm ci --no-audit --no-fund --loglevel=error
 	touch $(JS_STAMP)
 
+# JupyterHub's proxy for `pmk hub` (and its test); version fixed by the lock file.
+$(PROXY_STAMP): proxy/package.json proxy/package-lock.json
+	@command -v npm >/dev/null || { echo "make: pmk hub needs Node.js >= 20 and npm (configurable-http-proxy)"; exit 1; }
+	cd proxy && npm ci --no-audit --no-fund --loglevel=error
+	touch $(PROXY_STAMP)
+
 clean:
-	rm -rf $(VENV) tests/js/node_modules .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
+	rm -rf $(VENV) tests/js/node_modules proxy/node_modules .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
 
 # --- real ROS 2 stack (issue 9) -------------------------------------------------------------
 # Jazzy wheels + rosbridge-server-rs + our interfaces (ros/interfaces, rosapi_msgs included so the

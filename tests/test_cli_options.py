@@ -23,7 +23,7 @@ PRINTS_RESULTS = {
     "info", "convert", "check", "send", "maps list", "maps catalogue", "chair list", "chair show", "chair test",
 }  # fmt: skip
 NO_RESULT = {  # servers, long-running nodes and actions whose outcome is the exit code and a one-line note
-    "sim", "dashboard", "demo", "bench", "robot map-server", "robot sim-node", "robot goal-watchdog",
+    "sim", "dashboard", "demo", "hub", "bench", "robot map-server", "robot sim-node", "robot goal-watchdog",
     "maps import", "maps download", "maps convert", "maps delete", "maps publish", "maps get",
     "chair add", "chair delete",
 }  # fmt: skip

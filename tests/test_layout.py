@@ -20,6 +20,7 @@ PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot",
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
 PACKAGES |= {"catalogue"}  # STAC map catalogues: publish, browse, install (issue 27)
+PACKAGES |= {"classroom"}  # a simulated chair per page, the class's chair cap (issue 26)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -137,6 +138,10 @@ ALLOWED_IMPORTS["cli"] |= {"goalbeat"}
 ALLOWED_IMPORTS["catalogue"] = SHARED | {"library", "access", "indoorgml", "rosmap"}  # on top of the maps folder
 ALLOWED_IMPORTS["ui"] |= {"catalogue"}
 ALLOWED_IMPORTS["cli"] |= {"catalogue"}
+# A chair per classroom page (issue 26): a simulator and a profile for it, for the ui and the cli.
+ALLOWED_IMPORTS["classroom"] = SHARED | {"sim", "chair"}
+ALLOWED_IMPORTS["ui"] |= {"classroom"}
+ALLOWED_IMPORTS["cli"] |= {"classroom"}
 
 
 def _package_of(path: Path) -> str:

@@ -26,6 +26,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "chair": ("pmk_nb.cli.chair", "manage chair profiles; test a connection"),
     "dashboard": ("pmk_nb.cli.dashboard", "serve the dashboard with Voilà"),
     "demo": ("pmk_nb.cli.demo", "simulated chair + dashboard with the sample map"),
+    "hub": ("pmk_nb.cli.hub", "JupyterHub for a class: a dashboard and a simulated chair per student"),
     "bench": ("pmk_nb.cli.bench", "run the benchmarks, write bench/results.md"),
     "robot": ("pmk_nb.cli.robot", "chair-side ROS 2 nodes: the PMK map server, the simulated chair"),
 }

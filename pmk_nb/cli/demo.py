@@ -32,6 +32,19 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--dir", dest="dir", type=Path, default=argparse.SUPPRESS, help=argparse.SUPPRESS)  # deprecated
     p.add_argument("--gml", type=Path, help="IndoorGML file to use (default: sample_maps/clinic_floor.gml)")
     p.add_argument("--no-kiosk", action="store_true", help="serve the full dashboard instead of the kiosk page")
+    p.add_argument(
+        "--classroom",
+        action="store_true",
+        help="a simulated chair per page, parked until its student drives it (teaching); no shared patrolling chair",
+    )
+    from pmk_nb.cli.hub_config import positive_int
+
+    p.add_argument(
+        "--max-chairs",
+        type=positive_int,
+        metavar="N",
+        help="--classroom: refuse pages beyond N chairs at once (default: 5 a core, 300 MiB each of 3/4 of memory)",
+    )
     p.set_defaults(run=run)
 
 
@@ -42,6 +55,8 @@ def run(args: argparse.Namespace) -> int:
     # before the simulator starts: a refused --ip or a taken port fails fast
     token = preflight(args, dict(os.environ), kiosk=not args.no_kiosk)
     tls = tablet_tls.resolve(args, dict(os.environ))  # --https: kept in the user's config folder, not the demo's
+    if args.classroom:
+        return _run_classroom(args, token, tls)
     with sigterm_as_interrupt():
         print("Preparing the demo: converting the sample map, starting the simulated chair...", flush=True)
         demo = prepare_demo(args.dir, gml=args.gml)
@@ -52,3 +67,19 @@ def run(args: argparse.Namespace) -> int:
             return serve(args, demo.env, demo.root, token, tls)
         finally:
             demo.stop()
+
+
+def _run_classroom(args: argparse.Namespace, token: str | None, tls: Any) -> int:
+    """``pmk demo --classroom``: no shared chair; each page's kernel starts its own (issue 26)."""
+    from pmk_nb.cli.demo_classroom import prepare_classroom
+
+    with sigterm_as_interrupt():
+        print("Preparing the classroom: converting the sample map...", flush=True)
+        room = prepare_classroom(args.dir, gml=args.gml, max_chairs=args.max_chairs)
+        room.env[KIOSK_ENV] = "0" if args.no_kiosk else "1"
+        print(
+            f"Classroom: every page gets its own simulated chair, parked until its student drives it "
+            f"(at most {room.settings.max_chairs} at once; --max-chairs changes it).",
+            flush=True,
+        )
+        return serve(args, room.env, room.root, token, tls)

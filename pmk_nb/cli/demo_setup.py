@@ -94,19 +94,16 @@ def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
     return make_pair(directory, name, comment="pmk-demo")
 
 
-def prepare_demo(
-    root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1", sim_args: Sequence[str] = ()
-) -> DemoWorld:
-    """Convert the sample, start the simulator, write the profile and current map; return the world.
+def convert_sample(root: Path, gml: Path | None = None) -> tuple[Any, Any]:
+    """Make the demo's folders (``maps``, ``config``, ``chair_maps``) and convert the sample (or ``gml``).
+
+    Returns (the :class:`~pmk_nb.library.folder.MapsFolder`, its first generated map).
 
     Raises:
-        PmkError: the sample is missing, conversion fails or the simulator does not start.
+        PmkError: the sample is missing or conversion produces no map.
     """
-    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
     from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.ui.context import AppContext
 
-    root = root.expanduser().resolve()
     source = (gml or sample_gml()).expanduser()
     if not source.is_file():
         raise PmkError(f"demo map {source} not found: pass --gml with an IndoorGML file")
@@ -120,7 +117,23 @@ def prepare_demo(
     generated = maps.convert(entry.name, DEMO_RESOLUTION)
     if not generated:
         raise PmkError(f"{source}: conversion produced no map")
-    first = generated[0]
+    return maps, generated[0]
+
+
+def prepare_demo(
+    root: Path, *, gml: Path | None = None, ip: str = "127.0.0.1", sim_args: Sequence[str] = ()
+) -> DemoWorld:
+    """Convert the sample, start the simulator, write the profile and current map; return the world.
+
+    Raises:
+        PmkError: the sample is missing, conversion fails or the simulator does not start.
+    """
+    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
+    from pmk_nb.ui.context import AppContext
+
+    root = root.expanduser().resolve()
+    maps_dir, config_dir, chair_dir = root / "maps", root / "config", root / "chair_maps"
+    maps, first = convert_sample(root, gml)
 
     private_key, public_key = make_key_pair(config_dir)
     ros_port, sftp_port = free_port(), free_port()

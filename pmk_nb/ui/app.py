@@ -185,6 +185,10 @@ def build_app(
         (a kiosk page must not show a traceback).
     """
     try:
+        if ctx is None and config_dir is None:  # a classroom page (PMK_CLASSROOM): its own chair, issue 26
+            from pmk_nb.ui.classroom_page import classroom_context
+
+            ctx = classroom_context(maps_dir)
         if ctx is None:
             from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
             from pmk_nb.library.folder import MapsFolder

@@ -1,0 +1,131 @@
+"""One classroom page's own simulated chair and settings folder, living and ending with its kernel.
+
+The chair runs inside the page's kernel (a :class:`~pmk_nb.sim.SimChair` thread on free loopback
+ports, rosbridge and SFTP with the class's key), parked at the map's start spot with no patrol: it
+moves only when its student drives it or sends it somewhere.  Because it is in the kernel's
+process, it ends with the kernel however the kernel ends (page closed, Voilà's culling, a crash);
+a kernel that ends normally also gives its seat back and removes its settings folder (``atexit``).
+The page's settings folder (``pages/<pid>/`` in the class's state folder) holds one profile, for
+this chair only, so two pages never share a chair.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import shutil
+import threading
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pmk_nb.classroom.cap import ChairCap
+from pmk_nb.classroom.settings import ODOM_RATE, RAYS, SCAN_RATE, ClassroomSettings
+
+PROFILE_NAME = "My classroom chair"
+SFTP_USER = "pmk"
+PAGES_DIR = "pages"
+
+
+@dataclass
+class Seat:
+    """A page's chair: ``config_dir`` is the page's settings folder, ``chair`` its simulator."""
+
+    config_dir: Path
+    chair: object  # SimChair (kept untyped here: the simulator is imported on use)
+    cap: ChairCap
+    pid: int
+    _closed: bool = field(default=False, repr=False)
+    _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
+
+    @property
+    def ros_port(self) -> int:
+        return int(self.chair.port)  # type: ignore[attr-defined]
+
+    @property
+    def sftp_port(self) -> int:
+        return int(self.chair.sftp_port)  # type: ignore[attr-defined]
+
+    def close(self) -> None:
+        """Stop the chair, give the seat back, remove the settings folder; runs once."""
+        with self._lock:
+            if self._closed:
+                return
+            self._closed = True
+        try:
+            self.chair.stop()  # type: ignore[attr-defined]
+        finally:
+            self.cap.release(self.pid)
+            shutil.rmtree(self.config_dir, ignore_errors=True)
+
+
+def take_seat(settings: ClassroomSettings) -> Seat:
+    """Hold a seat, start this kernel's chair and write its profile; the seat ends with the kernel.
+
+    Raises:
+        ClassroomFull: the class's cap is reached (nothing was started).
+        SimError: the simulator could not start (the seat is given back).
+    """
+    from pmk_nb.sim import SimChair
+
+    pid = os.getpid()
+    cap = ChairCap(Path(settings.state_dir), settings.max_chairs)
+    cap.take(pid)
+    config_dir = Path(settings.state_dir) / PAGES_DIR / str(pid)
+    _remove_dead_pages(config_dir.parent, cap)
+    try:
+        shutil.rmtree(config_dir, ignore_errors=True)  # a previous kernel with the same pid
+        (config_dir / "chair_maps").mkdir(parents=True, mode=0o700)
+        chair = SimChair(
+            settings.map_yaml,
+            port=0,
+            sftp_port=0,
+            sftp_user=SFTP_USER,
+            sftp_authorized_key=settings.public_key,
+            sftp_password_login=False,
+            maps_dir=config_dir / "chair_maps",
+            patrol=False,
+            odom_rate=ODOM_RATE,
+            scan_rate=SCAN_RATE,
+            rays=RAYS,
+        ).start()
+    except BaseException:
+        cap.release(pid)
+        shutil.rmtree(config_dir, ignore_errors=True)
+        raise
+    seat = Seat(config_dir, chair, cap, pid)
+    atexit.register(seat.close)
+    try:
+        _write_profile(seat, settings)
+        cap.note(pid, ros_port=seat.ros_port, sftp_port=seat.sftp_port, user=os.environ.get("JUPYTERHUB_USER", ""))
+    except BaseException:
+        seat.close()
+        raise
+    return seat
+
+
+def _write_profile(seat: Seat, settings: ClassroomSettings) -> None:
+    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
+
+    store = ProfileStore(seat.config_dir / PROFILES_FILE, secrets=False)
+    store.save(
+        ChairProfile(
+            name=PROFILE_NAME,
+            host="127.0.0.1",
+            port=seat.ros_port,
+            ssh_user=SFTP_USER,
+            ssh_port=seat.sftp_port,
+            auth="key",
+            key_file=settings.private_key,
+            known_hosts=str(seat.config_dir / "known_hosts"),
+        )
+    )
+
+
+def _remove_dead_pages(pages: Path, cap: ChairCap) -> None:
+    """Settings folders of kernels that ended without cleaning up (killed): their pid holds no seat."""
+    if not pages.is_dir():
+        return
+    live = {str(pid) for pid in cap.live()}
+    for folder in pages.iterdir():
+        if folder.name.isdigit() and folder.name not in live:
+            shutil.rmtree(folder, ignore_errors=True)

@@ -1,0 +1,67 @@
+"""The class's settings file, written once by ``pmk demo --classroom`` / ``pmk hub``, read by each kernel.
+
+A file, not a handful of environment variables: a JupyterHub single-user server passes on only the
+variables its spawner names, and one variable (:data:`CLASSROOM_ENV`, the file's path) is easy to
+pass.  The file holds no secret: the SFTP private key stays in its own 0600 file beside it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from pmk_nb.errors import SettingsError
+from pmk_nb.fileio import atomic_write
+
+CLASSROOM_ENV = "PMK_CLASSROOM"
+SETTINGS_FILE = "classroom.json"
+#: the simulator's rates on a classroom page (the standalone simulator's defaults: 50 Hz, 20 Hz, 720
+#: rays): many chairs share a few cores, and the page says so
+ODOM_RATE = 20.0
+SCAN_RATE = 5.0
+RAYS = 360
+
+
+@dataclass(frozen=True)
+class ClassroomSettings:
+    """What every chair of the class shares.
+
+    Attributes:
+        map_yaml: the map each chair starts on (and the page's current map).
+        map_name, map_preview: the page's current map as the Home screen shows it.
+        public_key, private_key: the SFTP key pair (the chair accepts the first, the profile uses the second).
+        max_chairs: how many chairs may run at once across the class.
+        state_dir: the folder of the cap's file and the pages' settings folders.
+    """
+
+    map_yaml: str
+    map_name: str
+    map_preview: str | None
+    public_key: str
+    private_key: str
+    max_chairs: int
+    state_dir: str
+
+    def write(self, path: Path) -> Path:
+        atomic_write(path, json.dumps(asdict(self), indent=1) + "\n", mode=0o644, mkdir=True)
+        return path
+
+    @classmethod
+    def read(cls, path: Path) -> ClassroomSettings:
+        """Raises SettingsError: the file is missing or not a classroom settings file."""
+        try:
+            raw = json.loads(path.read_text(encoding="utf-8"))
+            settings = cls(**raw)
+        except (OSError, ValueError, TypeError) as err:
+            raise SettingsError(f"{path}: cannot read the classroom settings ({err})") from err
+        if int(settings.max_chairs) < 1:
+            raise SettingsError(f"{path}: max_chairs must be at least 1, not {settings.max_chairs}")
+        return settings
+
+
+def from_env(env: dict[str, str] | None = None) -> ClassroomSettings | None:
+    """The class's settings when this kernel serves a classroom page (:data:`CLASSROOM_ENV` set), else None."""
+    value = (os.environ if env is None else env).get(CLASSROOM_ENV, "").strip()
+    return ClassroomSettings.read(Path(value)) if value else None

@@ -1,0 +1,203 @@
+"""``pmk hub``: the real JupyterHub for a class on one machine, each student with their own chair.
+
+JupyterHub (and its proxy, ``configurable-http-proxy``) runs as a child process on the
+configuration :mod:`pmk_nb.cli.hub_config` writes into ``--hub-dir``/hub; the class (sample map, SFTP
+key, chair cap) is :func:`pmk_nb.cli.demo_classroom.prepare_classroom`'s, so every dashboard page a
+student opens starts its own parked simulated chair in its kernel.  Loopback by default; ``--ip``
+beyond it follows ``pmk dashboard``'s rules (plain HTTP needs ``--insecure``, ``--https`` or
+``--certfile/--keyfile`` serve TLS, and the class password must be as long as a token).
+Ctrl-C / SIGTERM: JupyterHub stops every student's server and the proxy (``cleanup_servers``); a
+process of the class still alive after that (a server that did not stop) is ended here.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import os
+import signal
+import subprocess
+import sys
+import time
+import webbrowser
+from pathlib import Path
+from typing import Any
+
+from pmk_nb.cli import serving, tablet_tls
+from pmk_nb.cli.procs import (
+    ProcessStartError,
+    check_port_number,
+    free_port,
+    sigterm_as_interrupt,
+    stop_process,
+    wait_for_port,
+)
+
+DEFAULT_HUB_PORT = 8000
+HUB_START_TIMEOUT = 120.0
+HUB_STOP_TIMEOUT = 30.0
+
+
+def add_parser(subparsers: Any) -> None:
+    """Register ``pmk hub``."""
+    from pmk_nb.cli.hub_config import CULL_IDLE, PASSWORD_ENV, positive_int
+
+    p = subparsers.add_parser(
+        "hub",
+        help="run JupyterHub for a class: a dashboard and a simulated chair per student",
+        description="Run JupyterHub for a class on this machine: one server per student, opening on the dashboard "
+        "with their own parked simulated chair and the tutorial notebooks; Ctrl-C stops everything.",
+    )
+    p.add_argument("--users", required=True, help="the students' user names, comma-separated: ana,ben,chloe")
+    p.add_argument(
+        "--password",
+        help=f"the class password every student logs in with (or ${PASSWORD_ENV}: a command line is visible "
+        "to every local user)",
+    )
+    p.add_argument("--port", type=int, default=DEFAULT_HUB_PORT, help=f"HTTP port (default {DEFAULT_HUB_PORT})")
+    p.add_argument("--ip", default=serving.DEFAULT_IP, help="address to listen on (default 127.0.0.1)")
+    p.add_argument("--hub-dir", dest="dir", type=Path, default=Path(".hub"), help="the class folder (default: ./.hub)")
+    p.add_argument("--dir", dest="dir", type=Path, default=argparse.SUPPRESS, help=argparse.SUPPRESS)  # as the issue spells it
+    p.add_argument("--no-browser", action="store_true", help="do not open a browser")
+    p.add_argument("--max-chairs", type=positive_int, metavar="N", help="chairs at once (default: cores and memory)")
+    p.add_argument("--cull-idle", type=positive_int, default=CULL_IDLE, metavar="S", help="stop servers idle S s")
+    p.add_argument("--proxy", metavar="PATH", help="configurable-http-proxy to use (default: PATH, then proxy/)")
+    p.add_argument("--https", action="store_true", help="serve HTTPS with a certificate made once (tls/)")
+    p.add_argument("--certfile", metavar="FILE", help="serve HTTPS with this PEM certificate; needs --keyfile")
+    p.add_argument("--keyfile", metavar="FILE", help="the PEM private key of --certfile")
+    p.add_argument("--insecure", action="store_true", help="allow plain HTTP beyond loopback")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from pmk_nb.cli.hub_config import PASSWORD_ENV, check_jupyterhub, check_password, find_proxy, parse_users
+
+    check_port_number(args.port)
+    check_jupyterhub()
+    env = dict(os.environ)
+    users = parse_users(args.users)
+    password = check_password(args.password or env.get(PASSWORD_ENV), args.ip)
+    serving.check_transport(args.ip, tls=tablet_tls.wants_tls(args), insecure=args.insecure)
+    serving.check_port_free(args.ip, args.port)
+    proxy = find_proxy(args.proxy)
+    tls = tablet_tls.resolve(args, env)
+    # Ctrl-C as KeyboardInterrupt even when started with SIGINT ignored (a background job): JupyterHub
+    # and its children then get the default disposition too, and stop on the SIGINT they are sent
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with sigterm_as_interrupt():
+            return _serve(args, users, password, proxy, tls, env)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _serve(
+    args: argparse.Namespace,
+    users: tuple[str, ...],
+    password: str,
+    proxy: tuple[str, ...],
+    tls: tablet_tls.TlsFiles | None,
+    env: dict[str, str],
+) -> int:
+    from pmk_nb.cli.demo_classroom import prepare_classroom
+    from pmk_nb.cli.hub_config import HubPlan, write_hub_config
+
+    print("Preparing the class: converting the sample map...", flush=True)
+    root = args.dir.expanduser().resolve()
+    room = prepare_classroom(root, max_chairs=args.max_chairs)
+    plan = HubPlan(
+        users=users, password=password, ip=args.ip, port=args.port, hub_port=free_port(), proxy_api_port=free_port(),
+        state_dir=root / "hub", users_dir=root / "users", maps_dir=root / "maps",
+        classroom_file=room.settings_file, proxy_command=proxy, tls=tls, cull_idle=args.cull_idle,
+    )  # fmt: skip
+    config = write_hub_config(plan)
+    log = (plan.state_dir / "jupyterhub.log").open("ab")
+    hub = subprocess.Popen(
+        [sys.executable, "-m", "jupyterhub", "-f", str(config)], cwd=plan.state_dir, env=env, stdout=log, stderr=log
+    )
+    try:
+        wait_for_port(serving.local_host(args.ip), args.port, hub, "JupyterHub", HUB_START_TIMEOUT)
+        url = serving.dashboard_url(serving.local_host(args.ip), args.port, None, "https" if tls else "http")
+        wait_until_healthy(url, hub, HUB_START_TIMEOUT)
+        print(f"PMK class hub: {url}  (users: {', '.join(users)}; log: {plan.state_dir / 'jupyterhub.log'})")
+        print(f"Each student gets their own simulated chair, at most {room.settings.max_chairs} at once. Ctrl-C stops.")
+        sys.stdout.flush()
+        if not args.no_browser:
+            webbrowser.open(url)
+        while hub.poll() is None:
+            time.sleep(0.5)
+        print(f"pmk: JupyterHub exited ({hub.returncode}); see {plan.state_dir / 'jupyterhub.log'}", file=sys.stderr)
+        return 1 if hub.returncode else 0
+    except KeyboardInterrupt:
+        return 0
+    finally:
+        _stop_hub(hub)
+        log.close()
+        left = end_class_processes(room.settings_file, plan.state_dir)
+        if left:
+            print(f"pmk: ended {left} process(es) of the class JupyterHub left behind", file=sys.stderr)
+
+
+def wait_until_healthy(url: str, hub: subprocess.Popen[Any], timeout: float) -> None:
+    """Until the hub answers through its proxy (``hub/health``): the proxy listens before its route exists.
+
+    Raises:
+        ProcessStartError: the hub exited or did not answer in time.
+    """
+    import ssl
+    import urllib.error
+    import urllib.parse
+    import urllib.request
+
+    context = ssl._create_unverified_context()  # our own loopback hub, maybe on a self-signed certificate
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and hub.poll() is None:
+        with (
+            contextlib.suppress(OSError, urllib.error.URLError),
+            urllib.request.urlopen(f"{url}hub/health", timeout=5, context=context) as answer,
+        ):
+            if answer.status == 200:
+                return
+        time.sleep(0.3)
+    where = urllib.parse.urlsplit(url)
+    raise ProcessStartError("JupyterHub (its health page)", where.hostname or "", where.port or 0, hub.poll(), timeout)
+
+
+def _stop_hub(hub: subprocess.Popen[Any]) -> None:
+    """SIGINT (JupyterHub then stops the students' servers and the proxy), SIGTERM/SIGKILL if it hangs."""
+    if hub.poll() is None:
+        hub.send_signal(signal.SIGINT)
+        try:
+            hub.wait(timeout=HUB_STOP_TIMEOUT)
+        except subprocess.TimeoutExpired:
+            stop_process(hub)
+
+
+def end_class_processes(classroom_file: Path, state_dir: Path) -> int:
+    """End what the hub left: processes with this class in their environment (students' servers,
+    their kernels) and the proxy of its pid file; returns how many were still alive."""
+    marker = f"PMK_CLASSROOM={classroom_file}".encode()
+    pids = []
+    for proc in Path("/proc").iterdir():
+        if proc.name.isdigit() and int(proc.name) != os.getpid():
+            with contextlib.suppress(OSError):
+                if marker in (proc / "environ").read_bytes().split(b"\0"):
+                    pids.append(int(proc.name))
+    with contextlib.suppress(OSError, ValueError):
+        pid = int((state_dir / "jupyterhub-proxy.pid").read_text().strip())
+        if b"configurable-http-proxy" in Path(f"/proc/{pid}/cmdline").read_bytes():
+            pids.append(pid)
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        alive = [p for p in pids if _signal(p, sig)]
+        deadline = time.monotonic() + 5.0
+        while alive and time.monotonic() < deadline and any(Path(f"/proc/{p}").exists() for p in alive):
+            time.sleep(0.1)
+    return len(pids)
+
+
+def _signal(pid: int, sig: int) -> bool:
+    try:
+        os.kill(pid, sig)
+    except (ProcessLookupError, PermissionError):
+        return False
+    return True

@@ -1,0 +1,57 @@
+"""A classroom page's session (issue 26): its own simulated chair, and words saying so on the page.
+
+Outside a class (no ``PMK_CLASSROOM`` in the kernel's environment) nothing changes.  In a class, the
+page's settings folder is the one its seat made (:mod:`pmk_nb.classroom.seat`), with the class's map
+current; a full class raises :class:`~pmk_nb.classroom.ClassroomFull`, which ``build_app`` shows as
+the page's only content.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pmk_nb.classroom import settings as classroom_settings
+from pmk_nb.classroom.seat import Seat, take_seat
+from pmk_nb.ui.context import AppContext
+
+CLASSROOM_NOTE = (
+    "Classroom: this chair is yours alone. It waits, parked, until you drive it or send it somewhere. "
+    f"Simulated at lower rates (odometry {classroom_settings.ODOM_RATE:g} Hz, laser "
+    f"{classroom_settings.SCAN_RATE:g} Hz) so the whole class fits on one machine."
+)
+
+
+class ClassroomContext(AppContext):
+    """A classroom page's session: closing it (the page gone, :mod:`pmk_nb.ui.page_lifecycle`) also
+    stops its chair and gives the seat back, even where the server keeps the kernel a while (a
+    JupyterHub user's server culls idle kernels only after minutes)."""
+
+    seat: Seat | None = None
+
+    def close(self) -> None:
+        super().close()
+        if self.seat is not None:
+            self.seat.close()
+
+
+def classroom_context(maps_dir: str | Path | None) -> AppContext | None:
+    """The session of a classroom page, its chair started; None when this kernel is not in a class.
+
+    Raises:
+        ClassroomFull: the class's chair cap is reached.
+        SettingsError: the class's settings file cannot be read.
+    """
+    settings = classroom_settings.from_env()
+    if settings is None:
+        return None
+    from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
+    from pmk_nb.library.folder import MapsFolder
+
+    seat = take_seat(settings)
+    profiles = ProfileStore(seat.config_dir / PROFILES_FILE, secrets=False)
+    maps = MapsFolder(Path(maps_dir) if maps_dir is not None else None)
+    ctx = ClassroomContext(maps, profiles, config_dir=seat.config_dir)
+    ctx.seat = seat
+    ctx.set_current_map(settings.map_name, settings.map_yaml, settings.map_preview)
+    ctx.notify(CLASSROOM_NOTE)
+    return ctx
