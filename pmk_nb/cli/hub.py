@@ -57,7 +57,7 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--port", type=int, default=DEFAULT_HUB_PORT, help=f"HTTP port (default {DEFAULT_HUB_PORT})")
     p.add_argument("--ip", default=serving.DEFAULT_IP, help="address to listen on (default 127.0.0.1)")
     p.add_argument("--hub-dir", dest="dir", type=Path, default=Path(".hub"), help="the class folder (default: ./.hub)")
-    p.add_argument("--dir", dest="dir", type=Path, default=argparse.SUPPRESS, help=argparse.SUPPRESS)  # as the issue spells it
+    p.add_argument("--dir", dest="dir", type=Path, default=argparse.SUPPRESS, help=argparse.SUPPRESS)  # deprecated
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
     p.add_argument("--max-chairs", type=positive_int, metavar="N", help="chairs at once (default: cores and memory)")
     p.add_argument("--cull-idle", type=positive_int, default=CULL_IDLE, metavar="S", help="stop servers idle S s")
