@@ -124,7 +124,7 @@ class RecordPanel:
 
     def _stopped(self, stats: RecordStats) -> None:
         path = stats.path
-        self.status.value = f"Recorded {stats.total} messages in {stats.duration:.0f} s: {escape(path)}"
+        self.status.value = f"Recorded {stats.total} messages in {stats.duration:.0f} s: recordings/{escape(path.name)}"
         self.downloads.value = file_link_html(path, f"Download {path.name}", "pmk-record-link")
 
     def offer_map(self) -> None:
