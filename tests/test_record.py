@@ -7,6 +7,7 @@ from __future__ import annotations
 import errno
 import io
 import math
+import shutil
 import time
 from pathlib import Path
 
@@ -180,3 +181,15 @@ def test_a_folder_that_does_not_exist_is_a_disk_error(sim_chair, link_factory, t
     with pytest.raises(RecordDiskError) as err:
         link.record(tmp_path / "missing" / "run.mcap", ["/odom"], seconds=0.5)
     assert err.value.errno == errno.ENOENT and err.value.path.endswith("run.mcap")
+
+
+def test_a_folder_removed_while_recording_is_a_disk_error_at_stop(sim_chair, link_factory, tmp_path: Path) -> None:
+    link = link_factory(sim_chair)
+    (folder := tmp_path / "recordings").mkdir()
+    recording = link.start_recording(folder / "run.mcap", ["/odom"])
+    assert recording.error is None
+    shutil.rmtree(folder)  # the open temporary file goes with it: the final rename cannot happen
+    with pytest.raises(RecordDiskError) as err:
+        recording.stop()
+    assert err.value.errno == errno.ENOENT and recording.error is err.value
+    assert not recording.stats.finished and not folder.exists()

@@ -99,7 +99,9 @@ class RecordPanel:
     def refresh(self) -> None:
         """The running recording's time, message count and file name."""
         recording = self.recording
-        if recording is not None:
+        if recording is not None and recording.error is not None:  # the disk failed: stop and say why
+            self.stop()
+        elif recording is not None:
             stats = recording.stats
             seconds = time.time() - stats.started
             self.status.value = status_text(seconds, stats.total, stats.dropped, recording.path.name)

@@ -250,6 +250,11 @@ class Recording:
     def running(self) -> bool:
         return not self._stopping.is_set()
 
+    @property
+    def error(self) -> RecordError | None:
+        """Why the file could not be written (the writer has stopped; :meth:`stop` raises it)."""
+        return self._error
+
     def _finish(self) -> None:
         self._stopping.set()
         self._writer.join(30.0)
