@@ -56,7 +56,11 @@ class RecordPanel:
         self.record_button.on_click(guard(ctx, "Recording")(lambda _b: self.start()))
         self.stop_button.on_click(guard(ctx, "Stopping the recording")(lambda _b: self.stop()))
         self.map_button.on_click(guard(ctx, "Downloading the map")(lambda _b: self.offer_map()))
-        row = w.HBox([self.record_button, self.stop_button, self.map_button, self.status])
+        # wraps on a narrow screen (a phone) instead of making the page scroll sideways
+        row = w.HBox(
+            [self.record_button, self.stop_button, self.map_button, self.status],
+            layout=w.Layout(flex_flow="row wrap", align_items="center", max_width="100%"),
+        )
         row.add_class("pmk-record-row")
         self.widget = w.VBox([row, self.downloads, self.map_link])
         self.widget.add_class("pmk-record")
