@@ -82,4 +82,7 @@ def test_chair_data_notebook_records_the_simulator(tmp_path: Path, monkeypatch: 
     assert "Started a simulated chair" in text
     recorded = [line for line in text.splitlines() if line.startswith("recorded ")]
     assert recorded and int(recorded[0].split()[1]) > 20  # 50 Hz odometry for 4 s
-    assert len([o for o in outs if "image/png" in o.get("data", {})]) >= 2
+    assert "chair.mcap" in recorded[0] and "0 dropped" in recorded[0]
+    read_back = [line for line in text.splitlines() if "odometry messages from" in line]  # the MCAP file read back
+    assert read_back and int(read_back[0].split()[0]) == int(recorded[0].split()[1]), read_back
+    assert len([o for o in outs if "image/png" in o.get("data", {})]) >= 3  # speed over time, trajectory, scan

@@ -47,6 +47,7 @@ from pmk_nb.ui.home_map import MapGridCache
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.preview_controller import PreviewController
+from pmk_nb.ui.record_panel import RecordPanel
 from pmk_nb.ui.render_loop import RenderLoop
 from pmk_nb.ui.rooms_guide import RoomsGuide
 from pmk_nb.ui.widgets import error_text, escape
@@ -110,6 +111,9 @@ class HomeScreen:
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
         self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
+        # Record, Stop recording, downloads (pmk_nb/ui/record_panel.py): under the map
+        self.recorder = RecordPanel(ctx)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.recorder.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -207,6 +211,7 @@ class HomeScreen:
 
     def close(self) -> None:
         self.stop_preview()
+        self.recorder.close()
         self._unsub_map()
         self.live.close()
 

@@ -95,6 +95,8 @@ _SCREENS = f"""
 .pmk-home-preview-box {{ width: fit-content; max-width: 100%; gap: 8px; }}
 .pmk-home-toolbar {{ min-height: {_T}px; flex-wrap: wrap; gap: 8px 12px; max-width: 100%; }}
 .pmk-home-controls {{ flex-wrap: wrap; gap: 8px 12px; min-width: 0; }}
+.pmk-record-row {{ gap: 8px 12px; min-width: 0; }}
+.pmk-record .widget-html-content {{ overflow-wrap: anywhere; }}
 .pmk-home-zoom {{ margin-left: auto; gap: 8px; flex-wrap: wrap; justify-content: flex-end; max-width: 100%; }}
 .pmk-app .pmk-live-toolbar {{ flex-wrap: wrap; gap: 8px; max-width: 100%; }}
 .pmk-home-zoom button.jupyter-button {{ min-width: 64px; }}

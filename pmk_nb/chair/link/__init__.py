@@ -4,7 +4,8 @@
 (roslibpy on a private asyncio loop), ``probe`` (is it a rosbridge server?), ``connectivity`` (the
 connection test), ``streams`` (odometry, scan, pose, tf; callbacks only store), ``publish``
 (commands, goals), ``services`` (one blocking call), ``discovery`` (rosapi), ``mapread`` (the
-published map), ``state`` and ``registry`` (the kernel's only set of links: one per chair).
+published map), ``state`` and ``registry`` (the kernel's only set of links: one per chair);
+``record`` (``ChairLink.record`` / ``start_recording``: topics to an MCAP file with ROS 2 schemas).
 """
 
 from __future__ import annotations

@@ -24,6 +24,7 @@ Typical notebook use::
 from __future__ import annotations
 
 import dataclasses
+import os
 import threading
 import time
 from collections.abc import Callable, Sequence
@@ -37,6 +38,7 @@ from pmk_nb.chair.link.mapread import MapFacts, MapReader
 from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
 from pmk_nb.chair.link.publish import Publishers
+from pmk_nb.chair.link.record import Recording, RecordStats, Topics, resolve_topics
 from pmk_nb.chair.link.registry import close_all_links, get_link
 from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
@@ -309,6 +311,26 @@ class ChairLink:
     @property
     def message_counts(self) -> dict[str, int]:
         return dict(self._hub.counts)
+
+    # -- recording (pmk_nb.chair.link.record) ---------------------------------------------------------
+    def start_recording(self, path: str | os.PathLike[str], topics: Topics = None) -> Recording:
+        """Start recording ``topics`` (default: odometry, scan, pose, tf, cmd_vel, map) to the MCAP file
+        ``path``; ``.stop()`` finishes the file, ``.stats`` counts. Topics may map to their types.
+
+        Raises:
+            UnknownTopic, UnsupportedType, RecordDiskError (see :mod:`.record`); ChairLinkError.
+        """
+        self._require_ros()
+        return Recording(self, path, resolve_topics(self, topics, str(path)))
+
+    def record(self, path: str | os.PathLike[str], topics: Topics = None, seconds: float = 5.0) -> RecordStats:
+        """Record for ``seconds`` (blocks) and return the finished file's stats."""
+        recording = self.start_recording(path, topics)
+        try:
+            time.sleep(max(0.0, seconds))
+        finally:
+            stats = recording.stop()
+        return stats
 
     # -- publishing --------------------------------------------------------------------------------
     def publish_cmd_vel(self, v: float, w: float, topic: str | None = None) -> bool:
