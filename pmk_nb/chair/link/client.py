@@ -33,6 +33,7 @@ import roslibpy
 
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
+from pmk_nb.chair.link.initialpose import publish_initial_pose
 from pmk_nb.chair.link.mapread import MapFacts, MapReader
 from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
@@ -321,6 +322,12 @@ class ChairLink:
         """Publish a PoseStamped goal (default topic: Nav2 ``/goal_pose``, ROS 1 ``/move_base_simple/goal``).
         False (nothing sent) when not connected or while the ROS version is unknown."""
         return self._publish.goal(self._ros, self.ros_version, x, y, theta, frame)
+
+    def set_initial_pose(self, x: float, y: float, yaw: float, frame: str = "map", topic: str = "/initialpose") -> bool:
+        """Tell the chair's localisation (AMCL) where it is: ``/initialpose`` with RViz's covariance.
+        False (nothing sent) when not connected or while the ROS version is unknown; ValueError if
+        not finite. See :mod:`pmk_nb.chair.link.initialpose`."""
+        return publish_initial_pose(self._publish, self._ros, self.ros_version, (x, y, yaw), frame, topic)
 
     def navigate_to(
         self, x: float, y: float, yaw: float, frame: str = "map", waypoints: Sequence[tuple[float, float]] = ()
