@@ -227,6 +227,7 @@ class ChairLink:
         if ros is None:
             return
         try:
+            self._maps.watch.forget()  # its socket goes with this Ros: a later watch subscribes anew
             self._hub.unsubscribe()
             self._publish.unadvertise_all()
         finally:
@@ -400,6 +401,29 @@ class ChairLink:
     def map_facts(self, timeout: float = 5.0) -> MapFacts | None:
         """The PMK map server's MapInfo (header, metadata, SHA-256; no grid), None without one."""
         return self._maps.map_facts(timeout)
+
+    def watch_map(self, on: bool = True) -> None:
+        """Keep the chair's own ``/map`` (latched) from now on, or stop (``on=False``); the
+        newest is :meth:`latest_map`. Subscribing waits for a one-shot map read in progress."""
+        if not on:
+            self._maps.watch.stop()
+            return
+        self._maps.watch.start(self._require_ros(), self.ros_version)
+
+    @property
+    def watching_map(self) -> bool:
+        """Is the map watch subscribed (on this connection)?"""
+        return self._maps.watch.active
+
+    @property
+    def map_problem(self) -> str | None:
+        """Why the newest watched map could not be read (malformed), else None."""
+        return self._maps.watch.error
+
+    def latest_map(self) -> tuple[int, OccupancyGrid | None]:
+        """(maps received since :meth:`watch_map`, the newest as a grid or None); converts a new
+        map on the caller's thread, once. Never blocks on the network."""
+        return self._maps.watch.latest()
 
     def fetch_map(self, timeout: float = 15.0) -> OccupancyGrid:
         """The chair's current map (e.g. made by gmapping), from /map or the GetMap service."""
