@@ -44,6 +44,7 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.live_tools import MapTools
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.own_map import CHAIRS_MAP, ChairMap, OwnMap, map_label_html
@@ -112,6 +113,9 @@ class HomeScreen:
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
         self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
+        # scale bar, grid, coordinates, Measure, Set pose (pmk_nb/ui/live_tools.py); under the map
+        self.tools = MapTools(self.live, ctx)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.tools.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -185,6 +189,7 @@ class HomeScreen:
         self._show_running(True)
         self.live.start(link)
         self.goal.attach(link)
+        self.tools.attach(link)
         self.drive.offer(link, profile)
         # routes use the accessibility check's chair width (Settings), else the footprint's diameter
         self.rooms.attach(link, getattr(profile, "chair_width", None) or 2 * self.live.footprint_radius)
@@ -205,6 +210,7 @@ class HomeScreen:
         self.own.attach(None)  # stopped: Home shows the map sent from here again (if any)
         self.live.attach(None)
         self.goal.attach(None)
+        self.tools.attach(None)
         self.drive.offer(None, None)
         self.rooms.attach(None)
         self._show_running(False)
@@ -362,3 +368,4 @@ class HomeScreen:
 
     def _show_running(self, running: bool) -> None:
         self.ui.show_running(running, can_preview=self._map_ok)
+        self.tools.refresh_scale()
