@@ -1,0 +1,72 @@
+"""Real-stack tier: ``ChairLink.set_initial_pose`` reaches a real rclpy node as AMCL would receive it
+(geometry_msgs/PoseWithCovarianceStamped on /initialpose, through rosbridge-server-rs; issue 29)."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+
+from pmk_nb.chair.link.client import ChairLink
+from tests import fixtures_ros2
+from tests.fixtures_ros2 import RealChair
+from tests.helpers import wait_until
+
+ros2_stack, real_chair = fixtures_ros2.ros2_stack, fixtures_ros2.real_chair
+
+# AMCL's side, as small as it gets: print the first /initialpose received as one JSON line, then exit
+LISTENER = r"""
+import json, math, sys
+import rclpy
+from geometry_msgs.msg import PoseWithCovarianceStamped
+
+rclpy.init()
+node = rclpy.create_node("initialpose_listener")
+got = []
+
+def on_pose(msg):
+    q = msg.pose.pose.orientation
+    yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+    got.append({"frame": msg.header.frame_id, "x": msg.pose.pose.position.x, "y": msg.pose.pose.position.y,
+                "yaw": yaw, "cov": list(msg.pose.covariance), "sec": msg.header.stamp.sec})
+
+node.create_subscription(PoseWithCovarianceStamped, "/initialpose", on_pose, 10)
+print("LISTENER READY", flush=True)
+while rclpy.ok() and not got:
+    rclpy.spin_once(node, timeout_sec=0.1)
+print("GOT " + json.dumps(got[0]), flush=True)
+node.destroy_node()
+rclpy.shutdown()
+"""
+
+
+def test_initial_pose_reaches_a_real_rclpy_subscriber(real_chair: RealChair) -> None:
+    script = real_chair.tmp / "initialpose_listener.py"
+    script.write_text(LISTENER)
+    real_chair.start_bridge(rosapi=True)  # rosapi tells the link the ROS version at connect
+    listener = real_chair._spawn(
+        "listener", [str(real_chair.stack.python), str(script)], real_chair.stack.node_env(real_chair.domain), None
+    )
+    wait_until(lambda: "LISTENER READY" in listener.tail(), 30, "the rclpy listener to start")
+    link = ChairLink("127.0.0.1", real_chair.port)
+    try:
+        link.connect(10)
+        wait_until(lambda: link.ros_version == 2, 15, "the link to learn ROS 2 from rosapi")
+        sent_at = [-math.inf]
+
+        def received() -> bool:
+            # resent every second until DDS has matched the bridge's publisher with the listener
+            if time.monotonic() - sent_at[0] > 1.0:
+                assert link.set_initial_pose(1.5, -0.5, math.pi / 2) is True
+                sent_at[0] = time.monotonic()
+            return "GOT " in listener.tail()
+
+        wait_until(received, 40, "/initialpose at the rclpy listener")
+    finally:
+        link.close()
+    line = next(x for x in listener.tail(4000).splitlines() if x.startswith("GOT "))
+    msg = json.loads(line[4:])
+    assert msg["frame"] == "map" and abs(msg["sec"] - time.time()) < 120
+    assert (msg["x"], msg["y"]) == (1.5, -0.5) and abs(msg["yaw"] - math.pi / 2) < 1e-6
+    cov = msg["cov"]
+    assert cov[0] == cov[7] == 0.25 and abs(cov[35] - 0.0685) < 1e-3 and sum(1 for c in cov if c) == 3
