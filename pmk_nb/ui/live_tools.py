@@ -179,7 +179,7 @@ class MapTools:
         live.overlays.append(self.overlay)
         self.picker = TapPicker(lambda: live.viewport, self._on_tap)
         self.mode = w.ToggleButtons(options=list(TOOLS), value="pan", tooltips=["Drag to pan", "Tap two points", ""])
-        self.mode.style.button_width = "96px"
+        self.mode.style.button_width = "124px"  # "Set pose" in full at the kiosk's font
         self.mode.add_class("pmk-tools-mode")
         self.grid = w.ToggleButton(value=False, description="Grid", icon="th", tooltip="Grid lines in the map frame")
         self.grid.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto", min_width="96px")
@@ -190,7 +190,11 @@ class MapTools:
         self.pointer.add_class("pmk-tools-pointer")
         self.readout = w.HTML("")
         self.readout.add_class("pmk-tools-readout")
-        self.widget = w.VBox([w.HBox([self.mode, self.grid, self.scale]), w.HBox([self.pointer, self.readout])])
+        rows = [w.HBox([self.mode, self.grid, self.scale]), w.HBox([self.pointer, self.readout])]
+        for row in rows:
+            row.add_class("pmk-row")  # wraps on a narrow screen (the app's style sheet)
+            row.layout.align_items = "center"
+        self.widget = w.VBox(rows)
         self.widget.add_class("pmk-tools")
         self.mode.observe(self._on_mode, names="value")
         self.grid.observe(self._on_grid, names="value")
