@@ -1,5 +1,5 @@
-"""Real-stack tier: ``ChairLink.set_initial_pose`` reaches a real rclpy node as AMCL would receive it
-(geometry_msgs/PoseWithCovarianceStamped on /initialpose, through rosbridge-server-rs; issue 29)."""
+"""Real-stack tier (issue 29): ``ChairLink.set_initial_pose`` reaches a real rclpy node as AMCL would
+receive it, and the map watch behind Home's own-map view gets the real map server's transient-local /map."""
 
 from __future__ import annotations
 
@@ -70,3 +70,30 @@ def test_initial_pose_reaches_a_real_rclpy_subscriber(real_chair: RealChair) -> 
     assert (msg["x"], msg["y"]) == (1.5, -0.5) and abs(msg["yaw"] - math.pi / 2) < 1e-6
     cov = msg["cov"]
     assert cov[0] == cov[7] == 0.25 and abs(cov[35] - 0.0685) < 1e-3 and sum(1 for c in cov if c) == 3
+
+
+def test_the_map_watch_gets_the_transient_local_map_and_each_reload(real_chair: RealChair) -> None:
+    """Home's own-map source on a real ROS 2 map server: /map is transient local (a late subscriber
+    gets it at once), and a reload publishes the new one to the same subscription."""
+    from pmk_nb.rosmap.files import read_map
+    from tests.fixtures_sim import room_grid, write_test_map
+
+    room = write_test_map(room_grid(8.0, 6.0), real_chair.maps, "room")
+    small = write_test_map(room_grid(3.0, 2.0), real_chair.maps, "small")
+    real_chair.start_bridge()
+    real_chair.start_map_server("room")
+    real_chair.wait_service("/map_server/map_info", "map_server_pmk/srv/MapInfo")
+    link = ChairLink("127.0.0.1", real_chair.port)
+    try:
+        link.connect(10)
+        link.watch_map(True)
+        wait_until(lambda: link.latest_map()[0] >= 1, 30, "the latched /map")
+        grid = link.latest_map()[1]
+        assert grid is not None and (grid.width, grid.height) == (read_map(room).width, read_map(room).height)
+        assert (grid.data == read_map(room).data).mean() > 0.98
+        link.reload_map(str(small))
+        wait_until(
+            lambda: (g := link.latest_map()[1]) is not None and g.width == read_map(small).width, 30, "the reload"
+        )
+    finally:
+        link.close()
