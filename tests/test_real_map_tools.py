@@ -97,3 +97,36 @@ def test_the_map_watch_gets_the_transient_local_map_and_each_reload(real_chair: 
         )
     finally:
         link.close()
+
+
+def test_the_sent_map_is_named_from_map_info_without_downloading_map(real_chair: RealChair) -> None:
+    """Big maps: the PMK map server's MapInfo SHA-256 says the chair publishes the map sent from here,
+    so Home shows that map's own file under its name and never subscribes /map; another map loaded
+    on the chair is then watched on /map and shown as the chair's own."""
+    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.ui.own_map import CHAIRS_MAP, OwnMap
+    from tests.fixtures_sim import room_grid, write_test_map
+
+    room = write_test_map(room_grid(8.0, 6.0), real_chair.maps, "room")
+    small = write_test_map(room_grid(3.0, 2.0), real_chair.maps, "small")
+    real_chair.start_bridge()
+    real_chair.start_map_server("room")
+    real_chair.wait_service("/map_server/map_info", "map_server_pmk/srv/MapInfo")
+    link = ChairLink("127.0.0.1", real_chair.port)
+    own = OwnMap()
+    try:
+        link.connect(10)
+        local = read_map(room)
+        own.set_local("room", local, room)
+        own.attach(link)
+        first = wait_until(own.take, 30, "the sent map named from MapInfo")
+        assert first.is_sent_map and first.name == "room" and first.grid is local
+        time.sleep(1.0)
+        assert not link.watching_map and link.latest_map() == (0, None)  # no /map download
+        link.reload_map(str(small))
+        chair = wait_until(own.take, 30, "the chair's other map, from /map")
+        assert link.watching_map and not chair.is_sent_map and chair.name == CHAIRS_MAP
+        assert chair.grid.width == read_map(small).width
+    finally:
+        own.attach(None)
+        link.close()

@@ -243,7 +243,7 @@ class HomeScreen:
             self._map_problem(f"The map '{current.name}' cannot be shown: {err}. Convert and send it again.")
             return None
         ui.map_note.value = warning_html(preview_image_problem(current) or "")
-        self.own.set_local(current.name, grid)
+        self.own.set_local(current.name, grid, current.yaml)
         shown = self.own.current
         if shown is not None and not shown.is_sent_map:  # the chair uses another map: that is shown
             self._show_chair_map(shown)
