@@ -183,11 +183,11 @@ class _FactsCheck:
 
 
 def _file_sha256(yaml: Path) -> str:
-    """SHA-256 of a map file's cells as the PMK map server computes it (its reader, its hash)."""
-    from pmk_nb.robot.mapstore import grid_sha256
-    from pmk_nb.rosmap.files import read_map
+    """SHA-256 of a map file's cells as the PMK map server computes it (the deploy check's helper)."""
+    from pmk_nb.chair.confirm import grid_sha256
+    from pmk_nb.rosmap.files import MapFiles, read_map_yaml
 
-    return grid_sha256(read_map(yaml, reader="nav2_jazzy"))
+    return grid_sha256(MapFiles(yaml, Path(read_map_yaml(yaml).image), None))
 
 
 def _unwatch(link: Any) -> None:
