@@ -178,7 +178,11 @@ class MapTools:
         self.overlay = MapToolsOverlay()
         live.overlays.append(self.overlay)
         self.picker = TapPicker(lambda: live.viewport, self._on_tap)
-        self.mode = w.ToggleButtons(options=list(TOOLS), value="pan", tooltips=["Drag to pan", "Tap two points", ""])
+        self.mode = w.ToggleButtons(
+            options=list(TOOLS),
+            value="pan",
+            tooltips=["Drag to pan", "Tap two points", "Tap where the chair is, then the way it faces"],
+        )
         self.mode.style.button_width = "124px"  # "Set pose" in full at the kiosk's font
         self.mode.add_class("pmk-tools-mode")
         self.grid = w.ToggleButton(value=False, description="Grid", icon="th", tooltip="Grid lines in the map frame")
