@@ -57,6 +57,7 @@ def thin_wall_grid() -> OccupancyGrid:
 @contextlib.contextmanager
 def serve_thin_walls(tmp_path: Path) -> Iterator[str]:
     """The demo chair, the thin-wall map as the current map, Voilà serving the dashboard (no autostart)."""
+    from pmk_nb.chair.link.client import ChairLink
     from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
     from pmk_nb.library.folder import MapsFolder
     from pmk_nb.rosmap.files import write_map
@@ -74,6 +75,15 @@ def serve_thin_walls(tmp_path: Path) -> Iterator[str]:
         )
         ctx.set_current_map("thin_walls", files.yaml, files.preview)
         ctx.close()
+        # sent to the chair too: Home shows the chair's own /map once live (issue 29), so the chair
+        # must publish the map this test draws
+        write_map(thin_wall_grid(), world.chair_dir, "thin_walls", preview=False)
+        link = ChairLink("127.0.0.1", world.ros_port)
+        try:
+            link.connect(timeout=30.0)
+            link.reload_map("/home/pmk/ALMA_MAPS/thin_walls.yaml", timeout=60.0)
+        finally:
+            link.close()
         env = {k: v for k, v in world.env.items() if k != AUTOSTART_ENV}
         port = free_port()
         notebook = write_dashboard_notebook(tmp_path / "kiosk")

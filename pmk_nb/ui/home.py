@@ -44,8 +44,10 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.live_tools import MapTools
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
+from pmk_nb.ui.own_map import CHAIRS_MAP, ChairMap, OwnMap, map_label_html
 from pmk_nb.ui.preview_controller import PreviewController
 from pmk_nb.ui.record_panel import RecordPanel
 from pmk_nb.ui.render_loop import RenderLoop
@@ -91,6 +93,7 @@ class HomeScreen:
         self._user_stopped = False
         self._map_ok = False
         self.maps = MapGridCache()
+        self.own = OwnMap()  # the chair's own /map while the preview runs (pmk_nb/ui/own_map.py)
         self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True)
         self.live.on_zoom_change(lambda _z: self.refresh_info())
         self.live.on_error(self._on_live_error)
@@ -114,6 +117,9 @@ class HomeScreen:
         # Record, Stop recording, downloads (pmk_nb/ui/record_panel.py): under the map
         self.recorder = RecordPanel(ctx)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.recorder.widget)
+        # scale bar, grid, coordinates, Measure, Set pose (pmk_nb/ui/live_tools.py); under the map
+        self.tools = MapTools(self.live, ctx)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.tools.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -146,10 +152,10 @@ class HomeScreen:
         With ``autostart`` this starts the preview (which reports an unreachable chair itself);
         otherwise a background probe warns early when the chair does not answer.
         """
-        grid = self.refresh_map()
+        self.refresh_map()
         if self.running:
             return
-        if self.autostart and not self._user_stopped and grid is not None and self.ctx.profile() is not None:
+        if self.autostart and not self._user_stopped and self._map_ok and self.ctx.profile() is not None:
             self.start_preview()
             return
         self.check_chair()
@@ -168,7 +174,7 @@ class HomeScreen:
         if self.running:
             return True
         grid = self.refresh_map()
-        if grid is None:
+        if grid is None and not self._map_ok:
             return False
         try:
             link = self.ctx.link()
@@ -179,13 +185,15 @@ class HomeScreen:
         footprint = float(profile.footprint_radius or DEFAULT_FOOTPRINT) if profile is not None else DEFAULT_FOOTPRINT
         self.live.footprint_radius = footprint if math.isfinite(footprint) and footprint > 0 else DEFAULT_FOOTPRINT
         self.live.show_laser = bool(self.ui.sensors.value)
-        self.live.set_map(grid)
+        if grid is not None:
+            self.live.set_map(grid)
         self.probe.cancel()  # the preview's own connection reports on the chair from now on
         self._warn("")
         self.ui.chair_note.value = ""
         self._show_running(True)
         self.live.start(link)
         self.goal.attach(link)
+        self.tools.attach(link)
         self.drive.offer(link, profile)
         # routes use the accessibility check's chair width (Settings), else the footprint's diameter
         self.rooms.attach(link, getattr(profile, "chair_width", None) or 2 * self.live.footprint_radius)
@@ -194,6 +202,7 @@ class HomeScreen:
         self._info_loop.start()
         # the canvas shows the map meanwhile and the chair once data flows
         self.preview.start(link)
+        self.own.attach(link)  # whatever the chair publishes on /map is shown once it arrives
         self.refresh_info()
         return True
 
@@ -202,8 +211,10 @@ class HomeScreen:
         self.live.stop()
         self._info_loop.stop()
         self.preview.stop()
+        self.own.attach(None)  # stopped: Home shows the map sent from here again (if any)
         self.live.attach(None)
         self.goal.attach(None)
+        self.tools.attach(None)
         self.drive.offer(None, None)
         self.rooms.attach(None)
         self._show_running(False)
@@ -219,6 +230,8 @@ class HomeScreen:
     def refresh_map(self) -> OccupancyGrid | None:
         """Show the current map's name; load its grid (cached) or warn and hide Preview."""
         ui, current = self.ui, self.ctx.current_map
+        if current is None and self.ctx.profile() is not None:
+            return self._chair_map_only()
         if current is None:
             ui.map_note.value = ""
             ui.map_label.value = "<b>No map yet.</b> Convert a map and send it to the chair on the Maps screen."
@@ -235,6 +248,11 @@ class HomeScreen:
             self._map_problem(f"The map '{current.name}' cannot be shown: {err}. Convert and send it again.")
             return None
         ui.map_note.value = warning_html(preview_image_problem(current) or "")
+        self.own.set_local(current.name, grid, current.yaml)
+        shown = self.own.current
+        if shown is not None and not shown.is_sent_map:  # the chair uses another map: that is shown
+            self._show_chair_map(shown)
+            return shown.grid
         self.live.set_map(grid)  # shown connected or not (the same grid again is a no-op)
         self.rooms.set_map(current.yaml)
         self._map_ok = True
@@ -242,6 +260,34 @@ class HomeScreen:
         if not self.running:
             self._warn("")
         return grid
+
+    def _chair_map_only(self) -> OccupancyGrid | None:
+        """No map sent from this dashboard, but a chair: Preview shows the chair's own map."""
+        self.ui.map_note.value = ""
+        self.own.set_local(None, None)
+        shown = self.own.current
+        if shown is not None:
+            self._show_chair_map(shown)
+            return shown.grid
+        self.ui.map_label.value = map_label_html(CHAIRS_MAP, False)
+        self.ui.info.map.value = f"Map: <i>{escape(CHAIRS_MAP)}</i>"
+        self.rooms.set_map(None)
+        self._map_ok = True
+        self._show_running(self.running)
+        if not self.running:
+            self._warn("")
+        return None
+
+    def _show_chair_map(self, chair_map: ChairMap) -> None:
+        """Show the map the chair publishes (the sent map's grid, already loaded, when it is that map)."""
+        current, local = self.ctx.current_map, self.maps.grid
+        sent = chair_map.is_sent_map and current is not None and local is not None
+        self.live.set_map(local if sent and local is not None else chair_map.grid)
+        self.rooms.set_map(current.yaml if sent and current is not None else None)
+        self.ui.map_label.value = map_label_html(chair_map.name, sent)
+        self.ui.info.map.value = f"Map: <b>{escape(chair_map.name)}</b>"
+        self._map_ok = True
+        self._show_running(self.running)
 
     def _map_problem(self, message: str) -> None:
         self._map_ok = False
@@ -273,6 +319,9 @@ class HomeScreen:
         self.drive.refresh()
         if texts.status is not None:
             self.ui.status.value = texts.status
+        chair_map = self.own.take()
+        if chair_map is not None:
+            self._show_chair_map(chair_map)
         self.rooms.tick(snap.pose or snap.odom, state)
         self.goal.tick(snap.pose or snap.odom)
 
@@ -323,4 +372,5 @@ class HomeScreen:
         self.ui.warning.value = warning_html(message)
 
     def _show_running(self, running: bool) -> None:
-        self.ui.show_running(running, can_preview=self._map_ok and self.ctx.current_map is not None)
+        self.ui.show_running(running, can_preview=self._map_ok)
+        self.tools.refresh_scale()

@@ -85,6 +85,8 @@ class ZoomGestures:
         self.last_wheel = 0.0
         #: while set ("Set destination" on), press / drag / release go to it instead of panning
         self.picker: PointPicker | None = None
+        #: told where the pointer is (mouse moves, one finger), e.g. the map tools' coordinates
+        self.on_point: Callable[[tuple[float, float] | None], object] | None = None
         canvas.on_mouse_wheel(self.on_wheel)
         canvas.on_mouse_down(self.on_mouse_down)
         canvas.on_mouse_move(self.on_mouse_move)
@@ -115,6 +117,7 @@ class ZoomGestures:
 
     def on_mouse_move(self, x: object, y: object) -> None:
         """With the button down, the map follows the mouse."""
+        self._tell_point(_point(x, y))
         if self.picker is not None:
             self.picker.move(_point(x, y))
             return
@@ -124,6 +127,10 @@ class ZoomGestures:
         if self.picker is not None:
             self.picker.release(_point(x, y))
         self.drag = None
+
+    def _tell_point(self, point: tuple[float, float] | None) -> None:
+        if self.on_point is not None and point is not None:
+            self.on_point(point)
 
     def _drag_to(self, point: tuple[float, float] | None) -> None:
         start = self.drag
@@ -137,6 +144,7 @@ class ZoomGestures:
     def on_touch(self, touches: object) -> None:
         """One finger drags the map; two: the zoom follows the ratio of finger distances."""
         one = touch_point(touches)
+        self._tell_point(one)
         if self.picker is not None and one is not None:
             (self.picker.move if self.picker.active else self.picker.press)(one)
             return

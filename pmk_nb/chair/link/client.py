@@ -34,6 +34,7 @@ import roslibpy
 
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
+from pmk_nb.chair.link.initialpose import publish_initial_pose
 from pmk_nb.chair.link.mapread import MapFacts, MapReader
 from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
@@ -228,6 +229,7 @@ class ChairLink:
         if ros is None:
             return
         try:
+            self._maps.watch.forget()  # its socket goes with this Ros: a later watch subscribes anew
             self._hub.unsubscribe()
             self._publish.unadvertise_all()
         finally:
@@ -344,6 +346,12 @@ class ChairLink:
         False (nothing sent) when not connected or while the ROS version is unknown."""
         return self._publish.goal(self._ros, self.ros_version, x, y, theta, frame)
 
+    def set_initial_pose(self, x: float, y: float, yaw: float, frame: str = "map", topic: str = "/initialpose") -> bool:
+        """Tell the chair's localisation (AMCL) where it is: ``/initialpose`` with RViz's covariance.
+        False (nothing sent) when not connected or while the ROS version is unknown; ValueError if
+        not finite. See :mod:`pmk_nb.chair.link.initialpose`."""
+        return publish_initial_pose(self._publish, self._ros, self.ros_version, (x, y, yaw), frame, topic)
+
     def navigate_to(
         self, x: float, y: float, yaw: float, frame: str = "map", waypoints: Sequence[tuple[float, float]] = ()
     ) -> GoalHandle:
@@ -415,6 +423,29 @@ class ChairLink:
     def map_facts(self, timeout: float = 5.0) -> MapFacts | None:
         """The PMK map server's MapInfo (header, metadata, SHA-256; no grid), None without one."""
         return self._maps.map_facts(timeout)
+
+    def watch_map(self, on: bool = True) -> None:
+        """Keep the chair's own ``/map`` (latched) from now on, or stop (``on=False``); the
+        newest is :meth:`latest_map`. Subscribing waits for a one-shot map read in progress."""
+        if not on:
+            self._maps.watch.stop()
+            return
+        self._maps.watch.start(self._require_ros(), self.ros_version)
+
+    @property
+    def watching_map(self) -> bool:
+        """Is the map watch subscribed (on this connection)?"""
+        return self._maps.watch.active
+
+    @property
+    def map_problem(self) -> str | None:
+        """Why the newest watched map could not be read (malformed), else None."""
+        return self._maps.watch.error
+
+    def latest_map(self) -> tuple[int, OccupancyGrid | None]:
+        """(maps received since :meth:`watch_map`, the newest as a grid or None); converts a new
+        map on the caller's thread, once. Never blocks on the network."""
+        return self._maps.watch.latest()
 
     def fetch_map(self, timeout: float = 15.0) -> OccupancyGrid:
         """The chair's current map (e.g. made by gmapping), from /map or the GetMap service."""

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import roslibpy
 
+from pmk_nb.chair.link.mapwatch import MapWatch
 from pmk_nb.chair.link.services import ServiceFailed
 from pmk_nb.chair.messages import MapInfo, parse_map_metadata, spell_type
 from pmk_nb.errors import ChairLinkError, ChairTimeout
@@ -52,6 +53,8 @@ class MapReader:
         self.map_topic, self.metadata_topic = map_topic, metadata_topic
         self._lock = threading.Lock()
         self._known: dict[str, Any] = {}  # what answered, for the connection in "protocol"
+        #: the chair's own map, watched while a screen shows it (shares the lock: see its module)
+        self.watch = MapWatch(map_topic, self._lock)
 
     def _learned(self) -> dict[str, Any]:
         """Facts learned on this connection (forgotten when the websocket is a new one)."""
@@ -126,6 +129,8 @@ class MapReader:
             finally:
                 for topic in topics.values():
                     topic.unsubscribe()
+                if self.map_topic in topics:
+                    self.watch.relisten()  # the unsubscribe above removed the watch's listener too
 
     def _published(self, timeout: float) -> set[str] | None:
         if self._link.discovery.rosapi is False:

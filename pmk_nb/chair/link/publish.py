@@ -34,9 +34,10 @@ class Publishers:
         finally:
             self._topics = {}
 
-    def _topic(
+    def topic(
         self, ros: roslibpy.Ros | None, name: str, type_name: str, ros_version: int | None
     ) -> roslibpy.Topic | None:
+        """The advertised topic ``name`` of this connection (advertised on first use); None when not connected."""
         if ros is None or not ros.is_connected:
             return None
         topic = self._topics.get(name)
@@ -50,7 +51,7 @@ class Publishers:
     ) -> bool:
         """Send one Twist (to ``name``, default the link's ``cmd_vel_topic``); False (nothing sent)
         when not connected."""
-        topic = self._topic(ros, name or self.cmd_vel_topic, "geometry_msgs/Twist", ros_version)
+        topic = self.topic(ros, name or self.cmd_vel_topic, "geometry_msgs/Twist", ros_version)
         if topic is None:
             return False
         twist = {"linear": {"x": float(v), "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": float(w)}}
@@ -64,7 +65,7 @@ class Publishers:
         is not known yet: a header in the wrong spelling is rejected by the chair's server, silently."""
         if ros_version not in (1, 2):
             return False
-        topic = self._topic(
+        topic = self.topic(
             ros, self.goal_topic or DEFAULT_GOAL_TOPICS[ros_version], "geometry_msgs/PoseStamped", ros_version
         )
         if topic is None:

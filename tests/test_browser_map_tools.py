@@ -1,0 +1,75 @@
+"""Map tools in a real browser (issue 29): the scale bar is drawn on the live canvas at the length it
+names, and Measure with two taps shows the distance between them.
+
+The dashboard is the demo kiosk (Voilà, the simulated chair, preview started by itself). Where to tap
+comes from the same pure view maths the page uses: at zoom level 1 the whole map is shown, so
+following the chair does not move it.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from pmk_nb.rosmap.files import read_map
+from pmk_nb.viewport import Viewport
+from pmk_nb.viewport.maptools import scale_bar
+from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+from tests.test_browser_live import pixels, wait_until
+
+pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
+
+
+def _tap(page: Any, canvas: Any, view: Viewport, point: tuple[float, float]) -> tuple[float, float]:
+    """Click the canvas where the world ``point`` is; returns the canvas pixel actually clicked."""
+    box = canvas.bounding_box()
+    assert box is not None
+    css = box["width"] / view.canvas_width  # the page may scale the canvas down
+    px, py = (float(v) for v in view.world_to_pixel(*point))
+    x, y = box["x"] + px * css, box["y"] + py * css
+    page.mouse.click(x, y)
+    return (x - box["x"]) / css, (y - box["y"]) / css
+
+
+def _bar_drawn(rgba: np.ndarray, bar_px: float) -> bool:
+    """The scale bar's dark line at the lower left: row height - 14 from x = 12, ``bar_px`` long."""
+    row = rgba.shape[0] - 14
+    band = rgba[row - 1 : row + 2, 12 : 12 + int(bar_px) - 1, :3].astype(int)
+    dark = (band.max(axis=2) < 60).any(axis=0)  # per column: the 3 px line in one of three rows
+    return bool(dark.mean() > 0.9)
+
+
+def test_scale_bar_and_measure_two_taps(tmp_path: Path) -> None:
+    from playwright.sync_api import expect
+
+    with serve_kiosk(tmp_path, label="map-tools") as (url, world), chromium_page(url, viewport=VIEWPORT) as page:
+        expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=120_000)
+        grid = read_map(world.map_yaml)
+        rgba = pixels(page)
+        view = Viewport.for_grid(grid, rgba.shape[1], rgba.shape[0])
+        bar = scale_bar(view.px_per_m, min(120.0, 0.4 * view.canvas_width))
+        expect(page.locator(".pmk-tools-scale")).to_contain_text(bar.label, timeout=10_000)
+        assert wait_until(page, lambda: _bar_drawn(pixels(page), bar.pixels), 10.0), f"no {bar.label} bar drawn"
+
+        # Measure: two taps 5 m apart (3 m across, 4 m up) around the map's middle
+        page.locator(".pmk-tools-mode button", has_text="Measure").click()
+        expect(page.locator(".pmk-tools-readout")).to_contain_text("Tap two points")
+        cx = grid.origin[0] + grid.width * grid.resolution / 2
+        cy = grid.origin[1] + grid.height * grid.resolution / 2
+        canvas = page.locator(".pmk-live-canvas").first
+        a = _tap(page, canvas, view, (cx - 1.5, cy - 2.0))
+        expect(page.locator(".pmk-tools-readout")).to_contain_text("second point", timeout=10_000)
+        b = _tap(page, canvas, view, (cx + 1.5, cy + 2.0))
+        distance = page.locator(".pmk-tools-distance")
+        expect(distance).to_contain_text(" m", timeout=10_000)
+        shown = float(re.sub(r"[^0-9.]", "", distance.inner_text()))
+        clicked = math.dist(a, b) / view.px_per_m  # the pixels Chromium really clicked, in metres
+        assert abs(shown - clicked) < 0.011 and abs(shown - 5.0) < 2.5 / view.px_per_m + 0.01, (shown, clicked)
+        expect(page.locator(".pmk-tools-pointer")).to_contain_text("x ")  # the pointer's map coordinates
+        ARTIFACTS.mkdir(exist_ok=True)
+        page.screenshot(path=str(ARTIFACTS / "map-tools.png"))
