@@ -257,7 +257,8 @@ class HomeScreen:
         """Update position, speed, zoom and state texts (a widget whose text is unchanged sends nothing)."""
         snap = self.preview.snapshot()
         state, age = connection_state(snap)
-        texts = info_texts(state, age, snap.pose, snap.odom, self.live.zoom, self.live.zoom_factor, snap.scan)
+        live = self.live
+        texts = info_texts(state, age, snap.pose, snap.odom, live.zoom, live.zoom_factor, snap.scan, live.grid)
         self.live.stale = state == "stale"  # the loop redraws: the chair turns grey
         info = self.ui.info
         info.state.value = texts.state

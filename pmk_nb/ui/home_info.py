@@ -13,13 +13,18 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from pmk_nb.chair.messages import Odometry, Pose2D, Scan
-from pmk_nb.chair.ranges import blind_ahead
+from pmk_nb.chair.ranges import BLIND_KINDS, NO_RETURN, UNKNOWN, blind_ahead
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.widgets import escape
+from pmk_nb.viewport.mapcast import explain_nulls
+from pmk_nb.viewport.pose import mounted
 
 if TYPE_CHECKING:  # the link package pulls in roslibpy: imported when a preview starts, not before
     from pmk_nb.chair.link.state import LinkState
+    from pmk_nb.grid import OccupancyGrid
 
 NO_VALUE = "—"  # shown instead of a value that is not current
 STALE_AFTER = 2.0  # s without odometry before the "no data" state
@@ -91,15 +96,24 @@ def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[s
     return "live", age
 
 
-def laser_text(scan: Scan | None) -> str:
+def laser_text(scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2D | Odometry | None = None) -> str:
     """The panel's laser line: blind rays counted, and a warning when the laser is blind ahead.
 
     The forward direction is taken as the laser's 0° (the scanner's mounting yaw is not applied).
+    With the map and the chair's pose, a ``null`` ray along which the map shows no wall within the
+    laser's range is the expected "nothing there" (a long corridor), not blindness
+    (:func:`pmk_nb.viewport.mapcast.explain_nulls`); without them every null counts, as before.
     """
     if scan is None or scan.kinds is None or scan.kinds.size == 0:
         return ""
-    sector = blind_ahead(scan.kinds, scan.angles())
-    blind = int(scan.blind.sum())
+    angles = scan.angles()
+    origin = None if pose is None else mounted((float(pose.x), float(pose.y), float(pose.theta)), scan.mount)
+    kinds = scan.kinds
+    seen = explain_nulls(kinds == UNKNOWN, angles, grid, origin, float(scan.range_min), float(scan.range_max))
+    if seen.any():
+        kinds = np.where(seen, NO_RETURN, kinds).astype(np.uint8)
+    sector = blind_ahead(kinds, angles)
+    blind = int(np.isin(kinds, BLIND_KINDS).sum())
     parts = []
     if sector.too_close:
         touching = f"Something is touching the chair ahead ({sector.too_close} rays)"
@@ -119,6 +133,7 @@ def info_texts(
     zoom: int,
     zoom_factor: float,
     scan: Scan | None = None,
+    grid: OccupancyGrid | None = None,
 ) -> InfoTexts:
     """The panel's lines for one refresh (all escaped HTML)."""
     stale = state in ("stale", "unreachable")
@@ -155,7 +170,7 @@ def info_texts(
         speed=_greyed(escape(speed), stale),
         zoom=escape(f"Zoom: {zoom} (x{zoom_factor:.2g})"),
         status=status,
-        laser=laser_text(scan if state == "live" else None),
+        laser=laser_text(scan if state == "live" else None, grid, pose),
     )
 
 
