@@ -270,7 +270,7 @@ class HomeScreen:
         if texts.status is not None:
             self.ui.status.value = texts.status
         self.rooms.tick(snap.pose or snap.odom, state)
-        self.goal.tick(snap.pose or snap.odom)
+        self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _user_start(self) -> None:

@@ -76,6 +76,12 @@ class InfoTexts:
     laser: str = ""
 
 
+def whole_degrees(radians: float) -> str:
+    """Radians as whole degrees, never "-0" (a heading of -0.2° is shown as 0°, not -0°)."""
+    text = f"{math.degrees(radians):.0f}"
+    return "0" if text == "-0" else text
+
+
 def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[str, float | None]:
     """("off"|"connecting"|"live"|"stale"|"unreachable", seconds since the last odometry or None).
 
@@ -141,14 +147,14 @@ def info_texts(
         # say which frame the position is in: the map (tf, AMCL) or odometry (which drifts); Home
         # falls back to odometry while the chosen pose source sends nothing
         frame = pose.frame or "odom"
-        pos = f"x {pose.x:.2f} m, y {pose.y:.2f} m, heading {math.degrees(pose.theta):.0f}° ({frame} frame)"
+        pos = f"x {pose.x:.2f} m, y {pose.y:.2f} m, heading {whole_degrees(pose.theta)}° ({frame} frame)"
         if stale:  # where the chair was, not where it is: say so and grey it
             pos = f"Last known: {pos}"
     else:
         pos = f"Position: {NO_VALUE}"
     # a speed is only true while data flows: during a stall it would claim the chair still moves
     if odom is not None and not stale:
-        speed = f"Speed: {odom.v:.2f} m/s, turning {math.degrees(odom.w):.0f}°/s"
+        speed = f"Speed: {odom.v:.2f} m/s, turning {whole_degrees(odom.w)}°/s"
     else:
         speed = f"Speed: {NO_VALUE}"
     if state == "stale":
