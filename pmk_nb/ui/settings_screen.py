@@ -300,6 +300,7 @@ class SettingsScreen:
                     "host_key_check",
                     "goal_accept_s",
                     "goal_quiet_s",
+                    "plan_topic",
                 )
             }
             profile = dataclasses.replace(profile, **keep)
