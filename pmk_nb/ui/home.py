@@ -44,8 +44,10 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.live_path_layer import LivePathLayer
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
+from pmk_nb.ui.plots_panel import PlotsPanel
 from pmk_nb.ui.preview_controller import PreviewController
 from pmk_nb.ui.render_loop import RenderLoop
 from pmk_nb.ui.rooms_guide import RoomsGuide
@@ -110,6 +112,12 @@ class HomeScreen:
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
         self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
+        # issue 29: the Plots panel (speed and turn rate, the topic inspector) and the planned path
+        self.plots = PlotsPanel()  # pmk_nb/ui/plots_panel.py
+        self.ui.controls.children = (*self.ui.controls.children, self.plots.toggle)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.plots.widget)
+        self.path = LivePathLayer()  # pmk_nb/ui/live_path_layer.py: Nav2's /plan, move_base's plan
+        self.live.overlays.append(self.path)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -182,6 +190,8 @@ class HomeScreen:
         self._show_running(True)
         self.live.start(link)
         self.goal.attach(link)
+        self.plots.attach(link)
+        self.path.attach(link, profile.plan_topic if profile is not None else "auto")
         self.drive.offer(link, profile)
         # routes use the accessibility check's chair width (Settings), else the footprint's diameter
         self.rooms.attach(link, getattr(profile, "chair_width", None) or 2 * self.live.footprint_radius)
@@ -200,6 +210,8 @@ class HomeScreen:
         self.preview.stop()
         self.live.attach(None)
         self.goal.attach(None)
+        self.plots.attach(None)
+        self.path.attach(None)
         self.drive.offer(None, None)
         self.rooms.attach(None)
         self._show_running(False)
@@ -208,6 +220,7 @@ class HomeScreen:
     def close(self) -> None:
         self.stop_preview()
         self._unsub_map()
+        self.plots.close()
         self.live.close()
 
     # -- map -----------------------------------------------------------------------------------------
@@ -270,6 +283,8 @@ class HomeScreen:
         if texts.status is not None:
             self.ui.status.value = texts.status
         self.rooms.tick(snap.pose or snap.odom, state)
+        self.plots.tick(snap.odom if state == "live" else None)
+        self.path.tick(snap.pose or snap.odom)
         self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
 
     # -- callbacks -----------------------------------------------------------------------------------
