@@ -115,7 +115,9 @@ def laser_text(scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2
     angles = scan.angles()
     origin = None if pose is None else mounted((float(pose.x), float(pose.y), float(pose.theta)), scan.mount)
     kinds = scan.kinds
-    seen = explain_nulls(kinds == UNKNOWN, angles, grid, origin, float(scan.range_min), float(scan.range_max))
+    # only the forward half is cast (the warning is about what is ahead): half the work when all is null
+    nulls = (kinds == UNKNOWN) & (np.abs(np.angle(np.exp(1j * angles))) <= math.pi / 2)
+    seen = explain_nulls(nulls, angles, grid, origin, float(scan.range_min), float(scan.range_max))
     if seen.any():
         kinds = np.where(seen, NO_RETURN, kinds).astype(np.uint8)
     sector = blind_ahead(kinds, angles)

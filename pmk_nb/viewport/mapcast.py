@@ -52,15 +52,18 @@ def first_obstacle(
     if a.size == 0 or not (math.isfinite(max_range) and max_range > 0):
         return out
     res = grid.resolution
-    step = res / 2.0  # half a cell: a ray cannot jump over a one-cell wall
-    t = np.arange(max(min_range, 0.0), max_range + step / 2, step)
-    if t.size == 0:
-        return out
     gx, gy, gyaw = grid.origin
     # the scanner and its rays in the grid's own (unrotated) frame
     c, s = math.cos(-gyaw), math.sin(-gyaw)
     dx, dy = origin[0] - gx, origin[1] - gy
     ox, oy = c * dx - s * dy, s * dx + c * dy
+    # nothing beyond the grid's farthest corner can be a wall: a 100 m laser on a 20 m map casts 20 m
+    w_m, h_m = grid.width * res, grid.height * res
+    far = max(math.hypot(cx - ox, cy - oy) for cx in (0.0, w_m) for cy in (0.0, h_m))
+    step = res / 2.0  # half a cell: a ray cannot jump over a one-cell wall
+    t = np.arange(max(min_range, 0.0), min(max_range, far) + step / 2, step)
+    if t.size == 0:
+        return out
     heads = a + origin[2] - gyaw
     wall = grid.data >= OCCUPIED_AT  # int8: unknown (-1) is never a wall
     for lo in range(0, a.size, _CHUNK):
