@@ -24,6 +24,7 @@ from pmk_nb.viewport.history import OdomHistory, plot_lines
 
 PLOT_HZ = 2.0  # chart redraws per second while the panel is open
 SPAN_S = 300.0  # the chart shows the last five minutes
+MIN_SPAN_S = 30.0  # ... or since the first sample, at least this long
 CHART = (560, 180)  # canvas pixels
 PAD = (46, 14)  # left margin for the axis labels, top/bottom margin
 SPEED_RGB = "rgb(25, 90, 220)"
@@ -100,7 +101,11 @@ class PlotsPanel:
         now = time.monotonic() if now is None else now
         width, height = CHART[0] - PAD[0], CHART[1] - 2 * PAD[1]
         samples = self.history.window(now - self.span_s)
-        lines = plot_lines(samples, now, self.span_s, width, height)
+        # the time axis grows with the history, from MIN_SPAN_S to span_s: a fresh preview's first
+        # seconds fill the chart instead of a sliver at its right edge
+        age = now - float(samples[0, 0]) if samples.shape[0] else 0.0
+        span = min(self.span_s, max(MIN_SPAN_S, age))
+        lines = plot_lines(samples, now, span, width, height)
         c = self.canvas
         with hold_canvas():
             c.clear()
@@ -126,7 +131,7 @@ class PlotsPanel:
                     c.stroke_lines(pts)
         last = samples[-1] if samples.shape[0] else None
         self.legend.value = _legend(
-            None if last is None else float(last[1]), None if last is None else float(last[2]), self.span_s
+            None if last is None else float(last[1]), None if last is None else float(last[2]), span
         )
         self.draws += 1
 
@@ -139,5 +144,9 @@ def _legend(v: float | None, w_rad: float | None, span_s: float) -> str:
     now = "" if v is None or w_rad is None else f" · now {v:.2f} m/s, {whole_degrees(w_rad)}°/s"
     return (
         f"<small><span style='color:{SPEED_RGB}'>━ speed (m/s)</span> &nbsp; "
-        f"<span style='color:{TURN_RGB}'>━ turn rate (°/s)</span> · last {span_s / 60:.0f} min{now}</small>"
+        f"<span style='color:{TURN_RGB}'>━ turn rate (°/s)</span> · last {_span_words(span_s)}{now}</small>"
     )
+
+
+def _span_words(span_s: float) -> str:
+    return f"{span_s:.0f} s" if span_s < 120 else f"{span_s / 60:.0f} min"

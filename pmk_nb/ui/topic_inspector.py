@@ -23,6 +23,8 @@ from pmk_nb.ui.widgets import button, escape
 log = logging.getLogger(__name__)
 
 NONE = ""  # the list's "no topic" entry
+#: the message box scrolls instead of pushing the page down by a screen per message
+JSON_STYLE = "max-height: 320px; overflow: auto; font-size: 12px; background: #f5f7f9; padding: 6px; margin: 0"
 
 
 def known_topics(link: Any) -> dict[str, str]:
@@ -51,7 +53,7 @@ class TopicInspector:
         self._listing: threading.Thread | None = None
         self._pending: tuple[list[tuple[str, str]], str] | None = None
         self.refresh_button = button("Refresh", "pmk-topics-refresh", icon="refresh", width="auto")
-        self.list = w.Select(options=[("— pick a topic —", NONE)], value=NONE, rows=8)
+        self.list = w.Select(options=[("— pick a topic —", NONE)], value=NONE, rows=5)
         self.list.layout = w.Layout(width="100%")
         self.list.add_class("pmk-topics-list")
         self.source = w.HTML("")
@@ -132,4 +134,5 @@ class TopicInspector:
         self.info.value = f"<b>{escape(probe.topic)}</b> <code>{escape(probe.type_name or '?')}</code> · {escape(rate)}"
         latest = probe.latest()
         if latest is not None:
-            self.message.value = f"<pre class='pmk-topics-json'>{escape(pretty_message(latest))}</pre>"
+            text = escape(pretty_message(latest))
+            self.message.value = f"<pre class='pmk-topics-json' style='{JSON_STYLE}'>{text}</pre>"

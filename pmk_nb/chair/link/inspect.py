@@ -100,9 +100,33 @@ def _shorten(value: Any, depth: int = 0) -> Any:
     return value
 
 
+def _lines(value: Any, indent: int, out: list[str], lead: str) -> None:
+    """Indented JSON; a list of plain values (ranges, a covariance) stays on one line."""
+    pad = "  " * indent
+    if isinstance(value, dict) and value:
+        out.append(f"{pad}{lead}{{")
+        items = list(value.items())
+        for i, (key, item) in enumerate(items):
+            _lines(item, indent + 1, out, f"{json.dumps(key, ensure_ascii=False)}: ")
+            if i < len(items) - 1:
+                out[-1] += ","
+        out.append(f"{pad}}}")
+    elif isinstance(value, list) and any(isinstance(v, dict | list) for v in value):
+        out.append(f"{pad}{lead}[")
+        for i, item in enumerate(value):
+            _lines(item, indent + 1, out, "")
+            if i < len(value) - 1:
+                out[-1] += ","
+        out.append(f"{pad}]")
+    else:
+        out.append(f"{pad}{lead}{json.dumps(value, ensure_ascii=False, default=str)}")
+
+
 def pretty_message(msg: Any, limit: int = TEXT_LIMIT) -> str:
     """A message as indented JSON, long lists shortened, the whole cut to ``limit`` characters."""
-    text = json.dumps(_shorten(msg), indent=2, ensure_ascii=False, default=str)
+    out: list[str] = []
+    _lines(_shorten(msg), 0, out, "")
+    text = "\n".join(out)
     if len(text) > limit:
         text = text[:limit] + f"\n… (cut: {len(text) - limit} more characters)"
     return text
