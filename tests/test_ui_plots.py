@@ -77,8 +77,13 @@ def test_plots_topics_and_the_planned_path(home: tuple[Any, Any]) -> None:
     assert "more of" in plots.topics.message.value  # 360 ranges shortened
     assert wait_for(lambda: "Hz" in plots.topics.info.value, 10.0, screen.refresh_info), plots.topics.info.value
     assert _subscribers(sim, "/scan") == before + 1  # one extra, throttled subscription
-    plots.toggle.value = False  # closing ends it
+    plots.toggle.value = True  # (still open) inspect /odom, which the link itself streams, then close
+    plots.topics.list.value = "/odom"
+    assert wait_for(lambda: "twist" in plots.topics.message.value, 10.0, screen.refresh_info)
+    plots.toggle.value = False  # closing ends the inspector's subscriptions, and only those
     assert wait_for(lambda: _subscribers(sim, "/scan") == before, 5.0, lambda: None)
+    seen = link.latest_odom()
+    assert wait_for(lambda: link.latest_odom() is not seen, 5.0, lambda: None), "the link's /odom stream died"
     draws = plots.draws
     for _ in range(4):
         screen.refresh_info()

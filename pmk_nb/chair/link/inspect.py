@@ -14,18 +14,29 @@ the rate at the cap is shown as "at least".
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import threading
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     import roslibpy
 
-__all__ = ["THROTTLE_MS", "Rate", "RateMeter", "TopicProbe", "pretty_message", "rate_text", "topic_rows"]
+__all__ = [
+    "THROTTLE_MS",
+    "OwnSubscription",
+    "Rate",
+    "RateMeter",
+    "TopicProbe",
+    "pretty_message",
+    "rate_text",
+    "topic_rows",
+]
 
 THROTTLE_MS = 500
 #: Longest message text shown (characters); longer text ends in a note of how much was cut.
@@ -139,20 +150,56 @@ def topic_rows(rosapi: dict[str, str] | None, known: dict[str, str]) -> list[tup
     return sorted(rows.items())
 
 
+class OwnSubscription:
+    """A subscription that ends alone: roslibpy's ``Topic.unsubscribe`` removes *every* callback of
+    the topic's name on that ``Ros`` (``ros.off(name)``), which would silence the link's own /odom
+    stream when an inspected /odom is closed. This registers its one callback and subscribes with
+    its own id (rosbridge keeps subscriber ids apart), through roslibpy's public ``on`` / ``off`` /
+    ``send_on_ready``; :meth:`stop` removes exactly those.
+    """
+
+    _ids = itertools.count(1)
+
+    def __init__(
+        self,
+        ros: roslibpy.Ros,
+        topic: str,
+        type_name: str | None,
+        callback: Callable[[Any], None],
+        throttle_ms: int = THROTTLE_MS,
+    ) -> None:
+        import roslibpy
+
+        self.ros, self.topic, self.callback = ros, topic, callback
+        self.id = f"subscribe:{topic}:pmk-{next(self._ids)}"
+        ros.on(topic, callback)
+        op = {"op": "subscribe", "id": self.id, "topic": topic, "throttle_rate": throttle_ms, "queue_length": 1}
+        if type_name:
+            op["type"] = type_name
+        ros.send_on_ready(roslibpy.Message(op))
+
+    def stop(self) -> None:
+        """Remove this callback and this subscriber id only (best effort: the socket may be gone)."""
+        import roslibpy
+
+        try:
+            self.ros.off(self.topic, self.callback)
+            self.ros.send_on_ready(roslibpy.Message({"op": "unsubscribe", "id": self.id, "topic": self.topic}))
+        except Exception:  # a closed link has nothing left to unsubscribe
+            return
+
+
 class TopicProbe:
     """One throttled subscription: its rate and latest message, until :meth:`stop`."""
 
     def __init__(self, ros: roslibpy.Ros, topic: str, type_name: str, throttle_ms: int = THROTTLE_MS) -> None:
-        import roslibpy
-
         self.topic = topic
         self.type_name = type_name
         self.meter = RateMeter(throttle_ms)
         self._lock = threading.Lock()
         self._latest: Any = None
         self.count = 0
-        self._sub = roslibpy.Topic(ros, topic, type_name or None, throttle_rate=throttle_ms, queue_length=1)
-        self._sub.subscribe(self._on_message)
+        self._sub = OwnSubscription(ros, topic, type_name or None, self._on_message, throttle_ms)
 
     def _on_message(self, msg: Any) -> None:  # I/O thread: store only
         header = msg.get("header") if isinstance(msg, dict) else None
@@ -167,8 +214,5 @@ class TopicProbe:
             return self._latest
 
     def stop(self) -> None:
-        """Unsubscribe (best effort: the socket may be gone)."""
-        try:
-            self._sub.unsubscribe()
-        except Exception:  # a closed link has nothing left to unsubscribe
-            return
+        """Unsubscribe this probe only (the link's own stream of the same topic goes on)."""
+        self._sub.stop()

@@ -21,6 +21,8 @@ import numpy as np
 if TYPE_CHECKING:
     import roslibpy
 
+    from pmk_nb.chair.link.inspect import OwnSubscription
+
 __all__ = ["AUTO", "PLAN_TOPICS", "PlanWatch", "PlannedPath", "ahead_of", "parse_path"]
 
 AUTO = "auto"
@@ -84,7 +86,7 @@ class PlanWatch:
         self.topics = PLAN_TOPICS if topic in ("", AUTO) else (topic,)
         self._lock = threading.Lock()
         self._ros: roslibpy.Ros | None = None
-        self._subs: list[roslibpy.Topic] = []
+        self._subs: list[OwnSubscription] = []
         self._latest: PlannedPath | None = None
         self.count = 0
 
@@ -100,13 +102,12 @@ class PlanWatch:
         self.stop()
         if ros is None:
             return
-        import roslibpy
+        from pmk_nb.chair.link.inspect import OwnSubscription  # ends alone, see there
 
-        subs = []
-        for name in self.topics:
-            topic = roslibpy.Topic(ros, name, PATH_TYPE, throttle_rate=THROTTLE_MS, queue_length=1)
-            topic.subscribe(lambda msg, name=name: self._on_path(name, msg))
-            subs.append(topic)
+        subs = [
+            OwnSubscription(ros, name, PATH_TYPE, lambda msg, name=name: self._on_path(name, msg), THROTTLE_MS)
+            for name in self.topics
+        ]
         with self._lock:
             self._ros, self._subs = ros, subs
 
@@ -114,11 +115,8 @@ class PlanWatch:
         """Unsubscribe (the latest path is forgotten: a new preview starts clean)."""
         with self._lock:
             subs, self._subs, self._ros, self._latest = self._subs, [], None, None
-        for topic in subs:
-            try:
-                topic.unsubscribe()
-            except Exception:  # the socket may be gone already: nothing left to unsubscribe
-                continue
+        for sub in subs:
+            sub.stop()
 
     def _on_path(self, topic: str, msg: dict[str, Any]) -> None:  # I/O thread: parse and store
         path = parse_path(msg, topic, time.monotonic())
