@@ -4,6 +4,7 @@ move_base (/move_base/NavfnROS/plan) do, and the link's PlanWatch follows it thr
 from __future__ import annotations
 
 import math
+import time
 from typing import Any
 
 import numpy as np
@@ -57,3 +58,30 @@ def test_the_simulator_publishes_its_plan_and_the_link_follows_it(
     assert watch.latest is None
     named = PlanWatch(topic)
     assert named.topics == (topic,)
+
+
+def test_the_plan_subscription_comes_back_after_the_chair_restarts(sim_factory: Any) -> None:
+    """The link's Ros reconnects by itself; the plan's own subscription is sent again then."""
+    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.state import LinkState
+
+    sim = sim_factory(ros="ros2", start_pose=(1.0, 6.0, 0.0), patrol=False)
+    link = ChairLink("127.0.0.1", sim.port, reconnect_initial=0.2, reconnect_max=1.0)
+    try:
+        link.connect(timeout=10.0)
+        watch = PlanWatch("/plan")
+        watch.follow(link.ros)
+        link.navigate_to(12.0, 6.0, 0.0)
+        assert wait_until(lambda: watch.latest is not None, 15.0)
+        sim.stop()
+        assert wait_until(lambda: link.state is LinkState.CONNECTING, 5.0)
+        sim.start()
+        assert wait_until(lambda: link.state is LinkState.CONNECTED, 10.0)
+        watch.follow(link.ros)  # the same Ros: nothing new subscribed here
+        time.sleep(2.0)  # the subscribe goes out 1 s after the close, as roslibpy's own topics do
+        count = watch.count
+        link.navigate_to(12.0, 3.0, 0.0)  # far: planned and published again while it drives
+        assert wait_until(lambda: watch.count > count, 15.0), "no plan after the reconnect"
+        watch.stop()
+    finally:
+        link.close()

@@ -172,17 +172,24 @@ class OwnSubscription:
 
         self.ros, self.topic, self.callback = ros, topic, callback
         self.id = f"subscribe:{topic}:pmk-{next(self._ids)}"
-        ros.on(topic, callback)
         op = {"op": "subscribe", "id": self.id, "topic": topic, "throttle_rate": throttle_ms, "queue_length": 1}
         if type_name:
             op["type"] = type_name
-        ros.send_on_ready(roslibpy.Message(op))
+        self._op = roslibpy.Message(op)
+        ros.on(topic, callback)
+        ros.on("close", self._resubscribe)  # the link's Ros reconnects by itself: subscribe again then
+        ros.send_on_ready(self._op)
+
+    def _resubscribe(self, _proto: Any) -> None:
+        # as roslibpy's own Topic does after a close: queue the subscribe for the next connection
+        self.ros.call_later(1, lambda: self.ros.send_on_ready(self._op))
 
     def stop(self) -> None:
         """Remove this callback and this subscriber id only (best effort: the socket may be gone)."""
         import roslibpy
 
         try:
+            self.ros.off("close", self._resubscribe)
             self.ros.off(self.topic, self.callback)
             self.ros.send_on_ready(roslibpy.Message({"op": "unsubscribe", "id": self.id, "topic": self.topic}))
         except Exception:  # a closed link has nothing left to unsubscribe
