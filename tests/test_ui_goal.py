@@ -192,3 +192,12 @@ def test_an_error_note_is_escaped_not_markup() -> None:
     panel.refresh()
     assert "<img" not in panel.status.value and "&lt;img src=x onerror=alert(1)&gt;" in panel.status.value
     assert errors and "<img" in errors[0]  # the message itself is plain text; its renderer escapes it
+
+
+def test_a_go_to_is_named_instead_of_no_destination() -> None:
+    """Issue 29 item 9: while a Go to… drives, the tap-to-go panel names its room, not "No destination"."""
+    assert "No destination" in status_html(None, None)
+    text = status_html(None, None, elsewhere="Kitchen <2>")
+    assert "No destination" not in text and "Going to <b>Kitchen &lt;2&gt;</b>" in text
+    done = GoalProgress(GoalStatus.ARRIVED, (1.0, 2.0, 0.0), 0.0, "arrived")
+    assert "Kitchen" in status_html((1.0, 2.0, 0.0), done, elsewhere="Kitchen")  # a finished tap gives way

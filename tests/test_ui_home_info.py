@@ -119,3 +119,12 @@ def test_laser_line_says_blind_ahead_and_touching() -> None:
     touching = [2.0] * 134 + [float("-inf")] * 3 + [2.0] * 134
     assert "touching the chair ahead (3 rays)" in laser_text(scan(touching))
     assert laser_text(None) == ""
+
+
+def test_heading_and_turn_rate_never_read_minus_zero() -> None:
+    """Issue 29 item 9: a chair facing -0.2° showed "heading -0°"; a still chair "turning -0°/s"."""
+    odom = Odometry(0.0, 0.0, -0.003, 0.0, -0.001, None, 0.0)
+    texts = info_texts("live", 0.1, odom, odom, 1, 1.0)
+    assert "heading 0°" in texts.position and "-0" not in texts.position
+    assert "turning 0°/s" in texts.speed and "-0" not in texts.speed
+    assert "heading -90°" in info_texts("live", 0.1, Odometry(0, 0, -1.5708, 0, 0, None, 0.0), None, 1, 1.0).position

@@ -274,3 +274,27 @@ def test_the_lockout_survives_a_new_app_context(tmp_path: Path) -> None:
                     assert set(app.screens) == {"home"}
             finally:
                 app.close()
+
+
+def test_lock_icons_only_while_a_pin_is_set(tmp_path: Path) -> None:
+    """Issue 29 item 9: the demo's kiosk page (no PIN) showed lock icons on Maps and Settings, which
+    open freely; the lock shows once a PIN is set, and goes again when it is removed."""
+    with app_context(tmp_path) as ctx:
+        ctx.kiosk = KioskLock(PinStore(ctx.config_dir))
+        app = build_app(ctx=ctx)
+        try:
+            icons = lambda: {n: app.nav_buttons[n].icon for n in ("maps", "settings")}  # noqa: E731
+            assert icons() == {"maps": "map", "settings": "cog"}
+            app.show("settings")
+            settings = app.screens["settings"]
+            _find(settings.widget, "pmk-kiosk-pin-new").value = PIN
+            _find(settings.widget, "pmk-kiosk-pin-repeat").value = PIN
+            _find(settings.widget, "pmk-kiosk-pin-set").click()
+            app.show("home")
+            assert icons() == {"maps": "lock", "settings": "lock"}
+            _unlock(app, app.gate.__self__, "settings")  # type: ignore[union-attr]
+            _find(app.screens["settings"].widget, "pmk-kiosk-pin-remove").click()
+            app.show("home")
+            assert icons() == {"maps": "map", "settings": "cog"}
+        finally:
+            app.close()

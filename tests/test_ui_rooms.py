@@ -70,6 +70,9 @@ def test_go_to_a_named_room_arrives_inside_it_and_says_so(clinic_home: Any) -> N
     assert [r.label for r in rooms.route.rooms][2] == "Corridor"  # door to door, through the corridor
     assert rooms.overlay.route and rooms.overlay.goal is not None  # drawn on the map
     assert rooms.panel.cancel_button.layout.display != "none"
+    # issue 29 item 9: the destination panel no longer says "No destination" while a Go to… drives
+    assert wait_for(lambda: "Going to <b>Exam room 2</b>" in home.goal.status.value, 5.0), home.goal.status.value
+    assert "No destination" not in home.goal.status.value
     polygon = rooms.rooms.room("Exam room 2").polygon
     link = home.ctx.link()
     assert wait_for(lambda: rooms.handle.progress().done, 60.0), rooms.handle.progress()

@@ -139,3 +139,30 @@ def test_profile_picker_switches_between_saved_chairs(ctx: AppContext, tmp_path:
     assert screen.fields["host"].value == "10.0.0.1"
     data = json.loads((tmp_path / "cfg" / "profiles.json").read_text())
     assert data["last_used"] == "B"
+
+
+def test_settings_says_connected_while_the_page_holds_a_live_link(tmp_path: Path, sim_factory: Any) -> None:
+    """Issue 29 item 9: Settings said "Disconnected" while Home was live on the same chair."""
+    from pmk_nb.chair.link.registry import close_all_links
+    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.ui import build_app
+    from tests.helpers import app_context
+
+    sim = sim_factory()
+    with app_context(tmp_path) as ctx:
+        ctx.profiles.save(ChairProfile(name="sim", host="127.0.0.1", port=sim.port))
+        app = build_app(ctx=ctx)
+        try:
+            ctx.link().connect(timeout=10.0)  # what Home's preview does
+            app.show("settings")
+            screen = app.screens["settings"]
+            assert screen.state == "Connected" and "Disconnected" not in screen.status.value, screen.status.value
+            assert "Home" in screen.status.value  # says where the connection comes from
+            assert not any("Connected." in n.message for n in ctx.notifications)  # no news: no toast
+            close_all_links()
+            app.show("home")
+            app.show("settings")
+            assert app.screens["settings"].state == "Disconnected"  # the link is gone: so it says
+        finally:
+            app.close()
+            close_all_links()

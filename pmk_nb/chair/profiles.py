@@ -65,6 +65,9 @@ class ChairProfile:
     scan_topic: str = "/scan"
     pose_source: str = "odometry"
     pose_topic: str = "/amcl_pose"
+    # the navigation stack's planned path (nav_msgs/Path) drawn on Home: "auto" follows Nav2's /plan
+    # and move_base's planners (pmk_nb.chair.link.planpath), or name one topic
+    plan_topic: str = "auto"
     ssh_user: str = ""
     ssh_port: int = 22
     auth: str = "password"
@@ -140,6 +143,8 @@ class ChairProfile:
             _bad("pose_source", self.pose_source, f"use one of {', '.join(POSE_SOURCES)}")
         if self.pose_source == "pose_topic" or self.pose_topic:
             _check_topic("pose_topic", self.pose_topic)
+        if self.plan_topic != "auto":
+            _check_topic("plan_topic", self.plan_topic)
         if any(c.isspace() for c in self.ssh_user) or ":" in self.ssh_user or "@" in self.ssh_user:
             _bad("ssh_user", self.ssh_user, "a user name has no spaces, ':' or '@'")
         if self.auth not in AUTH_METHODS:

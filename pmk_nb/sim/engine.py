@@ -29,6 +29,7 @@ if TYPE_CHECKING:
 LOG = logging.getLogger("pmk_nb.sim")
 PATROL_IDLE = 5.0  # s after a manual command before patrol resumes
 PATROL_PAUSE = 1.0  # s between patrol legs
+PLAN_REPEAT_S = 1.0  # s between publishes of the plan being followed
 
 
 class Engine:
@@ -64,6 +65,8 @@ class Engine:
         self._plan_task: asyncio.Task[None] | None = None
         self._last_manual = -math.inf
         self._patrol_next = 0.0
+        self._plan_msg: dict[str, Any] | None = None  # the path being followed, as nav_msgs/Path
+        self._plan_sent = -math.inf
         self.navigator = Navigator(self)
 
     def attach(self, bridge: Bridge) -> None:
@@ -73,6 +76,7 @@ class Engine:
         bridge.advertise_internal("/odom", n.msg("nav_msgs", "Odometry"))
         bridge.advertise_internal("/scan", n.msg("sensor_msgs", "LaserScan"))
         bridge.advertise_internal("/tf", n.msg("tf2_msgs", "TFMessage"))
+        bridge.advertise_internal(n.plan_topic, n.msg("nav_msgs", "Path"))  # the global plan, as Nav2 does
         bridge.listen("/cmd_vel", n.msg("geometry_msgs", "Twist"), self.on_cmd_vel)
         self.navigator.attach(bridge)  # goal topics and actions
 
@@ -169,6 +173,23 @@ class Engine:
             chair.follow(path, yaw)
             if not path:
                 self.note(f"no path to goal ({goal[0]:.2f}, {goal[1]:.2f})")
+            self._plan_msg = (
+                self.names.path([(float(x), float(y)) for x, y in path], yaw, time.time()) if path else None
+            )
+            self._plan_sent = -math.inf
+            self._send_plan(asyncio.get_running_loop().time())
+
+    def _send_plan(self, now: float) -> None:
+        """Publish the plan being followed, again every ``PLAN_REPEAT_S`` while the chair drives it
+        (Nav2's navigator replans at 1 Hz and publishes each plan on /plan)."""
+        chair, bridge, msg = self.chair, self.bridge, self._plan_msg
+        if msg is None or chair is None or bridge is None or now - self._plan_sent < PLAN_REPEAT_S:
+            return
+        if not chair.driving_goal:
+            self._plan_msg = None
+            return
+        self._plan_sent = now
+        bridge.publish(self.names.plan_topic, msg)
 
     def _patrol_tick(self, chair: Chair, now: float) -> None:
         busy = chair.driving_goal or self.planning or self.navigator.current is not None
@@ -206,6 +227,7 @@ class Engine:
             if self.paused or chair is None or bridge is None:
                 continue
             chair.step(dt, now)
+            self._send_plan(now)
             if self.patrol:
                 self._patrol_tick(chair, now)
             seq += 1

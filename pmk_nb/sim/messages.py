@@ -67,7 +67,26 @@ class Names:
             h = {"seq": seq, **h}
         return h
 
+    @property
+    def plan_topic(self) -> str:
+        """Where the navigation stack publishes its global plan (nav_msgs/Path): Nav2's planner
+        server on ``/plan``; move_base's default global planner (navfn) on its private topic."""
+        return "/move_base/NavfnROS/plan" if self.ros == "ros1" else "/plan"
+
     # -- builders -----------------------------------------------------------------------------
+
+    def path(self, points: list[tuple[float, float]], yaw: float | None, t: float, seq: int = 0) -> dict[str, Any]:
+        """A nav_msgs/Path in the map frame: each pose faces the next point, the last the goal's yaw."""
+        poses = []
+        for i, (x, y) in enumerate(points):
+            if i + 1 < len(points):
+                heading = math.atan2(points[i + 1][1] - y, points[i + 1][0] - x)
+            else:
+                heading = yaw if yaw is not None else (poses[-1]["_yaw"] if poses else 0.0)
+            poses.append({"header": self.header("map", t, seq), "pose": pose_msg(x, y, heading), "_yaw": heading})
+        for p in poses:
+            del p["_yaw"]
+        return {"header": self.header("map", t, seq), "poses": poses}
 
     def odometry(self, pose: tuple[float, float, float], v: float, w: float, t: float, seq: int) -> dict[str, Any]:
         x, y, th = pose

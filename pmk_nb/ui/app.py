@@ -25,6 +25,7 @@ log = logging.getLogger(__name__)
 
 SCREENS: tuple[str, ...] = ("home", "maps", "settings")
 _NAV_LABELS = {"home": ("Home", "home"), "maps": ("Maps", "map"), "settings": ("Settings", "cog")}
+NAV_ICONS = {name: icon for name, (_label, icon) in _NAV_LABELS.items()}  # the kiosk's lock swaps them
 
 
 class Screen(Protocol):

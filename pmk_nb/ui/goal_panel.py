@@ -34,13 +34,23 @@ log = logging.getLogger(__name__)
 
 
 def status_html(
-    goal: Goal | None, progress: GoalProgress | None, note: str = "", *, cancel_pending: bool = False
+    goal: Goal | None,
+    progress: GoalProgress | None,
+    note: str = "",
+    *,
+    cancel_pending: bool = False,
+    elsewhere: str | None = None,
 ) -> str:
     """The panel's text: the goal, its status word, the metres left and the route's message; then a
     warning when the chair has been silent, and "cancel sent" while a cancel awaits confirmation.
 
     ``note`` is plain text (an error's words can quote a server or a file), escaped here.
+    ``elsewhere`` names the room a Go to… is driving to: with no tapped goal running, the panel says
+    so instead of "No destination" (the chair has one; the rooms panel shows its progress).
     """
+    idle = goal is None or (progress is not None and progress.done)
+    if elsewhere and idle:
+        return f"Going to <b>{escape(elsewhere)}</b> (Go to…)."
     if goal is None:
         if note:
             return escape(note)
@@ -80,6 +90,7 @@ class GoalPanel:
         self.goal: Goal | None = None
         self._chair: tuple[float, float] | None = None
         self._note = ""
+        self._elsewhere: str | None = None  # the room a Go to… drives to (Home's tick says)
         self.picker = GoalPicker(lambda: live.viewport, lambda: self._chair, self.send, self._redraw)
         self.overlay = GoalOverlay(self.picker)
         live.overlays.append(self.overlay)
@@ -146,10 +157,12 @@ class GoalPanel:
             handle.cancel()
         self.refresh()
 
-    def tick(self, pose: Any) -> None:
-        """Home's info refresh: remember the chair's position, update the texts."""
+    def tick(self, pose: Any, elsewhere: str | None = None) -> None:
+        """Home's info refresh: remember the chair's position and the room a Go to… drives to, update
+        the texts."""
         x, y = getattr(pose, "x", None), getattr(pose, "y", None)
         self._chair = (float(x), float(y)) if isinstance(x, float) and isinstance(y, float) else None
+        self._elsewhere = elsewhere
         self.refresh()
 
     def refresh(self) -> None:
@@ -157,7 +170,9 @@ class GoalPanel:
         progress = handle.progress() if handle is not None else None
         pending = handle is not None and handle.cancel_requested and handle.cancel_honoured is None
         pending = pending and progress is not None and progress.status is not GoalStatus.CANCEL_IGNORED
-        self.status.value = status_html(self.goal, progress, self._note, cancel_pending=pending)
+        self.status.value = status_html(
+            self.goal, progress, self._note, cancel_pending=pending, elsewhere=self._elsewhere
+        )
         active = self.goal is not None and (progress is None or not progress.done) and not self._note
         self.cancel_button.layout.display = "" if active else "none"
         if progress is not None and progress.done and self.overlay.goal is not None:

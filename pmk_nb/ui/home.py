@@ -44,10 +44,12 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.live_path_layer import LivePathLayer
 from pmk_nb.ui.live_tools import MapTools
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.own_map import CHAIRS_MAP, ChairMap, OwnMap, map_label_html
+from pmk_nb.ui.plots_panel import PlotsPanel
 from pmk_nb.ui.preview_controller import PreviewController
 from pmk_nb.ui.record_panel import RecordPanel
 from pmk_nb.ui.render_loop import RenderLoop
@@ -120,6 +122,12 @@ class HomeScreen:
         # scale bar, grid, coordinates, Measure, Set pose (pmk_nb/ui/live_tools.py); under the map
         self.tools = MapTools(self.live, ctx)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.tools.widget)
+        # issue 29: the Plots panel (speed and turn rate, the topic inspector) and the planned path
+        self.plots = PlotsPanel()  # pmk_nb/ui/plots_panel.py
+        self.ui.controls.children = (*self.ui.controls.children, self.plots.toggle)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.plots.widget)
+        self.path = LivePathLayer()  # pmk_nb/ui/live_path_layer.py: Nav2's /plan, move_base's plan
+        self.live.overlays.append(self.path)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -194,6 +202,8 @@ class HomeScreen:
         self.live.start(link)
         self.goal.attach(link)
         self.tools.attach(link)
+        self.plots.attach(link)
+        self.path.attach(link, profile.plan_topic if profile is not None else "auto")
         self.drive.offer(link, profile)
         # routes use the accessibility check's chair width (Settings), else the footprint's diameter
         self.rooms.attach(link, getattr(profile, "chair_width", None) or 2 * self.live.footprint_radius)
@@ -215,6 +225,8 @@ class HomeScreen:
         self.live.attach(None)
         self.goal.attach(None)
         self.tools.attach(None)
+        self.plots.attach(None)
+        self.path.attach(None)
         self.drive.offer(None, None)
         self.rooms.attach(None)
         self._show_running(False)
@@ -224,6 +236,7 @@ class HomeScreen:
         self.stop_preview()
         self.recorder.close()
         self._unsub_map()
+        self.plots.close()
         self.live.close()
 
     # -- map -----------------------------------------------------------------------------------------
@@ -308,7 +321,8 @@ class HomeScreen:
         """Update position, speed, zoom and state texts (a widget whose text is unchanged sends nothing)."""
         snap = self.preview.snapshot()
         state, age = connection_state(snap)
-        texts = info_texts(state, age, snap.pose, snap.odom, self.live.zoom, self.live.zoom_factor, snap.scan)
+        live = self.live
+        texts = info_texts(state, age, snap.pose, snap.odom, live.zoom, live.zoom_factor, snap.scan, live.grid)
         self.live.stale = state == "stale"  # the loop redraws: the chair turns grey
         info = self.ui.info
         info.state.value = texts.state
@@ -323,7 +337,9 @@ class HomeScreen:
         if chair_map is not None:
             self._show_chair_map(chair_map)
         self.rooms.tick(snap.pose or snap.odom, state)
-        self.goal.tick(snap.pose or snap.odom)
+        self.plots.tick(snap.odom if state == "live" else None)
+        self.path.tick(snap.pose or snap.odom)
+        self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _user_start(self) -> None:

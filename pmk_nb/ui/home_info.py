@@ -13,13 +13,18 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from pmk_nb.chair.messages import Odometry, Pose2D, Scan
-from pmk_nb.chair.ranges import blind_ahead
+from pmk_nb.chair.ranges import BLIND_KINDS, NO_RETURN, UNKNOWN, blind_ahead
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.widgets import escape
+from pmk_nb.viewport.mapcast import explain_nulls
+from pmk_nb.viewport.pose import mounted
 
 if TYPE_CHECKING:  # the link package pulls in roslibpy: imported when a preview starts, not before
     from pmk_nb.chair.link.state import LinkState
+    from pmk_nb.grid import OccupancyGrid
 
 NO_VALUE = "—"  # shown instead of a value that is not current
 STALE_AFTER = 2.0  # s without odometry before the "no data" state
@@ -71,6 +76,12 @@ class InfoTexts:
     laser: str = ""
 
 
+def whole_degrees(radians: float) -> str:
+    """Radians as whole degrees, never "-0" (a heading of -0.2° is shown as 0°, not -0°)."""
+    text = f"{math.degrees(radians):.0f}"
+    return "0" if text == "-0" else text
+
+
 def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[str, float | None]:
     """("off"|"connecting"|"live"|"stale"|"unreachable", seconds since the last odometry or None).
 
@@ -91,15 +102,26 @@ def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[s
     return "live", age
 
 
-def laser_text(scan: Scan | None) -> str:
+def laser_text(scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2D | Odometry | None = None) -> str:
     """The panel's laser line: blind rays counted, and a warning when the laser is blind ahead.
 
     The forward direction is taken as the laser's 0° (the scanner's mounting yaw is not applied).
+    With the map and the chair's pose, a ``null`` ray along which the map shows no wall within the
+    laser's range is the expected "nothing there" (a long corridor), not blindness
+    (:func:`pmk_nb.viewport.mapcast.explain_nulls`); without them every null counts, as before.
     """
     if scan is None or scan.kinds is None or scan.kinds.size == 0:
         return ""
-    sector = blind_ahead(scan.kinds, scan.angles())
-    blind = int(scan.blind.sum())
+    angles = scan.angles()
+    origin = None if pose is None else mounted((float(pose.x), float(pose.y), float(pose.theta)), scan.mount)
+    kinds = scan.kinds
+    # only the forward half is cast (the warning is about what is ahead): half the work when all is null
+    nulls = (kinds == UNKNOWN) & (np.abs(np.angle(np.exp(1j * angles))) <= math.pi / 2)
+    seen = explain_nulls(nulls, angles, grid, origin, float(scan.range_min), float(scan.range_max))
+    if seen.any():
+        kinds = np.where(seen, NO_RETURN, kinds).astype(np.uint8)
+    sector = blind_ahead(kinds, angles)
+    blind = int(np.isin(kinds, BLIND_KINDS).sum())
     parts = []
     if sector.too_close:
         touching = f"Something is touching the chair ahead ({sector.too_close} rays)"
@@ -119,6 +141,7 @@ def info_texts(
     zoom: int,
     zoom_factor: float,
     scan: Scan | None = None,
+    grid: OccupancyGrid | None = None,
 ) -> InfoTexts:
     """The panel's lines for one refresh (all escaped HTML)."""
     stale = state in ("stale", "unreachable")
@@ -126,14 +149,14 @@ def info_texts(
         # say which frame the position is in: the map (tf, AMCL) or odometry (which drifts); Home
         # falls back to odometry while the chosen pose source sends nothing
         frame = pose.frame or "odom"
-        pos = f"x {pose.x:.2f} m, y {pose.y:.2f} m, heading {math.degrees(pose.theta):.0f}° ({frame} frame)"
+        pos = f"x {pose.x:.2f} m, y {pose.y:.2f} m, heading {whole_degrees(pose.theta)}° ({frame} frame)"
         if stale:  # where the chair was, not where it is: say so and grey it
             pos = f"Last known: {pos}"
     else:
         pos = f"Position: {NO_VALUE}"
     # a speed is only true while data flows: during a stall it would claim the chair still moves
     if odom is not None and not stale:
-        speed = f"Speed: {odom.v:.2f} m/s, turning {math.degrees(odom.w):.0f}°/s"
+        speed = f"Speed: {odom.v:.2f} m/s, turning {whole_degrees(odom.w)}°/s"
     else:
         speed = f"Speed: {NO_VALUE}"
     if state == "stale":
@@ -155,7 +178,7 @@ def info_texts(
         speed=_greyed(escape(speed), stale),
         zoom=escape(f"Zoom: {zoom} (x{zoom_factor:.2g})"),
         status=status,
-        laser=laser_text(scan if state == "live" else None),
+        laser=laser_text(scan if state == "live" else None, grid, pose),
     )
 
 

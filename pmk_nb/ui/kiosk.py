@@ -95,6 +95,7 @@ class KioskGate:
 
     def allows(self, name: str) -> bool:
         """The Dashboard's gate: True lets ``show(name)`` go on; False shows the PIN prompt instead."""
+        show_lock_icons(self.app, self.lock)  # a PIN set or removed meanwhile (here or on another page)
         if name not in self.lock.screens:
             self.lock.lock()  # back Home (or elsewhere): lock again; the Dashboard drops the screens
             return True
@@ -183,6 +184,18 @@ def pin_section(ctx: AppContext) -> w.Widget:
     return box
 
 
+def show_lock_icons(app: Any, lock: KioskLock) -> None:
+    """A lock on the navigation buttons of the screens behind the PIN, only while a PIN is set: with
+    no PIN those screens open freely (Settings says how to lock them), a lock icon would say otherwise."""
+    from pmk_nb.ui.app import NAV_ICONS  # app imports this module when it builds a kiosk page
+
+    pin = lock.pins.is_set()
+    for name in lock.screens:
+        btn = app.nav_buttons.get(name)
+        if btn is not None:
+            btn.icon = "lock" if pin else NAV_ICONS.get(name, "")
+
+
 def apply(app: Any) -> KioskGate | None:
     """Make ``app`` the kiosk page when its session has a kiosk lock (``build_app`` sets one when
     ``PMK_KIOSK`` asks for it); returns the gate (None: not a kiosk)."""
@@ -194,7 +207,6 @@ def apply(app: Any) -> KioskGate | None:
     gate = KioskGate(app, lock)
     app.gate = gate.allows
     app.add_class("pmk-kiosk")
-    for name in lock.screens:
-        app.nav_buttons[name].icon = "lock"
+    show_lock_icons(app, lock)
     display(HTML(KIOSK_CSS + wake_lock_html()))
     return gate

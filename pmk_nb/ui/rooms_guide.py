@@ -130,6 +130,14 @@ class RoomsGuide:
         if handle is not None and not handle.progress().done:
             handle.cancel()
 
+    @property
+    def going_to(self) -> str | None:
+        """The room a Go to… is driving to now (None: no goal of this panel's is running)."""
+        handle, route = self.handle, self.route
+        if handle is None or route is None or handle.progress().done:
+            return None
+        return str(route.destination.label)
+
     # -- the timer -----------------------------------------------------------------------------------
     def tick(self, pose: Any, link_state: str) -> None:
         """Update "You are in", the goal's status and the link's phrases; say the next phrase."""

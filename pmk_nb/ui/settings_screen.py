@@ -133,6 +133,35 @@ def _form_fields() -> dict[str, w.Widget]:
     return fields
 
 
+#: Shown under "Connected" when the status comes from the page's own link rather than a test.
+LIVE_LINK_NOTE = "This page is connected to the chair (Home's preview)."
+LIVE_NOTE_HTML = f"<div class='pmk-status-reason'>{escape(LIVE_LINK_NOTE)}</div>"
+
+
+def page_link_state(ctx: AppContext) -> str | None:
+    """ "Connected" / "Connecting" when this kernel holds a link to the saved chair that is open or
+    opening, else None. Looks only at links already made: showing Settings never connects."""
+    import sys
+
+    if "pmk_nb.chair.link.registry" not in sys.modules:  # no link was ever made in this kernel
+        return None
+    from pmk_nb.chair.link.registry import open_links
+    from pmk_nb.chair.link.state import LinkState
+
+    profile = ctx.profile()
+    if profile is None:
+        return None
+    for link in open_links():
+        if (link.host, int(link.port)) != (profile.host, int(profile.port)):
+            continue
+        state = link.state
+        if state in (LinkState.CONNECTED, LinkState.STALE):
+            return "Connected"
+        if state == LinkState.CONNECTING:
+            return "Connecting"
+    return None
+
+
 class SettingsScreen:
     """The Settings screen; ``widget`` is its form, ``info_widget`` the connection status panel."""
 
@@ -271,6 +300,7 @@ class SettingsScreen:
                     "host_key_check",
                     "goal_accept_s",
                     "goal_quiet_s",
+                    "plan_topic",
                 )
             }
             profile = dataclasses.replace(profile, **keep)
@@ -378,13 +408,26 @@ class SettingsScreen:
             exclusive=self._test_lock,
         )
 
-    def _set_state(self, state: str, reason: str = "") -> None:
+    def on_show(self) -> None:
+        """Shown: the status says whether this page holds a live link to the saved chair (Home's
+        preview connected it), instead of "Disconnected" from before any test (issue 29)."""
+        if self._test_lock.locked():  # a test is running: its outcome will be shown
+            return
+        live = page_link_state(self.ctx)
+        if live is not None:
+            self._set_state(live, LIVE_LINK_NOTE, quiet=True)
+        elif self.state == "Connected" and self.status.value.endswith(LIVE_NOTE_HTML):
+            self._set_state("Disconnected", quiet=True)  # the live link has gone since
+
+    def _set_state(self, state: str, reason: str = "", *, quiet: bool = False) -> None:
         self.state = state
         colour = {"Connected": "#a5d6a7", "Failed": "#ff8a80", "Connecting": "#ffe082"}.get(state, "#eceff1")
         shown = "Disconnected" if state == "Failed" else state
         extra = f"<div class='pmk-status-reason'>{escape(reason)}</div>" if reason else ""
         self.status.value = f"<div>Status: <b style='color:{colour}'>{shown}</b></div>{extra}"
         # the status above is the one place for the test's outcome; the app's line only clears
+        if quiet:
+            return
         if state == "Failed":
             self.ctx.notify(f"Connection failed: {reason}", "error", inline=True)
         elif state == "Connected":
