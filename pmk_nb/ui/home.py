@@ -44,6 +44,7 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.live_region import Announcer
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.preview_controller import PreviewController
@@ -101,6 +102,10 @@ class HomeScreen:
         self.rooms = RoomsGuide(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
         self.ui.info.widget.children = (*self.ui.info.widget.children, self.rooms.panel.here)
         self.ui.widget.children = (*self.ui.widget.children, self.rooms.panel.widget, self.rooms.speech.widget)
+        # the same news for screen readers: aria-live regions (pmk_nb/ui/live_region.py)
+        self.announcer = Announcer()
+        self.rooms.speech.listeners.append(self.announcer.phrase)
+        self.ui.widget.children = (*self.ui.widget.children, self.announcer.widget)
         # tap-to-go (pmk_nb/ui/goal_panel.py): Set destination, the goal's status, Cancel; under the map
         self.goal = GoalPanel(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
         self.goal.speak = self.rooms.speech.say  # "Going to the destination.", "Arrived at …"
@@ -270,6 +275,7 @@ class HomeScreen:
             self.ui.status.value = texts.status
         self.rooms.tick(snap.pose or snap.odom, state)
         self.goal.tick(snap.pose or snap.odom)
+        self.announcer.tick(state, snap.scan)
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _user_start(self) -> None:

@@ -111,6 +111,19 @@ def laser_text(scan: Scan | None) -> str:
     return "<br>".join(parts)
 
 
+def laser_alerts(scan: Scan | None) -> frozenset[str]:
+    """The laser's safety alerts now: "blind" (a blind run across the heading, as :func:`laser_text`
+    reports it) and "touching" (rays too close ahead); the screen reader's live region says each
+    when it appears (:mod:`pmk_nb.ui.live_region`)."""
+    if scan is None or scan.kinds is None or scan.kinds.size == 0:
+        return frozenset()
+    sector = blind_ahead(scan.kinds, scan.angles())
+    found = {"touching"} if sector.too_close else set()
+    if sector.degrees >= BLIND_AHEAD_MIN_DEG:
+        found.add("blind")
+    return frozenset(found)
+
+
 def info_texts(
     state: str,
     age: float | None,
