@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import PmkError
+from pmk_nb.speech import phrases
 from pmk_nb.ui.drive_panel import DrivePanel
 from pmk_nb.ui.goal_panel import GoalPanel
 from pmk_nb.ui.home_checks import ChairProbe, preview_image_problem
@@ -113,6 +114,8 @@ class HomeScreen:
         self.drive = DrivePanel(claims_dir=ctx.config_dir / "drive")  # shared by every page's kernel
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
+        # a press of Stop is said even when the chair was not moving (the drive reports only stops)
+        self.drive.stop_button.on_click(lambda _b: self.announcer.phrase(phrases.stopped("stop button")))
         self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)

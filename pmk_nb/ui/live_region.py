@@ -10,7 +10,8 @@ An ipywidgets HTML view replaces its content's ``innerHTML`` on each change, so 
 in the value's markup would be a NEW element each time, which screen readers often do not
 announce.  The region is therefore the widget's stable content element: :data:`A11Y_SCRIPT` (run
 once per page from an Output, like the joystick's script) gives every ``.pmk-live-polite`` /
-``.pmk-live-assertive`` content element its role and ``aria-live`` as soon as it appears.
+``.pmk-live-assertive`` content element its role and ``aria-live`` as soon as it appears.  The
+same script frees the keyboard from ipycanvas's canvas, which takes every key, Tab included.
 
 Messages come from any thread (the drive's stop callback runs on its publisher thread): they are
 queued under a lock and written by :meth:`Announcer.tick` on Home's info timer.
@@ -65,8 +66,20 @@ A11Y_SCRIPT = f"""<script>
       }}
     }}
   }};
+  // ipycanvas makes its canvas a tab stop that swallows every key, Tab too (preventDefault in its
+  // keydown handler): a keyboard trap (WCAG 2.1.2). The live view reads no key, so the canvas
+  // leaves the tab order, and a Tab pressed on a clicked canvas never reaches its handler.
+  const untrap = () => {{
+    for (const c of document.querySelectorAll(".pmk-app canvas[tabindex='0']")) c.setAttribute("tabindex", "-1");
+  }};
+  window.addEventListener("keydown", (e) => {{
+    if (e.key === "Tab" && e.target instanceof HTMLCanvasElement && e.target.closest(".pmk-app")) {{
+      e.stopPropagation();
+    }}
+  }}, true);
   mark();
-  new MutationObserver(mark).observe(document.body, {{childList: true, subtree: true}});
+  untrap();
+  new MutationObserver(() => {{ mark(); untrap(); }}).observe(document.body, {{childList: true, subtree: true}});
 }})();
 </script>"""
 
