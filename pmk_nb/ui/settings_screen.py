@@ -127,10 +127,16 @@ def _form_fields() -> dict[str, w.Widget]:
         "goals_on_link_loss": _link_loss_toggle(),
         # the rider's display (pmk_nb/ui/display_prefs.py): applied on the app root once saved
         "high_contrast": w.ToggleButtons(
-            options=[("Standard colours", "False"), ("High contrast", "True")], value="False", description="Colours"
+            options=[("Standard", "False"), ("High contrast", "True")],
+            value="False",
+            description="Colours",
+            style={"button_width": "170px"},
         ),
         "large_text": w.ToggleButtons(
-            options=[("Standard text", "False"), ("Large text", "True")], value="False", description="Text size"
+            options=[("Standard", "False"), ("Large text", "True")],
+            value="False",
+            description="Text size",
+            style={"button_width": "170px"},
         ),
     }
     fields["high_contrast"].add_class("pmk-settings-high-contrast")
