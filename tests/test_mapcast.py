@@ -69,3 +69,22 @@ def test_only_nulls_are_explained_and_nothing_without_a_map() -> None:
     grid = corridor(30.0)
     assert explain_nulls(kinds == UNKNOWN, angles, grid, (1.0, 0.0, 0.0), 0.1, 8.0).tolist() == [True, True, False]
     assert not explain_nulls(kinds == UNKNOWN, angles, None, (1.0, 0.0, 0.0), 0.1, 8.0).any()
+
+
+def test_the_screen_reader_hears_what_the_panel_shows_down_a_corridor_and_at_a_wall() -> None:
+    """The live region's alerts come from the same map-aware reading as the panel's line: no spoken
+    "Laser blind ahead" down a long corridor, one before a wall the laser should have seen."""
+    from pmk_nb.ui.home_info import info_texts
+    from pmk_nb.ui.live_region import Announcer
+
+    pose = Pose2D(1.0, 0.0, 0.0, "map", 0.0)
+    raw = [1.0] * 129 + [None] * 13 + [1.0] * 129
+    said: list[str] = []
+    for grid, nulls, expect in ((corridor(30.0), raw, False), (corridor(30.0, end_wall_at=2.0), [None] * 271, True)):
+        texts = info_texts("live", 0.1, pose, None, 0, 1.0, scan(nulls), grid)
+        assert ("blind" in texts.alerts) is expect, texts
+        ann = Announcer()
+        ann.say = lambda text, _urgency="polite", _said=said: _said.append(text)  # type: ignore[method-assign]
+        ann.tick("live", alerts=texts.alerts)
+        assert ("Laser blind ahead." in said) is expect, said
+        said.clear()

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import base64
 import datetime as dt
 import http.server
+import re
 import socket
 import threading
 import time
@@ -143,7 +145,10 @@ def test_convert_and_send_to_the_simulator(
     assert screen.convert_progress.value == 1.0 and not errors(ctx)
     assert "2 storeys" in screen.map_list.options[0][0]
     previews = [c for c in screen.generated_box.children if "pmk-maps-preview" in c.children[0]._dom_classes]
-    assert len(previews) == 2 and previews[0].children[0].value[:4] == b"\x89PNG"
+    # the preview is an <img> with a text alternative (WCAG 1.1.1), its PNG inline
+    img = re.search(r'src="data:image/png;base64,([^"]+)" alt="([^"]+)"', previews[0].children[0].value)
+    assert len(previews) == 2 and img is not None and base64.b64decode(img.group(1))[:4] == b"\x89PNG"
+    assert img.group(2).startswith("Preview of the map")
 
     chair_dir = tmp_path / "chair"
     sim = sim_factory(sftp_port=0, maps_dir=chair_dir)

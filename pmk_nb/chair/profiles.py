@@ -98,6 +98,10 @@ class ChairProfile:
     goals_on_link_loss: str = "finish"
     goal_accept_s: float = 5.0
     goal_quiet_s: float = 30.0
+    # how the dashboard looks for this chair's rider (pmk_nb/ui/display_prefs.py, WCAG 2.2):
+    # black on white with thick borders, and text a third larger
+    high_contrast: bool = False
+    large_text: bool = False
 
     @property
     def known_hosts_path(self) -> Path:
@@ -172,6 +176,7 @@ class ChairProfile:
         _check_speech(self)
         _check_tls(self)
         _check_goals(self)
+        _check_display(self)
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)
@@ -230,6 +235,12 @@ def _check_goals(profile: ChairProfile) -> None:
         value = getattr(profile, field)
         if isinstance(value, bool) or not isinstance(value, int | float) or not 0.2 <= value <= top:
             _bad(field, value, f"give seconds from 0.2 to {top:g}")
+
+
+def _check_display(profile: ChairProfile) -> None:
+    for field in ("high_contrast", "large_text"):
+        if not isinstance(getattr(profile, field), bool):
+            _bad(field, getattr(profile, field), "use true or false")
 
 
 def _check_speech(profile: ChairProfile) -> None:

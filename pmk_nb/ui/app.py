@@ -19,6 +19,7 @@ import ipywidgets as w
 
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.context import AppContext, Notification, autostart_from_env
+from pmk_nb.ui.display_prefs import DisplayPrefs
 from pmk_nb.ui.widgets import button, close_tree, escape, guard, style_widget
 
 log = logging.getLogger(__name__)
@@ -87,6 +88,7 @@ class Dashboard(w.VBox):
         # portrait tablet, JupyterLab's main area beside the file browser), not the window's
         super().__init__([style_widget(), self.shell], layout=w.Layout(width="100%"))
         self.add_class("pmk-app")
+        self.display = DisplayPrefs(self, ctx)  # high contrast, large text (pmk_nb/ui/display_prefs.py)
         self._unsubscribe = ctx.observe_notifications(self._on_notification)
         if ctx.notifications:  # problems found while the screens were built
             self._on_notification(ctx.notifications[-1])
@@ -113,6 +115,7 @@ class Dashboard(w.VBox):
                 btn.add_class("pmk-nav-active")
             else:
                 btn.remove_class("pmk-nav-active")
+        self.display.refresh()  # a profile saved by another page shows here on the next screen
         on_show = getattr(screen, "on_show", None)
         if on_show is not None:
             on_show()
@@ -156,6 +159,7 @@ class Dashboard(w.VBox):
             return
         self._closed = True
         self._unsubscribe()
+        self.display.close()
         for screen in self.screens.values():
             try:
                 screen.close()

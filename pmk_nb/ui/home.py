@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import PmkError
+from pmk_nb.speech import phrases
 from pmk_nb.ui.drive_panel import DrivePanel
 from pmk_nb.ui.goal_panel import GoalPanel
 from pmk_nb.ui.home_checks import ChairProbe, preview_image_problem
@@ -45,6 +46,7 @@ from pmk_nb.ui.home_info import (
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
 from pmk_nb.ui.live_path_layer import LivePathLayer
+from pmk_nb.ui.live_region import Announcer
 from pmk_nb.ui.live_tools import MapTools
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
@@ -107,6 +109,10 @@ class HomeScreen:
         self.rooms = RoomsGuide(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
         self.ui.info.widget.children = (*self.ui.info.widget.children, self.rooms.panel.here)
         self.ui.widget.children = (*self.ui.widget.children, self.rooms.panel.widget, self.rooms.speech.widget)
+        # the same news for screen readers: aria-live regions (pmk_nb/ui/live_region.py)
+        self.announcer = Announcer()
+        self.rooms.speech.listeners.append(self.announcer.phrase)
+        self.ui.widget.children = (*self.ui.widget.children, self.announcer.widget)
         # tap-to-go (pmk_nb/ui/goal_panel.py): Set destination, the goal's status, Cancel; under the map
         self.goal = GoalPanel(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
         self.goal.speak = self.rooms.speech.say  # "Going to the destination.", "Arrived at …"
@@ -114,6 +120,8 @@ class HomeScreen:
         self.drive = DrivePanel(claims_dir=ctx.config_dir / "drive")  # shared by every page's kernel
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
+        # a press of Stop is said even when the chair was not moving (the drive reports only stops)
+        self.drive.stop_button.on_click(lambda _b: self.announcer.phrase(phrases.stopped("stop button")))
         self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
         # Record, Stop recording, downloads (pmk_nb/ui/record_panel.py): under the map
@@ -340,6 +348,7 @@ class HomeScreen:
         self.plots.tick(snap.odom if state == "live" else None)
         self.path.tick(snap.pose or snap.odom)
         self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
+        self.announcer.tick(state, alerts=texts.alerts)  # the same reading the panel shows
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _user_start(self) -> None:

@@ -74,6 +74,8 @@ class InfoTexts:
     zoom: str
     status: str | None
     laser: str = ""
+    #: the laser's safety alerts behind ``laser`` ("blind", "touching"), for the live region
+    alerts: frozenset[str] = frozenset()
 
 
 def whole_degrees(radians: float) -> str:
@@ -102,16 +104,19 @@ def connection_state(snap: PreviewSnapshot, now: float | None = None) -> tuple[s
     return "live", age
 
 
-def laser_text(scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2D | Odometry | None = None) -> str:
-    """The panel's laser line: blind rays counted, and a warning when the laser is blind ahead.
+def laser_reading(
+    scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2D | Odometry | None = None
+) -> tuple[str, frozenset[str]]:
+    """The panel's laser line and the laser's safety alerts ("blind", "touching") from one reading.
 
-    The forward direction is taken as the laser's 0° (the scanner's mounting yaw is not applied).
-    With the map and the chair's pose, a ``null`` ray along which the map shows no wall within the
-    laser's range is the expected "nothing there" (a long corridor), not blindness
-    (:func:`pmk_nb.viewport.mapcast.explain_nulls`); without them every null counts, as before.
+    The panel's line and the screen reader's live region (:mod:`pmk_nb.ui.live_region`) share it, so
+    what is said is what is shown. The forward direction is taken as the laser's 0° (the scanner's
+    mounting yaw is not applied). With the map and the chair's pose, a ``null`` ray along which the
+    map shows no wall within the laser's range is the expected "nothing there" (a long corridor), not
+    blindness (:func:`pmk_nb.viewport.mapcast.explain_nulls`); without them every null counts.
     """
     if scan is None or scan.kinds is None or scan.kinds.size == 0:
-        return ""
+        return "", frozenset()
     angles = scan.angles()
     origin = None if pose is None else mounted((float(pose.x), float(pose.y), float(pose.theta)), scan.mount)
     kinds = scan.kinds
@@ -122,15 +127,29 @@ def laser_text(scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2
         kinds = np.where(seen, NO_RETURN, kinds).astype(np.uint8)
     sector = blind_ahead(kinds, angles)
     blind = int(np.isin(kinds, BLIND_KINDS).sum())
-    parts = []
+    parts, alerts = [], set()
     if sector.too_close:
         touching = f"Something is touching the chair ahead ({sector.too_close} rays)"
         parts.append(f"<span class='pmk-msg-warning'>{touching}</span>")
+        alerts.add("touching")
     if sector.degrees >= BLIND_AHEAD_MIN_DEG:
         parts.append(f"<span class='pmk-msg-warning'>Laser blind ahead, {sector.degrees:.0f}°</span>")
+        alerts.add("blind")
     if not parts:
         parts.append(escape(f"Laser: {scan.kinds.size} rays, {blind} unknown"))
-    return "<br>".join(parts)
+    return "<br>".join(parts), frozenset(alerts)
+
+
+def laser_text(scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2D | Odometry | None = None) -> str:
+    """The panel's laser line (see :func:`laser_reading`)."""
+    return laser_reading(scan, grid, pose)[0]
+
+
+def laser_alerts(
+    scan: Scan | None, grid: OccupancyGrid | None = None, pose: Pose2D | Odometry | None = None
+) -> frozenset[str]:
+    """The laser's safety alerts now (see :func:`laser_reading`): the live region says each when it appears."""
+    return laser_reading(scan, grid, pose)[1]
 
 
 def info_texts(
@@ -145,6 +164,7 @@ def info_texts(
 ) -> InfoTexts:
     """The panel's lines for one refresh (all escaped HTML)."""
     stale = state in ("stale", "unreachable")
+    laser, alerts = laser_reading(scan if state == "live" else None, grid, pose)
     if pose is not None:
         # say which frame the position is in: the map (tf, AMCL) or odometry (which drifts); Home
         # falls back to odometry while the chosen pose source sends nothing
@@ -178,7 +198,8 @@ def info_texts(
         speed=_greyed(escape(speed), stale),
         zoom=escape(f"Zoom: {zoom} (x{zoom_factor:.2g})"),
         status=status,
-        laser=laser_text(scan if state == "live" else None, grid, pose),
+        laser=laser,
+        alerts=alerts,
     )
 
 

@@ -16,7 +16,7 @@ import shapely
 
 from pmk_nb.access.report import SKIP_OUTSIDE
 from pmk_nb.raster.openings import SKIP_WINDOW
-from pmk_nb.ui.widgets import escape, replace_children
+from pmk_nb.ui.widgets import escape, picture, replace_children
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import GeneratedMap, MapEntry
@@ -173,9 +173,8 @@ class AccessPanel:
             if doc is not None and not report.get("ok", True) and report.get("checked", True):  # problems to mark
                 png = marked_preview(gm, doc)
                 if png is not None:
-                    img = w.Image(value=png, format="png", layout=w.Layout(max_width="100%", height="auto"))
-                    img.add_class("pmk-access-preview")
-                    images.append(img)
+                    alt = f"The map {gm.yaml.stem} with its access problems marked"
+                    images.append(picture(png, alt, "pmk-access-preview", on_img=True))
         if conflict:
             parts.append(f"<p class='pmk-warn'><b>Size warning:</b> {escape(conflict)}</p>")
         if layers:

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.ui.widgets import button, escape, guard
+from pmk_nb.ui.widgets import button, escape, guard, picture
 
 if TYPE_CHECKING:
     from pmk_nb.library.folder import GeneratedMap, MapEntry, StoreyInfo
@@ -41,12 +41,12 @@ def generated_card(
     label = f"Storey {gm.storey}" if several and gm.storey else "Map"
     thumb: w.Widget
     if gm.preview is not None and Path(gm.preview).is_file():
-        thumb = w.Image(
-            value=Path(gm.preview).read_bytes(),
-            format="png",
-            layout=w.Layout(max_width=f"{THUMB_PX}px", max_height=f"{THUMB_PX}px", object_fit="contain"),
+        thumb = picture(
+            Path(gm.preview).read_bytes(),
+            f"Preview of the map {Path(gm.yaml).stem}",
+            "pmk-maps-preview",
+            style=f"max-width: {THUMB_PX}px; max-height: {THUMB_PX}px; object-fit: contain; display: block",
         )
-        thumb.add_class("pmk-maps-preview")
     else:
         thumb = w.HTML("<i>no preview image</i>")
     send = button(

@@ -29,6 +29,7 @@ from pmk_nb.ui.widgets import (
     field_error,
     guard,
     heading,
+    picture,
     progress_bar,
     progress_callback,
     replace_children,
@@ -178,9 +179,15 @@ class CataloguePanel:
         get.on_click(guard(self.ctx, "Installing")(lambda _b, bid=b.id: self.get(bid)))
         thumb = self.thumbnails.get(b.id)
         box = w.Layout(width="128px", height="auto", margin="0 12px 0 0")
-        picture = w.Image(value=thumb, format="png", layout=box) if thumb else w.HTML("(no thumbnail)", layout=box)
-        picture.add_class("pmk-cat-thumb")
-        card = w.HBox([picture, w.VBox([info, get])], layout=w.Layout(align_items="center"))
+        if thumb:
+            shown = picture(
+                thumb, f"Plan of {b.title}", "pmk-cat-thumb", style="width: 128px; height: auto", on_img=True
+            )
+            shown.layout = box
+        else:
+            shown = w.HTML("(no thumbnail)", layout=box)
+            shown.add_class("pmk-cat-thumb")
+        card = w.HBox([shown, w.VBox([info, get])], layout=w.Layout(align_items="center"))
         card.add_class("pmk-cat-card")
         return card
 

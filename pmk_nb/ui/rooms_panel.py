@@ -26,7 +26,10 @@ class RoomsPanel:
             layout=w.Layout(width="100%", max_width="420px", height=f"{TOUCH_PX - 8}px"),
         )
         self.search.add_class("pmk-rooms-search")
-        self.list = w.Select(options=[], rows=6, layout=w.Layout(width="100%", max_width="420px"))
+        # the tooltip is the list's accessible name (its ``title``): a Select without a description has none
+        self.list = w.Select(
+            options=[], rows=6, tooltip="Rooms to go to", layout=w.Layout(width="100%", max_width="420px")
+        )
         self.list.add_class("pmk-rooms-list")
         self.go_button = button("Go", "pmk-rooms-go", icon="location-arrow", style="primary")
         self.cancel_button = button("Cancel", "pmk-rooms-cancel", icon="times", tooltip="Cancel the goal")

@@ -125,7 +125,22 @@ def _form_fields() -> dict[str, w.Widget]:
         "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
         "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
         "goals_on_link_loss": _link_loss_toggle(),
+        # the rider's display (pmk_nb/ui/display_prefs.py): applied on the app root once saved
+        "high_contrast": w.ToggleButtons(
+            options=[("Standard", "False"), ("High contrast", "True")],
+            value="False",
+            description="Colours",
+            style={"button_width": "170px"},
+        ),
+        "large_text": w.ToggleButtons(
+            options=[("Standard", "False"), ("Large text", "True")],
+            value="False",
+            description="Text size",
+            style={"button_width": "170px"},
+        ),
     }
+    fields["high_contrast"].add_class("pmk-settings-high-contrast")
+    fields["large_text"].add_class("pmk-settings-large-text")
     fields["speech_on"].add_class("pmk-settings-speech-on")
     fields["tls"].add_class("pmk-settings-tls")
     fields["pose_source"].add_class("pmk-settings-pose-source")
@@ -288,6 +303,8 @@ class SettingsScreen:
             speech_rate=_parse_number("speech_rate", values["speech_rate"]),
             chair_width=_parse_number("chair_width", values["chair_width"]),
             goals_on_link_loss=values["goals_on_link_loss"],
+            high_contrast=values["high_contrast"] == "True",
+            large_text=values["large_text"] == "True",
         )
         if base is not None and base.name == profile.name:
             keep = {

@@ -16,6 +16,7 @@ import html
 import logging
 import threading
 import time
+from collections.abc import Callable
 
 import ipywidgets as w
 from IPython.display import HTML
@@ -100,6 +101,8 @@ class SpeechOutput:
         self.rate = 1.0
         self.said: list[tuple[str, str]] = []
         self.problem: SpeechUnavailable | None = None
+        #: also told every phrase, spoken or not (the screen reader's live region: pmk_nb/ui/live_region.py)
+        self.listeners: list[Callable[[tuple[str, str]], None]] = []
         self._seq = 0
         self._lock = threading.Lock()
         self.say_box = w.HTML("")
@@ -130,6 +133,8 @@ class SpeechOutput:
 
     def say(self, phrase: tuple[str, str]) -> bool:
         """Queue a ``(key, text)`` phrase of :mod:`pmk_nb.speech.phrases` (any thread)."""
+        for listener in self.listeners:
+            listener(phrase)
         return self.queue.add(phrase)
 
     def pump(self) -> str | None:

@@ -13,6 +13,8 @@ them: a Layout is an inline style, which a media or container rule cannot overri
 
 from __future__ import annotations
 
+from pmk_nb.ui.a11y_style import A11Y_CSS
+
 TOUCH_PX = 56  # comfortably above the 44-48 px minimum touch target
 BASE_FONT_PX = 18
 NAV_PX = 270  # the navigation column on a wide screen
@@ -69,7 +71,7 @@ _SHELL = f"""
 .pmk-info .widget-html-content {{ color: #eceff1; font-size: {_F - 1}px; }}
 .pmk-app .pmk-content {{ flex: 1 1 0; min-width: 0; width: auto; padding: 0 16px; overflow: visible; }}
 .pmk-message:empty, .pmk-message .widget-html-content:empty {{ display: none; }}
-.pmk-stale {{ color: #90a4ae !important; }}
+.pmk-stale {{ color: #b0bec5 !important; }}  /* 5.1:1 on the info panel (#90a4ae was 3.7) */
 """
 
 _MESSAGES = f"""
@@ -156,4 +158,5 @@ _TOP_BAR = f"""
 }}
 """
 
-APP_CSS = f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}</style>"
+# (last: WCAG 2.2 focus rings, contrast fixes, high contrast and large text: pmk_nb/ui/a11y_style.py)
+APP_CSS = f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}{A11Y_CSS}</style>"

@@ -13,6 +13,7 @@ with no place of its own goes to the app's message line.  Errors are worded for 
 
 from __future__ import annotations
 
+import base64
 import functools
 import html
 import logging
@@ -92,6 +93,24 @@ def heading(title: str) -> w.HTML:
 def escape(value: object) -> str:
     """HTML-escape anything shown inside an HTML widget (names come from files and users)."""
     return html.escape(str(value), quote=True)
+
+
+def picture(
+    png: bytes, alt: str, css_class: str, *, style: str = "max-width: 100%; height: auto", on_img: bool = False
+) -> w.HTML:
+    """A PNG with its text alternative (WCAG 1.1.1): ipywidgets' ``Image`` has no ``alt`` (and its
+    ``tooltip`` breaks its view), so the image is an ``<img alt>`` in an HTML widget.
+
+    ``css_class`` goes on the widget, or with ``on_img`` on the ``<img>`` itself (where a page
+    script reads the picture, e.g. its ``naturalWidth``).
+    """
+    data = base64.b64encode(png).decode("ascii")
+    cls = f' class="{css_class}"' if on_img else ""
+    alt_attr = html.escape(alt, quote=True)
+    item = w.HTML(f'<img{cls} src="data:image/png;base64,{data}" alt="{alt_attr}" style="{style}">')
+    if not on_img:
+        item.add_class(css_class)
+    return item
 
 
 def html_slot(css_class: str) -> w.HTML:
