@@ -316,9 +316,11 @@ def _doorways_out(report: StoreyReport, grid: OccupancyGrid, by_id: dict[str, Ce
     cannot say where it leads."""
     kept = []
     for k in report.links:
-        door = next((c for c in k.cells if _doorway(by_id[c], report.chair_width / 2)
-                     and _touches_unknown(grid, by_id[c])), None)  # fmt: skip
-        if k.point and not k.chair and door is not None:
+        door = None  # looked for only where it matters: a link a point passes and the chair does not
+        if k.point and not k.chair:
+            door = next((c for c in k.cells if _doorway(by_id[c], report.chair_width / 2)
+                         and _touches_unknown(grid, by_id[c])), None)  # fmt: skip
+        if door is not None:
             ends = (by_id[k.cells[0]].name or k.cells[0], by_id[k.cells[1]].name or k.cells[1])
             report.not_checked.append(NotChecked(k.link, k.cells, ends, SKIP_OUTSIDE, by_id[door].name or door))
         else:
