@@ -168,6 +168,14 @@ class GoalPanel:
             if ending is not None:  # an unknown outcome is shown, not announced
                 self._say(ending)
 
+    def doing(self) -> str | None:
+        """A word for Home's status line while a tapped destination's goal runs (None otherwise)."""
+        handle = self.handle
+        progress = handle.progress() if handle is not None else None
+        if self.goal is None or self._note or (progress is not None and progress.done):
+            return None
+        return "Going to the destination"
+
     def _say(self, phrase: tuple[str, str]) -> None:
         if self.speak is not None:
             self.speak(phrase)

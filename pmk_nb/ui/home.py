@@ -35,6 +35,7 @@ from pmk_nb.errors import PmkError
 from pmk_nb.ui.drive_panel import DrivePanel
 from pmk_nb.ui.goal_panel import GoalPanel
 from pmk_nb.ui.home_checks import ChairProbe, preview_image_problem
+from pmk_nb.ui.home_fit import FitChannel
 from pmk_nb.ui.home_info import (
     NO_PROFILE_TEXT,
     chair_silent_text,
@@ -44,6 +45,7 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.home_statusline import status_line
 from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.preview_controller import PreviewController
@@ -58,9 +60,8 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 INFO_HZ = 4.0  # info panel refresh rate: text widgets need no 20 fps
-#: Largest live canvas: fits the content area of a 1280 x 800 landscape tablet next to the
-#: navigation panel; the canvas takes the map's shape within it and the page scales it down on
-#: smaller screens.
+#: The live canvas until the page has said how much room the map has (pmk_nb/ui/home_fit.py):
+#: then it takes that room, whatever the map's shape, up to LiveView.PAGE_MAX.
 CANVAS_MAX = (920, 560)
 DEFAULT_FOOTPRINT = 0.35  # m, when the profile has no usable chair radius
 
@@ -95,7 +96,12 @@ class HomeScreen:
         self.live.on_error(self._on_live_error)
         self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
         self.widget = self.ui.widget
-        self.info_widget = self.ui.info.widget
+        # the text panel is Home's Details card over the map (pmk_nb/ui/home_layout.py); the
+        # navigation's panel keeps only the messages on Home
+        self.info_widget = w.VBox([])
+        self.info_widget.add_class("pmk-home-info-slot")
+        # the page's room for the map and the panels over it (pmk_nb/ui/home_fit.py)
+        self.fit = FitChannel(self.live)
         # rooms by name and spoken feedback (pmk_nb/ui/rooms_guide.py): "You are in" in the info
         # panel, the Go to… box and the (hidden) speech widgets under the map
         self.rooms = RoomsGuide(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
@@ -108,8 +114,8 @@ class HomeScreen:
         self.drive = DrivePanel(claims_dir=ctx.config_dir / "drive")  # shared by every page's kernel
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
-        self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
-        self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
+        self.ui.add_tool(self.drive.toggle)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget, self.fit.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -266,6 +272,10 @@ class HomeScreen:
         info.zoom.value = texts.zoom
         info.laser.value = texts.laser
         self.drive.refresh()
+        self.fit.tick()
+        here = self.rooms.panel.here_name
+        doing = self.drive.doing() or self.goal.doing()
+        self.ui.statusline.value = status_line(state, age, here, snap.odom, doing)
         if texts.status is not None:
             self.ui.status.value = texts.status
         self.rooms.tick(snap.pose or snap.odom, state)

@@ -154,4 +154,11 @@ _TOP_BAR = f"""
 }}
 """
 
-APP_CSS = f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}</style>"
+
+def _app_css() -> str:
+    from pmk_nb.ui.home_style import HOME_CSS  # Home's map screen (issue 28; it imports this module)
+
+    return f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}{HOME_CSS}</style>"
+
+
+APP_CSS = _app_css()

@@ -1,0 +1,75 @@
+"""Home's style: the map fills the screen, everything else floats over it (issue 28).
+
+The canvas takes the whole width and the window's height below it (its pixel size comes from the
+page's measurement, :mod:`pmk_nb.ui.home_fit`, so it is drawn 1:1 and never stretched).  Over it:
+the tool bar (``.pmk-home-toolbar``) along the top, translucent, wrapping on a narrow screen; the
+one-line status (``.pmk-home-statusline``) at the bottom; the Details card above it; and, while
+Drive is on, the joystick column (``.pmk-drive``) docked at the rider's side (``pmk-drive-left`` /
+``pmk-drive-right``, from the chair profile's ``drive_hand``).  Every button on Home is at least
+48 x 48 CSS px (WCAG 2.2 target size, and a gloved or shaky finger); on a phone the bar's buttons
+show their icon only (the text stays their accessible name).
+"""
+
+from __future__ import annotations
+
+from pmk_nb.ui.style import PHONE_PX
+
+TARGET_PX = 48  # the smallest touch target on Home
+BAR_BG = "rgba(255, 255, 255, 0.78)"
+PANEL_BG = "rgba(255, 255, 255, 0.6)"
+
+HOME_CSS = f"""
+.pmk-home {{ width: 100%; min-width: 0; }}
+.pmk-home .pmk-heading {{ margin: 0 12px 4px 0; font-size: 22px; }}
+.pmk-home-preview-box {{ width: 100%; max-width: 100%; gap: 8px; }}
+.pmk-home-map-stack {{ position: relative; width: 100%; max-width: 100%; min-width: 0; overflow: hidden;
+   border-radius: 6px; }}
+.pmk-app .pmk-home-map-stack canvas.pmk-live-canvas, .pmk-app .pmk-home-map-stack .pmk-live-canvas
+   {{ max-width: 100%; max-height: none; height: auto; width: auto; border: none; border-radius: 6px; }}
+.pmk-app .pmk-home-toolbar {{ position: absolute; top: 6px; left: 6px; z-index: 6; width: max-content;
+   max-width: calc(100% - 12px); box-sizing: border-box; display: flex; flex-wrap: wrap; gap: 6px;
+   align-items: center; padding: 4px; background: {BAR_BG}; border-radius: 12px;
+   box-shadow: 0 1px 6px rgba(0, 0, 0, .2); }}
+.pmk-app .pmk-home-controls, .pmk-app .pmk-home-zoom, .pmk-app .pmk-home-toolbar .pmk-live-toolbar
+   {{ display: flex; flex-wrap: wrap; gap: 6px; margin: 0; min-width: 0; align-items: center; }}
+.pmk-app .pmk-home-toolbar button.jupyter-button, .pmk-app .pmk-home-toolbar .jupyter-button
+   {{ min-height: {TARGET_PX}px; min-width: {TARGET_PX}px; margin: 0; }}
+.pmk-app .pmk-home-zoom button.jupyter-button {{ min-width: {TARGET_PX + 8}px; }}
+.pmk-app .pmk-home-statusline {{ position: absolute; left: 6px; bottom: 6px; z-index: 6; max-width: calc(100% - 12px);
+   box-sizing: border-box; background: {BAR_BG}; border-radius: 10px; padding: 2px 12px;
+   box-shadow: 0 1px 6px rgba(0, 0, 0, .2); pointer-events: none; }}
+.pmk-app .pmk-home-statusline .widget-html-content {{ white-space: nowrap; overflow: hidden; text-overflow: ellipsis;
+   line-height: 36px; font-weight: 600; }}
+.pmk-app .pmk-home-statusline:has(.widget-html-content:empty) {{ display: none; }}
+.pmk-app .pmk-home-details {{ position: absolute; left: 6px; bottom: 54px; z-index: 7; box-sizing: border-box;
+   max-width: min(440px, calc(100% - 12px)); max-height: calc(100% - 130px); overflow: auto;
+   background: rgba(38, 50, 56, 0.92); color: #eceff1; border-radius: 12px; padding: 8px 12px; }}
+.pmk-home-details .widget-html-content, .pmk-home-details .pmk-heading {{ color: #eceff1; }}
+.pmk-home-details .pmk-content .pmk-msg-info, .pmk-home-details .pmk-msg-info {{ color: #b3e5fc; }}
+.pmk-info:has(.pmk-home-info-slot) .pmk-message:empty {{ display: none; }}
+.pmk-info:has(.pmk-home-info-slot):not(:has(.pmk-message .widget-html-content:not(:empty)))
+   {{ display: none; }}
+/* the joystick column at the rider's side, translucent: the map shows through */
+.pmk-app .pmk-home-map-stack .pmk-drive.widget-box {{ position: absolute; bottom: 54px; top: auto; z-index: 5;
+   display: flex; flex-direction: column; flex-wrap: nowrap; align-items: center; gap: 8px; width: 196px;
+   height: auto; box-sizing: border-box; padding: 10px; background: {PANEL_BG}; border-radius: 14px;
+   box-shadow: 0 2px 8px rgba(0, 0, 0, .25); overflow: visible; margin: 0; }}
+.pmk-app .pmk-home-map-stack .pmk-drive.pmk-drive-right {{ right: 6px; left: auto; }}
+.pmk-app .pmk-home-map-stack .pmk-drive.pmk-drive-left {{ left: 6px; right: auto; }}
+.pmk-app .pmk-home-map-stack .pmk-drive .pmk-drive-pad-box {{ order: 0; }}
+.pmk-app .pmk-home-map-stack .pmk-drive-pad {{ background: rgba(207, 216, 220, 0.7); }}
+.pmk-app .pmk-home-map-stack .pmk-drive button.jupyter-button, .pmk-app .pmk-home-map-stack .pmk-drive .jupyter-button
+   {{ width: 176px !important; }}
+@container pmk-app (max-width: {PHONE_PX}px) {{
+  /* icon-only bar buttons: the text stays the accessible name, the bar stays one or two rows */
+  .pmk-app .pmk-home-toolbar button.jupyter-button {{ font-size: 0 !important; padding: 0;
+     width: {TARGET_PX}px !important; min-width: {TARGET_PX}px !important; height: {TARGET_PX}px !important; }}
+  .pmk-app .pmk-home-toolbar button.jupyter-button i {{ font-size: 20px; margin: 0 !important; }}
+  .pmk-app .pmk-home-map-stack .pmk-drive.widget-box {{ width: 156px; padding: 6px; gap: 6px; }}
+  .pmk-app .pmk-home-map-stack .pmk-drive .pmk-drive-pad-box {{ width: 140px; }}
+  .pmk-app .pmk-home-map-stack .pmk-drive-pad {{ width: 140px; height: 140px; }}
+  .pmk-app .pmk-home-map-stack .pmk-drive button.jupyter-button, .pmk-app .pmk-home-map-stack .pmk-drive .jupyter-button
+     {{ width: 144px !important; }}
+  .pmk-app .pmk-home-map-stack .pmk-drive-status {{ max-width: 144px; font-size: 14px; }}
+}}
+"""
