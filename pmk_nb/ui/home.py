@@ -50,6 +50,8 @@ from pmk_nb.ui.live_view import DEFAULT_FPS as LIVE_FPS
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.ui.preview_controller import PreviewController
 from pmk_nb.ui.render_loop import RenderLoop
+from pmk_nb.ui.room_picker import RoomPicker
+from pmk_nb.ui.room_picks import RoomPicks
 from pmk_nb.ui.rooms_guide import RoomsGuide
 from pmk_nb.ui.widgets import error_text, escape
 
@@ -115,6 +117,11 @@ class HomeScreen:
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
         self.ui.add_tool(self.drive.toggle)
+        # Go to a room in two taps (pmk_nb/ui/room_picker.py): favourites and recent rooms first
+        picks = RoomPicks(ctx.config_dir)
+        self.goto = RoomPicker(self.rooms, picks, lambda: getattr(self.ctx.current_map, "name", None))
+        self.ui.add_tool(self.goto.button)
+        self.ui.map_stack.children = (*self.ui.map_stack.children, self.goto.card)
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget, self.fit.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
@@ -226,6 +233,7 @@ class HomeScreen:
             ui.info.map.value = "Map: <i>none</i>"
             self._map_problem("No current map: send a map to the chair from the Maps screen first.")
             self.rooms.set_map(None)
+            self.goto.button.layout.display = "none"
             return None
         ui.map_label.value = f"Current map: <b>{escape(current.name)}</b>"
         ui.info.map.value = f"Map: <b>{escape(current.name)}</b>"
@@ -238,6 +246,7 @@ class HomeScreen:
         ui.map_note.value = warning_html(preview_image_problem(current) or "")
         self.live.set_map(grid)  # shown connected or not (the same grid again is a no-op)
         self.rooms.set_map(current.yaml)
+        self.goto.button.layout.display = "" if self.rooms.rooms is not None else "none"
         self._map_ok = True
         self._show_running(self.running)
         if not self.running:

@@ -12,13 +12,14 @@ show their icon only (the text stays their accessible name).
 
 from __future__ import annotations
 
-from pmk_nb.ui.style import PHONE_PX
-
 TARGET_PX = 48  # the smallest touch target on Home
 BAR_BG = "rgba(255, 255, 255, 0.78)"
 PANEL_BG = "rgba(255, 255, 255, 0.6)"
 
-HOME_CSS = f"""
+
+def home_css(phone_px: int) -> str:
+    """The rules; ``phone_px`` is the app width at or below which the phone layout applies."""
+    return f"""
 .pmk-home {{ width: 100%; min-width: 0; }}
 .pmk-home .pmk-heading {{ margin: 0 12px 4px 0; font-size: 22px; }}
 .pmk-home-preview-box {{ width: 100%; max-width: 100%; gap: 8px; }}
@@ -60,7 +61,18 @@ HOME_CSS = f"""
 .pmk-app .pmk-home-map-stack .pmk-drive-pad {{ background: rgba(207, 216, 220, 0.7); }}
 .pmk-app .pmk-home-map-stack .pmk-drive button.jupyter-button, .pmk-app .pmk-home-map-stack .pmk-drive .jupyter-button
    {{ width: 176px !important; }}
-@container pmk-app (max-width: {PHONE_PX}px) {{
+/* Go to: the rooms as big buttons over the map, favourites and recent ones first */
+.pmk-app .pmk-home-goto-card {{ position: absolute; top: 6px; left: 6px; z-index: 8; box-sizing: border-box;
+   width: min(440px, calc(100% - 12px)); max-height: calc(100% - 12px); overflow: auto; gap: 6px;
+   background: rgba(255, 255, 255, 0.96); border-radius: 12px; padding: 8px 12px;
+   box-shadow: 0 2px 10px rgba(0, 0, 0, .3); }}
+.pmk-app .pmk-goto-row {{ gap: 6px; align-items: center; }}
+.pmk-app .pmk-goto-row button.pmk-goto-room {{ flex: 1 1 auto; min-width: 0; justify-content: flex-start;
+   text-align: left; overflow: hidden; text-overflow: ellipsis; }}
+/* icon-only buttons are named by their tooltip, not by the icon font's private glyph */
+.pmk-app .fa-star::before {{ content: "\\f005" / ""; }}
+.pmk-app .fa-star-o::before {{ content: "\\f006" / ""; }}
+@container pmk-app (max-width: {phone_px}px) {{
   /* icon-only bar buttons: the text stays the accessible name, the bar stays one or two rows */
   .pmk-app .pmk-home-toolbar button.jupyter-button {{ font-size: 0 !important; padding: 0;
      width: {TARGET_PX}px !important; min-width: {TARGET_PX}px !important; height: {TARGET_PX}px !important; }}

@@ -156,9 +156,9 @@ _TOP_BAR = f"""
 
 
 def _app_css() -> str:
-    from pmk_nb.ui.home_style import HOME_CSS  # Home's map screen (issue 28; it imports this module)
+    from pmk_nb.ui.home_style import home_css  # Home's map screen (issue 28)
 
-    return f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}{HOME_CSS}</style>"
+    return f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}{home_css(PHONE_PX)}</style>"
 
 
 APP_CSS = _app_css()
