@@ -115,4 +115,30 @@ def test_the_map_is_the_screen_and_nothing_covers_the_chair(tmp_path: Path) -> N
                 failures += [f"{label}: button {b['name']!r} is {b['w']:.0f}x{b['h']:.0f} px" for b in small]
                 page.screenshot(path=str(ARTIFACTS / f"home-{label}.png"))
                 print(f"{label}: map share {reading['share']:.1%}, canvas {reading['px']}")
+            failures += _two_taps_to_a_room(page)
             assert not failures, "\n".join(failures)
+
+
+def _two_taps_to_a_room(page: Any) -> list[str]:
+    """Phone: Set destination shows the heading buttons (no drag needed); Go to, then a room, and
+    the chair is on its way; every button shown on the way is big enough."""
+    from playwright.sync_api import expect
+
+    page.set_viewport_size({"width": SIZES[0][1], "height": SIZES[0][2]})
+    failures: list[str] = []
+    page.locator(".pmk-goal-set").click()
+    expect(page.locator(".pmk-heading-buttons")).to_be_visible(timeout=30_000)
+    failures += [f"heading: {b['name']!r} is {b['w']:.0f}x{b['h']:.0f} px" for b in page.evaluate(SMALL_JS, MIN_TARGET)]
+    page.screenshot(path=str(ARTIFACTS / "home-phone-heading.png"))
+    page.locator(".pmk-goal-set").click()
+    expect(page.locator(".pmk-heading-buttons")).to_be_hidden(timeout=30_000)
+    page.locator(".pmk-home-goto").click()  # tap 1
+    room = page.locator("button.pmk-goto-room").first
+    expect(room).to_be_visible(timeout=30_000)
+    failures += [f"Go to: {b['name']!r} is {b['w']:.0f}x{b['h']:.0f} px" for b in page.evaluate(SMALL_JS, MIN_TARGET)]
+    page.screenshot(path=str(ARTIFACTS / "home-phone-goto.png"))
+    name = room.inner_text().strip()
+    room.click()  # tap 2
+    expect(page.locator(".pmk-rooms-status")).to_contain_text(f"Going to {name}", timeout=60_000)
+    expect(page.locator(".pmk-home-goto-card")).to_be_hidden()
+    return failures

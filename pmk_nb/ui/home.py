@@ -34,6 +34,7 @@ import ipywidgets as w
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.drive_panel import DrivePanel
 from pmk_nb.ui.goal_panel import GoalPanel
+from pmk_nb.ui.heading_buttons import HeadingButtons
 from pmk_nb.ui.home_checks import ChairProbe, preview_image_problem
 from pmk_nb.ui.home_fit import FitChannel
 from pmk_nb.ui.home_info import (
@@ -116,12 +117,7 @@ class HomeScreen:
         self.drive = DrivePanel(claims_dir=ctx.config_dir / "drive")  # shared by every page's kernel
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms_guide.py)
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
-        self.ui.add_tool(self.drive.toggle)
-        # Go to a room in two taps (pmk_nb/ui/room_picker.py): favourites and recent rooms first
-        picks = RoomPicks(ctx.config_dir)
-        self.goto = RoomPicker(self.rooms, picks, lambda: getattr(self.ctx.current_map, "name", None))
-        self.ui.add_tool(self.goto.button)
-        self.ui.map_stack.children = (*self.ui.map_stack.children, self.goto.card)
+        self._floating_tools()
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget, self.fit.widget)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
@@ -135,6 +131,33 @@ class HomeScreen:
         self._unsub_map = ctx.observe_current_map(self._on_current_map)
         self._show_running(False)
         self.refresh_map()
+
+    def _floating_tools(self) -> None:
+        """The map's floating bar (issue 28): Drive, Go to (two taps to a room), Set destination
+        (its heading card over the map: compass buttons, no drag needed)."""
+        ui = self.ui
+        ui.add_tool(self.drive.toggle)
+        # Go to a room in two taps (pmk_nb/ui/room_picker.py): favourites and recent rooms first
+        picks = RoomPicks(self.ctx.config_dir)
+        self.goto = RoomPicker(self.rooms, picks, lambda: getattr(self.ctx.current_map, "name", None))
+        ui.add_tool(self.goto.button)
+        # Set destination in the bar (the map is the screen: under it is out of sight), and while it
+        # is on, a card with the heading buttons (pmk_nb/ui/heading_buttons.py)
+        goal = self.goal
+        goal.widget.children[0].children = tuple(c for c in goal.widget.children[0].children if c is not goal.toggle)
+        ui.add_tool(goal.toggle)
+        self.heading = HeadingButtons(lambda h: setattr(goal.picker, "heading", h))
+        hint = w.HTML("Tap the map where the chair should go.")
+        self.goal_card = w.VBox([hint, self.heading.widget], layout=w.Layout(display="none"))
+        self.goal_card.add_class("pmk-home-goal-card")
+        goal.toggle.observe(self._on_goal_toggle, names="value")
+        ui.map_stack.children = (*ui.map_stack.children, self.goto.card, self.goal_card)
+
+    def _on_goal_toggle(self, change: dict[str, Any]) -> None:
+        on = change.get("new") is True
+        self.goal_card.layout.display = "flex" if on else "none"
+        if not on:
+            self.heading.reset()  # the next destination faces away from the chair unless chosen again
 
     # -- public API ----------------------------------------------------------------------------------
     @property

@@ -69,6 +69,13 @@ def home_css(phone_px: int) -> str:
 .pmk-app .pmk-goto-row {{ gap: 6px; align-items: center; }}
 .pmk-app .pmk-goto-row button.pmk-goto-room {{ flex: 1 1 auto; min-width: 0; justify-content: flex-start;
    text-align: left; overflow: hidden; text-overflow: ellipsis; }}
+/* Set destination: the heading buttons over the map's bottom, clear of the tool bar */
+.pmk-app .pmk-home-goal-card {{ position: absolute; left: 6px; bottom: 54px; z-index: 7; box-sizing: border-box;
+   max-width: calc(100% - 12px); background: rgba(255, 255, 255, 0.92); border-radius: 12px; padding: 6px 10px;
+   box-shadow: 0 2px 10px rgba(0, 0, 0, .3); }}
+.pmk-app .pmk-heading-buttons .widget-toggle-button {{ min-width: {TARGET_PX}px; height: {TARGET_PX}px;
+   font-size: 22px; }}
+.pmk-app .pmk-heading-buttons .widget-toggle-button-group {{ flex-wrap: wrap; gap: 4px; }}
 /* icon-only buttons are named by their tooltip, not by the icon font's private glyph */
 .pmk-app .fa-star::before {{ content: "\\f005" / ""; }}
 .pmk-app .fa-star-o::before {{ content: "\\f006" / ""; }}
