@@ -107,3 +107,19 @@ def test_the_status_line_is_short() -> None:
     assert "No data for 7 s" in stale and "m/s" not in stale and "Driving" not in stale
     assert status_line("live", None, None, None, None) == ""
     assert "&lt;b&gt;" in status_line("live", 0.1, "<b>", None, None)  # room names are escaped
+
+
+def test_settings_keep_the_joystick_side(tmp_path: Path) -> None:
+    from pmk_nb.chair.profiles import ProfileStore
+    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.ui.context import AppContext
+    from pmk_nb.ui.settings_screen import SettingsScreen
+
+    ctx = AppContext(MapsFolder(tmp_path / "maps"), ProfileStore(tmp_path / "profiles.json"), config_dir=tmp_path)
+    screen = SettingsScreen(ctx)
+    screen.load(ChairProfile(name="chair", host="127.0.0.1", drive_hand="left"))
+    assert screen.fields["drive_hand"].value == "left"
+    assert screen.form_profile().drive_hand == "left"
+    screen.fields["drive_hand"].value = "right"
+    assert screen.form_profile().drive_hand == "right"
+    screen.close()

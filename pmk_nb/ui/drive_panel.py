@@ -147,7 +147,7 @@ class DrivePanel:
 
     def _on_toggle(self, change: dict[str, Any]) -> None:
         on = change.get("new") is True
-        self.toggle.icon = "check" if on else "gamepad"
+        self.toggle.icon = "gamepad"  # pressed look shows on; the icon is its only label on a phone
         if on and self._offer is not None:
             self.attach(*self._offer)
         else:

@@ -110,7 +110,7 @@ class GoalPanel:
         gestures.picker = self.picker if on and self.link is not None else None
         if not on:
             self.picker.abort()
-        self.toggle.icon = "check" if on else "map-marker"
+        self.toggle.icon = "map-marker"  # pressed look shows on; the icon is its only label on a phone
 
     def _redraw(self) -> None:
         self.overlay.changed()

@@ -334,7 +334,7 @@ class HomeScreen:
     def _on_sensors(self, change: dict[str, Any]) -> None:
         value = change.get("new")
         show = value if isinstance(value, bool) else str(value).strip().lower() in ("1", "true", "yes", "on")
-        self.ui.sensors.icon = "check" if show else ""
+        self.ui.sensors.icon = "eye" if show else "eye-slash"  # its own icon: the only label on a phone
         self.live.show_laser = show
         self.live.request_redraw()
 

@@ -57,7 +57,7 @@ class HomeLayout:
         )
         # a toggle button rather than a checkbox: the whole 56 px control is the touch target
         self.sensors = w.ToggleButton(
-            value=True, description="Show sensors", icon="check", tooltip="Show the laser readings on the map"
+            value=True, description="Show sensors", icon="eye", tooltip="Show the laser readings on the map"
         )
         self.sensors.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto", min_width="160px")
         self.sensors.add_class("pmk-home-sensors")

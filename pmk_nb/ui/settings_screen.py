@@ -125,7 +125,10 @@ def _form_fields() -> dict[str, w.Widget]:
         "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
         "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
         "goals_on_link_loss": _link_loss_toggle(),
+        # where Home's joystick and Stop dock: the rider's hand (issue 28)
+        "drive_hand": w.ToggleButtons(options=[("Right hand", "right"), ("Left hand", "left")], value="right"),
     }
+    fields["drive_hand"].add_class("pmk-settings-drive-hand")
     fields["speech_on"].add_class("pmk-settings-speech-on")
     fields["tls"].add_class("pmk-settings-tls")
     fields["pose_source"].add_class("pmk-settings-pose-source")
@@ -162,6 +165,7 @@ class SettingsScreen:
         self.rows = {name: w.VBox([field, self.errors[name]]) for name, field in self.fields.items()}
         self._label_row("auth", "SSH login", "pmk-settings-auth")
         self._label_row("goals_on_link_loss", "When the dashboard loses the chair", "pmk-settings-loss")
+        self._label_row("drive_hand", "Joystick at the side of", "pmk-settings-loss")
         actions = w.HBox([self.save_button, self.test_button])
         actions.add_class("pmk-row")
         self.widget = w.VBox(
@@ -259,6 +263,7 @@ class SettingsScreen:
             speech_rate=_parse_number("speech_rate", values["speech_rate"]),
             chair_width=_parse_number("chair_width", values["chair_width"]),
             goals_on_link_loss=values["goals_on_link_loss"],
+            drive_hand=values["drive_hand"],
         )
         if base is not None and base.name == profile.name:
             keep = {
