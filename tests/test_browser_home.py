@@ -141,4 +141,15 @@ def _two_taps_to_a_room(page: Any) -> list[str]:
     room.click()  # tap 2
     expect(page.locator(".pmk-rooms-status")).to_contain_text(f"Going to {name}", timeout=60_000)
     expect(page.locator(".pmk-home-goto-card")).to_be_hidden()
+    # the room gone to comes first next time; a starred room comes before it (kept in the settings folder)
+    page.locator(".pmk-home-goto").click()
+    expect(page.locator("button.pmk-goto-room").first).to_have_text(name, timeout=30_000)
+    other = page.locator(".pmk-goto-row").last
+    other_name = other.locator("button.pmk-goto-room").inner_text().strip()
+    other.locator("button.pmk-goto-fav").click()
+    expect(page.locator("button.pmk-goto-room").first).to_have_text(other_name, timeout=30_000)
+    expect(page.locator("button.pmk-goto-room").nth(1)).to_have_text(name)
+    page.screenshot(path=str(ARTIFACTS / "home-phone-goto-picks.png"))
+    page.locator("button.pmk-goto-close").click()
+    expect(page.locator(".pmk-home-goto-card")).to_be_hidden()
     return failures

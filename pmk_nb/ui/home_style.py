@@ -78,7 +78,7 @@ def home_css(phone_px: int) -> str:
 .pmk-app .pmk-heading-buttons .widget-toggle-button-group {{ flex-wrap: wrap; gap: 4px; }}
 /* icon-only buttons are named by their tooltip, not by the icon font's private glyph */
 .pmk-app .fa-star::before {{ content: "\\f005" / ""; }}
-.pmk-app .fa-star-o::before {{ content: "\\f006" / ""; }}
+.pmk-app .fa-star-o::before {{ content: "\\f005" / ""; font-weight: 400; }}
 @container pmk-app (max-width: {phone_px}px) {{
   /* icon-only bar buttons: the text stays the accessible name, the bar stays one or two rows */
   .pmk-app .pmk-home-toolbar button.jupyter-button {{ font-size: 0 !important; padding: 0;
