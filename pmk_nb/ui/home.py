@@ -306,12 +306,19 @@ class HomeScreen:
         self.drive.refresh()
         self.fit.tick()
         here = self.rooms.panel.here_name
-        doing = self.drive.doing() or self.goal.doing()
+        doing = self.drive.doing() or self.goal.doing() or self._room_doing()
         self.ui.statusline.value = status_line(state, age, here, snap.odom, doing)
         if texts.status is not None:
             self.ui.status.value = texts.status
         self.rooms.tick(snap.pose or snap.odom, state)
         self.goal.tick(snap.pose or snap.odom)
+
+    def _room_doing(self) -> str | None:
+        """The status line's last words while a Go to goal runs ("Going to Kitchen"), else None."""
+        handle, route = self.rooms.handle, self.rooms.route
+        if handle is None or route is None or handle.progress().done:
+            return None
+        return f"Going to {route.destination.label}"
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _user_start(self) -> None:

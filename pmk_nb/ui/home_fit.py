@@ -9,7 +9,8 @@ and the boxes of the panels floating over the canvas (tool bar, status line, Dri
 canvas pixels.  :class:`FitChannel` checks every field (a page can send anything), resizes the
 canvas (:meth:`LiveView.fit_page`) and turns the boxes into the insets the view keeps the chair
 clear of (:func:`pmk_nb.viewport.insets_from_boxes`).  It also publishes where the chair is drawn
-(``data-x`` / ``data-y`` on ``.pmk-home-chair-at``, canvas pixels) for the page's tests.
+(``data-x`` / ``data-y`` on ``.pmk-home-chair-at span``, canvas pixels), the canvas size, zoom level
+and insets, so the page's tests can work out the view (:func:`tests.page_view.page_view`).
 """
 
 from __future__ import annotations
@@ -54,6 +55,8 @@ SCRIPT = """<script>
     var cs = stack.querySelectorAll('canvas'), canvas = cs[cs.length - 1];
     var width = Math.floor(stack.parentElement.clientWidth || stack.clientWidth);
     var height = Math.floor(window.innerHeight - docTop(stack) - __GAP__);
+    // far down a notebook (JupyterLab) little is left below: the map then takes most of a window
+    if (height < 0.4 * window.innerHeight) height = Math.floor(0.75 * window.innerHeight);
     var boxes = [];
     if (canvas) {
       var r = canvas.getBoundingClientRect(), k = r.width > 0 ? canvas.width / r.width : 1;
@@ -147,10 +150,22 @@ class FitChannel:
             self.live.set_insets(insets_from_boxes(size[0], size[1], boxes))
         except (ValueError, TypeError) as err:  # a page's nonsense never reaches the screen as a traceback
             log.warning("page fit message ignored: %s", err)
+            return
+        self.tick()  # the view's new state is published with or without a preview running
 
     def tick(self) -> None:
-        """Publish where the chair is drawn (Home's info loop, a few times a second; only changes are sent)."""
+        """Publish where the chair is drawn and the insets the view keeps it clear of (Home's info
+        loop, a few times a second; only changes are sent): the page's tests work out the view."""
         at = self.live.chair_pixel()
-        value = "" if at is None else f"<span data-x='{at[0]:.0f}' data-y='{at[1]:.0f}'></span>"
+        view = self.live.viewport
+        if view is None:
+            value = ""
+        else:
+            ins = view.insets
+            chair = "" if at is None else f" data-x='{at[0]:.0f}' data-y='{at[1]:.0f}'"
+            value = (
+                f"<span data-canvas='{view.canvas_width} {view.canvas_height}' data-zoom='{view.zoom}'"
+                f" data-insets='{ins.left:.1f} {ins.top:.1f} {ins.right:.1f} {ins.bottom:.1f}'{chair}></span>"
+            )
         if self.chair_at.value != value:
             self.chair_at.value = value
