@@ -58,6 +58,8 @@ def home_css(phone_px: int) -> str:
 .pmk-app .pmk-home-map-stack .pmk-drive.pmk-drive-right {{ right: 6px; left: auto; }}
 .pmk-app .pmk-home-map-stack .pmk-drive.pmk-drive-left {{ left: 6px; right: auto; }}
 .pmk-app .pmk-home-map-stack .pmk-drive .pmk-drive-pad-box {{ order: 0; }}
+/* the same height whatever the status says: the stick must not move under a finger */
+.pmk-app .pmk-home-map-stack .pmk-drive-status {{ min-height: 3.8em; display: flex; align-items: center; }}
 .pmk-app .pmk-home-map-stack .pmk-drive-pad {{ background: rgba(207, 216, 220, 0.7); }}
 .pmk-app .pmk-home-map-stack .pmk-drive button.jupyter-button, .pmk-app .pmk-home-map-stack .pmk-drive .jupyter-button
    {{ width: 176px !important; }}
