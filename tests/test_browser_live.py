@@ -105,7 +105,10 @@ def pixels(page: Any) -> np.ndarray:
 def wall_columns(rgba: np.ndarray) -> np.ndarray:
     """Canvas columns that are dark over most of the map's height: the vertical walls drawn."""
     dark = (rgba[..., 3] > 0) & np.all(rgba[..., :3] < 80, axis=2)
-    return np.flatnonzero(dark.mean(axis=0) > 0.6)
+    # over the rows the map is drawn in: the canvas takes the page's room (issue 28), so a wide map
+    # leaves bands above and below it
+    rows = dark.any(axis=1)
+    return np.flatnonzero(dark[rows].mean(axis=0) > 0.6) if rows.any() else np.zeros(0, dtype=np.int64)
 
 
 def chair_centre(rgba: np.ndarray) -> tuple[float, float] | None:
@@ -124,8 +127,9 @@ def old_look_walls(width: int, height: int) -> np.ndarray:
     """The walls the earlier one-cell-per-pixel sampling kept at this canvas size."""
     grid = thin_wall_grid()
     gray = np.where(grid.data[::-1] == 100, 0, 254).astype(np.uint8)
-    img, _ = Viewport.for_grid(grid, width, height).image_window(gray)
-    return np.flatnonzero((img == 0).mean(axis=0) > 0.6)
+    img, inside = Viewport.for_grid(grid, width, height).image_window(gray)
+    rows = inside.any(axis=1)  # the map's rows (bands above and below a wide map: issue 28)
+    return np.flatnonzero((img[rows] == 0).mean(axis=0) > 0.6)
 
 
 def wait_until(page: Any, cond: Any, seconds: float = 20.0) -> Any:
