@@ -5,7 +5,7 @@ The dashboard is the demo kiosk (the converted clinic sample, the patrolling sim
 preview started by itself). The test reads the chair's true pose with its own chair link, picks
 a reachable goal a few metres away with the simulator's planner, and works out where to press with
 the same pure view maths the page uses (at zoom level 1 the whole map is shown, so following does
-not move it).
+not move it; the canvas size and the insets the view keeps clear come from the page: tests/page_view.py).
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.rosmap.files import read_map
 from pmk_nb.sim.world import World
 from pmk_nb.viewport import Viewport
+from tests.page_view import page_view
 from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 from tests.test_browser_live import pixels, wait_until
 
@@ -87,8 +88,8 @@ def test_tap_to_go_reaches_the_goal_and_cancel_stops_the_chair(tmp_path: Path, r
         try:
             expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=120_000)
             canvas = page.locator(".pmk-live-canvas").first
-            width, height = pixels(page).shape[1], pixels(page).shape[0]
-            view = Viewport.for_grid(grid, width, height)
+            # the canvas takes the page's room and the view keeps clear of the panels over it (issue 28)
+            view = page_view(page, grid)
             toggle = page.locator(".pmk-goal-set")
             status = page.locator(".pmk-goal-status")
             expect(toggle).to_be_enabled(timeout=30_000)
@@ -96,8 +97,8 @@ def test_tap_to_go_reaches_the_goal_and_cancel_stops_the_chair(tmp_path: Path, r
             # -- tap + drag to the right: the chair drives there and faces +x
             assert wait_until(page, lambda: link.latest_pose() is not None)
             pose = link.latest_pose()
+            toggle.click()  # first: its heading card floats over part of the map
             goal = _goal_near(page, canvas, view, planner, (pose.x, pose.y), 3.0, 7.0)
-            toggle.click()
             _press(page, canvas, view, goal, drag_px=40.0)
             expect(status).to_contain_text("Destination", timeout=10_000)
             expect(page.locator(".pmk-goal-word")).to_have_text("moving", timeout=20_000)
@@ -116,8 +117,8 @@ def test_tap_to_go_reaches_the_goal_and_cancel_stops_the_chair(tmp_path: Path, r
             expect(page.locator(".pmk-goal-cancel")).to_be_hidden()
 
             # -- a farther goal, then Cancel: the chair stops and the status says cancelled
-            far = _goal_near(page, canvas, view, planner, (end.x, end.y), 6.0, 30.0)
             toggle.click()
+            far = _goal_near(page, canvas, view, planner, (end.x, end.y), 6.0, 30.0)
             _press(page, canvas, view, far)
             expect(page.locator(".pmk-goal-word")).to_have_text("moving", timeout=20_000)
             assert wait_until(page, lambda: (o := link.latest_odom()) is not None and abs(o.v) > 0.1, 10.0)

@@ -29,6 +29,7 @@ POSE_SOURCES = ("odometry", "pose_topic", "tf")
 AUTH_METHODS = ("password", "key")
 RELOAD_KINDS = ("auto", "ros1", "nav2", "mapupdate")
 HOST_KEY_CHECKS = ("tofu", "strict")
+DRIVE_HANDS = ("right", "left")  # where the joystick docks on Home
 PROFILES_FILE = "profiles.json"
 FORMAT_VERSION = 1
 
@@ -84,6 +85,7 @@ class ChairProfile:
     max_linear: float = 0.5  # m/s
     max_angular: float = 0.8  # rad/s
     slow_factor: float = 0.4  # of both, in slow mode
+    drive_hand: str = "right"  # the screen edge the joystick and Stop dock at: the rider's hand
     # spoken feedback (pmk_nb.speech): on/off, voice (a language code such as "en": the browser's
     # voice for it, or espeak-ng's), rate (1 = normal, 0.5 to 2)
     speech_on: bool = True
@@ -173,6 +175,7 @@ class ChairProfile:
         if self.host_key_check not in HOST_KEY_CHECKS:
             _bad("host_key_check", self.host_key_check, "use 'tofu' (trust on first use) or 'strict'")
         _check_drive(self)
+        _check_hand(self)
         _check_speech(self)
         _check_tls(self)
         _check_goals(self)
@@ -226,6 +229,11 @@ def _check_drive(profile: ChairProfile) -> None:
         value = getattr(profile, field)
         if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value <= top:
             _bad(field, value, f"give a speed above 0 and at most {top:g} {unit}")
+
+
+def _check_hand(profile: ChairProfile) -> None:
+    if profile.drive_hand not in DRIVE_HANDS:
+        _bad("drive_hand", profile.drive_hand, "use 'left' or 'right' (the hand that drives)")
 
 
 def _check_goals(profile: ChairProfile) -> None:

@@ -131,6 +131,7 @@ class DrivePanel:
             [self.stop_button, self.pad, self.slow, self.claim_button, self.status, self.channel, self.page]
         )
         self.widget.add_class("pmk-drive")
+        self.widget.add_class("pmk-drive-right")
         self.widget.layout.display = "none"
 
     # -- life ------------------------------------------------------------------------------------
@@ -146,7 +147,7 @@ class DrivePanel:
 
     def _on_toggle(self, change: dict[str, Any]) -> None:
         on = change.get("new") is True
-        self.toggle.icon = "check" if on else "gamepad"
+        self.toggle.icon = "gamepad"  # pressed look shows on; the icon is its only label on a phone
         if on and self._offer is not None:
             self.attach(*self._offer)
         else:
@@ -170,8 +171,16 @@ class DrivePanel:
         self.session = DriveSession(link, limits_of(profile), topic=topic, on_stop=self.on_stop, claim=claim).start()
         self.session.slow = bool(self.slow.value)
         self.status.value = READY
+        self.dock(getattr(profile, "drive_hand", "right"))
         self.widget.layout.display = "flex"
         return self.session
+
+    def dock(self, hand: object) -> str:
+        """Dock the panel at the rider's side of the map ("left" or "right"; anything else: right)."""
+        side = "left" if hand == "left" else "right"
+        self.widget.remove_class(f"pmk-drive-{'right' if side == 'left' else 'left'}")
+        self.widget.add_class(f"pmk-drive-{side}")
+        return side
 
     def detach(self) -> None:
         """Stop the chair if it is driving (one zero), end the publisher, hide the panel."""
@@ -206,6 +215,13 @@ class DrivePanel:
             self._locked = locked
             (self.pad.add_class if locked else self.pad.remove_class)(LOCKED_CLASS)
         self._show_claim_button(mode)
+
+    def doing(self) -> str | None:
+        """A word for Home's status line while the stick drives (None otherwise)."""
+        session = self.session
+        if session is None or not session.driving:
+            return None
+        return "Driving (slow)" if session.slow else "Driving"
 
     def _show_claim_button(self, mode: str | None) -> None:
         armed = self._armed

@@ -24,16 +24,8 @@ PAD_HTML = f"""<div class="{PAD_CLASS}" tabindex="0" role="application" data-lm-
  aria-label="Joystick: hold and drag to drive the chair, or use the arrow keys; let go to stop">
 <div class="pmk-drive-knob"></div></div>"""
 
-STACK_BELOW_PX = 760  # app width below which the map is too short for the panel drawn over it
-
 STYLE = f"""<style>
-.pmk-home-map-stack {{ position: relative; }}
-/* over the map's lower right corner, two columns (the stick; Stop, Slow and the status) so that it
-   fits a map 280 px tall */
-.pmk-drive.widget-box {{ position: absolute; right: 12px; bottom: 12px; z-index: 5; gap: 8px; align-items: center;
-  flex-direction: column; flex-wrap: wrap; align-content: flex-start; height: 250px; width: 384px;
-  overflow: visible;
-  background: rgba(255,255,255,0.85); border-radius: 14px; padding: 10px; box-shadow: 0 2px 8px rgba(0,0,0,.25); }}
+/* where the panel docks (the rider's side) and how translucent it is: pmk_nb/ui/home_style.py */
 .pmk-drive .pmk-drive-pad-box {{ order: -1; width: 176px; min-width: 0; margin: 0; }}
 .{PAD_CLASS} {{ width: 170px; height: 170px; border-radius: 50%; background: #cfd8dc; position: relative;
   touch-action: none; user-select: none; -webkit-user-select: none; cursor: grab; outline: none;
@@ -48,14 +40,6 @@ STYLE = f"""<style>
 .pmk-drive-status {{ max-width: 180px; text-align: center; font-size: 0.9em; line-height: 1.25; }}
 .pmk-drive .pmk-drive-status, .pmk-drive .pmk-drive-status .widget-html-content {{ white-space: normal !important;
   line-height: 1.25; }}
-/* a narrow app has a map too short to hold the panel: the panel goes under the map, in the flow */
-@container pmk-app (max-width: {STACK_BELOW_PX}px) {{
-  .pmk-home-map-stack {{ flex-wrap: wrap; }}
-  .pmk-drive.widget-box {{ position: static; flex-direction: row; flex-wrap: wrap; justify-content: center;
-    width: 100%; height: auto; box-sizing: border-box; margin-top: 8px; box-shadow: none; background: #eceff1; }}
-  .pmk-drive-pad-box {{ order: 0; }}
-  .pmk-drive-status {{ max-width: none; width: 100%; }}
-}}
 </style>"""
 
 SCRIPT = """<script>

@@ -121,7 +121,7 @@ class GoalPanel:
         gestures.picker = self.picker if on and self.link is not None else None
         if not on:
             self.picker.abort()
-        self.toggle.icon = "check" if on else "map-marker"
+        self.toggle.icon = "map-marker"  # pressed look shows on; the icon is its only label on a phone
 
     def _redraw(self) -> None:
         self.overlay.changed()
@@ -182,6 +182,14 @@ class GoalPanel:
             ending = _ending(progress.status)
             if ending is not None:  # an unknown outcome is shown, not announced
                 self._say(ending)
+
+    def doing(self) -> str | None:
+        """A word for Home's status line while a tapped destination's goal runs (None otherwise)."""
+        handle = self.handle
+        progress = handle.progress() if handle is not None else None
+        if self.goal is None or self._note or (progress is not None and progress.done):
+            return None
+        return "Going to the destination"
 
     def _say(self, phrase: tuple[str, str]) -> None:
         if self.speak is not None:

@@ -27,11 +27,17 @@ Point = tuple[float, float]
 
 
 def goal_from_pixels(
-    view: Viewport, start: Point, end: Point, chair: Point | None = None, min_drag_px: float = MIN_DRAG_PX
+    view: Viewport,
+    start: Point,
+    end: Point,
+    chair: Point | None = None,
+    min_drag_px: float = MIN_DRAG_PX,
+    heading: float | None = None,
 ) -> Goal | None:
     """The goal for a press at ``start`` and release at ``end`` (canvas pixels); None if not finite.
 
-    The heading is the drag's direction in the world; a tap faces away from the chair (0 without one).
+    The heading is the drag's direction in the world; a tap takes ``heading`` (radians, map frame:
+    chosen with a button, no drag needed) or else faces away from the chair (0 without one).
     """
     if not all(math.isfinite(v) for v in (*start, *end)):
         return None
@@ -41,6 +47,8 @@ def goal_from_pixels(
     if math.dist(start, end) >= min_drag_px:
         ex, ey = (float(v) for v in view.pixel_to_world(end[0], end[1]))
         return wx, wy, math.atan2(ey - wy, ex - wx)
+    if heading is not None and math.isfinite(heading):
+        return wx, wy, float(heading)
     if chair is not None and math.dist(chair, (wx, wy)) > 1e-6:
         return wx, wy, math.atan2(wy - chair[1], wx - chair[0])
     return wx, wy, 0.0
@@ -66,6 +74,8 @@ class GoalPicker:
         self._view, self._chair, self._on_goal, self._on_change = view, chair, on_goal, on_change
         self.start: Point | None = None
         self.end: Point | None = None
+        #: the heading a plain tap gives (radians, map frame), chosen without a drag; None: automatic
+        self.heading: float | None = None
 
     @property
     def active(self) -> bool:
@@ -92,7 +102,7 @@ class GoalPicker:
         view = self._view()
         if start is None or end is None or view is None:
             return
-        goal = goal_from_pixels(view, start, end, self._chair())
+        goal = goal_from_pixels(view, start, end, self._chair(), heading=self.heading)
         self._on_change()
         if goal is not None:
             self._on_goal(goal)
@@ -102,7 +112,7 @@ class GoalPicker:
         view, start, end = self._view(), self.start, self.end
         if view is None or start is None or end is None:
             return None
-        return goal_from_pixels(view, start, end, self._chair())
+        return goal_from_pixels(view, start, end, self._chair(), heading=self.heading)
 
 
 class GoalOverlay:

@@ -35,7 +35,9 @@ from pmk_nb.errors import PmkError
 from pmk_nb.speech import phrases
 from pmk_nb.ui.drive_panel import DrivePanel
 from pmk_nb.ui.goal_panel import GoalPanel
+from pmk_nb.ui.heading_buttons import HeadingButtons
 from pmk_nb.ui.home_checks import ChairProbe, preview_image_problem
+from pmk_nb.ui.home_fit import FitChannel
 from pmk_nb.ui.home_info import (
     NO_PROFILE_TEXT,
     chair_silent_text,
@@ -45,6 +47,7 @@ from pmk_nb.ui.home_info import (
 )
 from pmk_nb.ui.home_layout import HomeLayout
 from pmk_nb.ui.home_map import MapGridCache
+from pmk_nb.ui.home_statusline import status_line
 from pmk_nb.ui.live_path_layer import LivePathLayer
 from pmk_nb.ui.live_region import Announcer
 from pmk_nb.ui.live_tools import MapTools
@@ -55,6 +58,8 @@ from pmk_nb.ui.plots_panel import PlotsPanel
 from pmk_nb.ui.preview_controller import PreviewController
 from pmk_nb.ui.record_panel import RecordPanel
 from pmk_nb.ui.render_loop import RenderLoop
+from pmk_nb.ui.room_picker import RoomPicker
+from pmk_nb.ui.room_picks import RoomPicks
 from pmk_nb.ui.rooms_guide import RoomsGuide
 from pmk_nb.ui.widgets import error_text, escape
 
@@ -65,9 +70,8 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 INFO_HZ = 4.0  # info panel refresh rate: text widgets need no 20 fps
-#: Largest live canvas: fits the content area of a 1280 x 800 landscape tablet next to the
-#: navigation panel; the canvas takes the map's shape within it and the page scales it down on
-#: smaller screens.
+#: The live canvas until the page has said how much room the map has (pmk_nb/ui/home_fit.py):
+#: then it takes that room, whatever the map's shape, up to LiveView.PAGE_MAX.
 CANVAS_MAX = (920, 560)
 DEFAULT_FOOTPRINT = 0.35  # m, when the profile has no usable chair radius
 
@@ -103,7 +107,12 @@ class HomeScreen:
         self.live.on_error(self._on_live_error)
         self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
         self.widget = self.ui.widget
-        self.info_widget = self.ui.info.widget
+        # the text panel is Home's Details card over the map (pmk_nb/ui/home_layout.py); the
+        # navigation's panel keeps only the messages on Home
+        self.info_widget = w.VBox([])
+        self.info_widget.add_class("pmk-home-info-slot")
+        # the page's room for the map and the panels over it (pmk_nb/ui/home_fit.py)
+        self.fit = FitChannel(self.live)
         # rooms by name and spoken feedback (pmk_nb/ui/rooms_guide.py): "You are in" in the info
         # panel, the Go to… box and the (hidden) speech widgets under the map
         self.rooms = RoomsGuide(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
@@ -122,18 +131,18 @@ class HomeScreen:
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
         # a press of Stop is said even when the chair was not moving (the drive reports only stops)
         self.drive.stop_button.on_click(lambda _b: self.announcer.phrase(phrases.stopped("stop button")))
-        self.ui.controls.children = (*self.ui.controls.children, self.drive.toggle)
-        self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget)
-        # Record, Stop recording, downloads (pmk_nb/ui/record_panel.py): under the map
-        self.recorder = RecordPanel(ctx)
-        self.ui.preview_box.children = (*self.ui.preview_box.children, self.recorder.widget)
-        # scale bar, grid, coordinates, Measure, Set pose (pmk_nb/ui/live_tools.py); under the map
+        self._floating_tools()
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget, self.fit.widget)
+        # issue 29: the Plots toggle in the floating bar; its panel, the map tools and Record under the map
+        self.plots = PlotsPanel()  # pmk_nb/ui/plots_panel.py: speed and turn rate, the topic inspector
+        self.ui.add_tool(self.plots.toggle)
+        # scale bar, grid, coordinates, Measure, Set pose (pmk_nb/ui/live_tools.py)
         self.tools = MapTools(self.live, ctx)
-        self.ui.preview_box.children = (*self.ui.preview_box.children, self.tools.widget)
-        # issue 29: the Plots panel (speed and turn rate, the topic inspector) and the planned path
-        self.plots = PlotsPanel()  # pmk_nb/ui/plots_panel.py
-        self.ui.controls.children = (*self.ui.controls.children, self.plots.toggle)
-        self.ui.preview_box.children = (*self.ui.preview_box.children, self.plots.widget)
+        # Record, Stop recording, downloads (pmk_nb/ui/record_panel.py)
+        self.recorder = RecordPanel(ctx)
+        self.ui.preview_box.children = (
+            *self.ui.preview_box.children, self.plots.widget, self.tools.widget, self.recorder.widget,
+        )  # fmt: skip
         self.path = LivePathLayer()  # pmk_nb/ui/live_path_layer.py: Nav2's /plan, move_base's plan
         self.live.overlays.append(self.path)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
@@ -148,6 +157,33 @@ class HomeScreen:
         self._unsub_map = ctx.observe_current_map(self._on_current_map)
         self._show_running(False)
         self.refresh_map()
+
+    def _floating_tools(self) -> None:
+        """The map's floating bar (issue 28): Drive, Go to (two taps to a room), Set destination
+        (its heading card over the map: compass buttons, no drag needed)."""
+        ui = self.ui
+        ui.add_tool(self.drive.toggle)
+        # Go to a room in two taps (pmk_nb/ui/room_picker.py): favourites and recent rooms first
+        picks = RoomPicks(self.ctx.config_dir)
+        self.goto = RoomPicker(self.rooms, picks, lambda: getattr(self.ctx.current_map, "name", None))
+        ui.add_tool(self.goto.button)
+        # Set destination in the bar (the map is the screen: under it is out of sight), and while it
+        # is on, a card with the heading buttons (pmk_nb/ui/heading_buttons.py)
+        goal = self.goal
+        goal.widget.children[0].children = tuple(c for c in goal.widget.children[0].children if c is not goal.toggle)
+        ui.add_tool(goal.toggle)
+        self.heading = HeadingButtons(lambda h: setattr(goal.picker, "heading", h))
+        hint = w.HTML("Tap the map where the chair should go.")
+        self.goal_card = w.VBox([hint, self.heading.widget], layout=w.Layout(display="none"))
+        self.goal_card.add_class("pmk-home-goal-card")
+        goal.toggle.observe(self._on_goal_toggle, names="value")
+        ui.map_stack.children = (*ui.map_stack.children, self.goto.card, self.goal_card)
+
+    def _on_goal_toggle(self, change: dict[str, Any]) -> None:
+        on = change.get("new") is True
+        self.goal_card.layout.display = "flex" if on else "none"
+        if not on:
+            self.heading.reset()  # the next destination faces away from the chair unless chosen again
 
     # -- public API ----------------------------------------------------------------------------------
     @property
@@ -259,6 +295,7 @@ class HomeScreen:
             ui.info.map.value = "Map: <i>none</i>"
             self._map_problem("No current map: send a map to the chair from the Maps screen first.")
             self.rooms.set_map(None)
+            self.goto.button.layout.display = "none"
             return None
         ui.map_label.value = f"Current map: <b>{escape(current.name)}</b>"
         ui.info.map.value = f"Map: <b>{escape(current.name)}</b>"
@@ -276,6 +313,7 @@ class HomeScreen:
             return shown.grid
         self.live.set_map(grid)  # shown connected or not (the same grid again is a no-op)
         self.rooms.set_map(current.yaml)
+        self.goto.button.layout.display = "" if self.rooms.rooms is not None else "none"
         self._map_ok = True
         self._show_running(self.running)
         if not self.running:
@@ -339,6 +377,10 @@ class HomeScreen:
         info.zoom.value = texts.zoom
         info.laser.value = texts.laser
         self.drive.refresh()
+        self.fit.tick()
+        here = self.rooms.panel.here_name
+        doing = self.drive.doing() or self.goal.doing() or self._room_doing()
+        self.ui.statusline.value = status_line(state, age, here, snap.odom, doing)
         if texts.status is not None:
             self.ui.status.value = texts.status
         chair_map = self.own.take()
@@ -349,6 +391,13 @@ class HomeScreen:
         self.path.tick(snap.pose or snap.odom)
         self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
         self.announcer.tick(state, alerts=texts.alerts)  # the same reading the panel shows
+
+    def _room_doing(self) -> str | None:
+        """The status line's last words while a Go to goal runs ("Going to Kitchen"), else None."""
+        handle, route = self.rooms.handle, self.rooms.route
+        if handle is None or route is None or handle.progress().done:
+            return None
+        return f"Going to {route.destination.label}"
 
     # -- callbacks -----------------------------------------------------------------------------------
     def _user_start(self) -> None:
@@ -371,7 +420,7 @@ class HomeScreen:
     def _on_sensors(self, change: dict[str, Any]) -> None:
         value = change.get("new")
         show = value if isinstance(value, bool) else str(value).strip().lower() in ("1", "true", "yes", "on")
-        self.ui.sensors.icon = "check" if show else ""
+        self.ui.sensors.icon = "eye" if show else "eye-slash"  # its own icon: the only label on a phone
         self.live.show_laser = show
         self.live.request_redraw()
 

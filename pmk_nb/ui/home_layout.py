@@ -1,10 +1,12 @@
 """The Home screen's widgets and their arrangement; no behaviour beyond showing and hiding.
 
-As in the original app (thesis 4.2.1.1, 5.2.3.4): the map's name as the title, warnings below it,
-one toolbar row with Preview / Stop preview and Show sensors on the left and the zoom buttons at
-the right end, right above the map's upper-right corner, then the live canvas.  On a narrow screen
-the toolbar wraps rather than cutting its buttons short.  The CSS classes
-(``pmk-home-*``) are what the kiosk page's style sheet and the browser test find.
+The map is the screen (issue 28): the live canvas takes the whole width and the rest of the
+window's height (:mod:`pmk_nb.ui.home_fit` sizes it), and everything else floats over it: one
+compact tool bar along the top (``toolbar``; its ``controls`` box is the one container other
+features append their buttons to, see :meth:`HomeLayout.add_tool`, with Follow / Centre and the
+zoom buttons at its right end), one short status line along the bottom (where, speed, what the
+chair is doing) and, on demand (**Details**), a card with the full text panel.  The CSS classes
+(``pmk-home-*``) are what the style sheet (:mod:`pmk_nb.ui.home_style`) and the browser tests find.
 """
 
 from __future__ import annotations
@@ -55,7 +57,7 @@ class HomeLayout:
         )
         # a toggle button rather than a checkbox: the whole 56 px control is the touch target
         self.sensors = w.ToggleButton(
-            value=True, description="Show sensors", icon="check", tooltip="Show the laser readings on the map"
+            value=True, description="Show sensors", icon="eye", tooltip="Show the laser readings on the map"
         )
         self.sensors.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto", min_width="160px")
         self.sensors.add_class("pmk-home-sensors")
@@ -63,36 +65,49 @@ class HomeLayout:
         self.zoom_out_button = button("", "pmk-home-zoom-out", icon="search-minus", tooltip="Zoom out", width="64px")
         for btn in (self.zoom_in_button, self.zoom_out_button):
             btn.layout.min_width = f"{TOUCH_PX}px"
+        # details on demand: the map's name, the warnings' context and the text panel, over the map
+        self.details_toggle = w.ToggleButton(
+            value=False, description="Details", icon="info-circle", tooltip="Show position, speed and state in full"
+        )
+        self.details_toggle.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto", min_width=f"{TOUCH_PX}px")
+        self.details_toggle.add_class("pmk-home-details-toggle")
+        self.details_toggle.observe(self._on_details, names="value")
+        self.statusline = html_slot("pmk-home-statusline")
         self.info = HomeInfoPanel()
         self.widget = self._arrange()
 
     def _arrange(self) -> w.VBox:
-        # the toolbar box is as wide as the canvas, which has the map's shape, so nothing floats in
-        # an empty band
-        # rows wrap on a narrow screen (gaps and wrapping in the style sheet) instead of squeezing
-        # the buttons into "Disconn…"; the zoom buttons stay at the right end
+        # one floating bar: the screen's controls (others append to ``controls``) and, at its right
+        # end, the view's own tools and the zoom buttons; it wraps on a narrow screen
         tools = [self.live_tools] if self.live_tools is not None else []
         self.zoom_bar = w.HBox([*tools, self.zoom_out_button, self.zoom_in_button])
         self.zoom_bar.add_class("pmk-home-zoom")
-        self.controls = w.HBox(
-            [self.preview_button, self.disconnect_button, self.sensors], layout=w.Layout(align_items="center")
-        )
+        self.controls = w.HBox([self.preview_button, self.disconnect_button, self.sensors, self.details_toggle])
         self.controls.add_class("pmk-home-controls")
-        self.toolbar = w.HBox(
-            [self.controls, self.zoom_bar],
-            layout=w.Layout(justify_content="space-between", align_items="center", width="100%"),
-        )
+        self.toolbar = w.HBox([self.controls, self.zoom_bar])
         self.toolbar.add_class("pmk-home-toolbar")
-        # the canvas in a box of its own: panels drawn over the map (the joystick) are placed in it
-        self.map_stack = w.Box([self.canvas], layout=w.Layout(max_width="100%"))
+        self.details = w.VBox([w.HBox([heading("Home"), self.map_label]), self.info.widget])
+        self.details.add_class("pmk-home-details")
+        self.details.layout.display = "none"
+        # the canvas in a box of its own, everything over the map placed in it (the joystick too)
+        self.map_stack = w.Box([self.canvas, self.toolbar, self.details, self.statusline])
         self.map_stack.add_class("pmk-home-map-stack")
-        self.preview_box = w.VBox([self.toolbar, self.map_stack], layout=w.Layout(align_items="flex-start"))
+        self.preview_box = w.VBox([self.map_stack])
         self.preview_box.add_class("pmk-home-preview-box")
-        title = w.HBox([heading("Home"), self.map_label])
-        title.add_class("pmk-home-title")
-        screen = w.VBox([title, self.map_note, self.chair_note, self.warning, self.preview_box, self.status])
+        screen = w.VBox([self.map_note, self.chair_note, self.warning, self.preview_box, self.status])
         screen.add_class("pmk-home")
         return screen
+
+    def add_tool(self, widget: w.DOMWidget) -> None:
+        """Put ``widget`` (a button, 48 px or more) in the floating bar, before Details."""
+        kids = list(self.controls.children)
+        at = kids.index(self.details_toggle) if self.details_toggle in kids else len(kids)
+        self.controls.children = (*kids[:at], widget, *kids[at:])
+
+    def _on_details(self, change: dict[str, object]) -> None:
+        on = change.get("new") is True  # a page may send anything: only a real True opens
+        self.details.layout.display = "flex" if on else "none"
+        self.details_toggle.icon = "times" if on else "info-circle"
 
     def show_running(self, running: bool, *, can_preview: bool) -> None:
         """Preview while stopped (if there is a map to preview); the live controls while running.

@@ -69,6 +69,14 @@ class MapLayer:
         self._gray = None
         self.invalidate()
 
+    def fit(self, max_canvas: tuple[int, int]) -> None:
+        """The canvas may now be up to ``max_canvas``: a tile of the matching size from the next draw."""
+        size = tile_size_for(max_canvas, self.margin)
+        if size != self.tile_size:
+            self.tile_size = size
+            self.tile_canvas.width, self.tile_canvas.height = size
+            self.invalidate()
+
     def invalidate(self) -> None:
         """Render and place everything again at the next :meth:`draw` (a new page, a new map)."""
         self.tile = None

@@ -30,7 +30,7 @@ from pmk_nb.ui.live_chair_layer import LASER_STYLES, ChairLook, PoseHistory, dra
 from pmk_nb.ui.live_gestures import LiveToolbar, ZoomGestures
 from pmk_nb.ui.live_map_layer import TILE_MARGIN, MapLayer
 from pmk_nb.ui.render_loop import RenderLoop
-from pmk_nb.viewport import Viewport, fit_canvas
+from pmk_nb.viewport import Insets, Viewport, fit_canvas
 
 RAY_SPACING_PX = 2.0  # thin out rays that would end closer than this on screen
 #: Frame-rate cap: a little above the 30 fps the page must draw, so timer jitter on a busy kernel
@@ -39,6 +39,8 @@ DEFAULT_FPS = 32.0
 #: After a canvas resize the page may apply the new size after the first frame's drawing (size and
 #: drawing travel on different comms) and that frame would be wiped: send everything again this late.
 RESIZE_RESEND_S = 0.5
+#: The largest canvas a page may ask for (fit_page): a big tablet's map area, one canvas pixel per CSS px.
+PAGE_MAX = (1600, 1200)
 
 
 class LiveSource(Protocol):
@@ -99,6 +101,7 @@ class LiveView:
         self.max_size = (int(width), int(height))
         self.fit_to_map = bool(fit_to_map)
         self._resend_at: float | None = None
+        self._page_size: tuple[int, int] | None = None  # the page's room for the map (fit_page)
         self.poses = PoseHistory()
         self.map_layer = self.canvas[0]
         self.dyn_layer = self.canvas[1]
@@ -138,7 +141,9 @@ class LiveView:
             if grid is self._grid and self.viewport is not None:
                 return
             old = self.viewport
-            if self.fit_to_map:
+            if self._page_size is not None:
+                self._resize(*self._page_size)
+            elif self.fit_to_map:
                 self._resize(*fit_canvas(int(grid.width), int(grid.height), *self.max_size))
             self.viewport = Viewport.for_grid(
                 grid,
@@ -165,6 +170,36 @@ class LiveView:
             return
         self.canvas.width, self.canvas.height = width, height
         self._resend_at = time.monotonic() + RESIZE_RESEND_S
+
+    def fit_page(self, width: int, height: int) -> bool:
+        """Give the canvas the page's room for the map (CSS px, clamped to 160 px .. PAGE_MAX),
+        whatever the map's shape: the map screen fills the window (issue 28). True if it changed."""
+        size = (min(max(int(width), 160), PAGE_MAX[0]), min(max(int(height), 160), PAGE_MAX[1]))
+        with self._lock:
+            if size == self._page_size:
+                return False
+            self._page_size = size
+            self.map.fit(size)
+            self._resize(*size)
+            if self.viewport is not None:
+                self.viewport.resize(*size)
+            self._force = True
+        self.request_redraw()
+        return True
+
+    def set_insets(self, insets: Insets) -> None:
+        """Panels cover ``insets`` of the canvas: following keeps the chair in the rest."""
+        with self._lock:
+            if self.viewport is None or self.viewport.insets == insets:
+                return
+            self.viewport.set_insets(insets)
+            self._force = True
+        self.request_redraw()
+
+    def chair_pixel(self) -> tuple[float, float] | None:
+        """Where the chair is drawn on the canvas, in canvas pixels (None before one was seen)."""
+        with self._lock:
+            return self.viewport.chair_pixel() if self.viewport is not None else None
 
     def attach(self, source: LiveSource | None) -> None:
         """Read poses and scans from ``source`` (a ChairLink); None shows the map alone."""

@@ -18,6 +18,7 @@ class RoomsPanel:
 
     def __init__(self) -> None:
         self.here = html_slot("pmk-rooms-here")
+        self.here_name: str | None = None
         self.title = heading("Go to…")
         self.search = w.Text(
             value="",
@@ -42,6 +43,7 @@ class RoomsPanel:
         self.show_goal(False)
 
     def show_here(self, name: str | None) -> None:
+        self.here_name = name  # Home's one-line status says it too
         self.here.value = "" if name is None else f"{HERE_PREFIX} <b>{escape(name)}</b>"
 
     def set_rooms(self, labels: list[str]) -> None:

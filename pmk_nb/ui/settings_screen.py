@@ -138,7 +138,10 @@ def _form_fields() -> dict[str, w.Widget]:
             description="Text size",
             style={"button_width": "170px"},
         ),
+        # where Home's joystick and Stop dock: the rider's hand (issue 28)
+        "drive_hand": w.ToggleButtons(options=[("Right hand", "right"), ("Left hand", "left")], value="right"),
     }
+    fields["drive_hand"].add_class("pmk-settings-drive-hand")
     fields["high_contrast"].add_class("pmk-settings-high-contrast")
     fields["large_text"].add_class("pmk-settings-large-text")
     fields["speech_on"].add_class("pmk-settings-speech-on")
@@ -206,6 +209,7 @@ class SettingsScreen:
         self.rows = {name: w.VBox([field, self.errors[name]]) for name, field in self.fields.items()}
         self._label_row("auth", "SSH login", "pmk-settings-auth")
         self._label_row("goals_on_link_loss", "When the dashboard loses the chair", "pmk-settings-loss")
+        self._label_row("drive_hand", "Joystick at the side of", "pmk-settings-loss")
         actions = w.HBox([self.save_button, self.test_button])
         actions.add_class("pmk-row")
         self.widget = w.VBox(
@@ -305,6 +309,7 @@ class SettingsScreen:
             goals_on_link_loss=values["goals_on_link_loss"],
             high_contrast=values["high_contrast"] == "True",
             large_text=values["large_text"] == "True",
+            drive_hand=values["drive_hand"],
         )
         if base is not None and base.name == profile.name:
             keep = {

@@ -158,5 +158,12 @@ _TOP_BAR = f"""
 }}
 """
 
-# (last: WCAG 2.2 focus rings, contrast fixes, high contrast and large text: pmk_nb/ui/a11y_style.py)
-APP_CSS = f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}{A11Y_CSS}</style>"
+
+def _app_css() -> str:
+    # last: WCAG 2.2 focus rings, contrast fixes, high contrast and large text (pmk_nb/ui/a11y_style.py)
+    from pmk_nb.ui.home_style import home_css  # Home's map screen (issue 28)
+
+    return f"<style>{_BASE}{_SHELL}{_MESSAGES}{_SCREENS}{_TOP_BAR}{home_css(PHONE_PX)}{A11Y_CSS}</style>"
+
+
+APP_CSS = _app_css()

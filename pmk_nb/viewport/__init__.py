@@ -4,13 +4,15 @@ No widgets here: ``pmk_nb.ui`` only draws what this package computes. ``view`` h
 :class:`Viewport` (the rules of the original MapViewer, plus pan and follow on/off), ``mapimage``
 reduces the grid to screen pixels without losing a wall, ``outline`` turns a scan into hit points
 and a free-space polygon, ``laser`` into rays (the optional look), ``pose`` composes planar
-(x, y, yaw) transforms (a sensor's pose on the chair; the link's tf tree).
+(x, y, yaw) transforms (a sensor's pose on the chair; the link's tf tree), ``occlusion`` the parts of
+the canvas panels cover (the follow target sits in the centre of the rest).
 """
 
 from __future__ import annotations
 
 from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
 from pmk_nb.viewport.mapimage import MapTile, clean_occupancy, plan_tile, pool_window, tile_covers, window_image
+from pmk_nb.viewport.occlusion import Insets, insets_from_boxes
 from pmk_nb.viewport.outline import LaserOutline, laser_outline
 from pmk_nb.viewport.pose import Transform2D, mounted, wrap_angle
 from pmk_nb.viewport.view import (
@@ -26,6 +28,7 @@ __all__ = [
     "MIN_CHAIR_RADIUS_PX",
     "MIN_DOT_RADIUS_PX",
     "STILL_SPEED",
+    "Insets",
     "LaserOutline",
     "LaserSegments",
     "MapTile",
@@ -34,6 +37,7 @@ __all__ = [
     "clean_occupancy",
     "fit_canvas",
     "heading_point",
+    "insets_from_boxes",
     "laser_outline",
     "laser_segments",
     "mounted",

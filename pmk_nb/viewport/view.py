@@ -22,6 +22,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pmk_nb.viewport.occlusion import Insets
+
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
@@ -96,6 +98,8 @@ class Viewport:
         #: follow the chair (keep it centred); a pan turns it off, :meth:`set_following` back on
         self.following = True
         self._chair: tuple[float, float] | None = None  # the chair's last world position
+        #: panels over the canvas (:mod:`pmk_nb.viewport.occlusion`): the focus is the centre of the rest
+        self.insets = Insets()
 
     @classmethod
     def for_grid(cls, grid: object, canvas_width: int, canvas_height: int, **kw: object) -> Viewport:
@@ -232,12 +236,39 @@ class Viewport:
             self._apply_target()
 
     def _apply_target(self) -> None:
+        # the target goes to the centre of the uncovered part (panels over the canvas), which is
+        # clamped to the map as the whole view was; the view's centre is then that much off
         target = self._target or (self.map_width / 2.0, self.map_height / 2.0)
         vw, vh = self.view_size_cells
+        s = self.scale
+        ins = self.insets.fitted(self.canvas_width, self.canvas_height)
+        du, dv = (d / s for d in ins.focus_offset())
+        uw, uh = vw - (ins.left + ins.right) / s, vh - (ins.top + ins.bottom) / s
         self._center = (
-            self._clamp_axis(target[0], vw, self.map_width),
-            self._clamp_axis(target[1], vh, self.map_height),
+            self._clamp_axis(target[0], uw, self.map_width) - du,
+            self._clamp_axis(target[1], uh, self.map_height) - dv,
         )
+
+    def set_insets(self, insets: Insets) -> None:
+        """Panels now cover ``insets`` of the canvas: keep the followed target in the rest."""
+        self.insets = insets.fitted(self.canvas_width, self.canvas_height)
+        self._apply_target()
+
+    def resize(self, canvas_width: int, canvas_height: int) -> None:
+        """The canvas is now ``canvas_width`` x ``canvas_height`` px (the page's room for the map):
+        zoom level and target are kept; level 1 fits the whole map in the new size."""
+        if int(canvas_width) < 1 or int(canvas_height) < 1:
+            raise ValueError(f"canvas must be at least 1x1 px, got {canvas_width}x{canvas_height}")
+        self.canvas_width, self.canvas_height = int(canvas_width), int(canvas_height)
+        self.insets = self.insets.fitted(self.canvas_width, self.canvas_height)
+        self._apply_target()
+
+    def chair_pixel(self) -> tuple[float, float] | None:
+        """Where the chair last seen is drawn, in canvas pixels (None before one was seen)."""
+        if self._chair is None:
+            return None
+        px, py = self.world_to_pixel(*self._chair)
+        return float(px), float(py)
 
     @staticmethod
     def _clamp_axis(c: float, view: float, size: float) -> float:
