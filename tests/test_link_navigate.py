@@ -10,6 +10,7 @@ re-attach are in tests/test_link_goal_truth.py.
 from __future__ import annotations
 
 import math
+import time
 
 import pytest
 
@@ -91,6 +92,37 @@ def test_a_cancel_the_official_bridge_holds_is_not_honoured(sim_factory, link_fa
     assert all(t["linear"]["x"] == 0.0 and t["angular"]["z"] == 0.0 for t in twists)
 
 
+def test_a_still_chair_right_after_a_cancel_is_not_taken_as_honoured() -> None:
+    """CI, stop 34: a cancel sent as soon as the goal was accepted met a chair still at rest; its first
+    still odometry was taken as "honoured" while rosbridge_suite held the cancel, and the chair then
+    drove to the goal. Now the cancel is judged only after verify_s, and a goal still running
+    unanswered then gets the cancel again on a second connection (a burst) before it counts as honoured."""
+    from pmk_nb.chair.link.goal_watch import GoalWatch
+    from pmk_nb.chair.link.navigate import GoalHandle
+    from pmk_nb.chair.messages import Odometry
+
+    class StillChair:  # the link as the watch sees it: odometry of a chair at rest, arriving now
+        def start_streams(self) -> None:
+            pass
+
+        def latest_odom(self) -> Odometry:
+            return Odometry(0.0, 0.0, 0.0, 0.0, 0.0, None, time.monotonic())
+
+    handle = GoalHandle((6.0, 6.0, 0.0), "Nav2 NavigateToPose")
+    handle.update(GoalStatus.MOVING, 5.0)
+    watch = GoalWatch(StillChair(), handle, "action", GoalPolicy(verify_s=0.5))  # type: ignore[arg-type]
+    bursts: list[float] = []
+    watch.zero_burst = lambda: bursts.append(time.monotonic())  # type: ignore[method-assign]
+    handle.cancel()
+    since = handle.cancel_at
+    assert since is not None
+    time.sleep(0.01)
+    watch._verify_cancel(since + 0.1)  # before verify_s: not judged, whatever odometry says
+    assert handle.cancel_honoured is None and not bursts
+    watch._verify_cancel(since + 0.6)  # after: still, but the goal runs on unanswered
+    assert bursts and handle.cancel_honoured is True  # honoured only once the cancel went again
+
+
 @pytest.mark.parametrize("ros", ["ros1", "ros2"])
 def test_an_unreachable_goal_is_aborted(sim_factory, link_factory, ros: str) -> None:
     sim, link = _chair(sim_factory, link_factory, ros)
@@ -116,7 +148,9 @@ def test_no_answer_to_a_goal_is_said_and_cancelled(sim_factory, link_factory) ->
     assert wait_until(lambda: handle.progress().status is GoalStatus.NO_ANSWER, 2.0), handle.progress()
     assert handle.cancel_requested and not handle.progress().done
     assert "may have started" in handle.progress().message
-    assert wait_until(lambda: handle.cancel_honoured is True, 2.0)  # the chair is still: nothing to stop
+    # the chair is still, but nothing answers: the cancel goes again on a second connection (with
+    # zero velocity for BURST_S), since a held cancel and a chair yet to start look alike; then honoured
+    assert wait_until(lambda: handle.cancel_honoured is True, 4.0) and handle.zero_bursts == 1
     assert sim.velocity == (0.0, 0.0)
 
 

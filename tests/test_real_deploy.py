@@ -163,7 +163,7 @@ def test_cli_chair_test_and_send_with_a_4000_map_live_and_no_rosapi(
     assert added.returncode == 0, added.stderr
     tested = _pmk(tmp_path, "chair", "test", "--no-ssh")
     assert tested.returncode == 0, tested.stdout + tested.stderr
-    assert "ok (map 4000x4000 at 0.05 m" in tested.stdout
+    assert "ok: map 4000x4000 at 0.05 m" in tested.stdout  # `pmk chair test`: "PART TARGET: ok: DETAIL"
     assert "runs without rosapi" in tested.stdout and "absent from ROS graph" not in tested.stdout
     new = _files(tmp_path, 1000, seed=4, name="next")
     sent = _pmk(tmp_path, "send", str(new.yaml), "--chair", "real")

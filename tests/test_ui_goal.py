@@ -135,7 +135,10 @@ def test_the_panel_says_the_official_bridge_ignored_the_cancel(sim_factory, link
     panel.speak = lambda _said: None
     panel.attach(link)
     panel.send((6.0, 6.0, 0.0))
-    assert wait_until(lambda: panel.handle is not None and panel.handle.progress().status is GoalStatus.MOVING, 10.0)
+    moving = GoalStatus.MOVING
+    # on its way (not merely accepted): the cancel is judged against a chair that is really driving
+    assert wait_until(lambda: panel.handle is not None and panel.handle.progress().status is moving, 10.0)
+    assert wait_until(lambda: sim.velocity[0] > 0.1, 10.0)
     texts: list[str] = []
     panel.handle.on_update(lambda _p: texts.append(panel.status.value))  # what a refresh then showed
     panel.handle.on_update(lambda _p: panel.refresh())

@@ -12,6 +12,8 @@ Every :data:`TICK` it checks, in this order:
 * a cancel: odometry must show the chair stopped within ``verify_s``; if not -> ``cancel_ignored``,
   the cancel again and zero velocity at :data:`BURST_HZ` for :data:`BURST_S` s over a second
   connection (:mod:`pmk_nb.chair.link.side_channel`), from this thread (never roslibpy's I/O thread).
+  Judged only after ``verify_s`` (a chair yet to start looks stopped); a goal still unanswered then,
+  or no odometry at all, gets the same burst before anything is called honoured.
 
 Hooks (``on_end``) run when the watch ends, for things that live as long as the goal.
 """
@@ -37,6 +39,7 @@ TICK = 0.05
 REATTACH_S = 2.0  # after a reconnect: how long to wait for the chair's word before reading the pose
 BURST_HZ, BURST_S = 20.0, 1.0
 STOPPED_V, STOPPED_W = 0.03, 0.05  # m/s, rad/s: odometry this still counts as stopped
+STILL_HOLD_S = 0.5  # s: a cancel is honoured only after this long without motion (capped at verify_s)
 LINGER_S = 3.0  # keep watching a finished goal this long while a cancel is being verified
 # action_msgs/GoalStatus (the action's status topic) -> ours
 STATUS_CODES = {
@@ -61,6 +64,8 @@ class GoalWatch:
         self._applied_code: int | None = None
         self._verifying: float | None = None  # the cancel being verified (its time)
         self._seen_cancel: float | None = None
+        self._moved_at: float | None = None  # the last fresh odometry showing motion since the cancel
+        self._blind_burst = False  # the cancel sent again with no odometry to judge it by
         self._thread = threading.Thread(target=self._run, daemon=True, name="pmk-goal-watch")
 
     def on_end(self, stop: Callable[[], None]) -> None:
@@ -151,9 +156,14 @@ class GoalWatch:
 
     # -- verified cancel -----------------------------------------------------------------------------
     def _verify_cancel(self, now: float) -> None:
+        """Judge a cancel by odometry once ``verify_s`` has passed: moving then -> ``cancel_ignored``;
+        still, with no motion in the last :data:`STILL_HOLD_S` -> honoured. Not earlier: a chair
+        that has not yet started (a goal just accepted) is still at first and drives on when the
+        bridge holds the cancel (rosbridge_suite); the first still sample proves nothing."""
         h = self.handle
         if h.cancel_at is not None and h.cancel_at != self._seen_cancel:
             self._seen_cancel = self._verifying = h.cancel_at
+            self._moved_at, self._blind_burst = None, False
             self.link.start_streams()  # odometry tells whether the chair stops
             if h.progress().status is GoalStatus.CANCEL_IGNORED:
                 self.zero_burst()  # Stop pressed again: the chair is known to ignore the cancel
@@ -162,12 +172,24 @@ class GoalWatch:
             return
         odom = self.link.latest_odom()
         fresh = odom is not None and odom.received > since
-        still = fresh and odom is not None and abs(odom.v) < STOPPED_V and abs(odom.w) < STOPPED_W
-        if still:
+        moving = fresh and odom is not None and (abs(odom.v) >= STOPPED_V or abs(odom.w) >= STOPPED_W)
+        if moving and odom is not None:
+            self._moved_at = odom.received
+        if now - since <= self.policy.verify_s:
+            return
+        if not fresh:
+            if not self._blind_burst:  # cannot tell: the cancel again where rosbridge_suite does not hold it
+                self._blind_burst = True
+                self.zero_burst()
+            return  # keep waiting (the panel says "cancel sent")
+        if not moving and not h.progress().done and not self._blind_burst:
+            # still, but the goal runs on unanswered: a held cancel and a chair yet to start look
+            # the same, so the cancel goes again where rosbridge_suite does not hold it
+            self._blind_burst = True
+            self.zero_burst()
+        if not moving and (self._moved_at is None or now - self._moved_at >= min(STILL_HOLD_S, self.policy.verify_s)):
             h.cancel_honoured, self._verifying = True, None
-        elif now - since > self.policy.verify_s:
-            if not fresh:
-                return  # no odometry: cannot tell; keep waiting (the panel says "cancel sent")
+        elif moving:
             h.cancel_honoured = False
             h.update(GoalStatus.CANCEL_IGNORED, text=words.cancel_ignored(self.policy.verify_s), news=False)
             self._verifying = None
