@@ -263,7 +263,9 @@ async function main() {
 
   ros.close();
   if (second.ok) second.ros.close();
-  await sleep(100);
+  // the close handshake needs the server's reply: wait for the "close" events (bounded), not a
+  // fixed 100 ms that a loaded machine overruns (log.closed false although the close was clean)
+  for (let i = 0; i < 100 && !(log.closed && (!second.ok || secondLog.closed)); i++) await sleep(50);
   clearTimeout(hard);
   console.log(JSON.stringify(out));
   process.exit(0);

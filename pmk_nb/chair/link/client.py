@@ -325,10 +325,14 @@ class ChairLink:
         self._require_ros()
         return Recording(self, path, resolve_topics(self, topics, str(path)))
 
-    def record(self, path: str | os.PathLike[str], topics: Topics = None, seconds: float = 5.0) -> RecordStats:
-        """Record for ``seconds`` (blocks) and return the finished file's stats."""
+    def record(
+        self, path: str | os.PathLike[str], topics: Topics = None, seconds: float = 5.0, flow_timeout: float = 10.0
+    ) -> RecordStats:
+        """Record ``seconds`` of messages (blocks) and return the finished file's stats: the clock
+        starts once every topic delivers (or after ``flow_timeout`` s: a silent topic records nothing)."""
         recording = self.start_recording(path, topics)
         try:
+            recording.wait_flowing(flow_timeout)
             time.sleep(max(0.0, seconds))
         finally:
             stats = recording.stop()

@@ -186,8 +186,11 @@ class Recording:
         self._ready.wait(10.0)
         if self._error is not None:
             raise self._error
+        self._heard: set[str] = set()  # topics that delivered a message (I/O thread adds)
+        self._flowing = threading.Event()  # every topic has delivered one
         self._ros = self._connect(link)
-        self._topics = [self._subscribe(topic, type_name, link.ros_version) for topic, type_name in types.items()]
+        self._ros_version = link.ros_version
+        self._topics = {topic: self._subscribe(topic, type_name) for topic, type_name in types.items()}
 
     # -- the connection (I/O thread: push only) ---------------------------------------------------
     def _connect(self, link: ChairLink, timeout: float = 5.0) -> LinkRos:
@@ -204,10 +207,32 @@ class Recording:
             )
         return ros
 
-    def _subscribe(self, topic: str, type_name: str, ros_version: int | None) -> roslibpy.Topic:
-        sub = roslibpy.Topic(self._ros, topic, spell_type(type_name, ros_version), queue_length=50)
-        sub.subscribe(lambda msg, name=topic: self.inbox.push(name, msg))
+    def _subscribe(self, topic: str, type_name: str) -> roslibpy.Topic:
+        sub = roslibpy.Topic(self._ros, topic, spell_type(type_name, self._ros_version), queue_length=50)
+        sub.subscribe(lambda msg, name=topic: self._receive(name, msg))
         return sub
+
+    def _receive(self, topic: str, msg: dict[str, Any]) -> None:
+        self.inbox.push(topic, msg)
+        if topic not in self._heard:
+            self._heard.add(topic)
+            if len(self._heard) == len(self.types):
+                self._flowing.set()
+
+    def wait_flowing(self, timeout: float = 10.0) -> bool:
+        """Wait until every topic has delivered a message; True when they all have.
+
+        A ROS 2 bridge's subscription is live only once DDS has matched it with the publisher
+        (a second or more on a loaded machine): a short recording started blind would hold
+        little or nothing. Topics still silent halfway are subscribed once more (a bridge may
+        have dropped a subscription made while the topic was being set up).
+        """
+        if self._flowing.wait(timeout / 2) or not self.running:
+            return self._flowing.is_set()
+        for topic in sorted(set(self.types) - self._heard):
+            self._topics.pop(topic).unsubscribe()
+            self._topics[topic] = self._subscribe(topic, self.types[topic])
+        return self._flowing.wait(timeout / 2)
 
     # -- the writer thread ------------------------------------------------------------------------
     def _write_all(self) -> None:
@@ -267,7 +292,7 @@ class Recording:
         """
         if self._stopping.is_set():
             return self.stats
-        for sub in self._topics:
+        for sub in self._topics.values():
             sub.unsubscribe()
         self._ros.shutdown(2.0)
         self.stats.duration = time.time() - self.stats.started
