@@ -104,7 +104,7 @@ def _shot(page: Any, name: str) -> None:
 
 def _canvas_changes(page: Any, seconds: float = 20.0) -> float:
     """Fraction of the live canvas's pixels that changed while waiting (up to ``seconds``)."""
-    box = page.locator(".pmk-home-preview-box canvas").last
+    box = page.locator(".pmk-home-preview-box .pmk-live-canvas")
     before = _pixels(box.screenshot())
     changed = 0.0
     deadline = time.monotonic() + seconds
@@ -119,7 +119,7 @@ def _canvas_changes(page: Any, seconds: float = 20.0) -> float:
 def _check_home_layout(page: Any, size: dict[str, int]) -> None:
     """The map fits the window without being stretched, and the tool bar floats over it (issue 28:
     the map is the screen; the zoom buttons are in the bar, inside the map's box)."""
-    canvas = page.locator(".pmk-home-preview-box canvas").last
+    canvas = page.locator(".pmk-home-preview-box .pmk-live-canvas")
     box = canvas.bounding_box()
     toolbar = page.locator(".pmk-home-toolbar").bounding_box()
     zoom_in = page.locator("button.pmk-home-zoom-in").bounding_box()
@@ -189,10 +189,10 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
         page.locator("button.pmk-home-disconnect").click()
         expect(page.locator("button.pmk-home-preview")).to_be_visible()
         expect(page.locator("button.pmk-home-disconnect")).to_be_hidden()
-        expect(page.locator(".pmk-home-preview-box canvas").last).to_be_visible()  # the map stays on screen
+        expect(page.locator(".pmk-home-preview-box .pmk-live-canvas")).to_be_visible()  # the map stays on screen
         _shot(page, "5-home-stopped")
         page.locator("button.pmk-home-preview").click()
-        expect(page.locator(".pmk-home-preview-box canvas").last).to_be_visible()
+        expect(page.locator(".pmk-home-preview-box .pmk-live-canvas")).to_be_visible()
         time.sleep(3.0)
         assert _canvas_changes(page) >= 1e-4, "the live canvas did not change while the chair moves"
         _shot(page, "6-home-moving")
@@ -201,7 +201,7 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
         zoom = page.locator(".pmk-home-info-zoom")
         page.locator("button.pmk-home-zoom-in").click()
         expect(zoom).to_contain_text("Zoom: 2")
-        box = page.locator(".pmk-home-preview-box canvas").last.bounding_box()
+        box = page.locator(".pmk-home-preview-box .pmk-live-canvas").bounding_box()
         assert box is not None
         cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
         page.mouse.move(cx, cy)

@@ -2,8 +2,9 @@
 names, and Measure with two taps shows the distance between them.
 
 The dashboard is the demo kiosk (Voilà, the simulated chair, preview started by itself). Where to tap
-comes from the same pure view maths the page uses: at zoom level 1 the whole map is shown, so
-following the chair does not move it.
+comes from the same pure view maths the page uses, built from what the kernel publishes
+(tests/page_view.py: the canvas fitted to the page, zoom, insets): at zoom level 1 the whole map is
+shown, so following the chair does not move it.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from pmk_nb.rosmap.files import read_map
 from pmk_nb.viewport import Viewport
 from pmk_nb.viewport.maptools import scale_bar
 from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+from tests.page_view import page_view
 from tests.test_browser_live import pixels, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
@@ -50,8 +52,7 @@ def test_scale_bar_and_measure_two_taps(tmp_path: Path) -> None:
     with serve_kiosk(tmp_path, label="map-tools") as (url, world), chromium_page(url, viewport=VIEWPORT) as page:
         expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=120_000)
         grid = read_map(world.map_yaml)
-        rgba = pixels(page)
-        view = Viewport.for_grid(grid, rgba.shape[1], rgba.shape[0])
+        view = page_view(page, grid)  # the canvas the kernel fitted to the page, its zoom and insets
         bar = scale_bar(view.px_per_m, min(120.0, 0.4 * view.canvas_width))
         expect(page.locator(".pmk-tools-scale")).to_contain_text(bar.label, timeout=10_000)
         assert wait_until(page, lambda: _bar_drawn(pixels(page), bar.pixels), 10.0), f"no {bar.label} bar drawn"
