@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
     from pmk_nb.viewport import Viewport
 
-PATH_RGB = "rgba(25, 90, 220, 0.85)"  # blue: the chair's own plan (the rooms route is green, dashed)
+PATH_RGB = "rgba(140, 50, 200, 0.85)"  # violet: the plan, unlike the blue chair (the rooms route: green, dashed)
 PATH_WIDTH_PX = 3
 
 

@@ -224,7 +224,9 @@ class Viewport:
         ddx, ddy = _finite(dx, "dx"), _finite(dy, "dy")
         self.following = False
         s = self.scale
-        self._target = (self._center[0] - ddx / s, self._center[1] - ddy / s)
+        # the target sits where _apply_target put it: the centre of the uncovered part, not the view's
+        du, dv = (d / s for d in self.insets.fitted(self.canvas_width, self.canvas_height).focus_offset())
+        self._target = (self._center[0] + du - ddx / s, self._center[1] + dv - ddy / s)
         self._apply_target()
 
     def centre(self) -> None:
