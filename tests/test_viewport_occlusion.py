@@ -67,3 +67,17 @@ def test_insets_from_the_boxes_the_page_reports() -> None:
     assert insets_from_boxes(800, 600, [(10, 100, 200, 480)]).left == 210.0
     assert insets_from_boxes(800, 600, [(300, 560, 200, 40)]) == Insets(bottom=40.0)
     assert Insets(right=100.0).uncovered(800, 600) == (0.0, 0.0, 700.0, 600.0)
+
+
+def test_a_drag_with_panels_moves_the_map_by_the_fingers_pixels_only() -> None:
+    """A drag starts from where the view is (its target in the uncovered part), not from the view's
+    inset-shifted centre: the map moves with the finger, with no jump by half a panel (stop 34)."""
+    view = _view()
+    view.set_zoom(6)
+    view.set_insets(Insets(left=160.0, top=60.0))
+    view.see_chair(50.0, 50.0)
+    before = view.world_to_pixel(50.0, 50.0)
+    view.pan_pixels(10.0, -4.0)
+    after = view.world_to_pixel(50.0, 50.0)
+    assert not view.following
+    assert (float(after[0]) - float(before[0]), float(after[1]) - float(before[1])) == pytest.approx((10.0, -4.0))
