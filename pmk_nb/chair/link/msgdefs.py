@@ -1,61 +1,36 @@
-"""The ROS 2 message definitions a recording writes into its MCAP schemas (generated, do not edit).
+"""The ROS 2 message definitions a recording writes into its MCAP schemas.
 
-Each text is the full concatenated definition with its dependencies, in the form ``ros2 bag`` writes
+Each schema is the full concatenated definition with its dependencies, in the form ``ros2 bag`` writes
 (``ros2msg`` schema encoding): Foxglove, ``ros2 bag`` and ``rosbags`` read a recording without the
-message packages installed. Generated once from the rosbags type store (ROS 2 Humble); bundled so the
-dashboard needs no ROS installation to record.
+message packages installed. Each message's own fields are written once (:data:`FIELDS`, from the rosbags
+type store, ROS 2 Humble) and :func:`concatenated` adds its dependencies depth-first, each once, as
+``ros2 bag`` does; bundled so the dashboard needs no ROS installation to record.
 """
 
 from __future__ import annotations
 
-DEFINITIONS: dict[str, str] = {
-    "nav_msgs/msg/Odometry": (
+import re
+
+SEPARATOR = "=" * 80 + "\n"
+
+#: each message's own fields (package/Name, as the definitions spell their field types)
+FIELDS: dict[str, str] = {
+    "nav_msgs/Odometry": (
         "std_msgs/Header header\n"
         "string child_frame_id\n"
         "geometry_msgs/PoseWithCovariance pose\n"
         "geometry_msgs/TwistWithCovariance twist\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/PoseWithCovariance\n"
-        "geometry_msgs/Pose pose\n"
-        "float64[36] covariance\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Pose\n"
-        "geometry_msgs/Point position\n"
-        "geometry_msgs/Quaternion orientation\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Point\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Quaternion\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "float64 w\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/TwistWithCovariance\n"
-        "geometry_msgs/Twist twist\n"
-        "float64[36] covariance\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Twist\n"
-        "geometry_msgs/Vector3 linear\n"
-        "geometry_msgs/Vector3 angular\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Vector3\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
     ),
-    "sensor_msgs/msg/LaserScan": (
+    "std_msgs/Header": ("builtin_interfaces/Time stamp\nstring frame_id\n"),
+    "builtin_interfaces/Time": ("int32 sec\nuint32 nanosec\n"),
+    "geometry_msgs/PoseWithCovariance": ("geometry_msgs/Pose pose\nfloat64[36] covariance\n"),
+    "geometry_msgs/Pose": ("geometry_msgs/Point position\ngeometry_msgs/Quaternion orientation\n"),
+    "geometry_msgs/Point": ("float64 x\nfloat64 y\nfloat64 z\n"),
+    "geometry_msgs/Quaternion": ("float64 x\nfloat64 y\nfloat64 z\nfloat64 w\n"),
+    "geometry_msgs/TwistWithCovariance": ("geometry_msgs/Twist twist\nfloat64[36] covariance\n"),
+    "geometry_msgs/Twist": ("geometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular\n"),
+    "geometry_msgs/Vector3": ("float64 x\nfloat64 y\nfloat64 z\n"),
+    "sensor_msgs/LaserScan": (
         "std_msgs/Header header\n"
         "float32 angle_min\n"
         "float32 angle_max\n"
@@ -66,225 +41,68 @@ DEFINITIONS: dict[str, str] = {
         "float32 range_max\n"
         "float32[] ranges\n"
         "float32[] intensities\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
     ),
-    "geometry_msgs/msg/PoseWithCovarianceStamped": (
-        "std_msgs/Header header\n"
-        "geometry_msgs/PoseWithCovariance pose\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/PoseWithCovariance\n"
-        "geometry_msgs/Pose pose\n"
-        "float64[36] covariance\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Pose\n"
-        "geometry_msgs/Point position\n"
-        "geometry_msgs/Quaternion orientation\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Point\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Quaternion\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "float64 w\n"
+    "geometry_msgs/PoseWithCovarianceStamped": ("std_msgs/Header header\ngeometry_msgs/PoseWithCovariance pose\n"),
+    "geometry_msgs/PoseStamped": ("std_msgs/Header header\ngeometry_msgs/Pose pose\n"),
+    "tf2_msgs/TFMessage": ("geometry_msgs/TransformStamped[] transforms\n"),
+    "geometry_msgs/TransformStamped": (
+        "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/Transform transform\n"
     ),
-    "geometry_msgs/msg/PoseStamped": (
-        "std_msgs/Header header\n"
-        "geometry_msgs/Pose pose\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Pose\n"
-        "geometry_msgs/Point position\n"
-        "geometry_msgs/Quaternion orientation\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Point\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Quaternion\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "float64 w\n"
-    ),
-    "tf2_msgs/msg/TFMessage": (
-        "geometry_msgs/TransformStamped[] transforms\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/TransformStamped\n"
-        "std_msgs/Header header\n"
-        "string child_frame_id\n"
-        "geometry_msgs/Transform transform\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Transform\n"
-        "geometry_msgs/Vector3 translation\n"
-        "geometry_msgs/Quaternion rotation\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Vector3\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Quaternion\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "float64 w\n"
-    ),
-    "nav_msgs/msg/OccupancyGrid": (
-        "std_msgs/Header header\n"
-        "nav_msgs/MapMetaData info\n"
-        "int8[] data\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: nav_msgs/MapMetaData\n"
+    "geometry_msgs/Transform": ("geometry_msgs/Vector3 translation\ngeometry_msgs/Quaternion rotation\n"),
+    "nav_msgs/OccupancyGrid": ("std_msgs/Header header\nnav_msgs/MapMetaData info\nint8[] data\n"),
+    "nav_msgs/MapMetaData": (
         "builtin_interfaces/Time map_load_time\n"
         "float32 resolution\n"
         "uint32 width\n"
         "uint32 height\n"
         "geometry_msgs/Pose origin\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Pose\n"
-        "geometry_msgs/Point position\n"
-        "geometry_msgs/Quaternion orientation\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Point\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Quaternion\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "float64 w\n"
     ),
-    "nav_msgs/msg/MapMetaData": (
-        "builtin_interfaces/Time map_load_time\n"
-        "float32 resolution\n"
-        "uint32 width\n"
-        "uint32 height\n"
-        "geometry_msgs/Pose origin\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Pose\n"
-        "geometry_msgs/Point position\n"
-        "geometry_msgs/Quaternion orientation\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Point\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Quaternion\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "float64 w\n"
-    ),
-    "nav_msgs/msg/Path": (
-        "std_msgs/Header header\n"
-        "geometry_msgs/PoseStamped[] poses\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/PoseStamped\n"
-        "std_msgs/Header header\n"
-        "geometry_msgs/Pose pose\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Pose\n"
-        "geometry_msgs/Point position\n"
-        "geometry_msgs/Quaternion orientation\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Point\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Quaternion\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-        "float64 w\n"
-    ),
-    "geometry_msgs/msg/Twist": (
-        "geometry_msgs/Vector3 linear\n"
-        "geometry_msgs/Vector3 angular\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Vector3\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-    ),
-    "geometry_msgs/msg/TwistStamped": (
-        "std_msgs/Header header\n"
-        "geometry_msgs/Twist twist\n"
-        "================================================================================\n"
-        "MSG: std_msgs/Header\n"
-        "builtin_interfaces/Time stamp\n"
-        "string frame_id\n"
-        "================================================================================\n"
-        "MSG: builtin_interfaces/Time\n"
-        "int32 sec\n"
-        "uint32 nanosec\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Twist\n"
-        "geometry_msgs/Vector3 linear\n"
-        "geometry_msgs/Vector3 angular\n"
-        "================================================================================\n"
-        "MSG: geometry_msgs/Vector3\n"
-        "float64 x\n"
-        "float64 y\n"
-        "float64 z\n"
-    ),
-    "std_msgs/msg/String": ("string data\n"),
+    "nav_msgs/Path": ("std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n"),
+    "geometry_msgs/TwistStamped": ("std_msgs/Header header\ngeometry_msgs/Twist twist\n"),
+    "std_msgs/String": ("string data\n"),
+}
+
+
+def _dependencies(fields: str) -> list[str]:
+    """The message types ``fields`` names (``pkg/Name`` field types, arrays included), in order."""
+    found = []
+    for line in fields.splitlines():
+        kind = re.sub(r"\[.*\]$", "", line.split()[0]) if line.strip() else ""
+        if "/" in kind:
+            found.append(kind)
+    return found
+
+
+def concatenated(short: str) -> str:
+    """``short``'s full definition: its own fields, then each dependency once, depth-first."""
+    seen: set[str] = set()
+    order: list[str] = []
+
+    def walk(name: str) -> None:
+        for dep in _dependencies(FIELDS[name]):
+            if dep not in seen:
+                seen.add(dep)
+                order.append(dep)
+                walk(dep)
+
+    walk(short)
+    return FIELDS[short] + "".join(f"{SEPARATOR}MSG: {dep}\n{FIELDS[dep]}" for dep in order)
+
+
+#: the types a recording can write, by their ROS 2 name, with their concatenated definitions
+DEFINITIONS: dict[str, str] = {
+    name: concatenated(name.replace("/msg/", "/"))
+    for name in (
+        "nav_msgs/msg/Odometry",
+        "sensor_msgs/msg/LaserScan",
+        "geometry_msgs/msg/PoseWithCovarianceStamped",
+        "geometry_msgs/msg/PoseStamped",
+        "tf2_msgs/msg/TFMessage",
+        "nav_msgs/msg/OccupancyGrid",
+        "nav_msgs/msg/MapMetaData",
+        "nav_msgs/msg/Path",
+        "geometry_msgs/msg/Twist",
+        "geometry_msgs/msg/TwistStamped",
+        "std_msgs/msg/String",
+    )
 }
