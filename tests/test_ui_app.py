@@ -360,3 +360,19 @@ def test_one_chair_connection_per_page(ctx: AppContext) -> None:
     second = ctx.link()
     assert second is not first and second.port == 9102
     assert first not in open_links() and second in open_links()  # the old chair's link was dropped
+
+
+def test_a_new_page_builds_home_only_and_the_other_screens_when_first_opened(ctx: AppContext) -> None:
+    """Page start is what every rider waits for: Maps and Settings (more than half the widgets)
+    are built when first opened, once."""
+    app = Dashboard(ctx)
+    try:
+        assert set(app.screens) == {"home"}
+        app.show("maps")
+        maps = app.screens["maps"]
+        app.show("settings")
+        app.show("maps")
+        assert set(app.screens) == {"home", "maps", "settings"} and app.screens["maps"] is maps
+        assert app.screen("settings") is app.screens["settings"]
+    finally:
+        app.close()

@@ -97,7 +97,7 @@ def test_a_locked_kiosk_has_no_settings_or_maps_widgets_until_the_pin_and_none_a
 
     _unlock(app, gate, "settings")
     app.show("maps")
-    settings, maps = app.screens["settings"], app.screens["maps"]
+    settings, maps = app.screen("settings"), app.screen("maps")
     live = _locked_models(before)
     assert {"pmk-settings-save", "pmk-kiosk-pin-remove", "pmk-maps-convert", "pmk-maps-download"} <= set(live)
 
@@ -119,7 +119,7 @@ def test_every_action_of_a_locked_screen_refuses_by_itself(
     ctx: AppContext = app.ctx
     ctx.profiles.save(ChairProfile(name="chair", host="127.0.0.1", port=1, ssh_user="pmk"))
     _unlock(app, gate, "maps")
-    maps = app.screens["maps"]
+    maps = app.screen("maps")
     maps.import_bytes("house.gml", two_rooms(("F1",)))
     maps.resolution.value = "0.2"
     maps.convert_button.click()
@@ -128,7 +128,7 @@ def test_every_action_of_a_locked_screen_refuses_by_itself(
     maps.refresh()  # new cards: the replaced ones must not stay live in the kernel either
     send = _find(maps.widget, "pmk-maps-send")
     app.show("settings")
-    settings = app.screens["settings"]
+    settings = app.screen("settings")
     app.show("home")
     assert _locked_models(before) == []
     cfg, maps_dir = tmp_path / "cfg", tmp_path / "maps"
@@ -176,9 +176,9 @@ def test_a_pin_set_on_another_page_locks_this_pages_open_settings(tmp_path: Path
         ctx.kiosk = KioskLock(PinStore(ctx.config_dir))
         app = build_app(ctx=ctx)
         try:
-            assert isinstance(app, Dashboard) and set(app.screens) == {"home", "maps", "settings"}
+            assert isinstance(app, Dashboard) and set(app.screens) == {"home"}  # the others are built when first opened
             app.show("settings")
-            settings = app.screens["settings"]
+            settings = app.screen("settings")
             settings.fields["name"].value, settings.fields["host"].value = "chair", "127.0.0.1"
             PinStore(ctx.config_dir).set_pin(PIN, PIN)  # another page
             settings.save_button.click()
@@ -196,7 +196,7 @@ def test_setting_the_first_pin_keeps_this_page_open_until_home(tmp_path: Path) -
         app = build_app(ctx=ctx)
         try:
             app.show("settings")
-            settings = app.screens["settings"]
+            settings = app.screen("settings")
             _find(settings.widget, "pmk-kiosk-pin-new").value = PIN
             _find(settings.widget, "pmk-kiosk-pin-repeat").value = PIN
             _find(settings.widget, "pmk-kiosk-pin-set").click()
@@ -286,14 +286,14 @@ def test_lock_icons_only_while_a_pin_is_set(tmp_path: Path) -> None:
             icons = lambda: {n: app.nav_buttons[n].icon for n in ("maps", "settings")}  # noqa: E731
             assert icons() == {"maps": "map", "settings": "cog"}
             app.show("settings")
-            settings = app.screens["settings"]
+            settings = app.screen("settings")
             _find(settings.widget, "pmk-kiosk-pin-new").value = PIN
             _find(settings.widget, "pmk-kiosk-pin-repeat").value = PIN
             _find(settings.widget, "pmk-kiosk-pin-set").click()
             app.show("home")
             assert icons() == {"maps": "lock", "settings": "lock"}
             _unlock(app, app.gate.__self__, "settings")  # type: ignore[union-attr]
-            _find(app.screens["settings"].widget, "pmk-kiosk-pin-remove").click()
+            _find(app.screen("settings").widget, "pmk-kiosk-pin-remove").click()
             app.show("home")
             assert icons() == {"maps": "map", "settings": "cog"}
         finally:

@@ -34,7 +34,7 @@ def _closed_port() -> int:
 
 
 def _fill(app: Dashboard, port: int) -> None:
-    settings = app.screens["settings"]
+    settings = app.screen("settings")
     values = {"name": "Chair A", "host": "127.0.0.1", "port": str(port), "ssh_user": "pmk"}
     for key, value in values.items():
         settings.fields[key].value = value
@@ -49,7 +49,7 @@ def _all_widgets(root: w.Widget) -> Iterator[w.Widget]:
 def test_a_failure_shown_by_its_screen_is_not_repeated_in_the_app_line(app: Dashboard) -> None:
     ctx: AppContext = app.ctx
     app.show("settings")
-    settings = app.screens["settings"]
+    settings = app.screen("settings")
     _fill(app, _closed_port())
     settings.test_button.click()
     wait_until(lambda: settings.state != "Connecting", timeout=30.0, what="the connection test")
@@ -60,17 +60,17 @@ def test_a_failure_shown_by_its_screen_is_not_repeated_in_the_app_line(app: Dash
 
 def test_the_app_line_clears_when_the_next_action_reports(app: Dashboard) -> None:
     app.show("maps")
-    app.screens["maps"].convert_button.click()  # nothing selected: no place on the screen for this
+    app.screen("maps").convert_button.click()  # nothing selected: no place on the screen for this
     assert "Select a map" in app.message.value
     app.show("settings")
     _fill(app, 9090)
-    app.screens["settings"].save_button.click()  # succeeds: the older failure goes
-    assert "Saved" in app.screens["settings"].message.value
+    app.screen("settings").save_button.click()  # succeeds: the older failure goes
+    assert "Saved" in app.screen("settings").message.value
     assert app.message.value == ""
 
 
 def test_test_connection_never_says_not_saved(app: Dashboard) -> None:
-    settings = app.screens["settings"]
+    settings = app.screen("settings")
     _fill(app, 9090)
     settings.fields["port"].value = "ninety"
     settings.save_button.click()
@@ -83,7 +83,7 @@ def test_test_connection_never_says_not_saved(app: Dashboard) -> None:
 
 @pytest.mark.slow
 def test_connected_replaces_an_older_connection_failure(app: Dashboard, sim_factory: Any) -> None:
-    settings = app.screens["settings"]
+    settings = app.screen("settings")
     app.show("settings")
     _fill(app, _closed_port())
     settings.test_button.click()

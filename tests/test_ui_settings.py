@@ -155,14 +155,14 @@ def test_settings_says_connected_while_the_page_holds_a_live_link(tmp_path: Path
         try:
             ctx.link().connect(timeout=10.0)  # what Home's preview does
             app.show("settings")
-            screen = app.screens["settings"]
+            screen = app.screen("settings")
             assert screen.state == "Connected" and "Disconnected" not in screen.status.value, screen.status.value
             assert "Home" in screen.status.value  # says where the connection comes from
             assert not any("Connected." in n.message for n in ctx.notifications)  # no news: no toast
             close_all_links()
             app.show("home")
             app.show("settings")
-            assert app.screens["settings"].state == "Disconnected"  # the link is gone: so it says
+            assert app.screen("settings").state == "Disconnected"  # the link is gone: so it says
         finally:
             app.close()
             close_all_links()

@@ -59,9 +59,11 @@ class Dashboard(w.VBox):
             "maps": lambda: MapsScreen(ctx),
             "settings": lambda: SettingsScreen(ctx),
         }
-        # A locked kiosk page builds no screen behind the PIN: a widget that does not exist cannot
-        # be reached by a page script speaking the widget protocol (``ctx.may_open``).
-        self.screens: dict[str, Any] = {n: self._builders[n]() for n in SCREENS if ctx.may_open(n)}
+        # Only Home is built with the page: Maps and Settings are built when first opened (their
+        # ~500 widgets halved a page's start, and most pages, a rider's kiosk above all, never
+        # open them). A locked kiosk page builds no screen behind the PIN: a widget that does not
+        # exist cannot be reached by a page script speaking the widget protocol (``ctx.may_open``).
+        self.screens: dict[str, Any] = {"home": self._builders["home"]()}
         self.current = "home"
         self.nav_buttons: dict[str, w.Button] = {}
         for name in SCREENS:
@@ -103,7 +105,7 @@ class Dashboard(w.VBox):
             raise ValueError(f"unknown screen {name!r}; expected one of {', '.join(SCREENS)}")
         if self.gate is not None and not self.gate(name):
             return
-        screen = self._screen(name)
+        screen = self.screen(name)
         previous = self.current
         if previous == "home" and name != "home":
             self.screens["home"].stop_preview()
@@ -122,7 +124,7 @@ class Dashboard(w.VBox):
         for other in [n for n in self.screens if not self.ctx.may_open(n)]:  # locked again: gone
             self.drop(other)
 
-    def _screen(self, name: str) -> Any:
+    def screen(self, name: str) -> Any:
         """The screen ``name``, built now if it was not (behind the kiosk PIN: only once unlocked)."""
         if not self.ctx.may_open(name):  # also a screen built before another page set the PIN
             self.ctx.require_unlocked(f"Opening {name.title()}")
