@@ -228,12 +228,15 @@ def test_kiosk_flow_in_chromium(kiosk: tuple[str, DemoWorld]) -> None:
 # --- kiosk mode (`pmk dashboard --kiosk`, `pmk demo`): Home only, big targets, PIN, screen kept on ----
 
 
-def _pin_prompt_says(page: Any, typed: str, expected: str) -> None:
+def _pin_prompt_says(page: Any, typed: str, expected: str, *, enter: bool = False) -> None:
     from playwright.sync_api import expect
 
     box = page.locator(".pmk-kiosk-pin input")
     box.fill(typed)
-    page.locator("button.pmk-kiosk-unlock").click()
+    if enter:  # Enter in the box submits as Unlock does (kiosk.PIN_ENTER_SCRIPT)
+        box.press("Enter")
+    else:
+        page.locator("button.pmk-kiosk-unlock").click()
     expect(box).to_have_value("", timeout=30_000)  # the kernel took the PIN (it empties the box)
     expect(page.locator(".pmk-kiosk-pin-status")).to_contain_text(expected, timeout=30_000)
 
@@ -285,7 +288,7 @@ def test_kiosk_mode_locks_maps_and_settings_behind_the_pin(tmp_path: Path) -> No
         assert page.locator(".pmk-maps-list").count() == 0 or not page.locator(".pmk-maps-list").is_visible()
         _pin_prompt_says(page, "", "Type the PIN first")
         _pin_prompt_says(page, "abcd", "a PIN has 4 to 12 digits")
-        _pin_prompt_says(page, "1234", "Wrong PIN.")
+        _pin_prompt_says(page, "1234", "Wrong PIN.", enter=True)
         _shot(page, "mode-3-pin-refused")
         page.locator(".pmk-kiosk-pin input").fill("4711")
         page.locator("button.pmk-kiosk-unlock").click()

@@ -38,6 +38,19 @@ def _tap(page: Any, canvas: Any, view: Viewport, point: tuple[float, float]) -> 
     return (x - box["x"]) / css, (y - box["y"]) / css
 
 
+def _visible_middle(view: Viewport, grid: Any, box: dict[str, float], window_h: float) -> tuple[float, float]:
+    """The map point in the middle of the part of the map shown in the window (above the status
+    line), checked to leave room for taps 2 m above and below it."""
+    top = max(-box["y"] * view.canvas_width / box["width"], 0.0)
+    bottom = min((window_h - box["y"]) * view.canvas_width / box["width"], view.canvas_height - view.insets.bottom)
+    x0, y0 = grid.origin[0], grid.origin[1]
+    _px, (map_top, map_bottom) = view.world_to_pixel([x0, x0], [y0 + grid.height * grid.resolution, y0])
+    lo, hi = max(top, float(map_top)), min(bottom, float(map_bottom))
+    assert hi - lo > 4.5 * view.px_per_m, f"too little map in the window for a 4 m tap: rows {lo:.0f}..{hi:.0f}"
+    _x, y = view.pixel_to_world(0.0, (lo + hi) / 2)
+    return x0 + grid.width * grid.resolution / 2, float(y)
+
+
 def _bar_drawn(rgba: np.ndarray, bar_px: float) -> bool:
     """The scale bar's dark line at the lower left: row height - 14 from x = 12, ``bar_px`` long."""
     row = rgba.shape[0] - 14
@@ -61,12 +74,6 @@ def test_scale_bar_is_drawn_at_the_length_it_names(tmp_path: Path) -> None:
         page.screenshot(path=str(ARTIFACTS / "map-tools.png"))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="known defect since the issue-28 Home layout merged (stop 34): Measure in the browser shows 10.33 m for "
-    "taps 5 m apart (the y axis is off; the kernel-side maths pass in test_ui_live_tools and "
-    "test_viewport_maptools). Strict: this fails the suite once Measure is right, so the mark goes then.",
-)
 def test_measure_two_taps_in_the_browser(tmp_path: Path) -> None:
     from playwright.sync_api import expect
 
@@ -81,11 +88,17 @@ def test_measure_two_taps_in_the_browser(tmp_path: Path) -> None:
         expect(follow).not_to_have_class(re.compile(r"mod-active"))
         page.locator(".pmk-tools-mode button", has_text="Measure").click()
         expect(page.locator(".pmk-tools-readout")).to_contain_text("Tap two points")
-        cx = grid.origin[0] + grid.width * grid.resolution / 2
-        cy = grid.origin[1] + grid.height * grid.resolution / 2
+        # the researcher has scrolled down to the tools: the map's top is above the window (a press
+        # then focused the canvas, which scrolled it into view between ipycanvas's two reads: the
+        # press's pixel was off by the scroll, 10.33 m for 5 m; pmk_nb/ui/canvas_focus.py)
+        page.locator(".pmk-tools-readout").scroll_into_view_if_needed()
         canvas = page.locator(".pmk-live-canvas").first
+        box = canvas.bounding_box()
+        assert box is not None and box["y"] < -100, f"the map's top should be scrolled away: {box}"
+        cx, cy = _visible_middle(view, grid, box, VIEWPORT["height"])
         a = _tap(page, canvas, view, (cx - 1.5, cy - 2.0))
         expect(page.locator(".pmk-tools-readout")).to_contain_text("second point", timeout=10_000)
+        assert canvas.bounding_box() == box, "a press on the map scrolled the page"
         b = _tap(page, canvas, view, (cx + 1.5, cy + 2.0))
         distance = page.locator(".pmk-tools-distance")
         expect(distance).to_contain_text(" m", timeout=10_000)

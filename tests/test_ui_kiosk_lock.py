@@ -298,3 +298,19 @@ def test_lock_icons_only_while_a_pin_is_set(tmp_path: Path) -> None:
             assert icons() == {"maps": "map", "settings": "cog"}
         finally:
             app.close()
+
+
+def test_the_pin_prompt_is_built_without_deprecated_widget_api(tmp_path: Path) -> None:
+    """ipywidgets' ``Text.on_submit`` is deprecated (a DeprecationWarning in the suite): Unlock is the
+    one submit path, and the kiosk page's script makes Enter in the PIN box press it."""
+    import warnings
+
+    from pmk_nb.ui.kiosk import PIN_ENTER_SCRIPT
+
+    PinStore(tmp_path / "cfg").set_pin(PIN, PIN)
+    with app_context(tmp_path) as ctx, warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        ctx.kiosk = KioskLock(PinStore(ctx.config_dir))
+        gate = KioskGate(build_app(ctx=ctx), ctx.kiosk)
+        assert gate.pin._submission_callbacks.callbacks == []
+    assert "button.pmk-kiosk-unlock" in PIN_ENTER_SCRIPT and "'.pmk-kiosk-pin'" in PIN_ENTER_SCRIPT

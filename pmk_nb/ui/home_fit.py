@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
+from pmk_nb.ui import canvas_focus
 from pmk_nb.viewport import insets_from_boxes
 
 if TYPE_CHECKING:
@@ -136,6 +137,7 @@ class FitChannel:
         from IPython.display import HTML
 
         self.page.append_display_data(HTML(page_html()))
+        self.page.append_display_data(HTML(canvas_focus.SCRIPT))  # a press on the map never scrolls the page
         self.widget = w.Box([self.channel, self.chair_at, self.page], layout=w.Layout(display="none"))
         self.widget.add_class("pmk-home-fit")
 

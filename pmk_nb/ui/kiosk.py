@@ -43,6 +43,22 @@ WAKE_ON = "Screen kept on."
 WAKE_MISSING = "This browser cannot keep the screen on: set the tablet's screen timeout to Never."
 WAKE_REFUSED = "The browser did not allow keeping the screen on: set the tablet's screen timeout to Never."
 
+#: Enter in the PIN box presses Unlock (capture phase: the text box stops its key events).  Not
+#: ``Text.on_submit`` (deprecated), nor ``continuous_update=False`` + observing the value: that
+#: submits on every blur too, so a typed PIN would be tried (and a wrong one counted) on a tap on
+#: "Back to Home", and a tap on Unlock would submit it twice.
+PIN_ENTER_SCRIPT = """<script>
+(function () {
+  if (window.__pmkPinEnter) return;
+  window.__pmkPinEnter = true;
+  document.addEventListener('keydown', function (e) {
+    if (e.key !== 'Enter' || e.isComposing || !e.target.closest || !e.target.closest('.pmk-kiosk-pin')) return;
+    var unlock = document.querySelector('button.pmk-kiosk-unlock');
+    if (unlock) { e.preventDefault(); unlock.click(); }
+  }, true);
+})();
+</script>"""
+
 
 def wake_lock_html() -> str:
     """A status line and the script that holds a screen wake lock (again after the page was hidden)."""
@@ -85,8 +101,8 @@ class KioskGate:
         self.status.add_class("pmk-kiosk-pin-status")
         self.unlock_button = button("Unlock", "pmk-kiosk-unlock", icon="unlock", style="primary")
         self.cancel_button = button("Back to Home", "pmk-kiosk-cancel", icon="home")
+        # the one way a PIN is submitted; Enter in the box presses it (PIN_ENTER_SCRIPT)
         self.unlock_button.on_click(guard(app.ctx, "Checking the PIN")(lambda _b: self.submit()))
-        self.pin.on_submit(guard(app.ctx, "Checking the PIN")(lambda _t: self.submit()))
         self.cancel_button.on_click(guard(app.ctx, "Going back Home")(lambda _b: app.show("home")))
         row = w.HBox([self.unlock_button, self.cancel_button])
         row.add_class("pmk-row")
@@ -208,5 +224,5 @@ def apply(app: Any) -> KioskGate | None:
     app.gate = gate.allows
     app.add_class("pmk-kiosk")
     show_lock_icons(app, lock)
-    display(HTML(KIOSK_CSS + wake_lock_html()))
+    display(HTML(KIOSK_CSS + wake_lock_html() + PIN_ENTER_SCRIPT))
     return gate
