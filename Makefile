@@ -5,7 +5,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 PYTEST_ARGS ?=
 # two pytest-xdist workers (each test's real parts bind their own loopback ports and folders)
-XDIST ?= -n 2
+XDIST ?= -n 2 --dist worksteal
 JS_STAMP := tests/js/node_modules/.package-lock.json
 PROXY_STAMP := proxy/node_modules/.package-lock.json
 
