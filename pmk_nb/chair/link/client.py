@@ -40,7 +40,6 @@ from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
 from pmk_nb.chair.link.publish import Publishers
 from pmk_nb.chair.link.record import Recording, RecordStats, Topics, resolve_topics
-from pmk_nb.chair.link.registry import close_all_links, get_link
 from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
 from pmk_nb.chair.link.streams import PoseSource, StreamConfig, StreamHub
@@ -57,7 +56,7 @@ from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
 
 __all__ = ["ChairLink", "ConnectionReport", "LinkState", "MapInfo", "MapReloadError", "Odometry", "Pose2D"]
-__all__ += ["ReloadService", "Scan", "close_all_links", "get_link"]
+__all__ += ["ReloadService", "Scan"]  # get_link, close_all_links: pmk_nb.chair.link (registry)
 
 
 class ChairLink:
@@ -104,7 +103,7 @@ class ChairLink:
         self._streams_since = 0.0
         self._lock = threading.RLock()  # connect / close / streams bookkeeping
         self._watch = StateWatch(lambda: self.state, f"pmk-link-watchdog-{self.host}:{self.port}")
-        self.discovery = Discovery(self._call, f"{self.host}:{self.port}")
+        self.discovery = Discovery(self.call, f"{self.host}:{self.port}")
         self._maps = MapReader(self, map_topic, map_metadata_topic)
         self.goal_policy = GoalPolicy()  # deadlines, and what a link loss does to goals (the profile's)
 
@@ -245,7 +244,7 @@ class ChairLink:
         """Connect and read the published map's metadata; never raises for network trouble and
         never takes (much) longer than ``timeout``. Leaves the link connected on success.
         """
-        return run_connection_test(self, timeout)
+        return run_connection_test(self, timeout, self._maps.map_listed)
 
     # -- state -------------------------------------------------------------------------------------
     @property
@@ -288,7 +287,7 @@ class ChairLink:
         """PoseStamped or PoseWithCovarianceStamped? rosbridge needs the right type to subscribe."""
         cfg = self._hub.config
         try:
-            found = self._call("/rosapi/topic_type", "rosapi/TopicType", {"topic": cfg.pose_topic}, 2.0)
+            found = self.call("/rosapi/topic_type", "rosapi/TopicType", {"topic": cfg.pose_topic}, 2.0)
             if found.get("type"):
                 cfg.pose_type = found["type"]
         except ChairLinkError:
@@ -322,7 +321,7 @@ class ChairLink:
         Raises:
             UnknownTopic, UnsupportedType, RecordDiskError (see :mod:`.record`); ChairLinkError.
         """
-        self._require_ros()
+        self.require_ros()
         return Recording(self, path, resolve_topics(self, topics, str(path)))
 
     def record(
@@ -356,6 +355,16 @@ class ChairLink:
         not finite. See :mod:`pmk_nb.chair.link.initialpose`."""
         return publish_initial_pose(self._publish, self._ros, self.ros_version, (x, y, yaw), frame, topic)
 
+    @property
+    def cmd_vel_topic(self) -> str:
+        """Where :meth:`publish_cmd_vel` sends by default."""
+        return self._publish.cmd_vel_topic
+
+    @property
+    def goal_topic(self) -> str | None:
+        """The goal topic configured for this chair; None: the ROS version's default."""
+        return self._publish.goal_topic
+
     def navigate_to(
         self, x: float, y: float, yaw: float, frame: str = "map", waypoints: Sequence[tuple[float, float]] = ()
     ) -> GoalHandle:
@@ -367,7 +376,9 @@ class ChairLink:
         return list(self._ros.statuses) if self._ros is not None else []
 
     # -- services ------------------------------------------------------------------------------------
-    def _require_ros(self) -> LinkRos:
+    def require_ros(self) -> LinkRos:
+        """The open connection, for a blocking call or a subscription; ChairLinkError when not connected
+        or when called from the link's I/O thread (it would wait on itself)."""
         ros = self._ros
         if ros is None or not ros.is_connected:
             raise ChairLinkError(
@@ -381,10 +392,10 @@ class ChairLink:
             )
         return ros
 
-    def _call(self, name: str, type_name: str, args: dict[str, Any], timeout: float | None) -> dict[str, Any]:
+    def call(self, name: str, type_name: str, args: dict[str, Any], timeout: float | None) -> dict[str, Any]:
         """Blocking service call; not connected -> error at once (never queued for a later reconnect)."""
         seconds = timeout or self.rosapi_timeout
-        return call_service(self._require_ros(), (self.host, self.port), name, type_name, args, seconds)
+        return call_service(self.require_ros(), (self.host, self.port), name, type_name, args, seconds)
 
     def topics_of_type(self, msg_type: str) -> list[str]:
         """Topics of a message type, in either ROS spelling (``nav_msgs/Odometry`` finds both)."""
@@ -434,7 +445,7 @@ class ChairLink:
         if not on:
             self._maps.watch.stop()
             return
-        self._maps.watch.start(self._require_ros(), self.ros_version)
+        self._maps.watch.start(self.require_ros(), self.ros_version)
 
     @property
     def watching_map(self) -> bool:
