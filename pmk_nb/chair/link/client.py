@@ -35,6 +35,7 @@ import roslibpy
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
 from pmk_nb.chair.link.initialpose import publish_initial_pose
+from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.mapread import MapFacts, MapReader
 from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
@@ -42,8 +43,7 @@ from pmk_nb.chair.link.publish import Publishers
 from pmk_nb.chair.link.record import Recording, RecordStats, Topics, resolve_topics
 from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
-from pmk_nb.chair.link.streams import PoseSource, StreamConfig, StreamHub
-from pmk_nb.chair.link.tls import ChairTls
+from pmk_nb.chair.link.streams import StreamConfig, StreamHub
 from pmk_nb.chair.link.transport import LinkRos, ServerStatus
 from pmk_nb.chair.messages import MapInfo, Odometry, Pose2D, Scan
 from pmk_nb.chair.reload import (
@@ -55,47 +55,27 @@ from pmk_nb.chair.reload import (
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
 
-__all__ = ["ChairLink", "ConnectionReport", "LinkState", "MapInfo", "MapReloadError", "Odometry", "Pose2D"]
-__all__ += ["ReloadService", "Scan"]  # get_link, close_all_links: pmk_nb.chair.link (registry)
+__all__ = ["ChairLink", "ConnectionReport", "LinkConfig", "LinkState", "MapInfo", "MapReloadError", "Odometry"]
+__all__ += ["Pose2D", "ReloadService", "Scan"]  # get_link, close_all_links: pmk_nb.chair.link (registry)
 
 
 class ChairLink:
     """A rosbridge link to one chair. Create through :func:`pmk_nb.chair.link.registry.get_link` in notebooks."""
 
-    def __init__(
-        self,
-        host: str,
-        port: int = 9090,
-        *,
-        odom_topic: str = "/odom",
-        scan_topic: str = "/scan",
-        pose_source: PoseSource = "odometry",
-        pose_topic: str | None = None,
-        stale_after: float = 2.0,
-        throttle_ms: dict[str, int] | None = None,
-        cmd_vel_topic: str = "/cmd_vel",
-        goal_topic: str | None = None,
-        reconnect_initial: float = 0.5,
-        reconnect_max: float = 10.0,
-        rosapi_timeout: float = 3.0,
-        map_topic: str = "/map",
-        map_metadata_topic: str = "/map_metadata",
-        ping_interval: float | None = None,
-        ping_timeout: float | None = None,
-        tls: ChairTls | None = None,
-    ) -> None:
-        if stale_after <= 0:
-            raise ValueError(f"stale_after must be > 0 s, got {stale_after}")
-        self.host, self.port, self.tls = host, int(port), tls  # tls: wss, trusted as pmk_nb.chair.link.tls says
-        self.stale_after = float(stale_after)
-        self._publish = Publishers(cmd_vel_topic, goal_topic)
-        self.reconnect_initial, self.reconnect_max = reconnect_initial, reconnect_max
-        self.rosapi_timeout = rosapi_timeout
+    def __init__(self, host: str, port: int = 9090, config: LinkConfig | None = None, **options: Any) -> None:
+        """``config``: the link's settings whole (defaults: :class:`LinkConfig`); ``options``: the same
+        settings by name (``pose_source="tf"``), applied on top (TypeError names an unknown one)."""
+        cfg = (config or LinkConfig()).with_options(**options)
+        self.link_config = cfg  # as created: reconfigure() changes the streams' settings, not this
+        self.host, self.port, self.tls = host, int(port), cfg.tls  # tls: wss, trusted as pmk_nb.chair.link.tls says
+        self.stale_after = float(cfg.stale_after)
+        self._publish = Publishers(cfg.cmd_vel_topic, cfg.goal_topic)
+        self.reconnect_initial, self.reconnect_max = cfg.reconnect_initial, cfg.reconnect_max
+        self.rosapi_timeout = cfg.rosapi_timeout
         # Websocket pings find half-open sockets (chair out of Wi-Fi range) and force a reconnect.
-        self.ping_interval = ping_interval if ping_interval is not None else max(2.0, 2 * stale_after)
-        self.ping_timeout = ping_timeout if ping_timeout is not None else max(5.0, 2 * stale_after)
-        cfg = StreamConfig(odom_topic, scan_topic, pose_source, pose_topic)
-        self._hub = StreamHub(cfg, throttle_ms or {})
+        self.ping_interval, self.ping_timeout = cfg.pings
+        streams = StreamConfig(cfg.odom_topic, cfg.scan_topic, cfg.pose_source, cfg.pose_topic)
+        self._hub = StreamHub(streams, cfg.throttle_ms or {})
         self._ros: LinkRos | None = None
         self._ros_version: int | None = None
         self._connected_at = 0.0
@@ -104,7 +84,7 @@ class ChairLink:
         self._lock = threading.RLock()  # connect / close / streams bookkeeping
         self._watch = StateWatch(lambda: self.state, f"pmk-link-watchdog-{self.host}:{self.port}")
         self.discovery = Discovery(self.call, f"{self.host}:{self.port}")
-        self._maps = MapReader(self, map_topic, map_metadata_topic)
+        self._maps = MapReader(self, cfg.map_topic, cfg.map_metadata_topic)
         self.goal_policy = GoalPolicy()  # deadlines, and what a link loss does to goals (the profile's)
 
     def __repr__(self) -> str:
