@@ -17,8 +17,6 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PKG = ROOT / "pmk_nb"
-# roslibpy's seam predates pmk_nb/seams: the link's own transport (pinned; tests/test_roslibpy_seam.py)
-SEAM_MODULES = {"pmk_nb/chair/link/factory.py", "pmk_nb/chair/link/transport.py"}
 # (module, name): why it is not a seam's business
 ALLOWED = {
     ("pmk_nb/indoorgml/drafts.py", "_Element"): "lxml's element type, documented under that name (annotations)",
@@ -83,7 +81,7 @@ def private_accesses(source: str) -> list[tuple[int, str, str]]:
 
 
 def _is_seam(rel: str) -> bool:
-    return rel.startswith("pmk_nb/seams/") or rel in SEAM_MODULES
+    return rel.startswith("pmk_nb/seams/")
 
 
 def test_no_private_access_outside_the_seams() -> None:
@@ -111,7 +109,7 @@ def test_each_seam_library_is_pinned_exactly_and_installed_at_that_version() -> 
     pins = {re.split(r"[=<>~! \[]", d, maxsplit=1)[0].lower().replace("_", "-"): d for d in deps}
     seams = sorted(p.stem.removesuffix("_seam") for p in (PKG / "seams").glob("*_seam.py"))
     assert seams, "no seam modules found"
-    for library in [*seams, "roslibpy"]:
+    for library in seams:
         key = library.lower().replace("_", "-")
         pin = pins.get(key, "")
         assert re.fullmatch(rf"{re.escape(key)}==\d+(\.\d+)+", pin.split("#")[0].strip().lower().replace("_", "-")), (
