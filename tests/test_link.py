@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import roslibpy
 
-from pmk_nb.chair.link.client import ChairLink, LinkState, close_all_links, get_link
+from pmk_nb.chair.link import ChairLink, LinkState, close_all_links, get_link
 from pmk_nb.chair.link.registry import open_links
 from pmk_nb.sim import SimChair
 from tests.fixtures_sim import wait_until

@@ -55,7 +55,7 @@ def test_reload_timeout_and_refusal_are_told_apart_by_type(
     def refuse(*_args: object) -> dict:
         raise ChairLinkError("/change_map failed: no such service", host=link.host, port=link.port)
 
-    monkeypatch.setattr(link, "_call", refuse)
+    monkeypatch.setattr(link, "call", refuse)
     with pytest.raises(MapReloadError) as refused:
         link.reload_map("/home/pmk/ALMA_MAPS/a.yaml", timeout=0.5)
     assert not isinstance(refused.value.__cause__, ChairTimeout) and KEEPS_OLD_MAP in str(refused.value)

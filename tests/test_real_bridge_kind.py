@@ -21,7 +21,7 @@ def test_rosbridge_server_rs_is_not_rosbridge_suite(real_chair: RealChair) -> No
         assert report.ok, report.reason
         assert report.bridge is not None and report.bridge.name == "other" and not report.bridge.ignores_cancels
         assert not any("send_action_goals_in_new_thread" in note for note in report.notes)
-        nodes = link._call("/rosapi/nodes", "rosapi_msgs/srv/Nodes", {}, 5.0)["nodes"]
+        nodes = link.call("/rosapi/nodes", "rosapi_msgs/srv/Nodes", {}, 5.0)["nodes"]
         assert set(FACTS["rs"].nodes) <= set(nodes) and "/rosapi_params" not in nodes  # what the sim lists
         assert detect_bridge(link).name == "other"
     finally:

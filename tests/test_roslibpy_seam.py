@@ -1,7 +1,7 @@
 """The roslibpy internals the chair link relies on are still there, in the pinned version.
 
-``pmk_nb.chair.link.transport`` and ``.factory`` list every private roslibpy name they touch; each
-test here fails when a roslibpy release moves one of them, before a link misbehaves at run time.
+``pmk_nb.seams.roslibpy_seam`` touches every private roslibpy name the link uses; each test here
+fails when a roslibpy release moves one of them, before a link misbehaves at run time.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from roslibpy.comm import comm_asyncio
 
 from pmk_nb.chair.link.factory import LinkFactory, start_private_loop
 from pmk_nb.chair.link.transport import LinkRos
+from pmk_nb.seams.roslibpy_seam import TOUCHED, FactorySeam
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -135,3 +136,20 @@ def test_wss_connect_is_roslibpys_own_with_the_links_context() -> None:
     # the certificate check runs before Autobahn starts the websocket in connection_made
     assert "proto = self.protocol()" in inspect.getsource(WebSocketAdapterFactory.__call__)
     assert "self._connectionMade()" in inspect.getsource(WebSocketAdapterProtocol.connection_made)
+
+
+def test_the_seam_is_the_link_factorys_first_base_and_touches_what_it_lists() -> None:
+    assert LinkFactory.__mro__[1] is FactorySeam and comm_asyncio.AsyncioRosBridgeClientFactory in LinkFactory.__mro__
+    assert set(TOUCHED) == {
+        "_manager",
+        "_stop",
+        "_schedule_reconnect",
+        "_connect_async",
+        "_message_handlers",
+        "_id_counter",
+    }
+    factory_cls = comm_asyncio.AsyncioRosBridgeClientFactory
+    assert callable(factory_cls._schedule_reconnect) and callable(factory_cls._connect_async)
+    assert list(inspect.signature(factory_cls._schedule_reconnect).parameters) == ["self"]
+    protocol_init = inspect.getsource(roslibpy.comm.RosBridgeProtocol.__init__)
+    assert '"status": None' in protocol_init or "'status': None" in protocol_init  # still no handler of its own

@@ -19,13 +19,14 @@ import socket
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import paramiko
 from paramiko.sftp import SFTP_OP_UNSUPPORTED
 
 from pmk_nb.errors import TransferError, UnknownHostKey
 from pmk_nb.fileio import append_line
+from pmk_nb.seams.paramiko_seam import StatusHookSFTPClient
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile
@@ -93,20 +94,18 @@ class SftpUnsupported(OSError):
     """The SFTP server answered SSH_FX_OP_UNSUPPORTED (e.g. no posix-rename extension)."""
 
 
-class StatusSFTPClient(paramiko.SFTPClient):
+class StatusSFTPClient(StatusHookSFTPClient):
     """paramiko's SFTP client, except that an "operation unsupported" status raises SftpUnsupported.
 
     paramiko turns every status it has no errno for into a bare IOError carrying only the server's
-    text; the status code is the reliable part, so it is read here before paramiko drops it.
+    text; the status code is the reliable part, so it is read (:mod:`pmk_nb.seams.paramiko_seam`)
+    before paramiko drops it.
     """
 
-    def _convert_status(self, msg: Any) -> None:
-        start = msg.packet.tell()
-        code = msg.get_int()
-        if code == SFTP_OP_UNSUPPORTED:
-            raise SftpUnsupported(errno.EOPNOTSUPP, msg.get_text())
-        msg.packet.seek(start)
-        super()._convert_status(msg)
+    hooked_codes = frozenset({SFTP_OP_UNSUPPORTED})
+
+    def on_status(self, code: int, text: str) -> None:
+        raise SftpUnsupported(errno.EOPNOTSUPP, text)
 
 
 @dataclass

@@ -15,8 +15,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.cli.convert import add_layer_option, add_not_window_option
-from pmk_nb.cli.options import add_json, add_resolution
+from pmk_nb.cli.options import add_json, add_layer_option, add_not_window_option, add_resolution, chair_width_arg
 from pmk_nb.errors import PmkError
 
 EXIT_OK, EXIT_PROBLEMS, EXIT_NOTHING_CHECKED = 0, 1, 3  # 2: bad input (every PmkError, cli/__init__)
@@ -47,20 +46,6 @@ def add_parser(subparsers: Any) -> None:
     add_layer_option(p)
     add_json(p, "the report")
     p.set_defaults(run=run)
-
-
-def chair_width_arg(given: float | None) -> float:
-    """--chair-width when given, else the width in the last used chair profile (Settings), else 0.70 m."""
-    from pmk_nb.access.check import profile_chair_width
-    from pmk_nb.chair.profiles import ProfileStore
-
-    profile = None
-    if given is None:
-        try:
-            profile = ProfileStore(secrets=False).last_used()
-        except (PmkError, OSError, ValueError):  # an unreadable profile file: the default chair
-            profile = None
-    return profile_chair_width(given, profile)
 
 
 def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:

@@ -13,7 +13,14 @@ import time
 from pathlib import Path
 from typing import Any, TextIO
 
-from pmk_nb.cli.options import add_json, add_resolution, print_json
+from pmk_nb.cli.options import (
+    add_json,
+    add_layer_option,
+    add_not_window_option,
+    add_resolution,
+    chair_width_arg,
+    print_json,
+)
 from pmk_nb.errors import GridTooLarge, PmkError
 from pmk_nb.progress import Progress
 
@@ -68,20 +75,6 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     add_layer_option(p)
 
 
-def add_layer_option(p: argparse.ArgumentParser) -> None:
-    """--layer: draw the named space layer(s) instead of the navigable one the reader picks (one wording)."""
-    p.add_argument("--layer", action="append", default=[], dest="layers", metavar="NAME",
-                   help="draw this space layer (id or name) instead of the navigable one (repeatable; "
-                   "`pmk info` lists the layers not drawn and why)")  # fmt: skip
-
-
-def add_not_window_option(p: argparse.ArgumentParser) -> None:
-    """--not-window: the override `pmk check` offers when a cell it names as a window is a door (one wording)."""
-    p.add_argument("--not-window", action="append", default=[], dest="not_windows", metavar="CELL",
-                   help="a cell (name or id) taken for a window or sill that is really a door or floor: keep it "
-                   "navigable (repeatable; `pmk check` names the cells taken for windows)")  # fmt: skip
-
-
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = subparsers.add_parser(
         "convert",
@@ -130,7 +123,6 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.cli.check import chair_width_arg
     from pmk_nb.library.convert import ConvertOptions, convert_plan
     from pmk_nb.library.naming import safe_file_part
     from pmk_nb.raster.storey import DEFAULT_MAX_CELLS

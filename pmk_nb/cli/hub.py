@@ -149,7 +149,8 @@ def wait_until_healthy(url: str, hub: subprocess.Popen[Any], timeout: float) -> 
     import urllib.parse
     import urllib.request
 
-    context = ssl._create_unverified_context()  # our own loopback hub, maybe on a self-signed certificate
+    context = ssl.create_default_context()  # our own loopback hub, maybe on a self-signed certificate:
+    context.check_hostname, context.verify_mode = False, ssl.CERT_NONE  # not verified (it is ours)
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline and hub.poll() is None:
         with (

@@ -8,7 +8,7 @@ import sys
 from dataclasses import asdict
 from typing import Any
 
-from pmk_nb.cli.convert import add_layer_option, add_not_window_option
+from pmk_nb.cli.options import add_layer_option, add_not_window_option
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:

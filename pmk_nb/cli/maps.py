@@ -16,9 +16,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from pmk_nb.cli import maps_catalogue
-from pmk_nb.cli.check import chair_width_arg
 from pmk_nb.cli.convert import add_raster_options
-from pmk_nb.cli.options import add_json, add_maps_dir, add_resolution, print_json
+from pmk_nb.cli.options import add_json, add_maps_dir, add_resolution, chair_width_arg, print_json
 from pmk_nb.progress import Progress
 
 if TYPE_CHECKING:

@@ -15,6 +15,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.errors import PmkError
+
 #: metres per cell when a command is not told: the one default of every converting command
 DEFAULT_RESOLUTION = 0.05
 
@@ -96,3 +98,31 @@ def error_json(err: BaseException, command: str) -> dict[str, Any]:
         "hint": getattr(err, "hint", ""),
         "fields": fields,
     }
+
+
+def add_layer_option(p: argparse.ArgumentParser) -> None:
+    """--layer: draw the named space layer(s) instead of the navigable one the reader picks (one wording)."""
+    p.add_argument("--layer", action="append", default=[], dest="layers", metavar="NAME",
+                   help="draw this space layer (id or name) instead of the navigable one (repeatable; "
+                   "`pmk info` lists the layers not drawn and why)")  # fmt: skip
+
+
+def add_not_window_option(p: argparse.ArgumentParser) -> None:
+    """--not-window: the override `pmk check` offers when a cell it names as a window is a door (one wording)."""
+    p.add_argument("--not-window", action="append", default=[], dest="not_windows", metavar="CELL",
+                   help="a cell (name or id) taken for a window or sill that is really a door or floor: keep it "
+                   "navigable (repeatable; `pmk check` names the cells taken for windows)")  # fmt: skip
+
+
+def chair_width_arg(given: float | None) -> float:
+    """--chair-width when given, else the width in the last used chair profile (Settings), else 0.70 m."""
+    from pmk_nb.access.check import profile_chair_width
+    from pmk_nb.chair.profiles import ProfileStore
+
+    profile = None
+    if given is None:
+        try:
+            profile = ProfileStore(secrets=False).last_used()
+        except (PmkError, OSError, ValueError):  # an unreadable profile file: the default chair
+            profile = None
+    return profile_chair_width(given, profile)

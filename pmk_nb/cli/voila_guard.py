@@ -42,6 +42,7 @@ from jupyter_server.services.kernels.connection.channels import ZMQChannelsWebso
 from tornado import web
 
 from pmk_nb.cli.serving import DEFAULT_IP, server_names
+from pmk_nb.seams.jupyter_server_seam import forget_open_session
 
 V1_PROTOCOL = "v1.kernel.websocket.jupyter.org"
 #: unsent bytes after which a kernel websocket is closed.  The page itself stays within a second and
@@ -205,8 +206,7 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
 
     def disconnect(self) -> None:
         if not self._admitted:  # refused in connect(): it never counted as a connection
-            if self._open_sessions.get(self.session_key) is self.websocket_handler:
-                self._open_sessions.pop(self.session_key, None)
+            forget_open_session(self)
             return
         if self._channels.get(self.kernel_id) is self:
             self._channels.pop(self.kernel_id, None)

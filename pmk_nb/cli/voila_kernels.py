@@ -44,6 +44,7 @@ from jupyter_client.session import Session
 from jupyter_server.services.kernels.kernelmanager import AsyncMappingKernelManager
 from tornado.ioloop import IOLoop, PeriodicCallback
 
+from pmk_nb.seams.jupyter_server_seam import kernel_connections
 from pmk_nb.ui.page_lifecycle import PAGE_GONE_MSG
 
 PAGE_GRACE = 3.0
@@ -149,7 +150,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
 
     def notify_disconnect(self, kernel_id: str) -> None:
         super().notify_disconnect(kernel_id)
-        if self._kernel_connections.get(kernel_id, 1) <= 0:
+        if kernel_connections(self, kernel_id) <= 0:
             self._alone_since[kernel_id] = time.monotonic()
         self._churned = True
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import functools
 import ssl
 
-from voila.app import Voila
+from pmk_nb.seams.voila_seam import UrlHookVoila
 
 SSL_OPTIONS = "ssl_options"
 
@@ -26,7 +26,7 @@ def server_context(certfile: str, keyfile: str) -> ssl.SSLContext:
     return context
 
 
-class TlsVoila(Voila):
+class TlsVoila(UrlHookVoila):
     """Voilà serving HTTPS when its tornado settings carry ``ssl_options`` (plain Voilà otherwise)."""
 
     @property
@@ -40,8 +40,7 @@ class TlsVoila(Voila):
             self.app.listen = functools.partial(self.app.listen, ssl_options=context)  # type: ignore[method-assign]
         super().listen()
 
-    def _url(self, ip: str) -> str:
-        url = str(super()._url(ip))
+    def public_url(self, url: str) -> str:
         return "https" + url.removeprefix("http") if self.tls else url
 
 

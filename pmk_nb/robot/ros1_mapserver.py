@@ -62,6 +62,12 @@ def generate_srv(name: str, package: str = "map_server_pmk") -> Any:
     return getattr(module, name)
 
 
+def srv_response(srv: Any) -> Any:
+    """The response class genpy generated beside the service class ``srv`` (``NAMEResponse``, public in
+    its module; the service class's own ``_response_class`` is genpy's private spelling of it)."""
+    return getattr(sys.modules[srv.__module__], f"{srv.__name__}Response")
+
+
 def grid_msg(loaded: LoadedMap, stamp: Any, *, numpy_cells: bool) -> Any:
     """A nav_msgs/OccupancyGrid of a loaded map.
 
@@ -148,10 +154,10 @@ class Ros1MapServer:
             return self.cache["msg"]
 
     def map_update(self, request: Any) -> Any:
-        return self.map_update_srv._response_class(done=self.load(request.path) == 0)
+        return srv_response(self.map_update_srv)(done=self.load(request.path) == 0)
 
     def map_info(self, _request: Any) -> Any:
-        response = self.map_info_srv._response_class()
+        response = srv_response(self.map_info_srv)()
         loaded = self.cache.get("loaded")
         response.loaded = loaded is not None
         if loaded is not None:

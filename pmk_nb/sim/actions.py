@@ -129,7 +129,7 @@ class ActionOps:
             return
         entry.server.cancel(GoalRef(client, str(msg["id"]), spelled))
 
-    def _drop_actions_of(self, client: ClientSession) -> None:
+    def drop_actions_of(self, client: ClientSession) -> None:
         client.held = None  # IncomingQueue.finish: queued ops are dropped
         if not self.bridge_facts.cancels_gone_clients_goals:
             return  # rosbridge_suite: SendActionGoal has no finish(); the goals run on

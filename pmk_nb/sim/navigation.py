@@ -15,13 +15,13 @@ import asyncio
 import itertools
 import math
 import time
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim import actions as a2
 from pmk_nb.sim.action_status import ActionStatus
 from pmk_nb.sim.actions import GoalRef
-from pmk_nb.sim.messages import pose_msg, yaw_of
+from pmk_nb.sim.messages import pose_msg
+from pmk_nb.sim.navgoal import NavGoal, parse_pose
 from pmk_nb.sim.navigation_ros1 import Ros1Actionlib
 
 if TYPE_CHECKING:
@@ -35,36 +35,6 @@ FRAMES = ("map", "odom", "")
 _OUTCOMES = {"reached": "succeeded", "blocked": "aborted", "no_path": "aborted", "cancelled": "canceled"}
 _ROS2_CODES = {"succeeded": a2.STATUS_SUCCEEDED, "aborted": a2.STATUS_ABORTED, "canceled": a2.STATUS_CANCELED}
 _ERROR_CODES = {"succeeded": 0, "aborted": 204, "canceled": 0}  # Nav2 Jazzy: 204 = no valid path / failed
-
-
-@dataclass
-class NavGoal:
-    """The goal being driven to, and who to tell about it."""
-
-    kind: str  # "ros2" | "ros1" | "topic"
-    target: tuple[float, float, float | None]
-    via: list[tuple[float, float]] = field(default_factory=list)
-    ref: GoalRef | None = None  # ros2
-    goal_id: str = ""  # ros1
-    started: float = field(default_factory=time.monotonic)
-    recoveries: int = 0
-
-
-def parse_pose(pose_stamped: Any) -> tuple[tuple[float, float, float | None], str] | str:
-    """(x, y, yaw) and frame of a PoseStamped, or why it cannot be a goal."""
-    if not isinstance(pose_stamped, dict):
-        return "pose must be a geometry_msgs/PoseStamped object"
-    frame = str((pose_stamped.get("header") or {}).get("frame_id", "")).lstrip("/")
-    pose = pose_stamped.get("pose") or {}
-    pos = pose.get("position") or {}
-    try:
-        x, y = float(pos.get("x", math.nan)), float(pos.get("y", math.nan))
-        yaw = yaw_of(pose["orientation"]) if pose.get("orientation") else None
-    except (TypeError, ValueError):
-        return "pose has non-numeric fields"
-    if not (math.isfinite(x) and math.isfinite(y)):
-        return "goal position is not finite"
-    return (x, y, yaw), frame
 
 
 class Navigator:

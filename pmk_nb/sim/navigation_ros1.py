@@ -13,10 +13,11 @@ import time
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.messages import pose_msg
+from pmk_nb.sim.navgoal import NavGoal, parse_pose
 
 if TYPE_CHECKING:
     from pmk_nb.sim.messages import Names
-    from pmk_nb.sim.navigation import NavGoal, Navigator
+    from pmk_nb.sim.navigation import Navigator
     from pmk_nb.sim.protocol import Bridge
 
 # actionlib_msgs/GoalStatus
@@ -42,8 +43,6 @@ class Ros1Actionlib:
         return {"goal_id": {"stamp": self.names.stamp(0.0), "id": goal_id}, "status": status, "text": text}
 
     def on_goal(self, msg: dict[str, Any]) -> None:
-        from pmk_nb.sim.navigation import NavGoal, parse_pose
-
         goal_id = str((msg.get("goal_id") or {}).get("id") or f"sim-goal-{time.monotonic_ns()}")
         parsed = parse_pose((msg.get("goal") or {}).get("target_pose"))
         why = parsed if isinstance(parsed, str) else self.nav.check(*parsed)

@@ -331,5 +331,5 @@ class Bridge(ServiceOps, ActionOps):
                 entry.subs.pop(key).cancel()
             entry.publishers.discard(client.cid)
             self._forget_if_unused(entry)
-        self._drop_services_of(client)
-        self._drop_actions_of(client)
+        self.drop_services_of(client)
+        self.drop_actions_of(client)

@@ -136,19 +136,19 @@ class SimChair:
         # None = password login refused (key only)
         self.sftp_password: str | None = (password or _random_password()) if password_login else None
         self.sftp_authorized_key = authorized_key
-        self._sftp_keys: list[Any] = []
+        self.sftp_keys: list[Any] = []
         if authorized_key is not None:
             from pmk_nb.sim.sftp import load_authorized_keys
 
             try:
-                self._sftp_keys = load_authorized_keys(authorized_key)
+                self.sftp_keys = load_authorized_keys(authorized_key)
             except ValueError as err:
                 raise SimError(str(err)) from err
-        self._sftp_port_wanted = port
+        self.sftp_port_wanted = port
         self.sftp_port: int | None = None
         self.sftp_host_key_fingerprint: str | None = None  # "SHA256:..." as OpenSSH prints it
         self.sftp_host_key: str | None = None  # OpenSSH public key line, for known_hosts
-        self._sftp_host_key: Any = None
+        self.sftp_server_key: Any = None
 
     def _init_maps(self, maps_dir: Path | str | None, reload_services: Iterable[str] | None) -> None:
         """The chair's ALMA_MAPS folder (a temporary one, removed with the object, if none given)."""
@@ -176,7 +176,7 @@ class SimChair:
     @property
     def sftp_authorized_fingerprints(self) -> list[str]:
         """Fingerprints ("SHA256:...") of the public keys allowed to log in over SFTP (empty: none)."""
-        return [key.get_fingerprint("sha256") for key in self._sftp_keys]
+        return [key.get_fingerprint("sha256") for key in self.sftp_keys]
 
     @property
     def running(self) -> bool:
@@ -340,7 +340,7 @@ class SimChair:
         sftp = None
         try:
             self._port = int(next(iter(server.sockets)).getsockname()[1])
-            if self._sftp_port_wanted is not None:
+            if self.sftp_port_wanted is not None:
                 from pmk_nb.sim.sftp import start_sftp
 
                 sftp = await start_sftp(self)

@@ -125,7 +125,7 @@ class ServiceOps:
             out["id"] = caller_id
         caller.send_control(out)
 
-    def _drop_services_of(self, client: ClientSession) -> None:
+    def drop_services_of(self, client: ClientSession) -> None:
         for name in client.services:
             entry = self.services.get(name)
             if entry is not None and entry.provider is client:

@@ -136,11 +136,11 @@ class SftpEndpoint:
 
 async def start_sftp(sim: SimChair) -> SftpEndpoint:
     """Listen on ``sim.host``:``sim``'s SFTP port and fill in the sim's port and fingerprint."""
-    host_key = sim._sftp_host_key
+    host_key = sim.sftp_server_key
     if host_key is None:  # the state folder's key (issue 29), kept so a restarted sim presents the same key
         host_key = load_host_key(sim.state_dir)
-        sim._sftp_host_key = host_key
-    keys = sim._sftp_keys
+        sim.sftp_server_key = host_key
+    keys = sim.sftp_keys
     scratch = Path(tempfile.mkdtemp(prefix="pmk-sim-home-")).resolve()
     (scratch / sim.fs.home.lstrip("/") / "ALMA_MAPS").mkdir(parents=True)
     fs = sim.fs
@@ -148,7 +148,7 @@ async def start_sftp(sim: SimChair) -> SftpEndpoint:
     def sftp_factory(chan: asyncssh.SSHServerChannel) -> ChairSFTPServer:
         return ChairSFTPServer(chan, fs, scratch)
 
-    port = sim.sftp_port if sim.sftp_port is not None else int(sim._sftp_port_wanted or 0)
+    port = sim.sftp_port if sim.sftp_port is not None else int(sim.sftp_port_wanted or 0)
     acceptor = await asyncssh.listen(
         sim.host,
         port,

@@ -66,6 +66,7 @@ class Dashboard(w.VBox):
         self.screens: dict[str, Any] = {"home": self._builders["home"]()}
         self.current = "home"
         self.nav_buttons: dict[str, w.Button] = {}
+        self.nav_icons = NAV_ICONS  # the kiosk's lock puts them back (kiosk.py does not import this module)
         for name in SCREENS:
             label, icon = _NAV_LABELS[name]
             btn = button(label, f"pmk-nav-{name}", icon=icon, width=None)

@@ -18,7 +18,7 @@ The fix: after each message the manager hands to its comm (``_send_custom``, lin
 funnel of batched and single commands), forget the current canvas, so the next message starts with
 its own ``switchCanvas``.  A batched frame (``hold_canvas``) then costs one switch command (a few
 bytes); commands within a message still switch only when the layer changes.  Installed once on the
-shared manager, idempotent.
+shared manager, idempotent; the internals are touched in :mod:`pmk_nb.seams.ipycanvas_seam`.
 """
 
 from __future__ import annotations
@@ -26,9 +26,9 @@ from __future__ import annotations
 import logging
 from typing import Any
 
-log = logging.getLogger(__name__)
+from pmk_nb.seams.ipycanvas_seam import canvas_manager, forget_layer_after_each_message
 
-_MARK = "_pmk_forgets_layer"
+log = logging.getLogger(__name__)
 
 
 def make_messages_name_their_layer(canvas: Any) -> bool:
@@ -37,20 +37,8 @@ def make_messages_name_their_layer(canvas: Any) -> bool:
     False, with a warning logged, when ipycanvas's internals differ from the version this was
     written for (the page then may miss frames after a late connect, nothing else changes).
     """
-    manager = getattr(canvas, "_canvas_manager", None)
-    if manager is None or not hasattr(manager, "_current_canvas") or not hasattr(manager, "_send_custom"):
+    manager = canvas_manager(canvas)
+    if manager is None or not forget_layer_after_each_message(manager):
         log.warning("ipycanvas internals changed: late-joining pages may miss live frames")
         return False
-    if getattr(manager._send_custom, _MARK, False):
-        return True
-    send_custom = manager._send_custom
-
-    def send_then_forget_layer(command: Any, buffers: list[Any] | None = None) -> None:
-        try:
-            send_custom(command, [] if buffers is None else buffers)
-        finally:
-            manager._current_canvas = None
-
-    setattr(send_then_forget_layer, _MARK, True)
-    manager._send_custom = send_then_forget_layer
     return True

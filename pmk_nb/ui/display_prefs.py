@@ -39,10 +39,10 @@ class DisplayPrefs:
     def refresh(self) -> frozenset[str]:
         """Re-read the profile and set the classes; returns those now on."""
         wanted = display_classes(self.ctx.profile())
-        for css in DISPLAY_CLASSES.values():
-            if css in wanted and css not in self.root._dom_classes:
+        for css in DISPLAY_CLASSES.values():  # add_class / remove_class sync only a change
+            if css in wanted:
                 self.root.add_class(css)
-            elif css not in wanted and css in self.root._dom_classes:
+            else:
                 self.root.remove_class(css)
         return wanted
 

@@ -203,13 +203,11 @@ def pin_section(ctx: AppContext) -> w.Widget:
 def show_lock_icons(app: Any, lock: KioskLock) -> None:
     """A lock on the navigation buttons of the screens behind the PIN, only while a PIN is set: with
     no PIN those screens open freely (Settings says how to lock them), a lock icon would say otherwise."""
-    from pmk_nb.ui.app import NAV_ICONS  # app imports this module when it builds a kiosk page
-
     pin = lock.pins.is_set()
     for name in lock.screens:
         btn = app.nav_buttons.get(name)
         if btn is not None:
-            btn.icon = "lock" if pin else NAV_ICONS.get(name, "")
+            btn.icon = "lock" if pin else app.nav_icons.get(name, "")
 
 
 def apply(app: Any) -> KioskGate | None:

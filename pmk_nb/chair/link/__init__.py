@@ -1,22 +1,26 @@
 """The rosbridge link to one chair (roslibpy): connection test, streams, discovery, map, services.
 
-``client`` holds :class:`ChairLink`, the chair-level verbs; underneath, ``transport`` and ``factory``
-(roslibpy on a private asyncio loop), ``probe`` (is it a rosbridge server?), ``connectivity`` (the
-connection test), ``streams`` (odometry, scan, pose, tf; callbacks only store), ``publish``
-(commands, goals), ``services`` (one blocking call), ``discovery`` (rosapi), ``mapread`` (the
-published map), ``state`` and ``registry`` (the kernel's only set of links: one per chair);
-``record`` (``ChairLink.record`` / ``start_recording``: topics to an MCAP file with ROS 2 schemas).
+``client`` holds :class:`ChairLink`, the chair-level verbs, built from a :class:`LinkConfig`
+(``linkconfig``) around a small public core (``core.LinkCore``: what the helpers use); underneath,
+``transport`` and ``factory`` (roslibpy on a private asyncio loop), ``probe`` (is it a rosbridge
+server?), ``connectivity`` (the connection test), ``streams`` (odometry, scan, pose, tf; callbacks
+only store), ``publish`` (commands, goals), ``services`` (one blocking call), ``discovery``
+(rosapi), ``mapread`` (the published map), ``state`` and ``registry`` (the kernel's only set of
+links: one per chair); ``record`` (``ChairLink.record`` / ``start_recording``: topics to an MCAP
+file with ROS 2 schemas).
 """
 
 from __future__ import annotations
 
 from pmk_nb.chair.link.client import ChairLink, ConnectionReport
+from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.registry import close_all_links, forget_link, get_link, open_links, use_only
 from pmk_nb.chair.link.state import LinkState
 
 __all__ = [
     "ChairLink",
     "ConnectionReport",
+    "LinkConfig",
     "LinkState",
     "close_all_links",
     "forget_link",

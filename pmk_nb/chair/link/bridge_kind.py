@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from pmk_nb.errors import ChairLinkError
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 SUITE_MARK = "/rosapi_params"
 NEW_THREAD_PARAM = "/rosbridge_websocket:send_action_goals_in_new_thread"
@@ -42,17 +42,17 @@ class BridgeKind:
         return self.name == "rosbridge_suite"
 
 
-def detect_bridge(link: ChairLink, timeout: float = 2.0) -> BridgeKind:
+def detect_bridge(link: LinkCore, timeout: float = 2.0) -> BridgeKind:
     """Ask rosapi (see the module docstring); "unknown" when rosapi does not answer."""
     try:
-        nodes = link._call("/rosapi/nodes", "rosapi_msgs/srv/Nodes", {}, timeout).get("nodes") or []
+        nodes = link.call("/rosapi/nodes", "rosapi_msgs/srv/Nodes", {}, timeout).get("nodes") or []
     except ChairLinkError:
         return BridgeKind("unknown")
     if SUITE_MARK not in nodes:
         return BridgeKind("other")
     try:
         args = {"name": NEW_THREAD_PARAM, "default_value": ""}
-        raw = link._call("/rosapi/get_param", "rosapi_msgs/srv/GetParam", args, timeout).get("value")
+        raw = link.call("/rosapi/get_param", "rosapi_msgs/srv/GetParam", args, timeout).get("value")
         value = json.loads(raw) if isinstance(raw, str) and raw else None
     except (ChairLinkError, ValueError):
         value = None

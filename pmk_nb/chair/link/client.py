@@ -35,16 +35,15 @@ import roslibpy
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
 from pmk_nb.chair.link.initialpose import publish_initial_pose
+from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.mapread import MapFacts, MapReader
 from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
 from pmk_nb.chair.link.publish import Publishers
 from pmk_nb.chair.link.record import Recording, RecordStats, Topics, resolve_topics
-from pmk_nb.chair.link.registry import close_all_links, get_link
 from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
-from pmk_nb.chair.link.streams import PoseSource, StreamConfig, StreamHub
-from pmk_nb.chair.link.tls import ChairTls
+from pmk_nb.chair.link.streams import StreamConfig, StreamHub
 from pmk_nb.chair.link.transport import LinkRos, ServerStatus
 from pmk_nb.chair.messages import MapInfo, Odometry, Pose2D, Scan
 from pmk_nb.chair.reload import (
@@ -56,47 +55,27 @@ from pmk_nb.chair.reload import (
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
 
-__all__ = ["ChairLink", "ConnectionReport", "LinkState", "MapInfo", "MapReloadError", "Odometry", "Pose2D"]
-__all__ += ["ReloadService", "Scan", "close_all_links", "get_link"]
+__all__ = ["ChairLink", "ConnectionReport", "LinkConfig", "LinkState", "MapInfo", "MapReloadError", "Odometry"]
+__all__ += ["Pose2D", "ReloadService", "Scan"]  # get_link, close_all_links: pmk_nb.chair.link (registry)
 
 
 class ChairLink:
     """A rosbridge link to one chair. Create through :func:`pmk_nb.chair.link.registry.get_link` in notebooks."""
 
-    def __init__(
-        self,
-        host: str,
-        port: int = 9090,
-        *,
-        odom_topic: str = "/odom",
-        scan_topic: str = "/scan",
-        pose_source: PoseSource = "odometry",
-        pose_topic: str | None = None,
-        stale_after: float = 2.0,
-        throttle_ms: dict[str, int] | None = None,
-        cmd_vel_topic: str = "/cmd_vel",
-        goal_topic: str | None = None,
-        reconnect_initial: float = 0.5,
-        reconnect_max: float = 10.0,
-        rosapi_timeout: float = 3.0,
-        map_topic: str = "/map",
-        map_metadata_topic: str = "/map_metadata",
-        ping_interval: float | None = None,
-        ping_timeout: float | None = None,
-        tls: ChairTls | None = None,
-    ) -> None:
-        if stale_after <= 0:
-            raise ValueError(f"stale_after must be > 0 s, got {stale_after}")
-        self.host, self.port, self.tls = host, int(port), tls  # tls: wss, trusted as pmk_nb.chair.link.tls says
-        self.stale_after = float(stale_after)
-        self._publish = Publishers(cmd_vel_topic, goal_topic)
-        self.reconnect_initial, self.reconnect_max = reconnect_initial, reconnect_max
-        self.rosapi_timeout = rosapi_timeout
+    def __init__(self, host: str, port: int = 9090, config: LinkConfig | None = None, **options: Any) -> None:
+        """``config``: the link's settings whole (defaults: :class:`LinkConfig`); ``options``: the same
+        settings by name (``pose_source="tf"``), applied on top (TypeError names an unknown one)."""
+        cfg = (config or LinkConfig()).with_options(**options)
+        self.link_config = cfg  # as created: reconfigure() changes the streams' settings, not this
+        self.host, self.port, self.tls = host, int(port), cfg.tls  # tls: wss, trusted as pmk_nb.chair.link.tls says
+        self.stale_after = float(cfg.stale_after)
+        self._publish = Publishers(cfg.cmd_vel_topic, cfg.goal_topic)
+        self.reconnect_initial, self.reconnect_max = cfg.reconnect_initial, cfg.reconnect_max
+        self.rosapi_timeout = cfg.rosapi_timeout
         # Websocket pings find half-open sockets (chair out of Wi-Fi range) and force a reconnect.
-        self.ping_interval = ping_interval if ping_interval is not None else max(2.0, 2 * stale_after)
-        self.ping_timeout = ping_timeout if ping_timeout is not None else max(5.0, 2 * stale_after)
-        cfg = StreamConfig(odom_topic, scan_topic, pose_source, pose_topic)
-        self._hub = StreamHub(cfg, throttle_ms or {})
+        self.ping_interval, self.ping_timeout = cfg.pings
+        streams = StreamConfig(cfg.odom_topic, cfg.scan_topic, cfg.pose_source, cfg.pose_topic)
+        self._hub = StreamHub(streams, cfg.throttle_ms or {})
         self._ros: LinkRos | None = None
         self._ros_version: int | None = None
         self._connected_at = 0.0
@@ -104,8 +83,8 @@ class ChairLink:
         self._streams_since = 0.0
         self._lock = threading.RLock()  # connect / close / streams bookkeeping
         self._watch = StateWatch(lambda: self.state, f"pmk-link-watchdog-{self.host}:{self.port}")
-        self.discovery = Discovery(self._call, f"{self.host}:{self.port}")
-        self._maps = MapReader(self, map_topic, map_metadata_topic)
+        self.discovery = Discovery(self.call, f"{self.host}:{self.port}")
+        self._maps = MapReader(self, cfg.map_topic, cfg.map_metadata_topic)
         self.goal_policy = GoalPolicy()  # deadlines, and what a link loss does to goals (the profile's)
 
     def __repr__(self) -> str:
@@ -245,7 +224,7 @@ class ChairLink:
         """Connect and read the published map's metadata; never raises for network trouble and
         never takes (much) longer than ``timeout``. Leaves the link connected on success.
         """
-        return run_connection_test(self, timeout)
+        return run_connection_test(self, timeout, self._maps.map_listed)
 
     # -- state -------------------------------------------------------------------------------------
     @property
@@ -288,7 +267,7 @@ class ChairLink:
         """PoseStamped or PoseWithCovarianceStamped? rosbridge needs the right type to subscribe."""
         cfg = self._hub.config
         try:
-            found = self._call("/rosapi/topic_type", "rosapi/TopicType", {"topic": cfg.pose_topic}, 2.0)
+            found = self.call("/rosapi/topic_type", "rosapi/TopicType", {"topic": cfg.pose_topic}, 2.0)
             if found.get("type"):
                 cfg.pose_type = found["type"]
         except ChairLinkError:
@@ -322,7 +301,7 @@ class ChairLink:
         Raises:
             UnknownTopic, UnsupportedType, RecordDiskError (see :mod:`.record`); ChairLinkError.
         """
-        self._require_ros()
+        self.require_ros()
         return Recording(self, path, resolve_topics(self, topics, str(path)))
 
     def record(
@@ -356,6 +335,16 @@ class ChairLink:
         not finite. See :mod:`pmk_nb.chair.link.initialpose`."""
         return publish_initial_pose(self._publish, self._ros, self.ros_version, (x, y, yaw), frame, topic)
 
+    @property
+    def cmd_vel_topic(self) -> str:
+        """Where :meth:`publish_cmd_vel` sends by default."""
+        return self._publish.cmd_vel_topic
+
+    @property
+    def goal_topic(self) -> str | None:
+        """The goal topic configured for this chair; None: the ROS version's default."""
+        return self._publish.goal_topic
+
     def navigate_to(
         self, x: float, y: float, yaw: float, frame: str = "map", waypoints: Sequence[tuple[float, float]] = ()
     ) -> GoalHandle:
@@ -367,7 +356,9 @@ class ChairLink:
         return list(self._ros.statuses) if self._ros is not None else []
 
     # -- services ------------------------------------------------------------------------------------
-    def _require_ros(self) -> LinkRos:
+    def require_ros(self) -> LinkRos:
+        """The open connection, for a blocking call or a subscription; ChairLinkError when not connected
+        or when called from the link's I/O thread (it would wait on itself)."""
         ros = self._ros
         if ros is None or not ros.is_connected:
             raise ChairLinkError(
@@ -381,10 +372,10 @@ class ChairLink:
             )
         return ros
 
-    def _call(self, name: str, type_name: str, args: dict[str, Any], timeout: float | None) -> dict[str, Any]:
+    def call(self, name: str, type_name: str, args: dict[str, Any], timeout: float | None) -> dict[str, Any]:
         """Blocking service call; not connected -> error at once (never queued for a later reconnect)."""
         seconds = timeout or self.rosapi_timeout
-        return call_service(self._require_ros(), (self.host, self.port), name, type_name, args, seconds)
+        return call_service(self.require_ros(), (self.host, self.port), name, type_name, args, seconds)
 
     def topics_of_type(self, msg_type: str) -> list[str]:
         """Topics of a message type, in either ROS spelling (``nav_msgs/Odometry`` finds both)."""
@@ -434,7 +425,7 @@ class ChairLink:
         if not on:
             self._maps.watch.stop()
             return
-        self._maps.watch.start(self._require_ros(), self.ros_version)
+        self._maps.watch.start(self.require_ros(), self.ros_version)
 
     @property
     def watching_map(self) -> bool:

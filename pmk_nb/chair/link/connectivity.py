@@ -12,6 +12,7 @@ service names), never the bridge's raw error.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -22,7 +23,7 @@ from pmk_nb.chair.reload import PREFERRED
 from pmk_nb.errors import ChairLinkError, ChairTimeout
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 #: What the websocket open waits for, as :attr:`ChairTimeout.operation`.
 OPEN_WEBSOCKET = "open the rosbridge websocket"
@@ -78,8 +79,9 @@ class ConnectFailure:
         return ChairLinkError(message, host=host, port=port)
 
 
-def run_connection_test(link: ChairLink, timeout: float) -> ConnectionReport:
-    """Connect ``link`` and read the map metadata within ``timeout`` s; leaves it connected on success."""
+def run_connection_test(link: LinkCore, timeout: float, map_listed: Callable[[], bool]) -> ConnectionReport:
+    """Connect ``link`` and read the map metadata within ``timeout`` s; leaves it connected on success.
+    ``map_listed``: did the map read find the map topic listed (the link's map reader says)."""
     t0 = time.monotonic()
     deadline = t0 + timeout
 
@@ -104,7 +106,7 @@ def run_connection_test(link: ChairLink, timeout: float) -> ConnectionReport:
     try:
         info = link.map_info(max(0.1, deadline - time.monotonic()))
     except ChairLinkError:
-        if getattr(link.ros, "protocol", None) is not socket or link._maps.map_listed():  # closed us, or dropped it
+        if getattr(link.ros, "protocol", None) is not socket or map_listed():  # closed us, or dropped it
             return report(False, big_map_stuck(timeout))
         return report(False, f"connected but no map published within {timeout:.1f} s")
     if link.discovery.rosapi is None:  # the map's facts came without rosapi: ask once

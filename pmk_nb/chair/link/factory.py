@@ -4,18 +4,12 @@ Importing this module imports ``roslibpy.comm.comm_asyncio``, which binds Autoba
 asyncio for the whole process; :mod:`pmk_nb.chair.link.transport` therefore imports it only when a
 link opens its first connection.
 
-roslibpy internals touched here (pinned and checked by ``tests/test_roslibpy_seam.py``):
-
-* ``AsyncioRosBridgeClientFactory._manager``: the constructor assigns the process-wide loop manager
-  to it and starts that manager. A read-only property on the subclass turns the assignment into a
-  no-op, so the real constructor runs entirely on the link's own manager and loop.
-* ``AsyncioRosBridgeClientFactory._stop``: set by :meth:`LinkFactory.stop_reconnecting`; roslibpy
-  has no public way to stop the reconnect loop of a connection that is not open.
-* ``AsyncioRosBridgeClientFactory._connect_async`` (wss links only): roslibpy opens TLS with
-  ``ssl.create_default_context()`` and no way to pass another; the link's version is roslibpy's with
-  the link's context (:mod:`pmk_nb.chair.link.tls`), and a certificate refused ends the reconnects.
-  Its protocol class checks the certificate in ``connection_made``, after the TLS handshake and
-  before Autobahn sends the websocket's first byte.
+roslibpy internals are touched only through :mod:`pmk_nb.seams.roslibpy_seam` (``FactorySeam``: a
+private loop manager, the reconnect switch, the connect attempt; pinned and checked by
+``tests/test_roslibpy_seam.py``). A wss link makes its own connect attempt: roslibpy's with the link's
+TLS context (:mod:`pmk_nb.chair.link.tls`), and a certificate refused ends the reconnects. Its
+protocol class checks the certificate in ``connection_made``, after the TLS handshake and before
+Autobahn sends the websocket's first byte.
 """
 
 from __future__ import annotations
@@ -34,6 +28,7 @@ from roslibpy.comm.comm_asyncio import (
 from pmk_nb.chair.link.backoff import set_backoff, set_pings
 from pmk_nb.chair.link.tls import ChairTls, check_peer, handshake_failure
 from pmk_nb.errors import ChairCertificateError
+from pmk_nb.seams.roslibpy_seam import FactorySeam
 
 
 class CheckedProtocol(AsyncioRosBridgeProtocol):
@@ -56,7 +51,7 @@ class CheckedProtocol(AsyncioRosBridgeProtocol):
             super().connection_lost(exc)
 
 
-class LinkFactory(AsyncioRosBridgeClientFactory):
+class LinkFactory(FactorySeam, AsyncioRosBridgeClientFactory):
     """roslibpy's asyncio factory on a private loop, with link-specific reconnect backoff (and TLS trust)."""
 
     protocol = CheckedProtocol
@@ -81,18 +76,6 @@ class LinkFactory(AsyncioRosBridgeClientFactory):
         super().__init__(url, loop=manager.loop)
         set_pings(self, ping_interval, ping_timeout)
 
-    @property  # type: ignore[override]
-    def _manager(self) -> AsyncioEventLoopManager:
-        return self.link_manager
-
-    @_manager.setter
-    def _manager(self, _shared: Any) -> None:
-        """roslibpy's constructor offers the process-wide manager here: keep the private one."""
-
-    def stop_reconnecting(self) -> None:
-        """No further reconnect attempts (roslibpy has no public switch; see the seam test)."""
-        self._stop = True
-
     def check_certificate(self, transport: Any) -> None:
         """On the loop, right after the TLS handshake: raises a ChairCertificateError when not trusted."""
         if self.tls is None:
@@ -107,13 +90,14 @@ class LinkFactory(AsyncioRosBridgeClientFactory):
         self.stop_reconnecting()
         self.emit("refused", err)
 
-    async def _connect_async(self) -> None:
-        """roslibpy's connect attempt with the link's TLS context (see the module docstring)."""
+    async def connect_attempt(self) -> bool:
+        """A wss link: roslibpy's connect attempt with the link's TLS context (see the module
+        docstring); a plain link: False, roslibpy's own attempt."""
         if self.tls is None:
-            return await super()._connect_async()
+            return False
         loop = self.manager.loop
         if loop is None or loop.is_closed():
-            return None
+            return True
         try:
             await loop.create_connection(self, self.host, self.port, ssl=self.tls.context())
         except asyncio.CancelledError:
@@ -123,10 +107,10 @@ class LinkFactory(AsyncioRosBridgeClientFactory):
             if refused is not None:
                 self.refuse(refused)
             else:
-                self._schedule_reconnect()
+                self.schedule_reconnect()
         except Exception:  # as roslibpy: any other connect error means a retry
-            self._schedule_reconnect()
-        return None
+            self.schedule_reconnect()
+        return True
 
     def loop_alive(self) -> bool:
         loop = self.link_manager.loop

@@ -17,14 +17,14 @@ import roslibpy
 from roslibpy.core import RosTimeoutError
 from roslibpy.ros1 import actionlib
 
+from pmk_nb.chair.link.goal import MOVE_BASE, NAV2_ACTION, GoalHandle, GoalRoute, GoalStatus, NavigationError
 from pmk_nb.chair.link.goal_attach import ActionStatusFollower
 from pmk_nb.chair.link.goal_topic import start_topic
-from pmk_nb.chair.link.navigate import MOVE_BASE, NAV2_ACTION, GoalHandle, GoalRoute, GoalStatus, NavigationError
 from pmk_nb.chair.messages import make_stamp, quaternion_from_yaw
 from pmk_nb.errors import ChairLinkError
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 Goal3 = tuple[float, float, float]
 # action_msgs/GoalStatus -> ours (4 succeeded, 5 canceled, 6 aborted)
@@ -54,7 +54,7 @@ def pose_stamped(goal: Goal3, frame: str, ros_version: int | None) -> dict[str, 
     return {"header": header, "pose": {"position": position, "orientation": quaternion_from_yaw(goal[2])}}
 
 
-def through_poses_args(points: list[tuple[float, float]], goal: Goal3, frame: str, link: ChairLink) -> dict[str, Any]:
+def through_poses_args(points: list[tuple[float, float]], goal: Goal3, frame: str, link: LinkCore) -> dict[str, Any]:
     legs = _with_headings([(x, y, None) for x, y in points] + [goal])
     return {"poses": [pose_stamped(g, frame, link.ros_version) for g in legs], "behavior_tree": ""}
 
@@ -106,7 +106,7 @@ def _actionlib_client(ros: roslibpy.Ros) -> actionlib.ActionClient:
         return client
 
 
-def start_actionlib(link: ChairLink, handle: GoalHandle, goal: Goal3, frame: str) -> None:
+def start_actionlib(link: LinkCore, handle: GoalHandle, goal: Goal3, frame: str) -> None:
     """Send a move_base goal over actionlib; status events carry the outcome."""
     ros = link.ros
     if ros is None:
@@ -139,7 +139,7 @@ def start_actionlib(link: ChairLink, handle: GoalHandle, goal: Goal3, frame: str
     handle.bind_cancel(sent.cancel)
 
 
-def start_leg(link: ChairLink, route: GoalRoute, handle: GoalHandle, goal: Goal3, frame: str) -> None:
+def start_leg(link: LinkCore, route: GoalRoute, handle: GoalHandle, goal: Goal3, frame: str) -> None:
     ros = link.ros
     if ros is None:
         raise NavigationError("not connected", route=route.name, host=link.host, port=link.port)
@@ -163,7 +163,7 @@ def _with_headings(legs: list[tuple[float, float, float | None]]) -> list[Goal3]
 
 
 def start_legs(
-    link: ChairLink, route: GoalRoute, parent: GoalHandle, legs: list[tuple[float, float, float | None]], frame: str
+    link: LinkCore, route: GoalRoute, parent: GoalHandle, legs: list[tuple[float, float, float | None]], frame: str
 ) -> None:
     """Waypoints one after another, on a daemon thread: each leg must arrive before the next."""
     goals = _with_headings(legs)
@@ -174,7 +174,7 @@ def start_legs(
     ).start()
 
 
-def _run_legs(link: ChairLink, route: GoalRoute, parent: GoalHandle, goals: list[Goal3], frame: str) -> None:
+def _run_legs(link: LinkCore, route: GoalRoute, parent: GoalHandle, goals: list[Goal3], frame: str) -> None:
     for i, goal in enumerate(goals):
         if parent.cancel_requested:
             parent.update(GoalStatus.CANCELLED, text="cancelled before the next waypoint")

@@ -14,17 +14,17 @@ import threading
 import time
 from typing import TYPE_CHECKING
 
-from pmk_nb.chair.link.navigate import ARRIVE_TOLERANCE, GoalHandle, GoalStatus, NavigationError
+from pmk_nb.chair.link.goal import ARRIVE_TOLERANCE, GoalHandle, GoalStatus, NavigationError
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 POLL_S = 0.2
 NO_PROGRESS_S = 30.0
 PROGRESS_STEP = 0.05  # m
 
 
-def start_topic(link: ChairLink, handle: GoalHandle, goal: tuple[float, float, float], frame: str) -> None:
+def start_topic(link: LinkCore, handle: GoalHandle, goal: tuple[float, float, float], frame: str) -> None:
     if not link.send_goal(goal[0], goal[1], goal[2], frame):
         raise NavigationError(
             "goal not sent: not connected, or the chair's ROS version is not known yet",
@@ -43,7 +43,7 @@ def start_topic(link: ChairLink, handle: GoalHandle, goal: tuple[float, float, f
     threading.Thread(target=_poll, args=(link, handle, goal), daemon=True, name="pmk-goal-topic").start()
 
 
-def _poll(link: ChairLink, handle: GoalHandle, goal: tuple[float, float, float]) -> None:
+def _poll(link: LinkCore, handle: GoalHandle, goal: tuple[float, float, float]) -> None:
     best, best_at = math.inf, time.monotonic()
     while not handle.wait(POLL_S).done:
         pose = link.latest_pose()

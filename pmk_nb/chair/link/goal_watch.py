@@ -28,11 +28,11 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from pmk_nb.chair.link import goal_words as words
-from pmk_nb.chair.link.navigate import ARRIVE_TOLERANCE, GoalHandle, GoalPolicy, GoalStatus
+from pmk_nb.chair.link.goal import ARRIVE_TOLERANCE, GoalHandle, GoalPolicy, GoalStatus
 from pmk_nb.chair.link.side_channel import side_stop
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 LOG = logging.getLogger(__name__)
 TICK = 0.05
@@ -55,7 +55,7 @@ STATUS_CODES = {
 class GoalWatch:
     """Watches one goal (see the module docstring); ``start()`` once."""
 
-    def __init__(self, link: ChairLink, handle: GoalHandle, kind: str, policy: GoalPolicy) -> None:
+    def __init__(self, link: LinkCore, handle: GoalHandle, kind: str, policy: GoalPolicy) -> None:
         self.link, self.handle, self.kind, self.policy = link, handle, kind, policy
         self._stoppers: list[Callable[[], None]] = []
         self.lost = False
@@ -200,7 +200,7 @@ class GoalWatch:
         (rosbridge_suite holds the link's own behind the goal: see side_channel); over the link's
         own connection when that fails. On this thread, never roslibpy's."""
         self.handle.zero_bursts += 1
-        link, topic = self.link, self.link._publish.cmd_vel_topic
+        link, topic = self.link, self.link.cmd_vel_topic
         if side_stop(link, topic, self.handle.cancel_ref, hz=BURST_HZ, seconds=BURST_S):
             return
         for _ in range(round(BURST_HZ * BURST_S)):

@@ -39,13 +39,13 @@ from pmk_nb.goalbeat import RATE_HZ, TOPIC, Beat
 if TYPE_CHECKING:
     from websockets.sync.client import ClientConnection
 
-    from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.chair.link.navigate import GoalHandle, GoalProgress
+    from pmk_nb.chair.link.core import LinkCore
+    from pmk_nb.chair.link.goal import GoalHandle, GoalProgress
 
 LOG = logging.getLogger(__name__)
 IDLE_BEATS = 2  # "idle" twice, a beat apart: one lost message must not leave the watchdog armed
 
-_BEATS: weakref.WeakKeyDictionary[ChairLink, GoalHeartbeat] = weakref.WeakKeyDictionary()
+_BEATS: weakref.WeakKeyDictionary[LinkCore, GoalHeartbeat] = weakref.WeakKeyDictionary()
 _BEATS_LOCK = threading.Lock()
 
 
@@ -57,7 +57,7 @@ def client_id() -> str:
 class GoalHeartbeat:
     """The beats of one link: active while any goal it tracks is not done, then "idle", then silence."""
 
-    def __init__(self, link: ChairLink, topic: str = TOPIC, rate_hz: float = RATE_HZ, client: str | None = None):
+    def __init__(self, link: LinkCore, topic: str = TOPIC, rate_hz: float = RATE_HZ, client: str | None = None):
         self._link = weakref.ref(link)
         self.topic, self.period = topic, 1.0 / rate_hz
         self.client = client or client_id()
@@ -132,7 +132,7 @@ class GoalHeartbeat:
             self._wake.wait(self.period)
             self._wake.clear()
 
-    def _send(self, link: ChairLink, beat: Beat) -> None:
+    def _send(self, link: LinkCore, beat: Beat) -> None:
         ros = link.ros
         if ros is None or not ros.is_connected:  # the link dropped: silence is the message
             self._close_socket()
@@ -158,7 +158,7 @@ class GoalHeartbeat:
                 pass
 
 
-def for_link(link: ChairLink) -> GoalHeartbeat:
+def for_link(link: LinkCore) -> GoalHeartbeat:
     """The one heartbeat of ``link`` (made on first use)."""
     with _BEATS_LOCK:
         beat = _BEATS.get(link)
@@ -167,6 +167,6 @@ def for_link(link: ChairLink) -> GoalHeartbeat:
         return beat
 
 
-def track(link: ChairLink, handle: GoalHandle) -> None:
+def track(link: LinkCore, handle: GoalHandle) -> None:
     """Beat for ``handle`` on ``link`` until it is done (the hook in :func:`navigate.navigate`)."""
     for_link(link).track(handle)

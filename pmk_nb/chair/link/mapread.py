@@ -26,7 +26,7 @@ from pmk_nb.errors import ChairLinkError, ChairTimeout
 from pmk_nb.grid import OccupancyGrid
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 MAP_TOPIC = "/map"
 METADATA_TOPIC = "/map_metadata"
@@ -48,7 +48,7 @@ class MapFacts:
 
 
 class MapReader:
-    def __init__(self, link: ChairLink, map_topic: str = MAP_TOPIC, metadata_topic: str = METADATA_TOPIC) -> None:
+    def __init__(self, link: LinkCore, map_topic: str = MAP_TOPIC, metadata_topic: str = METADATA_TOPIC) -> None:
         self._link = link
         self.map_topic, self.metadata_topic = map_topic, metadata_topic
         self._lock = threading.Lock()
@@ -74,7 +74,7 @@ class MapReader:
         if known.get("map_info") is False:
             return None
         try:
-            r = self._link._call(MAP_INFO_SERVICE, MAP_INFO_TYPE, {}, timeout)
+            r = self._link.call(MAP_INFO_SERVICE, MAP_INFO_TYPE, {}, timeout)
         except ServiceFailed:  # no such service: the bridge says so at once
             known["map_info"] = False
             return None
@@ -94,7 +94,7 @@ class MapReader:
         """Subscribe each (topic, type, start_delay) and return the first message, by plan order
         when several arrive together; None at the deadline.
         """
-        ros = self._link._require_ros()
+        ros = self._link.require_ros()
         got: dict[str, dict[str, Any]] = {}
         arrived = threading.Event()
         topics: dict[str, roslibpy.Topic] = {}
@@ -204,7 +204,7 @@ class MapReader:
         for name in GETMAP_SERVICES:
             remaining = deadline - time.monotonic()
             if name in services and remaining > 0:
-                r = self._link._call(name, "nav_msgs/GetMap", {}, remaining)
+                r = self._link.call(name, "nav_msgs/GetMap", {}, remaining)
                 return self._grid(r.get("map") or {})
         raise ChairTimeout(
             f"no map from the chair within {timeout:.1f} s: nothing on {self.map_topic} and no GetMap service "

@@ -34,7 +34,7 @@ from pmk_nb.errors import ChairLinkError, PmkError
 from pmk_nb.fileio import atomic_open
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 LOG = logging.getLogger(__name__)
 QUEUE_LIMIT = 2000  # messages waiting for the writer (~10 s of odom + scan + tf); more are dropped
@@ -110,7 +110,7 @@ def ros2_type(type_name: str) -> str:
     return next((s for s in spellings if s.count("/") == 2), type_name)
 
 
-def resolve_topics(link: ChairLink, topics: Topics, path: str) -> dict[str, str]:
+def resolve_topics(link: LinkCore, topics: Topics, path: str) -> dict[str, str]:
     """{topic: ROS 2 type} to record. ``None``: the link's odometry, scan and pose topics, /tf,
     /tf_static, /cmd_vel and /map, those the chair has. Types come from rosapi, else ``KNOWN_TYPES``.
 
@@ -172,7 +172,7 @@ class _Abandoned(Exception):
 class Recording:
     """A running recording; :meth:`stop` finishes the file. Create with :meth:`ChairLink.start_recording`."""
 
-    def __init__(self, link: ChairLink, path: str | Path, types: dict[str, str], queue_limit: int = QUEUE_LIMIT):
+    def __init__(self, link: LinkCore, path: str | Path, types: dict[str, str], queue_limit: int = QUEUE_LIMIT):
         self.path = Path(path)
         self.types = types
         self.stats = RecordStats(self.path, time.time(), messages=dict.fromkeys(types, 0))
@@ -193,7 +193,7 @@ class Recording:
         self._topics = {topic: self._subscribe(topic, type_name) for topic, type_name in types.items()}
 
     # -- the connection (I/O thread: push only) ---------------------------------------------------
-    def _connect(self, link: ChairLink, timeout: float = 5.0) -> LinkRos:
+    def _connect(self, link: LinkCore, timeout: float = 5.0) -> LinkRos:
         ros = LinkRos(link.host, link.port, thread_name=f"pmk-record-io-{link.host}:{link.port}", tls=link.tls)
         ros.connect()
         if not ros.settled.wait(timeout) or ros.refusal is not None:

@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import logging
 import threading
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link.client import ChairLink
 
 log = logging.getLogger(__name__)
 
@@ -28,8 +27,6 @@ def get_link(host: str, port: int = 9090, **kw: Any) -> ChairLink:
     :meth:`ChairLink.reconfigure`; another ``tls`` replaces the link; other constructor options
     only count on creation.
     """
-    from pmk_nb.chair.link.client import ChairLink  # lazy: link.py re-exports this module's functions
-
     key = (host, int(port))
     with _LOCK:
         link = _LINKS.get(key)

@@ -1,6 +1,6 @@
 """One blocking rosbridge service call with a deadline and typed errors.
 
-Never queued: the caller passes an open ``Ros`` (see ``ChairLink._require_ros``), so a call made
+Never queued: the caller passes an open ``Ros`` (see ``ChairLink.require_ros``), so a call made
 while disconnected fails at once instead of running later after a reconnect. When the websocket
 closes while the call is out (rosbridge-server-rs closes a client whose answer does not fit its
 send queue: "send queue full; closing slow client"), the call ends at once with

@@ -27,7 +27,7 @@ from pmk_nb.errors import ChairLinkError
 if TYPE_CHECKING:
     from websockets.sync.client import ClientConnection
 
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link.core import LinkCore
 
 LOG = logging.getLogger(__name__)
 ZERO = {"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.0}}
@@ -36,7 +36,7 @@ ZERO = {"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0
 SIDE_ERRORS: tuple[type[BaseException], ...] = (OSError, TimeoutError, ChairLinkError)
 
 
-def side_connect(link: ChairLink, timeout: float = 2.0) -> ClientConnection:
+def side_connect(link: LinkCore, timeout: float = 2.0) -> ClientConnection:
     """A second websocket to ``link``'s chair, trusted as the link is; raises ``SIDE_ERRORS``
     (a websockets error is an OSError or wrapped below) when it cannot be opened or trusted."""
     import websockets.sync.client as ws_client
@@ -60,7 +60,7 @@ def side_connect(link: ChairLink, timeout: float = 2.0) -> ClientConnection:
 
 
 def side_stop(
-    link: ChairLink,
+    link: LinkCore,
     cmd_vel_topic: str,
     cancel: tuple[str, str] | None,
     *,

@@ -19,14 +19,10 @@ port)`` picks Twisted unless told otherwise. A link therefore follows the proces
 
 Nothing binds a framework until a link connects.
 
-roslibpy internals touched (pinned version, checked by ``tests/test_roslibpy_seam.py``):
-
-* ``Ros._id_counter``: ``Ros.__init__`` is not called, because it builds its factory on the
-  process-wide loop (starting that loop's thread) and connects at once; this sets the one private
-  field it would set (``factory`` and ``is_connecting`` are public).
-* ``AsyncioRosBridgeClientFactory._manager`` and ``._stop``: see :mod:`pmk_nb.chair.link.factory`.
-* ``RosBridgeProtocol._message_handlers["status"]``: roslibpy sets it to None, so the public
-  ``register_message_handlers`` refuses it; the link sets its handler there, once per protocol.
+roslibpy internals (``Ros._id_counter``, since ``Ros.__init__`` is not called: it builds its factory on
+the process-wide loop, starting that loop's thread, and connects at once; the protocol's ``status``
+handler; the factory's) are touched only in :mod:`pmk_nb.seams.roslibpy_seam` (pinned version,
+checked by ``tests/test_roslibpy_seam.py``).
 """
 
 from __future__ import annotations
@@ -42,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 import roslibpy
 
 from pmk_nb.errors import ChairLinkError
+from pmk_nb.seams.roslibpy_seam import init_id_counter, install_status_handler
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.factory import LinkFactory
@@ -115,7 +112,7 @@ class LinkRos(roslibpy.Ros):
         tls: ChairTls | None = None,
     ) -> None:
         module = _factory_module()
-        self._id_counter = 0  # what Ros.__init__ would set (see the module docstring)
+        init_id_counter(self)  # what Ros.__init__ would set (see the module docstring)
         extra: dict[str, Any] = {}
         if module.__name__.endswith("twisted"):
             if tls is not None:
@@ -152,8 +149,7 @@ class LinkRos(roslibpy.Ros):
 
     def _track_protocol(self, proto: Any) -> None:
         self.protocol = proto
-        if proto._message_handlers.get("status") is None:  # roslibpy leaves it None ("TODO")
-            proto._message_handlers["status"] = self._on_status
+        install_status_handler(proto, self._on_status)  # roslibpy leaves it None ("TODO")
 
     def _on_status(self, message: Any) -> None:
         """The server's ``status`` op (errors and warnings about our requests, e.g. a wrong topic

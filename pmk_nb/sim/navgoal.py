@@ -1,0 +1,44 @@
+"""A navigation goal as the simulator's action servers hold it, and a PoseStamped read as one: shared by the
+Nav2 servers (``navigation``) and ROS 1 move_base (``navigation_ros1``) without importing each other."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from pmk_nb.sim.messages import yaw_of
+
+if TYPE_CHECKING:
+    from pmk_nb.sim.actions import GoalRef
+
+
+@dataclass
+class NavGoal:
+    """The goal being driven to, and who to tell about it."""
+
+    kind: str  # "ros2" | "ros1" | "topic"
+    target: tuple[float, float, float | None]
+    via: list[tuple[float, float]] = field(default_factory=list)
+    ref: GoalRef | None = None  # ros2
+    goal_id: str = ""  # ros1
+    started: float = field(default_factory=time.monotonic)
+    recoveries: int = 0
+
+
+def parse_pose(pose_stamped: Any) -> tuple[tuple[float, float, float | None], str] | str:
+    """(x, y, yaw) and frame of a PoseStamped, or why it cannot be a goal."""
+    if not isinstance(pose_stamped, dict):
+        return "pose must be a geometry_msgs/PoseStamped object"
+    frame = str((pose_stamped.get("header") or {}).get("frame_id", "")).lstrip("/")
+    pose = pose_stamped.get("pose") or {}
+    pos = pose.get("position") or {}
+    try:
+        x, y = float(pos.get("x", math.nan)), float(pos.get("y", math.nan))
+        yaw = yaw_of(pose["orientation"]) if pose.get("orientation") else None
+    except (TypeError, ValueError):
+        return "pose has non-numeric fields"
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return "goal position is not finite"
+    return (x, y, yaw), frame
