@@ -144,6 +144,8 @@ class FleetPanel:
             names = []
         taken = {m.name for m in self.model.members}
         self.choice.options = [n for n in names if n not in taken]
+        more = "" if self.choice.options else "none"  # every saved chair is in: nothing to pick
+        self.choice.layout.display = self.add_button.layout.display = self.add_all_button.layout.display = more
         self.class_button.layout.display = "" if _class_settings() is not None else "none"
 
     @needs_pin("Fleet")
@@ -269,7 +271,8 @@ class FleetPanel:
             if row is not None:
                 row.show(status)
             if status.pose is not None and status.same_map:
-                markers.append(Marker(status.name, status.colour, *status.pose, controlled=status.controlled))
+                radius = _footprint(self.model, status.name)
+                markers.append(Marker(status.name, status.colour, *status.pose, status.controlled, radius))
         if self.layer.set_markers(markers) and not self.home.live.running:
             self.home.live.request_redraw()
 
@@ -323,3 +326,12 @@ def _class_settings() -> Any:
         return classroom_settings.from_env()
     except SettingsError:
         return None
+
+
+def _footprint(model: Fleet, name: str) -> float:
+    """The chair's footprint radius (m) from its profile; the Home default when it has none usable."""
+    try:
+        radius = float(model.get(name).profile.footprint_radius or 0.0)
+    except (FleetError, TypeError, ValueError):
+        radius = 0.0
+    return radius if 0.0 < radius < 5.0 else 0.35

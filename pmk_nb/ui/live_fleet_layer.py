@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
     from pmk_nb.viewport import Viewport
 
-MARKER_PX = 10.0  # a watched chair's dot
+MARKER_PX = 8.0  # a watched chair's dot at least (else its footprint's size on screen)
 RING_PX = 16.0  # the ring around the chair in control
 FONT_PX = 13
 HALO_STYLE = "rgba(255, 255, 255, 0.9)"
@@ -28,7 +28,8 @@ TEXT_STYLE = "rgba(20, 20, 20, 0.95)"
 
 @dataclass(frozen=True)
 class Marker:
-    """One chair on the map: name, colour, pose (x, y, yaw in the map frame), in control or not."""
+    """One chair on the map: name, colour, pose (x, y, yaw in the map frame), in control or not,
+    its footprint's radius (m: the dot has the chair's size)."""
 
     name: str
     colour: str
@@ -36,6 +37,7 @@ class Marker:
     y: float
     yaw: float
     controlled: bool = False
+    radius_m: float = 0.35
 
 
 class FleetLayer:
@@ -67,6 +69,7 @@ class FleetLayer:
         if not markers:
             return
         layer.font = f"bold {FONT_PX}px sans-serif"
+        size = RING_PX
         layer.text_align = "left"
         layer.text_baseline = "middle"
         for m in markers:
@@ -81,14 +84,15 @@ class FleetLayer:
             else:
                 pu, pv = view.world_to_pixel(m.x, m.y)
                 u, v = float(pu), float(pv)
+                size = max(MARKER_PX, m.radius_m * view.px_per_m) if math.isfinite(m.radius_m) else MARKER_PX
                 layer.fill_style = m.colour
-                layer.fill_circle(u, v, MARKER_PX)
+                layer.fill_circle(u, v, size)
                 layer.line_width = 2
                 layer.stroke_style = HALO_STYLE
-                layer.stroke_circle(u, v, MARKER_PX)
+                layer.stroke_circle(u, v, size)
                 # heading: screen y grows downwards, map y upwards
-                layer.stroke_line(u, v, u + MARKER_PX * math.cos(m.yaw), v - MARKER_PX * math.sin(m.yaw))
-            label_x = u + (RING_PX if m.controlled else MARKER_PX) + 4
+                layer.stroke_line(u, v, u + size * math.cos(m.yaw), v - size * math.sin(m.yaw))
+            label_x = u + (RING_PX if m.controlled else size) + 4
             layer.line_width = 4
             layer.stroke_style = HALO_STYLE
             layer.fill_style = TEXT_STYLE
