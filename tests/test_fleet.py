@@ -229,3 +229,33 @@ def test_locked_kiosk_changes_nothing(lab: tuple[Any, list[Any], AppContext]) ->
     ctx.kiosk.unlock()
     panel.add("chair B")
     assert list(panel.rows) == ["chair A", "chair B"]
+
+
+def test_an_instructor_opens_the_class_fleet(
+    lab: tuple[Any, list[Any], AppContext], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A page of a class (``PMK_CLASSROOM``) offers the class's fleet: each live seat's chair, read
+    from the seats' file (here one seat, this process, on chair C's simulator)."""
+    from pmk_nb.classroom.cap import ChairCap
+    from pmk_nb.classroom.settings import CLASSROOM_ENV, ClassroomSettings
+
+    screen, sims, ctx = lab
+    panel = screen.fleet
+    panel.toggle.value = True
+    assert panel.class_button.layout.display == "none"  # not in a class: nothing to open
+    with pytest.raises(SettingsError):
+        panel.open_class()
+    settings = ClassroomSettings("m.yaml", "m", None, "k.pub", "k", 5, str(tmp_path / "class"))
+    monkeypatch.setenv(CLASSROOM_ENV, str(settings.write(tmp_path / "classroom.json")))
+    cap = ChairCap(tmp_path / "class", 5)
+    cap.take(os.getpid())
+    cap.note(os.getpid(), ros_port=sims[2].port, user="ada")
+    panel.toggle.value = False
+    panel.toggle.value = True
+    assert panel.class_button.layout.display == ""
+    panel.class_button.click()
+    assert list(panel.rows) == ["chair A", "Seat of ada"], panel.note.value
+    assert "1 chair live" in panel.note.value
+    assert _wait(lambda: _rows_live(panel), 20.0, panel.tick), panel.statuses()
+    seat = next(s for s in panel.statuses() if s.name == "Seat of ada")
+    assert seat.pose is not None and abs(seat.pose[0] - 7.5) < 0.2

@@ -185,6 +185,8 @@ class FleetPanel:
                 self.model.control(first.name)
                 self.links.set_controlled(first.name)
                 self._open(first)
+                if not self.home.running:  # a fleet is live: the chair in control too (Home streams it)
+                    self.home.start_preview()
         member = self.model.add(profile, source)
         self._open(member)
         return member

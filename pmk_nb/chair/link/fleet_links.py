@@ -162,8 +162,8 @@ class FleetLinks:
         next_facts = 0.0
         while not stop.is_set():
             try:
-                if watch.link is None or not watch.link.is_connected:
-                    self._connect(watch)
+                if watch.link is None or watch.link.ros is None:  # never connected (or closed): connect;
+                    self._connect(watch)  # a link that dropped reconnects by itself, with its backoff
                 if time.monotonic() >= next_facts:
                     watch.map_name, watch.map_key = _map_identity(watch.link)
                     next_facts = time.monotonic() + self.facts_every
@@ -176,7 +176,7 @@ class FleetLinks:
                 watch.error = PmkError(f"watching {member.name} failed: {err}")
                 stop.wait(self.retry_every)
                 continue
-            stop.wait(min(1.0, self.facts_every))
+            stop.wait(min(1.0, self.facts_every))  # a link closed meanwhile is found within a second
 
     def _connect(self, watch: _Watch) -> None:
         host, port = watch.member.key
