@@ -152,6 +152,7 @@ def test_fleet_panel_three_chairs_switch_without_reconnecting(lab: tuple[Any, li
     assert "live" in text and "12.0 × 6.0 m map" in text and "x 4.50 m" in text and "no goal" in text
     assert len(panel.layer.markers) == 3 and len({m.colour for m in panel.layer.markers}) == 3
     assert [m.controlled for m in panel.layer.markers] == [True, False, False]
+    screen.drive.toggle.value = True  # driving A when control moves away
     links = {name: panel.links.link(name) for name in panel.rows}
     assert links["chair A"] is own  # the page's own chair joined with its open link
     assert links["chair B"].config["throttle_ms"]["scan"] == BACKGROUND_THROTTLE_MS["scan"]  # light streams
@@ -163,6 +164,7 @@ def test_fleet_panel_three_chairs_switch_without_reconnecting(lab: tuple[Any, li
     assert own.is_connected and links["chair B"].is_connected  # the others still watched
     assert links["chair C"].config["throttle_ms"]["scan"] != BACKGROUND_THROTTLE_MS["scan"]  # full streams
     assert own.config["throttle_ms"]["scan"] == BACKGROUND_THROTTLE_MS["scan"]
+    assert screen.drive.toggle.value is False  # driving A stopped with the switch
 
     def shows_c() -> bool:
         snap = screen.preview.snapshot()
@@ -180,6 +182,16 @@ def test_fleet_panel_three_chairs_switch_without_reconnecting(lab: tuple[Any, li
     assert _wait(lambda: sims[2].pose[0] > before[2][0] + 0.02, 5.0, lambda: links["chair C"].publish_cmd_vel(0.3, 0.0))
     links["chair C"].publish_cmd_vel(0.0, 0.0)
     assert [s.pose for s in sims[:2]] == before[:2]
+    # a goal given to C stays in C's row when control moves back to A
+    screen.goal.handle = links["chair C"].navigate_to(10.0, 3.0, 0.0)
+    assert _wait(lambda: "to (10.0, 3.0)" in panel.rows["chair C"].text.value, 10.0, panel.tick)
+    handle = screen.goal.handle
+    panel.take_control("chair A")
+    assert ctx.link() is own and screen.goal.handle is None  # Home's Cancel cannot stop C now
+    panel.tick()
+    assert "to (10.0, 3.0)" in panel.rows["chair C"].text.value and "no goal" in panel.rows["chair A"].text.value
+    panel.take_control("chair C")  # C's goal, still running, is Home's again
+    assert screen.goal.handle is handle or handle.progress().done
 
 
 def _closed_port() -> int:
@@ -239,7 +251,7 @@ def test_an_instructor_opens_the_class_fleet(
     from pmk_nb.classroom.cap import ChairCap
     from pmk_nb.classroom.settings import CLASSROOM_ENV, ClassroomSettings
 
-    screen, sims, ctx = lab
+    screen, sims, _ctx = lab
     panel = screen.fleet
     panel.toggle.value = True
     assert panel.class_button.layout.display == "none"  # not in a class: nothing to open

@@ -26,6 +26,7 @@ from pmk_nb.chair.fleet import ChairStatus, Fleet, FleetError, FleetMember, NotI
 from pmk_nb.chair.link.fleet_links import FleetLinks
 from pmk_nb.errors import SettingsError
 from pmk_nb.ui.context import needs_pin
+from pmk_nb.ui.fleet_goals import ParkedGoals, park, resume
 from pmk_nb.ui.live_fleet_layer import FleetLayer, Marker
 from pmk_nb.ui.render_loop import RenderLoop
 from pmk_nb.ui.style import TOUCH_PX
@@ -101,7 +102,7 @@ class FleetPanel:
         self.layer = FleetLayer()
         home.live.overlays.append(self.layer)
         self.rows: dict[str, _Row] = {}
-        self._goals: dict[str, Any] = {}  # a chair's last goal handle sent from this page, kept when control moves
+        self._goals: dict[str, ParkedGoals] = {}  # a chair's goals from this page, parked when control moved
         self.switch_s: float | None = None  # how long the last change of control took (measured)
         self.toggle = w.ToggleButton(value=False, description="Fleet", icon="users")
         self.toggle.tooltip = "Several chairs: watch them all, drive one"
@@ -210,7 +211,8 @@ class FleetPanel:
         """Make ``name`` the chair Home shows, drives and guides; returns the seconds the switch took.
 
         Driving the previous chair stops (Home's Drive toggle goes off, the deadman sends its zero);
-        a goal it was given keeps running and stays in its row.
+        a goal it was given keeps running and stays in its row (:mod:`pmk_nb.ui.fleet_goals`), and
+        comes back to Home with the chair.
         """
         if not isinstance(name, str):
             raise NotInFleet(str(name)[:80])
@@ -219,13 +221,12 @@ class FleetPanel:
         if old is not None and old.name == member.name:
             return 0.0
         started = time.perf_counter()
-        if old is not None:
-            handle = self._home_goal()
-            if handle is not None:
-                self._goals[old.name] = handle
         self.home.stop_preview()
+        if old is not None:
+            self._goals[old.name] = park(self.home)
         self.model.control(member.name)
         self.links.set_controlled(member.name)
+        resume(self.home, self._goals.pop(member.name, None))
         self.home.start_preview()
         self.switch_s = time.perf_counter() - started
         self._say(f"{member.name} is in control (switched in {self.switch_s * 1000:.0f} ms).")
@@ -278,14 +279,14 @@ class FleetPanel:
         if self.layer.set_markers(markers) and not self.home.live.running:
             self.home.live.request_redraw()
 
-    def _home_goal(self) -> Any:
-        """The goal Home sent last (Set destination or Go to), None: none running."""
-        handles = [h for h in (self.home.goal.handle, self.home.rooms.handle) if h is not None]
-        return max(handles, key=lambda h: h.sent_at) if handles else None
-
     def _goal_words(self, name: str) -> str | None:
+        """The row's goal: Home's (the chair in control), else the one parked with the chair."""
         controlled = self.model.controlled
-        handle = self._home_goal() if controlled is not None and controlled.name == name else self._goals.get(name)
+        if controlled is not None and controlled.name == name:
+            handle = ParkedGoals(None, self.home.goal.handle, None, self.home.rooms.handle).newest()
+        else:
+            parked = self._goals.get(name)
+            handle = parked.newest() if parked is not None else None
         if handle is None:
             return None
         progress = handle.progress()
