@@ -24,6 +24,7 @@ from pmk_nb.errors import KioskLocked
 from pmk_nb.fileio import atomic_write
 
 if TYPE_CHECKING:
+    from pmk_nb.chair.fleet import Fleet
     from pmk_nb.chair.link.client import ChairLink
     from pmk_nb.chair.profiles import ChairProfile, ProfileStore
     from pmk_nb.library.folder import MapsFolder
@@ -124,6 +125,9 @@ class AppContext:
         self._profile_unreadable = False  # reported once per breakage, not on every poll
         #: The kiosk page's lock (set by ``build_app`` on a kiosk page); None: nothing is locked.
         self.kiosk: KioskLock | None = None
+        #: Several chairs on this page (issue 26, :mod:`pmk_nb.chair.fleet`): its chair in control is
+        #: "the chair"; the others' links stay open. None: the page has one chair, its profile's.
+        self.fleet: Fleet | None = None
 
     # -- kiosk lock --------------------------------------------------------------------------------
     def may_open(self, screen: str) -> bool:
@@ -144,7 +148,12 @@ class AppContext:
 
     # -- chair -------------------------------------------------------------------------------------
     def profile(self) -> ChairProfile | None:
-        """The current chair profile (the last one saved or used), or None before any is saved."""
+        """The current chair profile (the fleet's chair in control, else the last one saved or used),
+        or None before any is saved."""
+        fleet = self.fleet
+        member = fleet.controlled if fleet is not None else None
+        if member is not None:
+            return member.profile
         try:
             profile = self.profiles.last_used()
         except Exception as err:  # a corrupt profile file must not break the whole app
@@ -170,8 +179,9 @@ class AppContext:
         profile = self.profile()
         if profile is None:
             raise SettingsError("No wheelchair configured yet: fill in and save the Settings screen first.")
+        keep = [m.key for m in self.fleet.members] if self.fleet is not None else []
         with self._lock:
-            link = use_only(profile.host, int(profile.port), **profile.link_options())
+            link = use_only(profile.host, int(profile.port), keep=keep, **profile.link_options())
             link.goal_policy = profile.goal_policy()  # goal deadlines, what a link loss does (issue 24)
             self._chair = (link.host, link.port)
         return link

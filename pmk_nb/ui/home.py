@@ -34,6 +34,7 @@ import ipywidgets as w
 from pmk_nb.errors import PmkError
 from pmk_nb.speech import phrases
 from pmk_nb.ui.drive_panel import DrivePanel
+from pmk_nb.ui.fleet_panel import FleetPanel
 from pmk_nb.ui.goal_panel import GoalPanel
 from pmk_nb.ui.heading_buttons import HeadingButtons
 from pmk_nb.ui.home_checks import ChairProbe, preview_image_problem
@@ -145,6 +146,7 @@ class HomeScreen:
         )  # fmt: skip
         self.path = LivePathLayer()  # pmk_nb/ui/live_path_layer.py: Nav2's /plan, move_base's plan
         self.live.overlays.append(self.path)
+        self.fleet = FleetPanel(ctx, self)  # issue 26: several chairs, one in control (pmk_nb/ui/fleet_panel.py)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
         ui = self.ui
@@ -277,6 +279,7 @@ class HomeScreen:
         self.refresh_info()
 
     def close(self) -> None:
+        self.fleet.close()
         self.stop_preview()
         self.recorder.close()
         self._unsub_map()

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import logging
 import threading
+from collections.abc import Collection
 from typing import Any
 
 from pmk_nb.chair.link.client import ChairLink
@@ -47,15 +48,17 @@ def get_link(host: str, port: int = 9090, **kw: Any) -> ChairLink:
     return link
 
 
-def use_only(host: str, port: int = 9090, **kw: Any) -> ChairLink:
+def use_only(host: str, port: int = 9090, *, keep: Collection[tuple[str, int]] = (), **kw: Any) -> ChairLink:
     """The link to ``host:port`` (as :func:`get_link`), after closing and dropping links to other chairs.
 
     A dashboard page talks to one chair: when its settings now name another one, the old connection
     must not linger. A failure to close an old link is logged, never raised (the new one matters).
+    ``keep``: other chairs' ``(host, port)`` whose links stay open (the page's fleet, issue 26).
     """
     link = get_link(host, port, **kw)
+    kept = {(h, int(p)) for h, p in keep}
     with _LOCK:
-        others = [(key, old) for key, old in _LINKS.items() if old is not link]
+        others = [(key, old) for key, old in _LINKS.items() if old is not link and key not in kept]
         for key, _old in others:
             del _LINKS[key]
     for _key, old in others:
