@@ -81,7 +81,7 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
 
     width = check_chair_width(chair_width)
     grid = read_map(Path(yaml_path))
-    return check_plan_file(read_sidecar(yaml_path), grid, chair_width=width)
+    return check_plan_file(read_sidecar(Path(yaml_path)), grid, chair_width=width)
 
 
 def check_plan_file(plan: StoreyPlanFile, grid: OccupancyGrid, *, chair_width: float) -> StoreyReport:

@@ -203,7 +203,8 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         self._page_sessions.setdefault(self.kernel_id, self.session.session)
         return super().connect()
 
-    def disconnect(self) -> None:
+    # the ZMQ connection this extends disconnects synchronously; its base class declares a coroutine
+    def disconnect(self) -> None:  # type: ignore[override]
         if not self._admitted:  # refused in connect(): it never counted as a connection
             if self._open_sessions.get(self.session_key) is self.websocket_handler:
                 self._open_sessions.pop(self.session_key, None)

@@ -132,9 +132,11 @@ def _stage_storeys(
     """Rasterise and write every wanted storey into ``staging``; returns the maps (paths in staging)."""
     from pmk_nb.rosmap.files import write_map
 
-    raster_kw = {"wall_thickness": opts.wall_thickness, "max_cells": opts.max_cells, "allow_large": opts.allow_large}
     for storey in wanted:  # every storey's size is checked before anything is rasterised
-        plan_storey(building, storey, resolution, **raster_kw)
+        plan_storey(
+            building, storey, resolution, wall_thickness=opts.wall_thickness, max_cells=opts.max_cells,
+            allow_large=opts.allow_large,
+        )  # fmt: skip
     span = (_RASTER_END - _READ_END) / len(wanted)
     staged: list[StoreyMap] = []
     for i, storey in enumerate(wanted):
@@ -144,7 +146,7 @@ def _stage_storeys(
         grid = rasterise_storey(
             building, storey, resolution, outside=opts.outside, max_wall_gap=opts.max_wall_gap,
             door_width=opts.door_width, openings=plan, progress=sub_range(progress, start, start + span),
-            **raster_kw,
+            wall_thickness=opts.wall_thickness, max_cells=opts.max_cells, allow_large=opts.allow_large,
         )  # fmt: skip
         grid.meta.update(extra_meta)
         files = write_map(

@@ -23,7 +23,7 @@ import itertools
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import shapely
@@ -296,7 +296,8 @@ def _lay_bridges(grid: np.ndarray, plan: _Plan, reach: float) -> None:
         return
     frame = plan.frame
     side = [o.width / 2 + 0.75 * frame.resolution for o in bridges]
-    edges = [shapely.offset_curve(o.path, s * k) for o, s in zip(bridges, side, strict=True) for k in (-1, 1)]
+    paths = [cast("BaseGeometry", o.path) for o in bridges]  # not None: bridges have a path
+    edges = [shapely.offset_curve(p, s * k) for p, s in zip(paths, side, strict=True) for k in (-1, 1)]
     segs, _ = segments_with_owner([e for e in edges if not e.is_empty])
     _draw_lines(grid, frame, segs, _WALL, (FREE, OCCUPIED, _WALL))
     fill_polygons(grid, frame, [p for o in bridges for p in o.polygons(reach)], FREE, keep=(OCCUPIED,))
