@@ -72,7 +72,7 @@ $(PROXY_STAMP): proxy/package.json proxy/package-lock.json
 	touch $(PROXY_STAMP)
 
 clean:
-	rm -rf $(VENV) tests/js/node_modules proxy/node_modules .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
+	rm -rf $(VENV) tests/js/node_modules proxy/node_modules .pytest_cache .ruff_cache .mypy_cache .hypothesis test-artifacts .demo
 
 # --- real ROS 2 stack (issue 9) -------------------------------------------------------------
 # Jazzy wheels + rosbridge-server-rs + our interfaces (ros/interfaces, rosapi_msgs included so the
