@@ -30,7 +30,7 @@ def check_chair_width(value: float) -> float:
 
 def profile_chair_width(given: float | None, profile: object | None) -> float:
     """The chair width to check for: ``given`` (--chair-width) when set, else the chair profile's
-    ``chair_width`` (Settings), else 0.70 m."""
+    ``chair_width`` (Settings), else :data:`~pmk_nb.defaults.DEFAULT_CHAIR_WIDTH`."""
     if given is not None:
         return check_chair_width(given)
     width = getattr(profile, "chair_width", None)

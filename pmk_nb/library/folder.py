@@ -19,8 +19,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO
 
-from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH
 from pmk_nb.access.sidecar import sidecar_path
+from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH, DEFAULT_DOOR_WIDTH, DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.errors import AlreadyExists, IndoorGMLError, LibraryError, MapFormatError, OccupancyError
 from pmk_nb.fileio import atomic_write
 from pmk_nb.indoorgml.sniff import check_indoorgml
@@ -31,7 +31,6 @@ from pmk_nb.library.naming import SOURCE_SUFFIXES, check_name
 from pmk_nb.library.netguard import ALLOW_LOCAL_ENV
 from pmk_nb.library.scan import GeneratedMap, scan_generated
 from pmk_nb.progress import ProgressCallback
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
 __all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "StoreyInfo", "check_name", "default_maps_dir"]
 
@@ -280,18 +279,17 @@ class MapsFolder:
         resolution: float,
         *,
         storeys: builtins.list[str] | None = None,
-        wall_thickness: float = 0.10,
+        wall_thickness: float = DEFAULT_WALL_THICKNESS,
         unit: str = "auto",
         image_format: str = "pgm",
         progress: ProgressCallback | None = None,
-        max_wall_gap: float = 0.5,
+        max_wall_gap: float = DEFAULT_MAX_WALL_GAP,
         door_width: float = DEFAULT_DOOR_WIDTH,
         chair_width: float = DEFAULT_CHAIR_WIDTH,
         not_windows: Sequence[str] = (), layers: Sequence[str] = (),
     ) -> builtins.list[GeneratedMap]:
-        """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2): runs
-        :func:`pmk_nb.library.convert.convert_plan` (all storeys or none are written), then removes the
-        files of storeys that no longer exist.
+        """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2):
+        :meth:`convert_with` the :class:`~pmk_nb.library.convert.ConvertOptions` these keywords make.
 
         Args:
             resolution: metres per cell (e.g. 0.05).
@@ -304,17 +302,30 @@ class MapsFolder:
             LibraryError: unknown map, bad arguments, or any reader / rasteriser / writer error
                 (chained as ``__cause__``, e.g. a :class:`~pmk_nb.errors.GridTooLarge`, with its message).
         """
-        entry = self.entry(name)
         options = ConvertOptions(
-            unit=unit, storeys=storeys, wall_thickness=wall_thickness, max_wall_gap=max_wall_gap, layers=tuple(layers),
-            image_format=image_format, door_width=door_width, chair_width=chair_width, not_windows=tuple(not_windows),
+            resolution=resolution, unit=unit, storeys=storeys, wall_thickness=wall_thickness,
+            max_wall_gap=max_wall_gap, layers=tuple(layers), image_format=image_format, door_width=door_width,
+            chair_width=chair_width, not_windows=tuple(not_windows),
         )  # fmt: skip
+        return self.convert_with(name, options, progress=progress)
+
+    def convert_with(
+        self, name: str, options: ConvertOptions, *, progress: ProgressCallback | None = None
+    ) -> builtins.list[GeneratedMap]:
+        """Convert map ``name`` with ``options`` passed whole: runs :func:`pmk_nb.library.convert.convert_plan`
+        (all storeys or none are written), then removes the files of storeys that no longer exist.
+
+        Raises:
+            LibraryError: as :meth:`convert`.
+        """
+        entry = self.entry(name)
+        resolution = options.resolution
         self._ensure_root()
         st = entry.source.stat()
         old = scan_generated(self.root, self._sources()).get(entry.name, [])
         try:
             result = convert_plan(
-                entry.source, self.root, entry.name, resolution, options,
+                entry.source, self.root, entry.name, None, options,
                 extra_meta={"map": entry.name, "source": entry.source.name}, progress=progress,
             )  # fmt: skip
         except (IndoorGMLError, OccupancyError, MapFormatError) as err:
@@ -324,7 +335,7 @@ class MapsFolder:
                 f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell.",
                 name=entry.name, hint="Use a coarser resolution (a larger number).",
             ) from err  # fmt: skip
-        if unit == "auto" and not layers:  # what storeys() reads too (the plan as read by default): for free
+        if options.unit == "auto" and not options.layers:  # what storeys() reads too (the plan as read by default)
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
         new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p}
         self._remove_superseded(old, new_names, set(result.stems.values()))

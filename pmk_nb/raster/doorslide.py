@@ -22,10 +22,12 @@ import numpy as np
 import shapely
 from shapely import ops
 
+from pmk_nb.defaults import DEFAULT_WALL_THICKNESS
+
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-DEFAULT_INSET = 0.05  # metres kept clear at each end of a stretch: half the default wall (0.10 m)
+DEFAULT_INSET = DEFAULT_WALL_THICKNESS / 2  # metres kept clear at each end of a stretch: half the default wall
 _COS = math.cos(math.radians(3.0))  # segments within 3 degrees of each other are one straight stretch
 
 

@@ -37,6 +37,8 @@ from typing import TYPE_CHECKING
 import shapely
 from shapely import ops
 
+from pmk_nb.defaults import DEFAULT_DOOR_WIDTH as DEFAULT_DOOR_WIDTH  # declared once there, re-exported here
+from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP
 from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.doorface import door_face
@@ -50,7 +52,6 @@ if TYPE_CHECKING:
 
     from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
 
-DEFAULT_DOOR_WIDTH = 0.9  # metres
 RULES = ("door", "line", "corridor", "middle", "bridge")
 MAX_BRIDGE = 3.0  # metres: the widest gap between two linked cells that a passage is laid across
 _EVIDENCE_RANK = {"type": 0, "name": 0, "partial": 1, "duality": 2}
@@ -301,7 +302,7 @@ class _Context:
 
 
 def plan_openings(
-    building: Building, storey: str, *, door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = 0.5,
+    building: Building, storey: str, *, door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = DEFAULT_MAX_WALL_GAP,
     tol: float = 0.01, inset: float = DEFAULT_INSET,
 ) -> OpeningPlan:  # fmt: skip
     """The openings of every same-storey link between two free cells, and the door lines left shut.

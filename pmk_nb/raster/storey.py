@@ -29,6 +29,10 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+# declared once in pmk_nb.defaults, re-exported here
+from pmk_nb.defaults import DEFAULT_MAX_CELLS as DEFAULT_MAX_CELLS
+from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP as DEFAULT_MAX_WALL_GAP
+from pmk_nb.defaults import DEFAULT_WALL_THICKNESS as DEFAULT_WALL_THICKNESS
 from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, new_cells, nice_ceil
 from pmk_nb.progress import ProgressCallback, emit, sub_range
@@ -50,9 +54,6 @@ from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_w
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell
 
-DEFAULT_WALL_THICKNESS = 0.10
-DEFAULT_MAX_WALL_GAP = 0.5  # metres: a gap between cells up to this wide is a wall left out of the file
-DEFAULT_MAX_CELLS = 400_000_000  # ~400 MB of int8
 NAV2_MAX_CELLS_PER_SIDE = 32767
 _WALL = 101  # transient markers while drawing: a wall cell that a door may still open,
 _OUTSIDE = 102  # and a cell outside every cell (unknown or occupied once finished)
