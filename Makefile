@@ -23,8 +23,9 @@ test: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) ros2 lint  ## install ever
 check: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) lint  ## the fast tier: everything but browser, Voilà, notebook and real-stack tests
 	$(BIN)/python -m pytest -n 2 -m "not heavy" $(PYTEST_ARGS)
 
-lint: $(STAMP)
+lint: $(STAMP)  ## ruff, and mypy (strict on the pure core: [tool.mypy] in pyproject.toml)
 	$(BIN)/ruff check pmk_nb tests bench conftest.py
+	$(BIN)/python -m mypy
 
 bench: $(STAMP) system-deps ros2  ## speed and memory figures, written to bench/results.md
 	$(BIN)/pmk bench all
@@ -71,7 +72,7 @@ $(PROXY_STAMP): proxy/package.json proxy/package-lock.json
 	touch $(PROXY_STAMP)
 
 clean:
-	rm -rf $(VENV) tests/js/node_modules proxy/node_modules .pytest_cache .ruff_cache .hypothesis test-artifacts .demo
+	rm -rf $(VENV) tests/js/node_modules proxy/node_modules .pytest_cache .ruff_cache .mypy_cache .hypothesis test-artifacts .demo
 
 # --- real ROS 2 stack (issue 9) -------------------------------------------------------------
 # Jazzy wheels + rosbridge-server-rs + our interfaces (ros/interfaces, rosapi_msgs included so the

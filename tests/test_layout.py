@@ -16,6 +16,7 @@ MAX_FUNCTION_LINES = 80
 TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
 TOP_LEVEL |= {"goalbeat.py"}  # the goal heartbeat's wire format: the link (chair/) and the watchdog (robot/)
 TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (sim, link, dashboard)
+TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
@@ -110,6 +111,7 @@ def test_one_atomic_write_helper() -> None:
 # Which packages each package may import: the data flow of ARCHITECTURE.md, one direction only.
 SHARED = {"errors", "progress", "fileio", "grid"}
 SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the link and the dashboard
+SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
 ALLOWED_IMPORTS: dict[str, set[str]] = {
     "viewport": {"grid"},  # the shared grid type and its greys, nothing else
     "grid": set(),

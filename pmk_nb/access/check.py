@@ -30,7 +30,7 @@ def check_chair_width(value: float) -> float:
 
 def profile_chair_width(given: float | None, profile: object | None) -> float:
     """The chair width to check for: ``given`` (--chair-width) when set, else the chair profile's
-    ``chair_width`` (Settings), else 0.70 m."""
+    ``chair_width`` (Settings), else :data:`~pmk_nb.defaults.DEFAULT_CHAIR_WIDTH`."""
     if given is not None:
         return check_chair_width(given)
     width = getattr(profile, "chair_width", None)
@@ -81,7 +81,7 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
 
     width = check_chair_width(chair_width)
     grid = read_map(Path(yaml_path))
-    return check_plan_file(read_sidecar(yaml_path), grid, chair_width=width)
+    return check_plan_file(read_sidecar(Path(yaml_path)), grid, chair_width=width)
 
 
 def check_plan_file(plan: StoreyPlanFile, grid: OccupancyGrid, *, chair_width: float) -> StoreyReport:

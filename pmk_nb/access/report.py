@@ -35,6 +35,8 @@ import shapely
 
 from pmk_nb.access.pixels import disc_radius_px, erode_rows, join_strip_runs, strip_runs
 from pmk_nb.access.widths import free_widths
+from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH as DEFAULT_CHAIR_WIDTH  # declared once there, re-exported here
+from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.grid import FREE, UNKNOWN
 from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.raster.scanline import Frame, write_rects
@@ -47,7 +49,6 @@ if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Cell, Link
     from pmk_nb.raster.openings import Opening, Skipped
 
-DEFAULT_CHAIR_WIDTH = 0.70  # metres
 SKIP_OUTSIDE = "outside"  # a doorway that opens onto the map's edge: where it leads is not drawn
 
 
@@ -276,8 +277,8 @@ def check_storey(
     openings: list[Opening],
     *,
     chair_width: float = DEFAULT_CHAIR_WIDTH,
-    wall_thickness: float = 0.1,
-    max_gap: float = 0.5,
+    wall_thickness: float = DEFAULT_WALL_THICKNESS,
+    max_gap: float = DEFAULT_MAX_WALL_GAP,
     skipped: Sequence[Skipped] = (),
 ) -> StoreyReport:
     """The report for one storey's written grid, its cells and the openings the converter planned

@@ -92,9 +92,12 @@ def install(
     files = {a.file_name: a.sha256 for a in assets}
     everything = len(chosen) == len(building.storeys)
     same = rec is not None and rec.get("catalogue") == catalogue.url and isinstance(rec.get("files"), dict)
-    kept = {**rec["files"], **files} if same and not everything else files  # --storey adds to what is there
+    same_rec = rec if same else None
+    # --storey adds to what is there
+    kept = {**same_rec["files"], **files} if same_rec is not None and not everything else files
     with contextlib.suppress(OSError):  # installed either way; the record only tells "new" from "changed"
-        record.put(building.id, catalogue.url, kept, all_storeys=everything or bool(same and rec.get("all_storeys")))
+        old_all = bool(same_rec is not None and same_rec.get("all_storeys"))
+        record.put(building.id, catalogue.url, kept, all_storeys=everything or old_all)
     emit(progress, "done", 1.0, f"installed {building.id}")
     return InstallResult(building.id, [s.storey or s.id for s in chosen], list(files), sum(a.size for a in assets))
 

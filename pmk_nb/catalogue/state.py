@@ -79,7 +79,8 @@ class InstallRecord:
 
     def put(self, name: str, catalogue_url: str, files: dict[str, str], *, all_storeys: bool) -> None:
         data = read_json_object(self.path)
-        installs = data.get("installs") if isinstance(data.get("installs"), dict) else {}
+        found = data.get("installs")
+        installs: dict[str, Any] = found if isinstance(found, dict) else {}
         stamp = dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
         installs[name] = {
             "catalogue": catalogue_url, "installed": stamp, "files": files, "all_storeys": all_storeys,

@@ -21,6 +21,13 @@ from pmk_nb.cli.options import (
     chair_width_arg,
     print_json,
 )
+from pmk_nb.defaults import (
+    DEFAULT_CHAIR_WIDTH,
+    DEFAULT_DOOR_WIDTH,
+    DEFAULT_MAX_CELLS,
+    DEFAULT_MAX_WALL_GAP,
+    DEFAULT_WALL_THICKNESS,
+)
 from pmk_nb.errors import GridTooLarge, PmkError
 from pmk_nb.progress import Progress
 
@@ -58,19 +65,25 @@ class TextProgress:
 
 def add_raster_options(p: argparse.ArgumentParser) -> None:
     """The rasterising options `pmk convert` and `pmk maps convert` share (one wording for both)."""
-    p.add_argument("--wall-thickness", type=float, default=0.10, help="wall band in metres (default 0.10)")
+    p.add_argument("--wall-thickness", type=float, default=DEFAULT_WALL_THICKNESS,
+                   help=f"wall band in metres (default {DEFAULT_WALL_THICKNESS:.2f})")  # fmt: skip
     p.add_argument(
-        "--max-wall-gap", type=float, default=0.5, metavar="M",
+        "--max-wall-gap", type=float, default=DEFAULT_MAX_WALL_GAP, metavar="M",
         help="walls the file left out as gaps: a door or transition opens one up to M metres wide; a gap no"
-        " transition crosses is wall up to the thickest wall, at least max(M, 1 m) (default 0.5, 0 = off)",
+        f" transition crosses is wall up to the thickest wall, at least max(M, 1 m) (default {DEFAULT_MAX_WALL_GAP:g},"
+        " 0 = off)",
     )  # fmt: skip
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
     p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
-    p.add_argument("--door-width", type=float, default=0.9, metavar="M",
-                   help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
-    p.add_argument("--chair-width", type=float, default=None, metavar="W",
-                   help="chair width for the access summary (default: the chair profile's, or 0.70)")  # fmt: skip
+    p.add_argument(
+        "--door-width", type=float, default=DEFAULT_DOOR_WIDTH, metavar="M",
+        help=f"width of openings made where the file gives no door geometry (default {DEFAULT_DOOR_WIDTH:g})",
+    )  # fmt: skip
+    p.add_argument(
+        "--chair-width", type=float, default=None, metavar="W",
+        help=f"chair width for the access summary (default: the chair profile's, or {DEFAULT_CHAIR_WIDTH:.2f})",
+    )  # fmt: skip
     add_not_window_option(p)
     add_layer_option(p)
 
@@ -125,7 +138,6 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.library.convert import ConvertOptions, convert_plan
     from pmk_nb.library.naming import safe_file_part
-    from pmk_nb.raster.storey import DEFAULT_MAX_CELLS
 
     path: Path = args.file
     if path.is_dir():
@@ -135,6 +147,7 @@ def run(args: argparse.Namespace) -> int:
         size = path.stat().st_size if path.is_file() else 0
         show = sys.stderr.isatty() or size > _BIG_FILE
     options = ConvertOptions(
+        resolution=args.resolution,
         unit=args.unit, storeys=args.storeys, wall_thickness=args.wall_thickness, max_wall_gap=args.max_wall_gap,
         outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
         max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large, door_width=args.door_width,
@@ -144,8 +157,7 @@ def run(args: argparse.Namespace) -> int:
     bar = TextProgress(sys.stderr, enabled=bool(show))
     try:
         result = convert_plan(
-            path, args.out, safe_file_part(args.name or path.stem),
-            args.resolution, options, progress=bar,
+            path, args.out, safe_file_part(args.name or path.stem), None, options, progress=bar,
         )  # fmt: skip
     except GridTooLarge as err:  # the CLI's words for the way out: the option to change
         raise PmkError(err.message, hint=f"Use --resolution {err.suggested_resolution:g} or coarser.") from err

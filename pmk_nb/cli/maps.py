@@ -205,25 +205,26 @@ def accessibility_line(yaml_path: Path) -> str:
 
 
 def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
+    from pmk_nb.library.convert import ConvertOptions
+
     with _status_line() as show:
 
         def progress(p: Progress) -> None:
             show(f"{(p.fraction or 0.0) * 100:5.1f}% {f'{p.step} {p.message}':<50}")
 
-        maps = folder.convert(
-            args.name,
-            args.resolution,
+        options = ConvertOptions(
+            resolution=args.resolution,
             storeys=args.storeys,
             wall_thickness=args.wall_thickness,
             max_wall_gap=args.max_wall_gap,
             unit=args.unit,
             image_format=args.image_format,
-            progress=progress,
             door_width=args.door_width,
             chair_width=chair_width_arg(args.chair_width),
-            not_windows=args.not_windows,
-            layers=args.layers,
+            not_windows=tuple(args.not_windows),
+            layers=tuple(args.layers),
         )
+        maps = folder.convert_with(args.name, options, progress=progress)
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:
         files = ", ".join(p.name for p in (gm.yaml, gm.image, gm.preview) if p is not None)

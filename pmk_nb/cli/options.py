@@ -15,10 +15,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.defaults import DEFAULT_RESOLUTION as DEFAULT_RESOLUTION  # declared once there, re-exported here
 from pmk_nb.errors import PmkError
-
-#: metres per cell when a command is not told: the one default of every converting command
-DEFAULT_RESOLUTION = 0.05
 
 #: concept (the argparse dest) -> its one visible option name
 CANONICAL: dict[str, str] = {

@@ -84,7 +84,9 @@ def wait_children(procs: Sequence[subprocess.Popen[Any]], interval: float = 0.5)
         for proc in procs:
             code = proc.poll()
             if code is not None:
-                print(f"pmk: {proc.args[3] if len(proc.args) > 3 else proc.args} exited ({code})", file=sys.stderr)
+                args = proc.args
+                shown = args[3] if isinstance(args, list | tuple) and len(args) > 3 else args
+                print(f"pmk: {shown!s} exited ({code})", file=sys.stderr)
                 return 1 if code else 0
         time.sleep(interval)
 

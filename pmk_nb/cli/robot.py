@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, overload
 
 from pmk_nb.cli.options import add_maps_dir
 from pmk_nb.errors import RosNotInstalled
@@ -119,6 +119,10 @@ def run_ros2(command: str, node: Callable[[], int]) -> int:
         ) from err  # fmt: skip
 
 
+@overload
+def _map_request(name: str) -> str: ...
+@overload
+def _map_request(name: None) -> None: ...
 def _map_request(name: str | None) -> str | None:
     if name is None or name.endswith((".yaml", ".yml")):
         return name

@@ -204,7 +204,8 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         self._page_sessions.setdefault(self.kernel_id, self.session.session)
         return super().connect()
 
-    def disconnect(self) -> None:
+    # the ZMQ connection this extends disconnects synchronously; its base class declares a coroutine
+    def disconnect(self) -> None:  # type: ignore[override]
         if not self._admitted:  # refused in connect(): it never counted as a connection
             forget_open_session(self)
             return

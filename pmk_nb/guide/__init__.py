@@ -10,9 +10,10 @@ Public API: :func:`load_rooms` / :class:`RoomsMap` (:mod:`.rooms`: ``room_at``, 
 errors :class:`UnknownRoom` and :class:`NoAccessibleRoute`.
 """
 
+from pmk_nb.guide.errors import NoAccessibleRoute, NoGraph, NotOnMap, RouteError, UnknownRoom
 from pmk_nb.guide.goal import goal_in_room
 from pmk_nb.guide.rooms import Room, RoomsMap, load_rooms
-from pmk_nb.guide.route import NoAccessibleRoute, NoGraph, NotOnMap, Route, RouteError, UnknownRoom, plan_route
+from pmk_nb.guide.route import Route, plan_route
 from pmk_nb.guide.visit import chair_xy, go_to
 
 __all__ = [

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Sequence
+from typing import overload
 
 import numpy as np
 import shapely
@@ -72,6 +73,12 @@ def _kind(raw: RawCell, alma: bool) -> CellKind:
     return CellKind.NON_NAVIGABLE if alma else CellKind.NAVIGABLE
 
 
+@overload
+def _scale(geom: BaseGeometry, s: float) -> BaseGeometry: ...
+@overload
+def _scale(geom: None, s: float) -> None: ...
+@overload
+def _scale(geom: BaseGeometry | None, s: float) -> BaseGeometry | None: ...
 def _scale(geom: BaseGeometry | None, s: float) -> BaseGeometry | None:
     if geom is None or s == 1.0:
         return geom
@@ -138,7 +145,7 @@ def _unit_and_names(
     """The unit judged without the doors only names make, then with those doors.named_doors finds door-sized."""
     unnamed = {b: (fp, "" if ev == "name" else ev) for b, (fp, ev) in bfps.items()}
     choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, unnamed))
-    plain = [(c.raw.id, c.raw.name, c.fp.geometry) for c in cells if c.raw.kind_name not in KIND_BY_NAME]
+    plain = [(c.raw.id, c.raw.name, c.geometry) for c in cells if c.raw.kind_name not in KIND_BY_NAME]
     named = [(b, fp.geometry) for b, (fp, ev) in bfps.items() if ev == "name"]
     doors, walls = doorlib.named_doors(plain, named, UNIT_SCALE[choice.unit], warnings)
     kinds.update(dict.fromkeys(doors, CellKind.CONNECTION))
@@ -177,7 +184,7 @@ def _classify_boundaries(
     trans_dual = {t.duality for t in doc.transitions if t.duality}
     trans_ids = {t.id for t in doc.transitions}
     kept = {c.raw.id for c in cells}
-    cell_geoms = [c.fp.geometry for c in cells]
+    cell_geoms = [c.geometry for c in cells]
     cell_tree = shapely.STRtree(cell_geoms)  # boundary -> nearby cells without an O(B x C) scan
     owners = _owners(doc)
     bfps: dict[str, tuple[Footprint, str]] = {}
@@ -216,8 +223,9 @@ def _classify_boundaries(
     marked = [fp.geometry for fp, ev in bfps.values() if ev in ("type", "name") and fp.geometry is not None]
     marked_tree = shapely.STRtree(marked) if partial and marked else None
     for bid in partial if marked_tree is not None else ():  # the wall beside a marked door is wall, however short
-        fp = bfps[bid][0]
-        if doorlib.continues_door(fp.geometry, doorlib.near(marked_tree, marked, fp.geometry, 1e-3)):
+        fp, geom = bfps[bid][0], bfps[bid][0].geometry
+        assert marked_tree is not None and geom is not None  # partial: judged on its geometry, above
+        if doorlib.continues_door(geom, doorlib.near(marked_tree, marked, geom, 1e-3)):
             bfps[bid], walls = (fp, ""), walls + 1
     if walls:
         warnings.append(f"{walls} short boundaries continue a door's wall: kept as wall, not taken for openings")
@@ -236,7 +244,7 @@ def _choose_unit(
     doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence
 ) -> UnitChoice:
     """The unit (given, or judged from the evidence) and why; refuses absurd coordinates."""
-    minx, miny, maxx, maxy = shapely.total_bounds([c.fp.geometry for c in cells]).tolist()
+    minx, miny, maxx, maxy = shapely.total_bounds([c.geometry for c in cells]).tolist()
     if unit == "auto":
         choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
     elif unit in UNIT_SCALE:
@@ -247,10 +255,10 @@ def _choose_unit(
         )
     unit = choice.unit
     if max(abs(minx), abs(miny), abs(maxx), abs(maxy)) * UNIT_SCALE[unit] > MAX_COORD_M:
-        worst = max(cells, key=lambda c: max(abs(v) for v in c.fp.geometry.bounds))
+        worst = max(cells, key=lambda c: max(abs(v) for v in c.geometry.bounds))
         raise IndoorGMLError(
             f"{doc.path}: cell {worst.raw.id!r} (line {worst.raw.line}) has coordinates beyond 1e7 m "
-            f"({max(abs(v) for v in worst.fp.geometry.bounds):.3g} {unit}); the file is corrupt or uses a "
+            f"({max(abs(v) for v in worst.geometry.bounds):.3g} {unit}); the file is corrupt or uses a "
             "geographic/other CRS",
             path=str(doc.path), element=worst.raw.id,
         )  # fmt: skip
@@ -270,7 +278,7 @@ def _model_cells(
         return _zs(floor_height(polygons[cell], x, y, tol=0.05 / s), s)
 
     raised_ids = raised_cells(
-        [(c.raw.id, c.fp.geometry, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), plan.of_cell[c.raw.id]) for c in cells],
+        [(c.raw.id, c.geometry, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), plan.of_cell[c.raw.id]) for c in cells],
         touch=0.05 / s, linked=linked, thin=WINDOW_DEPTH / s, floor_at=floor_at,
     )
     raised: list[str] = []
@@ -283,7 +291,7 @@ def _model_cells(
             kind = CellKind.NON_NAVIGABLE
             raised.append(c.raw.id)
         model_cells[c.raw.id] = Cell(
-            id=c.raw.id, kind=kind, footprint=_scale(c.fp.geometry, s), storey=storey, name=c.raw.name,
+            id=c.raw.id, kind=kind, footprint=_scale(c.geometry, s), storey=storey, name=c.raw.name,
             layer=c.layer, z_min=z_min, z_max=z_max, boundary_ids=list(c.raw.boundary_refs), window=window,
         )  # fmt: skip
     if raised:
@@ -332,8 +340,8 @@ def _boundaries(
         storey = next((cells[i].storey for i in refs.get(rb.id, []) if i in cells), None)
         if storey is None and geom is not None:
             touching = [cell_list[i] for i in tree.query(geom, predicate="dwithin", distance=0.05)]
-            if fp.z_min is not None:
-                touching.sort(key=lambda c: abs((c.z_min or 0.0) - fp.z_min * s))
+            if (z_fp := fp.z_min) is not None:
+                touching.sort(key=lambda c: abs((c.z_min or 0.0) - z_fp * s))
             storey = touching[0].storey if touching else None
         if storey is None and len(storeys) == 1:
             storey = storeys[0].name

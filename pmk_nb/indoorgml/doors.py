@@ -156,7 +156,8 @@ def _segment_distances(a: np.ndarray, d: np.ndarray, p: np.ndarray) -> np.ndarra
     """Distance from point ``p`` to each segment a[i] -> a[i] + d[i]."""
     den = (d * d).sum(axis=1)
     t = np.clip(((p[0] - a[:, 0]) * d[:, 0] + (p[1] - a[:, 1]) * d[:, 1]) / np.where(den > 0, den, 1.0), 0.0, 1.0)
-    return np.hypot(a[:, 0] + t * d[:, 0] - p[0], a[:, 1] + t * d[:, 1] - p[1])
+    dist: np.ndarray = np.hypot(a[:, 0] + t * d[:, 0] - p[0], a[:, 1] + t * d[:, 1] - p[1])
+    return dist
 
 
 def _parallel(u: list[float], v: list[float]) -> bool:

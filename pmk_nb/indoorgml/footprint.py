@@ -110,8 +110,12 @@ def _cut_voids(fp: Footprint, voids: list[PolygonZ]) -> BaseGeometry | None:
         shells.setdefault(p.void, []).append(PolygonZ(p.exterior, p.interiors))
     for shell in shells.values():
         void = _solid_footprint(shell)
-        no_z = fp.z_min is None or fp.z_max is None or void.z_min is None  # a 2D void: a hole
-        if void.geometry is not None and (no_z or void.z_min - fp.z_min < 0.5 * (fp.z_max - fp.z_min)):
+        if void.geometry is None or geom is None:
+            continue
+        # a 2D void (no heights) is a hole; a 3D one only when it reaches into the lower half
+        if fp.z_min is None or fp.z_max is None or void.z_min is None or void.z_min - fp.z_min < 0.5 * (
+            fp.z_max - fp.z_min
+        ):
             geom = polygonal(geom.difference(void.geometry))
     return None if geom is None or geom.is_empty or geom.area <= 0 else geom
 
@@ -178,7 +182,7 @@ def floor_height(polys: list[PolygonZ], x: float, y: float, tol: float) -> float
         normal = np.linalg.svd(xyz - centre, full_matrices=False)[2][-1]
         if abs(normal[2]) < WALL_TILT:
             continue  # a wall (or nearly): it has no height to stand on
-        ring = shapely.Polygon(xyz[:, :2])
+        ring: BaseGeometry = shapely.Polygon(xyz[:, :2])
         if not ring.is_valid:  # a floor drawn around a stairwell through a slit is still a floor
             ring = shapely.make_valid(ring)
         if ring.distance(point) > tol:
@@ -235,8 +239,8 @@ def boundary_footprints(boundaries: Sequence[tuple[list[PolygonZ], list[list[Coo
     out: list[Footprint | None] = [None] * len(boundaries)
     if simple:
         coords, which = _ragged([boundaries[i][1][0] for i in simple])
-        geoms = shapely.linestrings(coords, indices=which)
-        for i, g, length in zip(simple, geoms, shapely.length(geoms), strict=True):
+        geoms = np.asarray(shapely.linestrings(coords, indices=which))
+        for i, g, length in zip(simple, geoms, np.asarray(shapely.length(geoms)), strict=True):
             out[i] = Footprint(g if length > 0 else None, None, None)
     return [fp if fp is not None else boundary_footprint(*boundaries[i]) for i, fp in enumerate(out)]
 
@@ -252,8 +256,9 @@ def cell_footprints(cells: Sequence[list[PolygonZ]]) -> list[Footprint]:
     out: list[Footprint | None] = [None] * len(cells)
     if simple:
         coords, which = _ragged([cells[i][0].exterior for i in simple])
-        geoms = shapely.polygons(shapely.linearrings(coords, indices=which))
-        for i, g, valid, area in zip(simple, geoms, shapely.is_valid(geoms), shapely.area(geoms), strict=True):
+        geoms = np.asarray(shapely.polygons(shapely.linearrings(coords, indices=which)))
+        valid_area = zip(np.asarray(shapely.is_valid(geoms)), np.asarray(shapely.area(geoms)), strict=True)
+        for i, g, (valid, area) in zip(simple, geoms, valid_area, strict=True):
             if valid and area > 0:
                 out[i] = Footprint(g, None, None)
     return [fp if fp is not None else cell_footprint(cells[i]) for i, fp in enumerate(out)]

@@ -208,10 +208,10 @@ def coords_of(
     """All coordinates under a LinearRing/LineString/Point, in document order."""
     pts: list[Coord] = []
     els = list(container.iter(*tags.coords)) if tags.coords else []
-    if ring and hint is None and len(els) > 1 and local_name(els[0].tag) == "poslist":  # curve segments
-        hint = _chained_dimension([e for e in els if local_name(e.tag) == "poslist"])
+    if ring and hint is None and len(els) > 1 and local(els[0]) == "poslist":  # curve segments
+        hint = _chained_dimension([e for e in els if local(e) == "poslist"])
     for el in els:
-        name = local_name(el.tag)
+        name = local(el)
         if name == "pos":
             pts.append(pos_coord(el))
         elif name == "poslist":

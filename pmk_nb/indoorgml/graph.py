@@ -36,8 +36,8 @@ def linked_pairs(doc: RawDocument) -> frozenset[frozenset[str]]:
     ids = {c.id for c in doc.cells}
     pairs = set()
     for t in doc.transitions:
-        ends = [cell_of.get(ref) or (ref if ref in ids else None) for ref in t.connects[:2]]
-        if len(ends) == 2 and all(ends) and ends[0] != ends[1]:
+        ends = [e for ref in t.connects[:2] if (e := cell_of.get(ref) or (ref if ref in ids else None))]
+        if len(ends) == 2 and ends[0] != ends[1]:
             pairs.add(frozenset(ends))
     return frozenset(pairs)
 

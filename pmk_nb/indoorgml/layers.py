@@ -46,6 +46,13 @@ class KeptCell:
     fp: Footprint
     layer: str
 
+    @property
+    def geometry(self) -> BaseGeometry:
+        """The footprint's plan: never None for a kept cell (cells without one are dropped)."""
+        geom = self.fp.geometry
+        assert geom is not None, self.raw.id
+        return geom
+
 
 def _cell_layers(doc: RawDocument) -> dict[str, str]:
     """Layer of each cell: the SpaceLayer it sits in, else the layer of its dual State."""
@@ -124,7 +131,7 @@ def _name(doc: RawDocument, lid: str) -> str:
 def _same_level(a: Footprint, b: Footprint) -> bool:
     """Two cells at the same height (a 2D plan, or z unknown: yes): storeys drawn as layers of their own
     cover the same ground and must not be taken for repeats of each other."""
-    if None in (a.z_min, a.z_max, b.z_min, b.z_max):
+    if a.z_min is None or a.z_max is None or b.z_min is None or b.z_max is None:
         return True
     ha, hb = a.z_max - a.z_min, b.z_max - b.z_min
     shared = min(a.z_max, b.z_max) - max(a.z_min, b.z_min)
@@ -136,13 +143,13 @@ def _inside(cells: list[KeptCell], base: list[KeptCell]) -> tuple[float, int]:
     partly inside and partly outside (5-95 %): a zone across rooms, as a room or a wing never does."""
     if not cells or not base:
         return 0.0, 0
-    tree = shapely.STRtree([b.fp.geometry for b in base])
+    tree = shapely.STRtree([b.geometry for b in base])
     total = inside = 0.0
     straddling = 0
     for c in cells:
-        area = c.fp.geometry.area
-        near = [base[i].fp.geometry for i in tree.query(c.fp.geometry) if _same_level(c.fp, base[i].fp)]
-        part = c.fp.geometry.intersection(_filled(near)).area if near and area > 0 else 0.0
+        area = c.geometry.area
+        near = [base[i].geometry for i in tree.query(c.geometry) if _same_level(c.fp, base[i].fp)]
+        part = c.geometry.intersection(_filled(near)).area if near and area > 0 else 0.0
         total, inside = total + area, inside + part
         straddling += 0.05 < part / area < 0.95 if area > 0 else 0
     return (inside / total if total > 0 else 0.0), straddling

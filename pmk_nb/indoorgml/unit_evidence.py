@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.indoorgml.footprint import FLAT_SLOPE, STEP_RISE, Footprint
 from pmk_nb.indoorgml.gml import PolygonZ
@@ -41,8 +42,8 @@ def gather(
     doc: RawDocument, cells: list[KeptCell], kinds: dict[str, CellKind], bfps: dict[str, tuple[Footprint, str]]
 ) -> UnitEvidence:
     """Every size in ``cells`` and the boundaries ``bfps`` that says which unit the file uses."""
-    minx, miny, maxx, maxy = shapely.total_bounds([c.fp.geometry for c in cells]).tolist()
-    big = sorted(cells, key=lambda c: c.fp.geometry.area)[len(cells) // 2 :]  # rooms, not windows or doors
+    minx, miny, maxx, maxy = shapely.total_bounds([c.geometry for c in cells]).tolist()
+    big = sorted(cells, key=lambda c: c.geometry.area)[len(cells) // 2 :]  # rooms, not windows or doors
     big_ids = {c.raw.id for c in big}  # by id: comparing the records themselves made this O(cells²)
     ev = UnitEvidence(extent=max(maxx - minx, maxy - miny), exporter=exporter(doc))
     ev.cell_heights = [h for c in big if (h := _height(c.fp)) is not None]
@@ -57,7 +58,7 @@ def gather(
             ev.passage_widths.append(fp.geometry.length)
     rooms_z: list[tuple[float, float | None]] = []
     for c in cells:
-        kind, geom = kinds[c.raw.id], c.fp.geometry
+        kind, geom = kinds[c.raw.id], c.geometry
         if kind.is_door:
             ev.door_widths.append(_long_side(geom))
             if (h := _height(c.fp)) is not None:
@@ -78,7 +79,7 @@ def _height(fp: Footprint) -> float | None:
     return None if fp.z_min is None or fp.z_max is None else fp.z_max - fp.z_min
 
 
-def _long_side(geom: shapely.Geometry) -> float:
+def _long_side(geom: BaseGeometry) -> float:
     """The long side of a door cell's plan: its width (the short side is the wall's thickness)."""
     xy = shapely.get_coordinates(geom.minimum_rotated_rectangle)
     return max((math.dist(xy[i], xy[i + 1]) for i in range(min(2, len(xy) - 1))), default=0.0)

@@ -86,6 +86,11 @@ class Clue:
         return f"{self.agree(unit)} of {n} {self.name} (median {self.size(unit)})"
 
 
+def _positive(values: list[float]) -> tuple[float, ...]:
+    """The sizes a clue can use: a 2D cell has no height (0)."""
+    return tuple(v for v in values if v > 0)
+
+
 @dataclass
 class UnitEvidence:
     """What the plan offers to judge its unit by (all in file units)."""
@@ -102,17 +107,16 @@ class UnitEvidence:
     exporter: tuple[str, str] | None = None  # (unit, what the file says: "written by ...") for a known writer
 
     def clues(self) -> list[Clue]:
-        pos = lambda vs: tuple(v for v in vs if v > 0)  # noqa: E731 - 2D cells have no height
         out = [
-            Clue("door widths", pos(self.door_widths), *DOOR_RANGE, 4),
-            Clue("door heights", pos(self.door_heights), 1.8, 3.0, 1),
-            Clue("cell heights", pos(self.cell_heights), 2.2, 6.0, 2),
-            Clue("storey heights", pos(self.storey_heights), 2.2, 6.0, 1),
-            Clue("stair risers", pos(self.stair_risers), 0.1, 0.26, 2),
-            Clue("room areas", pos(self.room_areas), 4.0, 200.0, 1, power=2),
-            Clue("corridor widths", pos(self.corridor_widths), 0.8, 8.0, 1),
-            Clue("transition faces", pos(self.passage_widths), *DOOR_RANGE, 0.5),
-            Clue("plan extent", pos([self.extent]), 5.0, 500.0, 1),
+            Clue("door widths", _positive(self.door_widths), *DOOR_RANGE, 4),
+            Clue("door heights", _positive(self.door_heights), 1.8, 3.0, 1),
+            Clue("cell heights", _positive(self.cell_heights), 2.2, 6.0, 2),
+            Clue("storey heights", _positive(self.storey_heights), 2.2, 6.0, 1),
+            Clue("stair risers", _positive(self.stair_risers), 0.1, 0.26, 2),
+            Clue("room areas", _positive(self.room_areas), 4.0, 200.0, 1, power=2),
+            Clue("corridor widths", _positive(self.corridor_widths), 0.8, 8.0, 1),
+            Clue("transition faces", _positive(self.passage_widths), *DOOR_RANGE, 0.5),
+            Clue("plan extent", _positive([self.extent]), 5.0, 500.0, 1),
         ]
         return [c for c in out if c.values]
 

@@ -18,12 +18,15 @@ import os
 import re
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO, Any, BinaryIO
+from typing import TYPE_CHECKING, Any, BinaryIO, Literal
 
 from lxml import etree
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.progress import ProgressCallback, emit
+
+if TYPE_CHECKING:
+    from _typeshed import SupportsRead
 
 #: The lxml options every parse of a building plan uses (reader and sniff alike).
 SAFE_PARSER_OPTIONS: dict[str, Any] = {
@@ -35,7 +38,7 @@ SAFE_PARSER_OPTIONS: dict[str, Any] = {
     "remove_pis": True,
     "dtd_validation": False,
 }
-_EVENTS = ("start", "end")
+_EVENTS: tuple[Literal["start"], Literal["end"]] = ("start", "end")
 
 PROLOG_LIMIT = 1 << 20  # a DOCTYPE/prolog longer than 1 MiB is not a building plan
 GML_ID = "{http://www.opengis.net/gml/3.2}id"
@@ -49,7 +52,7 @@ def pull_parser() -> etree.XMLPullParser:
     return etree.XMLPullParser(events=_EVENTS, **SAFE_PARSER_OPTIONS)
 
 
-def iterparse(source: IO[bytes]) -> Any:
+def iterparse(source: SupportsRead[bytes]) -> Any:
     """``lxml.etree.iterparse`` over a binary file with :data:`SAFE_PARSER_OPTIONS`."""
     return etree.iterparse(source, events=_EVENTS, **SAFE_PARSER_OPTIONS)
 

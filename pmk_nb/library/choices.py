@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeGuard
 
 from pmk_nb.indoorgml.units import UNIT_CHOICES
 from pmk_nb.raster.openings import SKIP_WINDOW
@@ -44,7 +44,7 @@ def read_choices(doc: Mapping[str, Any] | None) -> ConvertChoices | None:
     return ConvertChoices(str(unit), tuple(words), tuple(layers))
 
 
-def _strings(value: Any) -> bool:
+def _strings(value: Any) -> TypeGuard[list[str]]:
     return isinstance(value, list) and all(isinstance(x, str) for x in value)
 
 

@@ -15,26 +15,28 @@ import os
 import shutil
 import tempfile
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.access.check import check_chair_width, check_grid
-from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport
+from pmk_nb.access.report import StoreyReport
 from pmk_nb.access.sidecar import sidecar_json, sidecar_path
+from pmk_nb.defaults import (
+    DEFAULT_CHAIR_WIDTH,
+    DEFAULT_DOOR_WIDTH,
+    DEFAULT_MAX_CELLS,
+    DEFAULT_MAX_WALL_GAP,
+    DEFAULT_RESOLUTION,
+    DEFAULT_WALL_THICKNESS,
+)
 from pmk_nb.errors import MapFormatError, OccupancyError
 from pmk_nb.fileio import Content, replace_all
 from pmk_nb.library.choices import CHOICES_KEY, ConvertChoices
 from pmk_nb.library.naming import storey_map_names
 from pmk_nb.progress import ProgressCallback, emit, sub_range
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, plan_openings
-from pmk_nb.raster.storey import (
-    DEFAULT_MAX_CELLS,
-    DEFAULT_MAX_WALL_GAP,
-    DEFAULT_WALL_THICKNESS,
-    plan_storey,
-    rasterise_storey,
-)
+from pmk_nb.raster.openings import plan_openings
+from pmk_nb.raster.storey import plan_storey, rasterise_storey
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building
@@ -48,8 +50,11 @@ _RASTER_END = 0.9  # ... and for rasterising every storey; the rest is writing
 
 @dataclass(frozen=True)
 class ConvertOptions:
-    """How to rasterise and write (defaults are the dashboard's)."""
+    """What to convert and how: one value that passes whole from ``pmk convert``, ``pmk maps convert``, the
+    Maps screen and :meth:`~pmk_nb.library.folder.MapsFolder.convert_with` to the rasteriser, the openings
+    plan and the accessibility check. Every default is :mod:`pmk_nb.defaults`'s."""
 
+    resolution: float = DEFAULT_RESOLUTION  # metres per cell
     unit: str = "auto"
     storeys: Sequence[str] | None = None
     wall_thickness: float = DEFAULT_WALL_THICKNESS
@@ -92,10 +97,10 @@ class ConvertResult:
     stems: dict[str, str]  # file stem of every storey of the building, converted or not
 
 
-def _check_options(resolution: float, opts: ConvertOptions) -> float:
-    """Refuse bad numbers before the (possibly slow) read."""
+def _check_options(opts: ConvertOptions) -> float:
+    """Refuse bad numbers before the (possibly slow) read; returns the resolution as a float."""
     for label, value, positive in (
-        ("resolution", resolution, True),
+        ("resolution", opts.resolution, True),
         ("wall thickness", opts.wall_thickness, False),
         ("max wall gap", opts.max_wall_gap, False),
         ("door width", opts.door_width, True),
@@ -109,7 +114,7 @@ def _check_options(resolution: float, opts: ConvertOptions) -> float:
     if opts.outside not in ("unknown", "occupied"):
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {opts.outside!r}")
     check_chair_width(opts.chair_width)
-    return float(resolution)
+    return float(opts.resolution)
 
 
 def _wanted_storeys(building: Building, storeys: Sequence[str] | None) -> list[str]:
@@ -123,7 +128,6 @@ def _stage_storeys(
     building: Building,
     wanted: list[str],
     stems: dict[str, str],
-    resolution: float,
     opts: ConvertOptions,
     staging: Path,
     extra_meta: Mapping[str, Any],
@@ -132,9 +136,12 @@ def _stage_storeys(
     """Rasterise and write every wanted storey into ``staging``; returns the maps (paths in staging)."""
     from pmk_nb.rosmap.files import write_map
 
-    raster_kw = {"wall_thickness": opts.wall_thickness, "max_cells": opts.max_cells, "allow_large": opts.allow_large}
+    resolution = opts.resolution
     for storey in wanted:  # every storey's size is checked before anything is rasterised
-        plan_storey(building, storey, resolution, **raster_kw)
+        plan_storey(
+            building, storey, resolution, wall_thickness=opts.wall_thickness, max_cells=opts.max_cells,
+            allow_large=opts.allow_large,
+        )  # fmt: skip
     span = (_RASTER_END - _READ_END) / len(wanted)
     staged: list[StoreyMap] = []
     for i, storey in enumerate(wanted):
@@ -144,7 +151,7 @@ def _stage_storeys(
         grid = rasterise_storey(
             building, storey, resolution, outside=opts.outside, max_wall_gap=opts.max_wall_gap,
             door_width=opts.door_width, openings=plan, progress=sub_range(progress, start, start + span),
-            **raster_kw,
+            wall_thickness=opts.wall_thickness, max_cells=opts.max_cells, allow_large=opts.allow_large,
         )  # fmt: skip
         grid.meta.update(extra_meta)
         files = write_map(
@@ -194,7 +201,7 @@ def convert_plan(
     source: str | os.PathLike[str],
     out_dir: str | os.PathLike[str],
     name: str,
-    resolution: float,
+    resolution: float | None = None,
     options: ConvertOptions | None = None,
     *,
     extra_meta: Mapping[str, Any] | None = None,
@@ -206,7 +213,7 @@ def convert_plan(
         source: the IndoorGML file.
         out_dir: the folder the map sets go to (created if missing).
         name: base name of the files (``NAME`` for a one-storey building, ``NAME_<storey>`` otherwise).
-        resolution: metres per cell.
+        resolution: metres per cell: ``options.resolution`` when None (given, it replaces that).
         options: what to convert and how (:class:`ConvertOptions`).
         extra_meta: keys added to every YAML (the maps folder names the map and its source there).
         progress: steps ``read``, ``rasterise``, ``write``, ``done``.
@@ -219,7 +226,9 @@ def convert_plan(
     from pmk_nb.indoorgml import read_building
 
     opts = options or ConvertOptions()
-    res = _check_options(resolution, opts)
+    if resolution is not None:
+        opts = replace(opts, resolution=resolution)
+    opts = replace(opts, resolution=_check_options(opts))
     emit(progress, "read", 0.0, Path(source).name)
     building = read_building(
         source, unit=opts.unit, progress=sub_range(progress, 0.0, _READ_END), not_windows=opts.not_windows,
@@ -234,7 +243,7 @@ def convert_plan(
     except OSError as err:
         raise MapFormatError(f"cannot create the map folder {target}: {err.strerror or err}", path=str(target)) from err
     try:
-        staged = _stage_storeys(building, wanted, stems, res, opts, staging, extra_meta or {}, progress)
+        staged = _stage_storeys(building, wanted, stems, opts, staging, extra_meta or {}, progress)
         emit(progress, "write", _RASTER_END + 0.05, f"{len(staged)} map set(s)")
         maps = _install(staged, target)
     finally:

@@ -8,6 +8,7 @@ failed download, import or conversion leaves the folder as it was.
 
 from __future__ import annotations
 
+import builtins
 import contextlib
 import hashlib
 import os
@@ -16,10 +17,10 @@ import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import BinaryIO
+from typing import IO
 
-from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH
 from pmk_nb.access.sidecar import sidecar_path
+from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH, DEFAULT_DOOR_WIDTH, DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.errors import AlreadyExists, IndoorGMLError, LibraryError, MapFormatError, OccupancyError
 from pmk_nb.fileio import atomic_write
 from pmk_nb.indoorgml.sniff import check_indoorgml
@@ -30,7 +31,6 @@ from pmk_nb.library.naming import SOURCE_SUFFIXES, check_name
 from pmk_nb.library.netguard import ALLOW_LOCAL_ENV
 from pmk_nb.library.scan import GeneratedMap, scan_generated
 from pmk_nb.progress import ProgressCallback
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
 
 __all__ = ["GeneratedMap", "MapEntry", "MapsFolder", "StoreyInfo", "check_name", "default_maps_dir"]
 
@@ -131,7 +131,7 @@ class MapsFolder:
             entries.append(MapEntry(name=name, source=path, size=size, generated=maps, sha256=sha))
         return entries
 
-    def orphans(self) -> list[GeneratedMap]:
+    def orphans(self) -> builtins.list[GeneratedMap]:
         """Map YAMLs in the folder that belong to no IndoorGML source (e.g. copied in by hand)."""
         return scan_generated(self.root, self._sources()).get("", [])
 
@@ -147,7 +147,7 @@ class MapsFolder:
         known = ", ".join(e.name for e in self.list()) or "none"
         raise LibraryError(f"no map named {key!r} in {self.root} (maps: {known})")
 
-    def storeys(self, name: str) -> list[StoreyInfo]:
+    def storeys(self, name: str) -> builtins.list[StoreyInfo]:
         """Storeys of map ``name`` (cells, doors, extent), known before it is converted.
 
         Read from the source once and cached while its mtime and size are unchanged.
@@ -158,7 +158,7 @@ class MapsFolder:
         entry = self.entry(name)
         return self._storey_cache.get(entry.source, entry.name)
 
-    def cached_storeys(self, map_: str | MapEntry) -> list[StoreyInfo] | None:
+    def cached_storeys(self, map_: str | MapEntry) -> builtins.list[StoreyInfo] | None:
         """The storeys of a map (name or entry) if already read for its file as it is now; never reads it."""
         source = map_.source if isinstance(map_, MapEntry) else self._sources().get(_lookup_name(map_))
         return None if source is None else self._storey_cache.cached(source)
@@ -182,7 +182,7 @@ class MapsFolder:
             raise AlreadyExists(f"map {name!r} already exists; pass overwrite=True to replace it", name=name)
 
     def _add_source(
-        self, name: str, overwrite: bool, suffix: str, write: Callable[[BinaryIO], None], source: str, *, what: str,
+        self, name: str, overwrite: bool, suffix: str, write: Callable[[IO[bytes]], None], source: str, *, what: str,
         failure: str,
     ) -> MapEntry:
         """Add map ``name``: ``write`` fills a scratch file that is checked to be IndoorGML, then its
@@ -199,7 +199,7 @@ class MapsFolder:
         except OSError as err:
             raise LibraryError(f"{failure}: {err.strerror or err}", name=name) from err
 
-    def _install(self, checked: BinaryIO, name: str) -> MapEntry:
+    def _install(self, checked: IO[bytes], name: str) -> MapEntry:
         """Write the checked file as NAME.gml (0644: the folder is shared like the original ALMA_MAPS);
         drops a NAME.xml it replaces."""
         target = self.root / f"{name}.gml"
@@ -230,7 +230,7 @@ class MapsFolder:
         if current is not None and current.exists() and current.samefile(src):
             raise LibraryError(f"{shown} is already map {name!r} in {self.root}")
 
-        def copy(out: BinaryIO) -> None:
+        def copy(out: IO[bytes]) -> None:
             with open(src, "rb") as inp:
                 shutil.copyfileobj(inp, out, 1 << 20)
 
@@ -263,9 +263,11 @@ class MapsFolder:
         check_url(url)
         self._ensure_root()
 
-        def save(out: BinaryIO) -> None:
-            limits = {"timeout": timeout, "deadline": deadline, "max_bytes": max_bytes}
-            fetch(url, out, **limits, progress=progress, allow_local=self.allow_local)
+        def save(out: IO[bytes]) -> None:
+            fetch(
+                url, out, timeout=timeout, deadline=deadline, max_bytes=max_bytes, progress=progress,
+                allow_local=self.allow_local,
+            )  # fmt: skip
 
         failure = f"cannot save the download as {name!r} in {self.root}"
         return self._add_source(name, overwrite, ".part", save, "url", what=f"the file at {url}", failure=failure)
@@ -276,19 +278,18 @@ class MapsFolder:
         name: str,
         resolution: float,
         *,
-        storeys: list[str] | None = None,
-        wall_thickness: float = 0.10,
+        storeys: builtins.list[str] | None = None,
+        wall_thickness: float = DEFAULT_WALL_THICKNESS,
         unit: str = "auto",
         image_format: str = "pgm",
         progress: ProgressCallback | None = None,
-        max_wall_gap: float = 0.5,
+        max_wall_gap: float = DEFAULT_MAX_WALL_GAP,
         door_width: float = DEFAULT_DOOR_WIDTH,
         chair_width: float = DEFAULT_CHAIR_WIDTH,
         not_windows: Sequence[str] = (), layers: Sequence[str] = (),
-    ) -> list[GeneratedMap]:
-        """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2): runs
-        :func:`pmk_nb.library.convert.convert_plan` (all storeys or none are written), then removes the
-        files of storeys that no longer exist.
+    ) -> builtins.list[GeneratedMap]:
+        """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2):
+        :meth:`convert_with` the :class:`~pmk_nb.library.convert.ConvertOptions` these keywords make.
 
         Args:
             resolution: metres per cell (e.g. 0.05).
@@ -301,17 +302,30 @@ class MapsFolder:
             LibraryError: unknown map, bad arguments, or any reader / rasteriser / writer error
                 (chained as ``__cause__``, e.g. a :class:`~pmk_nb.errors.GridTooLarge`, with its message).
         """
-        entry = self.entry(name)
         options = ConvertOptions(
-            unit=unit, storeys=storeys, wall_thickness=wall_thickness, max_wall_gap=max_wall_gap, layers=tuple(layers),
-            image_format=image_format, door_width=door_width, chair_width=chair_width, not_windows=tuple(not_windows),
+            resolution=resolution, unit=unit, storeys=storeys, wall_thickness=wall_thickness,
+            max_wall_gap=max_wall_gap, layers=tuple(layers), image_format=image_format, door_width=door_width,
+            chair_width=chair_width, not_windows=tuple(not_windows),
         )  # fmt: skip
+        return self.convert_with(name, options, progress=progress)
+
+    def convert_with(
+        self, name: str, options: ConvertOptions, *, progress: ProgressCallback | None = None
+    ) -> builtins.list[GeneratedMap]:
+        """Convert map ``name`` with ``options`` passed whole: runs :func:`pmk_nb.library.convert.convert_plan`
+        (all storeys or none are written), then removes the files of storeys that no longer exist.
+
+        Raises:
+            LibraryError: as :meth:`convert`.
+        """
+        entry = self.entry(name)
+        resolution = options.resolution
         self._ensure_root()
         st = entry.source.stat()
         old = scan_generated(self.root, self._sources()).get(entry.name, [])
         try:
             result = convert_plan(
-                entry.source, self.root, entry.name, resolution, options,
+                entry.source, self.root, entry.name, None, options,
                 extra_meta={"map": entry.name, "source": entry.source.name}, progress=progress,
             )  # fmt: skip
         except (IndoorGMLError, OccupancyError, MapFormatError) as err:
@@ -321,14 +335,16 @@ class MapsFolder:
                 f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell.",
                 name=entry.name, hint="Use a coarser resolution (a larger number).",
             ) from err  # fmt: skip
-        if unit == "auto" and not layers:  # what storeys() reads too (the plan as read by default): for free
+        if options.unit == "auto" and not options.layers:  # what storeys() reads too (the plan as read by default)
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
         new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p}
         self._remove_superseded(old, new_names, set(result.stems.values()))
         wanted = {m.files.yaml.stem for m in result.maps}
         return [g for g in self.entry(entry.name).generated if g.yaml.stem in wanted]
 
-    def _remove_superseded(self, old: list[GeneratedMap], new_names: set[str], current_stems: set[str]) -> None:
+    def _remove_superseded(
+        self, old: builtins.list[GeneratedMap], new_names: set[str], current_stems: set[str]
+    ) -> None:
         """Delete old files the new set does not reuse: other image formats, storeys now gone.
 
         A storey that still exists but was not converted this time keeps its files, and so does a

@@ -66,9 +66,10 @@ def open_checked(
     infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)  # a gaierror is urllib's to report
     if not allow_local:
         for info in infos:
-            why = refusal(info[4][0])
+            address_text = str(info[4][0])  # an IP address (the stubs allow an int for other families)
+            why = refusal(address_text)
             if why is not None:
-                raise AddressRefused(url=url, host=host, address=info[4][0], reason=why)
+                raise AddressRefused(url=url, host=host, address=address_text, reason=why)
     last: OSError | None = None
     for family, kind, proto, _name, sockaddr in infos:
         sock = socket.socket(family, kind, proto)
@@ -123,7 +124,8 @@ class _HTTPSHandler(urllib.request.HTTPSHandler):
 
     def https_open(self, req: Any) -> Any:
         conn = functools.partial(_GuardedHTTPS, url=req.full_url, allow_local=self.allow_local)
-        return self.do_open(conn, req, context=self._context, check_hostname=self._check_hostname)
+        # urllib keeps the handler's TLS settings private (the stubs leave them out)
+        return self.do_open(conn, req, context=self._context, check_hostname=self._check_hostname)  # type: ignore[attr-defined]
 
 
 def guarded_handlers(allow_local: bool) -> list[urllib.request.BaseHandler]:

@@ -49,7 +49,7 @@ def door_face(door: BaseGeometry, room: BaseGeometry, gap: float, limit: float, 
         xy = shapely.get_coordinates(part.exterior)
         if len(xy) < 2:
             continue
-        d = shapely.distance(shapely.points(xy), room)
+        d = np.asarray(shapely.distance(shapely.points(xy), room))
         length = np.hypot(*(xy[1:] - xy[:-1]).T)
         near = np.maximum(d[:-1], d[1:]) <= reach
         step = xy[1:] - xy[:-1]

@@ -15,20 +15,23 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
 from shapely import ops
 
+from pmk_nb.defaults import DEFAULT_WALL_THICKNESS
+
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-DEFAULT_INSET = 0.05  # metres kept clear at each end of a stretch: half the default wall (0.10 m)
+DEFAULT_INSET = DEFAULT_WALL_THICKNESS / 2  # metres kept clear at each end of a stretch: half the default wall
 _COS = math.cos(math.radians(3.0))  # segments within 3 degrees of each other are one straight stretch
 
 
-def straight_pieces(run: BaseGeometry) -> list[BaseGeometry]:
+def straight_pieces(run: BaseGeometry) -> list[shapely.LineString]:
     """``run`` cut at every corner into straight LineStrings (a closed run is cut at a corner too)."""
     xy = shapely.get_coordinates(run)
     if len(xy) < 2:
@@ -50,7 +53,9 @@ def straight_pieces(run: BaseGeometry) -> list[BaseGeometry]:
     return [shapely.LineString(xy[[a, b]]) for a, b in itertools.pairwise(cuts)]
 
 
-def place(runs: list[BaseGeometry], width: float, inset: float, at: BaseGeometry | None = None) -> BaseGeometry:
+def place(
+    runs: Sequence[BaseGeometry], width: float, inset: float, at: shapely.Point | None = None
+) -> BaseGeometry:
     """A ``width`` opening on one straight piece of ``runs``, ``inset`` clear of the piece's ends.
 
     ``at`` (where the transition's line crosses the wall): the fitting piece whose window lies nearest
@@ -69,7 +74,7 @@ def place(runs: list[BaseGeometry], width: float, inset: float, at: BaseGeometry
     return min(windows, key=lambda w: w.distance(at))
 
 
-def _window(piece: BaseGeometry, centre: float, width: float, inset: float) -> BaseGeometry:
+def _window(piece: shapely.LineString, centre: float, width: float, inset: float) -> BaseGeometry:
     """``width`` of ``piece`` around ``centre``, ``inset`` clear of its ends, or centred if it is shorter."""
     keep = min(inset, (piece.length - width) / 2)
     start = min(max(centre - width / 2, keep), piece.length - keep - width)

@@ -48,7 +48,8 @@ class Nearby:
 
     @cached_property
     def _doors(self) -> shapely.STRtree:
-        return shapely.STRtree([d.geometry for d in self.doors])
+        # STRtree skips None (shapely documents it); the stubs' GeoArrayLikeSeq leaves None out
+        return shapely.STRtree([d.geometry for d in self.doors])  # type: ignore[arg-type]
 
     @cached_property
     def _virtual(self) -> shapely.STRtree:

@@ -30,12 +30,15 @@ drawing the walls, so no wall band, supercover line or gap filling narrows it.
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import shapely
 from shapely import ops
 
+from pmk_nb.defaults import DEFAULT_DOOR_WIDTH as DEFAULT_DOOR_WIDTH  # declared once there, re-exported here
+from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP
 from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.model import CellKind
 from pmk_nb.raster.doorface import door_face
@@ -49,7 +52,6 @@ if TYPE_CHECKING:
 
     from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
 
-DEFAULT_DOOR_WIDTH = 0.9  # metres
 RULES = ("door", "line", "corridor", "middle", "bridge")
 MAX_BRIDGE = 3.0  # metres: the widest gap between two linked cells that a passage is laid across
 _EVIDENCE_RANK = {"type": 0, "name": 0, "partial": 1, "duality": 2}
@@ -172,7 +174,7 @@ def _shared(a: Cell, b: Cell, gap: float, tol: float) -> BaseGeometry:
     return merged
 
 
-def _runs(shared: BaseGeometry) -> list[BaseGeometry]:
+def _runs(shared: BaseGeometry) -> list[shapely.LineString]:
     return sorted(shapely.get_parts(shared).tolist(), key=lambda g: -g.length)
 
 
@@ -197,13 +199,13 @@ def _door_lines(link: Link, shared: BaseGeometry, doors: list[Boundary], gap: fl
     return [g for r, g in found if r == best]
 
 
-def _project(run: BaseGeometry, geoms: list[BaseGeometry]) -> list[BaseGeometry]:
+def _project(run: shapely.LineString, geoms: list[BaseGeometry]) -> list[BaseGeometry]:
     """Door lines as stretches of the shared run (a door line in a gap lies beside it, not on it).
 
     A door that runs along the run covers at least half of the run or of itself there; one that only
     ends at it (the door of a neighbouring wall, meeting this one at a corner) projects to a sliver
     and is not this boundary's door."""
-    out = []
+    out: list[BaseGeometry] = []
     for g in geoms:
         ends = shapely.get_coordinates(g)
         d = sorted(run.project(shapely.Point(p)) for p in (ends[0], ends[-1]))
@@ -217,7 +219,7 @@ def _corridor_like(a: Cell, b: Cell, virtual: bool, walls_as_gaps: bool, gap: fl
     return both or virtual or (walls_as_gaps and gap <= _TOUCH)
 
 
-def _made(link: Link, rule: str, segs: list[BaseGeometry], a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening:
+def _made(link: Link, rule: str, segs: Sequence[BaseGeometry], a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening:
     """An opening with each segment's local gap: how far its ends and middle are from either cell's
     outline (a gap between the cells, or an overlap where both outlines are drawn as walls)."""
     rings = (shapely.boundary(a.footprint), shapely.boundary(b.footprint))
@@ -300,7 +302,7 @@ class _Context:
 
 
 def plan_openings(
-    building: Building, storey: str, *, door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = 0.5,
+    building: Building, storey: str, *, door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = DEFAULT_MAX_WALL_GAP,
     tol: float = 0.01, inset: float = DEFAULT_INSET,
 ) -> OpeningPlan:  # fmt: skip
     """The openings of every same-storey link between two free cells, and the door lines left shut.

@@ -11,7 +11,7 @@ name, or a transition dual to the boundary, still opens.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 import shapely
@@ -38,9 +38,10 @@ def outer_guesses(
     lines = shapely.STRtree(crossings) if crossings else None
     out = []
     for door in guessed:
-        if all(_faces_a_cell(door.geometry, side * reach, tree, cells) for side in (1.0, -1.0)):
+        geom = cast("BaseGeometry", door.geometry)  # not None: ``guessed`` keeps doors with a geometry
+        if all(_faces_a_cell(geom, side * reach, tree, cells) for side in (1.0, -1.0)):
             continue  # a cell on each side: between rooms, the graph and the seams decide
-        if lines is not None and len(lines.query(door.geometry, predicate="dwithin", distance=CROSS)):
+        if lines is not None and len(lines.query(geom, predicate="dwithin", distance=CROSS)):
             continue  # a transition goes through it (or ends on it, at a door's state)
         out.append(door)
     return out

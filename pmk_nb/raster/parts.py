@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
 import shapely
 
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
 
-def polygons_of(geom: shapely.Geometry | None) -> list[shapely.Polygon]:
+
+def polygons_of(geom: BaseGeometry | None) -> list[shapely.Polygon]:
     """The non-empty polygon parts of any geometry (Polygon, MultiPolygon, collections)."""
     if geom is None or geom.is_empty:
         return []
@@ -17,7 +23,7 @@ def polygons_of(geom: shapely.Geometry | None) -> list[shapely.Polygon]:
     return []
 
 
-def door_frame(poly: shapely.Geometry) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+def door_frame(poly: BaseGeometry) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """(centre, across, along) of ``poly``'s minimum rotated rectangle: the vectors of its short side
     (through the wall, for a door cell) and of its long side (along the wall); None when degenerate."""
     rect = shapely.get_coordinates(shapely.minimum_rotated_rectangle(poly))[:4]
@@ -28,7 +34,7 @@ def door_frame(poly: shapely.Geometry) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return rect.mean(axis=0), short, long_
 
 
-def polygon_parts(geoms: list[shapely.Geometry | None]) -> list[shapely.Polygon]:
+def polygon_parts(geoms: Sequence[BaseGeometry | None]) -> list[shapely.Polygon]:
     """:func:`polygons_of` over a list: one vectorised type test when they are all plain polygons
     (a storey's cells nearly always are), so thousands of cells cost no Python call each."""
     if not geoms:

@@ -10,16 +10,21 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.raster.parts import polygons_of
 
 # (block view of the grid, boolean mask of the same shape) -> None; updates the block in place
 CellOp = Callable[[np.ndarray, np.ndarray], None]
+#: cell rectangles as four arrays (row0, row1, start, stop; exclusive ends): what write_rects takes
+Rects = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+#: cell spans as three arrays (rows, starts, stops; exclusive stops): what write_spans takes
+Spans = tuple[np.ndarray, np.ndarray, np.ndarray]
 _CHUNK_CROSSINGS = 2_000_000  # rows x edges evaluated at once
 _CHUNK_CELLS = 1_000_000  # rows x columns of a block (or cells of a scatter) at once
 _SCATTER_CELLS = 65_536  # cells written through one flat index array at once (512 KB of int64; its temporaries
@@ -127,17 +132,17 @@ def _scan_rows(e: np.ndarray, yc: np.ndarray, xc0: float, res: float, ncols: int
     return np.cumsum(diff.reshape(nrows, width), axis=1, dtype=np.int8)[:, :ncols].view(np.bool_)
 
 
-def fill_geometry(grid: np.ndarray, frame: Frame, geom: shapely.Geometry | None, op: CellOp) -> None:
+def fill_geometry(grid: np.ndarray, frame: Frame, geom: BaseGeometry | None, op: CellOp) -> None:
     for poly in polygons_of(geom):
         fill_polygon(grid, frame, poly, op)
 
 
-def line_segments(lines: list[shapely.Geometry]) -> np.ndarray:
+def line_segments(lines: Sequence[BaseGeometry]) -> np.ndarray:
     """(S, 4) array xa, ya, xb, yb of the straight segments of LineStrings / rings / their multis."""
     return segments_with_owner(lines)[0]
 
 
-def segments_with_owner(lines: list[shapely.Geometry]) -> tuple[np.ndarray, np.ndarray]:
+def segments_with_owner(lines: Sequence[BaseGeometry]) -> tuple[np.ndarray, np.ndarray]:
     """Segments as in :func:`line_segments`, plus the index in ``lines`` each one came from."""
     arr = np.asarray(lines, dtype=object)
     if arr.size == 0:
@@ -273,7 +278,7 @@ def _axis_bands(
     write_rects(grid, r0[tall], r1[tall] + 1, cs[tall], ce[tall], value, keep)
 
 
-def axis_line_rects(segments: np.ndarray, frame: Frame) -> tuple[np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+def axis_line_rects(segments: np.ndarray, frame: Frame) -> tuple[np.ndarray, np.ndarray, Rects]:
     """Split ``segments``: (mask of the axis-aligned ones, the others, their supercover cells as
     rectangles r0, r1, c0, c1 with exclusive ends) - the same cells :func:`supercover_cells` gives."""
     res = frame.resolution
@@ -307,7 +312,7 @@ def _axis_ends(p0: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.floor(p0 + d * tm_first), np.floor(p0 + d * tm_last)
 
 
-def span_rectangles(rows: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> tuple[np.ndarray, ...]:
+def span_rectangles(rows: np.ndarray, starts: np.ndarray, stops: np.ndarray) -> Rects:
     """Spans merged into rectangles: (row0, row1 exclusive, start, stop), one per run of equal spans
     on consecutive rows (duplicates dropped)."""
     order = np.lexsort((rows, stops, starts))

@@ -12,12 +12,14 @@ instead of a flat index per cell; leftover short spans go through one flat scatt
 from __future__ import annotations
 
 import itertools
+from collections.abc import Sequence
 
 import numpy as np
 import shapely
+from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.raster.parts import polygon_parts
-from pmk_nb.raster.scanline import Frame, span_rectangles, write_rects, write_spans
+from pmk_nb.raster.scanline import Frame, Rects, Spans, span_rectangles, write_rects, write_spans
 
 _CHUNK_CELLS = 1_000_000  # (edge, row) crossings computed at once at most
 
@@ -41,7 +43,7 @@ def _edges(polys: list[shapely.Polygon]) -> tuple[np.ndarray, np.ndarray]:
     return edges, owner
 
 
-def polygon_cells(frame: Frame, geoms: list[shapely.Geometry]) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+def polygon_cells(frame: Frame, geoms: Sequence[BaseGeometry]) -> tuple[Rects, Spans]:
     """The cells whose centres lie inside each of ``geoms`` (even-odd rule), as rectangles (row0, row1,
     start, stop; exclusive ends) for axis-aligned boxes and as spans (rows, starts, stops) for the rest.
 
@@ -70,7 +72,7 @@ def polygon_cells(frame: Frame, geoms: list[shapely.Geometry]) -> tuple[tuple[np
 def _boxes(polys: list[shapely.Polygon], b: np.ndarray) -> np.ndarray:
     """Which polygons are axis-aligned rectangles (every vertex a bounding-box corner, full area)."""
     arr = np.asarray(polys, dtype=object)
-    cand = (shapely.get_num_coordinates(arr) == 5) & (shapely.get_num_interior_rings(arr) == 0)
+    cand: np.ndarray = (shapely.get_num_coordinates(arr) == 5) & (shapely.get_num_interior_rings(arr) == 0)
     idx = np.flatnonzero(cand)
     if len(idx) == 0:
         return cand
@@ -85,7 +87,7 @@ def _boxes(polys: list[shapely.Polygon], b: np.ndarray) -> np.ndarray:
 
 def _box_rects(
     frame: Frame, b: np.ndarray, c0: np.ndarray, c1: np.ndarray, r0: np.ndarray, r1: np.ndarray
-) -> tuple[np.ndarray, ...]:
+) -> Rects:
     """Cell rectangles of axis-aligned boxes, the cells the even-odd scan gives: rows with ymin <=
     centre < ymax, columns from the two vertical edges, same per-polygon column origin as :func:`_scan`."""
     res = frame.resolution
@@ -103,7 +105,7 @@ def _box_rects(
 def _scan(
     frame: Frame, edges: np.ndarray, owner: np.ndarray, c0: np.ndarray, c1: np.ndarray, r0: np.ndarray,
     r1: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+) -> Spans:  # fmt: skip
     """Even-odd spans of the polygons whose edges are ``edges`` (``owner``: polygon of each edge)."""
     res = frame.resolution
     ya, yb = edges[:, 1], edges[:, 3]
@@ -139,7 +141,7 @@ def _scan(
 
 
 def fill_polygons(
-    grid: np.ndarray, frame: Frame, geoms: list[shapely.Geometry], value: int, keep: tuple[int, ...] = ()
+    grid: np.ndarray, frame: Frame, geoms: Sequence[BaseGeometry], value: int, keep: tuple[int, ...] = ()
 ) -> None:
     """Set every cell whose centre lies inside one of ``geoms`` to ``value`` (sparing ``keep`` cells).
 
@@ -159,7 +161,7 @@ def fill_polygons(
         write_spans(grid, *spans, value, keep)
 
 
-def polygon_rects(frame: Frame, geoms: list[shapely.Geometry]) -> tuple[np.ndarray, ...]:
+def polygon_rects(frame: Frame, geoms: Sequence[BaseGeometry]) -> tuple[np.ndarray, ...]:
     """The cells :func:`fill_polygons` would set for ``geoms``, as rectangles (row0, row1, start, stop;
     exclusive ends), held instead of the cells: a caller can write them a strip of rows at a time."""
     rects, spans = polygon_cells(frame, geoms)

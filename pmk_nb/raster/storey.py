@@ -23,12 +23,16 @@ import itertools
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+# declared once in pmk_nb.defaults, re-exported here
+from pmk_nb.defaults import DEFAULT_MAX_CELLS as DEFAULT_MAX_CELLS
+from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP as DEFAULT_MAX_WALL_GAP
+from pmk_nb.defaults import DEFAULT_WALL_THICKNESS as DEFAULT_WALL_THICKNESS
 from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, new_cells, nice_ceil
 from pmk_nb.progress import ProgressCallback, emit, sub_range
@@ -50,9 +54,6 @@ from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_w
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building, Cell
 
-DEFAULT_WALL_THICKNESS = 0.10
-DEFAULT_MAX_WALL_GAP = 0.5  # metres: a gap between cells up to this wide is a wall left out of the file
-DEFAULT_MAX_CELLS = 400_000_000  # ~400 MB of int8
 NAV2_MAX_CELLS_PER_SIDE = 32767
 _WALL = 101  # transient markers while drawing: a wall cell that a door may still open,
 _OUTSIDE = 102  # and a cell outside every cell (unknown or occupied once finished)
@@ -296,7 +297,8 @@ def _lay_bridges(grid: np.ndarray, plan: _Plan, reach: float) -> None:
         return
     frame = plan.frame
     side = [o.width / 2 + 0.75 * frame.resolution for o in bridges]
-    edges = [shapely.offset_curve(o.path, s * k) for o, s in zip(bridges, side, strict=True) for k in (-1, 1)]
+    paths = [cast("BaseGeometry", o.path) for o in bridges]  # not None: bridges have a path
+    edges = [shapely.offset_curve(p, s * k) for p, s in zip(paths, side, strict=True) for k in (-1, 1)]
     segs, _ = segments_with_owner([e for e in edges if not e.is_empty])
     _draw_lines(grid, frame, segs, _WALL, (FREE, OCCUPIED, _WALL))
     fill_polygons(grid, frame, [p for o in bridges for p in o.polygons(reach)], FREE, keep=(OCCUPIED,))

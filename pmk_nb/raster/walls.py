@@ -303,7 +303,7 @@ def passages(
             near = sides[i] if sides is not None and i < len(sides) else None
             for k, sign in enumerate((-1.0, 1.0)) if near is not None else ():
                 probe = shapely.LineString([c + sign * u * ls / 2, c + sign * u * (ls / 2 + 2 * reach)])
-                if not probe.intersects(near[0]):
+                if not probe.intersects(near[0]):  # type: ignore[index]  # near: not None in this loop
                     ends[k] = 0.0  # no cell the graph links on this side (or none at all): stop mid-door
             a, b = c - u * ends[0], c + u * ends[1]
             segs.append(np.array([[a[0], a[1], b[0], b[1]]]))

@@ -11,8 +11,6 @@ from pmk_nb.rosmap.files import (
     INVALID_MAP_METADATA,
     MAP_DOES_NOT_EXIST,
     NAV2_MAX_CELLS_PER_SIDE,
-    READERS,
-    ImageReader,
     MapFiles,
     MapLoadError,
     MapYaml,
@@ -20,7 +18,7 @@ from pmk_nb.rosmap.files import (
     read_map_yaml,
     write_map,
 )
-from pmk_nb.rosmap.image import grid_to_gray
+from pmk_nb.rosmap.image import READERS, ImageReader, grid_to_gray
 
 __all__ = [
     "INVALID_MAP_DATA",

@@ -102,10 +102,10 @@ def image_to_data(
     free_thresh: float,
 ) -> np.ndarray:
     """Occupancy values (int8, image row order: row 0 = top) exactly as ``reader`` computes them."""
-    kw = dict(reader=reader, mode=mode, negate=negate, occupied_thresh=occupied_thresh, free_thresh=free_thresh)
     gray = _plain_gray(img)
     if gray is not None:  # one value per pixel: the reader's answer for each of the 256 grays, looked up
-        return _by_value(**kw)[gray]  # type: ignore[arg-type]
+        table = _by_value(reader, mode, negate, occupied_thresh, free_thresh)
+        return np.asarray(table[gray])
     if reader == "ros1":
         return _ros1(img, mode, negate, occupied_thresh, free_thresh)
     if reader == "nav2_humble":
@@ -129,24 +129,28 @@ def _plain_gray(img: DecodedImage) -> np.ndarray | None:
     return gray if np.array_equal(rgba, gray.astype("<u4") * 0x010101 + 0xFF000000) else None
 
 
-def _by_value(**kw: object) -> np.ndarray:
+def _by_value(reader: str, mode: str, negate: bool, occupied_thresh: float, free_thresh: float) -> np.ndarray:
     """The reader's output for the grays 0..255 (the same functions, on a 1x256 image): a lookup table."""
     values = np.arange(256, dtype=np.uint8)[None, :]
     rgba = np.stack([values, values, values, np.full_like(values, 255)], axis=2)
     ramp = DecodedImage(rgba=rgba, has_alpha=False, sdl=values[..., None].copy(), sdl_alpha_mask=False)
-    return image_to_data(ramp, **kw)[0]  # type: ignore[arg-type]
+    out = image_to_data(
+        ramp, reader=reader, mode=mode, negate=negate, occupied_thresh=occupied_thresh, free_thresh=free_thresh
+    )
+    return np.asarray(out[0])
 
 
 def _ros1(img: DecodedImage, mode: str, negate: bool, occ_th: float, free_th: float) -> np.ndarray:
     px = img.sdl.astype(np.int64)
     n = px.shape[2]
     avg_n = n if (mode == "trinary" or not img.sdl_alpha_mask) else n - 1
-    color_avg = px[..., :avg_n].sum(axis=2) / float(avg_n)
+    color_avg: np.ndarray = px[..., :avg_n].sum(axis=2) / float(avg_n)
     alpha = np.ones(px.shape[:2], dtype=np.int64) if n == 1 else px[..., n - 1]
     if negate:
         color_avg = 255 - color_avg
     if mode == "raw":  # unsigned char value = color_avg; stored as the same byte in int8 data
-        return np.trunc(color_avg).astype(np.uint8).view(np.int8)
+        raw: np.ndarray = np.trunc(color_avg).astype(np.uint8).view(np.int8)
+        return raw
     occ = (255 - color_avg) / 255.0
     out = np.full(occ.shape, -1, dtype=np.int16)
     between = ~(occ > occ_th) & ~(occ < free_th)

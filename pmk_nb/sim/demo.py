@@ -12,12 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
+from pmk_nb.defaults import DEFAULT_RESOLUTION
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
 
 SAMPLE_GML = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 
 
-def demo_grid(resolution: float = 0.05) -> OccupancyGrid:
+def demo_grid(resolution: float = DEFAULT_RESOLUTION) -> OccupancyGrid:
     def c(metres: float) -> int:
         return round(metres / resolution)
 
@@ -44,7 +45,7 @@ def demo_grid(resolution: float = 0.05) -> OccupancyGrid:
     return OccupancyGrid(data=data, resolution=resolution, origin=(-margin, -margin, 0.0), meta={"source": "demo"})
 
 
-def sample_floor(resolution: float = 0.05) -> OccupancyGrid | None:
+def sample_floor(resolution: float = DEFAULT_RESOLUTION) -> OccupancyGrid | None:
     """The sample clinic floor rasterised, or None outside a source checkout / without the converter."""
     if not SAMPLE_GML.is_file():
         return None

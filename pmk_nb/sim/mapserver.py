@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from pathlib import Path
 
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.rosmap.files import ImageReader
+    from pmk_nb.rosmap import ImageReader
     from pmk_nb.sim.messages import Names, RosVersion
     from pmk_nb.sim.paths import ChairFS
     from pmk_nb.sim.protocol import Bridge

@@ -77,7 +77,7 @@ class Names:
 
     def path(self, points: list[tuple[float, float]], yaw: float | None, t: float, seq: int = 0) -> dict[str, Any]:
         """A nav_msgs/Path in the map frame: each pose faces the next point, the last the goal's yaw."""
-        poses = []
+        poses: list[dict[str, Any]] = []
         for i, (x, y) in enumerate(points):
             if i + 1 < len(points):
                 heading = math.atan2(points[i + 1][1] - y, points[i + 1][0] - x)

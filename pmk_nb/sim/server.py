@@ -17,16 +17,18 @@ import threading
 import time
 import weakref
 from collections.abc import Iterable
+from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Unpack
 
 import numpy as np
 from websockets.asyncio.server import Server, serve
 
 from pmk_nb.errors import PmkError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE, BridgeMode
+from pmk_nb.sim.bridge_modes import BRIDGE_MODES, BridgeMode
 from pmk_nb.sim.chair import DriveLimits
+from pmk_nb.sim.config import SimConfig, SimOptions
 from pmk_nb.sim.demo import demo_grid
 from pmk_nb.sim.engine import Engine
 from pmk_nb.sim.laser import Laser
@@ -45,63 +47,42 @@ class SimChair:
     """A simulated chair. All public methods are thread-safe and callable from any thread."""
 
     def __init__(
-        self,
-        map_yaml: Path | str | None = None,
-        *,
-        grid: OccupancyGrid | None = None,
-        host: str = "127.0.0.1",
-        port: int = 0,
-        ros: RosVersion = "ros1",
-        odom_rate: float = 50.0,
-        scan_rate: float = 20.0,
-        rays: int = 720,
-        range_max: float = 10.0,
-        laser_blind: tuple[float, float] | None = None,
-        patrol: bool = False,
-        sftp_port: int | None = None,
-        sftp_user: str = "pmk",
-        sftp_password: str | None = None,
-        sftp_authorized_key: str | Path | None = None,
-        sftp_password_login: bool = True,
-        maps_dir: Path | str | None = None,
-        start_pose: tuple[float, float, float] | None = None,
-        footprint_radius: float = 0.35,
-        reload_services: Iterable[str] | None = None,
-        limits: DriveLimits | None = None,
-        seed: int = 0,
-        client_queue: int = 200,
-        nav_actions: bool = True,
-        tls: tuple[Path | str, Path | str] | None = None,
-        bridge: BridgeMode = DEFAULT_BRIDGE,
-        state_dir: Path | str | None = None,
+        self, map_yaml: Path | str | None = None, *, config: SimConfig | None = None, **options: Unpack[SimOptions]
     ) -> None:
-        """``ros``: "ros1" or "ros2" message spelling; ``nav_actions=False``: goal topics only, no
-        move_base / Nav2 action servers (a chair without a navigation action server); ``tls``:
-        ``(certfile, keyfile)`` to serve ``wss://`` as rosbridge does with its certfile/keyfile;
-        ``bridge``: which real rosbridge's action-goal behaviour to reproduce (:mod:`pmk_nb.sim.bridge_modes`);
-        ``state_dir``: where the SSH host key is kept across processes (:mod:`pmk_nb.sim.hostkey`; None:
-        a new key per object)."""
-        if ros not in ROS_VERSIONS:
-            raise SimError(f"unknown ROS version {ros!r}: use 'ros1' or 'ros2'")
-        if bridge not in BRIDGE_MODES:
-            raise SimError(f"unknown bridge {bridge!r}: use one of {', '.join(BRIDGE_MODES)}")
-        self.bridge_mode: BridgeMode = bridge
-        if odom_rate <= 0 or scan_rate <= 0:
-            raise SimError(f"rates must be positive (odom_rate={odom_rate}, scan_rate={scan_rate})")
-        self.map_yaml = Path(map_yaml) if map_yaml is not None else None
-        self._initial_grid = grid
-        self.host = host
-        self._port = port
-        self.ros: RosVersion = ros
-        self.names = Names(ros)
-        self.odom_rate = odom_rate
-        self.scan_rate = scan_rate
-        self.laser = Laser(rays=rays, range_max=range_max, blind=laser_blind)
-        self._init_sftp(sftp_port, sftp_user, sftp_password, sftp_authorized_key, sftp_password_login)
-        self._init_maps(maps_dir, reload_services)
-        self.footprint_radius = footprint_radius
-        self.limits = limits or DriveLimits()
-        self.client_queue = client_queue  # topic messages buffered per client before the oldest drop
+        """``config``: every setting at once (:class:`~pmk_nb.sim.config.SimConfig`, defaults declared
+        there); keyword ``options`` and ``map_yaml`` replace fields of it. ``ros``: "ros1" or "ros2"
+        message spelling; ``nav_actions=False``: goal topics only, no move_base / Nav2 action servers (a
+        chair without a navigation action server); ``tls``: ``(certfile, keyfile)`` to serve ``wss://`` as
+        rosbridge does with its certfile/keyfile; ``bridge``: which real rosbridge's action-goal behaviour to
+        reproduce (:mod:`pmk_nb.sim.bridge_modes`); ``state_dir``: where the SSH host key is kept across
+        processes (:mod:`pmk_nb.sim.hostkey`; None: a new key per object)."""
+        cfg = replace(config or SimConfig(), **options)
+        if map_yaml is not None:
+            cfg = replace(cfg, map_yaml=map_yaml)
+        self.config = cfg
+        if cfg.ros not in ROS_VERSIONS:
+            raise SimError(f"unknown ROS version {cfg.ros!r}: use 'ros1' or 'ros2'")
+        if cfg.bridge not in BRIDGE_MODES:
+            raise SimError(f"unknown bridge {cfg.bridge!r}: use one of {', '.join(BRIDGE_MODES)}")
+        self.bridge_mode: BridgeMode = cfg.bridge
+        if cfg.odom_rate <= 0 or cfg.scan_rate <= 0:
+            raise SimError(f"rates must be positive (odom_rate={cfg.odom_rate}, scan_rate={cfg.scan_rate})")
+        self.map_yaml = Path(cfg.map_yaml) if cfg.map_yaml is not None else None
+        self._initial_grid = cfg.grid
+        self.host = cfg.host
+        self._port = cfg.port
+        self.ros: RosVersion = cfg.ros
+        self.names = Names(cfg.ros)
+        self.odom_rate = cfg.odom_rate
+        self.scan_rate = cfg.scan_rate
+        self.laser = Laser(rays=cfg.rays, range_max=cfg.range_max, blind=cfg.laser_blind)
+        self._init_sftp(
+            cfg.sftp_port, cfg.sftp_user, cfg.sftp_password, cfg.sftp_authorized_key, cfg.sftp_password_login
+        )
+        self._init_maps(cfg.maps_dir, cfg.reload_services)
+        self.footprint_radius = cfg.footprint_radius
+        self.limits = cfg.limits or DriveLimits()
+        self.client_queue = cfg.client_queue  # topic messages buffered per client before the oldest drop
         self._thread: threading.Thread | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._stop_event: asyncio.Event | None = None
@@ -111,17 +92,17 @@ class SimChair:
         self.engine = Engine(
             self.names,
             self.laser,
-            odom_rate=odom_rate,
-            scan_rate=scan_rate,
-            footprint_radius=footprint_radius,
+            odom_rate=cfg.odom_rate,
+            scan_rate=cfg.scan_rate,
+            footprint_radius=cfg.footprint_radius,
             limits=self.limits,
-            start_pose=start_pose,
-            patrol=patrol,
-            rng=np.random.default_rng(seed),
+            start_pose=cfg.start_pose,
+            patrol=cfg.patrol,
+            rng=np.random.default_rng(cfg.seed),
         )
-        self.engine.navigator.offer_actions = nav_actions
-        self.tls = (Path(tls[0]), Path(tls[1])) if tls is not None else None
-        self.state_dir = Path(state_dir).expanduser() if state_dir is not None else None
+        self.engine.navigator.offer_actions = cfg.nav_actions
+        self.tls = (Path(cfg.tls[0]), Path(cfg.tls[1])) if cfg.tls is not None else None
+        self.state_dir = Path(cfg.state_dir).expanduser() if cfg.state_dir is not None else None
 
     def _init_sftp(
         self, port: int | None, user: str, password: str | None, authorized_key: str | Path | None, password_login: bool

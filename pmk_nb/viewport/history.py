@@ -78,8 +78,8 @@ def nice_limit(peak: float, floor: float) -> float:
     value = max(abs(peak), floor)
     exp = math.floor(math.log10(value))
     for step in (1.0, 2.0, 5.0, 10.0):
-        if step * 10**exp >= value - 1e-12:
-            return step * 10**exp
+        if step * 10.0**exp >= value - 1e-12:
+            return step * 10.0**exp
     return 10.0 ** (exp + 1)  # not reached: 10 * 10**exp always covers value
 
 

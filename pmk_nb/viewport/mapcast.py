@@ -88,7 +88,8 @@ def expected_no_return(
     min_range: float = 0.0,
 ) -> np.ndarray:
     """True per ray where the map shows no wall within range: a ``null`` there is the expected +inf."""
-    return ~np.isfinite(first_obstacle(grid, origin, angles, max_range, min_range=min_range))
+    no_wall: np.ndarray = ~np.isfinite(first_obstacle(grid, origin, angles, max_range, min_range=min_range))
+    return no_wall
 
 
 def explain_nulls(
