@@ -178,8 +178,9 @@ def _verdict(ok: bool) -> str:
 GOALS: list[str] = []  # one summary row per goal, filled by the tables below: goal | measured | verdict
 
 
-def _goal(goal: str, measured: str, ok: bool) -> None:
-    GOALS.append(f"| {goal} | {measured} | {_verdict(ok)} |")
+def _goal(goal: str, measured: str, *ok: bool) -> None:
+    """One summary row; ``ok``: the verdict on each measure named in ``goal`` (wall; CPU), or one verdict."""
+    GOALS.append(f"| {goal} | {measured} | {'; '.join(_verdict(x) for x in ok)} |")
 
 
 def _load() -> str:
@@ -216,7 +217,7 @@ def scaling(folder: Path, quick: bool) -> list[str]:
         )
         if r["factor"] > 1:
             _goal(f"{r['factor']}x the plan in <= {limit:g}x the time of 1x (wall; CPU)",
-                  f"{r['wall_x']:.2f}x; {r['cpu_x']:.2f}x", max(r["wall_x"], r["cpu_x"]) <= limit)  # fmt: skip
+                  f"{r['wall_x']:.2f}x; {r['cpu_x']:.2f}x", r["wall_x"] <= limit, r["cpu_x"] <= limit)  # fmt: skip
     return lines
 
 
@@ -242,9 +243,9 @@ def small_plans() -> list[str]:
             f"| {path.name} | {r['out_mb']:.2f} | {r['wall']:.2f} | {r['cpu']:.2f} | {r['peak_mb']:.0f} | {goal} |"
         )
         if small:
-            _goal(f"{path.name} (< {SMALL_OUT_MB:g} MB out): <= {SMALL_S} s and <= {SMALL_MB:g} MB (wall; CPU; peak)",
-                  f"{r['wall']:.2f} s; {r['cpu']:.2f} s; {r['peak_mb']:.0f} MB",
-                  max(r["wall"], r["cpu"]) <= SMALL_S and r["peak_mb"] <= SMALL_MB)  # fmt: skip
+            _goal(f"{path.name} (< {SMALL_OUT_MB:g} MB out): <= {SMALL_S} s (wall; CPU), <= {SMALL_MB:g} MB peak",
+                  f"{r['wall']:.2f} s; {r['cpu']:.2f} s; {r['peak_mb']:.0f} MB", r["wall"] <= SMALL_S,
+                  r["cpu"] <= SMALL_S, r["peak_mb"] <= SMALL_MB)  # fmt: skip
         print(f"small {path.name}: {r['wall']:.2f} s wall", file=sys.stderr, flush=True)
     return lines
 
@@ -258,7 +259,7 @@ def big_storey(folder: Path) -> list[str]:
     print(f"100 M cells: {r['wall']:.2f} s wall, write {r['write_s']:.2f} s", file=sys.stderr, flush=True)
     wall_x, cpu_x, mem_x = r["wall"] / r["write_s"], r["cpu"] / max(r["write_cpu"], 1e-9), r["peak_mb"] / held_mb
     _goal(f"100 M cells: process <= {WRITE_RATIO:g} x writing its files (wall; CPU)", f"{wall_x:.1f}x; {cpu_x:.1f}x",
-          max(wall_x, cpu_x) <= WRITE_RATIO)  # fmt: skip
+          wall_x <= WRITE_RATIO, cpu_x <= WRITE_RATIO)  # fmt: skip
     _goal(f"above 10 M cells: peak <= {MEMORY_RATIO:g} x (grid + input)", f"{r['peak_mb']:.0f} MB = {mem_x:.2f}x",
           mem_x <= MEMORY_RATIO)  # fmt: skip
     return [
@@ -302,8 +303,14 @@ def main() -> int:
         lines += scaling(Path(tmp), args.quick) + small_plans()
         if not args.quick:
             lines += big_storey(Path(tmp))
-    head = ["", "### Goals (issue 31): goal, measured, verdict", "", "| goal | measured | verdict |", "|---|---|---|"]
-    lines[4:4] = [*head, *GOALS, "", f"Load average (1 / 5 / 15 min) at the start: {load0}; at the end: {_load()}."]
+    head = [
+        "### Goals (issue 31): goal, measured, verdict per measure",
+        "",
+        "| goal | measured | verdict |",
+        "|---|---|---|",
+    ]
+    load = f"Load average (1 / 5 / 15 min) at the start: {load0}; at the end: {_load()} (wall times carry it)."
+    lines[4:4] = [*head, *GOALS, "", load, ""]
     lines += ["", f"Total benchmark time {time.perf_counter() - started:.0f} s.", ""]
     args.out.write_text("\n".join(lines), encoding="utf-8")
     print("\n".join(lines))
