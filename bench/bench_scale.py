@@ -175,6 +175,19 @@ def _verdict(ok: bool) -> str:
     return "met" if ok else "**not met**"
 
 
+GOALS: list[str] = []  # one summary row per goal, filled by the tables below: goal | measured | verdict
+
+
+def _goal(goal: str, measured: str, *ok: bool) -> None:
+    """One summary row; ``ok``: the verdict on each measure named in ``goal`` (wall; CPU), or one verdict."""
+    GOALS.append(f"| {goal} | {measured} | {'; '.join(_verdict(x) for x in ok)} |")
+
+
+def _load() -> str:
+    one, five, fifteen = os.getloadavg()
+    return f"{one:.1f} / {five:.1f} / {fifteen:.1f}"
+
+
 def scaling(folder: Path, quick: bool) -> list[str]:
     rows, base = [], None
     for factor, nx, ny in SCALES[:3] if quick else SCALES:
@@ -191,16 +204,20 @@ def scaling(folder: Path, quick: bool) -> list[str]:
         f"(goal <= {SLACK:g} n; the fixed start-up of about 0.4 s is part of every row).",
         "",
         "| plan | rooms | door cells | transitions | cells | wall s | CPU s | wall / 1x | CPU / 1x | peak MB "
-        "| goal (wall / CPU) |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
+        "| goal: / 1x <= | wall / CPU |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in rows:
         limit = SLACK * r["factor"]
         goal = "-" if r["factor"] == 1 else f"{_verdict(r['wall_x'] <= limit)} / {_verdict(r['cpu_x'] <= limit)}"
         lines.append(
             f"| {r['factor']}x | {r['rooms']} | {r['door cells']} | {r['transitions']} | {r['cells'] / 1e6:.2f} M "
-            f"| {r['wall']:.2f} | {r['cpu']:.2f} | {r['wall_x']:.2f} | {r['cpu_x']:.2f} | {r['peak_mb']:.0f} | {goal} |"
+            f"| {r['wall']:.2f} | {r['cpu']:.2f} | {r['wall_x']:.2f} | {r['cpu_x']:.2f} | {r['peak_mb']:.0f} "
+            f"| {'-' if r['factor'] == 1 else f'{limit:g}'} | {goal} |"
         )
+        if r["factor"] > 1:
+            _goal(f"{r['factor']}x the plan in <= {limit:g}x the time of 1x (wall; CPU)",
+                  f"{r['wall_x']:.2f}x; {r['cpu_x']:.2f}x", r["wall_x"] <= limit, r["cpu_x"] <= limit)  # fmt: skip
     return lines
 
 
@@ -225,6 +242,10 @@ def small_plans() -> list[str]:
         lines.append(
             f"| {path.name} | {r['out_mb']:.2f} | {r['wall']:.2f} | {r['cpu']:.2f} | {r['peak_mb']:.0f} | {goal} |"
         )
+        if small:
+            _goal(f"{path.name} (< {SMALL_OUT_MB:g} MB out): <= {SMALL_S} s (wall; CPU), <= {SMALL_MB:g} MB peak",
+                  f"{r['wall']:.2f} s; {r['cpu']:.2f} s; {r['peak_mb']:.0f} MB", r["wall"] <= SMALL_S,
+                  r["cpu"] <= SMALL_S, r["peak_mb"] <= SMALL_MB)  # fmt: skip
         print(f"small {path.name}: {r['wall']:.2f} s wall", file=sys.stderr, flush=True)
     return lines
 
@@ -237,6 +258,10 @@ def big_storey(folder: Path) -> list[str]:
     held_mb = r["cells"] / 1e6 + path.stat().st_size / 1e6  # one byte per cell
     print(f"100 M cells: {r['wall']:.2f} s wall, write {r['write_s']:.2f} s", file=sys.stderr, flush=True)
     wall_x, cpu_x, mem_x = r["wall"] / r["write_s"], r["cpu"] / max(r["write_cpu"], 1e-9), r["peak_mb"] / held_mb
+    _goal(f"100 M cells: process <= {WRITE_RATIO:g} x writing its files (wall; CPU)", f"{wall_x:.1f}x; {cpu_x:.1f}x",
+          wall_x <= WRITE_RATIO, cpu_x <= WRITE_RATIO)  # fmt: skip
+    _goal(f"above 10 M cells: peak <= {MEMORY_RATIO:g} x (grid + input)", f"{r['peak_mb']:.0f} MB = {mem_x:.2f}x",
+          mem_x <= MEMORY_RATIO)  # fmt: skip
     return [
         "",
         f"### 100 M cells: the 4x storey ({n['rooms']} rooms, {n['transitions']} transitions) at {res} m",
@@ -266,7 +291,7 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true", help="no 8x row, no 100 M-cell row")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results-scale.md")
     args = ap.parse_args()
-    started = time.perf_counter()
+    started, load0 = time.perf_counter(), _load()
     with tempfile.TemporaryDirectory(prefix="bench-scale-plans-") as tmp:
         lines = ["## Convert scaling and whole-process goals (issue 31)", "", f"`bench/bench_scale.py`"
                  f"{' --quick' if args.quick else ''}: each row a fresh process, interpreter start and imports "
@@ -278,6 +303,14 @@ def main() -> int:
         lines += scaling(Path(tmp), args.quick) + small_plans()
         if not args.quick:
             lines += big_storey(Path(tmp))
+    head = [
+        "### Goals (issue 31): goal, measured, verdict per measure",
+        "",
+        "| goal | measured | verdict |",
+        "|---|---|---|",
+    ]
+    load = f"Load average (1 / 5 / 15 min) at the start: {load0}; at the end: {_load()} (wall times carry it)."
+    lines[4:4] = [*head, *GOALS, "", load, ""]
     lines += ["", f"Total benchmark time {time.perf_counter() - started:.0f} s.", ""]
     args.out.write_text("\n".join(lines), encoding="utf-8")
     print("\n".join(lines))

@@ -79,10 +79,14 @@ def _erode_padded(padded: np.ndarray, radius_px: float, r: int, n: int, w: int) 
     np.cumsum(~padded, axis=1, dtype=count, out=blocked[:, 1:])
     out = np.ones((n, w), dtype=bool)
     clear = np.empty((padded.shape[0], w), dtype=bool)
+    last = -1
     for dy in range(r + 1):
         half = math.floor(math.sqrt(max(radius_px * radius_px - dy * dy, 0.0)))
         # rows whose columns [x - half, x + half] are all free (padded column x + r), once for rows +-dy
-        np.equal(blocked[:, r + half + 1 : r + half + 1 + w], blocked[:, r - half : r - half + w], out=clear)
+        # and once for every dy of the same half (17 comparisons, not 28, at 0.0128 m)
+        if half != last:
+            np.equal(blocked[:, r + half + 1 : r + half + 1 + w], blocked[:, r - half : r - half + w], out=clear)
+            last = half
         out &= clear[r + dy : r + dy + n]
         if dy:
             out &= clear[r - dy : r - dy + n]

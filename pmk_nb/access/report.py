@@ -40,7 +40,7 @@ from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.grid import FREE, UNKNOWN
 from pmk_nb.raster.openings import SKIP_WINDOW
 from pmk_nb.raster.scanline import Frame, write_rects
-from pmk_nb.raster.spans import polygon_rects
+from pmk_nb.raster.spans import polygon_rects, polygon_rects_each
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -226,16 +226,24 @@ class _Owners:
         top = (2 * len(cells) + 1) if core_radius is not None else len(cells)
         self.dtype = np.uint8 if top < 255 else np.int16 if top < 32767 else np.int32
         self.layers: list[tuple[int, tuple[np.ndarray, ...]]] = []
-        for i, cell in sorted(enumerate(cells), key=lambda ic: -ic[1].footprint.area):
-            door = cell.kind.is_door
-            shape = shapely.buffer(cell.footprint, grid.resolution / 2, join_style="mitre") if door else cell.footprint
-            rects = polygon_rects(frame, [shape])
+        order = sorted(range(len(cells)), key=lambda i: -cells[i].footprint.area)
+        shapes = [
+            shapely.buffer(cells[i].footprint, grid.resolution / 2, join_style="mitre")
+            if cells[i].kind.is_door
+            else cells[i].footprint
+            for i in order
+        ]
+        painted = polygon_rects_each(frame, shapes)  # all cells at once, not a call each
+        cores = None
+        if core_radius is not None:
+            cores = core_rects_each(frame, [cells[i].footprint for i in order], core_radius)
+        for k, (i, rects) in enumerate(zip(order, painted, strict=True)):
             if not len(rects[0]):
                 continue
-            if core_radius is None:
+            if cores is None:
                 self.layers.append((i + 1, rects))
             else:  # the core is painted over its own cell's pixels, before any smaller cell
-                core = core_rects(frame, cell.footprint, core_radius)
+                core = cores[k]
                 self.layers += [(2 * (i + 1), rects)] + ([(2 * (i + 1) + 1, core)] if len(core[0]) else [])
         self.top = np.array([int(r[0].min()) for _, r in self.layers], dtype=np.int64)
         self.bottom = np.array([int(r[1].max()) for _, r in self.layers], dtype=np.int64)
@@ -258,6 +266,21 @@ def core_rects(frame: Frame, footprint: BaseGeometry, depth: float) -> tuple[np.
         if len(rects[0]):
             return rects
     return polygon_rects(frame, [shapely.buffer(footprint, frame.resolution / 2, join_style="mitre")])
+
+
+def core_rects_each(frame: Frame, footprints: list[BaseGeometry], depth: float) -> list[tuple[np.ndarray, ...]]:
+    """:func:`core_rects` of each footprint, each step for all footprints at once."""
+    out = polygon_rects_each(frame, list(shapely.buffer(np.asarray(footprints, dtype=object), -depth)))
+    for fallback in (
+        lambda fp: fp,
+        lambda fp: shapely.buffer(fp, frame.resolution / 2, join_style="mitre"),
+    ):
+        empty = [k for k, r in enumerate(out) if not len(r[0])]
+        if not empty:
+            break
+        for k, r in zip(empty, polygon_rects_each(frame, [fallback(footprints[k]) for k in empty]), strict=True):
+            out[k] = r
+    return out
 
 
 def _strips(

@@ -18,7 +18,7 @@ import numpy as np
 import shapely
 from shapely import ops
 
-from pmk_nb.raster.parts import door_frame, polygons_of
+from pmk_nb.raster.parts import boxes_overlap, door_frame, polygons_of
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -33,7 +33,7 @@ def door_face(door: BaseGeometry, room: BaseGeometry, gap: float, limit: float, 
     ``gap`` plus half the door's depth of the room, ``limit`` at most. Empty when there are none, when
     the two overlap by more than a sliver, or when the cell is not clearly wider than deep."""
     empty = shapely.MultiLineString()
-    if shapely.intersection(door, room).area > tol * door.length:
+    if boxes_overlap(door, room) and shapely.intersection(door, room).area > tol * door.length:
         return empty
     frame = door_frame(door)
     if frame is None:

@@ -45,6 +45,7 @@ from pmk_nb.raster.doorface import door_face
 from pmk_nb.raster.doorslide import DEFAULT_INSET, place
 from pmk_nb.raster.nearby import Nearby
 from pmk_nb.raster.outside import outer_guesses
+from pmk_nb.raster.parts import boxes_overlap
 from pmk_nb.raster.thickness import MIN_WALL
 
 if TYPE_CHECKING:
@@ -159,7 +160,9 @@ def _shared(a: Cell, b: Cell, gap: float, tol: float) -> BaseGeometry:
     what lies on the outer cell's outline.
     """
     small, big = sorted((a, b), key=lambda c: c.footprint.area)
-    overlap = shapely.intersection(small.footprint, big.footprint).area
+    overlap = (
+        shapely.intersection(small.footprint, big.footprint).area if boxes_overlap(a.footprint, b.footprint) else 0.0
+    )
     if overlap > 0.5 * small.footprint.area:
         line = shapely.difference(
             shapely.intersection(shapely.boundary(small.footprint), big.footprint),

@@ -167,3 +167,28 @@ def polygon_rects(frame: Frame, geoms: Sequence[BaseGeometry]) -> tuple[np.ndarr
     rects, spans = polygon_cells(frame, geoms)
     more = span_rectangles(*spans) if len(spans[0]) else (*spans, spans[0])
     return tuple(np.concatenate([a, b]) for a, b in zip(rects, more, strict=True))
+
+
+def polygon_rects_each(frame: Frame, geoms: list[shapely.Geometry]) -> list[tuple[np.ndarray, ...]]:
+    """:func:`polygon_rects` of each of ``geoms`` on its own, the same rectangles: axis-aligned boxes (a
+    storey's cells nearly always are) in one vectorised pass, any other shape by its own call, so
+    thousands of cells do not pay a call's fixed cost each (about 1 s of a 100 M-cell storey's check)."""
+    arr = np.asarray(geoms, dtype=object)
+    out: list[tuple[np.ndarray, ...] | None] = [None] * len(geoms)
+    if len(geoms):
+        plain = np.flatnonzero((shapely.get_type_id(arr) == 3) & ~shapely.is_empty(arr))
+        polys = arr[plain].tolist()
+        b = shapely.bounds(arr[plain]).reshape(-1, 4)
+        box = _boxes(polys, b) if polys else np.zeros(0, dtype=bool)
+        res, bb = frame.resolution, b[box]
+        c0 = np.maximum(0, np.ceil((bb[:, 0] - frame.x0) / res - 0.5))
+        c1 = np.minimum(frame.width - 1, np.floor((bb[:, 2] - frame.x0) / res - 0.5))
+        r0 = np.maximum(0, np.ceil((bb[:, 1] - frame.y0) / res - 0.5))
+        r1 = np.minimum(frame.height - 1, np.floor((bb[:, 3] - frame.y0) / res - 0.5))
+        ok = c1 - c0 + 1 > 0  # _box_rects drops these: kept here so each rectangle keeps its polygon
+        rects = _box_rects(frame, bb, c0, c1, r0, r1)
+        at = np.cumsum(ok) - 1
+        for k, i in enumerate(plain[box].tolist()):
+            j = int(at[k])
+            out[i] = tuple(a[j : j + 1] if ok[k] else a[:0] for a in rects)
+    return [polygon_rects(frame, [g]) if r is None else r for g, r in zip(geoms, out, strict=True)]
