@@ -47,9 +47,9 @@ def polygon_parts(geoms: Sequence[BaseGeometry | None]) -> list[shapely.Polygon]
     return [p for g in geoms for p in polygons_of(g)]
 
 
-def boxes_overlap(a: shapely.Geometry, b: shapely.Geometry) -> bool:
+def boxes_overlap(a: BaseGeometry, b: BaseGeometry) -> bool:
     """Whether the bounding boxes of ``a`` and ``b`` share some area: when not, the two share none either
     (their intersection's area is exactly 0), so an area test can be skipped (most linked cells touch)."""
     ax0, ay0, ax1, ay1 = a.bounds
     bx0, by0, bx1, by1 = b.bounds
-    return min(ax1, bx1) > max(ax0, bx0) and min(ay1, by1) > max(ay0, by0)
+    return bool(min(ax1, bx1) > max(ax0, bx0) and min(ay1, by1) > max(ay0, by0))

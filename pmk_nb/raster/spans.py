@@ -169,7 +169,7 @@ def polygon_rects(frame: Frame, geoms: Sequence[BaseGeometry]) -> tuple[np.ndarr
     return tuple(np.concatenate([a, b]) for a, b in zip(rects, more, strict=True))
 
 
-def polygon_rects_each(frame: Frame, geoms: list[shapely.Geometry]) -> list[tuple[np.ndarray, ...]]:
+def polygon_rects_each(frame: Frame, geoms: Sequence[BaseGeometry]) -> list[tuple[np.ndarray, ...]]:
     """:func:`polygon_rects` of each of ``geoms`` on its own, the same rectangles: axis-aligned boxes (a
     storey's cells nearly always are) in one vectorised pass, any other shape by its own call, so
     thousands of cells do not pay a call's fixed cost each (about 1 s of a 100 M-cell storey's check)."""
