@@ -124,6 +124,8 @@ class AppContext:
         self._profile_unreadable = False  # reported once per breakage, not on every poll
         #: The kiosk page's lock (set by ``build_app`` on a kiosk page); None: nothing is locked.
         self.kiosk: KioskLock | None = None
+        #: Frame cap of Home's live view; None: the live view's own (a classroom page sets a lower one).
+        self.live_fps: float | None = None
 
     # -- kiosk lock --------------------------------------------------------------------------------
     def may_open(self, screen: str) -> bool:
