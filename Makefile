@@ -30,8 +30,8 @@ lint: $(STAMP)  ## ruff, and mypy (strict on the pure core: [tool.mypy] in pypro
 bench: $(STAMP) system-deps ros2  ## speed and memory figures, written to bench/results.md
 	$(BIN)/pmk bench all
 
-soak: $(STAMP) system-deps  ## 10 kiosk pages for 10 min: nothing may grow (bench/results.md, soak section)
-	$(BIN)/python bench/soak.py
+soak: $(STAMP) system-deps  ## 10 kiosk pages for 10 min: nothing may grow; then 10 classroom pages, a chair each (bench/results.md)
+	$(BIN)/python bench/soak.py; kiosk=$$?; $(BIN)/python bench/soak_classroom.py && exit $$kiosk
 
 venv: $(STAMP)
 

@@ -194,6 +194,28 @@ def test_closing_a_classroom_page_stops_its_chair_and_frees_its_seat(classroom: 
     assert not ctx.seat.config_dir.exists()
 
 
+def test_a_classroom_page_draws_at_the_classroom_frame_cap_and_says_so(classroom: Any) -> None:
+    """Ten pages share two cores (bench/soak_classroom.py): Home's live view is capped lower, in words too."""
+    from pmk_nb.classroom.settings import LIVE_FPS
+    from pmk_nb.ui.classroom_page import classroom_context
+    from pmk_nb.ui.home import HomeScreen
+    from pmk_nb.ui.live_view import DEFAULT_FPS
+
+    os.environ[CLASSROOM_ENV] = classroom.env[CLASSROOM_ENV]
+    try:
+        ctx = classroom_context(classroom.env["PMK_MAPS_DIR"])
+    finally:
+        del os.environ[CLASSROOM_ENV]
+    assert ctx is not None
+    try:
+        home = HomeScreen(ctx)
+        assert home.live.loop.fps == LIVE_FPS < DEFAULT_FPS
+        assert f"map redrawn {LIVE_FPS:g} times a second" in ctx.notifications[-1].message
+        home.close()
+    finally:
+        ctx.close()
+
+
 def test_a_killed_kernels_page_folder_is_removed_by_the_next_seat(classroom: Any) -> None:
     pages = Path(classroom.settings.state_dir) / "pages"
     dead = subprocess.Popen(["true"])

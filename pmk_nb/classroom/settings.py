@@ -22,6 +22,9 @@ SETTINGS_FILE = "classroom.json"
 ODOM_RATE = 20.0
 SCAN_RATE = 5.0
 RAYS = 360
+#: the live view's frame cap on a classroom page (elsewhere 32): ten pages with their browsers share
+#: two cores (bench/soak_classroom.py measured what each frame costs the kernel and the browser)
+LIVE_FPS = 12.0
 
 
 @dataclass(frozen=True)

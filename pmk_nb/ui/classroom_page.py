@@ -17,7 +17,8 @@ from pmk_nb.ui.context import AppContext
 CLASSROOM_NOTE = (
     "Classroom: this chair is yours alone. It waits, parked, until you drive it or send it somewhere. "
     f"Simulated at lower rates (odometry {classroom_settings.ODOM_RATE:g} Hz, laser "
-    f"{classroom_settings.SCAN_RATE:g} Hz) so the whole class fits on one machine."
+    f"{classroom_settings.SCAN_RATE:g} Hz, map redrawn {classroom_settings.LIVE_FPS:g} times a second) so "
+    "the whole class fits on one machine."
 )
 
 
@@ -52,6 +53,7 @@ def classroom_context(maps_dir: str | Path | None) -> AppContext | None:
     maps = MapsFolder(Path(maps_dir) if maps_dir is not None else None)
     ctx = ClassroomContext(maps, profiles, config_dir=seat.config_dir)
     ctx.seat = seat
+    ctx.live_fps = classroom_settings.LIVE_FPS
     ctx.set_current_map(settings.map_name, settings.map_yaml, settings.map_preview)
     ctx.notify(CLASSROOM_NOTE)
     return ctx

@@ -128,6 +128,8 @@ class AppContext:
         #: Several chairs on this page (issue 26, :mod:`pmk_nb.chair.fleet`): its chair in control is
         #: "the chair"; the others' links stay open. None: the page has one chair, its profile's.
         self.fleet: Fleet | None = None
+        #: Frame cap of Home's live view; None: the live view's own (a classroom page sets a lower one).
+        self.live_fps: float | None = None
 
     # -- kiosk lock --------------------------------------------------------------------------------
     def may_open(self, screen: str) -> bool:

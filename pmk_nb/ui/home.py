@@ -83,7 +83,7 @@ class HomeScreen:
     Args:
         ctx: the session (current map, chair profile, link, notifications).
         canvas_width, canvas_height: largest live view size in pixels (it takes the map's shape).
-        fps: frame-rate cap of the live view.
+        fps: frame-rate cap of the live view (None: the session's ``live_fps``, else the live view's own).
         autostart: start the preview whenever Home is shown (:meth:`on_show`), unless the user
             pressed Stop preview; for demos and kiosks.
     """
@@ -94,7 +94,7 @@ class HomeScreen:
         *,
         canvas_width: int = CANVAS_MAX[0],
         canvas_height: int = CANVAS_MAX[1],
-        fps: float = LIVE_FPS,
+        fps: float | None = None,
         autostart: bool = False,
     ) -> None:
         self.ctx = ctx
@@ -103,6 +103,7 @@ class HomeScreen:
         self._map_ok = False
         self.maps = MapGridCache()
         self.own = OwnMap()  # the chair's own /map while the preview runs (pmk_nb/ui/own_map.py)
+        fps = fps if fps is not None else ctx.live_fps if ctx.live_fps is not None else LIVE_FPS
         self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True)
         self.live.on_zoom_change(lambda _z: self.refresh_info())
         self.live.on_error(self._on_live_error)
