@@ -26,8 +26,8 @@ from pmk_nb.indoorgml import read_building
 from pmk_nb.raster.openings import SKIP_DECLARED, SKIP_WINDOW, plan_openings
 from pmk_nb.raster.storey import rasterise_storey
 from pmk_nb.ui.maps_access import _storey_html
+from tests.access.test_access_rules import _cell, _graph, _named_solid, _plan
 from tests.shared_data import INDOORGML_DATA
-from tests.test_access_rules import _cell, _graph, _named_solid, _plan
 
 SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 # hall and office side by side (floors at 0 m), a 0.3 m deep window in the office's outer wall, 1 m up

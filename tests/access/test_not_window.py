@@ -20,7 +20,7 @@ from pmk_nb.errors import IndoorGMLError
 from pmk_nb.grid import FREE
 from pmk_nb.indoorgml import read_building
 from pmk_nb.library.folder import MapsFolder
-from tests.test_access_not_checked import SPELLINGS, WINDOWED, _windowed
+from tests.access.test_access_not_checked import SPELLINGS, WINDOWED, _windowed
 
 # the "window" W of WINDOWED is a 0.3 m deep, 1 m wide cell 1 m up the office's outer wall; here the file's
 # graph also leads through it to a balcony, so the plan says it is a door
@@ -28,7 +28,7 @@ BALCONY = "balcony"
 
 
 def _balcony(tmp_path: Path, v2: bool) -> Path:
-    from tests.test_access_rules import _graph, _named_solid, _plan
+    from tests.access.test_access_rules import _graph, _named_solid, _plan
 
     cells = WINDOWED + _named_solid("C", BALCONY, (10.3, 0, 13, 4), 1.0, 3.6)
     return _plan(tmp_path, cells, _graph([("A", "B"), ("B", "W"), ("W", "C")], v2=v2), v2=v2)
@@ -98,7 +98,7 @@ def test_the_maps_folder_converts_with_it(tmp_path: Path) -> None:
 
 
 def test_pmk_maps_convert_takes_it(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    from tests.test_cli_maps import pmk
+    from tests.cli.test_cli_maps import pmk
 
     maps = tmp_path / "maps"
     maps.mkdir()

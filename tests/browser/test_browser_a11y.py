@@ -32,8 +32,8 @@ from pmk_nb.ui.a11y_style import FOCUS_PX
 from pmk_nb.ui.contrast import NON_TEXT_AA, contrast_ratio
 from pmk_nb.ui.drive_panel import STOPPED
 from tests.axe_probe import describe, run_axe
-from tests.test_browser_kiosk import ARTIFACTS, chromium_page, serve_kiosk
-from tests.test_browser_layout import _open
+from tests.browser.kiosk_page import ARTIFACTS, chromium_page, serve_kiosk
+from tests.browser.test_browser_layout import _open
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

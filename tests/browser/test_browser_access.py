@@ -7,8 +7,8 @@ from typing import Any
 
 from pmk_nb.access.sidecar import sidecar_doc
 from pmk_nb.library.folder import MapsFolder
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 from tests.shared_data import INDOORGML_DATA
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 
 
 def _access_panel(page: Any, name: str) -> Any:
@@ -80,7 +80,7 @@ def test_a_window_that_is_a_door_is_kept_navigable_from_the_maps_screen(tmp_path
     and checks its passages, and the choice stays ticked for the conversions after."""
     from playwright.sync_api import expect
 
-    from tests.test_not_window import _balcony
+    from tests.access.test_not_window import _balcony
 
     with serve_kiosk(tmp_path, label="access-not-window") as (url, world):
         maps = MapsFolder(world.maps_dir)
@@ -117,7 +117,7 @@ def test_the_maps_screen_says_a_plans_doubts_before_and_after_converting(tmp_pat
     and a unit that makes every door absurd, named before any door, as a kiosk user sees them."""
     from playwright.sync_api import expect
 
-    from tests.test_ui_plan_doubts import cm_house, lost_graph_plan, zoned_plan
+    from tests.ui.test_ui_plan_doubts import cm_house, lost_graph_plan, zoned_plan
 
     plans = {name: tmp_path / name for name in ("zoned", "lost", "house")}
     for folder in plans.values():

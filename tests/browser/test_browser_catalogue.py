@@ -9,10 +9,10 @@ from pathlib import Path
 from pmk_nb.catalogue.publish import publish
 from pmk_nb.library.folder import MapsFolder
 from pmk_nb.library.netguard import ALLOW_LOCAL_ENV
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 from tests.stac_site import serve_static
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 
-SAMPLE = Path(__file__).resolve().parent.parent / "sample_maps" / "clinic_two_storeys.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_two_storeys.gml"
 
 
 def test_catalogue_tab_lists_searches_and_installs_a_building(tmp_path: Path) -> None:

@@ -17,9 +17,9 @@ from typing import Any
 
 import pytest
 
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.drive_world import ChairWatch, DriveWorld, drive_world
 from tests.page_probes import FreezableProxy
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

@@ -15,9 +15,9 @@ from typing import Any
 
 import pytest
 
+from tests.browser.kiosk_page import VIEWPORT, chromium_page
+from tests.browser.test_browser_drive import STOP_WITHIN, press_forward, ready, shot
 from tests.drive_world import ChairWatch, DriveWorld, drive_world
-from tests.test_browser_drive import STOP_WITHIN, press_forward, ready, shot
-from tests.test_browser_kiosk import VIEWPORT, chromium_page
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

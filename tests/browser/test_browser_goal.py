@@ -22,9 +22,9 @@ from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.rosmap.files import read_map
 from pmk_nb.sim.world import World
 from pmk_nb.viewport import Viewport
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+from tests.browser.test_browser_live import pixels, wait_until
 from tests.page_view import page_view
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
-from tests.test_browser_live import pixels, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

@@ -20,8 +20,8 @@ from typing import Any
 import psutil
 import pytest
 
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page
-from tests.test_hub import PASSWORD, _class_processes, _login, _open_dashboard, running_hub
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
+from tests.cli.test_hub import PASSWORD, _class_processes, _login, _open_dashboard, running_hub
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

@@ -19,7 +19,7 @@ import pytest
 from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
 from pmk_nb.ui.context import STATE_FILE
 from pmk_nb.ui.kiosk_pin import KIOSK_ENV, PIN_FILE, PinStore
-from tests.test_browser_kiosk import VIEWPORT, chromium_page, serve_kiosk
+from tests.browser.kiosk_page import VIEWPORT, chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

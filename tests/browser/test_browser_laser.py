@@ -21,7 +21,7 @@ from typing import Any
 import pytest
 
 from pmk_nb.cli.demo_setup import DemoWorld
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(240)]
 

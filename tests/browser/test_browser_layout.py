@@ -20,11 +20,11 @@ from typing import Any
 
 import pytest
 
-from tests.test_browser_kiosk import ARTIFACTS, chromium_page, serve_kiosk
+from tests.browser.kiosk_page import ARTIFACTS, chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(600)]
 
-MEASURE_JS = (Path(__file__).parent / "js" / "measure_controls.js").read_text(encoding="utf-8")
+MEASURE_JS = (Path(__file__).parents[1] / "js" / "measure_controls.js").read_text(encoding="utf-8")
 #: (label, window width, window height, width of the app's box or None for the whole window)
 SIZES: list[tuple[str, int, int, int | None]] = [
     ("phone-390x844", 390, 844, None),

@@ -16,6 +16,7 @@ from typing import Any
 import pytest
 
 from pmk_nb.cli.demo_setup import DemoWorld
+from tests.browser.kiosk_page import CHROMIUM, CHROMIUM_ARGS, serve_kiosk
 from tests.page_probes import (
     FreezableProxy,
     chair_connections,
@@ -24,7 +25,6 @@ from tests.page_probes import (
     voila_process,
     wait_until,
 )
-from tests.test_browser_kiosk import CHROMIUM, CHROMIUM_ARGS, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(600)]
 

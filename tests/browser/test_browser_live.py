@@ -31,8 +31,8 @@ from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.context import AUTOSTART_ENV
 from pmk_nb.viewport import Viewport
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.page_view import settled_state
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

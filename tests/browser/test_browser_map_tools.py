@@ -20,9 +20,9 @@ import pytest
 from pmk_nb.rosmap.files import read_map
 from pmk_nb.viewport import Viewport
 from pmk_nb.viewport.maptools import scale_bar
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+from tests.browser.test_browser_live import pixels, wait_until
 from tests.page_view import page_view
-from tests.test_browser_kiosk import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
-from tests.test_browser_live import pixels, wait_until
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 

@@ -21,8 +21,8 @@ import shapely
 
 from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.guide import RoomsMap, load_rooms
-from tests.test_browser_kiosk import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT, serve_kiosk
-from tests.test_browser_live import pixels
+from tests.browser.kiosk_page import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT, serve_kiosk
+from tests.browser.test_browser_live import pixels
 
 ROUTE_RGB = (0, 150, 70)  # pmk_nb.ui.live_rooms_layer.ROUTE_RGB
 

@@ -20,8 +20,8 @@ from pathlib import Path
 import httpx
 import pytest
 
+from tests.browser.kiosk_page import chromium_page, serve_kiosk
 from tests.page_probes import kernels, rss_mb, voila_process, wait_until
-from tests.test_browser_kiosk import chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(400)]
 

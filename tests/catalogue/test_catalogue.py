@@ -29,7 +29,7 @@ from pmk_nb.errors import AssetMismatch, AssetOutsideCatalogue, AssetTooLarge, R
 from pmk_nb.library.folder import MapsFolder
 from tests.stac_site import Site, schema_map, serve_static
 
-SAMPLE = Path(__file__).resolve().parent.parent / "sample_maps" / "clinic_two_storeys.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_two_storeys.gml"
 
 
 @pytest.fixture(scope="module")

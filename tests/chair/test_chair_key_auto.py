@@ -15,9 +15,9 @@ from typing import Any
 import pytest
 
 from pmk_nb.library.folder import MapsFolder
+from tests.cli.test_cli_send import Pmk, house, pmk
 from tests.fixtures_sim import room_grid
 from tests.fixtures_ssh import SshdServer
-from tests.test_cli_send import Pmk, house, pmk
 
 __all__ = ["house", "pmk"]
 

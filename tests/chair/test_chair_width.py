@@ -16,7 +16,7 @@ from pmk_nb.errors import SettingsError
 
 SAMPLE = Path("/work/shared/data/indoorgml/fzk_haus_poslist.gml")
 if not SAMPLE.is_file():
-    SAMPLE = Path(__file__).resolve().parents[2] / "shared" / "data" / "indoorgml" / "fzk_haus_poslist.gml"
+    SAMPLE = Path(__file__).resolve().parents[3] / "shared" / "data" / "indoorgml" / "fzk_haus_poslist.gml"
 
 
 def test_profile_has_a_chair_width_checked_for_range() -> None:

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from pmk_nb.chair.secrets import PLAIN_FILE_BACKEND
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = """
 import json, sys
 from pmk_nb.chair.secrets import PasswordCache, SshAccount

@@ -11,7 +11,7 @@ from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.chair.secrets import KEYRING_SERVICE, PasswordCache, SshAccount
 from pmk_nb.library.folder import MapsFolder
 from pmk_nb.ui.context import AppContext
-from tests.test_settings import DictKeyring
+from tests.chair.test_settings import DictKeyring
 
 ALMA = SshAccount("pmk", "192.168.1.20", 22)
 

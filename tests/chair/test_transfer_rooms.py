@@ -11,10 +11,10 @@ import pytest
 from pmk_nb.access.sidecar import read_sidecar
 from pmk_nb.chair.transfer import upload
 from pmk_nb.library.convert import convert_plan
+from tests.chair.test_transfer_sim import on_chair, small_map
 from tests.fixtures_sim import sim_profile
-from tests.test_transfer_sim import on_chair, small_map
 
-SAMPLE = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 
 
 @pytest.fixture

@@ -24,7 +24,7 @@ from pmk_nb.classroom import CLASSROOM_ENV, ChairCap, ClassroomFull, default_max
 from pmk_nb.classroom.cap import MIB_PER_PAGE, PAGES_PER_CORE
 from tests.fixtures_sim import wait_until
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 GIB = 1024**3
 
 # a page's kernel: build the app as Voilà's kernel does, say which chair it got, live until stdin closes

@@ -17,9 +17,9 @@ import pytest
 
 from pmk_nb.chair.link.tls import pinned
 from pmk_nb.chair.profiles import ProfileStore
-from tests.test_sim_cli import start_cli
+from tests.cli.test_sim_cli import start_cli
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _pmk(cfg: Path, *args: str) -> subprocess.CompletedProcess[str]:

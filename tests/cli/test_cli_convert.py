@@ -79,7 +79,7 @@ def test_progress_bar_on_request(tmp_path: Path, capsys: pytest.CaptureFixture[s
 
 
 def test_max_wall_gap_option(tmp_path: Path) -> None:
-    clinic = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+    clinic = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
     for gap, expected in (("0.5", 100), ("0", -1)):
         out = tmp_path / gap
         argv = ["convert", str(clinic), "-r", "0.1", "--out", str(out), "--max-wall-gap", gap, "--no-progress"]

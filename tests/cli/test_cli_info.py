@@ -9,7 +9,7 @@ import pytest
 
 from pmk_nb.cli import main
 
-SAMPLE = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_two_storeys.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_two_storeys.gml"
 
 
 def test_info_human(capsys: pytest.CaptureFixture[str]) -> None:

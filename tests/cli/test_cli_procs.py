@@ -61,7 +61,7 @@ def test_a_reader_that_leaves_early_ends_pmk_quietly(tmp_path: Path) -> None:
     """`pmk check --json FILE | head`: the pipe closes before pmk writes; no traceback, SIGPIPE's status."""
     from pmk_nb.cli import BROKEN_PIPE
 
-    sample = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+    sample = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
     env = dict(os.environ, PMK_CONFIG_DIR=str(tmp_path))
     proc = subprocess.Popen([sys.executable, "-m", "pmk_nb.cli", "check", str(sample), "--json"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)  # fmt: skip

@@ -33,7 +33,7 @@ def pmk(tmp_path: Path) -> Pmk:
             text=True,
             env=env,
             timeout=120,
-            cwd=Path(__file__).resolve().parents[1],
+            cwd=Path(__file__).resolve().parents[2],
         )
 
     return run

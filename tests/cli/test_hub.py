@@ -1,5 +1,5 @@
 """``pmk hub`` (issue 26): the generated JupyterHub configuration, the checks before anything starts,
-and the helpers of the end-to-end test (:mod:`tests.test_browser_hub`): ``pmk hub`` running on
+and the helpers of the end-to-end test (:mod:`tests.browser.test_browser_hub`): ``pmk hub`` running on
 loopback, a student logging in through the hub's own form (xsrf cookie and field) over HTTP.
 """
 
@@ -37,7 +37,7 @@ from pmk_nb.cli.hub_config import (
 )
 from pmk_nb.cli.procs import free_port
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 PASSWORD = "class-password-26"
 
 

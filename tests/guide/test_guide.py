@@ -16,7 +16,7 @@ from pmk_nb.guide.errors import NotOnMap
 from pmk_nb.guide.route import narrow_passages
 from pmk_nb.library.convert import convert_plan
 
-SAMPLE = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 D5 = "1550.0 890.0 1640.0 890.0 1640.0 910.0 1550.0 910.0 1550.0 890.0"
 D5_NARROW = "1550.0 890.0 1600.0 890.0 1600.0 910.0 1550.0 910.0 1550.0 890.0"  # 0.5 m wide
 

@@ -18,7 +18,7 @@ from pmk_nb.access.check import check_grid
 from pmk_nb.cli import main
 from pmk_nb.indoorgml import read_building
 from pmk_nb.raster.storey import rasterise_storey
-from tests.test_access_rules import RES, ROOMS, _cell, _graph, _plan
+from tests.access.test_access_rules import RES, ROOMS, _cell, _graph, _plan
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.x-state-transition", "2.0-node-edge"])
 

@@ -10,7 +10,7 @@ import pytest
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import read_building
 
-SAMPLE = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 
 BILLION_LAUGHS = """<?xml version="1.0"?>
 <!DOCTYPE lolz [

@@ -11,7 +11,7 @@ from shapely.geometry import Point
 
 from pmk_nb.indoorgml import CellKind, read_building
 
-SAMPLE = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 NS = (
     'xmlns="http://www.opengis.net/indoorgml/1.0/core" xmlns:gml="http://www.opengis.net/gml/3.2" '
     'xmlns:xlink="http://www.w3.org/1999/xlink" xmlns:navi="http://www.opengis.net/indoorgml/1.0/navigation"'

@@ -19,7 +19,7 @@ from pmk_nb.errors import UnknownLayer
 from pmk_nb.grid import FREE, OCCUPIED
 from pmk_nb.indoorgml import read_building
 from pmk_nb.raster.storey import rasterise_storey
-from tests.test_access_rules import NS, RES, _cell, _solid
+from tests.access.test_access_rules import NS, RES, _cell, _solid
 
 ROOMS = _cell("A", (0, 0, 5, 4)) + _cell("B", (5, 0, 10, 4))
 # Wi-Fi zones: cross room A at x = 4 and reach 8 m outside the building (43 % inside it: the old

@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from pmk_nb.cli import main
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitEvidence, choose_unit, unit_suspect
-from tests.test_access_rules import _boundary, _cell, _graph, _plan, _ring, _solid
+from tests.access.test_access_rules import _boundary, _cell, _graph, _plan, _ring, _solid
 
 SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 UNITS = pytest.mark.parametrize("unit", ["m", "dm", "cm", "mm"])

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.test_notebooks import NOTEBOOKS, outputs, run_notebook
+from tests.kernels.test_notebooks import NOTEBOOKS, outputs, run_notebook
 
 
 @pytest.mark.slow

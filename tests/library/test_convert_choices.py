@@ -26,7 +26,7 @@ from pmk_nb.library.choices import (
 from pmk_nb.library.folder import MapsFolder
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen
-from tests.test_not_window import _balcony
+from tests.access.test_not_window import _balcony
 
 WINDOW = "office window"
 

@@ -27,7 +27,7 @@ from tests.helpers import cells_in, reachable
 from tests.shared_data import INDOORGML_DATA
 
 SHARED = INDOORGML_DATA
-SAMPLES = Path(__file__).resolve().parent.parent / "sample_maps"
+SAMPLES = Path(__file__).resolve().parents[2] / "sample_maps"
 FILES = sorted(SHARED.glob("*.gml")) + sorted(SAMPLES.glob("*.gml"))
 WALL = DEFAULT_WALL_THICKNESS
 MAX_SIDE = 1000  # cells: keeps every grid small enough for a fast test

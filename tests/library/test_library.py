@@ -302,7 +302,7 @@ def test_convert_errors_are_library_errors_and_leave_files(folder: MapsFolder, g
 
 
 def test_convert_passes_max_wall_gap(folder: MapsFolder, tmp_path: Path) -> None:
-    src = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+    src = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
     folder.import_file(src, "alma")
     [gm] = folder.convert("alma", 0.1)
     assert read_map(gm.yaml).value_at(12.0, 6.0) == 100  # the wall the file leaves out as a gap

@@ -13,7 +13,7 @@ from pmk_nb.library.folder import MapsFolder
 from pmk_nb.library.info import StoreyInfo
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
-SAMPLES = Path(__file__).resolve().parent.parent / "sample_maps"
+SAMPLES = Path(__file__).resolve().parents[2] / "sample_maps"
 
 
 @pytest.fixture

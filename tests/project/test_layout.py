@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-PKG = Path(__file__).resolve().parents[1] / "pmk_nb"
+PKG = Path(__file__).resolve().parents[2] / "pmk_nb"
 MAX_FUNCTION_LINES = 80
 # Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
 TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}

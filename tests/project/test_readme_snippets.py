@@ -22,7 +22,7 @@ from pmk_nb.access.sidecar import read_sidecar
 from pmk_nb.cli import COMMANDS, build_parser
 from pmk_nb.errors import MapNotFound
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 PYTHON_BLOCKS = re.findall(r"^```python\n(.*?)^```", README, re.S | re.M)
 SHELL_BLOCKS = re.findall(r"^```(?:sh|bash)\n(.*?)^```", README, re.S | re.M)

@@ -16,7 +16,7 @@ import pytest
 
 from pmk_nb.grid import FREE, OCCUPIED
 from pmk_nb.raster.openings import plan_openings
-from tests.test_access_rules import _cell, _graph, _grid_and_report, _plan
+from tests.access.test_access_rules import _cell, _graph, _grid_and_report, _plan
 
 SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 # room A, a 0.3 m deep door cell D 0.15 m from A, room B 0.13 m beyond D (walls modelled as gaps);

@@ -26,12 +26,12 @@ from pmk_nb.raster.openings import plan_openings
 from pmk_nb.raster.scanline import Frame
 from pmk_nb.raster.seal import seal_outside
 from pmk_nb.raster.storey import rasterise_storey
+from tests.access.test_access_rules import RES, _boundary, _cell, _graph, _plan
 from tests.shared_data import INDOORGML_DATA
-from tests.test_access_rules import RES, _boundary, _cell, _graph, _plan
 
 SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 ROOM = _cell("A", (0, 0, 5, 4))
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 def _free_on_unknown(grid: OccupancyGrid) -> np.ndarray:

@@ -17,7 +17,7 @@ from pmk_nb.indoorgml.model import Boundary, Cell, CellKind
 from pmk_nb.raster import openings
 from pmk_nb.raster.nearby import Nearby
 from pmk_nb.raster.walls import door_jambs
-from tests.test_access_rules import _boundary, _cell, _graph, _plan
+from tests.access.test_access_rules import _boundary, _cell, _graph, _plan
 
 TOL = 0.01
 

@@ -20,7 +20,7 @@ from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, rasterise_storey
 from pmk_nb.raster.walls import door_gaps, gap_walls
 from tests.helpers import building, cells_in, flood, room
 
-CLINIC = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+CLINIC = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 L_SHAPE = Polygon([(0, 0), (10, 0), (10, 4), (4, 4), (4, 10), (0, 10)])
 
 

@@ -8,7 +8,7 @@ from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.sim.bridge_modes import FACTS
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair
-from tests.test_real_faults import start
+from tests.real.test_real_faults import start
 
 ros2_stack, real_chair = fixtures_ros2.ros2_stack, fixtures_ros2.real_chair
 

@@ -20,7 +20,7 @@ from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair
 
 ros2_stack, real_chair = fixtures_ros2.ros2_stack, fixtures_ros2.real_chair
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 PRELUDE = """
 import json, sys, threading, time

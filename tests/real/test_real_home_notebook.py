@@ -27,7 +27,7 @@ from tests.fixtures_sim import room_grid, write_test_map
 from tests.helpers import wait_until
 
 ros2_stack, real_chair = fixtures_ros2.ros2_stack, fixtures_ros2.real_chair
-NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
+NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
 
 
 @pytest.fixture

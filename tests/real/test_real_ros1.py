@@ -25,7 +25,7 @@ from pmk_nb.rosmap.files import read_map
 from tests.fixtures_ros2 import free_port
 from tests.fixtures_sim import room_grid, write_test_map
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SRV_DIR = ROOT / "ros" / "interfaces" / "map_server_pmk" / "srv"
 
 

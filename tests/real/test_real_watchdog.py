@@ -28,7 +28,7 @@ from pmk_nb.robot.goalwatch import READY_LINE
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import Proc, RealChair
 from tests.page_probes import FreezableProxy
-from tests.test_real_ros1 import Ros1, ros1  # noqa: F401 - the rosmaster fixture
+from tests.real.test_real_ros1 import Ros1, ros1  # noqa: F401 - the rosmaster fixture
 
 ros2_stack, real_chair = fixtures_ros2.ros2_stack, fixtures_ros2.real_chair
 SILENCE = 3.0  # the default

@@ -11,7 +11,7 @@ import stat
 from pathlib import Path
 
 from pmk_nb.sim.hostkey import KEY_FILE, load_host_key
-from tests.test_sim_cli import start_cli
+from tests.cli.test_sim_cli import start_cli
 
 
 def _fingerprint(lines: list[str]) -> str:

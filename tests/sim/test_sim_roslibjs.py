@@ -29,7 +29,7 @@ import pytest
 from pmk_nb.sim import SimChair
 from tests.fixtures_sim import wait_until
 
-JS_DIR = Path(__file__).parent / "js"
+JS_DIR = Path(__file__).parents[1] / "js"
 SCRIPT = JS_DIR / "roslib_client.mjs"
 WINDOW_S = 1.2  # how long the script listens to /odom and /scan
 NPM_CI_TIMEOUT_S = 240.0

@@ -27,7 +27,7 @@ from pmk_nb.ui.app import SCREENS, Dashboard
 from pmk_nb.ui.context import STATE_FILE, AppContext, CurrentMap
 from pmk_nb.ui.widgets import TOUCH_PX, guard, progress_bar, progress_callback, set_progress
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture

@@ -13,7 +13,7 @@ from pmk_nb.ui.goal_picker import GoalPicker, goal_from_pixels
 from pmk_nb.ui.live_view import LiveView
 from pmk_nb.viewport import Viewport
 from tests.fixtures_sim import wait_until
-from tests.test_ui_live import sample_grid
+from tests.ui.test_ui_live import sample_grid
 
 
 def _view() -> Viewport:

@@ -786,7 +786,7 @@ def test_render_loop_runs_on_the_kernels_event_loop_between_cells() -> None:
                 return "".join(out)
 
     try:
-        run(f"import os; os.chdir({str(Path(__file__).resolve().parents[1])!r})")
+        run(f"import os; os.chdir({str(Path(__file__).resolve().parents[2])!r})")
         assert run(KERNEL_SETUP).strip() == "asyncio"
         time.sleep(1.0)  # no cell running: only the kernel's loop can draw now
         frames = int(run("print(view.metrics.frames); view.stop()"))

@@ -22,7 +22,7 @@ from tests.fixtures_sim import sim_profile
 from tests.helpers import wait_until
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
-SAMPLE_MAPS = Path(__file__).resolve().parent.parent / "sample_maps"
+SAMPLE_MAPS = Path(__file__).resolve().parents[2] / "sample_maps"
 NOW = dt.datetime(2026, 1, 1, tzinfo=dt.UTC)  # FileUpload's kernel-side value format
 
 

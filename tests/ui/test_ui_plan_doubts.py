@@ -19,11 +19,11 @@ from pmk_nb.library.choices import read_choices
 from pmk_nb.library.info import LayerOption, layer_options, plan_notes
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen
+from tests.access.test_access_rules import ROOMS, _graph, _plan
 from tests.helpers import wait_until
-from tests.test_access_rules import ROOMS, _graph, _plan
-from tests.test_convert_choices import _converted
-from tests.test_layers_rule import _layered_plan
-from tests.test_units_evidence import _door, _house
+from tests.indoorgml.test_layers_rule import _layered_plan
+from tests.indoorgml.test_units_evidence import _door, _house
+from tests.library.test_convert_choices import _converted
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.x", "2.0"])
 THEMATIC = "a thematic layer"

@@ -20,7 +20,7 @@ from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.live_rooms_layer import RoomsOverlay
 from pmk_nb.viewport import Viewport
 
-SAMPLE = Path(__file__).resolve().parents[1] / "sample_maps" / "clinic_floor.gml"
+SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 START = (15.0, 3.0, 0.0)  # in Exam room 1
 
 

@@ -15,7 +15,7 @@ from pmk_nb.tlscert import file_fingerprint, write_self_signed
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.settings_screen import SettingsScreen
 from tests.helpers import wait_until
-from tests.test_ui_settings import fill
+from tests.ui.test_ui_settings import fill
 
 
 def _tested(screen: SettingsScreen) -> str:

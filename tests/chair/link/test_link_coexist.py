@@ -20,7 +20,7 @@ import pmk_nb.chair.link as chair_link
 from pmk_nb.sim import SimChair
 from tests.fixtures_sim import wait_until
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _plain_ros(port: int) -> roslibpy.Ros:

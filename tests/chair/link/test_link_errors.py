@@ -12,8 +12,8 @@ from pmk_nb.chair.link.registry import close_all_links, get_link, open_links, us
 from pmk_nb.chair.reload import KEEPS_OLD_MAP, ReloadService
 from pmk_nb.errors import ChairLinkError, ChairTimeout
 from pmk_nb.sim import SimChair
+from tests.chair.link.test_link_halfopen import FreezableProxy
 from tests.fixtures_sim import wait_until
-from tests.test_link_halfopen import FreezableProxy
 
 
 @pytest.fixture

@@ -158,6 +158,6 @@ def test_wss_on_the_twisted_transport_is_refused_with_the_reason(tmp_path: Path)
         "except ChairLinkError as err:\n"
         "    print('refused', err.host, err.port)\n"
     )
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[3]
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, cwd=root)
     assert done.stdout.strip() == "refused 127.0.0.1 9", done.stdout + done.stderr

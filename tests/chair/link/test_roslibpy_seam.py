@@ -21,7 +21,7 @@ from roslibpy.comm import comm_asyncio
 from pmk_nb.chair.link.factory import LinkFactory, start_private_loop
 from pmk_nb.chair.link.transport import LinkRos
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _self_assignments(fn: object) -> set[str]:

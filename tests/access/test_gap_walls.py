@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN
-from tests.test_access_rules import _cell, _graph, _grid_and_report, _plan
+from tests.access.test_access_rules import _cell, _graph, _grid_and_report, _plan
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 CELLS = _cell("A", (0, 0, 5, 4)) + _cell("B", (5.8, 0, 10.8, 4)) + _cell("C", (0, 4, 5, 10))

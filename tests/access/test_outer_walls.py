@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.grid import FREE, OCCUPIED
-from tests.test_access_rules import ROOMS, _boundary, _cell, _graph, _grid_and_report, _plan
+from tests.access.test_access_rules import ROOMS, _boundary, _cell, _graph, _grid_and_report, _plan
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 SPOT = ((1.5, 0.0), (2.7, 0.0))  # 1.2 m of A's 5 m outer wall

@@ -13,7 +13,7 @@ from typing import Any
 import pytest
 
 from pmk_nb.ui import canvas_focus
-from tests.test_browser_kiosk import chromium_page
+from tests.browser.kiosk_page import chromium_page
 
 PAGE = """<style>body { margin: 0 }</style><div id="box" style="height: 400px; overflow: auto">
   <div style="height: 300px"></div>
