@@ -78,7 +78,7 @@ clean:
 # Jazzy wheels + rosbridge-server-rs + our interfaces (ros/interfaces, rosapi_msgs included so the
 # bridge can run rosapi) built with cmake, in a venv outside the checkout ($$PMK_ROS_CACHE, default
 # ~/.cache/pmk-ros); instant when nothing changed, one package rebuilt when only it changed (cold on
-# 2 cores: about 4-5 min, rosapi_msgs 3 of them). The real-stack test tier (tests/test_real_*.py)
+# 2 cores: about 4-5 min, rosapi_msgs 3 of them). The real-stack test tier (tests/real/)
 # and `make bench` use it.
 ros2: $(STAMP)
 	@command -v cmake >/dev/null && command -v c++ >/dev/null || { echo "make: the ROS 2 interfaces need cmake and a C/C++ compiler"; exit 1; }

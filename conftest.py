@@ -1,9 +1,12 @@
 """Root conftest: registers the shared fixture modules so every test file can use them.
 
-Every test that starts a browser, Voilà, a notebook kernel or a real ROS stack is marked ``heavy``:
-``make check`` (the fast tier) leaves them out. (pytest-xdist's ``--dist loadgroup`` would keep them on
-one worker, but with pytest 9.2 it does not group: xdist 3.8 writes the group into ``item._nodeid``,
-which pytest 9.2 no longer reads. ``make test`` therefore uses plain ``-n 2``, measured green.)
+Tests mirror the package tree (``tests/<package>/``, ``tests/chair/link/``, ...); the tests of the whole
+system sit in folders of their own, and three of them are ``heavy`` (``make check``, the fast tier, leaves
+them out): ``tests/browser/`` (Chromium), ``tests/real/`` (real ROS stacks) and ``tests/kernels/`` (notebook
+kernels, Voilà). A test marked ``browser`` elsewhere is heavy too. ``tests/project/test_tree.py`` holds this
+layout. (pytest-xdist's ``--dist loadgroup`` would keep the heavy tests on one worker, but with pytest
+9.2 it does not group: xdist 3.8 writes the group into ``item._nodeid``, which pytest 9.2 no longer
+reads. ``make test`` therefore uses ``-n 2``.)
 
 Browser modules run first, and ``make test`` uses ``--dist worksteal``: plain load scheduling gave
 the first worker an initial chunk of 297 tests holding every browser test (about 1200 s of the
@@ -13,17 +16,25 @@ one worker's queue, an idle worker steals the light tests from its tail instead.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 pytest_plugins = ["tests.fixtures_sim", "tests.fixtures_ssh", "tests.fixtures_ui"]
 
-HEAVY_PREFIXES = ("test_browser_", "test_real_", "test_notebook", "test_voila_")
+TESTS = Path(__file__).resolve().parent / "tests"
+HEAVY_FOLDERS = ("browser", "real", "kernels")
+
+
+def is_heavy_path(path: Path) -> bool:
+    """True for a test file under one of the heavy folders."""
+    return path.resolve().is_relative_to(TESTS) and path.resolve().relative_to(TESTS).parts[0] in HEAVY_FOLDERS
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     browser_modules = set()
     for item in items:
-        if item.path.name.startswith(HEAVY_PREFIXES) or item.get_closest_marker("browser"):
+        if is_heavy_path(item.path) or item.get_closest_marker("browser"):
             item.add_marker(pytest.mark.heavy)
         if item.get_closest_marker("browser"):
             browser_modules.add(item.path)

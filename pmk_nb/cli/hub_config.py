@@ -1,7 +1,7 @@
 """``pmk hub``'s JupyterHub configuration: users, the class password, the proxy, the spawner, the culler.
 
 Generated, not hand-written, so the class's choices are in one place and tested
-(``tests/test_hub.py``); it is JupyterHub's own traitlets configuration as JSON
+(``tests/cli/test_hub.py``); it is JupyterHub's own traitlets configuration as JSON
 (``jupyterhub_config.json``, 0600: it holds the class password), beside a 0600 cookie secret and
 the hub's database in the hub's state folder.  Nothing home-made where JupyterHub already does it:
 

@@ -4,7 +4,7 @@ Issue 29: the maps folder was ``--dir``, ``--maps-dir`` or ``--maps`` by command
 ``--chair-width`` beside ``--footprint-radius``, and ``convert`` required ``-r`` where the others
 defaulted to 0.05. Each concept now has one visible spelling (:data:`CANONICAL`); the old spellings
 still parse as hidden, deprecated aliases (:data:`ALIASES`), so scripts keep working.
-``tests/test_cli_options.py`` walks every parser against these tables.
+``tests/cli/test_cli_options.py`` walks every parser against these tables.
 """
 
 from __future__ import annotations

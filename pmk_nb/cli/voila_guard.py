@@ -24,7 +24,7 @@ socket grew the server from 100 to 265 MB in 12 s although only one message went
 and the output budget never tripped.  The budget is a back-stop for the page's own socket only.
 
 This module is the one seam to jupyter_server's kernel-websocket internals (``ZMQChannelsWebsocketConnection``'s
-``prepare``/``connect``/``disconnect``/``write_message``, ``_open_sessions``); tests/test_voila_guard_seam.py
+``prepare``/``connect``/``disconnect``/``write_message``, ``_open_sessions``); tests/kernels/test_voila_guard_seam.py
 pins them in the installed version.
 """
 

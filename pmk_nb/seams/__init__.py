@@ -2,7 +2,7 @@
 
 Each library touched here is pinned exactly in ``pyproject.toml`` and has a seam test
 (``tests/test_<library>_seam.py``) that fails when the installed version or a touched internal
-changes, before a screen or a chair misbehaves. ``tests/test_private_access.py`` fails on a
+changes, before a screen or a chair misbehaves. ``tests/project/test_private_access.py`` fails on a
 ``._private`` access anywhere else.
 
 * ``roslibpy_seam``: the link's factory on a private loop, its reconnect switch and connect attempt;

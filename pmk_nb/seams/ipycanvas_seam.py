@@ -1,4 +1,4 @@
-"""ipycanvas internals (pinned: ipycanvas==0.14.3; tests/test_ipycanvas_seam.py).
+"""ipycanvas internals (pinned: ipycanvas==0.14.3; tests/seams/test_ipycanvas_seam.py).
 
 Touched: ``Canvas._canvas_manager`` (the kernel-wide ``_CanvasManager`` every canvas sends through),
 ``_CanvasManager._send_custom`` (the one funnel of batched and single commands) and

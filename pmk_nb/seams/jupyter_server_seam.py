@@ -1,4 +1,4 @@
-"""jupyter_server internals (pinned: jupyter_server==2.21.1; tests/test_jupyter_server_seam.py).
+"""jupyter_server internals (pinned: jupyter_server==2.21.1; tests/seams/test_jupyter_server_seam.py).
 
 Touched: ``MappingKernelManager._kernel_connections`` (kernel id -> open websockets, kept by its
 ``notify_connect`` / ``notify_disconnect``: the only count of a kernel's pages) and

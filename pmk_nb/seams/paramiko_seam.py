@@ -1,4 +1,4 @@
-"""paramiko internals (pinned: paramiko==5.1.0; tests/test_paramiko_seam.py).
+"""paramiko internals (pinned: paramiko==5.1.0; tests/seams/test_paramiko_seam.py).
 
 Touched: ``SFTPClient._convert_status(msg)``, where paramiko turns a status reply into an exception
 (or nothing for OK). It maps the codes it knows to errno and every other one to a bare ``IOError``

@@ -1,4 +1,4 @@
-"""roslibpy internals (pinned: roslibpy==2.1.0; tests/test_roslibpy_seam.py).
+"""roslibpy internals (pinned: roslibpy==2.1.0; tests/seams/test_roslibpy_seam.py).
 
 Imports no roslibpy transport: importing ``roslibpy.comm.comm_asyncio`` (or the Twisted one) binds
 Autobahn's txaio to that framework for the whole process, which :mod:`pmk_nb.chair.link.transport`

@@ -1,4 +1,4 @@
-"""Voilà internals (pinned: voila==0.5.13; tests/test_voila_seam.py).
+"""Voilà internals (pinned: voila==0.5.13; tests/seams/test_voila_seam.py).
 
 Touched: ``Voila._url(ip)``, the URL Voilà logs ("Voilà is running at ..."), which says ``http``
 whatever the server speaks (its source carries "TODO: https / certfile").

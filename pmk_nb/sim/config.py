@@ -58,7 +58,7 @@ class SimConfig:
 
 class SimOptions(TypedDict, total=False):
     """The keyword form of :class:`SimConfig` for ``SimChair(**options)``: the same names and types, no
-    defaults (those are SimConfig's; tests/test_sim_config.py keeps the two in step)."""
+    defaults (those are SimConfig's; tests/sim/test_sim_config.py keeps the two in step)."""
 
     grid: OccupancyGrid | None
     host: str

@@ -10,7 +10,7 @@
   puts them there from the chair profile): black on white with 2 px borders and a thicker ring;
   text a third larger (24 px), labels allowed to wrap rather than be cut.
 
-Every colour pair is listed in :data:`CHECKED_PAIRS`; ``tests/test_ui_a11y.py`` checks each
+Every colour pair is listed in :data:`CHECKED_PAIRS`; ``tests/ui/test_ui_a11y.py`` checks each
 against its WCAG minimum with :mod:`pmk_nb.ui.contrast`.
 """
 

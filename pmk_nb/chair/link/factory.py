@@ -6,7 +6,7 @@ link opens its first connection.
 
 roslibpy internals are touched only through :mod:`pmk_nb.seams.roslibpy_seam` (``FactorySeam``: a
 private loop manager, the reconnect switch, the connect attempt; pinned and checked by
-``tests/test_roslibpy_seam.py``). A wss link makes its own connect attempt: roslibpy's with the link's
+``tests/seams/test_roslibpy_seam.py``). A wss link makes its own connect attempt: roslibpy's with the link's
 TLS context (:mod:`pmk_nb.chair.link.tls`), and a certificate refused ends the reconnects. Its
 protocol class checks the certificate in ``connection_made``, after the TLS handshake and before
 Autobahn sends the websocket's first byte.

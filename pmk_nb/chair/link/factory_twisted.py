@@ -8,7 +8,7 @@ link's ``close()`` then closes its connection only; the reactor thread stays for
 
 roslibpy internals touched: none beyond its classes (``AutobahnRosBridgeClientFactory``,
 ``TwistedEventLoopManager``, the factory's ``connector``); ``stopTrying`` and ``setProtocolOptions``
-are public Twisted / Autobahn API. ``tests/test_real_coexist.py`` runs this path in both orders.
+are public Twisted / Autobahn API. ``tests/real/test_real_coexist.py`` runs this path in both orders.
 """
 
 from __future__ import annotations

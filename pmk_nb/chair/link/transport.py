@@ -22,7 +22,7 @@ Nothing binds a framework until a link connects.
 roslibpy internals (``Ros._id_counter``, since ``Ros.__init__`` is not called: it builds its factory on
 the process-wide loop, starting that loop's thread, and connects at once; the protocol's ``status``
 handler; the factory's) are touched only in :mod:`pmk_nb.seams.roslibpy_seam` (pinned version,
-checked by ``tests/test_roslibpy_seam.py``).
+checked by ``tests/seams/test_roslibpy_seam.py``).
 """
 
 from __future__ import annotations

@@ -1,0 +1,47 @@
+"""Record on Home in a real browser (issue 29): the demo page records the simulated chair, Stop
+finishes the file, and the download links give the MCAP file and the current map's zip."""
+
+from __future__ import annotations
+
+import io
+import re
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
+
+pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
+
+
+def test_record_stop_and_download_on_home(tmp_path: Path) -> None:
+    from playwright.sync_api import expect
+
+    with serve_kiosk(tmp_path, label="record") as (url, _world), chromium_page(url, viewport=VIEWPORT) as page:
+        expect(page.locator(".pmk-record-start")).to_be_visible(timeout=120_000)  # the page is up
+        page.locator(".pmk-record-start").click()
+        status = page.locator(".pmk-record-status")
+        expect(status).to_contain_text(re.compile(r"Recording 0:\d\d · [1-9]\d* messages"), timeout=30_000)
+        expect(page.locator(".pmk-record-stop")).to_be_visible()
+        page.wait_for_timeout(1500)
+        page.locator(".pmk-record-stop").click()
+        link = page.locator("a.pmk-record-link")
+        expect(link).to_be_visible(timeout=30_000)
+        expect(status).to_contain_text("Recorded")
+        with page.expect_download() as got:
+            link.click()
+        saved = Path(got.value.path())
+        assert got.value.suggested_filename.endswith(".mcap")
+        assert saved.read_bytes().startswith(b"\x89MCAP0\r\n")
+
+        page.locator(".pmk-record-map").click()
+        map_link = page.locator("a.pmk-map-link")
+        expect(map_link).to_be_visible(timeout=30_000)
+        with page.expect_download() as got_map:
+            map_link.click()
+        with zipfile.ZipFile(io.BytesIO(Path(got_map.value.path()).read_bytes())) as zf:
+            names = zf.namelist()
+        assert any(n.endswith(".yaml") for n in names) and len(names) == 2, names
+        ARTIFACTS.mkdir(exist_ok=True)
+        page.screenshot(path=str(ARTIFACTS / "record-home.png"))

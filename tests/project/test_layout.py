@@ -1,0 +1,179 @@
+"""The package layout keeps its promises: one package per concept (modules sized by concept, not
+by a line cap), short functions, no control flow on error text, the core free of widget libraries,
+one atomic-write helper."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+PKG = Path(__file__).resolve().parents[2] / "pmk_nb"
+MAX_FUNCTION_LINES = 80
+# Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
+TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
+TOP_LEVEL |= {"goalbeat.py"}  # the goal heartbeat's wire format: the link (chair/) and the watchdog (robot/)
+TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (sim, link, dashboard)
+TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
+PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
+PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
+PACKAGES |= {"drive"}  # the joystick's deadman, pure
+PACKAGES |= {"catalogue"}  # STAC map catalogues: publish, browse, install (issue 27)
+PACKAGES |= {"classroom"}  # a simulated chair per page, the class's chair cap (issue 26)
+PACKAGES |= {"seams"}  # the only modules touching a library's private members, one per library (issue 25)
+WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
+
+
+def _modules() -> list[Path]:
+    return sorted(PKG.rglob("*.py"))
+
+
+def _rel(path: Path) -> str:
+    return str(path.relative_to(PKG.parent))
+
+
+def test_top_level_holds_only_shared_modules_and_concept_packages() -> None:
+    files = {p.name for p in PKG.glob("*.py")}
+    dirs = {p.name for p in PKG.iterdir() if p.is_dir() and p.name != "__pycache__"}
+    assert files <= TOP_LEVEL, f"modules that belong in a concept package: {sorted(files - TOP_LEVEL)}"
+    assert dirs <= PACKAGES, f"unexpected packages: {sorted(dirs - PACKAGES)}"
+    for name in PACKAGES:
+        init = PKG / name / "__init__.py"
+        has_doc = init.is_file() and ast.get_docstring(ast.parse(init.read_text()))
+        assert has_doc, f"{name}/__init__.py needs a docstring"
+
+
+@pytest.mark.parametrize("path", _modules(), ids=_rel)
+def test_functions_are_short(path: Path) -> None:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    long = [
+        f"{node.name} ({node.end_lineno - node.lineno + 1} lines, line {node.lineno})"
+        for node in ast.walk(tree)
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+        and node.end_lineno is not None
+        and node.end_lineno - node.lineno + 1 > MAX_FUNCTION_LINES
+    ]
+    assert not long, f"{_rel(path)}: functions over {MAX_FUNCTION_LINES} lines: {long}"
+
+
+def _matches_error_text(node: ast.AST) -> bool:
+    """``str(err)`` / ``err.args`` / ``message`` used in a comparison, ``in`` or startswith/endswith."""
+
+    def is_error_text(expr: ast.AST) -> bool:
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name) and expr.func.id == "str":
+            arg = expr.args[0] if expr.args else None
+            return isinstance(arg, ast.Name) and arg.id in {"err", "exc", "e", "error"}
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Attribute) and expr.func.attr == "lower":
+            return is_error_text(expr.func.value)
+        return isinstance(expr, ast.Name) and expr.id in {"message", "msg_text", "reason"}
+
+    if isinstance(node, ast.Compare):
+        return is_error_text(node.left) or any(is_error_text(c) for c in node.comparators)
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+        return node.func.attr in {"startswith", "endswith"} and is_error_text(node.func.value)
+    return False
+
+
+@pytest.mark.parametrize("path", _modules(), ids=_rel)
+def test_no_control_flow_on_error_text(path: Path) -> None:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    hits = [node.lineno for node in ast.walk(tree) if _matches_error_text(node)]
+    assert not hits, f"{_rel(path)} decides on the text of an error at lines {hits}: use the error's type or fields"
+
+
+def test_core_imports_no_widget_library() -> None:
+    offenders = []
+    for path in _modules():
+        if path.is_relative_to(PKG / "ui"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module:
+                names = [node.module]
+            offenders += [f"{_rel(path)}: {n}" for n in names if n.startswith(WIDGET_LIBRARIES)]
+    assert not offenders, offenders
+
+
+def test_one_atomic_write_helper() -> None:
+    """Temp-file-and-rename is written once, in pmk_nb/fileio.py."""
+    writers = [
+        _rel(p)
+        for p in _modules()
+        if p.name != "fileio.py" and re.search(r"\bmkstemp\(|\bos\.replace\(", p.read_text(encoding="utf-8"))
+    ]
+    assert not writers, f"hand-written atomic writes (use pmk_nb.fileio): {writers}"
+
+
+# Which packages each package may import: the data flow of ARCHITECTURE.md, one direction only.
+SHARED = {"errors", "progress", "fileio", "grid"}
+SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the link and the dashboard
+SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
+ALLOWED_IMPORTS: dict[str, set[str]] = {
+    "viewport": {"grid"},  # the shared grid type and its greys, nothing else
+    "grid": set(),
+    "indoorgml": SHARED,
+    "raster": SHARED | {"indoorgml"},
+    "access": SHARED | {"indoorgml", "raster", "rosmap"},
+    "rosmap": SHARED,
+    "library": SHARED | {"indoorgml", "raster", "rosmap", "access"},
+    "chair": SHARED | {"rosmap", "viewport"},  # the tf tree composes viewport.pose transforms
+    "sim": SHARED | {"rosmap", "indoorgml", "raster"},
+    "robot": SHARED | {"rosmap", "sim"},  # chair-side ROS nodes: the map server, the simulator as a node
+    "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "access"},
+    "guide": SHARED | {"indoorgml", "raster", "rosmap", "access"},  # rooms file + accessibility rules
+    "speech": SHARED,
+    "cli": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "sim", "ui", "robot", "access"},
+}
+ALLOWED_IMPORTS["ui"] |= {"guide", "speech"}
+ALLOWED_IMPORTS["cli"] |= {"guide", "speech"}
+ALLOWED_IMPORTS["drive"] = set(SHARED)
+ALLOWED_IMPORTS["ui"] |= {"drive"}
+ALLOWED_IMPORTS["cli"] |= {"drive"}
+# The goal heartbeat's wire format (issue 24): the link speaks it, the chair's goal watchdog hears it.
+ALLOWED_IMPORTS["goalbeat"] = set()
+ALLOWED_IMPORTS["chair"] |= {"goalbeat"}
+ALLOWED_IMPORTS["robot"] |= {"goalbeat"}
+ALLOWED_IMPORTS["cli"] |= {"goalbeat"}
+ALLOWED_IMPORTS["catalogue"] = SHARED | {"library", "access", "indoorgml", "rosmap"}  # on top of the maps folder
+ALLOWED_IMPORTS["ui"] |= {"catalogue"}
+ALLOWED_IMPORTS["cli"] |= {"catalogue"}
+# A chair per classroom page (issue 26): a simulator and a profile for it, for the ui and the cli.
+ALLOWED_IMPORTS["classroom"] = SHARED | {"sim", "chair"}
+ALLOWED_IMPORTS["ui"] |= {"classroom"}
+ALLOWED_IMPORTS["cli"] |= {"classroom"}
+# Library seams (issue 25): leaves over their library, used by the link, the screens and the commands.
+ALLOWED_IMPORTS["seams"] = set()
+for _user in ("chair", "ui", "cli"):
+    ALLOWED_IMPORTS[_user] |= {"seams"}
+
+
+def _package_of(path: Path) -> str:
+    rel = path.relative_to(PKG)
+    return rel.parts[0] if len(rel.parts) > 1 else rel.stem
+
+
+def test_imports_follow_the_data_flow() -> None:
+    wrong = []
+    for path in _modules():
+        own = _package_of(path)
+        allowed = ALLOWED_IMPORTS.get(own)
+        if allowed is None:
+            continue  # errors, progress, fileio, __init__: leaves
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            modules = []
+            if isinstance(node, ast.Import):
+                modules = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                modules = [node.module]
+            for module in modules:
+                parts = module.split(".")
+                if parts[0] != "pmk_nb" or len(parts) < 2:
+                    continue
+                target = parts[1]
+                if target != own and target not in allowed:
+                    wrong.append(f"{_rel(path)}:{node.lineno} imports {module}")
+    assert not wrong, "imports against the data flow (see ARCHITECTURE.md):\n" + "\n".join(wrong)

@@ -1,0 +1,53 @@
+"""The pure core type-checks under ``mypy --strict`` (issue 25): a change that breaks a signature, returns
+Optional where a value is promised or passes the wrong array shape fails here, not on a chair.
+
+Runs mypy in-process through its API on the strict packages, with pyproject.toml's ``[tool.mypy]``
+(checked here to hold every ``--strict`` flag for them) and its default cache, ``.mypy_cache``, which
+``make lint`` fills just before: 3-6 s warm; cold about 20 s of CPU (90 s of wall time on a loaded box).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+# the pure core: no widgets, no network, no ROS (ARCHITECTURE.md); strict in pyproject.toml's [tool.mypy] too
+STRICT_PACKAGES = ("indoorgml", "raster", "rosmap", "access", "viewport", "drive", "guide", "speech")
+# what --strict turns on per module (mypy 2.4); warn_unused_configs and warn_redundant_casts are global
+STRICT_FLAGS = (
+    "disallow_any_generics", "disallow_subclassing_any", "disallow_untyped_calls", "disallow_untyped_defs",
+    "disallow_incomplete_defs", "check_untyped_defs", "disallow_untyped_decorators", "warn_return_any",
+    "no_implicit_reexport", "strict_equality", "extra_checks", "warn_unused_ignores",
+)  # fmt: skip
+
+
+def test_strict_packages_match_the_config() -> None:
+    """pyproject.toml turns every --strict flag on for these packages (and the global ones)."""
+    import tomllib
+
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["mypy"]
+    assert config.get("warn_unused_configs") and config.get("warn_redundant_casts"), config
+    strict = next(o for o in config["overrides"] if o.get("disallow_untyped_defs"))
+    named = {m.removeprefix("pmk_nb.").removesuffix(".*") for m in strict["module"]}
+    assert set(STRICT_PACKAGES) <= named, f"strict in pyproject.toml: {sorted(named)}"
+    off = [flag for flag in STRICT_FLAGS if strict.get(flag) is not True]
+    assert not off, f"--strict flags missing from the strict override: {off}"
+    loosened = [o["module"] for o in config["overrides"] if o.get("ignore_errors")]
+    assert not any(m.startswith(tuple(f"pmk_nb.{p}" for p in STRICT_PACKAGES)) for ms in loosened for m in ms)
+    for package in STRICT_PACKAGES:
+        assert (ROOT / "pmk_nb" / package / "__init__.py").is_file(), package
+
+
+def test_pure_core_is_strictly_typed(monkeypatch: pytest.MonkeyPatch) -> None:
+    from mypy import api
+
+    monkeypatch.chdir(ROOT)  # mypy finds pmk_nb, pyproject.toml and .mypy_cache from the checkout's root
+    args = ["--config-file", str(ROOT / "pyproject.toml")]
+    for package in STRICT_PACKAGES:
+        args += ["-p", f"pmk_nb.{package}"]
+    out, err, status = api.run(args)
+    errors = [line for line in out.splitlines() if ": error: " in line]
+    assert status == 0 and not errors, f"mypy --strict on the pure core ({len(errors)} errors):\n{out}{err}"
+    assert "Success: no issues found" in out, out
