@@ -11,11 +11,16 @@ reads. ``make test`` therefore uses ``-n 2``.)
 Browser modules run first, and ``make test`` uses ``--dist worksteal``: plain load scheduling gave
 the first worker an initial chunk of 297 tests holding every browser test (about 1200 s of the
 1348 s run) while the second finished the rest and waited; with the browser tests at the head of
-one worker's queue, an idle worker steals the light tests from its tail instead.
+one worker's queue, an idle worker steals the light tests from its tail instead. Browser tests
+still run one at a time (a lock per run, taken before the test's timeout starts): their timing
+goals (a stop within 0.5 s) are measured as they were, one browser and one Voilà at a time.
 """
 
 from __future__ import annotations
 
+import fcntl
+import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -40,3 +45,20 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             browser_modules.add(item.path)
     # stable: modules stay whole (module fixtures set up once) and keep their order within a tier
     items.sort(key=lambda item: item.path not in browser_modules)
+
+
+@pytest.hookimpl(hookwrapper=True, tryfirst=True)
+def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> Iterator[None]:
+    """A browser test waits for the other worker's browser test to end (outside pytest-timeout's
+    clock: this wrapper is the outermost), so a stolen browser test never runs beside another."""
+    workerinput = getattr(item.config, "workerinput", None)
+    if workerinput is None or item.get_closest_marker("browser") is None:
+        yield
+        return
+    lock = Path(tempfile.gettempdir()) / f"pmk-browser-tests-{workerinput['testrunuid']}.lock"
+    with lock.open("a") as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
