@@ -122,12 +122,24 @@ def test_drive_for_from_python_respects_the_limits_and_the_topic(chair: Any, ros
     sim, link, wire = chair
     other = Wire(ros_factory(sim), "/wheelchair/cmd_vel")
     time.sleep(0.3)
-    x0 = sim.pose[0]
-    assert drive_for(link, 5.0, 0.0, 1.0, limits=SpeedLimits(max_linear=0.3)) is None
+
+    def drive(*args: Any, **kw: Any) -> float:
+        """drive_for's run that the gate did not stop, and how far it took the chair. A starved test
+        machine can delay odometry past the 0.35 s freshness rule, and then the chair stops, as it
+        must (StopReason.LINK): that run is repeated (3 tries), any other stop fails."""
+        for _ in range(3):
+            assert wait_until(lambda: sim.velocity == (0.0, 0.0), 2.0)
+            x0 = sim.pose[0]
+            stopped = drive_for(link, *args, **kw)
+            if stopped is None:
+                assert wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)
+                return float(sim.pose[0] - x0)
+            assert stopped is StopReason.LINK, stopped
+        pytest.fail("drive_for was stopped as 'link stale' three times: odometry kept arriving late")
+
+    assert 0.2 < drive(5.0, 0.0, 1.0, limits=SpeedLimits(max_linear=0.3)) < 0.45
     assert max(v for _, v, _ in wire.got) == pytest.approx(0.3)
-    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)
-    assert 0.2 < sim.pose[0] - x0 < 0.45
-    assert drive_for(link, 0.2, 0.0, 0.3, topic="/wheelchair/cmd_vel") is None
+    drive(0.2, 0.0, 0.3, topic="/wheelchair/cmd_vel")
     assert wait_until(lambda: len(other.got) >= 4, 1.0) and other.got[-1][1:] == (0.0, 0.0)
 
 
