@@ -131,8 +131,12 @@ def test_chair_rates_the_screen_keeps_up_with_are_not_throttled(chair: RealChair
     time.sleep(2.5)  # past the rate watch's first windows: a wrong throttle would be set by now
     got, bare = count_both(chair, link, 3.0)
     assert bare["odom"] >= 100 and bare["scan"] >= 80, bare  # the chair really sends at those rates
+    # A throttle to a screen's frame (31 ms) would pass at most 62 % of 50 Hz odometry and 80 % of
+    # 40 Hz scans. The link subscribes with queue_length 1 (the screen wants the latest), so rosbridge
+    # itself drops a message when the link's reader is starved: fresh-clone make test, beside a
+    # browser test, 128 of 138. 0.85 tells a throttle from that.
     for stream in ("odom", "scan"):
-        assert got[stream] >= 0.97 * bare[stream], (stream, got, bare)  # none held back or dropped
+        assert got[stream] >= 0.85 * bare[stream], (stream, got, bare)  # not held back to a frame
     assert link.config["throttle_ms"]["odom"] == AUTO and link.config["throttle_ms"]["scan"] == AUTO
 
 
