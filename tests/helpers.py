@@ -1,6 +1,8 @@
 """Plain helpers shared by several test files (fixtures live in fixtures_sim.py / fixtures_ssh.py).
 
 - ``wait_until(cond, ...)``: poll until true or fail the test, naming what it waited for (UI flows).
+- ``wait_ticking(cond, timeout, tick)``: poll, calling ``tick()`` first each time (a screen's timer
+  driven by hand); True or False, for the test to assert.
 - ``app_context(tmp_path)``: the dashboard's AppContext on a fresh maps folder and profile store.
 - ``building`` / ``room``: hand-made IndoorGML models; ``centres`` / ``cells_in``: grid cells whose
   centre lies in a shape; ``flood`` / ``reachable``: what a robot can reach through free cells.
@@ -24,6 +26,18 @@ if TYPE_CHECKING:
 
     from pmk_nb.grid import OccupancyGrid
     from pmk_nb.ui.context import AppContext
+
+
+def wait_ticking(cond: Callable[[], bool], timeout: float, tick: Callable[[], None] | None = None) -> bool:
+    """Poll ``cond`` every 50 ms for ``timeout`` s, calling ``tick()`` before each look."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if tick is not None:
+            tick()
+        if cond():
+            return True
+        time.sleep(0.05)
+    return cond()
 
 
 def wait_until(cond: Callable[[], Any], timeout: float = 60.0, what: str = "condition") -> Any:

@@ -33,6 +33,7 @@ from pmk_nb.library.folder import MapsFolder
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.live_fleet_layer import FleetLayer, Marker
 from tests.fixtures_sim import room_grid, write_test_map
+from tests.helpers import wait_ticking
 
 
 def _profile(name: str, port: int = 9090) -> ChairProfile:
@@ -103,16 +104,6 @@ def test_class_chairs_read_the_seats(tmp_path: Path) -> None:
 
 
 # -- the panel on a real Home, three simulated chairs -------------------------------------------------
-def _wait(cond: Callable[[], bool], timeout: float, tick: Callable[[], None] = lambda: None) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        tick()
-        if cond():
-            return True
-        time.sleep(0.05)
-    return cond()
-
-
 @pytest.fixture
 def lab(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tuple[Any, list[Any], AppContext]]:
     from pmk_nb.ui.home import HomeScreen
@@ -141,13 +132,13 @@ def test_fleet_panel_three_chairs_switch_without_reconnecting(lab: tuple[Any, li
     screen, sims, ctx = lab
     assert screen.start_preview()
     own = ctx.link()
-    assert _wait(lambda: screen.connection_state()[0] == "live", 20.0, screen.refresh_info)
+    assert wait_ticking(lambda: screen.connection_state()[0] == "live", 20.0, screen.refresh_info)
     panel = screen.fleet
     panel.toggle.value = True
     panel.add_all_button.click()
     assert [r for r in panel.rows] == ["chair A", "chair B", "chair C"]
-    assert _wait(lambda: _rows_live(panel), 20.0, panel.tick), panel.statuses()
-    assert _wait(lambda: all(s.map_name == "12.0 × 6.0 m map" for s in panel.statuses()), 20.0, panel.tick)
+    assert wait_ticking(lambda: _rows_live(panel), 20.0, panel.tick), panel.statuses()
+    assert wait_ticking(lambda: all(s.map_name == "12.0 × 6.0 m map" for s in panel.statuses()), 20.0, panel.tick)
     text = panel.rows["chair B"].text.value
     assert "live" in text and "12.0 × 6.0 m map" in text and "x 4.50 m" in text and "no goal" in text
     assert len(panel.layer.markers) == 3 and len({m.colour for m in panel.layer.markers}) == 3
@@ -171,7 +162,7 @@ def test_fleet_panel_three_chairs_switch_without_reconnecting(lab: tuple[Any, li
         return snap.pose is not None and abs(snap.pose.x - 7.5) < 0.3
 
     started = time.perf_counter()
-    assert _wait(shows_c, 10.0, screen.refresh_info)
+    assert wait_ticking(shows_c, 10.0, screen.refresh_info)
     seen = took + time.perf_counter() - started
     print(f"fleet: control click to chair C's pose in the live view: {seen * 1000:.0f} ms")
     assert seen < 5.0  # generous on a loaded machine; measured well under 1 s on an idle one
@@ -179,12 +170,14 @@ def test_fleet_panel_three_chairs_switch_without_reconnecting(lab: tuple[Any, li
     # drive only C: the drive session publishes on C's link
     before = [s.pose for s in sims]
     assert links["chair C"].publish_cmd_vel(0.3, 0.0)
-    assert _wait(lambda: sims[2].pose[0] > before[2][0] + 0.02, 5.0, lambda: links["chair C"].publish_cmd_vel(0.3, 0.0))
+    assert wait_ticking(
+        lambda: sims[2].pose[0] > before[2][0] + 0.02, 5.0, lambda: links["chair C"].publish_cmd_vel(0.3, 0.0)
+    )
     links["chair C"].publish_cmd_vel(0.0, 0.0)
     assert [s.pose for s in sims[:2]] == before[:2]
     # a goal given to C stays in C's row when control moves back to A
     screen.goal.handle = links["chair C"].navigate_to(10.0, 3.0, 0.0)
-    assert _wait(lambda: "to (10.0, 3.0)" in panel.rows["chair C"].text.value, 10.0, panel.tick)
+    assert wait_ticking(lambda: "to (10.0, 3.0)" in panel.rows["chair C"].text.value, 10.0, panel.tick)
     handle = screen.goal.handle
     panel.take_control("chair A")
     assert ctx.link() is own and screen.goal.handle is None  # Home's Cancel cannot stop C now
@@ -212,7 +205,9 @@ def test_a_chair_that_does_not_answer_says_so_and_the_others_go_on(lab: tuple[An
     def states() -> dict[str, str]:
         return {s.name: s.connection for s in panel.statuses()}
 
-    assert _wait(lambda: states() == {"chair A": "live", "chair B": "live", "gone": "unreachable"}, 25.0, panel.tick)
+    assert wait_ticking(
+        lambda: states() == {"chair A": "live", "chair B": "live", "gone": "unreachable"}, 25.0, panel.tick
+    )
     assert "does not answer" in panel.rows["gone"].text.value
     gone = next(s for s in panel.statuses() if s.name == "gone")
     assert gone.problem and str(gone.problem) and "127.0.0.1" in gone.problem
@@ -268,6 +263,6 @@ def test_an_instructor_opens_the_class_fleet(
     panel.class_button.click()
     assert list(panel.rows) == ["chair A", "Seat of ada"], panel.note.value
     assert "1 chair live" in panel.note.value
-    assert _wait(lambda: _rows_live(panel), 20.0, panel.tick), panel.statuses()
+    assert wait_ticking(lambda: _rows_live(panel), 20.0, panel.tick), panel.statuses()
     seat = next(s for s in panel.statuses() if s.name == "Seat of ada")
     assert seat.pose is not None and abs(seat.pose[0] - 7.5) < 0.2

@@ -4,7 +4,6 @@ open, one throttled subscription for the inspected topic (gone when closed), the
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -15,16 +14,7 @@ from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.library.folder import MapsFolder
 from pmk_nb.ui.context import AppContext
 from tests.fixtures_sim import room_grid, write_test_map
-
-
-def wait_for(cond: Callable[[], bool], timeout: float, tick: Callable[[], None]) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        tick()
-        if cond():
-            return True
-        time.sleep(0.05)
-    return cond()
+from tests.helpers import wait_ticking
 
 
 @pytest.fixture
@@ -56,34 +46,34 @@ def test_plots_topics_and_the_planned_path(home: tuple[Any, Any]) -> None:
     assert plots.widget.layout.display == "none" and plots.toggle in screen.ui.controls.children
     assert screen.start_preview()
     link = screen.ctx.link()
-    assert wait_for(lambda: screen.connection_state()[0] == "live", 15.0, screen.refresh_info)
+    assert wait_ticking(lambda: screen.connection_state()[0] == "live", 15.0, screen.refresh_info)
     link.navigate_to(10.0, 3.0, 0.0)  # the chair drives: speed samples, and the sim publishes /plan
-    assert wait_for(lambda: len(plots.history) >= 6, 15.0, screen.refresh_info), len(plots.history)
+    assert wait_ticking(lambda: len(plots.history) >= 6, 15.0, screen.refresh_info), len(plots.history)
     assert plots.draws == 0  # closed: nothing drawn
-    assert wait_for(lambda: screen.path.points.shape[0] >= 2, 15.0, screen.refresh_info), "no planned path"
+    assert wait_ticking(lambda: screen.path.points.shape[0] >= 2, 15.0, screen.refresh_info), "no planned path"
     assert abs(screen.path.points[-1][0] - 10.0) < 0.2  # to the goal
     moved = lambda: plots.history.window(0.0)[:, 1].max() > 0.1  # noqa: E731
-    assert wait_for(moved, 15.0, screen.refresh_info), plots.history.window(0.0)
+    assert wait_ticking(moved, 15.0, screen.refresh_info), plots.history.window(0.0)
 
     plots.toggle.value = True
     assert plots.widget.layout.display == "" and plots.draws >= 1
     listed = lambda: "topics from" in plots.topics.source.value or "known" in plots.topics.source.value  # noqa: E731
-    assert wait_for(listed, 15.0, screen.refresh_info), plots.topics.source.value
+    assert wait_ticking(listed, 15.0, screen.refresh_info), plots.topics.source.value
     assert "from rosapi" in plots.topics.source.value
     assert {"/odom", "/scan", "/plan"} <= set(plots.topics.types)
     before = _subscribers(sim, "/scan")
     plots.topics.list.value = "/scan"
-    assert wait_for(lambda: "ranges" in plots.topics.message.value, 10.0, screen.refresh_info)
+    assert wait_ticking(lambda: "ranges" in plots.topics.message.value, 10.0, screen.refresh_info)
     assert "more of" in plots.topics.message.value  # 360 ranges shortened
-    assert wait_for(lambda: "Hz" in plots.topics.info.value, 10.0, screen.refresh_info), plots.topics.info.value
+    assert wait_ticking(lambda: "Hz" in plots.topics.info.value, 10.0, screen.refresh_info), plots.topics.info.value
     assert _subscribers(sim, "/scan") == before + 1  # one extra, throttled subscription
     plots.toggle.value = True  # (still open) inspect /odom, which the link itself streams, then close
     plots.topics.list.value = "/odom"
-    assert wait_for(lambda: "twist" in plots.topics.message.value, 10.0, screen.refresh_info)
+    assert wait_ticking(lambda: "twist" in plots.topics.message.value, 10.0, screen.refresh_info)
     plots.toggle.value = False  # closing ends the inspector's subscriptions, and only those
-    assert wait_for(lambda: _subscribers(sim, "/scan") == before, 5.0, lambda: None)
+    assert wait_ticking(lambda: _subscribers(sim, "/scan") == before, 5.0, lambda: None)
     seen = link.latest_odom()
-    assert wait_for(lambda: link.latest_odom() is not seen, 5.0, lambda: None), "the link's /odom stream died"
+    assert wait_ticking(lambda: link.latest_odom() is not seen, 5.0, lambda: None), "the link's /odom stream died"
     draws = plots.draws
     for _ in range(4):
         screen.refresh_info()

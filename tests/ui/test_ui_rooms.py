@@ -19,20 +19,10 @@ from pmk_nb.sim.chair import DriveLimits
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.live_rooms_layer import RoomsOverlay
 from pmk_nb.viewport import Viewport
+from tests.helpers import wait_ticking
 
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 START = (15.0, 3.0, 0.0)  # in Exam room 1
-
-
-def wait_for(cond: Callable[[], bool], timeout: float, tick: Callable[[], None] | None = None) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if tick is not None:
-            tick()
-        if cond():
-            return True
-        time.sleep(0.05)
-    return cond()
 
 
 @pytest.fixture
@@ -61,8 +51,8 @@ def test_go_to_a_named_room_arrives_inside_it_and_says_so(clinic_home: Any) -> N
     rooms.panel.search.value = "exam"
     assert list(rooms.panel.list.options) == ["Exam room 1", "Exam room 2"]
     home.preview_button.click()
-    assert wait_for(lambda: home.connection_state()[0] == "live", 10.0)
-    assert wait_for(lambda: "Exam room 1" in home.rooms.panel.here.value, 5.0), rooms.panel.here.value
+    assert wait_ticking(lambda: home.connection_state()[0] == "live", 10.0)
+    assert wait_ticking(lambda: "Exam room 1" in home.rooms.panel.here.value, 5.0), rooms.panel.here.value
     assert rooms.speech.rate == 1.2  # from the profile
     rooms.panel.list.value = "Exam room 2"
     rooms.panel.go_button.click()
@@ -71,16 +61,16 @@ def test_go_to_a_named_room_arrives_inside_it_and_says_so(clinic_home: Any) -> N
     assert rooms.overlay.route and rooms.overlay.goal is not None  # drawn on the map
     assert rooms.panel.cancel_button.layout.display != "none"
     # issue 29 item 9: the destination panel no longer says "No destination" while a Go to… drives
-    assert wait_for(lambda: "Going to <b>Exam room 2</b>" in home.goal.status.value, 5.0), home.goal.status.value
+    assert wait_ticking(lambda: "Going to <b>Exam room 2</b>" in home.goal.status.value, 5.0), home.goal.status.value
     assert "No destination" not in home.goal.status.value
     polygon = rooms.rooms.room("Exam room 2").polygon
     link = home.ctx.link()
-    assert wait_for(lambda: rooms.handle.progress().done, 60.0), rooms.handle.progress()
+    assert wait_ticking(lambda: rooms.handle.progress().done, 60.0), rooms.handle.progress()
     assert rooms.handle.progress().status.value == "arrived", rooms.handle.progress()
     pose = link.latest_odom()
     assert shapely.contains_xy(polygon, pose.x, pose.y)
-    assert wait_for(lambda: "Exam room 2" in rooms.panel.here.value, 3.0)
-    assert wait_for(lambda: ("Arrived at Exam room 2.", "speech") in rooms.speech.said, 5.0), rooms.speech.said
+    assert wait_ticking(lambda: "Exam room 2" in rooms.panel.here.value, 3.0)
+    assert wait_ticking(lambda: ("Arrived at Exam room 2.", "speech") in rooms.speech.said, 5.0), rooms.speech.said
     assert ("Going to Exam room 2.", "speech") in rooms.speech.said
     assert "Arrived at Exam room 2." in rooms.panel.status.value
     assert rooms.overlay.route == []  # the route leaves the map once there
@@ -91,12 +81,12 @@ def test_blocked_room_names_the_door_and_the_page_gets_espeak_audio(clinic_home:
     home, _sim, _yaml = clinic_home
     rooms = home.rooms
     home.preview_button.click()
-    assert wait_for(lambda: "Exam room 1" in rooms.panel.here.value, 10.0)
+    assert wait_ticking(lambda: "Exam room 1" in rooms.panel.here.value, 10.0)
     rooms.speech.caps.value = "audio"  # what the page's script says when it has no speechSynthesis
     rooms.chair_width = 1.0  # wider than every door of the clinic
     assert rooms.go("Office") is None
     assert "Door Exam room 1" in rooms.panel.status.value and "Door Office" in rooms.panel.status.value
-    assert wait_for(lambda: bool(rooms.speech.said), 3.0)
+    assert wait_ticking(lambda: bool(rooms.speech.said), 3.0)
     text, via = rooms.speech.said[-1]
     assert text.startswith("No accessible route to Office.") and via == "audio"
     assert "data:audio/wav;base64," in rooms.speech.say_box.value
@@ -110,14 +100,16 @@ def test_link_and_stop_phrases(clinic_home: Any) -> None:
     home, sim, _yaml = clinic_home
     rooms = home.rooms
     home.preview_button.click()
-    assert wait_for(lambda: home.connection_state()[0] == "live", 10.0)
+    assert wait_ticking(lambda: home.connection_state()[0] == "live", 10.0)
     sim.pause()  # the chair goes quiet: the link turns stale
-    assert wait_for(lambda: ("Connection to the chair lost.", "speech") in rooms.speech.said, 8.0), rooms.speech.said
+    assert wait_ticking(lambda: ("Connection to the chair lost.", "speech") in rooms.speech.said, 8.0), (
+        rooms.speech.said
+    )
     sim.resume()
-    assert wait_for(lambda: ("Connection to the chair restored.", "speech") in rooms.speech.said, 8.0)
+    assert wait_ticking(lambda: ("Connection to the chair restored.", "speech") in rooms.speech.said, 8.0)
     home.drive.on_stop(StopReason.LINK)  # what the drive session calls when it stops the chair
     home.drive.on_stop(StopReason.CLOSED)  # nobody to tell: silent
-    assert wait_for(lambda: rooms.speech.said[-1][0] == "Stopped, no data from the chair.", 3.0), rooms.speech.said
+    assert wait_ticking(lambda: rooms.speech.said[-1][0] == "Stopped, no data from the chair.", 3.0), rooms.speech.said
     time.sleep(1.5)
     assert rooms.speech.said[-1][0] == "Stopped, no data from the chair."
 
