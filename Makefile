@@ -24,7 +24,8 @@ check: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) lint  ## the fast tier: e
 	$(BIN)/python -m pytest -n 2 -m "not heavy" $(PYTEST_ARGS)
 
 lint: $(STAMP)  ## ruff, and mypy (strict on the pure core: [tool.mypy] in pyproject.toml)
-	$(BIN)/ruff check pmk_nb tests bench conftest.py
+	$(BIN)/ruff check pmk_nb tests bench conftest.py sample_maps
+	$(BIN)/ruff format --check pmk_nb tests bench conftest.py sample_maps
 	$(BIN)/python -m mypy
 
 bench: $(STAMP) system-deps ros2  ## speed and memory figures, written to bench/results.md

@@ -27,8 +27,9 @@ def with_graph(path: Path, nx: int, ny: int) -> Path:
     through each of its doors, so the check has every door to test (the file alone has no graph)."""
     states = "".join(
         f'<stateMember><State gml:id="S{i}-{j}"><duality xlink:href="#F0-r{i}-{j}"/></State></stateMember>'
-        for i in range(nx) for j in range(ny)
-    )  # fmt: skip
+        for i in range(nx)
+        for j in range(ny)
+    )
     pairs = [((i, j), (i + 1, j)) for i in range(nx - 1) for j in range(ny)]
     pairs += [((i, j), (i, j + 1)) for i in range(nx) for j in range(ny - 1)]
     edges = "".join(
@@ -70,8 +71,11 @@ def main(resolutions: list[float]) -> None:
         peak = tracemalloc.get_traced_memory()[1] / 1e6
         tracemalloc.stop()
         c = report.counts()
-        print(f"| {res} | {grid.width * grid.height / 1e6:.1f} M | {dt:.2f} | {peak:.0f} | "
-              f"{c['passable_chair']}/{c['links']} |", flush=True)
+        print(
+            f"| {res} | {grid.width * grid.height / 1e6:.1f} M | {dt:.2f} | {peak:.0f} | "
+            f"{c['passable_chair']}/{c['links']} |",
+            flush=True,
+        )
         del grid, report
 
 

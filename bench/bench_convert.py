@@ -194,12 +194,19 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
             fid = [fid[0] + n["links"], fid[1] + n["passable_point"], fid[2] + n["passable_chair"], fid[3] + n["leaks"]]
         del grid
     return {
-        "parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None,
+        "parse": t1 - t0,
+        "raster": t_r,
+        "write": t_w,
+        "cells": cells,
+        "wall_kept": min(kept) if kept else None,
         "doors_open": min(opened) if opened else None,
-        "cpu_total": (c1 - c0) + c_r + c_w, "cpu_write": c_w,
-        "check": t_c, "fidelity": None if "gen" in case else fid, "grid_mb": biggest / 1e6,
+        "cpu_total": (c1 - c0) + c_r + c_w,
+        "cpu_write": c_w,
+        "check": t_c,
+        "fidelity": None if "gen" in case else fid,
+        "grid_mb": biggest / 1e6,
         "input_mb": Path(case["path"]).stat().st_size / 1e6,
-    }  # fmt: skip
+    }
 
 
 def work_original(case: dict[str, Any], out: Path) -> dict[str, Any]:
@@ -257,8 +264,14 @@ def work_original(case: dict[str, Any], out: Path) -> dict[str, Any]:
             kept.append(k)
             opened.append(doors_open(np.asarray(small)[::-1], cell, (minx, miny), case, 254))
         del img, small, preview, draw
-    return {"parse": t1 - t0, "raster": t_r, "write": t_w, "cells": cells, "wall_kept": min(kept) if kept else None,
-            "doors_open": min(opened) if opened else None}  # fmt: skip
+    return {
+        "parse": t1 - t0,
+        "raster": t_r,
+        "write": t_w,
+        "cells": cells,
+        "wall_kept": min(kept) if kept else None,
+        "doors_open": min(opened) if opened else None,
+    }
 
 
 def xml_parse_time(path: str) -> float:
@@ -287,9 +300,19 @@ def child_main(spec: str) -> None:
     job = json.loads(spec)
     import importlib
 
-    for module in ("numpy", "PIL.Image", "PIL.ImageDraw", "PIL.PngImagePlugin", "yaml", "shapely", "pmk_nb.indoorgml",
-                   "pmk_nb.raster.storey", "pmk_nb.rosmap.files", "pmk_nb.access.check",
-                   "pmk_nb.library.naming"):  # fmt: skip
+    for module in (
+        "numpy",
+        "PIL.Image",
+        "PIL.ImageDraw",
+        "PIL.PngImagePlugin",
+        "yaml",
+        "shapely",
+        "pmk_nb.indoorgml",
+        "pmk_nb.raster.storey",
+        "pmk_nb.rosmap.files",
+        "pmk_nb.access.check",
+        "pmk_nb.library.naming",
+    ):
         importlib.import_module(module)  # the baseline includes the code both approaches load (not their data)
     from PIL import Image
 
@@ -299,8 +322,9 @@ def child_main(spec: str) -> None:
     memory = job.get("memory", "cold")
     if memory != "cold":  # the process has converted before: first-use code and allocator arenas are paid
         with tempfile.TemporaryDirectory(prefix="bench-convert-warm-") as tmp:
-            first = job["case"] if memory == "repeat" else {"kind": "file", "path": str(two_rooms(Path(tmp))),
-                                                             "res": 0.05}  # fmt: skip
+            first = (
+                job["case"] if memory == "repeat" else {"kind": "file", "path": str(two_rooms(Path(tmp))), "res": 0.05}
+            )
             fn(first, Path(tmp))
         Path("/proc/self/clear_refs").write_text("5")  # the peak (VmHWM) starts again from here
     base = _status_mb("VmRSS")
@@ -324,8 +348,9 @@ def child_main(spec: str) -> None:
 
 
 def run_job(approach: str, case: dict[str, Any], code: Path = ROOT, memory: str = "cold") -> dict[str, Any]:
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONPATH=str(code),
-               PMK_BENCH_CODE=str(code))  # fmt: skip
+    env = dict(
+        os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", PYTHONPATH=str(code), PMK_BENCH_CODE=str(code)
+    )
     spec = json.dumps({"approach": "new" if approach == "before" else approach, "case": case, "memory": memory})
     t0 = time.perf_counter()
     proc = subprocess.run(
@@ -355,9 +380,11 @@ def two_rooms(folder: Path) -> Path:
     cells = states = ""
     for cid, x in (("A", 0), ("B", 5)):
         ring = f"{x} 0 {x + 5} 0 {x + 5} 4 {x} 4 {x} 0"
-        cells += (f'<cellSpaceMember><CellSpace gml:id="{cid}"><cellSpaceGeometry><Geometry2D><gml:Polygon>'
-                  f"<gml:exterior><gml:LinearRing><gml:posList>{ring}</gml:posList></gml:LinearRing></gml:exterior>"
-                  "</gml:Polygon></Geometry2D></cellSpaceGeometry></CellSpace></cellSpaceMember>")  # fmt: skip
+        cells += (
+            f'<cellSpaceMember><CellSpace gml:id="{cid}"><cellSpaceGeometry><Geometry2D><gml:Polygon>'
+            f"<gml:exterior><gml:LinearRing><gml:posList>{ring}</gml:posList></gml:LinearRing></gml:exterior>"
+            "</gml:Polygon></Geometry2D></cellSpaceGeometry></CellSpace></cellSpaceMember>"
+        )
         states += f'<stateMember><State gml:id="S{cid}"><duality xlink:href="#{cid}"/></State></stateMember>'
     path = folder / "two_rooms.gml"
     path.write_text(TWO_ROOMS.format(cells=cells, states=states), encoding="utf-8")
@@ -365,19 +392,30 @@ def two_rooms(folder: Path) -> Path:
 
 
 def cases(quick: bool, folder: Path) -> list[dict[str, Any]]:
-    out: list[dict[str, Any]] = [{"label": "two rooms and a door (fixed cost)", "kind": "file",
-                                  "path": str(two_rooms(folder)), "res": 0.05}]  # fmt: skip
+    out: list[dict[str, Any]] = [
+        {"label": "two rooms and a door (fixed cost)", "kind": "file", "path": str(two_rooms(folder)), "res": 0.05}
+    ]
     for path in sorted(SAMPLES.glob("*.gml")):
         out.append({"label": f"{path.name}", "kind": "file", "path": str(path), "res": 0.05})
     storeys = 4 if quick else 20
-    gens = [(f"generated {storeys} storeys x 500 rooms (100 x 100 m)", [storeys, 25, 20, 4.0, 5.0], 0.05),
-            ("generated 200 x 200 m storey, 2500 rooms", [1, 50, 50, 4.0, 4.0], 0.05)]  # fmt: skip
+    gens = [
+        (f"generated {storeys} storeys x 500 rooms (100 x 100 m)", [storeys, 25, 20, 4.0, 5.0], 0.05),
+        ("generated 200 x 200 m storey, 2500 rooms", [1, 50, 50, 4.0, 4.0], 0.05),
+    ]
     if not quick:
         gens.append(("generated 200 x 200 m storey, 2500 rooms", [1, 50, 50, 4.0, 4.0], 0.01))
     for label, gen, res in gens:  # read from a file like any plan: parse timed, input counted
         path = generated_gml(folder, *gen)
-        out.append({"label": f"{label}, {path.stat().st_size / 1e6:.1f} MB file", "kind": "file", "gen": gen,
-                    "path": str(path), "res": res, "max_cells": 450_000_000})  # fmt: skip
+        out.append(
+            {
+                "label": f"{label}, {path.stat().st_size / 1e6:.1f} MB file",
+                "kind": "file",
+                "gen": gen,
+                "path": str(path),
+                "res": res,
+                "max_cells": 450_000_000,
+            }
+        )
     return out
 
 
@@ -409,13 +447,19 @@ def goal_status(rows: list[tuple[dict[str, Any], str, dict[str, Any]]]) -> list[
     checks = [
         ("issue: total / write <= 3", new, lambda r: ratio(r, total_s(r)) <= 3),
         ("issue: memory cold <= 3 x (grid + input)", new, lambda r: (r["peak_mb"] - r["base_mb"]) / held(r) <= 3),
-        ("issue: memory warm <= 3 x (grid + input)", new,
-         lambda r: r.get("mem_warm") is not None and r["mem_warm"] / held(r) <= 3),
+        (
+            "issue: memory warm <= 3 x (grid + input)",
+            new,
+            lambda r: r.get("mem_warm") is not None and r["mem_warm"] / held(r) <= 3,
+        ),
         ("proposed: (raster + write) / write <= 3", new, lambda r: ratio(r, r["raster"] + r["write"]) <= 3),
-        (f"proposed, plans writing < {SMALL_OUTPUT_MB:g} MB: total <= {SMALL_TOTAL_S} s and cold peak - base <= "
-         f"{SMALL_PEAK_MB:g} MB", small,
-         lambda r: total_s(r) <= SMALL_TOTAL_S and r["peak_mb"] - r["base_mb"] <= SMALL_PEAK_MB),
-    ]  # fmt: skip
+        (
+            f"proposed, plans writing < {SMALL_OUTPUT_MB:g} MB: total <= {SMALL_TOTAL_S} s and cold peak - base <= "
+            f"{SMALL_PEAK_MB:g} MB",
+            small,
+            lambda r: total_s(r) <= SMALL_TOTAL_S and r["peak_mb"] - r["base_mb"] <= SMALL_PEAK_MB,
+        ),
+    ]
     out = ["", "Goals met by *new* (rows of the table above):", ""]
     for label, subset, ok in checks:
         missed = [f"{c['label']} @ {c['res']}" for c, r in subset if not ok(r)]
@@ -452,9 +496,14 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer/smaller cases")
     ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results-convert.md")
-    ap.add_argument("--before", type=Path, default=None, metavar="DIR",
-                    help="also run this rasteriser as it was in DIR, a source tree of an earlier version "
-                    "(e.g. `git archive HEAD pmk_nb | tar -x -C DIR`), as rows 'before'")  # fmt: skip
+    ap.add_argument(
+        "--before",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="also run this rasteriser as it was in DIR, a source tree of an earlier version "
+        "(e.g. `git archive HEAD pmk_nb | tar -x -C DIR`), as rows 'before'",
+    )
     args = ap.parse_args()
     rows = []
     started = time.perf_counter()
@@ -513,8 +562,10 @@ def main() -> int:
     ]
     for case, approach, r in rows:
         if "refused" in r:
-            lines.append(f"| {case['label']} | {case['res']} | {approach} | {r['refused']} | | | | | "
-                         f"{fmt(r, 'peak_mb', '.0f')} | | | |")  # fmt: skip
+            lines.append(
+                f"| {case['label']} | {case['res']} | {approach} | {r['refused']} | | | | | "
+                f"{fmt(r, 'peak_mb', '.0f')} | | | |"
+            )
             continue
         total = r["parse"] + r["raster"] + r["write"]
         if approach in ("new", "before"):

@@ -110,25 +110,31 @@ def main() -> int:
     started = time.monotonic()
     res = run(reps)
     rows = []
-    for key, label in (("cmd", "press -> first command on the chair"), ("moving", "press -> chair moving (odometry)"),
-                       ("stopped", "release -> chair stopped (odometry)")):  # fmt: skip
+    for key, label in (
+        ("cmd", "press -> first command on the chair"),
+        ("moving", "press -> chair moving (odometry)"),
+        ("stopped", "release -> chair stopped (odometry)"),
+    ):
         ms = [1000.0 * v for v in res[key]]  # type: ignore[union-attr]
         if ms:
             rows.append(f"| {label} | {len(ms)} | {statistics.median(ms):.0f} | {pct(ms, 0.95):.0f} | {max(ms):.0f} |")
-    text = "\n".join([
-        "## Drive (joystick in Chromium -> Voilà kernel -> rosbridge -> simulated chair)",
-        "",
-        "`bench/bench_drive.py`: Playwright holds the Home joystick with the mouse for 1 s, then lets go; a separate "
-        "roslibpy client watches /cmd_vel and the simulator's 50 Hz odometry. Targets: release -> stopped <= 500 ms; "
-        "commands older than 200 ms are never sent.",
-        "",
-        "| measure | n | median ms | p95 ms | max ms |",
-        "|---|---|---|---|---|",
-        *rows,
-        "",
-        f"Holds cut short (repeated): {res['cut']}, of which the page lost its kernel: {res['lost']}. "
-        f"Total {time.monotonic() - started:.0f} s. Machine: 2 shared cores, other jobs running; indicative figures.",
-    ])  # fmt: skip
+    text = "\n".join(
+        [
+            "## Drive (joystick in Chromium -> Voilà kernel -> rosbridge -> simulated chair)",
+            "",
+            "`bench/bench_drive.py`: Playwright holds the Home joystick with the mouse for 1 s, then lets go; "
+            "a separate roslibpy client watches /cmd_vel and the simulator's 50 Hz odometry. "
+            "Targets: release -> stopped <= 500 ms; commands older than 200 ms are never sent.",
+            "",
+            "| measure | n | median ms | p95 ms | max ms |",
+            "|---|---|---|---|---|",
+            *rows,
+            "",
+            f"Holds cut short (repeated): {res['cut']}, of which the page lost its kernel: {res['lost']}. "
+            f"Total {time.monotonic() - started:.0f} s. "
+            "Machine: 2 shared cores, other jobs running; indicative figures.",
+        ]
+    )
     out = ROOT / "bench" / "results-drive.md"
     out.write_text(text + "\n", encoding="utf-8")
     print(text)

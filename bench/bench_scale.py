@@ -147,8 +147,11 @@ def run(argv: list[str], wrapped: bool) -> dict[str, Any]:
     with tempfile.TemporaryDirectory(prefix="bench-scale-") as tmp:
         out, report = Path(tmp) / "out", Path(tmp) / "report.json"
         args = [*argv, "--out", str(out), "--no-progress"]
-        cmd = [sys.executable, __file__, "--child", str(report), *args] if wrapped else [
-            sys.executable, "-m", "pmk_nb.cli", "convert", *args]  # fmt: skip
+        cmd = (
+            [sys.executable, __file__, "--child", str(report), *args]
+            if wrapped
+            else [sys.executable, "-m", "pmk_nb.cli", "convert", *args]
+        )
         env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
         env.update(
             PYTHONPATH=str(ROOT), PYTHONPYCACHEPREFIX=PYCACHE.name, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1"
@@ -161,8 +164,12 @@ def run(argv: list[str], wrapped: bool) -> dict[str, Any]:
         proc.returncode = os.waitstatus_to_exitcode(status)
         if proc.returncode != 0:
             raise RuntimeError(f"{' '.join(cmd)} failed ({proc.returncode}): {err.strip()[-300:]}")
-        r = {"wall": wall, "cpu": usage.ru_utime + usage.ru_stime, "peak_mb": usage.ru_maxrss / 1024,
-             "out_mb": sum(p.stat().st_size for p in out.iterdir()) / 1e6}  # fmt: skip
+        r = {
+            "wall": wall,
+            "cpu": usage.ru_utime + usage.ru_stime,
+            "peak_mb": usage.ru_maxrss / 1024,
+            "out_mb": sum(p.stat().st_size for p in out.iterdir()) / 1e6,
+        }
         if wrapped:
             r.update(json.loads(report.read_text(encoding="utf-8")))
     return r
@@ -216,8 +223,12 @@ def scaling(folder: Path, quick: bool) -> list[str]:
             f"| {'-' if r['factor'] == 1 else f'{limit:g}'} | {goal} |"
         )
         if r["factor"] > 1:
-            _goal(f"{r['factor']}x the plan in <= {limit:g}x the time of 1x (wall; CPU)",
-                  f"{r['wall_x']:.2f}x; {r['cpu_x']:.2f}x", r["wall_x"] <= limit, r["cpu_x"] <= limit)  # fmt: skip
+            _goal(
+                f"{r['factor']}x the plan in <= {limit:g}x the time of 1x (wall; CPU)",
+                f"{r['wall_x']:.2f}x; {r['cpu_x']:.2f}x",
+                r["wall_x"] <= limit,
+                r["cpu_x"] <= limit,
+            )
     return lines
 
 
@@ -236,16 +247,25 @@ def small_plans() -> list[str]:
         runs = [run([str(path), "-r", "0.05"], wrapped=False) for _ in range(REPEAT_SMALL)]
         r = {k: statistics.median(x[k] for x in runs) for k in ("wall", "cpu", "peak_mb", "out_mb")}
         small = r["out_mb"] < SMALL_OUT_MB
-        goal = "- (writes more)" if not small else (
-            f"{_verdict(r['wall'] <= SMALL_S and r['peak_mb'] <= SMALL_MB)} / "
-            f"{_verdict(r['cpu'] <= SMALL_S and r['peak_mb'] <= SMALL_MB)}")  # fmt: skip
+        goal = (
+            "- (writes more)"
+            if not small
+            else (
+                f"{_verdict(r['wall'] <= SMALL_S and r['peak_mb'] <= SMALL_MB)} / "
+                f"{_verdict(r['cpu'] <= SMALL_S and r['peak_mb'] <= SMALL_MB)}"
+            )
+        )
         lines.append(
             f"| {path.name} | {r['out_mb']:.2f} | {r['wall']:.2f} | {r['cpu']:.2f} | {r['peak_mb']:.0f} | {goal} |"
         )
         if small:
-            _goal(f"{path.name} (< {SMALL_OUT_MB:g} MB out): <= {SMALL_S} s (wall; CPU), <= {SMALL_MB:g} MB peak",
-                  f"{r['wall']:.2f} s; {r['cpu']:.2f} s; {r['peak_mb']:.0f} MB", r["wall"] <= SMALL_S,
-                  r["cpu"] <= SMALL_S, r["peak_mb"] <= SMALL_MB)  # fmt: skip
+            _goal(
+                f"{path.name} (< {SMALL_OUT_MB:g} MB out): <= {SMALL_S} s (wall; CPU), <= {SMALL_MB:g} MB peak",
+                f"{r['wall']:.2f} s; {r['cpu']:.2f} s; {r['peak_mb']:.0f} MB",
+                r["wall"] <= SMALL_S,
+                r["cpu"] <= SMALL_S,
+                r["peak_mb"] <= SMALL_MB,
+            )
         print(f"small {path.name}: {r['wall']:.2f} s wall", file=sys.stderr, flush=True)
     return lines
 
@@ -258,10 +278,17 @@ def big_storey(folder: Path) -> list[str]:
     held_mb = r["cells"] / 1e6 + path.stat().st_size / 1e6  # one byte per cell
     print(f"100 M cells: {r['wall']:.2f} s wall, write {r['write_s']:.2f} s", file=sys.stderr, flush=True)
     wall_x, cpu_x, mem_x = r["wall"] / r["write_s"], r["cpu"] / max(r["write_cpu"], 1e-9), r["peak_mb"] / held_mb
-    _goal(f"100 M cells: process <= {WRITE_RATIO:g} x writing its files (wall; CPU)", f"{wall_x:.1f}x; {cpu_x:.1f}x",
-          wall_x <= WRITE_RATIO, cpu_x <= WRITE_RATIO)  # fmt: skip
-    _goal(f"above 10 M cells: peak <= {MEMORY_RATIO:g} x (grid + input)", f"{r['peak_mb']:.0f} MB = {mem_x:.2f}x",
-          mem_x <= MEMORY_RATIO)  # fmt: skip
+    _goal(
+        f"100 M cells: process <= {WRITE_RATIO:g} x writing its files (wall; CPU)",
+        f"{wall_x:.1f}x; {cpu_x:.1f}x",
+        wall_x <= WRITE_RATIO,
+        cpu_x <= WRITE_RATIO,
+    )
+    _goal(
+        f"above 10 M cells: peak <= {MEMORY_RATIO:g} x (grid + input)",
+        f"{r['peak_mb']:.0f} MB = {mem_x:.2f}x",
+        mem_x <= MEMORY_RATIO,
+    )
     return [
         "",
         f"### 100 M cells: the 4x storey ({n['rooms']} rooms, {n['transitions']} transitions) at {res} m",
@@ -293,11 +320,16 @@ def main() -> int:
     args = ap.parse_args()
     started, load0 = time.perf_counter(), _load()
     with tempfile.TemporaryDirectory(prefix="bench-scale-plans-") as tmp:
-        lines = ["## Convert scaling and whole-process goals (issue 31)", "", f"`bench/bench_scale.py`"
-                 f"{' --quick' if args.quick else ''}: each row a fresh process, interpreter start and imports "
-                 "included. Time twice: wall (what the user waits) and CPU (user + system of the process, which "
-                 "other jobs on a shared machine disturb far less); goals judged on both. Peak = the process's "
-                 "maximum RSS.", ""]  # fmt: skip
+        lines = [
+            "## Convert scaling and whole-process goals (issue 31)",
+            "",
+            f"`bench/bench_scale.py`"
+            f"{' --quick' if args.quick else ''}: each row a fresh process, interpreter start and imports "
+            "included. Time twice: wall (what the user waits) and CPU (user + system of the process, which "
+            "other jobs on a shared machine disturb far less); goals judged on both. Peak = the process's "
+            "maximum RSS.",
+            "",
+        ]
         for path in sorted(SAMPLE_MAPS.glob("*.gml")):  # not measured: compiles the modules once
             run([str(path), "-r", "0.05"], wrapped=True)
         lines += scaling(Path(tmp), args.quick) + small_plans()

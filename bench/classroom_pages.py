@@ -54,8 +54,13 @@ def measure(pages: int, seconds: float, warmup: float) -> dict[str, object]:
         room.env[KIOSK_ENV] = "0"
         port = free_port()
         notebook = write_dashboard_notebook(Path(tmp) / "served")
-        voila = subprocess.Popen(voila_command(notebook, port=port), env=room.env, cwd=notebook.parent,
-                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+        voila = subprocess.Popen(
+            voila_command(notebook, port=port),
+            env=room.env,
+            cwd=notebook.parent,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
         try:
             wait_for_port("127.0.0.1", port, voila, "Voilà", 120.0)
             with sync_playwright() as pw:

@@ -36,8 +36,14 @@ def _run(tree: Path, plan: Path, out: Path, resolution: float) -> dict[str, Any]
     env = {**os.environ, "PYTHONPATH": str(tree)}
     conv = [*py, "convert", "-r", str(resolution), "--out", str(out), "--name", "m", "--no-preview", str(plan)]
     subprocess.run(conv, cwd=tree, env=env, capture_output=True, text=True, check=False)
-    check = subprocess.run([*py, "check", "-r", str(resolution), "--json", str(plan)], cwd=tree, env=env,
-                           capture_output=True, text=True, check=False)  # fmt: skip
+    check = subprocess.run(
+        [*py, "check", "-r", str(resolution), "--json", str(plan)],
+        cwd=tree,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     from pmk_nb.rosmap import read_map
 
     grids = {y.stem: np.asarray(read_map(y).data) for y in sorted(out.glob("m*.yaml"))}

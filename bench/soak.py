@@ -45,10 +45,17 @@ from tests.page_probes import chair_connections, kernels, open_fds, rss_mb, voil
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = [
-    "--no-sandbox", "--headless", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--disable-renderer-backgrounding", "--disable-background-timer-throttling",
-]  # fmt: skip
+    "--no-sandbox",
+    "--headless",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--disable-renderer-backgrounding",
+    "--disable-background-timer-throttling",
+]
 SIM_ARGS = ["--odom-rate", "50", "--scan-rate", "40", "--rays", "1080"]
 VIEWPORT = {"width": 1280, "height": 800}
 SAMPLE_S = 10.0
@@ -90,8 +97,15 @@ class Series:
         allowed = max(self.abs_tol, self.rel_tol * abs(first))
         ok = last - first <= allowed
         values = [v for _, v in pts]
-        return {"first": first, "last": last, "slope": slope, "allowed": allowed, "ok": ok,
-                "min": min(values), "max": max(values)}  # fmt: skip
+        return {
+            "first": first,
+            "last": last,
+            "slope": slope,
+            "allowed": allowed,
+            "ok": ok,
+            "min": min(values),
+            "max": max(values),
+        }
 
 
 def _slope(pts: list[tuple[float, float]]) -> float:
@@ -345,8 +359,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--minutes", type=float, default=10.0, help="how long the pages run (default 10)")
     parser.add_argument("--pages", type=int, default=10, help="kiosk pages at once (default 10)")
     parser.add_argument("--seed", type=int, default=10, help="seed of the random reloads")
-    parser.add_argument("--out", type=_results_name, default=DEFAULT_OUT,
-                        help=f"results file in bench/, merged into results.md (default {DEFAULT_OUT})")  # fmt: skip
+    parser.add_argument(
+        "--out",
+        type=_results_name,
+        default=DEFAULT_OUT,
+        help=f"results file in bench/, merged into results.md (default {DEFAULT_OUT})",
+    )
     args = parser.parse_args(argv)
     series, pages, elapsed, notes = run(args.minutes, args.pages, args.seed)
     ok = write(series, pages, elapsed, notes, args.pages, args.out)

@@ -258,8 +258,9 @@ def run(pages: int, seconds: float, reps: int) -> Results:
         port = free_port()
         notebook = write_dashboard_notebook(Path(tmp) / "served")
         log = (Path(tmp) / "voila.log").open("wb")
-        server = subprocess.Popen(voila_command(notebook, port=port), env=room.env, cwd=notebook.parent,
-                                  stdout=log, stderr=subprocess.STDOUT)  # fmt: skip
+        server = subprocess.Popen(
+            voila_command(notebook, port=port), env=room.env, cwd=notebook.parent, stdout=log, stderr=subprocess.STDOUT
+        )
         try:
             wait_for_port("127.0.0.1", port, server, "Voilà", 120.0)
             voila = psutil.Process(server.pid)

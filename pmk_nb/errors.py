@@ -98,10 +98,11 @@ class MapNotFound(MapFormatError):
     def __init__(self, path: str, *, name: str, folder: str, present: list[str]) -> None:
         there = f"maps there: {', '.join(present)}" if present else "it holds no map"
         super().__init__(
-            f"no map named {name!r} in {folder} ({there})", path=path,
+            f"no map named {name!r} in {folder} ({there})",
+            path=path,
             hint="Convert the building plan first (pmk convert, pmk maps convert or MapsFolder.convert) "
             "and pass the YAML path it returns.",
-        )  # fmt: skip
+        )
         self.name = name
         self.folder = folder
         self.present = present
@@ -379,8 +380,9 @@ class AssetMismatch(CatalogueError):
     def __init__(self, *, url: str, asset: str, field: str, expected: str | int, actual: str | int) -> None:
         super().__init__(
             f"{url}: {field} {actual} differs from the catalogue's {expected}; nothing installed",
-            url=url, hint="The file changed on the server or was tampered with: publish the catalogue again.",
-        )  # fmt: skip
+            url=url,
+            hint="The file changed on the server or was tampered with: publish the catalogue again.",
+        )
         self.asset = asset
         self.field = field
         self.expected = expected
@@ -397,8 +399,9 @@ class AssetOutsideCatalogue(CatalogueError):
     def __init__(self, *, url: str, href: str, root: str) -> None:
         super().__init__(
             f"{url}: link {href!r} leaves the catalogue's folder {root}; nothing installed",
-            url=url, hint="Only files inside the catalogue's folder are installed (--allow-host for another host).",
-        )  # fmt: skip
+            url=url,
+            hint="Only files inside the catalogue's folder are installed (--allow-host for another host).",
+        )
         self.href = href
         self.root = root
 
@@ -425,8 +428,9 @@ class AssetTooLarge(CatalogueError):
     def __init__(self, *, url: str, asset: str, size: int, limit: int) -> None:
         super().__init__(
             f"{url}: {size} bytes, more than the limit of {limit} bytes; nothing installed",
-            url=url, hint="Raise the limit (--max-mb) if you trust this catalogue.",
-        )  # fmt: skip
+            url=url,
+            hint="Raise the limit (--max-mb) if you trust this catalogue.",
+        )
         self.asset = asset
         self.size = size
         self.limit = limit

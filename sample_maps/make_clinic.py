@@ -91,8 +91,11 @@ def _state(parent: etree._Element, sp: Space, storey: str | None) -> None:
     ring = etree.SubElement(etree.SubElement(poly, _q(GML, "exterior")), _q(GML, "LinearRing"))
     etree.SubElement(ring, _q(GML, "posList")).text = _poslist(sp.box)
     x0, y0, x1, y1 = sp.box
-    point = etree.SubElement(etree.SubElement(state, _q(CORE, "geometry")), _q(GML, "Point"),
-                             {_q(GML, "id"): f"P_{sp.id}", "srsDimension": "2"})  # fmt: skip
+    point = etree.SubElement(
+        etree.SubElement(state, _q(CORE, "geometry")),
+        _q(GML, "Point"),
+        {_q(GML, "id"): f"P_{sp.id}", "srsDimension": "2"},
+    )
     etree.SubElement(point, _q(GML, "pos")).text = f"{(x0 + x1) / 2:.1f} {(y0 + y1) / 2:.1f}"
 
 
@@ -111,8 +114,9 @@ def build_document(storeys: list[str | None]) -> etree._ElementTree:
     etree.SubElement(meta, _q(NAVI, "translation")).text = f"{TRANSLATION_CM[0]:.1f} {TRANSLATION_CM[1]:.1f}"
     etree.SubElement(meta, _q(NAVI, "rotation")).text = f"{ROTATION_DEG:.1f}"
     layers = etree.SubElement(root, _q(CORE, "spaceLayers"), {_q(GML, "id"): "SLs"})
-    l1 = etree.SubElement(etree.SubElement(layers, _q(CORE, "spaceLayerMember")), _q(CORE, "SpaceLayer"),
-                          {_q(GML, "id"): "L1"})  # fmt: skip
+    l1 = etree.SubElement(
+        etree.SubElement(layers, _q(CORE, "spaceLayerMember")), _q(CORE, "SpaceLayer"), {_q(GML, "id"): "L1"}
+    )
     etree.SubElement(l1, _q(CORE, "usage")).text = "Geometry"
     etree.SubElement(l1, _q(CORE, "class")).text = "TOPOGRAPHIC"
     nodes = etree.SubElement(l1, _q(CORE, "nodes"), {_q(GML, "id"): "N_L1"})
@@ -127,8 +131,9 @@ def build_document(storeys: list[str | None]) -> etree._ElementTree:
                 room = "R" + sp.id[1:]
                 _transition(edges, room, sp.id)
                 _transition(edges, sp.id, f"COR{suffix}")
-    l2 = etree.SubElement(etree.SubElement(layers, _q(CORE, "spaceLayerMember")), _q(CORE, "SpaceLayer"),
-                          {_q(GML, "id"): "L2"})  # fmt: skip
+    l2 = etree.SubElement(
+        etree.SubElement(layers, _q(CORE, "spaceLayerMember")), _q(CORE, "SpaceLayer"), {_q(GML, "id"): "L2"}
+    )
     etree.SubElement(l2, _q(CORE, "usage")).text = "Navigation"
     etree.SubElement(l2, _q(CORE, "class")).text = "TOPOGRAPHIC"
     nodes2 = etree.SubElement(l2, _q(CORE, "nodes"), {_q(GML, "id"): "N_L2"})

@@ -63,8 +63,12 @@ def drive_world(root: Path, server: str = "voila") -> Iterator[DriveWorld]:
     sim_log = (root / "sim.log").open("wb")
     sim = subprocess.Popen(
         [sys.executable, "-c", SIM_CODE.format(port=ros_port)],
-        cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=sim_log, text=True,
-    )  # fmt: skip
+        cwd=ROOT,
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=sim_log,
+        text=True,
+    )
     voila = None
     voila_log = (root / "voila.log").open("wb")
     try:
@@ -82,9 +86,18 @@ def drive_world(root: Path, server: str = "voila") -> Iterator[DriveWorld]:
         notebook = write_dashboard_notebook(root / "kiosk")
         cmd, url = voila_command(notebook, port=port), f"http://127.0.0.1:{port}/"
         if server == "lab":
-            cmd = [sys.executable, "-m", "jupyterlab", "--no-browser", f"--port={port}", "--ip=127.0.0.1",
-                   "--ServerApp.token=pmk-test", "--ServerApp.open_browser=False", "--allow-root",
-                   f"--ServerApp.root_dir={notebook.parent}"]  # fmt: skip
+            cmd = [
+                sys.executable,
+                "-m",
+                "jupyterlab",
+                "--no-browser",
+                f"--port={port}",
+                "--ip=127.0.0.1",
+                "--ServerApp.token=pmk-test",
+                "--ServerApp.open_browser=False",
+                "--allow-root",
+                f"--ServerApp.root_dir={notebook.parent}",
+            ]
             url = f"http://127.0.0.1:{port}/lab/tree/dashboard.ipynb?token=pmk-test"
         voila = subprocess.Popen(cmd, env=env, cwd=notebook.parent, stdout=voila_log, stderr=subprocess.STDOUT)
         wait_for_port("127.0.0.1", port, voila, server, 120.0)

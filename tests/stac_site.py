@@ -118,7 +118,10 @@ FILE_EXTENSION_SCHEMA = {
     "type": "object",
     "required": ["stac_extensions"],
     "properties": {
-        "stac_extensions": {"type": "array", "contains": {"const": "https://stac-extensions.github.io/file/v2.1.0/schema.json"}},
+        "stac_extensions": {
+            "type": "array",
+            "contains": {"const": "https://stac-extensions.github.io/file/v2.1.0/schema.json"},
+        },
         "assets": {"type": "object", "additionalProperties": {"$ref": "#/definitions/asset"}},
     },
     "definitions": {

@@ -38,28 +38,44 @@ def profile_chair_width(given: float | None, profile: object | None) -> float:
 
 
 def check_grid(
-    building: Building, storey: str, grid: OccupancyGrid, *, chair_width: float = DEFAULT_CHAIR_WIDTH,
-    door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = DEFAULT_MAX_WALL_GAP,
-    wall_thickness: float = DEFAULT_WALL_THICKNESS, plan: OpeningPlan | None = None,
-) -> StoreyReport:  # fmt: skip
+    building: Building,
+    storey: str,
+    grid: OccupancyGrid,
+    *,
+    chair_width: float = DEFAULT_CHAIR_WIDTH,
+    door_width: float = DEFAULT_DOOR_WIDTH,
+    max_gap: float = DEFAULT_MAX_WALL_GAP,
+    wall_thickness: float = DEFAULT_WALL_THICKNESS,
+    plan: OpeningPlan | None = None,
+) -> StoreyReport:
     """The report of one storey's grid against the building's graph (``plan``: the openings the grid
     was rasterised with, when the caller has them)."""
     if plan is None:
         plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
     cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
     report = check_storey(
-        storey, grid, cells, plan.openings, chair_width=chair_width, wall_thickness=wall_thickness, max_gap=max_gap,
+        storey,
+        grid,
+        cells,
+        plan.openings,
+        chair_width=chair_width,
+        wall_thickness=wall_thickness,
+        max_gap=max_gap,
         skipped=plan.skipped,
-    )  # fmt: skip
+    )
     status = building.graph_status
     report.graph_lost = status.reason if status.lost else ""  # a lost graph checks nothing, whatever resolved
     return report
 
 
 def check_building(
-    building: Building, resolution: float, *, chair_width: float = DEFAULT_CHAIR_WIDTH,
-    door_width: float = DEFAULT_DOOR_WIDTH, storeys: list[str] | None = None,
-) -> list[StoreyReport]:  # fmt: skip
+    building: Building,
+    resolution: float,
+    *,
+    chair_width: float = DEFAULT_CHAIR_WIDTH,
+    door_width: float = DEFAULT_DOOR_WIDTH,
+    storeys: list[str] | None = None,
+) -> list[StoreyReport]:
     """Rasterise each storey in memory (nothing written) and check it."""
     width = check_chair_width(chair_width)
     out = []
@@ -88,10 +104,15 @@ def check_plan_file(plan: StoreyPlanFile, grid: OccupancyGrid, *, chair_width: f
     """A written map against its rooms file, with the wall thickness and gap the map was written with
     (its YAML), and the links left unchecked: ``pmk check MAP.yaml`` and the route planner agree."""
     report = check_storey(
-        plan.storey, grid, plan.cells, plan.openings, chair_width=check_chair_width(chair_width),
+        plan.storey,
+        grid,
+        plan.cells,
+        plan.openings,
+        chair_width=check_chair_width(chair_width),
         wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS)),
-        max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)), skipped=plan.skipped,
-    )  # fmt: skip
+        max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)),
+        skipped=plan.skipped,
+    )
     graph = plan.raw.get("graph")  # the plan's graph status, in rooms files written since issue 31
     if isinstance(graph, dict) and graph.get("lost"):
         report.graph_lost = str(graph.get("reason") or "the plan's navigation graph was lost")

@@ -200,10 +200,12 @@ def _join_runs(
     label_owner = np.zeros(n + 1, dtype=np.int32)
     label_owner[run_label] = run_owner
     side = (ec[:-1] == sc[1:]) & (sr[:-1] == sr[1:])
-    pairs = np.concatenate([
-        np.stack([run_label[ii[~same]], run_label[jj[~same]]], axis=1),
-        np.stack([run_label[:-1][side], run_label[1:][side]], axis=1),
-    ]).astype(np.int64)  # fmt: skip
+    pairs = np.concatenate(
+        [
+            np.stack([run_label[ii[~same]], run_label[jj[~same]]], axis=1),
+            np.stack([run_label[:-1][side], run_label[1:][side]], axis=1),
+        ]
+    ).astype(np.int64)
     if not len(pairs):
         return parent, label_owner, pairs
     key = sorted_unique(pairs[:, 0] * (n + 2) + pairs[:, 1])  # labels are 1..n: one key per pair, same order

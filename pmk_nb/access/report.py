@@ -154,8 +154,11 @@ class StoreyReport:
         )
         extra = [f"{c[k]} {k}" for k in ("narrow", "unreachable", "leaks") if c[k]]
         out = head + (f"; {', '.join(extra)}" if extra else "")
-        for key, what in (("to_windows", "cells judged windows/sills"), ("to_outside", "doorways out of the map"),
-                          ("to_non_navigable", "non-navigable cells")):  # fmt: skip
+        for key, what in (
+            ("to_windows", "cells judged windows/sills"),
+            ("to_outside", "doorways out of the map"),
+            ("to_non_navigable", "non-navigable cells"),
+        ):
             if c[key]:
                 out += f"; {c[key]} transition{' leads' if c[key] == 1 else 's lead'} to {what} (not checked)"
         return out
@@ -342,8 +345,10 @@ def _doorways_out(report: StoreyReport, grid: OccupancyGrid, by_id: dict[str, Ce
     for k in report.links:
         door = None  # looked for only where it matters: a link a point passes and the chair does not
         if k.point and not k.chair:
-            door = next((c for c in k.cells if _doorway(by_id[c], report.chair_width / 2)
-                         and _touches_unknown(grid, by_id[c])), None)  # fmt: skip
+            door = next(
+                (c for c in k.cells if _doorway(by_id[c], report.chair_width / 2) and _touches_unknown(grid, by_id[c])),
+                None,
+            )
         if door is not None:
             ends = (by_id[k.cells[0]].name or k.cells[0], by_id[k.cells[1]].name or k.cells[1])
             report.not_checked.append(NotChecked(k.link, k.cells, ends, SKIP_OUTSIDE, by_id[door].name or door))

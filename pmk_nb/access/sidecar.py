@@ -80,8 +80,12 @@ def sidecar_json(building: Building, storey: str, plan: OpeningPlan, report: dic
         ],
         "openings": [
             {
-                "link": o.link.id, "rule": o.rule, "width": round(o.width, 3), "gap": round(o.gap, 3),
-                "segments": [_geo(s) for s in o.segments], "reaches": [round(r, 3) for r in o.reaches],
+                "link": o.link.id,
+                "rule": o.rule,
+                "width": round(o.width, 3),
+                "gap": round(o.gap, 3),
+                "segments": [_geo(s) for s in o.segments],
+                "reaches": [round(r, 3) for r in o.reaches],
                 **({"path": _geo(o.path)} if o.path is not None else {}),
             }
             for o in plan.openings
@@ -147,12 +151,17 @@ def read_sidecar(yaml_path: str | Path) -> StoreyPlanFile:
         label = {c.id: c.name or c.id for c in cells}
         openings = [
             Opening(
-                links[o["link"]], o["rule"], tuple(_shape(s) for s in o["segments"]), float(o["width"]),
-                float(o["gap"]), (label[links[o["link"]].a], label[links[o["link"]].b]),
-                tuple(float(r) for r in o.get("reaches", [])), _shape(o["path"]) if o.get("path") else None,
+                links[o["link"]],
+                o["rule"],
+                tuple(_shape(s) for s in o["segments"]),
+                float(o["width"]),
+                float(o["gap"]),
+                (label[links[o["link"]].a], label[links[o["link"]].b]),
+                tuple(float(r) for r in o.get("reaches", [])),
+                _shape(o["path"]) if o.get("path") else None,
             )
             for o in doc["openings"]
-        ]  # fmt: skip
+        ]
         skipped = tuple(
             Skipped(links[k["link"]], (label[links[k["link"]].a], label[links[k["link"]].b]), str(k["reason"]))
             for k in doc.get("skipped", [])

@@ -49,9 +49,16 @@ class InstallResult:
 
 
 def install(
-    catalogue: Catalogue, name: str, folder: MapsFolder, *, storeys: Sequence[str] = (), overwrite: bool = False,
-    max_bytes: int = DEFAULT_MAX_BYTES, allow_hosts: Iterable[str] = (), progress: ProgressCallback | None = None,
-) -> InstallResult:  # fmt: skip
+    catalogue: Catalogue,
+    name: str,
+    folder: MapsFolder,
+    *,
+    storeys: Sequence[str] = (),
+    overwrite: bool = False,
+    max_bytes: int = DEFAULT_MAX_BYTES,
+    allow_hosts: Iterable[str] = (),
+    progress: ProgressCallback | None = None,
+) -> InstallResult:
     """Install building ``name`` (only ``storeys`` when given: names or map ids) into ``folder``.
 
     Raises:
@@ -85,8 +92,11 @@ def install(
         if rec is not None and rec.get("catalogue") == catalogue.url and len(chosen) == len(building.storeys):
             _remove_dropped(folder, building.id, rec, {a.file_name for a in assets})
     except OSError as err:
-        raise CatalogueError(f"cannot install {building.id!r} in {folder.root}: {err.strerror or err}",
-                             url=catalogue.url, name=building.id) from err  # fmt: skip
+        raise CatalogueError(
+            f"cannot install {building.id!r} in {folder.root}: {err.strerror or err}",
+            url=catalogue.url,
+            name=building.id,
+        ) from err
     finally:
         shutil.rmtree(stage, ignore_errors=True)
     files = {a.file_name: a.sha256 for a in assets}
@@ -120,8 +130,11 @@ def _choose(catalogue: Catalogue, building: Building, wanted: Sequence[str]) -> 
     missing = [w for w in wanted if not any(w in (s.storey, s.id) for s in building.storeys)]
     if missing:
         known = ", ".join(s.storey or s.id for s in building.storeys)
-        raise CatalogueError(f"building {building.id!r} has no storey {missing[0]!r} (storeys: {known})",
-                             url=catalogue.url, name=building.id)  # fmt: skip
+        raise CatalogueError(
+            f"building {building.id!r} has no storey {missing[0]!r} (storeys: {known})",
+            url=catalogue.url,
+            name=building.id,
+        )
     return chosen
 
 
@@ -139,7 +152,7 @@ def _assets(catalogue: Catalogue, building: Building, chosen: list[Storey]) -> l
         stem_ok = name.startswith((f"{building.id}.", f"{building.id}_", f"{building.id}-"))
         if not stem_ok or name.startswith(".") or "/" in name or "\x00" in name or name != name.strip():
             raise AssetOutsideCatalogue(url=a.url, href=name, root=f"files named {building.id}*")
-        if a.key == "indoorgml" and name[len(building.id):].lower() not in SOURCE_SUFFIXES:
+        if a.key == "indoorgml" and name[len(building.id) :].lower() not in SOURCE_SUFFIXES:
             raise AssetOutsideCatalogue(url=a.url, href=name, root=f"{building.id}.gml")
         if name in by_name and by_name[name].sha256 != a.sha256:
             raise CatalogueError(f"{a.url}: two different files named {name!r}", url=a.url, name=building.id)

@@ -41,9 +41,13 @@ class PublishResult:
 
 
 def publish(
-    folder: MapsFolder, out: str | Path, names: Sequence[str] = (), *, title: str | None = None,
+    folder: MapsFolder,
+    out: str | Path,
+    names: Sequence[str] = (),
+    *,
+    title: str | None = None,
     now: dt.datetime | None = None,
-) -> PublishResult:  # fmt: skip
+) -> PublishResult:
     """Publish the converted maps ``names`` (default: every converted map) into the folder ``out``.
 
     Raises:
@@ -92,16 +96,16 @@ class _Writer:
         return size, sha
 
 
-def _publish_building(
-    folder: MapsFolder, entry: MapEntry, site: Path, title: str, stamp: str, writer: _Writer
-) -> None:
+def _publish_building(folder: MapsFolder, entry: MapEntry, site: Path, title: str, stamp: str, writer: _Writer) -> None:
     broken = [g.yaml.name for g in entry.generated if g.broken]
     if not entry.generated or broken:
         why = f"its maps {broken} cannot be read" if broken else "it is not converted yet"
         raise CatalogueError(
-            f"cannot publish map {entry.name!r}: {why}", url=str(entry.source), name=entry.name,
+            f"cannot publish map {entry.name!r}: {why}",
+            url=str(entry.source),
+            name=entry.name,
             hint=f"Convert it first (pmk maps convert {entry.name}).",
-        )  # fmt: skip
+        )
     bdir = site / entry.name
     source_name = f"{entry.name}{entry.source.suffix.lower()}"
     size, sha = writer.put(bdir / source_name, entry.source)
@@ -120,9 +124,15 @@ def _publish_building(
 
 
 def _publish_item(
-    building: str, gm: GeneratedMap, bdir: Path, source: dict[str, Any], geometry: dict[str, Any] | None,
-    title: str, stamp: str, writer: _Writer,
-) -> dict[str, Any]:  # fmt: skip
+    building: str,
+    gm: GeneratedMap,
+    bdir: Path,
+    source: dict[str, Any],
+    geometry: dict[str, Any] | None,
+    title: str,
+    stamp: str,
+    writer: _Writer,
+) -> dict[str, Any]:
     item_id = gm.yaml.stem
     idir = bdir / item_id
     files: list[tuple[str, str, bytes | Path]] = [("map-yaml", gm.yaml.name, gm.yaml)]
@@ -143,10 +153,15 @@ def _publish_item(
     when = str(old_props["datetime"]) if unchanged and old_props.get("datetime") else stamp
     props = {
         "title": f"{building} {gm.storey}" if gm.storey else building,
-        "datetime": when, "created": str(old_props.get("created") or when), "updated": when,
-        "pmk:building": building, "pmk:storey": gm.storey, "pmk:resolution": gm.resolution,
-        "pmk:width": gm.width, "pmk:height": gm.height,
-    }  # fmt: skip
+        "datetime": when,
+        "created": str(old_props.get("created") or when),
+        "updated": when,
+        "pmk:building": building,
+        "pmk:storey": gm.storey,
+        "pmk:resolution": gm.resolution,
+        "pmk:width": gm.width,
+        "pmk:height": gm.height,
+    }
     doc = stacdocs.item(building, item_id, props, assets, geometry, geo.bbox_of(geometry), title)
     writer.put(idir / f"{item_id}.json", stacdocs.dumps(doc).encode())
     return doc

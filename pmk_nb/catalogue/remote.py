@@ -141,9 +141,14 @@ class Reader:
 
     def fetch_to(self, url: str, out: Any, *, max_bytes: int, progress: Any = None) -> int:
         return fetch(
-            url, out, timeout=self.timeout, max_bytes=max_bytes, progress=progress, allow_local=self.allow_local,
+            url,
+            out,
+            timeout=self.timeout,
+            max_bytes=max_bytes,
+            progress=progress,
+            allow_local=self.allow_local,
             redirect_check=self.check_redirect,
-        )  # fmt: skip
+        )
 
     def document(self, url: str) -> dict[str, Any]:
         """One JSON document (at most 4 MiB; at most 2000 per catalogue)."""
@@ -203,9 +208,12 @@ def _building(reader: Reader, url: str) -> Building:
     source = reader.asset("indoorgml", assets["indoorgml"], url) if "indoorgml" in assets else None
     storeys = [_storey(reader, u) for u in reader.links(doc, url, "item")]
     return Building(
-        id=bid, title=str(doc.get("title") or bid), description=str(doc.get("description") or ""), source=source,
+        id=bid,
+        title=str(doc.get("title") or bid),
+        description=str(doc.get("description") or ""),
+        source=source,
         storeys=sorted(storeys, key=lambda s: (s.storey or "", s.id)),
-    )  # fmt: skip
+    )
 
 
 def _storey(reader: Reader, url: str) -> Storey:
@@ -215,12 +223,16 @@ def _storey(reader: Reader, url: str) -> Storey:
     assets = {str(k): reader.asset(str(k), v, url) for k, v in raw_assets.items()}
     storey = props.get("pmk:storey")
     return Storey(
-        id=str(doc.get("id") or ""), title=str(props.get("title") or doc.get("id") or ""),
-        storey=None if storey is None else str(storey), resolution=_num(props.get("pmk:resolution"), float),
-        width=int(_num(props.get("pmk:width"), int)), height=int(_num(props.get("pmk:height"), int)),
-        updated=str(props.get("updated") or props.get("datetime") or ""), assets=assets,
+        id=str(doc.get("id") or ""),
+        title=str(props.get("title") or doc.get("id") or ""),
+        storey=None if storey is None else str(storey),
+        resolution=_num(props.get("pmk:resolution"), float),
+        width=int(_num(props.get("pmk:width"), int)),
+        height=int(_num(props.get("pmk:height"), int)),
+        updated=str(props.get("updated") or props.get("datetime") or ""),
+        assets=assets,
         geometry=doc.get("geometry") if isinstance(doc.get("geometry"), dict) else None,
-    )  # fmt: skip
+    )
 
 
 def _num(value: object, kind: type) -> float:

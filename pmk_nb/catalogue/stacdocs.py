@@ -27,9 +27,13 @@ ASSET_KINDS: dict[str, tuple[str, list[str]]] = {
     "thumbnail": ("thumbnail", ["thumbnail"]),
 }
 MEDIA_TYPES = {
-    ".gml": "application/gml+xml", ".xml": "application/xml", ".yaml": "application/yaml",
-    ".pgm": "image/x-portable-graymap", ".png": "image/png", ".json": JSON,
-}  # fmt: skip
+    ".gml": "application/gml+xml",
+    ".xml": "application/xml",
+    ".yaml": "application/yaml",
+    ".pgm": "image/x-portable-graymap",
+    ".png": "image/png",
+    ".json": JSON,
+}
 
 
 def rel(*parts: str) -> str:
@@ -61,10 +65,13 @@ def catalog(title: str, children: list[tuple[str, str]]) -> dict[str, Any]:
     links = [link("root", "./catalog.json", title=title)]
     links += [link("child", rel(".", bid, "collection.json"), title=btitle) for bid, btitle in children]
     return {
-        "type": "Catalog", "stac_version": STAC_VERSION, "id": "pmk-maps", "title": title,
+        "type": "Catalog",
+        "stac_version": STAC_VERSION,
+        "id": "pmk-maps",
+        "title": title,
         "description": f"{title}: building plans (IndoorGML) and wheelchair maps (ROS map_server) published by pmk_nb",
         "links": links,
-    }  # fmt: skip
+    }
 
 
 def collection(
@@ -75,26 +82,39 @@ def collection(
     bbox = [min(b[0] for b in boxes), min(b[1] for b in boxes), max(b[2] for b in boxes), max(b[3] for b in boxes)]
     times = sorted(i["properties"]["datetime"] for i in items) or [None]
     links = [link("root", "../catalog.json", title=catalog_title), link("parent", "../catalog.json")]
-    links += [link("item", rel(".", i["id"], f"{i['id']}.json"), media=GEOJSON, title=i["properties"]["title"])
-              for i in items]  # fmt: skip
+    links += [
+        link("item", rel(".", i["id"], f"{i['id']}.json"), media=GEOJSON, title=i["properties"]["title"]) for i in items
+    ]
     return {
-        "type": "Collection", "stac_version": STAC_VERSION, "stac_extensions": [FILE_EXTENSION],
-        "id": building, "title": building,
+        "type": "Collection",
+        "stac_version": STAC_VERSION,
+        "stac_extensions": [FILE_EXTENSION],
+        "id": building,
+        "title": building,
         "description": f"Building {building}: {len(items)} storey map(s) for the PMK wheelchair",
         "license": "other",
         "extent": {"spatial": {"bbox": [bbox]}, "temporal": {"interval": [[times[0], times[-1]]]}},
-        "links": links, "assets": {"indoorgml": source},
-    }  # fmt: skip
+        "links": links,
+        "assets": {"indoorgml": source},
+    }
 
 
 def item(
-    building: str, item_id: str, props: dict[str, Any], assets: dict[str, dict[str, Any]],
-    geometry: dict[str, Any] | None, bbox: list[float] | None, catalog_title: str,
-) -> dict[str, Any]:  # fmt: skip
+    building: str,
+    item_id: str,
+    props: dict[str, Any],
+    assets: dict[str, dict[str, Any]],
+    geometry: dict[str, Any] | None,
+    bbox: list[float] | None,
+    catalog_title: str,
+) -> dict[str, Any]:
     doc: dict[str, Any] = {
-        "type": "Feature", "stac_version": STAC_VERSION, "stac_extensions": [FILE_EXTENSION],
-        "id": item_id, "geometry": geometry,
-    }  # fmt: skip
+        "type": "Feature",
+        "stac_version": STAC_VERSION,
+        "stac_extensions": [FILE_EXTENSION],
+        "id": item_id,
+        "geometry": geometry,
+    }
     if bbox is not None:
         doc["bbox"] = bbox
     doc.update(

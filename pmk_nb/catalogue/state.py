@@ -83,8 +83,11 @@ class InstallRecord:
         installs: dict[str, Any] = found if isinstance(found, dict) else {}
         stamp = dt.datetime.now(dt.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
         installs[name] = {
-            "catalogue": catalogue_url, "installed": stamp, "files": files, "all_storeys": all_storeys,
-        }  # fmt: skip
+            "catalogue": catalogue_url,
+            "installed": stamp,
+            "files": files,
+            "all_storeys": all_storeys,
+        }
         atomic_write(self.path, json.dumps({"installs": installs}, indent=2, sort_keys=True) + "\n")
 
     def status(self, building: Building, catalogue_url: str, *, present: bool) -> str:

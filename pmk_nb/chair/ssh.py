@@ -71,9 +71,12 @@ class VerifyingHostKeyPolicy(paramiko.MissingHostKeyPolicy):
                 f"{hostname}: unknown SSH host key {key.get_name()} {fp} and strict host key checking is on; "
                 f"check the fingerprint on the chair (ssh-keygen -lf /etc/ssh/ssh_host_*_key.pub), then add "
                 f"the key to {self.known_hosts} or connect once with host_key_check='tofu'",
-                host=hostname, key_type=key.get_name(), fingerprint=fp, key_base64=key.get_base64(),
+                host=hostname,
+                key_type=key.get_name(),
+                fingerprint=fp,
+                key_base64=key.get_base64(),
                 known_hosts=str(self.known_hosts),
-            )  # fmt: skip
+            )
         append_known_host(self.known_hosts, hostname, key)
         client.get_host_keys().add(hostname, key.get_name(), key)
         self.recorded = HostKeyInfo(hostname, key.get_name(), fp, True, self.known_hosts)

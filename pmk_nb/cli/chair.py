@@ -42,9 +42,11 @@ def add_parser(subparsers: Any) -> None:
     for option, kind, text in _FIELDS:
         add.add_argument(f"--{option}", type=kind, help=text)
     add.add_argument(
-        "--chair-width", type=float, metavar="W",
+        "--chair-width",
+        type=float,
+        metavar="W",
         help="the wheelchair's width in metres (0.70): map checks, and the live view's circle (radius W/2)",
-    )  # fmt: skip
+    )
     # deprecated: the same concept as a radius (half the width); kept so old scripts still work
     add.add_argument("--footprint-radius", type=float, default=None, help=argparse.SUPPRESS)
     add.add_argument(
@@ -52,10 +54,12 @@ def add_parser(subparsers: Any) -> None:
     )
     add.add_argument("--password-stdin", action="store_true", help="remember a password read from stdin")
     add.add_argument(
-        "--key", choices=("auto",), default=None,
+        "--key",
+        choices=("auto",),
+        default=None,
         help="auto: make an ed25519 key in the settings folder (if none), install it on the chair with one "
         "password login (the password is not kept), then log in with the key: no password asked again",
-    )  # fmt: skip
+    )
     add.set_defaults(run=run_add)
     show = sub.add_parser("show", help="print a profile as JSON")
     show.add_argument("name", nargs="?", help="profile (default: the last used one)")
@@ -100,10 +104,13 @@ def run_list(args: argparse.Namespace) -> int:
     last = store.last_used()
     profiles = store.list()
     if args.json:
-        print_json({
-            "profiles_file": str(store.path), "default": None if last is None else last.name,
-            "profiles": [pr.to_dict() for pr in profiles],
-        })  # fmt: skip
+        print_json(
+            {
+                "profiles_file": str(store.path),
+                "default": None if last is None else last.name,
+                "profiles": [pr.to_dict() for pr in profiles],
+            }
+        )
         return 0
     if not profiles:
         print(f"no chair profiles in {store.path}")
@@ -218,8 +225,13 @@ def certificate_trusted(err: BaseException | None, expected: str | None) -> bool
 
 def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | None = None) -> dict[str, Any]:
     """One line of `pmk chair test`: what was tested, whether it worked, and the error's type when not."""
-    return {"part": name, "target": target, "ok": ok, "detail": detail,
-            "error": None if err is None else type(err).__name__}  # fmt: skip
+    return {
+        "part": name,
+        "target": target,
+        "ok": ok,
+        "detail": detail,
+        "error": None if err is None else type(err).__name__,
+    }
 
 
 def _test_bridge(profile: Any, args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:

@@ -36,12 +36,22 @@ def add_parser(subparsers: Any) -> None:
         "into each other. " + EXIT_CODES + ".",
     )
     p.add_argument("target", type=Path, help="an IndoorGML file (.gml) or a converted map (.yaml)")
-    p.add_argument("--chair-width", type=float, default=None, metavar="W",
-                   help="chair width in metres (default: the chair profile's, Settings; else 0.70)")  # fmt: skip
+    p.add_argument(
+        "--chair-width",
+        type=float,
+        default=None,
+        metavar="W",
+        help="chair width in metres (default: the chair profile's, Settings; else 0.70)",
+    )
     add_resolution(p, what="metres per cell when checking a .gml file")
     p.add_argument("--unit", default="auto", help="unit of a .gml file's coordinates: auto (default), m, dm, cm, mm")
-    p.add_argument("--door-width", type=float, default=None, metavar="M",
-                   help="width of openings made where the file gives no door geometry (default 0.9)")  # fmt: skip
+    p.add_argument(
+        "--door-width",
+        type=float,
+        default=None,
+        metavar="M",
+        help="width of openings made where the file gives no door geometry (default 0.9)",
+    )
     add_not_window_option(p)
     add_layer_option(p)
     add_json(p, "the report")
@@ -62,8 +72,10 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
     if target.suffix.lower() in (".yaml", ".yml"):
         if args.not_windows or args.layers:
             opt = "--not-window" if args.not_windows else "--layer"
-            raise PmkError(f"{target}: {opt} applies to a plan (.gml), not to a written map",
-                           hint=f"Convert the plan again with {opt}, then check the new map.")  # fmt: skip
+            raise PmkError(
+                f"{target}: {opt} applies to a plan (.gml), not to a written map",
+                hint=f"Convert the plan again with {opt}, then check the new map.",
+            )
         return [check_map(target, chair_width=width)], None
     from pmk_nb.indoorgml import read_building
 
@@ -92,8 +104,10 @@ def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any
         lines.append(r.summary())
         lines.extend(f"  blocked: {k.describe()}" for k in r.blocked)
         lines.extend(f"  unreachable: {name}" for name in r.unreachable)
-        lines.extend(f"  leak: {a} and {b} are joined in the map but not in the graph" for a, b in
-                     (leak.names for leak in r.leaks))  # fmt: skip
+        lines.extend(
+            f"  leak: {a} and {b} are joined in the map but not in the graph"
+            for a, b in (leak.names for leak in r.leaks)
+        )
         lines.extend(f"  not checked: {k.describe()}" for k in r.not_checked[:MAX_NOT_CHECKED])
         if len(r.not_checked) > MAX_NOT_CHECKED:
             lines.append(f"  not checked: and {len(r.not_checked) - MAX_NOT_CHECKED} more (--json lists them all)")
@@ -132,18 +146,25 @@ def run(args: argparse.Namespace) -> int:
     suspect = building.unit_suspect if building is not None else None
     if args.json:
         doc = {
-            "ok": code == EXIT_OK, "exit_code": code, "unit_conflict": conflict,
+            "ok": code == EXIT_OK,
+            "exit_code": code,
+            "unit_conflict": conflict,
             "unit_suspect": None if suspect is None else asdict(suspect),
             "graph": None if building is None else building.graph_status.to_json(),
             "skipped_layers": [] if building is None else [asdict(n) for n in building.skipped_layers],
             "storeys": [r.to_json() for r in reports],
-        }  # fmt: skip
+        }
         json.dump(doc, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
     else:
-        head = [] if building is None else [
-            *graph_lines(building.graph_status.to_json()), *layer_lines([asdict(n) for n in building.skipped_layers])
-        ]  # fmt: skip
+        head = (
+            []
+            if building is None
+            else [
+                *graph_lines(building.graph_status.to_json()),
+                *layer_lines([asdict(n) for n in building.skipped_layers]),
+            ]
+        )
         print("\n".join(head + format_report(reports, conflict, suspect)))
         print(verdict(reports, code))
     return code

@@ -65,25 +65,38 @@ class TextProgress:
 
 def add_raster_options(p: argparse.ArgumentParser) -> None:
     """The rasterising options `pmk convert` and `pmk maps convert` share (one wording for both)."""
-    p.add_argument("--wall-thickness", type=float, default=DEFAULT_WALL_THICKNESS,
-                   help=f"wall band in metres (default {DEFAULT_WALL_THICKNESS:.2f})")  # fmt: skip
     p.add_argument(
-        "--max-wall-gap", type=float, default=DEFAULT_MAX_WALL_GAP, metavar="M",
+        "--wall-thickness",
+        type=float,
+        default=DEFAULT_WALL_THICKNESS,
+        help=f"wall band in metres (default {DEFAULT_WALL_THICKNESS:.2f})",
+    )
+    p.add_argument(
+        "--max-wall-gap",
+        type=float,
+        default=DEFAULT_MAX_WALL_GAP,
+        metavar="M",
         help="walls the file left out as gaps: a door or transition opens one up to M metres wide; a gap no"
         f" transition crosses is wall up to the thickest wall, at least max(M, 1 m) (default {DEFAULT_MAX_WALL_GAP:g},"
         " 0 = off)",
-    )  # fmt: skip
+    )
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
     p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
     p.add_argument(
-        "--door-width", type=float, default=DEFAULT_DOOR_WIDTH, metavar="M",
+        "--door-width",
+        type=float,
+        default=DEFAULT_DOOR_WIDTH,
+        metavar="M",
         help=f"width of openings made where the file gives no door geometry (default {DEFAULT_DOOR_WIDTH:g})",
-    )  # fmt: skip
+    )
     p.add_argument(
-        "--chair-width", type=float, default=None, metavar="W",
+        "--chair-width",
+        type=float,
+        default=None,
+        metavar="W",
         help=f"chair width for the access summary (default: the chair profile's, or {DEFAULT_CHAIR_WIDTH:.2f})",
-    )  # fmt: skip
+    )
     add_not_window_option(p)
     add_layer_option(p)
 
@@ -120,19 +133,29 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
     storeys = []
     for m in result.maps:
         files = m.files
-        storeys.append({
-            "storey": m.storey, "yaml": str(files.yaml), "image": str(files.image),
-            "preview": None if files.preview is None else str(files.preview),
-            "rooms": None if m.rooms is None else str(m.rooms),
-            "width": m.width, "height": m.height, "resolution": m.resolution,
-            "access": None if m.access is None else m.access.to_json(),
-        })  # fmt: skip
+        storeys.append(
+            {
+                "storey": m.storey,
+                "yaml": str(files.yaml),
+                "image": str(files.image),
+                "preview": None if files.preview is None else str(files.preview),
+                "rooms": None if m.rooms is None else str(m.rooms),
+                "width": m.width,
+                "height": m.height,
+                "resolution": m.resolution,
+                "access": None if m.access is None else m.access.to_json(),
+            }
+        )
     return {
-        "ok": True, "file": str(path), "unit": building.unit, "unit_reason": building.unit_reason,
+        "ok": True,
+        "file": str(path),
+        "unit": building.unit,
+        "unit_reason": building.unit_reason,
         "unit_conflict": building.unit_conflict or None,
         "unit_suspect": None if building.unit_suspect is None else asdict(building.unit_suspect),
-        "graph": building.graph_status.to_json(), "storeys": storeys,
-    }  # fmt: skip
+        "graph": building.graph_status.to_json(),
+        "storeys": storeys,
+    }
 
 
 def run(args: argparse.Namespace) -> int:
@@ -148,17 +171,30 @@ def run(args: argparse.Namespace) -> int:
         show = sys.stderr.isatty() or size > _BIG_FILE
     options = ConvertOptions(
         resolution=args.resolution,
-        unit=args.unit, storeys=args.storeys, wall_thickness=args.wall_thickness, max_wall_gap=args.max_wall_gap,
-        outside=args.outside, image_format=args.image_format, preview=not args.no_preview,
-        max_cells=args.max_cells or DEFAULT_MAX_CELLS, allow_large=args.allow_large, door_width=args.door_width,
-        chair_width=chair_width_arg(args.chair_width), not_windows=tuple(args.not_windows),
+        unit=args.unit,
+        storeys=args.storeys,
+        wall_thickness=args.wall_thickness,
+        max_wall_gap=args.max_wall_gap,
+        outside=args.outside,
+        image_format=args.image_format,
+        preview=not args.no_preview,
+        max_cells=args.max_cells or DEFAULT_MAX_CELLS,
+        allow_large=args.allow_large,
+        door_width=args.door_width,
+        chair_width=chair_width_arg(args.chair_width),
+        not_windows=tuple(args.not_windows),
         layers=tuple(args.layers),
-    )  # fmt: skip
+    )
     bar = TextProgress(sys.stderr, enabled=bool(show))
     try:
         result = convert_plan(
-            path, args.out, safe_file_part(args.name or path.stem), None, options, progress=bar,
-        )  # fmt: skip
+            path,
+            args.out,
+            safe_file_part(args.name or path.stem),
+            None,
+            options,
+            progress=bar,
+        )
     except GridTooLarge as err:  # the CLI's words for the way out: the option to change
         raise PmkError(err.message, hint=f"Use --resolution {err.suggested_resolution:g} or coarser.") from err
     finally:

@@ -72,19 +72,30 @@ def sim_command(
     ``extra`` adds ``pmk sim`` options (e.g. ``--laser-blind=-20:40`` to show a blind laser).
     """
     return [
-        sys.executable, "-m", "pmk_nb.cli", "sim",
-        "--map", str(map_yaml),
-        "--host", "127.0.0.1",
-        "--port", str(ros_port),
-        "--sftp-port", str(sftp_port),
-        "--sftp-user", DEMO_SFTP_USER,
-        "--sftp-authorized-key", str(public_key),
+        sys.executable,
+        "-m",
+        "pmk_nb.cli",
+        "sim",
+        "--map",
+        str(map_yaml),
+        "--host",
+        "127.0.0.1",
+        "--port",
+        str(ros_port),
+        "--sftp-port",
+        str(sftp_port),
+        "--sftp-user",
+        DEMO_SFTP_USER,
+        "--sftp-authorized-key",
+        str(public_key),
         "--no-sftp-password",
-        "--maps-dir", str(chair_dir),
-        "--state-dir", str(chair_dir.parent / "sim_state"),  # same host key after a restart (issue 29)
+        "--maps-dir",
+        str(chair_dir),
+        "--state-dir",
+        str(chair_dir.parent / "sim_state"),  # same host key after a restart (issue 29)
         "--patrol",
         *extra,
-    ]  # fmt: skip
+    ]
 
 
 def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
@@ -143,8 +154,11 @@ def prepare_demo(
     log = log_path.open("ab")
     sim = subprocess.Popen(
         sim_command(first.yaml, ros_port, sftp_port, chair_dir, public_key, sim_args),
-        env=env, stdout=log, stderr=subprocess.STDOUT, cwd=root,
-    )  # fmt: skip
+        env=env,
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        cwd=root,
+    )
     world = DemoWorld(root, maps_dir, config_dir, chair_dir, first.yaml, ros_port, sftp_port, env, sim, log_path, log)
     try:
         wait_for_port("127.0.0.1", ros_port, sim, "the simulated chair (rosbridge)", SIM_START_TIMEOUT)

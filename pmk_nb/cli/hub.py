@@ -106,10 +106,20 @@ def _serve(
     root = args.dir.expanduser().resolve()
     room = prepare_classroom(root, max_chairs=args.max_chairs)
     plan = HubPlan(
-        users=users, password=password, ip=args.ip, port=args.port, hub_port=free_port(), proxy_api_port=free_port(),
-        state_dir=root / "hub", users_dir=root / "users", maps_dir=root / "maps",
-        classroom_file=room.settings_file, proxy_command=proxy, tls=tls, cull_idle=args.cull_idle,
-    )  # fmt: skip
+        users=users,
+        password=password,
+        ip=args.ip,
+        port=args.port,
+        hub_port=free_port(),
+        proxy_api_port=free_port(),
+        state_dir=root / "hub",
+        users_dir=root / "users",
+        maps_dir=root / "maps",
+        classroom_file=room.settings_file,
+        proxy_command=proxy,
+        tls=tls,
+        cull_idle=args.cull_idle,
+    )
     config = write_hub_config(plan)
     log = (plan.state_dir / "jupyterhub.log").open("ab")
     hub = subprocess.Popen(

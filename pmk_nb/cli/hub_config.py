@@ -104,8 +104,10 @@ def check_password(password: str | None, ip: str) -> str:
         where = "on loopback" if serving.is_loopback(ip) else f"with --ip {ip} (anyone on the network can try it)"
         raise serving.ServingRefused(
             f"the class password is too short ({len(password)} characters): use at least {least} {where}",
-            ip=ip, port=None, reason="weak-password",
-        )  # fmt: skip
+            ip=ip,
+            port=None,
+            reason="weak-password",
+        )
     return password
 
 
@@ -121,8 +123,10 @@ def check_jupyterhub() -> None:
     if missing:
         raise serving.ServingRefused(
             f"pmk hub needs {' and '.join(missing)}: pip install 'pmk_nb[hub]' (make hub does it)",
-            ip="", port=None, reason="no-jupyterhub",
-        )  # fmt: skip
+            ip="",
+            port=None,
+            reason="no-jupyterhub",
+        )
 
 
 def positive_int(text: str) -> int:
@@ -153,8 +157,10 @@ def find_proxy(explicit: str | None = None) -> tuple[str, ...]:
         f"JupyterHub's proxy ({PROXY_BIN}) not found"
         + (f" at {explicit}" if explicit else "")
         + ": run `make hub` (npm installs it into proxy/), or pass --proxy PATH",
-        ip="", port=None, reason="no-proxy",
-    )  # fmt: skip
+        ip="",
+        port=None,
+        reason="no-proxy",
+    )
 
 
 def source_proxy() -> Path:

@@ -20,8 +20,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         description="Read an IndoorGML file and print its storeys, cells, doors, units and warnings.",
     )
     p.add_argument("file", help="IndoorGML (.gml) file")
-    p.add_argument("--unit", default="auto", choices=UNIT_CHOICES,
-                   help="coordinate unit of the file (default: auto-detect, see the reason printed)")  # fmt: skip
+    p.add_argument(
+        "--unit",
+        default="auto",
+        choices=UNIT_CHOICES,
+        help="coordinate unit of the file (default: auto-detect, see the reason printed)",
+    )
     add_not_window_option(p)
     add_layer_option(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
@@ -55,9 +59,14 @@ def connectivity(building: Any) -> dict[str, Any]:
 
 
 def format_connectivity(c: dict[str, Any]) -> list[str]:
-    words = {"door": "door geometry", "line": "transition line", "corridor": "corridor (whole boundary)",
-             "middle": "middle of shared wall", "bridge": "passage across a gap",
-             "apart": "cells apart (cannot open)"}  # fmt: skip
+    words = {
+        "door": "door geometry",
+        "line": "transition line",
+        "corridor": "corridor (whole boundary)",
+        "middle": "middle of shared wall",
+        "bridge": "passage across a gap",
+        "apart": "cells apart (cannot open)",
+    }
     rules = ", ".join(f"{n} by {words.get(k, k)}" for k, n in sorted(c["rules"].items())) or "none"
     lines = [
         f"  connectivity: {c['links_same_storey']} transitions within storeys, "

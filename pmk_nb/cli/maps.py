@@ -120,23 +120,36 @@ def _describe(gm: GeneratedMap) -> str:
 def _map_json(gm: GeneratedMap) -> dict[str, object]:
     """One generated map for `pmk maps list --json` (keys documented in the README)."""
     return {
-        "storey": gm.storey, "yaml": str(gm.yaml), "image": str(gm.image), "resolution": gm.resolution,
-        "width": gm.width, "height": gm.height, "stale": gm.stale, "broken": gm.broken or None,
-    }  # fmt: skip
+        "storey": gm.storey,
+        "yaml": str(gm.yaml),
+        "image": str(gm.image),
+        "resolution": gm.resolution,
+        "width": gm.width,
+        "height": gm.height,
+        "stale": gm.stale,
+        "broken": gm.broken or None,
+    }
 
 
 def _list(folder: MapsFolder, *, as_json: bool = False) -> int:
     entries: list[MapEntry] = folder.list()
     if as_json:
-        print_json({
-            "maps_dir": str(folder.root),
-            "maps": [
-                {"name": e.name, "source": str(e.source), "size": e.size, "status": e.status,
-                 "generated": [_map_json(g) for g in e.generated]}
-                for e in entries
-            ],
-            "orphans": [_map_json(g) for g in folder.orphans()],
-        })  # fmt: skip
+        print_json(
+            {
+                "maps_dir": str(folder.root),
+                "maps": [
+                    {
+                        "name": e.name,
+                        "source": str(e.source),
+                        "size": e.size,
+                        "status": e.status,
+                        "generated": [_map_json(g) for g in e.generated],
+                    }
+                    for e in entries
+                ],
+                "orphans": [_map_json(g) for g in folder.orphans()],
+            }
+        )
         return 0
     print(f"maps folder: {folder.root}")
     if not entries:

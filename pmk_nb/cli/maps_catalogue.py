@@ -26,8 +26,13 @@ def add_parsers(sub: argparse._SubParsersAction, common: argparse.ArgumentParser
 
     net = argparse.ArgumentParser(add_help=False)
     net.add_argument("--allow-local", action="store_true", help="also reach loopback and LAN addresses (a lab server)")
-    net.add_argument("--allow-host", action="append", default=[], metavar="HOST",
-                     help="assets may also come from this host (repeatable)")  # fmt: skip
+    net.add_argument(
+        "--allow-host",
+        action="append",
+        default=[],
+        metavar="HOST",
+        help="assets may also come from this host (repeatable)",
+    )
     cat = sub.add_parser("catalogue", parents=[common, net], help="list the buildings and storeys of a catalogue")
     cat.add_argument("url", help="http(s) address of catalog.json (or of its folder)")
     cat.add_argument("--json", action="store_true", help="print JSON")
@@ -72,9 +77,13 @@ def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
     record = InstallRecord(folder.root)
     status = {b.id: record.status(b, catalogue.url, present=folder.exists(b.id)) for b in catalogue.buildings}
     if as_json:
-        doc = {"url": catalogue.url, "title": catalogue.title,
-               "buildings": [{**asdict(b), "size": b.size, "updated": b.updated, "status": status[b.id]}
-                             for b in catalogue.buildings]}  # fmt: skip
+        doc = {
+            "url": catalogue.url,
+            "title": catalogue.title,
+            "buildings": [
+                {**asdict(b), "size": b.size, "updated": b.updated, "status": status[b.id]} for b in catalogue.buildings
+            ],
+        }
         print(json.dumps(doc, indent=2))
         return 0
     print(f"catalogue {catalogue.title!r}: {catalogue.url}")
@@ -92,9 +101,16 @@ def _get(folder: MapsFolder, catalogue: Any, args: argparse.Namespace) -> int:
     from pmk_nb.catalogue.install import install
 
     result = install(
-        catalogue, args.name, folder, storeys=args.storeys, overwrite=args.overwrite,
-        max_bytes=int(args.max_mb * 1024 * 1024), allow_hosts=args.allow_host,
-    )  # fmt: skip
-    print(f"installed {result.name!r} ({', '.join(result.storeys)}): {len(result.files)} files, "
-          f"{result.bytes} bytes, every size and SHA-256 checked")  # fmt: skip
+        catalogue,
+        args.name,
+        folder,
+        storeys=args.storeys,
+        overwrite=args.overwrite,
+        max_bytes=int(args.max_mb * 1024 * 1024),
+        allow_hosts=args.allow_host,
+    )
+    print(
+        f"installed {result.name!r} ({', '.join(result.storeys)}): {len(result.files)} files, "
+        f"{result.bytes} bytes, every size and SHA-256 checked"
+    )
     return 0

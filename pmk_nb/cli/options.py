@@ -57,9 +57,12 @@ def add_maps_dir(
 def add_resolution(p: argparse.ArgumentParser, *, what: str = "metres per cell") -> None:
     """``--resolution/-r`` with the one default, :data:`DEFAULT_RESOLUTION`."""
     p.add_argument(
-        "--resolution", "-r", type=float, default=DEFAULT_RESOLUTION,
+        "--resolution",
+        "-r",
+        type=float,
+        default=DEFAULT_RESOLUTION,
         help=f"{what} (default {DEFAULT_RESOLUTION:g})",
-    )  # fmt: skip
+    )
 
 
 def add_json(p: argparse.ArgumentParser, what: str = "the result") -> None:
@@ -100,16 +103,28 @@ def error_json(err: BaseException, command: str) -> dict[str, Any]:
 
 def add_layer_option(p: argparse.ArgumentParser) -> None:
     """--layer: draw the named space layer(s) instead of the navigable one the reader picks (one wording)."""
-    p.add_argument("--layer", action="append", default=[], dest="layers", metavar="NAME",
-                   help="draw this space layer (id or name) instead of the navigable one (repeatable; "
-                   "`pmk info` lists the layers not drawn and why)")  # fmt: skip
+    p.add_argument(
+        "--layer",
+        action="append",
+        default=[],
+        dest="layers",
+        metavar="NAME",
+        help="draw this space layer (id or name) instead of the navigable one (repeatable; "
+        "`pmk info` lists the layers not drawn and why)",
+    )
 
 
 def add_not_window_option(p: argparse.ArgumentParser) -> None:
     """--not-window: the override `pmk check` offers when a cell it names as a window is a door (one wording)."""
-    p.add_argument("--not-window", action="append", default=[], dest="not_windows", metavar="CELL",
-                   help="a cell (name or id) taken for a window or sill that is really a door or floor: keep it "
-                   "navigable (repeatable; `pmk check` names the cells taken for windows)")  # fmt: skip
+    p.add_argument(
+        "--not-window",
+        action="append",
+        default=[],
+        dest="not_windows",
+        metavar="CELL",
+        help="a cell (name or id) taken for a window or sill that is really a door or floor: keep it "
+        "navigable (repeatable; `pmk check` names the cells taken for windows)",
+    )
 
 
 def chair_width_arg(given: float | None) -> float:

@@ -115,8 +115,10 @@ def run_ros2(command: str, node: Callable[[], int]) -> int:
             raise  # our own bug, not a missing ROS install
         raise RosNotInstalled(
             f"pmk robot {command} needs ROS 2, and Python module {missing!r} is not installed here",
-            module=missing, command=command, hint=ROS2_HINT,
-        ) from err  # fmt: skip
+            module=missing,
+            command=command,
+            hint=ROS2_HINT,
+        ) from err
 
 
 @overload

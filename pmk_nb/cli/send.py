@@ -162,12 +162,22 @@ def run(args: argparse.Namespace) -> int:
     store.mark_used(profile.name)
     info = report.map_info
     if args.json:
-        print_json({
-            "ok": True, "map": str(files.yaml), "chair": profile.name, "host": profile.host,
-            "remote_yaml": str(report.remote_yaml), "service": report.service.name,
-            "service_kind": report.service.kind, "elapsed_s": round(report.elapsed, 3),
-            "width": info.width, "height": info.height, "resolution": info.resolution, "notes": list(report.notes),
-        })  # fmt: skip
+        print_json(
+            {
+                "ok": True,
+                "map": str(files.yaml),
+                "chair": profile.name,
+                "host": profile.host,
+                "remote_yaml": str(report.remote_yaml),
+                "service": report.service.name,
+                "service_kind": report.service.kind,
+                "elapsed_s": round(report.elapsed, 3),
+                "width": info.width,
+                "height": info.height,
+                "resolution": info.resolution,
+                "notes": list(report.notes),
+            }
+        )
         return 0
     for note in report.notes:
         print(f"note: {note}")

@@ -73,13 +73,17 @@ def check_serving(ip: str, token: str | None) -> None:
     if token is not None and len(token) < MIN_TOKEN_CHARS:
         raise ServingRefused(
             f"--token is too short ({len(token)} characters): use at least {MIN_TOKEN_CHARS}, or --token auto",
-            ip=ip, port=None, reason="weak-token",
-        )  # fmt: skip
+            ip=ip,
+            port=None,
+            reason="weak-token",
+        )
     if not token and not is_loopback(ip):
         raise ServingRefused(
             f"--ip {ip} lets anyone on the network use the dashboard: add --token auto (or --token TOKEN)",
-            ip=ip, port=None, reason="no-token",
-        )  # fmt: skip
+            ip=ip,
+            port=None,
+            reason="no-token",
+        )
 
 
 def check_transport(ip: str, *, tls: bool, insecure: bool) -> None:
@@ -97,8 +101,10 @@ def check_transport(ip: str, *, tls: bool, insecure: bool) -> None:
             f"--ip {ip} over plain HTTP: a tablet gets no secure context (no Screen Wake Lock: the screen "
             "dims mid-ride) and the token crosses the Wi-Fi in clear; add --https (or --certfile/--keyfile), "
             "or --insecure to accept that",
-            ip=ip, port=None, reason="plain-http",
-        )  # fmt: skip
+            ip=ip,
+            port=None,
+            reason="plain-http",
+        )
 
 
 def check_port_free(ip: str, port: int) -> None:
@@ -117,8 +123,10 @@ def check_port_free(ip: str, port: int) -> None:
                 raise
             raise ServingRefused(
                 f"port {port} is already in use on {ip} (another dashboard?): stop it or pick another with --port",
-                ip=ip, port=port, reason="port-taken",
-            ) from None  # fmt: skip
+                ip=ip,
+                port=port,
+                reason="port-taken",
+            ) from None
 
 
 def server_names(ip: str) -> list[str]:

@@ -37,10 +37,12 @@ def add_parser(subparsers: Any) -> None:
     )
     add_maps_dir(p, help="the chair's ~/ALMA_MAPS folder (default: temp)")
     p.add_argument(
-        "--state-dir", type=Path, default=None,
+        "--state-dir",
+        type=Path,
+        default=None,
         help="where the chair's SSH host key is kept, so a restart keeps it (default: $PMK_SIM_STATE_DIR or "
         "the user state folder)",
-    )  # fmt: skip
+    )
     p.add_argument("--sftp-port", type=int, default=2222, help="SFTP port (0 = any free port)")
     p.add_argument("--no-sftp", action="store_true", help="do not start the SFTP endpoint")
     p.add_argument("--sftp-user", default="pmk", help="SFTP login name (default pmk)")

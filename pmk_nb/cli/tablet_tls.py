@@ -126,9 +126,13 @@ def _key_pem(key: ec.EllipticCurvePrivateKey) -> bytes:
 
 
 def _certificate(
-    subject: str, key: ec.EllipticCurvePrivateKey, issuer: x509.Certificate | None, signer: ec.EllipticCurvePrivateKey,
-    days: int, hosts: list[str],
-) -> x509.Certificate:  # fmt: skip
+    subject: str,
+    key: ec.EllipticCurvePrivateKey,
+    issuer: x509.Certificate | None,
+    signer: ec.EllipticCurvePrivateKey,
+    days: int,
+    hosts: list[str],
+) -> x509.Certificate:
     """An authority (``issuer`` None: self-signed, may sign server certificates only) or a server certificate."""
     now = dt.datetime.now(dt.UTC)
     name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, subject)])
@@ -210,9 +214,14 @@ def self_signed(folder: Path, hosts: list[str]) -> TlsFiles:
         cert = _certificate(f"PMK dashboard ({socket.gethostname()})", key, ca, ca_key, CERT_DAYS, names)
         _write_pair(folder, (CERT, KEY), cert, key)
     return TlsFiles(
-        folder / CERT, folder / KEY, fingerprint(cert), certificate_names(cert),
-        ca_file=folder / CA_CERT, ca_fingerprint=fingerprint(ca), created=created,
-    )  # fmt: skip
+        folder / CERT,
+        folder / KEY,
+        fingerprint(cert),
+        certificate_names(cert),
+        ca_file=folder / CA_CERT,
+        ca_fingerprint=fingerprint(ca),
+        created=created,
+    )
 
 
 def tls_folder(env: dict[str, str]) -> Path:

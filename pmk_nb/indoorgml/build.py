@@ -129,19 +129,36 @@ def build_building(
     ]
     _stats_warnings(doc, warnings)
     return Building(
-        source=str(doc.path), sha256=sha256, version=_version(doc, alma), namespaces=doc.namespaces,
-        unit=unit, unit_reason=reason, storeys=storeys, cells=model_cells,
+        source=str(doc.path),
+        sha256=sha256,
+        version=_version(doc, alma),
+        namespaces=doc.namespaces,
+        unit=unit,
+        unit_reason=reason,
+        storeys=storeys,
+        cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
-        graph=graph, georef=_georef(doc, s), layers=[layer.id for layer in doc.layers],
-        warnings=warnings, links=links, unit_conflict=choice.conflict, unit_suspect=choice.suspect,
-        skipped_layers=skipped, graph_status=status,
-    )  # fmt: skip
+        graph=graph,
+        georef=_georef(doc, s),
+        layers=[layer.id for layer in doc.layers],
+        warnings=warnings,
+        links=links,
+        unit_conflict=choice.conflict,
+        unit_suspect=choice.suspect,
+        skipped_layers=skipped,
+        graph_status=status,
+    )
 
 
 def _unit_and_names(
-    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, kinds: dict[str, CellKind],
-    bfps: dict[str, tuple[Footprint, str]], warnings: list[str],
-) -> UnitChoice:  # fmt: skip
+    doc: RawDocument,
+    cells: list[KeptCell],
+    unit: str,
+    alma: str,
+    kinds: dict[str, CellKind],
+    bfps: dict[str, tuple[Footprint, str]],
+    warnings: list[str],
+) -> UnitChoice:
     """The unit judged without the doors only names make, then with those doors.named_doors finds door-sized."""
     unnamed = {b: (fp, "" if ev == "name" else ev) for b, (fp, ev) in bfps.items()}
     choice = _choose_unit(doc, cells, unit, alma, gather(doc, cells, kinds, unnamed))
@@ -240,9 +257,7 @@ def _round(z: float | None) -> float | None:
     return None if z is None else round(z, 6)
 
 
-def _choose_unit(
-    doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence
-) -> UnitChoice:
+def _choose_unit(doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence) -> UnitChoice:
     """The unit (given, or judged from the evidence) and why; refuses absurd coordinates."""
     minx, miny, maxx, maxy = shapely.total_bounds([c.geometry for c in cells]).tolist()
     if unit == "auto":
@@ -260,15 +275,21 @@ def _choose_unit(
             f"{doc.path}: cell {worst.raw.id!r} (line {worst.raw.line}) has coordinates beyond 1e7 m "
             f"({max(abs(v) for v in worst.geometry.bounds):.3g} {unit}); the file is corrupt or uses a "
             "geographic/other CRS",
-            path=str(doc.path), element=worst.raw.id,
-        )  # fmt: skip
+            path=str(doc.path),
+            element=worst.raw.id,
+        )
     return choice
 
 
 def _model_cells(
-    cells: list[KeptCell], kinds: dict[str, CellKind], plan: StoreyPlan, s: float, warnings: list[str],
-    linked: frozenset[frozenset[str]] = frozenset(), keep: frozenset[str] = frozenset(),
-) -> dict[str, Cell]:  # fmt: skip
+    cells: list[KeptCell],
+    kinds: dict[str, CellKind],
+    plan: StoreyPlan,
+    s: float,
+    warnings: list[str],
+    linked: frozenset[frozenset[str]] = frozenset(),
+    keep: frozenset[str] = frozenset(),
+) -> dict[str, Cell]:
     """The model's cells in metres, on their storeys; raised free cells (windows, sills) become non-navigable,
     but those in ``keep`` (the user said they are not windows)."""
     model_cells: dict[str, Cell] = {}
@@ -279,7 +300,10 @@ def _model_cells(
 
     raised_ids = raised_cells(
         [(c.raw.id, c.geometry, _zs(c.fp.z_min, s), _zs(c.fp.z_max, s), plan.of_cell[c.raw.id]) for c in cells],
-        touch=0.05 / s, linked=linked, thin=WINDOW_DEPTH / s, floor_at=floor_at,
+        touch=0.05 / s,
+        linked=linked,
+        thin=WINDOW_DEPTH / s,
+        floor_at=floor_at,
     )
     raised: list[str] = []
     for c in cells:
@@ -291,9 +315,17 @@ def _model_cells(
             kind = CellKind.NON_NAVIGABLE
             raised.append(c.raw.id)
         model_cells[c.raw.id] = Cell(
-            id=c.raw.id, kind=kind, footprint=_scale(c.geometry, s), storey=storey, name=c.raw.name,
-            layer=c.layer, z_min=z_min, z_max=z_max, boundary_ids=list(c.raw.boundary_refs), window=window,
-        )  # fmt: skip
+            id=c.raw.id,
+            kind=kind,
+            footprint=_scale(c.geometry, s),
+            storey=storey,
+            name=c.raw.name,
+            layer=c.layer,
+            z_min=z_min,
+            z_max=z_max,
+            boundary_ids=list(c.raw.boundary_refs),
+            window=window,
+        )
     if raised:
         warnings.append(
             f"{len(raised)} cells start more than {RAISED} m above a cell they touch (windows/sills): "

@@ -65,9 +65,11 @@ def door_sized(geom: BaseGeometry | None, scale: float, depth: bool = True) -> b
 
 
 def named_doors(
-    cells: Iterable[tuple[str, str, BaseGeometry]], boundaries: list[tuple[str, BaseGeometry | None]], scale: float,
+    cells: Iterable[tuple[str, str, BaseGeometry]],
+    boundaries: list[tuple[str, BaseGeometry | None]],
+    scale: float,
     notes: list[str],
-) -> tuple[set[str], list[str]]:  # fmt: skip
+) -> tuple[set[str], list[str]]:
     """Which of the plain cells (id, name, footprint: no navi type says what they are) that their id or name
     calls a door, and of the boundaries (id, geometry) only their name calls one, are door-sized at ``scale``
     metres per file unit: (ids of door cells, ids of boundaries to keep as walls); ``notes`` gets what was
@@ -79,8 +81,10 @@ def named_doors(
     if doors:
         notes.append(f"{len(doors)} plain CellSpaces named 'door' treated as connection (door) cells")
     if rooms:
-        notes.append(f"{len(rooms)} cells named 'door' kept as rooms: larger than a door ({DOOR_DEPTH:g} m deep, "
-                     f"{DOOR_SPAN:g} m wide): {rooms[:8]}")  # fmt: skip
+        notes.append(
+            f"{len(rooms)} cells named 'door' kept as rooms: larger than a door ({DOOR_DEPTH:g} m deep, "
+            f"{DOOR_SPAN:g} m wide): {rooms[:8]}"
+        )
     if walls:
         notes.append(f"{len(walls)} boundaries named 'door' kept as walls: wider than {DOOR_SPAN:g} m: {walls[:8]}")
     return doors, walls

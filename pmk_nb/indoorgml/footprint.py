@@ -113,8 +113,11 @@ def _cut_voids(fp: Footprint, voids: list[PolygonZ]) -> BaseGeometry | None:
         if void.geometry is None or geom is None:
             continue
         # a 2D void (no heights) is a hole; a 3D one only when it reaches into the lower half
-        if fp.z_min is None or fp.z_max is None or void.z_min is None or void.z_min - fp.z_min < 0.5 * (
-            fp.z_max - fp.z_min
+        if (
+            fp.z_min is None
+            or fp.z_max is None
+            or void.z_min is None
+            or void.z_min - fp.z_min < 0.5 * (fp.z_max - fp.z_min)
         ):
             geom = polygonal(geom.difference(void.geometry))
     return None if geom is None or geom.is_empty or geom.area <= 0 else geom
@@ -233,9 +236,10 @@ def boundary_footprints(boundaries: Sequence[tuple[list[PolygonZ], list[list[Coo
     """:func:`boundary_footprint` of each (polygons, lines) pair. Most boundaries are one 2D line (a wall or
     door in a 2D plan): those are made in one vectorised call, which on a large plan is most of the time."""
     simple = [
-        i for i, (polys, lines) in enumerate(boundaries)
+        i
+        for i, (polys, lines) in enumerate(boundaries)
         if not polys and len(lines) == 1 and len(lines[0]) >= 2 and all(len(c) == 2 for c in lines[0])
-    ]  # fmt: skip
+    ]
     out: list[Footprint | None] = [None] * len(boundaries)
     if simple:
         coords, which = _ragged([boundaries[i][1][0] for i in simple])
@@ -249,10 +253,14 @@ def cell_footprints(cells: Sequence[list[PolygonZ]]) -> list[Footprint]:
     """:func:`cell_footprint` of each cell's polygons. A cell that is one valid 2D polygon without holes (a 2D
     plan's room) is made in one vectorised call with the others; any other cell goes through the full rules."""
     simple = [
-        i for i, polys in enumerate(cells)
-        if len(polys) == 1 and not polys[0].interiors and not polys[0].void and len(polys[0].exterior) >= 4
+        i
+        for i, polys in enumerate(cells)
+        if len(polys) == 1
+        and not polys[0].interiors
+        and not polys[0].void
+        and len(polys[0].exterior) >= 4
         and all(len(c) == 2 for c in polys[0].exterior)
-    ]  # fmt: skip
+    ]
     out: list[Footprint | None] = [None] * len(cells)
     if simple:
         coords, which = _ragged([cells[i][0].exterior for i in simple])

@@ -145,7 +145,7 @@ def _closes(points: list[Coord]) -> bool:
 
 def poslist_coords(
     elem: etree._Element, stats: RingStats, ring: bool, hint: int | None, values: list[float] | None = None
-) -> list[Coord]:  # fmt: skip
+) -> list[Coord]:
     """Decode a posList (or the flat run of numbers ``values`` read from ``elem``) into points: the
     srsDimension here or on an ancestor, else ``count``, else the reading that fits (or closes the ring),
     else ``hint``."""
@@ -202,9 +202,7 @@ def pos_coord(elem: etree._Element) -> Coord:
     return tuple(values)
 
 
-def coords_of(
-    container: etree._Element, stats: RingStats, ring: bool, hint: int | None, tags: GmlTags
-) -> list[Coord]:  # fmt: skip
+def coords_of(container: etree._Element, stats: RingStats, ring: bool, hint: int | None, tags: GmlTags) -> list[Coord]:
     """All coordinates under a LinearRing/LineString/Point, in document order."""
     pts: list[Coord] = []
     els = list(container.iter(*tags.coords)) if tags.coords else []

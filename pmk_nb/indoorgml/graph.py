@@ -113,17 +113,25 @@ def graph_status(doc: RawDocument, graph: NavGraph, cells: dict[str, Cell], warn
         warnings.append(f"{len(missing)} states name cells that are not in the file (e.g. {missing[0]!r})")
     faces = {b.id for b in doc.boundaries}
     if unfaced := [t.duality for t in doc.transitions if t.duality and t.duality not in faces]:
-        warnings.append(f"{len(unfaced)} transitions name a dual boundary that is not in the file "
-                        f"(e.g. {unfaced[0]!r}): their doors come from the cells' shapes")  # fmt: skip
+        warnings.append(
+            f"{len(unfaced)} transitions name a dual boundary that is not in the file "
+            f"(e.g. {unfaced[0]!r}): their doors come from the cells' shapes"
+        )
     said = f"{dangling} of {n} transitions name states that are not in the file"
     status = GraphStatus(n, resolved, dangling, absent=False)
     if status.lost:
         if dangling:
             end = "the navigation graph was not used" if not resolved else f"only {resolved} joined drawn cells"
             return GraphStatus(n, resolved, dangling, False, f"{said}: {end}")
-        return GraphStatus(n, resolved, dangling, False, f"none of the {n} transitions joins two drawn cells "
-                           "(their states name no drawn cell and hold no point inside one): the navigation "
-                           "graph was not used")  # fmt: skip
+        return GraphStatus(
+            n,
+            resolved,
+            dangling,
+            False,
+            f"none of the {n} transitions joins two drawn cells "
+            "(their states name no drawn cell and hold no point inside one): the navigation "
+            "graph was not used",
+        )
     if dangling:
         warnings.append(f"{said}: ignored; {resolved} transitions join drawn cells and are checked")
     return status

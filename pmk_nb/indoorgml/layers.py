@@ -106,15 +106,19 @@ def _asked(doc: RawDocument, by_layer: dict[str, list[KeptCell]], wanted: Sequen
     known = [f"{lid} ({info.name})" if (info := _info(doc, lid)) and info.name else lid for lid in by_layer if lid]
     for word in wanted:
         hits = {
-            layer.id for layer in doc.layers
+            layer.id
+            for layer in doc.layers
             if word in (layer.id, layer.name) or (layer.parent and word in (layer.parent, _name(doc, layer.parent)))
-        } & set(by_layer)  # fmt: skip
+        } & set(by_layer)
         if not hits:
             raise UnknownLayer(
                 f"{doc.path}: no layer with cells to draw is named {word!r}; layers with cells: "
                 f"{', '.join(known) or 'none'}",
-                path=str(doc.path), layer=word, known=known, hint="Give --layer one of the layers listed.",
-            )  # fmt: skip
+                path=str(doc.path),
+                layer=word,
+                known=known,
+                hint="Give --layer one of the layers listed.",
+            )
         kept |= hits
     return kept
 
@@ -195,9 +199,10 @@ def select_layers(
     info = {layer.id: layer for layer in doc.layers}
     if alma:
         geo = [
-            lid for lid in order
+            lid
+            for lid in order
             if lid == "L1" or (info[lid].cls.upper() == "TOPOGRAPHIC" and info[lid].usage.lower() == "geometry")
-        ]  # fmt: skip
+        ]
         keep = geo[:1] or order[:1]
         for lid in order:
             if lid not in keep:
@@ -218,15 +223,19 @@ def select_layers(
         if words[lid][1] and not words[primary][1]:
             reason = f"a thematic layer ({words[lid][1]}), not the navigable space of layer {primary!r}"
         elif joined[primary] and not joined[lid]:
-            reason = (f"the navigation graph connects none of its cells (it connects {joined[primary]} cells "
-                      f"of layer {primary!r}, which is drawn)")  # fmt: skip
+            reason = (
+                f"the navigation graph connects none of its cells (it connects {joined[primary]} cells "
+                f"of layer {primary!r}, which is drawn)"
+            )
         else:
             share, straddling = _inside(by_layer[lid], base)
             if share > 0.5:
                 reason = f"{share:.0%} of it lies inside layer {primary!r}: it repeats or subdivides it"
             elif 2 * straddling > len(by_layer[lid]):
-                reason = (f"{straddling} of its {len(by_layer[lid])} cells lie partly inside the rooms of layer "
-                          f"{primary!r} and partly outside them: zones over the building, not rooms")  # fmt: skip
+                reason = (
+                    f"{straddling} of its {len(by_layer[lid])} cells lie partly inside the rooms of layer "
+                    f"{primary!r} and partly outside them: zones over the building, not rooms"
+                )
             else:
                 kept.add(lid)
                 base = base + by_layer[lid]
@@ -254,10 +263,15 @@ def usable_cells(doc: RawDocument, warnings: list[str]) -> list[KeptCell]:
         graph_only = not doc.cells and (doc.states or doc.transitions)
         raise IndoorGMLError(
             f"{doc.path}: no usable cell: {len(doc.cells)} cell elements, none with a non-empty 2D/3D geometry"
-            + (f"; the file holds only a navigation graph ({len(doc.states)} states, "
-               f"{len(doc.transitions)} transitions)" if graph_only else ""),
-            path=str(doc.path), element="CellSpace",
+            + (
+                f"; the file holds only a navigation graph ({len(doc.states)} states, "
+                f"{len(doc.transitions)} transitions)"
+                if graph_only
+                else ""
+            ),
+            path=str(doc.path),
+            element="CellSpace",
             hint="A map is drawn from the cells' shapes: export the building with its CellSpace geometry "
             "(Geometry2D or Geometry3D) as well as the graph.",
-        )  # fmt: skip
+        )
     return cells

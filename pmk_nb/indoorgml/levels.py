@@ -33,7 +33,10 @@ FloorAt = Callable[[str, float, float], "float | None"]  # cell id, x, y (footpr
 
 
 def raised_cells(
-    cells: list[CellLevel], touch: float, linked: frozenset[frozenset[str]] = frozenset(), thin: float = 0.0,
+    cells: list[CellLevel],
+    touch: float,
+    linked: frozenset[frozenset[str]] = frozenset(),
+    thin: float = 0.0,
     floor_at: FloorAt | None = None,
 ) -> set[str]:
     """Ids of cells that are windows/sills; ``touch`` is the adjacency tolerance in footprint units.
@@ -100,7 +103,8 @@ def not_window_ids(cells: Iterable[tuple[str, str]], wanted: Iterable[str], sour
     if missing:
         raise IndoorGMLError(
             f"{source}: --not-window {missing[0]!r}: no cell of the plan has that id or name",
-            path=source, element=missing[0],
+            path=source,
+            element=missing[0],
             hint="`pmk check` names the cells taken for windows or sills; give one of those names (or its id).",
-        )  # fmt: skip
+        )
     return frozenset(i for i, name in pairs if i in want or name in want)

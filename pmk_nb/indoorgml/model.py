@@ -151,8 +151,14 @@ class GraphStatus:
         return self.absent or self.resolved == 0 or self.dangling >= LOST_SHARE * self.transitions
 
     def to_json(self) -> dict[str, object]:
-        return {"transitions": self.transitions, "resolved": self.resolved, "dangling": self.dangling,
-                "absent": self.absent, "lost": self.lost, "reason": self.reason}  # fmt: skip
+        return {
+            "transitions": self.transitions,
+            "resolved": self.resolved,
+            "dangling": self.dangling,
+            "absent": self.absent,
+            "lost": self.lost,
+            "reason": self.reason,
+        }
 
 
 @dataclass

@@ -24,9 +24,13 @@ def _sha256(path: Path) -> str:
 
 
 def read_building(
-    path: str | os.PathLike[str], *, unit: str = "auto", progress: ProgressCallback | None = None,
-    not_windows: Sequence[str] = (), layers: Sequence[str] = (),
-) -> Building:  # fmt: skip
+    path: str | os.PathLike[str],
+    *,
+    unit: str = "auto",
+    progress: ProgressCallback | None = None,
+    not_windows: Sequence[str] = (),
+    layers: Sequence[str] = (),
+) -> Building:
     """Read an IndoorGML file (1.0, 1.0.x, 1.1, 2.0 drafts, ALMA style) into a :class:`Building`.
 
     Args:

@@ -24,13 +24,24 @@ from pmk_nb.progress import ProgressCallback
 XLINK_HREF = "{http://www.w3.org/1999/xlink}href"
 
 CELL_NAMES = {
-    "cellspace", "navigablespace", "generalspace", "transitionspace", "transferspace",
-    "connectionspace", "anchorspace", "nonnavigablespace", "obstacle",
-}  # fmt: skip
+    "cellspace",
+    "navigablespace",
+    "generalspace",
+    "transitionspace",
+    "transferspace",
+    "connectionspace",
+    "anchorspace",
+    "nonnavigablespace",
+    "obstacle",
+}
 BOUNDARY_NAMES = {
-    "cellspaceboundary", "navigableboundary", "connectionboundary", "anchorboundary",
-    "transferboundary", "nonnavigableboundary",
-}  # fmt: skip
+    "cellspaceboundary",
+    "navigableboundary",
+    "connectionboundary",
+    "anchorboundary",
+    "transferboundary",
+    "nonnavigableboundary",
+}
 STATE_NAMES = {"state", "node"}
 TRANSITION_NAMES = {"transition", "edge"}
 LAYER_NAMES = {"spacelayer", "primalspacelayer", "dualspacelayer", "thematiclayer"}
@@ -225,8 +236,9 @@ class _Scanner:
                 raise IndoorGMLError(
                     f"{self.doc.path}: not an IndoorGML document: the root element is "
                     f"<{etree.QName(elem).localname}> (expected IndoorFeatures or MultiLayeredGraph)",
-                    path=str(self.doc.path), element=etree.QName(elem).localname,
-                )  # fmt: skip
+                    path=str(self.doc.path),
+                    element=etree.QName(elem).localname,
+                )
         elif not self.doc.srs_name and elem.get("srsName"):
             self.doc.srs_name = elem.get("srsName")
         if name == "primalspacelayer":
@@ -278,10 +290,14 @@ class _Scanner:
             lines = gml.lines_under(geom_el, doc.stats, None, self.tags) if geom_el is not None else []
             doc.transitions.append(
                 RawTransition(
-                    elem.get(GML_ID) or "", connects, weight, _href(_child(elem, "duality")), self._layer(),
+                    elem.get(GML_ID) or "",
+                    connects,
+                    weight,
+                    _href(_child(elem, "duality")),
+                    self._layer(),
                     lines[0] if lines else None,
                 )
-            )  # fmt: skip
+            )
         elif name in LAYER_NAMES:
             self._layer_record(elem, name)
         elif name in GEOREF_NAMES and not gml.is_gml(elem):
@@ -331,12 +347,16 @@ class _Scanner:
         self.doc.layers.append(
             RawLayer(
                 elem.get(GML_ID) or f"layer{len(self.doc.layers) + 1}",
-                _text(kids.get("class")), _text(kids.get("usage")), _text(kids.get("function")),
-                name=_text(kids.get("name")), kind_name=name, theme=_text(kids.get("theme")),
+                _text(kids.get("class")),
+                _text(kids.get("usage")),
+                _text(kids.get("function")),
+                name=_text(kids.get("name")),
+                kind_name=name,
+                theme=_text(kids.get("theme")),
                 semantic_extension=_text(kids.get("semanticextension")).lower() in ("true", "1"),
                 parent=(thematic[1] or "") if thematic else "",
             )
-        )  # fmt: skip
+        )
 
     def _boundary(self, elem: etree._Element, name: str) -> None:
         kids = _kids(elem)

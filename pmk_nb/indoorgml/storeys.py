@@ -150,9 +150,11 @@ def _level_groups(bands: list[list[str]], links: list[tuple[str, str]], vertical
 
 
 def split_levels(
-    plan: StoreyPlan, cells: dict[str, tuple[float | None, str]], links: list[tuple[str, str]],
+    plan: StoreyPlan,
+    cells: dict[str, tuple[float | None, str]],
+    links: list[tuple[str, str]],
     stairs: frozenset[str] = frozenset(),
-) -> StoreyPlan:  # fmt: skip
+) -> StoreyPlan:
     """Storeys from the graph and z together: a storey found by clustering floor heights is split where
     its height bands (floors more than SPLIT_STEP apart) are joined only through stairs or lifts, so a
     split level is its own storey and those transitions link two storeys. Bands joined by an ordinary
@@ -181,7 +183,7 @@ def split_levels(
             unnamed = sorted(cells[c][1] or c for c in ids if c in stairs and not is_vertical(cells[c][1]))
             notes.append(
                 f"storey {name}: {len(parts)} levels joined only by stairs or lifts in the navigation graph "
-                f"(floors at {', '.join(f'{lv[0]:.2f}' for lv in levels[-len(parts):] if lv[0] is not None)} m)"
+                f"(floors at {', '.join(f'{lv[0]:.2f}' for lv in levels[-len(parts) :] if lv[0] is not None)} m)"
                 + (f"; stairs by their steps: {', '.join(unnamed)}" if unnamed else "")
             )
     if len(levels) == len(plan.names):
@@ -189,5 +191,6 @@ def split_levels(
     levels.sort(key=lambda lv: (lv[0] is None, lv[0] or 0.0))
     names = [str(i) for i in range(len(levels))]
     of_cell = {cid: names[i] for i, (_, part) in enumerate(levels) for cid in part}
-    return StoreyPlan(names, {n: lv[0] for n, lv in zip(names, levels, strict=True)}, of_cell,
-                      {n: "z+graph" for n in names}, notes)  # fmt: skip
+    return StoreyPlan(
+        names, {n: lv[0] for n, lv in zip(names, levels, strict=True)}, of_cell, {n: "z+graph" for n in names}, notes
+    )

@@ -25,13 +25,23 @@ def summarize(building: Building) -> dict[str, Any]:
         extent = None
         if cells:
             minx, miny, maxx, maxy = shapely.union_all([c.footprint for c in cells]).bounds
-            extent = {"min": [_r(minx), _r(miny)], "max": [_r(maxx), _r(maxy)],
-                      "size": [_r(maxx - minx), _r(maxy - miny)]}  # fmt: skip
+            extent = {
+                "min": [_r(minx), _r(miny)],
+                "max": [_r(maxx), _r(maxy)],
+                "size": [_r(maxx - minx), _r(maxy - miny)],
+            }
         door_cells = sum(1 for c in cells if c.kind.is_door)
-        storeys.append({
-            "name": st.name, "elevation": _r(st.elevation), "source": st.source, "cells": len(cells),
-            "kinds": kinds, "doors": len(building.doors_of(st.name)) + door_cells, "extent": extent,
-        })  # fmt: skip
+        storeys.append(
+            {
+                "name": st.name,
+                "elevation": _r(st.elevation),
+                "source": st.source,
+                "cells": len(cells),
+                "kinds": kinds,
+                "doors": len(building.doors_of(st.name)) + door_cells,
+                "extent": extent,
+            }
+        )
     door_boundaries = sum(1 for b in building.boundaries.values() if b.is_door)
     door_cells = sum(1 for c in building.cells.values() if c.kind.is_door)
     g = building.georef
@@ -78,8 +88,10 @@ def graph_lines(status: dict[str, Any]) -> list[str]:
     if status["lost"]:
         return [f"  NAVIGATION GRAPH NOT USED: {status['reason']}"]
     if status["dangling"]:
-        return [f"  graph warning: {status['dangling']} of {status['transitions']} transitions name states "
-                f"that are not in the file; {status['resolved']} join drawn cells"]  # fmt: skip
+        return [
+            f"  graph warning: {status['dangling']} of {status['transitions']} transitions name states "
+            f"that are not in the file; {status['resolved']} join drawn cells"
+        ]
     return []
 
 
@@ -102,8 +114,10 @@ def format_summary(summary: dict[str, Any]) -> str:
         ext = st["extent"]
         size = f"{ext['size'][0]:.2f} x {ext['size'][1]:.2f} m at ({ext['min'][0]}, {ext['min'][1]})" if ext else "-"
         elev = "?" if st["elevation"] is None else f"{st['elevation']:.2f} m"
-        lines.append(f"    {st['name']:>6}: {st['cells']:3d} cells, {st['doors']:3d} doors, floor {elev}, "
-                     f"{size} [{st['source']}]")  # fmt: skip
+        lines.append(
+            f"    {st['name']:>6}: {st['cells']:3d} cells, {st['doors']:3d} doors, floor {elev}, "
+            f"{size} [{st['source']}]"
+        )
     g = summary["georeference"]
     lines.append(
         f"  georeference: translation {g['translation']} m, rotation {g['rotation']} deg"

@@ -119,8 +119,10 @@ def check_prolog(path: Path, head: bytes) -> None:
 def _refused(path: Path, why: str) -> IndoorGMLError:
     return IndoorGMLError(
         f"{path}: refused: {why} (possible XXE / entity-expansion attack).",
-        path=str(path), element="DOCTYPE", hint="IndoorGML files never need one: remove the DOCTYPE.",
-    )  # fmt: skip
+        path=str(path),
+        element="DOCTYPE",
+        hint="IndoorGML files never need one: remove the DOCTYPE.",
+    )
 
 
 def iter_events(

@@ -23,10 +23,19 @@ if TYPE_CHECKING:
     from pmk_nb.library.scan import GeneratedMap
 
 _WHERE = {
-    "ConvertOptions": "convert", "ConvertResult": "convert", "StoreyMap": "convert", "convert_plan": "convert",
-    "MapEntry": "folder", "MapsFolder": "folder", "check_name": "folder", "default_maps_dir": "folder",
-    "StoreyInfo": "info", "safe_file_part": "naming", "storey_map_names": "naming", "GeneratedMap": "scan",
-}  # fmt: skip
+    "ConvertOptions": "convert",
+    "ConvertResult": "convert",
+    "StoreyMap": "convert",
+    "convert_plan": "convert",
+    "MapEntry": "folder",
+    "MapsFolder": "folder",
+    "check_name": "folder",
+    "default_maps_dir": "folder",
+    "StoreyInfo": "info",
+    "safe_file_part": "naming",
+    "storey_map_names": "naming",
+    "GeneratedMap": "scan",
+}
 
 __all__ = [
     "ConvertOptions",

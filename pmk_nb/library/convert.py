@@ -139,9 +139,13 @@ def _stage_storeys(
     resolution = opts.resolution
     for storey in wanted:  # every storey's size is checked before anything is rasterised
         plan_storey(
-            building, storey, resolution, wall_thickness=opts.wall_thickness, max_cells=opts.max_cells,
+            building,
+            storey,
+            resolution,
+            wall_thickness=opts.wall_thickness,
+            max_cells=opts.max_cells,
             allow_large=opts.allow_large,
-        )  # fmt: skip
+        )
     span = (_RASTER_END - _READ_END) / len(wanted)
     staged: list[StoreyMap] = []
     for i, storey in enumerate(wanted):
@@ -149,21 +153,38 @@ def _stage_storeys(
         emit(progress, "rasterise", start, f"storey {storey}")
         plan = plan_openings(building, storey, door_width=opts.door_width, max_gap=opts.max_wall_gap)
         grid = rasterise_storey(
-            building, storey, resolution, outside=opts.outside, max_wall_gap=opts.max_wall_gap,
-            door_width=opts.door_width, openings=plan, progress=sub_range(progress, start, start + span),
-            wall_thickness=opts.wall_thickness, max_cells=opts.max_cells, allow_large=opts.allow_large,
-        )  # fmt: skip
+            building,
+            storey,
+            resolution,
+            outside=opts.outside,
+            max_wall_gap=opts.max_wall_gap,
+            door_width=opts.door_width,
+            openings=plan,
+            progress=sub_range(progress, start, start + span),
+            wall_thickness=opts.wall_thickness,
+            max_cells=opts.max_cells,
+            allow_large=opts.allow_large,
+        )
         grid.meta.update(extra_meta)
         files = write_map(
-            grid, staging, stems[storey], image_format=opts.image_format, preview=opts.preview,
+            grid,
+            staging,
+            stems[storey],
+            image_format=opts.image_format,
+            preview=opts.preview,
             allow_large=opts.allow_large,
-        )  # fmt: skip
+        )
         report = None
         if opts.check:
             report = check_grid(
-                building, storey, grid, chair_width=opts.chair_width, max_gap=opts.max_wall_gap,
-                wall_thickness=opts.wall_thickness, plan=plan,
-            )  # fmt: skip
+                building,
+                storey,
+                grid,
+                chair_width=opts.chair_width,
+                max_gap=opts.max_wall_gap,
+                wall_thickness=opts.wall_thickness,
+                plan=plan,
+            )
         rooms = sidecar_path(files.yaml)
         doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
         choices = ConvertChoices(opts.unit, tuple(opts.not_windows), tuple(opts.layers))
@@ -231,7 +252,10 @@ def convert_plan(
     opts = replace(opts, resolution=_check_options(opts))
     emit(progress, "read", 0.0, Path(source).name)
     building = read_building(
-        source, unit=opts.unit, progress=sub_range(progress, 0.0, _READ_END), not_windows=opts.not_windows,
+        source,
+        unit=opts.unit,
+        progress=sub_range(progress, 0.0, _READ_END),
+        not_windows=opts.not_windows,
         layers=opts.layers,
     )
     wanted = _wanted_storeys(building, opts.storeys)

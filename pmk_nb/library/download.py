@@ -140,8 +140,9 @@ def fetch(
     except TimeoutError as err:
         raise DownloadError(
             f"download of {url} failed: no data from {host} for {timeout:g} s (timed out).",
-            url=url, hint="Try again or raise the timeout.",
-        ) from err  # fmt: skip
+            url=url,
+            hint="Try again or raise the timeout.",
+        ) from err
     except (http.client.HTTPException, OSError) as err:
         raise DownloadError(f"download of {url} failed: the connection to {host} broke ({err!r})", url=url) from err
 
@@ -159,8 +160,10 @@ def _copy_body(
     if total is not None and total > max_bytes:
         raise DownloadTooLarge(
             f"download of {url} refused: the file is {_mib(total)}, more than the limit of {_mib(max_bytes)}",
-            url=url, limit=max_bytes, size=total,
-        )  # fmt: skip
+            url=url,
+            limit=max_bytes,
+            size=total,
+        )
     done = 0
     emit(progress, "download", 0.0 if total else None, _amount(0, total))
     while chunk := response.read1(_CHUNK):
@@ -173,14 +176,16 @@ def _copy_body(
         if time.monotonic() > ends_at:
             raise DownloadError(
                 f"download of {url} aborted: not finished within the deadline ({_mib(done)} received).",
-                url=url, hint="The server is too slow: try again later or raise the deadline.",
-            )  # fmt: skip
+                url=url,
+                hint="The server is too slow: try again later or raise the deadline.",
+            )
     if total is not None and done < total:
         # http.client returns a short body silently when the server closes early
         raise DownloadError(
             f"download of {url} incomplete: the connection closed after {done} of {total} bytes.",
-            url=url, hint="Try again.",
-        )  # fmt: skip
+            url=url,
+            hint="Try again.",
+        )
     out.flush()
     return done
 

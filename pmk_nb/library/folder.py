@@ -182,7 +182,14 @@ class MapsFolder:
             raise AlreadyExists(f"map {name!r} already exists; pass overwrite=True to replace it", name=name)
 
     def _add_source(
-        self, name: str, overwrite: bool, suffix: str, write: Callable[[IO[bytes]], None], source: str, *, what: str,
+        self,
+        name: str,
+        overwrite: bool,
+        suffix: str,
+        write: Callable[[IO[bytes]], None],
+        source: str,
+        *,
+        what: str,
         failure: str,
     ) -> MapEntry:
         """Add map ``name``: ``write`` fills a scratch file that is checked to be IndoorGML, then its
@@ -265,9 +272,14 @@ class MapsFolder:
 
         def save(out: IO[bytes]) -> None:
             fetch(
-                url, out, timeout=timeout, deadline=deadline, max_bytes=max_bytes, progress=progress,
+                url,
+                out,
+                timeout=timeout,
+                deadline=deadline,
+                max_bytes=max_bytes,
+                progress=progress,
                 allow_local=self.allow_local,
-            )  # fmt: skip
+            )
 
         failure = f"cannot save the download as {name!r} in {self.root}"
         return self._add_source(name, overwrite, ".part", save, "url", what=f"the file at {url}", failure=failure)
@@ -286,7 +298,8 @@ class MapsFolder:
         max_wall_gap: float = DEFAULT_MAX_WALL_GAP,
         door_width: float = DEFAULT_DOOR_WIDTH,
         chair_width: float = DEFAULT_CHAIR_WIDTH,
-        not_windows: Sequence[str] = (), layers: Sequence[str] = (),
+        not_windows: Sequence[str] = (),
+        layers: Sequence[str] = (),
     ) -> builtins.list[GeneratedMap]:
         """Generate map_server files for every (or the given) storey of map ``name`` (thesis 3.2.2):
         :meth:`convert_with` the :class:`~pmk_nb.library.convert.ConvertOptions` these keywords make.
@@ -303,10 +316,17 @@ class MapsFolder:
                 (chained as ``__cause__``, e.g. a :class:`~pmk_nb.errors.GridTooLarge`, with its message).
         """
         options = ConvertOptions(
-            resolution=resolution, unit=unit, storeys=storeys, wall_thickness=wall_thickness,
-            max_wall_gap=max_wall_gap, layers=tuple(layers), image_format=image_format, door_width=door_width,
-            chair_width=chair_width, not_windows=tuple(not_windows),
-        )  # fmt: skip
+            resolution=resolution,
+            unit=unit,
+            storeys=storeys,
+            wall_thickness=wall_thickness,
+            max_wall_gap=max_wall_gap,
+            layers=tuple(layers),
+            image_format=image_format,
+            door_width=door_width,
+            chair_width=chair_width,
+            not_windows=tuple(not_windows),
+        )
         return self.convert_with(name, options, progress=progress)
 
     def convert_with(
@@ -325,16 +345,22 @@ class MapsFolder:
         old = scan_generated(self.root, self._sources()).get(entry.name, [])
         try:
             result = convert_plan(
-                entry.source, self.root, entry.name, None, options,
-                extra_meta={"map": entry.name, "source": entry.source.name}, progress=progress,
-            )  # fmt: skip
+                entry.source,
+                self.root,
+                entry.name,
+                None,
+                options,
+                extra_meta={"map": entry.name, "source": entry.source.name},
+                progress=progress,
+            )
         except (IndoorGMLError, OccupancyError, MapFormatError) as err:
             raise LibraryError(f"cannot convert map {entry.name!r}: {err}", name=entry.name) from err
         except MemoryError as err:
             raise LibraryError(
                 f"cannot convert map {entry.name!r}: out of memory at {resolution} m per cell.",
-                name=entry.name, hint="Use a coarser resolution (a larger number).",
-            ) from err  # fmt: skip
+                name=entry.name,
+                hint="Use a coarser resolution (a larger number).",
+            ) from err
         if options.unit == "auto" and not options.layers:  # what storeys() reads too (the plan as read by default)
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
         new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p}

@@ -114,9 +114,18 @@ def storeys_of(building: Building) -> list[StoreyInfo]:
     for st in summarize(building)["storeys"]:
         ext: dict[str, Any] | None = st["extent"]
         extent = (*map(float, ext["min"]), *map(float, ext["max"])) if ext else None
-        result.append(StoreyInfo(name=str(st["name"]), cells=int(st["cells"]), doors=int(st["doors"]), extent=extent,  # type: ignore[arg-type]
-                                 unit_conflict=building.unit_conflict, unit=building.unit, notes=notes,
-                                 layers=layers))  # fmt: skip
+        result.append(
+            StoreyInfo(
+                name=str(st["name"]),
+                cells=int(st["cells"]),
+                doors=int(st["doors"]),
+                extent=extent,  # type: ignore[arg-type]
+                unit_conflict=building.unit_conflict,
+                unit=building.unit,
+                notes=notes,
+                layers=layers,
+            )
+        )
     return result
 
 

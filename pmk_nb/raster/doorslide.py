@@ -53,9 +53,7 @@ def straight_pieces(run: BaseGeometry) -> list[shapely.LineString]:
     return [shapely.LineString(xy[[a, b]]) for a, b in itertools.pairwise(cuts)]
 
 
-def place(
-    runs: Sequence[BaseGeometry], width: float, inset: float, at: shapely.Point | None = None
-) -> BaseGeometry:
+def place(runs: Sequence[BaseGeometry], width: float, inset: float, at: shapely.Point | None = None) -> BaseGeometry:
     """A ``width`` opening on one straight piece of ``runs``, ``inset`` clear of the piece's ends.
 
     ``at`` (where the transition's line crosses the wall): the fitting piece whose window lies nearest

@@ -305,9 +305,14 @@ class _Context:
 
 
 def plan_openings(
-    building: Building, storey: str, *, door_width: float = DEFAULT_DOOR_WIDTH, max_gap: float = DEFAULT_MAX_WALL_GAP,
-    tol: float = 0.01, inset: float = DEFAULT_INSET,
-) -> OpeningPlan:  # fmt: skip
+    building: Building,
+    storey: str,
+    *,
+    door_width: float = DEFAULT_DOOR_WIDTH,
+    max_gap: float = DEFAULT_MAX_WALL_GAP,
+    tol: float = 0.01,
+    inset: float = DEFAULT_INSET,
+) -> OpeningPlan:
     """The openings of every same-storey link between two free cells, and the door lines left shut.
     ``inset``: how far a door placed by rule line or middle keeps from a corner or crossing wall."""
     cells = {c.id: c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty}
@@ -354,9 +359,11 @@ class _Graph:
     def of(cells: dict[str, Cell], links: list[Link]) -> _Graph:
         free = [c for c in cells.values() if c.kind.is_free]
         return _Graph(
-            free, shapely.STRtree([c.footprint for c in free]),
-            frozenset(c for k in links for c in (k.a, k.b)), frozenset(frozenset((k.a, k.b)) for k in links),
-        )  # fmt: skip
+            free,
+            shapely.STRtree([c.footprint for c in free]),
+            frozenset(c for k in links for c in (k.a, k.b)),
+            frozenset(frozenset((k.a, k.b)) for k in links),
+        )
 
 
 def _seams(graph: _Graph, tol: float) -> list[BaseGeometry]:

@@ -263,9 +263,14 @@ def fill_segment_bands(
 
 
 def _axis_bands(
-    grid: np.ndarray, frame: Frame, quad: np.ndarray, r0: np.ndarray, r1: np.ndarray, value: int,
+    grid: np.ndarray,
+    frame: Frame,
+    quad: np.ndarray,
+    r0: np.ndarray,
+    r1: np.ndarray,
+    value: int,
     keep: tuple[int, ...],
-) -> None:  # fmt: skip
+) -> None:
     """The cells of axis-aligned band quads, exactly as the per-row rule in fill_segment_bands gives."""
     res = frame.resolution
     ymin, ymax = quad[:, :, 1].min(axis=1), quad[:, :, 1].max(axis=1)
@@ -341,9 +346,14 @@ def write_spans(
 
 
 def write_rects(
-    grid: np.ndarray, ra: np.ndarray, rb: np.ndarray, s: np.ndarray, t: np.ndarray, value: int,
+    grid: np.ndarray,
+    ra: np.ndarray,
+    rb: np.ndarray,
+    s: np.ndarray,
+    t: np.ndarray,
+    value: int,
     keep: tuple[int, ...] = (),
-) -> None:  # fmt: skip
+) -> None:
     """Set ``grid[ra:rb, s:t] = value`` for every rectangle, except cells holding a ``keep`` value:
     big ones as slices, small ones through one flat scatter."""
     if not grid.flags.c_contiguous:

@@ -85,9 +85,7 @@ def _boxes(polys: list[shapely.Polygon], b: np.ndarray) -> np.ndarray:
     return cand
 
 
-def _box_rects(
-    frame: Frame, b: np.ndarray, c0: np.ndarray, c1: np.ndarray, r0: np.ndarray, r1: np.ndarray
-) -> Rects:
+def _box_rects(frame: Frame, b: np.ndarray, c0: np.ndarray, c1: np.ndarray, r0: np.ndarray, r1: np.ndarray) -> Rects:
     """Cell rectangles of axis-aligned boxes, the cells the even-odd scan gives: rows with ymin <=
     centre < ymax, columns from the two vertical edges, same per-polygon column origin as :func:`_scan`."""
     res = frame.resolution
@@ -103,9 +101,14 @@ def _box_rects(
 
 
 def _scan(
-    frame: Frame, edges: np.ndarray, owner: np.ndarray, c0: np.ndarray, c1: np.ndarray, r0: np.ndarray,
+    frame: Frame,
+    edges: np.ndarray,
+    owner: np.ndarray,
+    c0: np.ndarray,
+    c1: np.ndarray,
+    r0: np.ndarray,
     r1: np.ndarray,
-) -> Spans:  # fmt: skip
+) -> Spans:
     """Even-odd spans of the polygons whose edges are ``edges`` (``owner``: polygon of each edge)."""
     res = frame.resolution
     ya, yb = edges[:, 1], edges[:, 3]

@@ -215,8 +215,16 @@ class _Ticker:
         emit(self.progress, "rasterise", self.done / max(self.total, 1), f"storey {self.storey}")
 
 
-def _plan(building: Building, storey: str, resolution: float, wall_thickness: float, max_wall_gap: float,
-          door_width: float, openings: OpeningPlan | None = None, **plan_kw: Any) -> _Plan:  # fmt: skip
+def _plan(
+    building: Building,
+    storey: str,
+    resolution: float,
+    wall_thickness: float,
+    max_wall_gap: float,
+    door_width: float,
+    openings: OpeningPlan | None = None,
+    **plan_kw: Any,
+) -> _Plan:
     """Step 1: the frame (budget-checked), the storey's cells sorted into rooms, blocked and doors, and
     the openings the navigation graph asks for (door lines between cells it does not join stay shut)."""
     max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
@@ -227,11 +235,16 @@ def _plan(building: Building, storey: str, resolution: float, wall_thickness: fl
         openings = plan_openings(building, storey, door_width=width, max_gap=max_gap)
     door_polys, door_lines = door_geometry(building, storey, cells, skip=openings.shut_doors)
     return _Plan(
-        frame=frame, half=float(wall_thickness) / 2, max_gap=max_gap, cells=cells,
+        frame=frame,
+        half=float(wall_thickness) / 2,
+        max_gap=max_gap,
+        cells=cells,
         rooms=[c.footprint for c in cells if c.kind.is_free and not c.kind.is_door],
         blocked=[c.footprint for c in cells if not c.kind.is_free],
-        door_polys=door_polys, door_lines=door_lines, openings=openings,
-    )  # fmt: skip
+        door_polys=door_polys,
+        door_lines=door_lines,
+        openings=openings,
+    )
 
 
 def _fill_cells(plan: _Plan, storey: str, tick: _Ticker) -> np.ndarray:
@@ -342,9 +355,17 @@ def rasterise_storey(
     if outside not in ("unknown", "occupied"):
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {outside!r}")
     plan = _plan(
-        building, storey, resolution, wall_thickness, max_wall_gap, door_width, openings,
-        margin=margin, max_cells=max_cells, allow_large=allow_large,
-    )  # fmt: skip
+        building,
+        storey,
+        resolution,
+        wall_thickness,
+        max_wall_gap,
+        door_width,
+        openings,
+        margin=margin,
+        max_cells=max_cells,
+        allow_large=allow_large,
+    )
     plan.outside_mark = UNKNOWN if outside == "unknown" else _OUTSIDE  # unknown from the start: no pass
     tick = _Ticker(progress, plan.steps, storey)
     grid = _fill_cells(plan, storey, tick)
@@ -353,23 +374,33 @@ def rasterise_storey(
     seal_storey(grid, building, storey, plan, max(_MAX_DOOR_GAP, plan.max_gap), _WALL)  # outer edge: wall
     _finish(grid, plan.outside_mark, tick)
     return OccupancyGrid(
-        data=grid, resolution=plan.frame.resolution, origin=(plan.frame.x0, plan.frame.y0, 0.0), frame_id="map",
+        data=grid,
+        resolution=plan.frame.resolution,
+        origin=(plan.frame.x0, plan.frame.y0, 0.0),
+        frame_id="map",
         meta={
             **_meta(building, storey, float(wall_thickness), outside, plan.max_gap),
-            "door_width": float(door_width), "openings": plan.openings.rule_counts(),
+            "door_width": float(door_width),
+            "openings": plan.openings.rule_counts(),
         },
-    )  # fmt: skip
+    )
 
 
 def _meta(building: Building, storey: str, wall_thickness: float, outside: str, max_gap: float) -> dict[str, Any]:
     geo = building.georef
     return {
-        "storey": storey, "source": building.source, "source_sha256": building.sha256,
-        "unit": building.unit, "unit_reason": building.unit_reason,
-        "translation": [float(geo.translation[0]), float(geo.translation[1])], "rotation": float(geo.rotation),
+        "storey": storey,
+        "source": building.source,
+        "source_sha256": building.sha256,
+        "unit": building.unit,
+        "unit_reason": building.unit_reason,
+        "translation": [float(geo.translation[0]), float(geo.translation[1])],
+        "rotation": float(geo.rotation),
         "lla_origin": None if geo.lla is None else [float(v) for v in geo.lla],
-        "wall_thickness": wall_thickness, "outside": outside, "max_wall_gap": max_gap,
-    }  # fmt: skip
+        "wall_thickness": wall_thickness,
+        "outside": outside,
+        "max_wall_gap": max_gap,
+    }
 
 
 def rasterise(

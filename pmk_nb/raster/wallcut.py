@@ -120,10 +120,12 @@ def wall_segments(
     parts: list[np.ndarray] = []
     if len(lines):
         rect, geo = _door_rects(door_lines, gaps + tol)
-        cuts = np.concatenate([
-            shapely.buffer(np.asarray(door_polys, dtype=object), tol),
-            _door_cuts(door_lines, gaps + tol, rect, geo),
-        ])  # fmt: skip
+        cuts = np.concatenate(
+            [
+                shapely.buffer(np.asarray(door_polys, dtype=object), tol),
+                _door_cuts(door_lines, gaps + tol, rect, geo),
+            ]
+        )
         is_rect = np.concatenate([np.zeros(len(door_polys), dtype=bool), rect])
         pairs = _touching(lines, cuts, is_rect)
         geo = np.concatenate([np.zeros((len(door_polys), 6)), geo])

@@ -178,10 +178,12 @@ def wall_lines(
     lines = shapely.boundary(room_arr) if len(room_arr) else np.empty(0, dtype=object)
     if (door_polys or door_lines) and len(lines):
         # each ring minus only the doors near it: one small difference per room, found by an R-tree
-        cuts = np.concatenate([
-            shapely.buffer(np.asarray(door_polys, dtype=object), tol),
-            shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat"),
-        ])  # fmt: skip
+        cuts = np.concatenate(
+            [
+                shapely.buffer(np.asarray(door_polys, dtype=object), tol),
+                shapely.buffer(np.asarray(door_lines, dtype=object), gaps + tol, cap_style="flat"),
+            ]
+        )
         pairs = shapely.STRtree(cuts).query(lines, predicate="intersects")
         lines = lines.copy()
         order = np.argsort(pairs[0], kind="stable")
@@ -265,17 +267,22 @@ def door_neighbours(
         hits = tree.query(door.footprint, predicate="dwithin", distance=2 * reach).tolist()
         near = [others[i] for i in hits if others[i].id != door.id]
         ours = [not mine or c.id in mine for c in near]
-        out.append((
-            shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if o]),
-            shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if not o]),
-        ))  # fmt: skip
+        out.append(
+            (
+                shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if o]),
+                shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if not o]),
+            )
+        )
     return out
 
 
 def passages(
-    door_polys: list[Any], door_segs: np.ndarray, seg_reach: np.ndarray, reach: float,
+    door_polys: list[Any],
+    door_segs: np.ndarray,
+    seg_reach: np.ndarray,
+    reach: float,
     sides: list[tuple[Any, Any] | None] | None = None,
-) -> np.ndarray:  # fmt: skip
+) -> np.ndarray:
     """Segments across each door (perpendicular to the wall), ``reach`` beyond it on both sides.
 
     ``sides`` (from :func:`door_neighbours`, one per leading door polygon) keeps a door cell's passage

@@ -347,4 +347,3 @@ def write_map(
         image=folder / image_name,
         preview=folder / preview_name if preview else None,
     )
-

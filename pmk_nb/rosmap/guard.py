@@ -36,8 +36,10 @@ def confine(path: Path, folder: Path, *, what: str, yaml: Path | None = None) ->
         named = f"{yaml}: the image {path}" if yaml is not None else f"{path}"
         raise MapOutsideFolder(
             f"{named} lies outside the maps folder {root} (it resolves to {real}); refused",
-            path=str(path), folder=str(root), what=what,
-        )  # fmt: skip
+            path=str(path),
+            folder=str(root),
+            what=what,
+        )
 
 
 def image_size(path: Path) -> tuple[int, int] | None:
@@ -67,5 +69,8 @@ def check_pixels(path: Path, limit: int = MAX_MAP_PIXELS) -> None:
     shown = f"{size[0]}x{size[1]} pixels" if size is not None else "too many pixels for the image decoder"
     raise MapImageTooLarge(
         f"{path}: {shown}, more than the {limit:,} a map server decodes (checked from the header, not decoded)",
-        path=str(path), width=size[0] if size else None, height=size[1] if size else None, limit=limit,
-    )  # fmt: skip
+        path=str(path),
+        width=size[0] if size else None,
+        height=size[1] if size else None,
+        limit=limit,
+    )

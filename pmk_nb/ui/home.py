@@ -143,8 +143,11 @@ class HomeScreen:
         # Record, Stop recording, downloads (pmk_nb/ui/record_panel.py)
         self.recorder = RecordPanel(ctx)
         self.ui.preview_box.children = (
-            *self.ui.preview_box.children, self.plots.widget, self.tools.widget, self.recorder.widget,
-        )  # fmt: skip
+            *self.ui.preview_box.children,
+            self.plots.widget,
+            self.tools.widget,
+            self.recorder.widget,
+        )
         self.path = LivePathLayer()  # pmk_nb/ui/live_path_layer.py: Nav2's /plan, move_base's plan
         self.live.overlays.append(self.path)
         self.fleet = FleetPanel(ctx, self)  # issue 26: several chairs, one in control (pmk_nb/ui/fleet_panel.py)

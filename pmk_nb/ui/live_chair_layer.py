@@ -103,9 +103,16 @@ def draw_outline(
     blind, close = scan.blind, scan.too_close
     size = min(max(view.metres_to_px(POINT_M), POINT_PX[0]), POINT_PX[1])
     shape = laser_outline(
-        view, origin, float(scan.angle_min), float(scan.angle_increment), scan.ranges, scan.at_max,
-        float(scan.range_max), unknown=blind | close, dot_px=size,
-    )  # fmt: skip
+        view,
+        origin,
+        float(scan.angle_min),
+        float(scan.angle_increment),
+        scan.ranges,
+        scan.at_max,
+        float(scan.range_max),
+        unknown=blind | close,
+        dot_px=size,
+    )
     if shape.polygon.shape[0] >= 3:
         layer.fill_style = FREE_STYLE
         layer.fill_polygon(shape.polygon)

@@ -103,8 +103,11 @@ def _storey_html(gm: GeneratedMap, doc: dict[str, Any] | None) -> str:
 
 
 NOT_PASSABLE = "cells marked not passable"
-NOT_CHECKED_WHAT = {SKIP_WINDOW: "cells taken for windows or sills", SKIP_OUTSIDE: "doorways out of the map",
-                    "": NOT_PASSABLE}  # why a passage was not checked -> what it leads into  # fmt: skip
+NOT_CHECKED_WHAT = {
+    SKIP_WINDOW: "cells taken for windows or sills",
+    SKIP_OUTSIDE: "doorways out of the map",
+    "": NOT_PASSABLE,
+}  # why a passage was not checked -> what it leads into
 MAX_NOT_CHECKED = 10  # cells named; the rest are counted
 
 
@@ -136,9 +139,11 @@ def _not_checked_items(report: dict[str, Any]) -> list[str]:
         more = f" and {len(cells) - MAX_NOT_CHECKED} more" if len(cells) > MAX_NOT_CHECKED else ""
         line = f"Not checked: {len(these)} passage{'s' if len(these) != 1 else ''} into {what} ({names}{more})."
         if windows:
-            line += (" If one of these is really a door, the window rule misjudged it: tick it under "
-                     "<i>Not windows</i> and convert again to keep it navigable (command line: "
-                     "<code>pmk convert --not-window NAME</code>).")
+            line += (
+                " If one of these is really a door, the window rule misjudged it: tick it under "
+                "<i>Not windows</i> and convert again to keep it navigable (command line: "
+                "<code>pmk convert --not-window NAME</code>)."
+            )
         items.append(line)
     return items
 
@@ -163,8 +168,10 @@ class AccessPanel:
         parts, images, conflict, layers = [], [], "", []
         suspect = next((s for doc in docs if isinstance(s := (doc or {}).get("unit_suspect"), dict)), None)
         if suspect is not None:  # before any door: a wrong unit makes every door look wrong
-            parts.append(f"<p class='pmk-warn pmk-access-unit'><b>Suspect the unit first:</b> "
-                         f"{escape(str(suspect.get('message', '')))}</p>")  # fmt: skip
+            parts.append(
+                f"<p class='pmk-warn pmk-access-unit'><b>Suspect the unit first:</b> "
+                f"{escape(str(suspect.get('message', '')))}</p>"
+            )
         for gm, doc in zip(entry.generated, docs, strict=True):
             parts.append(_storey_html(gm, doc))
             conflict = conflict or (doc or {}).get("unit_conflict", "")

@@ -44,8 +44,11 @@ if TYPE_CHECKING:
 
 MAX_THUMBNAIL_BYTES = 512 * 1024
 MAX_SHOWN = 50  # cards drawn at once; the search narrows the rest
-_BADGES = {NEW: ("New", "pmk-cat-new", "#1565c0"), CHANGED: ("Changed since installed", "pmk-cat-changed", "#b45309"),
-           INSTALLED: ("Installed", "pmk-cat-installed", "#2e7d32")}  # fmt: skip
+_BADGES = {
+    NEW: ("New", "pmk-cat-new", "#1565c0"),
+    CHANGED: ("Changed since installed", "pmk-cat-changed", "#b45309"),
+    INSTALLED: ("Installed", "pmk-cat-installed", "#2e7d32"),
+}
 
 
 class CataloguePanel:
@@ -59,9 +62,11 @@ class CataloguePanel:
         self.catalogue: Catalogue | None = None
         self.thumbnails: dict[str, bytes] = {}
         self.source = w.Dropdown(
-            options=self.sources.urls(), description="Catalogue", style={"description_width": "200px"},
+            options=self.sources.urls(),
+            description="Catalogue",
+            style={"description_width": "200px"},
             layout=w.Layout(width="100%", max_width="720px"),
-        )  # fmt: skip
+        )
         self.source.add_class("pmk-cat-source")
         self.url = text("", "Add a catalogue", "pmk-cat-url", placeholder="https://server/maps/catalog.json")
         self.add_button = button("Add", "pmk-cat-add", icon="plus", style="primary")
@@ -83,10 +88,21 @@ class CataloguePanel:
         row = w.HBox([self.load_button, self.remove_button])
         row.add_class("pmk-row")
         self.widget = w.VBox(
-            [heading("Map catalogues"), self.url, self.add_button, self.error, self.source, row, self.search,
-             self.confirm.widget, self.progress, self.status, self.results],
+            [
+                heading("Map catalogues"),
+                self.url,
+                self.add_button,
+                self.error,
+                self.source,
+                row,
+                self.search,
+                self.confirm.widget,
+                self.progress,
+                self.status,
+                self.results,
+            ],
             layout=w.Layout(align_items="flex-start", width="100%"),
-        )  # fmt: skip
+        )
         self.widget.add_class("pmk-cat")
 
     # -- catalogue URLs (settings) -----------------------------------------------------------------
@@ -139,9 +155,14 @@ class CataloguePanel:
             self.render()
 
         return run_in_thread(
-            self.ctx, "Loading the catalogue", work, on_done=done, on_error=show_failure(self.progress, self.status),
-            busy=[self.load_button, self.add_button], exclusive=self._lock,
-        )  # fmt: skip
+            self.ctx,
+            "Loading the catalogue",
+            work,
+            on_done=done,
+            on_error=show_failure(self.progress, self.status),
+            busy=[self.load_button, self.add_button],
+            exclusive=self._lock,
+        )
 
     def statuses(self) -> dict[str, str]:
         """new / changed / installed per building of the loaded catalogue."""
@@ -200,28 +221,38 @@ class CataloguePanel:
             self.status.value = "Load a catalogue and press Get beside one of its buildings."
             return None
         if not overwrite and self.statuses()[building_id] == NEW and self.ctx.maps.exists(building_id):
-            self.confirm.ask(f"A map named '{building_id}' exists and did not come from this catalogue. Replace it?",
-                             lambda: self.get(building_id, overwrite=True))  # fmt: skip
+            self.confirm.ask(
+                f"A map named '{building_id}' exists and did not come from this catalogue. Replace it?",
+                lambda: self.get(building_id, overwrite=True),
+            )
             return None
         set_progress(self.progress, 0.0)
         self.status.value = f"Installing {escape(building_id)}…"
 
         def work() -> InstallResult:
-            return install(catalogue, building_id, self.ctx.maps, overwrite=overwrite,
-                           progress=progress_callback(self.progress))  # fmt: skip
+            return install(
+                catalogue, building_id, self.ctx.maps, overwrite=overwrite, progress=progress_callback(self.progress)
+            )
 
         def done(result: InstallResult) -> None:
             set_progress(self.progress, None)
-            self.status.value = (f"Installed {escape(result.name)}: {len(result.files)} files, every size and "
-                                 "SHA-256 checked. It is on the Maps tab.")  # fmt: skip
+            self.status.value = (
+                f"Installed {escape(result.name)}: {len(result.files)} files, every size and "
+                "SHA-256 checked. It is on the Maps tab."
+            )
             self.render()
             self._on_installed(result)
             self.ctx.notify(f"Installed {result.name} from the catalogue.", inline=True)
 
         return run_in_thread(
-            self.ctx, "Installing", work, on_done=done, on_error=show_failure(self.progress, self.status),
-            busy=[self.load_button], exclusive=self._lock,
-        )  # fmt: skip
+            self.ctx,
+            "Installing",
+            work,
+            on_done=done,
+            on_error=show_failure(self.progress, self.status),
+            busy=[self.load_button],
+            exclusive=self._lock,
+        )
 
     def close(self) -> None:
         self.widget.close()

@@ -105,9 +105,11 @@ class ChoicesPanel:
         self._auto = tuple(o.id for o in options if o.drawn)
         ticked = set(self._layers) or set(self._auto)
         action = "Choosing the layers to draw"
-        boxes = [
-            checkbox(self.ctx, o.id, o.id in ticked, "pmk-maps-layer", action, self._on_layer) for o in options
-        ] if len(options) > 1 else []  # fmt: skip
+        boxes = (
+            [checkbox(self.ctx, o.id, o.id in ticked, "pmk-maps-layer", action, self._on_layer) for o in options]
+            if len(options) > 1
+            else []
+        )
         replace_children(self.layers, boxes)
         self.layers_error.value = ""
         self.layers_box.layout.display = "flex" if boxes else "none"

@@ -52,10 +52,18 @@ class DownloadPanel:
         self.status = w.HTML("")
         self.status.add_class("pmk-maps-download-status")
         self.widget = w.VBox(
-            [heading("Download an IndoorGML map"), self.url, self.name, self.error, self.button,
-             self.confirm.widget, self.progress, self.status],
+            [
+                heading("Download an IndoorGML map"),
+                self.url,
+                self.name,
+                self.error,
+                self.button,
+                self.confirm.widget,
+                self.progress,
+                self.status,
+            ],
             layout=w.Layout(align_items="flex-start", width="100%"),
-        )  # fmt: skip
+        )
 
     @needs_pin("Downloading")
     def download(self, *, overwrite: bool = False) -> threading.Thread | None:

@@ -285,9 +285,14 @@ class MapsScreen:
 
         def work() -> list[GeneratedMap]:
             return self.ctx.maps.convert(
-                entry.name, resolution, storeys=storeys, progress=progress_callback(self.convert_progress, self.status),
+                entry.name,
+                resolution,
+                storeys=storeys,
+                progress=progress_callback(self.convert_progress, self.status),
                 chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
-                unit=choices.unit, not_windows=choices.not_windows, layers=choices.layers,
+                unit=choices.unit,
+                not_windows=choices.not_windows,
+                layers=choices.layers,
             )
 
         def done(generated: list[GeneratedMap]) -> None:

@@ -134,8 +134,10 @@ class StoreysPanel:
             self.table.value = storeys_table(self.storeys, unit) + unit_warning(self.storeys)
 
     def _set_choices(self, storeys: list[StoreyInfo]) -> None:
-        boxes = [checkbox(self.ctx, s.name, True, "pmk-maps-storey-check", "Choosing storeys", self._on_check)
-                 for s in storeys]  # fmt: skip
+        boxes = [
+            checkbox(self.ctx, s.name, True, "pmk-maps-storey-check", "Choosing storeys", self._on_check)
+            for s in storeys
+        ]
         replace_children(self.choices, boxes)
         self.choice_box.layout.display = "flex" if boxes else "none"
 

@@ -207,8 +207,14 @@ def set_progress(bar: w.FloatProgress, fraction: float | None, *, style: str = "
 
 
 #: How the dashboard names the core's progress steps (other steps are shown capitalised).
-STEP_WORDS = {"read": "Reading", "rasterise": "Rasterising", "write": "Saving", "done": "Done",
-              "download": "Downloading", "upload": "Uploading"}  # fmt: skip
+STEP_WORDS = {
+    "read": "Reading",
+    "rasterise": "Rasterising",
+    "write": "Saving",
+    "done": "Done",
+    "download": "Downloading",
+    "upload": "Uploading",
+}
 
 
 def progress_text(p: Progress) -> str:

@@ -121,8 +121,24 @@ def test_the_rooms_file_carries_them_to_pmk_check_on_the_written_map(
 ) -> None:
     src = _windowed(tmp_path, v2)
     out_dir = tmp_path / "maps"
-    assert main(["convert", str(src), "-r", "0.05", "--out", str(out_dir), "--no-progress", "--unit", "m",
-                 "--chair-width", "0.7"]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "convert",
+                str(src),
+                "-r",
+                "0.05",
+                "--out",
+                str(out_dir),
+                "--no-progress",
+                "--unit",
+                "m",
+                "--chair-width",
+                "0.7",
+            ]
+        )
+        == 0
+    )
     said = capsys.readouterr().out
     assert "accessibility: 1/1 transitions passable" in said and "1 transition leads to cells judged windows" in said
     [yaml] = out_dir.glob("*.yaml")

@@ -75,8 +75,11 @@ class Clearance:
                 continue
             rr, cc, inside = self._centres(shape)
             if _inside(other, cell, shape):
-                inside &= ~shapely.contains_xy(other, self.grid.origin[0] + (cc + 0.5) * self.grid.resolution,
-                                               self.grid.origin[1] + (rr + 0.5) * self.grid.resolution)  # fmt: skip
+                inside &= ~shapely.contains_xy(
+                    other,
+                    self.grid.origin[0] + (cc + 0.5) * self.grid.resolution,
+                    self.grid.origin[1] + (rr + 0.5) * self.grid.resolution,
+                )
             if inside.any():
                 return rr[inside], cc[inside]
         return np.zeros(0, dtype=int), np.zeros(0, dtype=int)

@@ -444,8 +444,14 @@ def test_a_way_through_a_door_cell_between_two_linked_rooms_counts(tmp_path: Pat
     assert report.counts()["passable_chair"] == 3 and report.ok and report.leaks == [], report.summary()
 
 
-def _sloping_solid(cid: str, box: tuple[float, float, float, float], z_at_x0: float, z_at_x1: float,
-                   height: float, tag: str = "CellSpace") -> str:  # fmt: skip
+def _sloping_solid(
+    cid: str,
+    box: tuple[float, float, float, float],
+    z_at_x0: float,
+    z_at_x1: float,
+    height: float,
+    tag: str = "CellSpace",
+) -> str:
     """A cell whose floor is one face tilted along x (KU Central Plaza's corridor), its ceiling ``height``
     above it: no face of it is flat, so only the tilted plane tells the floor's height at a point."""
     x0, y0, x1, y1 = box
@@ -453,8 +459,10 @@ def _sloping_solid(cid: str, box: tuple[float, float, float, float], z_at_x0: fl
     def face(dz: float) -> str:
         pts = [(x0, y0, z_at_x0), (x1, y0, z_at_x1), (x1, y1, z_at_x1), (x0, y1, z_at_x0), (x0, y0, z_at_x0)]
         ring = " ".join(f"{x} {y} {z + dz}" for x, y, z in pts)
-        return (f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
-                f"{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>")  # fmt: skip
+        return (
+            f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
+            f"{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>"
+        )
 
     return (
         f'<cellSpaceMember><{tag} gml:id="{cid}"><cellSpaceGeometry><Geometry3D><gml:Solid><gml:exterior>'

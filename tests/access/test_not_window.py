@@ -64,8 +64,19 @@ def test_a_word_that_names_no_cell_is_refused_with_the_file_and_the_word(tmp_pat
 def test_pmk_convert_and_check_take_it(tmp_path: Path, v2: bool, capsys: pytest.CaptureFixture[str]) -> None:
     src = _balcony(tmp_path, v2)
     out_dir = tmp_path / "maps"
-    args = ["convert", str(src), "-r", "0.05", "--out", str(out_dir), "--no-progress", "--unit", "m", "--chair-width",
-            "0.7"]  # fmt: skip
+    args = [
+        "convert",
+        str(src),
+        "-r",
+        "0.05",
+        "--out",
+        str(out_dir),
+        "--no-progress",
+        "--unit",
+        "m",
+        "--chair-width",
+        "0.7",
+    ]
     assert main([*args, "--not-window", "nowhere"]) == 2  # bad input: nothing written
     assert "'nowhere'" in capsys.readouterr().err and not out_dir.exists()
     assert main([*args, "--not-window", "office window"]) == 0

@@ -41,10 +41,23 @@ SIZES = [(390, 844), (768, 1024), (1024, 768), (1280, 800)]
 SCREENS = ("home", "maps", "settings")
 #: Home's controls that Tab must reach (Drive on)
 HOME_CONTROLS = {
-    "pmk-nav-home", "pmk-nav-maps", "pmk-nav-settings", "pmk-home-disconnect", "pmk-home-sensors",
-    "pmk-home-zoom-in", "pmk-home-zoom-out", "pmk-live-follow", "pmk-drive-toggle", "pmk-drive-stop",
-    "pmk-drive-pad", "pmk-drive-slow", "pmk-goal-set", "pmk-rooms-search", "pmk-rooms-list", "pmk-rooms-go",
-}  # fmt: skip
+    "pmk-nav-home",
+    "pmk-nav-maps",
+    "pmk-nav-settings",
+    "pmk-home-disconnect",
+    "pmk-home-sensors",
+    "pmk-home-zoom-in",
+    "pmk-home-zoom-out",
+    "pmk-live-follow",
+    "pmk-drive-toggle",
+    "pmk-drive-stop",
+    "pmk-drive-pad",
+    "pmk-drive-slow",
+    "pmk-goal-set",
+    "pmk-rooms-search",
+    "pmk-rooms-list",
+    "pmk-rooms-go",
+}
 FOCUSED_JS = """() => {
   const el = document.activeElement;
   if (!el || el === document.body) return null;

@@ -42,13 +42,16 @@ def test_maps_screen_shows_the_accessibility_report(tmp_path: Path) -> None:
             expect(previews.first).to_be_visible()
             assert previews.count() == 3  # every storey of pnu_abc has a blocked passage
             # the marks are really red on the picture the user sees
-            red = min(previews.nth(i).evaluate(
-                """img => { const c = document.createElement('canvas'); c.width = img.naturalWidth;
+            red = min(
+                previews.nth(i).evaluate(
+                    """img => { const c = document.createElement('canvas'); c.width = img.naturalWidth;
                 c.height = img.naturalHeight; const g = c.getContext('2d'); g.drawImage(img, 0, 0);
                 const d = g.getImageData(0, 0, c.width, c.height).data; let n = 0;
                 for (let i = 0; i < d.length; i += 4) if (d[i] > 200 && d[i+1] < 60 && d[i+2] < 60) n++;
                 return n; }"""
-            ) for i in range(3))
+                )
+                for i in range(3)
+            )
             assert red > 20, f"only {red} red pixels on the marked preview"
             previews.first.scroll_into_view_if_needed()
             ARTIFACTS.mkdir(exist_ok=True)

@@ -23,9 +23,10 @@ def test_catalogue_tab_lists_searches_and_installs_a_building(tmp_path: Path) ->
     lab.convert("clinic", 0.1)
     publish(lab, tmp_path / "www" / "site", title="Lab maps")
     started = time.monotonic()
-    with serve_static(tmp_path / "www") as site, serve_kiosk(
-        tmp_path, label="catalogue", env={ALLOW_LOCAL_ENV: "1"}
-    ) as (url, world):
+    with (
+        serve_static(tmp_path / "www") as site,
+        serve_kiosk(tmp_path, label="catalogue", env={ALLOW_LOCAL_ENV: "1"}) as (url, world),
+    ):
         catalogue_url = site.url + "site/catalog.json"
         with chromium_page(url, viewport=VIEWPORT) as page:
             expect(page.locator("button.pmk-nav-maps")).to_be_visible(timeout=120_000)

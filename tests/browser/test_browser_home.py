@@ -19,8 +19,12 @@ from tests.browser.kiosk_page import ARTIFACTS, chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
-SIZES = [("phone-390x844", 390, 844), ("tablet-portrait-768x1024", 768, 1024),
-         ("tablet-1024x768", 1024, 768), ("tablet-1280x800", 1280, 800)]  # fmt: skip
+SIZES = [
+    ("phone-390x844", 390, 844),
+    ("tablet-portrait-768x1024", 768, 1024),
+    ("tablet-1024x768", 1024, 768),
+    ("tablet-1280x800", 1280, 800),
+]
 MIN_SHARE = 0.60
 MIN_TARGET = 48
 

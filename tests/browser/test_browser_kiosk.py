@@ -32,7 +32,6 @@ from tests.browser.kiosk_page import (
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
 
-
 def _pixels(png: bytes) -> np.ndarray:
     from PIL import Image
 
@@ -264,13 +263,19 @@ def test_the_dashboard_refuses_the_network_without_a_token_and_needs_the_printed
     port = free_port()
     refused = subprocess.run(
         [sys.executable, "-m", "pmk_nb.cli", "dashboard", "--ip", "0.0.0.0", "--port", str(port), "--no-browser"],
-        env=env, capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert refused.returncode == 2 and "--token" in refused.stderr and len(refused.stderr.strip().splitlines()) == 1
     served = subprocess.Popen(
         [sys.executable, "-m", "pmk_nb.cli", "dashboard", "--token", "auto", "--port", str(port), "--no-browser"],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
-    )  # fmt: skip
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
     try:
         assert served.stdout is not None
         line = served.stdout.readline()

@@ -37,13 +37,34 @@ PHONE_MAX = 600
 MIN_TOUCH = 44
 #: What each screen must show, whatever the size.
 MUST_SHOW = {
-    "home": ["button.pmk-home-disconnect", "button.pmk-home-zoom-in", "button.pmk-home-zoom-out", ".pmk-home-sensors",
-             ".pmk-drive-toggle", "button.pmk-drive-stop", ".pmk-drive-pad", ".pmk-drive-slow", ".pmk-goal-set"],
-    "maps": [".pmk-maps-list select", "button.pmk-maps-refresh", ".pmk-maps-import", ".pmk-maps-resolution input",
-             "button.pmk-maps-convert", "button.pmk-maps-send"],
-    "settings": [".pmk-settings-name input", ".pmk-settings-host input", ".pmk-settings-auth",
-                 ".pmk-settings-goals-on-link-loss", "button.pmk-settings-save", "button.pmk-settings-test"],
-}  # fmt: skip
+    "home": [
+        "button.pmk-home-disconnect",
+        "button.pmk-home-zoom-in",
+        "button.pmk-home-zoom-out",
+        ".pmk-home-sensors",
+        ".pmk-drive-toggle",
+        "button.pmk-drive-stop",
+        ".pmk-drive-pad",
+        ".pmk-drive-slow",
+        ".pmk-goal-set",
+    ],
+    "maps": [
+        ".pmk-maps-list select",
+        "button.pmk-maps-refresh",
+        ".pmk-maps-import",
+        ".pmk-maps-resolution input",
+        "button.pmk-maps-convert",
+        "button.pmk-maps-send",
+    ],
+    "settings": [
+        ".pmk-settings-name input",
+        ".pmk-settings-host input",
+        ".pmk-settings-auth",
+        ".pmk-settings-goals-on-link-loss",
+        "button.pmk-settings-save",
+        "button.pmk-settings-test",
+    ],
+}
 
 
 def _constrain_app(page: Any, width: int | None) -> None:
@@ -117,8 +138,9 @@ def _reachable(page: Any, selector: str, height: int) -> str | None:
 def _measure(page: Any, label: str, screen: str, app_width: int, height: int) -> list[str]:
     problems = [p for p in (_reachable(page, s, height) for s in MUST_SHOW[screen]) if p]
     page.evaluate("() => { document.querySelectorAll('*').forEach((e) => { if (e.scrollTop) e.scrollTop = 0; }); }")
-    result = page.evaluate(MEASURE_JS, {"minTouch": MIN_TOUCH if app_width <= PHONE_MAX else 0,
-                                        "appSelector": ".pmk-app"})  # fmt: skip
+    result = page.evaluate(
+        MEASURE_JS, {"minTouch": MIN_TOUCH if app_width <= PHONE_MAX else 0, "appSelector": ".pmk-app"}
+    )
     assert result["controls"] >= len(MUST_SHOW[screen]), result
     problems += result["problems"]
     if result["horizontalScroll"]:

@@ -140,8 +140,9 @@ def test_list_and_get_install_every_file_byte_for_byte(
     (b,) = listing["buildings"]
     assert b["id"] == "clinic" and b["status"] == "new"
     assert [(s["storey"], s["resolution"], s["width"], s["height"]) for s in b["storeys"]] == [
-        ("F1", 0.1, 304, 154), ("F2", 0.1, 304, 154)
-    ]  # fmt: skip
+        ("F1", 0.1, 304, 154),
+        ("F2", 0.1, 304, 154),
+    ]
     assert b["size"] > 100_000 and b["updated"].endswith("Z")
 
     code, out, err = _pmk(capsys, maps, "get", site.url + "catalog.json", "clinic", "--allow-local")
@@ -189,8 +190,12 @@ def test_list_and_get_install_every_file_byte_for_byte(
     code, out, err = _pmk(capsys, one, "get", site.url, "clinic", "--storey", "F2", "--allow-local")
     assert code == 0, err
     assert sorted(p.name for p in one.iterdir() if not p.name.startswith(".")) == [
-        "clinic.gml", "clinic_F2-visualization.png", "clinic_F2.pgm", "clinic_F2.rooms.json", "clinic_F2.yaml"
-    ]  # fmt: skip
+        "clinic.gml",
+        "clinic_F2-visualization.png",
+        "clinic_F2.pgm",
+        "clinic_F2.rooms.json",
+        "clinic_F2.yaml",
+    ]
     assert "[installed]" in _pmk(capsys, one, "catalogue", site.url, "--allow-local")[1]  # what it has is current
     code, out, err = _pmk(capsys, one, "get", site.url, "clinic", "--storey", "F1", "--allow-local")
     assert code == 0 and (one / "clinic_F1.yaml").is_file() and (one / "clinic_F2.yaml").is_file()
@@ -346,8 +351,9 @@ def test_publish_keeps_named_buildings_drops_deleted_ones_and_encodes_spaces(tmp
     publish(folder, www / "site")
     catalog = json.loads((www / "site" / "catalog.json").read_text())
     assert [lk["href"] for lk in catalog["links"] if lk["rel"] == "child"] == [
-        "./clinic/collection.json", "./east%20wing/collection.json"
-    ]  # fmt: skip
+        "./clinic/collection.json",
+        "./east%20wing/collection.json",
+    ]
     with serve_static(www) as s:
         catalogue = read_catalogue(s.url + "site/", allow_local=True)
         assert [b.id for b in catalogue.buildings] == ["clinic", "east wing"]

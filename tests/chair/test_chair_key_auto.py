@@ -33,16 +33,31 @@ def _drop_key(server: SshdServer, comment: str) -> None:
 @pytest.mark.slow
 def test_key_auto_then_send_without_a_password(
     pmk: Pmk, house: MapsFolder, sim_factory: Any, sshd_server: SshdServer, remote_maps_dir: str, tmp_path: Path
-) -> None:  # fmt: skip
+) -> None:
     name = f"key-{uuid.uuid4().hex[:8]}"
     sim = sim_factory(grid=room_grid(), reload_services=("map_update",), maps_dir=sshd_server.home)
     try:
         added = pmk(
-            "chair", "add", name, "--host", "127.0.0.1", "--port", str(sim.port),
-            "--ssh-user", sshd_server.user, "--ssh-port", str(sshd_server.port),
-            "--remote-maps-dir", remote_maps_dir, "--known-hosts", str(tmp_path / "known_hosts"),
-            "--key", "auto", "--password-stdin", stdin=sshd_server.password + "\n",
-        )  # fmt: skip
+            "chair",
+            "add",
+            name,
+            "--host",
+            "127.0.0.1",
+            "--port",
+            str(sim.port),
+            "--ssh-user",
+            sshd_server.user,
+            "--ssh-port",
+            str(sshd_server.port),
+            "--remote-maps-dir",
+            remote_maps_dir,
+            "--known-hosts",
+            str(tmp_path / "known_hosts"),
+            "--key",
+            "auto",
+            "--password-stdin",
+            stdin=sshd_server.password + "\n",
+        )
         assert added.returncode == 0, added.stdout + added.stderr
         assert "installed on the chair" in added.stdout
         key = tmp_path / "cfg" / "keys" / f"{name}_ed25519"

@@ -39,8 +39,12 @@ def _check_json(config: Path, *extra: str) -> dict:
     env = dict(os.environ, PMK_CONFIG_DIR=str(config))
     proc = subprocess.run(
         [sys.executable, "-m", "pmk_nb.cli", "check", str(SAMPLE), "--json", *extra],
-        capture_output=True, text=True, env=env, timeout=300, check=False,
-    )  # fmt: skip
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+        check=False,
+    )
     assert proc.returncode in (0, 1), proc.stderr
     return json.loads(proc.stdout)
 

@@ -33,8 +33,6 @@ def grid_of(width: int, height: int, seed: int, origin: tuple[float, float] = (-
     return OccupancyGrid(data=data, resolution=0.1, origin=(origin[0], origin[1], 0.0))
 
 
-
-
 def assert_publishes(link: ChairLink, grid: OccupancyGrid) -> None:
     info = link.map_info(timeout=5.0)
     assert (info.width, info.height) == (grid.width, grid.height)
@@ -230,8 +228,14 @@ def test_lost_reload_answer_does_not_claim_the_old_map_stays(
     files = write_map(grid_of(900, 900, seed=18), tmp_path / "local", "big")
     files.image.write_bytes(files.image.read_bytes()[:-1000])  # header fine, cells missing: not loadable
     with pytest.raises(DeployError) as info:
-        deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link_factory(sim),
-               reload_timeout=0.001, confirm_timeout=1.5)  # fmt: skip
+        deploy(
+            files,
+            sim_profile(sim, tmp_path),
+            password=sim.sftp_password,
+            link=link_factory(sim),
+            reload_timeout=0.001,
+            confirm_timeout=1.5,
+        )
     err = info.value
     assert err.step == "reload" and err.keeps_old_map is None
     assert "Checked afterwards" in str(err) and "still publishes 20x20" in str(err)

@@ -90,8 +90,15 @@ def test_a_scan_with_every_kind_of_reading_through_the_simulator_bridge(sim_fact
     ranges = [2.0] * n
     ranges[125:165] = [math.nan] * 40  # -10°..+29°: blind ahead
     ranges[10], ranges[11], ranges[12] = math.inf, -math.inf, 45.0  # no return, too close, beyond range_max
-    msg = {"header": {"frame_id": "laser"}, "angle_min": -math.radians(135), "angle_max": math.radians(135),
-           "angle_increment": math.radians(1), "range_min": 0.1, "range_max": 30.0, "ranges": ranges}  # fmt: skip
+    msg = {
+        "header": {"frame_id": "laser"},
+        "angle_min": -math.radians(135),
+        "angle_max": math.radians(135),
+        "angle_increment": math.radians(1),
+        "range_min": 0.1,
+        "range_max": 30.0,
+        "ranges": ranges,
+    }
     with ChairLink("127.0.0.1", sim.port, scan_topic="/scan_front") as link:
         link.connect()
         link.start_streams()

@@ -209,8 +209,9 @@ def test_disk_full_is_reported_and_previous_files_survive(
     """A 96 KiB tmpfs as the chair's maps folder: the second, bigger map cannot fit."""
     folder = sshd_server.home / remote_maps_dir.removeprefix("~/")
     folder.mkdir(parents=True)
-    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=96k,mode=0777", "tmpfs", str(folder)],
-                             capture_output=True, text=True)  # fmt: skip
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=96k,mode=0777", "tmpfs", str(folder)], capture_output=True, text=True
+    )
     if mounted.returncode != 0:
         pytest.fail(f"cannot mount a small tmpfs for the disk-full test (needs root): {mounted.stderr.strip()}")
     try:

@@ -26,8 +26,6 @@ def small_map(folder: Path, name: str, width: int = 30, seed: int = 0) -> MapFil
     return write_map(OccupancyGrid(data=data, resolution=0.05, origin=(0.0, 0.0, 0.0)), folder, name, preview=False)
 
 
-
-
 def point_image_at(files: MapFiles, image: str) -> None:
     doc = yaml.safe_load(files.yaml.read_text())
     doc["image"] = image

@@ -115,6 +115,10 @@ def test_sim_tls_options_are_checked(tmp_path: Path) -> None:
     env = {**os.environ, "PMK_CONFIG_DIR": str(tmp_path)}
     half = subprocess.run(
         [sys.executable, "-m", "pmk_nb.cli", "sim", "--port", "0", "--no-sftp", "--certfile", str(tmp_path / "c")],
-        capture_output=True, text=True, env=env, timeout=60, cwd=ROOT,
-    )  # fmt: skip
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=60,
+        cwd=ROOT,
+    )
     assert half.returncode != 0 and "--keyfile" in half.stdout + half.stderr

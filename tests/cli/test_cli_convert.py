@@ -53,8 +53,22 @@ def test_convert_several_storeys_png_and_selection(tmp_path: Path, capsys: pytes
     building = read_building(THREE_STOREYS)
     names = [s.name for s in building.storeys]
     assert len(names) > 1
-    rc = main(["convert", str(THREE_STOREYS), "-r", "0.1", "--out", str(tmp_path), "--name", "haus", "--format",
-               "png", "--no-preview", "--no-progress"])  # fmt: skip
+    rc = main(
+        [
+            "convert",
+            str(THREE_STOREYS),
+            "-r",
+            "0.1",
+            "--out",
+            str(tmp_path),
+            "--name",
+            "haus",
+            "--format",
+            "png",
+            "--no-preview",
+            "--no-progress",
+        ]
+    )
     assert rc == 0
     files = sorted(p.name for p in tmp_path.iterdir())
     assert files == sorted(
@@ -120,8 +134,9 @@ def test_bad_arguments_exit_2_and_touch_nothing(
     assert snapshot(existing) == before
 
 
-def test_bad_files_exit_2_and_touch_nothing(existing: Path, tmp_path_factory: pytest.TempPathFactory,
-                                            capsys: pytest.CaptureFixture[str]) -> None:  # fmt: skip
+def test_bad_files_exit_2_and_touch_nothing(
+    existing: Path, tmp_path_factory: pytest.TempPathFactory, capsys: pytest.CaptureFixture[str]
+) -> None:
     before = snapshot(existing)
     src = tmp_path_factory.mktemp("src")
     broken = src / ONE_STOREY.name  # same stem, so the same output names

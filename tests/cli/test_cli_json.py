@@ -22,7 +22,7 @@ __all__ = ["house", "pmk"]
 @pytest.mark.slow
 def test_chair_test_and_send_print_json(
     pmk: Pmk, house: MapsFolder, sim_factory: Any, sshd_server: SshdServer, remote_maps_dir: str, tmp_path: Path
-) -> None:  # fmt: skip
+) -> None:
     sim = sim_factory(grid=room_grid(), reload_services=("map_update",), maps_dir=sshd_server.home)
     add_profile(pmk, sim, sshd_server, remote_maps_dir, tmp_path)
 

@@ -20,13 +20,34 @@ from tests.indoorgml_samples import two_rooms
 
 #: every leaf command, classified: it prints a result a script reads (must have --json), or it does not
 PRINTS_RESULTS = {
-    "info", "convert", "check", "send", "maps list", "maps catalogue", "chair list", "chair show", "chair test",
-}  # fmt: skip
+    "info",
+    "convert",
+    "check",
+    "send",
+    "maps list",
+    "maps catalogue",
+    "chair list",
+    "chair show",
+    "chair test",
+}
 NO_RESULT = {  # servers, long-running nodes and actions whose outcome is the exit code and a one-line note
-    "sim", "dashboard", "demo", "hub", "bench", "robot map-server", "robot sim-node", "robot goal-watchdog",
-    "maps import", "maps download", "maps convert", "maps delete", "maps publish", "maps get",
-    "chair add", "chair delete",
-}  # fmt: skip
+    "sim",
+    "dashboard",
+    "demo",
+    "hub",
+    "bench",
+    "robot map-server",
+    "robot sim-node",
+    "robot goal-watchdog",
+    "maps import",
+    "maps download",
+    "maps convert",
+    "maps delete",
+    "maps publish",
+    "maps get",
+    "chair add",
+    "chair delete",
+}
 
 
 def _leaves(parser: argparse.ArgumentParser, path: str) -> list[tuple[str, argparse.ArgumentParser]]:

@@ -63,8 +63,12 @@ def test_a_reader_that_leaves_early_ends_pmk_quietly(tmp_path: Path) -> None:
 
     sample = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
     env = dict(os.environ, PMK_CONFIG_DIR=str(tmp_path))
-    proc = subprocess.Popen([sys.executable, "-m", "pmk_nb.cli", "check", str(sample), "--json"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)  # fmt: skip
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "pmk_nb.cli", "check", str(sample), "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env=env,
+    )
     assert proc.stdout is not None
     proc.stdout.close()  # the reader is gone before the first byte
     _, err = proc.communicate(timeout=120)

@@ -52,20 +52,36 @@ def house(tmp_path: Path) -> MapsFolder:
 
 def add_profile(pmk: Pmk, sim: Any, server: SshdServer, remote_dir: str, tmp_path: Path) -> None:
     done = pmk(
-        "chair", "add", "bench-chair",
-        "--host", "127.0.0.1", "--port", str(sim.port),
-        "--ssh-user", server.user, "--ssh-port", str(server.port),
-        "--remote-maps-dir", remote_dir, "--known-hosts", str(tmp_path / "known_hosts"),
-    )  # fmt: skip
+        "chair",
+        "add",
+        "bench-chair",
+        "--host",
+        "127.0.0.1",
+        "--port",
+        str(sim.port),
+        "--ssh-user",
+        server.user,
+        "--ssh-port",
+        str(server.port),
+        "--remote-maps-dir",
+        remote_dir,
+        "--known-hosts",
+        str(tmp_path / "known_hosts"),
+    )
     assert done.returncode == 0, done.stderr
     assert "saved chair profile 'bench-chair'" in done.stdout
 
 
 @pytest.mark.slow
 def test_send_storey_with_password_from_stdin(
-    pmk: Pmk, house: MapsFolder, sim_factory: Any, sshd_server: SshdServer, remote_maps_dir: str,
-    link_factory: Callable[[Any], ChairLink], tmp_path: Path,
-) -> None:  # fmt: skip
+    pmk: Pmk,
+    house: MapsFolder,
+    sim_factory: Any,
+    sshd_server: SshdServer,
+    remote_maps_dir: str,
+    link_factory: Callable[[Any], ChairLink],
+    tmp_path: Path,
+) -> None:
     # the sim's map server reads only its maps folder (issue 30): the sshd user's home, where the upload lands
     sim = sim_factory(grid=room_grid(), reload_services=("map_update",), maps_dir=sshd_server.home)
     add_profile(pmk, sim, sshd_server, remote_maps_dir, tmp_path)

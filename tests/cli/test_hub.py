@@ -43,10 +43,18 @@ PASSWORD = "class-password-26"
 
 def _plan(tmp_path: Path, **kw: Any) -> HubPlan:
     values: dict[str, Any] = dict(
-        users=("ana", "ben"), password=PASSWORD, ip="127.0.0.1", port=8000, hub_port=8081, proxy_api_port=8001,
-        state_dir=tmp_path / "hub", users_dir=tmp_path / "users", maps_dir=tmp_path / "maps",
-        classroom_file=tmp_path / "classroom" / "classroom.json", proxy_command=("/bin/chp",),
-    )  # fmt: skip
+        users=("ana", "ben"),
+        password=PASSWORD,
+        ip="127.0.0.1",
+        port=8000,
+        hub_port=8081,
+        proxy_api_port=8001,
+        state_dir=tmp_path / "hub",
+        users_dir=tmp_path / "users",
+        maps_dir=tmp_path / "maps",
+        classroom_file=tmp_path / "classroom" / "classroom.json",
+        proxy_command=("/bin/chp",),
+    )
     values.update(kw)
     return HubPlan(**values)
 
@@ -115,10 +123,29 @@ def test_a_students_home_gets_the_dashboard_and_keeps_their_edits(tmp_path: Path
 
 def test_pmk_hub_refuses_plain_http_beyond_loopback(tmp_path: Path) -> None:
     run = subprocess.run(
-        [sys.executable, "-m", "pmk_nb.cli", "hub", "--users", "ana", "--password", "x" * 20, "--ip", "0.0.0.0",
-         "--hub-dir", str(tmp_path), "--no-browser", "--port", str(free_port())],
-        capture_output=True, text=True, timeout=60, cwd=REPO, env=_env(),
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "pmk_nb.cli",
+            "hub",
+            "--users",
+            "ana",
+            "--password",
+            "x" * 20,
+            "--ip",
+            "0.0.0.0",
+            "--hub-dir",
+            str(tmp_path),
+            "--no-browser",
+            "--port",
+            str(free_port()),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        cwd=REPO,
+        env=_env(),
+    )
     assert run.returncode != 0 and "--insecure" in run.stderr, run.stderr
     assert not (tmp_path / "hub").exists()  # refused before anything was made
 
@@ -162,10 +189,27 @@ def running_hub(tmp_path: Path, users: str = "ana,ben") -> Iterator[tuple[str, s
     by the caller through the process).  Yields (base URL, the process, its output lines)."""
     port = free_port()
     hub = subprocess.Popen(
-        [sys.executable, "-m", "pmk_nb.cli", "hub", "--users", users, "--password", PASSWORD,
-         "--hub-dir", str(tmp_path), "--no-browser", "--port", str(port)],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=REPO, env=_env(),
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "pmk_nb.cli",
+            "hub",
+            "--users",
+            users,
+            "--password",
+            PASSWORD,
+            "--hub-dir",
+            str(tmp_path),
+            "--no-browser",
+            "--port",
+            str(port),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=REPO,
+        env=_env(),
+    )
     seen: list[str] = []
     try:
         assert hub.stdout is not None

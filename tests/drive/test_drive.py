@@ -105,8 +105,17 @@ class Page:
     def __init__(self, gate: DriveGate, name: str = "p1") -> None:
         self.gate, self.name, self.seq, self.press = gate, name, 0, 0
 
-    def send(self, now: float, *, held: bool = True, x: float = 0.0, y: float = 1.0, delay: float = 0.01,
-             hidden: bool = False, new_press: bool = False) -> None:  # fmt: skip
+    def send(
+        self,
+        now: float,
+        *,
+        held: bool = True,
+        x: float = 0.0,
+        y: float = 1.0,
+        delay: float = 0.01,
+        hidden: bool = False,
+        new_press: bool = False,
+    ) -> None:
         self.seq += 1
         self.press += int(new_press)
         event = StickEvent(self.name, self.seq, self.press, now - delay - 1000.0, x, y, held, hidden)

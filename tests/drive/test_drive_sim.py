@@ -174,8 +174,11 @@ def test_stop_on_another_page_stops_the_driving_page_and_holds_until_released_th
     try:
         keep_a(0.8, new_press=True)
         assert sim.velocity[0] == pytest.approx(0.5, abs=0.01)
-        b.feed(json.dumps({"page": "b", "seq": 1, "press": 1, "t": 0.0, "x": 0.0, "y": -1.0, "held": True,
-                           "hidden": False}))  # fmt: skip
+        b.feed(
+            json.dumps(
+                {"page": "b", "seq": 1, "press": 1, "t": 0.0, "x": 0.0, "y": -1.0, "held": True, "hidden": False}
+            )
+        )
         assert not b.driving and b.gate.last_stop is StopReason.OTHER_DRIVER
         stopped_at = time.monotonic()
         b.stop()

@@ -67,8 +67,12 @@ def test_route_goes_door_to_door_through_the_corridor(clinic: Path) -> None:
     rooms = load_rooms(clinic)
     route = plan_route(rooms, (5.0, 2.0), "Treatment room")
     assert [r.label for r in route.rooms] == [
-        "Waiting room", "Door Waiting room", "Corridor", "Door Treatment room", "Treatment room",
-    ]  # fmt: skip
+        "Waiting room",
+        "Door Waiting room",
+        "Corridor",
+        "Door Treatment room",
+        "Treatment room",
+    ]
     door1, door5 = route.points[1], route.points[2]
     assert math.dist(door1, (4.95, 6.0)) < 0.1 and math.dist(door5, (15.95, 9.0)) < 0.1
     gx, gy, yaw = route.goal

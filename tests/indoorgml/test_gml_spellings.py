@@ -42,8 +42,12 @@ def _wrap(geom: str, dim: str, spelling: str) -> str:
 
 def _plan(tmp_path: Path, geom: str, dim: str, spelling: str, boundaries: str = "") -> Path:
     v2 = spelling.startswith("2.0")
-    b = _wrap(f"<gml:Polygon><gml:exterior><gml:LinearRing><gml:posList>{_ring(5, 0, 10, 4)}</gml:posList>"
-              "</gml:LinearRing></gml:exterior></gml:Polygon>", "2D", spelling)  # fmt: skip
+    b = _wrap(
+        f"<gml:Polygon><gml:exterior><gml:LinearRing><gml:posList>{_ring(5, 0, 10, 4)}</gml:posList>"
+        "</gml:LinearRing></gml:exterior></gml:Polygon>",
+        "2D",
+        spelling,
+    )
     cells = (
         f'<cellSpaceMember><CellSpace gml:id="A">{_wrap(geom, dim, spelling)}</CellSpace></cellSpaceMember>'
         f'<cellSpaceMember><CellSpace gml:id="B">{b}</CellSpace></cellSpaceMember>'

@@ -40,8 +40,15 @@ def _respell(text: str, spelling: str) -> str:
     raise AssertionError(spelling)
 
 
-SPELLINGS = ["hash", "no-hash", "file-and-id", "xpointer", "connects-the-cell", "duality-on-the-cell",
-             "state-names-a-missing-cell"]  # fmt: skip
+SPELLINGS = [
+    "hash",
+    "no-hash",
+    "file-and-id",
+    "xpointer",
+    "connects-the-cell",
+    "duality-on-the-cell",
+    "state-names-a-missing-cell",
+]
 
 
 @V

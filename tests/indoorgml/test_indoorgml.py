@@ -14,46 +14,70 @@ DATA = INDOORGML_DATA
 # file -> unit, {storey: cell count}, (storey -> point inside a free cell, point outside all cells), doors
 EXPECTED: dict[str, dict] = {
     "pnu313_4F_2D_doors_subset.gml": {
-        "unit": "dm", "storeys": {"F1": 7}, "doors": 6,
-        "inside": {"F1": (19.94, 17.33)}, "outside": {"F1": (-1.5, -1.3)},
+        "unit": "dm",
+        "storeys": {"F1": 7},
+        "doors": 6,
+        "inside": {"F1": (19.94, 17.33)},
+        "outside": {"F1": (-1.5, -1.3)},
     },
     "pnu313_4F_2D_indoordistance.gml": {
-        "unit": "dm", "storeys": {"F1": 30}, "doors": 26,
-        "inside": {"F1": (3.23, 14.88)}, "outside": {"F1": (-1.6, -1.4)},
+        "unit": "dm",
+        "storeys": {"F1": 30},
+        "doors": 26,
+        "inside": {"F1": (3.23, 14.88)},
+        "outside": {"F1": (-1.6, -1.4)},
     },
     "fjk_haus_v1_0_nowrapper.gml": {
-        "unit": "m", "storeys": {"0": 6, "1": 4, "2": 4}, "doors": 0,
+        "unit": "m",
+        "storeys": {"0": 6, "1": 4, "2": 4},
+        "doors": 0,
         "inside": {"0": (445539.85, 5444906.80), "1": (445537.99, 5444906.62), "2": (445537.94, 5444907.22)},
         "outside": {s: (445532.4, 5444895.4) for s in "012"},
     },
     "fjk_haus_v1_0_3.gml": {
-        "unit": "m", "storeys": {"0": 6, "1": 4, "2": 4}, "doors": 0,
+        "unit": "m",
+        "storeys": {"0": 6, "1": 4, "2": 4},
+        "doors": 0,
         "inside": {"0": (445539.85, 5444906.80), "1": (445537.99, 5444906.62), "2": (445537.94, 5444907.22)},
         "outside": {s: (445532.4, 5444895.4) for s in "012"},
     },
     # FZK-Haus: z_min clusters {0, 0.8, 0.95} (ground floor, doors and windows) and
     # {2.5, 2.7, 3.51} (attic and its gable windows): a two-storey house.
     "fzk_haus_poslist.gml": {
-        "unit": "m", "storeys": {"0": 20, "1": 4}, "doors": 0,
-        "inside": {"0": (8.35, 2.15), "1": (6.0, 4.98)}, "outside": {"0": (-2.0, -2.0), "1": (-2.0, -2.0)},
+        "unit": "m",
+        "storeys": {"0": 20, "1": 4},
+        "doors": 0,
+        "inside": {"0": (8.35, 2.15), "1": (6.0, 4.98)},
+        "outside": {"0": (-2.0, -2.0), "1": (-2.0, -2.0)},
     },
     "pnu201_3floors_navi_corrected.gml": {
-        "unit": "m", "storeys": {"1": 28, "2": 31, "3": 21}, "doors": 92,
+        "unit": "m",
+        "storeys": {"1": 28, "2": 31, "3": 21},
+        "doors": 92,
         "inside": {"1": (199.97, 149.64), "2": (159.47, 220.77), "3": (159.55, 220.35)},
         "outside": {s: (105.0, 25.0) for s in "123"},
     },
     "pnu_abc_3floors_4layers.gml": {
-        "unit": "m", "storeys": {"F2": 4, "F3": 17, "F4": 15}, "doors": 39,
+        "unit": "m",
+        "storeys": {"F2": 4, "F3": 17, "F4": 15},
+        "doors": 39,
         "inside": {"F2": (84.84, 44.54), "F3": (84.85, 46.26), "F4": (84.91, 44.18)},
         "outside": {s: (24.0, 15.0) for s in ("F2", "F3", "F4")},
     },
     "ineditor_example2_5floors.gml": {
-        "unit": "m", "storeys": {"1": 2, "2": 3, "3": 3, "4": 3, "5": 3}, "doors": 17,
-        "inside": {"1": (36.81, 24.88), "2": (37.83, 24.90), "3": (58.59, 25.89), "4": (50.49, 32.46),
-                   "5": (58.36, 25.92)},
+        "unit": "m",
+        "storeys": {"1": 2, "2": 3, "3": 3, "4": 3, "5": 3},
+        "doors": 17,
+        "inside": {
+            "1": (36.81, 24.88),
+            "2": (37.83, 24.90),
+            "3": (58.59, 25.89),
+            "4": (50.49, 32.46),
+            "5": (58.36, 25.92),
+        },
         "outside": {s: (3.0, 4.0) for s in "12345"},
     },
-}  # fmt: skip
+}
 
 
 def test_every_shared_file_is_covered() -> None:

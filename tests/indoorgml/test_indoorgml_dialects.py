@@ -25,8 +25,9 @@ def _square(x: float, y: float, size: float, z: float | None = None) -> str:
     return " ".join(f"{a} {b} {z}" for a, b in pts)
 
 
-def _cell(cid: str, x: float, y: float, extra: str = "", tag: str = "CellSpace", z: float | None = None,
-          size: float = 5.0) -> str:  # fmt: skip
+def _cell(
+    cid: str, x: float, y: float, extra: str = "", tag: str = "CellSpace", z: float | None = None, size: float = 5.0
+) -> str:
     dim = "" if z is None else ' srsDimension="3"'
     return (
         f'<cellSpaceMember><{tag} gml:id="{cid}">{extra}<cellSpaceGeometry><Geometry2D><gml:Polygon>'
@@ -121,8 +122,10 @@ def test_polygon_with_hole(tmp_path: Path) -> None:
 def test_solid_footprint_and_vertical_door_boundary(tmp_path: Path) -> None:
     def face(pts: list[tuple[float, float, float]]) -> str:
         ring = " ".join(f"{x} {y} {z}" for x, y, z in [*pts, pts[0]])
-        return (f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension=\"3\">"
-                f"{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>")  # fmt: skip
+        return (
+            f'<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension="3">'
+            f"{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>"
+        )
 
     box = [face([(0, 0, 0), (0, 4, 0), (4, 4, 0), (4, 0, 0)]), face([(0, 0, 3), (4, 0, 3), (4, 4, 3), (0, 4, 3)])]
     box += [face([(0, 0, 0), (4, 0, 0), (4, 0, 3), (0, 0, 3)]), face([(4, 0, 0), (4, 4, 0), (4, 4, 3), (4, 0, 3)])]

@@ -14,8 +14,15 @@ from pmk_nb.indoorgml import CellKind, read_building, summarize
 SAMPLES = Path(__file__).resolve().parents[2] / "sample_maps"
 
 # room centres in metres (README.md table); all free, all on the single storey "0"
-ROOMS = {"COR": (15.0, 7.5), "R1": (5.0, 2.95), "R2": (15.0, 2.95), "R3": (25.0, 2.95),
-         "R4": (6.0, 12.05), "R5": (16.0, 12.05), "R6": (25.0, 12.05)}  # fmt: skip
+ROOMS = {
+    "COR": (15.0, 7.5),
+    "R1": (5.0, 2.95),
+    "R2": (15.0, 2.95),
+    "R3": (25.0, 2.95),
+    "R4": (6.0, 12.05),
+    "R5": (16.0, 12.05),
+    "R6": (25.0, 12.05),
+}
 
 
 @pytest.fixture(scope="module")

@@ -44,9 +44,14 @@ def _nodes(pairs: list[tuple[str, str]], cells: list[str], v2: bool) -> tuple[st
 
 
 def _layered_plan(
-    tmp_path: Path, *, v2: bool, zone_graph: bool, zone_words: str,
-    zones: tuple[str, list[str]] = (ZONES, ["W1", "W2"]), draft: bool = False,
-) -> Path:  # fmt: skip
+    tmp_path: Path,
+    *,
+    v2: bool,
+    zone_graph: bool,
+    zone_words: str,
+    zones: tuple[str, list[str]] = (ZONES, ["W1", "W2"]),
+    draft: bool = False,
+) -> Path:
     """Rooms A, B (joined by a transition) and two zone cells in a second layer: with its own graph
     (``zone_graph``) and words (1.x ``class``, 2.0 ``theme``; '' for none); ``zones``: other cells instead.
     2.0 as the final schema writes it (``layers/ThematicLayer/primalSpace``), or as the drafts did
@@ -55,6 +60,7 @@ def _layered_plan(
     room_nodes, room_edges = _nodes([("A", "B")], ["A", "B"], v2)
     zone_nodes, zone_edges = _nodes([tuple(zones[1][:2])] if zone_graph else [], zones[1], v2)
     if v2:
+
         def thematic(tid: str, theme: str, cells: str, nodes: str, edges: str) -> str:
             return (
                 f'<layers><ThematicLayer gml:id="{tid}"><semanticExtension>false</semanticExtension>'
@@ -70,6 +76,7 @@ def _layered_plan(
         ns = NS.replace("1.0/core", "2.0/core")
         text = f'<?xml version="1.0"?><IndoorFeatures {ns} gml:id="F">{body}</IndoorFeatures>'
     else:
+
         def layer(lid: str, words: str, nodes: str, edges: str) -> str:
             return (
                 f'<spaceLayerMember><SpaceLayer gml:id="{lid}">{f"<class>{words}</class>" if words else ""}'

@@ -150,8 +150,11 @@ def test_heights_say_metres_doors_say_centimetres_is_a_conflict(tmp_path: Path, 
     doors = "".join(_door(f"D{i}", (x, 3.5), (x + 90, 3.5)) for i, x in enumerate((1, 6)))
     doors += "".join(_door(f"E{i}", (x, 4.5), (x + 90, 4.5)) for i, x in enumerate((1, 6)))
     path = _house(tmp_path, "m", v2=v2, solid=True, faces=False)
-    path.write_text(path.read_text().replace("</PrimalSpaceFeatures>", f"{doors}</PrimalSpaceFeatures>")
-                    .replace("</PrimalSpaceLayer>", f"{doors}</PrimalSpaceLayer>"))  # fmt: skip
+    path.write_text(
+        path.read_text()
+        .replace("</PrimalSpaceFeatures>", f"{doors}</PrimalSpaceFeatures>")
+        .replace("</PrimalSpaceLayer>", f"{doors}</PrimalSpaceLayer>")
+    )
     b = read_building(path)
     assert b.unit == "m"
     assert "the door widths are 90 m in metres (0 of 4 fit): they say centimetres" in b.unit_conflict
@@ -202,8 +205,13 @@ def test_writer_outweighs_weak_evidence_and_a_disagreement_is_said() -> None:
 
 
 def test_strong_sizes_outweigh_a_named_writer_and_say_so() -> None:
-    ev = UnitEvidence(door_widths=[90.0] * 5, cell_heights=[250.0] * 4, room_areas=[2e5] * 4, extent=1000.0,
-                      exporter=("m", "written by a CityGML converter"))  # fmt: skip
+    ev = UnitEvidence(
+        door_widths=[90.0] * 5,
+        cell_heights=[250.0] * 4,
+        room_areas=[2e5] * 4,
+        extent=1000.0,
+        exporter=("m", "written by a CityGML converter"),
+    )
     choice = choose_unit(alma=False, alma_why="", evidence=ev)
     assert choice.unit == "cm" and "score 8.0, next metres 6.0" in choice.reason
     assert "the file is written by a CityGML converter, which means metres" in choice.conflict
@@ -247,9 +255,12 @@ def test_a_plausible_building_is_read_back_in_its_unit(
         doors = [0.9]
     k, k2 = _k(unit), _k(unit) ** 2
     ev = UnitEvidence(
-        door_widths=[d * k for d in doors], cell_heights=[h * k for h in heights], room_areas=[a * k2 for a in areas],
-        stair_risers=[r * k for r in risers], extent=extent * k,
-    )  # fmt: skip
+        door_widths=[d * k for d in doors],
+        cell_heights=[h * k for h in heights],
+        room_areas=[a * k2 for a in areas],
+        stair_risers=[r * k for r in risers],
+        extent=extent * k,
+    )
     choice = choose_unit(alma=False, alma_why="", evidence=ev)
     assert choice.unit == unit and choice.conflict == "" and choice.suspect is None
 
@@ -284,8 +295,10 @@ def test_a_random_plan_is_read_back_in_its_unit(
 @SPELLINGS
 def test_check_names_the_unit_before_any_door(tmp_path: Path, v2: bool, capsys: pytest.CaptureFixture[str]) -> None:
     path = _house(tmp_path, "m", v2=v2, solid=True, faces=False)
-    doors = "".join(_door(f"D{i}", (HOUSE[c][0] + 2, 3.5 if c in "AB" else 4.5),
-                          (HOUSE[c][0] + 2.9, 3.5 if c in "AB" else 4.5)) for i, c in enumerate("ABCD"))  # fmt: skip
+    doors = "".join(
+        _door(f"D{i}", (HOUSE[c][0] + 2, 3.5 if c in "AB" else 4.5), (HOUSE[c][0] + 2.9, 3.5 if c in "AB" else 4.5))
+        for i, c in enumerate("ABCD")
+    )
     layer = "PrimalSpaceLayer" if v2 else "PrimalSpaceFeatures"
     path.write_text(path.read_text().replace(f"</{layer}>", f"{doors}</{layer}>"))
     assert main(["check", str(path), "--unit", "cm", "-r", "0.01"]) == 1

@@ -30,9 +30,7 @@ NS = 'xmlns="http://www.opengis.net/indoorgml/1.0/core"'
 
 def laughs(levels: int) -> bytes:
     """Billion laughs: each entity is ten of the previous one (10**levels "lol"s when expanded)."""
-    decls = ['<!ENTITY lol0 "lol">'] + [
-        f'<!ENTITY lol{i} "{f"&lol{i - 1};" * 10}">' for i in range(1, levels + 1)
-    ]
+    decls = ['<!ENTITY lol0 "lol">'] + [f'<!ENTITY lol{i} "{f"&lol{i - 1};" * 10}">' for i in range(1, levels + 1)]
     return f"<!DOCTYPE r [{''.join(decls)}]><r>&lol{levels};</r>".encode()
 
 
@@ -161,7 +159,7 @@ def test_the_rule_names_every_hostile_doctype(secret_file: Path, external_dtd: P
     for name, doc in hostile_documents(secret_file, external_dtd).items():
         root = parse_pull(doc)
         assert doctype_problem(root.getroottree().docinfo), name
-    plain = parse_pull(f'<!DOCTYPE IndoorFeatures><IndoorFeatures {NS}/>'.encode())
+    plain = parse_pull(f"<!DOCTYPE IndoorFeatures><IndoorFeatures {NS}/>".encode())
     assert doctype_problem(plain.getroottree().docinfo) is None
 
 

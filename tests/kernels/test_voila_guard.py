@@ -120,9 +120,12 @@ def _ws_status(url: str, *, host: str | None = None, origin: str | None = None, 
     headers = {"Host": host} if host else None
     try:
         with connect(
-            url, origin=origin, additional_headers=headers, subprotocols=[V1_PROTOCOL] if v1 else None,  # type: ignore[arg-type]
+            url,
+            origin=origin,
+            additional_headers=headers,
+            subprotocols=[V1_PROTOCOL] if v1 else None,  # type: ignore[arg-type]
             open_timeout=60,
-        ):  # fmt: skip
+        ):
             return 101
     except InvalidStatus as err:
         return err.response.status_code
@@ -170,8 +173,11 @@ def test_pmk_dashboard_kiosk_on_loopback_requires_the_printed_token(tmp_path: Pa
     port = free_port()
     served = subprocess.Popen(
         [sys.executable, "-m", "pmk_nb.cli", "dashboard", "--kiosk", "--port", str(port), "--no-browser"],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
-    )  # fmt: skip
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    )
     try:
         assert served.stdout is not None
         line = served.stdout.readline()

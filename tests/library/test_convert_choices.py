@@ -38,8 +38,11 @@ def _report(not_checked: list[dict[str, str]]) -> dict[str, object]:
 def test_choices_read_from_rooms_files_and_damaged_ones_ignored() -> None:
     good = {"choices": {"unit": "cm", "not_windows": ["W1", "hall door"]}}
     assert read_choices(good) == ConvertChoices("cm", ("W1", "hall door"))
-    damaged = [{"unit": "furlong", "not_windows": []}, {"unit": "m", "not_windows": "W1"},
-               {"unit": "m", "not_windows": [3]}]  # fmt: skip
+    damaged = [
+        {"unit": "furlong", "not_windows": []},
+        {"unit": "m", "not_windows": "W1"},
+        {"unit": "m", "not_windows": [3]},
+    ]
     for bad in [None, {}, {"choices": []}, *({"choices": c} for c in damaged)]:
         assert read_choices(bad) is None, bad
     assert last_choices([None, {"choices": {"unit": "x"}}, good]) == ConvertChoices("cm", ("W1", "hall door"))
@@ -64,8 +67,9 @@ def test_convert_records_the_choices_in_every_rooms_file_also_from_the_cli(tmp_p
     entry = maps.import_file(src, "balcony")
     [gm] = maps.convert(entry.name, 0.05, unit="m", not_windows=[WINDOW])
     assert json.loads(sidecar_path(gm.yaml).read_text(encoding="utf-8"))["choices"] == {
-        "unit": "m", "not_windows": [WINDOW],
-    }  # fmt: skip
+        "unit": "m",
+        "not_windows": [WINDOW],
+    }
     out = tmp_path / "cli"
     assert main(["convert", str(src), "-r", "0.05", "--out", str(out), "--no-progress", "--unit", "dm"]) == 0
     [yaml] = out.glob("*.yaml")

@@ -244,8 +244,12 @@ def test_convert_one_storey_writes_the_original_file_set(folder: MapsFolder, gml
     steps: list[Progress] = []
     [gm] = folder.convert("clinic", 0.05, progress=steps.append)
     assert sorted(snapshot(folder.root)) == [
-        "clinic-visualization.png", "clinic.gml", "clinic.pgm", "clinic.rooms.json", "clinic.yaml",
-    ]  # fmt: skip
+        "clinic-visualization.png",
+        "clinic.gml",
+        "clinic.pgm",
+        "clinic.rooms.json",
+        "clinic.yaml",
+    ]
     assert gm.yaml == folder.root / "clinic.yaml" and gm.storey == "F1" and gm.resolution == 0.05
     grid = read_map(gm.yaml)
     assert grid.meta["map"] == "clinic" and grid.meta["source"] == "clinic.gml"

@@ -67,8 +67,9 @@ def test_cache_is_invalidated_when_the_file_changes(folder: MapsFolder) -> None:
     assert folder.cached_storeys("clinic_two_storeys") is None
     assert len(folder.storeys("clinic_two_storeys")) == 2
     assert folder.storey_reads == 2
-    folder.import_file(_write(folder.root.parent / "three.gml", two_rooms(("A", "B", "C"))),
-                       name="clinic_two_storeys", overwrite=True)  # fmt: skip
+    folder.import_file(
+        _write(folder.root.parent / "three.gml", two_rooms(("A", "B", "C"))), name="clinic_two_storeys", overwrite=True
+    )
     assert [s.name for s in folder.storeys("clinic_two_storeys")] == ["A", "B", "C"]
     assert folder.storey_reads == 3
 

@@ -27,17 +27,40 @@ DEPLOY = ROOT / "deploy"
 #: ``jupyterhub/values.schema.yaml`` (zero-to-jupyterhub-k8s, commit 48ea50e3, chart appVersion 5.5.0).
 #: Below ``hub.config`` the chart passes traitlets configuration through (checked against JupyterHub
 #: itself below); below ``singleuser.extraEnv`` any variable name goes.
-CHART_KEYS = frozenset({
-    "hub", "hub.config",
-    "singleuser", "singleuser.image", "singleuser.image.name", "singleuser.image.tag",
-    "singleuser.image.pullPolicy", "singleuser.defaultUrl", "singleuser.extraEnv",
-    "singleuser.cpu", "singleuser.cpu.limit", "singleuser.cpu.guarantee",
-    "singleuser.memory", "singleuser.memory.limit", "singleuser.memory.guarantee",
-    "singleuser.startTimeout", "singleuser.storage", "singleuser.storage.capacity",
-    "cull", "cull.enabled", "cull.timeout", "cull.every", "cull.maxAge", "cull.users",
-    "scheduling", "scheduling.userScheduler", "scheduling.userScheduler.enabled",
-    "prePuller", "prePuller.hook", "prePuller.hook.enabled",
-})  # fmt: skip
+CHART_KEYS = frozenset(
+    {
+        "hub",
+        "hub.config",
+        "singleuser",
+        "singleuser.image",
+        "singleuser.image.name",
+        "singleuser.image.tag",
+        "singleuser.image.pullPolicy",
+        "singleuser.defaultUrl",
+        "singleuser.extraEnv",
+        "singleuser.cpu",
+        "singleuser.cpu.limit",
+        "singleuser.cpu.guarantee",
+        "singleuser.memory",
+        "singleuser.memory.limit",
+        "singleuser.memory.guarantee",
+        "singleuser.startTimeout",
+        "singleuser.storage",
+        "singleuser.storage.capacity",
+        "cull",
+        "cull.enabled",
+        "cull.timeout",
+        "cull.every",
+        "cull.maxAge",
+        "cull.users",
+        "scheduling",
+        "scheduling.userScheduler",
+        "scheduling.userScheduler.enabled",
+        "prePuller",
+        "prePuller.hook",
+        "prePuller.hook.enabled",
+    }
+)
 PASS_THROUGH = ("hub.config.", "singleuser.extraEnv.")
 MIB = {"K": 1e3 / 2**20, "M": 1e6 / 2**20, "G": 1e9 / 2**20, "Ki": 1 / 1024, "Mi": 1.0, "Gi": 1024.0}
 
@@ -88,8 +111,12 @@ def test_hub_config_names_real_jupyterhub_traits() -> None:
     from jupyterhub.spawner import Spawner
 
     # KubeSpawner is not installed here: the traits set on it must be the base Spawner's
-    classes = {"JupyterHub": JupyterHub, "Authenticator": Authenticator,
-               "SharedPasswordAuthenticator": SharedPasswordAuthenticator, "KubeSpawner": Spawner}  # fmt: skip
+    classes = {
+        "JupyterHub": JupyterHub,
+        "Authenticator": Authenticator,
+        "SharedPasswordAuthenticator": SharedPasswordAuthenticator,
+        "KubeSpawner": Spawner,
+    }
     config = _values()["hub"]["config"]
     for name, traits in config.items():
         assert name in classes, f"hub.config.{name}: not a class checked here"
@@ -133,8 +160,12 @@ def test_the_image_entry_point_prepares_the_class_and_runs_its_arguments(tmp_pat
     env = {**os.environ, "HOME": str(tmp_path), "PMK_MAX_CHAIRS": "3", "PYTHONPATH": str(ROOT)}
     out = subprocess.run(
         [sys.executable, str(DEPLOY / "pmk-class-start.py"), sys.executable, "-c", probe],
-        env=env, capture_output=True, text=True, timeout=300, check=True,
-    )  # fmt: skip
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+    )
     seen = json.loads(out.stdout.strip().splitlines()[-1])
     settings = json.loads(Path(seen["PMK_CLASSROOM"]).read_text(encoding="utf-8"))
     assert settings["max_chairs"] == 3

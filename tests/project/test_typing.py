@@ -17,10 +17,19 @@ ROOT = Path(__file__).resolve().parents[2]
 STRICT_PACKAGES = ("indoorgml", "raster", "rosmap", "access", "viewport", "drive", "guide", "speech")
 # what --strict turns on per module (mypy 2.4); warn_unused_configs and warn_redundant_casts are global
 STRICT_FLAGS = (
-    "disallow_any_generics", "disallow_subclassing_any", "disallow_untyped_calls", "disallow_untyped_defs",
-    "disallow_incomplete_defs", "check_untyped_defs", "disallow_untyped_decorators", "warn_return_any",
-    "no_implicit_reexport", "strict_equality", "extra_checks", "warn_unused_ignores",
-)  # fmt: skip
+    "disallow_any_generics",
+    "disallow_subclassing_any",
+    "disallow_untyped_calls",
+    "disallow_untyped_defs",
+    "disallow_incomplete_defs",
+    "check_untyped_defs",
+    "disallow_untyped_decorators",
+    "warn_return_any",
+    "no_implicit_reexport",
+    "strict_equality",
+    "extra_checks",
+    "warn_unused_ignores",
+)
 
 
 def test_strict_packages_match_the_config() -> None:

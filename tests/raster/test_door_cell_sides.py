@@ -22,9 +22,11 @@ SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transit
 # room A, a 0.3 m deep door cell D 0.15 m from A, room B 0.13 m beyond D (walls modelled as gaps);
 # C above both, linked to B, so that B is in the graph too
 CELLS = (
-    _cell("A", (0, 0, 5, 4)) + _cell("D", (5.15, 1, 5.45, 2.1), "navi:ConnectionSpace")
-    + _cell("B", (5.58, 0, 10, 4)) + _cell("C", (0, 4.2, 10, 8))
-)  # fmt: skip
+    _cell("A", (0, 0, 5, 4))
+    + _cell("D", (5.15, 1, 5.45, 2.1), "navi:ConnectionSpace")
+    + _cell("B", (5.58, 0, 10, 4))
+    + _cell("C", (0, 4.2, 10, 8))
+)
 GAP_TO_B = (5.515, 1.55)  # the middle of the gap between D and B, on the passage's line
 
 

@@ -192,8 +192,10 @@ def test_run_labels_and_erosion_match_a_pixel_by_pixel_reference() -> None:
             for x in range(w):
                 ref[y, x] = all(
                     0 <= y + dy < h and 0 <= x + dx < w and mask[y + dy, x + dx]
-                    for dy in range(-r, r + 1) for dx in range(-r, r + 1) if dx * dx + dy * dy <= radius * radius
-                )  # fmt: skip
+                    for dy in range(-r, r + 1)
+                    for dx in range(-r, r + 1)
+                    if dx * dx + dy * dy <= radius * radius
+                )
         assert np.array_equal(erode(mask, radius), ref)
 
 

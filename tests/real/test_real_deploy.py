@@ -155,11 +155,27 @@ def test_cli_chair_test_and_send_with_a_4000_map_live_and_no_rosapi(
     chair.start_map_server("live")
     chair.wait_service(*INFO)
     added = _pmk(
-        tmp_path, "chair", "add", "real", "--host", "127.0.0.1", "--port", str(chair.port),
-        "--ssh-user", sshd_server.user, "--ssh-port", str(sshd_server.port), "--auth", "key",
-        "--key-file", str(sshd_server.client_key), "--remote-maps-dir", remote_maps_dir,
-        "--known-hosts", str(tmp_path / "known_hosts"),
-    )  # fmt: skip
+        tmp_path,
+        "chair",
+        "add",
+        "real",
+        "--host",
+        "127.0.0.1",
+        "--port",
+        str(chair.port),
+        "--ssh-user",
+        sshd_server.user,
+        "--ssh-port",
+        str(sshd_server.port),
+        "--auth",
+        "key",
+        "--key-file",
+        str(sshd_server.client_key),
+        "--remote-maps-dir",
+        remote_maps_dir,
+        "--known-hosts",
+        str(tmp_path / "known_hosts"),
+    )
     assert added.returncode == 0, added.stderr
     tested = _pmk(tmp_path, "chair", "test", "--no-ssh")
     assert tested.returncode == 0, tested.stdout + tested.stderr

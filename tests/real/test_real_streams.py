@@ -182,8 +182,13 @@ def wall_fraction(chair: RealChair, origin: tuple[float, float, float], scan) ->
 def test_rays_start_at_the_laser_mount_from_tf_static(chair: RealChair, link: ChairLink, mount: tuple) -> None:
     """Fault 8: with odometry as the pose source, /tf_static still places the laser on the chair."""
     # the scan can arrive before the first odometry message: wait for both
-    wait_until(lambda: link.latest_scan() is not None and link.latest_scan().mount != (0, 0, 0)
-               and link.latest_odom() is not None, 20, "the mount and odometry")  # fmt: skip
+    wait_until(
+        lambda: (
+            link.latest_scan() is not None and link.latest_scan().mount != (0, 0, 0) and link.latest_odom() is not None
+        ),
+        20,
+        "the mount and odometry",
+    )
     scan, odom = link.latest_scan(), link.latest_odom()
     assert scan is not None and odom is not None and scan.frame == "laser"
     assert scan.mount == pytest.approx(mount, abs=1e-3)

@@ -40,8 +40,9 @@ def bomb(tmp_path_factory: pytest.TempPathFactory) -> bytes:
 
 def _yaml(folder: Path, name: str, image: str) -> Path:
     path = folder / f"{name}.yaml"
-    path.write_text(f"image: {image}\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\n"
-                    "occupied_thresh: 0.65\nfree_thresh: 0.196\n")  # fmt: skip
+    path.write_text(
+        f"image: {image}\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    )
     return path
 
 

@@ -96,9 +96,13 @@ def test_link_factory_runs_on_its_own_loop_only() -> None:
     try:
         assert thread.name == "pmk-seam-test" and thread.is_alive()
         factory = LinkFactory(
-            LinkFactory.create_url("127.0.0.1", 9), manager, initial_delay=0.5, max_delay=3.0, ping_interval=2.0,
+            LinkFactory.create_url("127.0.0.1", 9),
+            manager,
+            initial_delay=0.5,
+            max_delay=3.0,
+            ping_interval=2.0,
             ping_timeout=2.0,
-        )  # fmt: skip
+        )
         assert factory.manager is manager and factory.loop is manager.loop
         assert factory._reconnect_delay == 0.5 and factory.maxDelay == 3.0  # our backoff, not roslibpy's hour
         assert factory._stop is False

@@ -94,9 +94,19 @@ def node_client() -> Path:
 
 def run_client(script: Path, sim: SimChair, missing_map: Path) -> dict[str, Any]:
     cmd = [
-        shutil.which("node") or "node", str(script), "--url", sim.url, "--flavour", sim.ros,
-        "--seconds", str(WINDOW_S), "--missing-map", str(missing_map), "--timeout", "5",
-    ]  # fmt: skip
+        shutil.which("node") or "node",
+        str(script),
+        "--url",
+        sim.url,
+        "--flavour",
+        sim.ros,
+        "--seconds",
+        str(WINDOW_S),
+        "--missing-map",
+        str(missing_map),
+        "--timeout",
+        "5",
+    ]
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
     lines = done.stdout.strip().splitlines()
     assert lines, f"roslib_client.mjs printed nothing (exit {done.returncode}):\n{done.stderr[-2000:]}"

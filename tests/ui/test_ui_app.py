@@ -284,8 +284,11 @@ def test_pmk_dashboard_serves_and_stops(tmp_path: Path) -> None:
     env = {**os.environ, "PMK_MAPS_DIR": str(tmp_path / "m"), "PMK_CONFIG_DIR": str(tmp_path / "c")}
     proc = subprocess.Popen(
         [sys.executable, "-m", "pmk_nb.cli", "dashboard", "--port", str(port), "--no-browser"],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-    )  # fmt: skip
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     try:
         wait_for_port("127.0.0.1", port, proc, "pmk dashboard", 120)
         with urllib.request.urlopen(f"http://127.0.0.1:{port}/", timeout=120) as resp:

@@ -106,8 +106,16 @@ def test_laser_line_says_blind_ahead_and_touching() -> None:
     from pmk_nb.ui.home_info import laser_text
 
     def scan(raw: list) -> object:
-        return parse_scan({"ranges": raw, "angle_min": -math.radians(135), "angle_increment": math.radians(1),
-                           "range_min": 0.1, "range_max": 30.0}, received=0.0)  # fmt: skip
+        return parse_scan(
+            {
+                "ranges": raw,
+                "angle_min": -math.radians(135),
+                "angle_increment": math.radians(1),
+                "range_min": 0.1,
+                "range_max": 30.0,
+            },
+            received=0.0,
+        )
 
     clear = [2.0] * 271
     assert laser_text(scan(clear)) == "Laser: 271 rays, 0 unknown"

@@ -147,8 +147,14 @@ def test_every_action_of_a_locked_screen_refuses_by_itself(
     send.click()
     with pytest.raises(KioskLocked):
         maps.send(gm)
-    forged = UnknownHostKey("first key", host="127.0.0.1", key_type="ssh-ed25519", fingerprint="SHA256:x",
-                            key_base64="AAAA", known_hosts=str(cfg / "known_hosts"))  # fmt: skip
+    forged = UnknownHostKey(
+        "first key",
+        host="127.0.0.1",
+        key_type="ssh-ed25519",
+        fingerprint="SHA256:x",
+        key_base64="AAAA",
+        known_hosts=str(cfg / "known_hosts"),
+    )
     with pytest.raises(KioskLocked):  # "Trust and send" writes known_hosts
         maps.host_key._trust(forged, lambda: maps.send(gm))
     maps._pending_send, maps.password.value = gm, "hunter2"
@@ -156,8 +162,15 @@ def test_every_action_of_a_locked_screen_refuses_by_itself(
     maps.import_confirm.ask("replace?", lambda: maps.import_bytes("house.gml", two_rooms(("F1",), width=9.0)))
     maps.import_confirm.yes.click()
     evil = two_rooms(("F1",), width=7.0)
-    maps.upload.value = ({"name": "evil.gml", "type": "", "size": len(evil), "content": memoryview(evil),
-                          "last_modified": dt.datetime(2026, 1, 1, tzinfo=dt.UTC)},)  # fmt: skip
+    maps.upload.value = (
+        {
+            "name": "evil.gml",
+            "type": "",
+            "size": len(evil),
+            "content": memoryview(evil),
+            "last_modified": dt.datetime(2026, 1, 1, tzinfo=dt.UTC),
+        },
+    )
     maps.downloader.url.value, maps.downloader.name.value = "http://127.0.0.1:9/x.gml", "fetched"
     maps.downloader.button.click()
 

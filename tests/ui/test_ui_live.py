@@ -152,8 +152,16 @@ def test_blind_rays_are_ticks_at_the_chair_never_free_rays() -> None:
     view.set_map(sample_grid())
     vp = view.viewport
     raw = [1.5] * 90 + [None] * 60 + [float("inf")] * 30 + [1.5] * 180
-    scan = parse_scan({"ranges": raw, "angle_min": -math.pi, "angle_increment": 2 * math.pi / 360,
-                       "range_min": 0.1, "range_max": 30.0}, received=time.monotonic())  # fmt: skip
+    scan = parse_scan(
+        {
+            "ranges": raw,
+            "angle_min": -math.pi,
+            "angle_increment": 2 * math.pi / 360,
+            "range_min": 0.1,
+            "range_max": 30.0,
+        },
+        received=time.monotonic(),
+    )
     strokes: list[tuple[str, np.ndarray]] = []
 
     class Layer:

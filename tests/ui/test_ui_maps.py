@@ -54,9 +54,14 @@ def test_resolution_rejects(raw: str) -> None:
 def test_upload_lists_and_selects_the_map(screen: MapsScreen, ctx: AppContext) -> None:
     data = two_rooms(("F1", "F2"))
     screen.upload.value = (
-        {"name": "house.gml", "type": "application/gml+xml", "size": len(data), "content": memoryview(data),
-         "last_modified": NOW},
-    )  # fmt: skip
+        {
+            "name": "house.gml",
+            "type": "application/gml+xml",
+            "size": len(data),
+            "content": memoryview(data),
+            "last_modified": NOW,
+        },
+    )
     assert screen.upload.value == ()  # reset so the same file can be chosen again
     assert (ctx.maps.root / "house.gml").read_bytes() == data
     assert screen.map_list.value == "house"

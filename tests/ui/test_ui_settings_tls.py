@@ -68,6 +68,7 @@ def test_trusting_a_certificate_needs_the_kiosk_pin(ctx: AppContext, monkeypatch
     unknown = UnknownChairCertificate(
         "first", host="127.0.0.1", port=9, presented="AB:" * 31 + "AB", known_certs=str(ctx.config_dir / "kc")
     )
+
     def locked(action: str) -> None:
         raise KioskLocked("locked", action=action)
 

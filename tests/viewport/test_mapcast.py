@@ -28,8 +28,16 @@ def corridor(length_m: float, *, end_wall_at: float | None = None) -> OccupancyG
 
 
 def scan(raw: list, range_max: float = 8.0) -> object:
-    return parse_scan({"ranges": raw, "angle_min": -math.radians(135), "angle_increment": math.radians(1),
-                       "range_min": 0.1, "range_max": range_max}, received=0.0)  # fmt: skip
+    return parse_scan(
+        {
+            "ranges": raw,
+            "angle_min": -math.radians(135),
+            "angle_increment": math.radians(1),
+            "range_min": 0.1,
+            "range_max": range_max,
+        },
+        received=0.0,
+    )
 
 
 def test_first_obstacle_finds_walls_and_their_distance() -> None:

@@ -81,8 +81,11 @@ def check_peer(tls: ChairTls, host: str, port: int, der: bytes | None, *, presen
     if presented is None:
         raise ChairCertificateError(
             f"The chair at {host}:{port} presented no TLS certificate; refusing to connect.",
-            host=host, port=port, presented=None, known_certs=store,
-        )  # fmt: skip
+            host=host,
+            port=port,
+            presented=None,
+            known_certs=store,
+        )
     if tls.ca_file:
         return presented
     expected = pinned(tls, host, port)
@@ -92,16 +95,23 @@ def check_peer(tls: ChairTls, host: str, port: int, der: bytes | None, *, presen
             "trusted yet, nothing was sent. Compare it with the chair's (openssl x509 -noout -fingerprint -sha256 "
             "-in CERTFILE on the chair), then trust it in Settings (Test connection) or with `pmk chair test` "
             "in a terminal.",
-            host=host, port=port, presented=presented, known_certs=store,
-        )  # fmt: skip
+            host=host,
+            port=port,
+            presented=presented,
+            known_certs=store,
+        )
     if expected != presented:
         raise ChairCertificateChanged(
             f"The TLS certificate of the chair at {host}:{port} CHANGED (now SHA-256 {presented}, pinned "
             f"{expected}); refusing to connect: another machine may be answering for the chair. If the chair's "
             f"certificate was replaced on purpose, check the new fingerprint on the chair, delete the line "
             f"'{entry_name(host, port)}' from {store} and connect again to trust the new one.",
-            host=host, port=port, presented=presented, expected=expected, known_certs=store,
-        )  # fmt: skip
+            host=host,
+            port=port,
+            presented=presented,
+            expected=expected,
+            known_certs=store,
+        )
     return presented
 
 
@@ -114,8 +124,12 @@ def handshake_failure(tls: ChairTls, host: str, port: int, err: ssl.SSLError) ->
         f"The TLS certificate of the chair at {host}:{port} is not signed by the CA in {tls.ca_file} ({reason}); "
         "refusing to connect. Check the CA file in the chair profile, that the certificate names the address "
         "you connect to, and that it has not expired.",
-        host=host, port=port, presented=None, ca_file=str(tls.ca_file), reason=reason,
-    )  # fmt: skip
+        host=host,
+        port=port,
+        presented=None,
+        ca_file=str(tls.ca_file),
+        reason=reason,
+    )
 
 
 def trust_certificate(unknown: UnknownChairCertificate) -> None:

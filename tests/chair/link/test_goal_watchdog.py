@@ -86,9 +86,16 @@ def test_the_timeout_must_be_positive() -> None:
 
 @pytest.mark.parametrize(
     "text",
-    ["", "not json", "[]", '{"active": true}', '{"client": "", "active": true}', '{"client": "a", "active": "yes"}',
-     '{"client": "a", "active": true, "goals": "1"}'],
-)  # fmt: skip
+    [
+        "",
+        "not json",
+        "[]",
+        '{"active": true}',
+        '{"client": "", "active": true}',
+        '{"client": "a", "active": "yes"}',
+        '{"client": "a", "active": true, "goals": "1"}',
+    ],
+)
 def test_anything_but_a_beat_is_refused(text: str) -> None:
     assert Beat.decode(text) is None
 
