@@ -20,8 +20,8 @@ hub: $(STAMP) $(PROXY_STAMP)  ## JupyterHub for a class on this machine: make hu
 test: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) ros2 lint  ## install everything the tests need and run the whole suite
 	$(BIN)/python -m pytest $(XDIST) $(PYTEST_ARGS)
 
-check: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) lint  ## the fast tier: everything but browser, Voilà, notebook and real-stack tests
-	$(BIN)/python -m pytest -n 2 -m "not heavy" $(PYTEST_ARGS)
+check: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) lint  ## the fast loop: lint, then every test but heavy (browser, Voilà, kernels, real stacks) and slow ones
+	$(BIN)/python -m pytest -n 2 -m "not heavy and not slow" $(PYTEST_ARGS)
 
 lint: $(STAMP)  ## ruff, and mypy (strict on the pure core: [tool.mypy] in pyproject.toml)
 	$(BIN)/ruff check pmk_nb tests bench conftest.py sample_maps

@@ -14,6 +14,10 @@ the first worker an initial chunk of 297 tests holding every browser test (about
 one worker's queue, an idle worker steals the light tests from its tail instead. Browser tests
 still run one at a time (a lock per run, taken before the test's timeout starts): their timing
 goals (a stop within 0.5 s) are measured as they were, one browser and one Voilà at a time.
+
+``make check`` is the fast loop: it also leaves out tests marked ``slow`` (more than half a second on an
+idle machine: a simulated chair driving somewhere, a subprocess, a real-file sweep). So that the tier
+stays fast as tests are added, every run lists the unmarked tests that took more than a second.
 """
 
 from __future__ import annotations
@@ -28,6 +32,8 @@ import pytest
 pytest_plugins = ["tests.fixtures_sim", "tests.fixtures_ssh", "tests.fixtures_ui"]
 
 TESTS = Path(__file__).resolve().parent / "tests"
+UNMARKED_SLOW_S = 1.0
+unmarked_slow: dict[str, float] = {}
 HEAVY_FOLDERS = ("browser", "real", "kernels")
 
 
@@ -62,3 +68,21 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> 
             yield
         finally:
             fcntl.flock(f, fcntl.LOCK_UN)
+
+
+def pytest_runtest_logreport(report: pytest.TestReport) -> None:
+    """Adds up each unmarked test's setup, call and teardown (on the controller under xdist too)."""
+    if "slow" in report.keywords or "heavy" in report.keywords:
+        return
+    unmarked_slow[report.nodeid] = unmarked_slow.get(report.nodeid, 0.0) + report.duration
+
+
+def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
+    """Names the tests that belong in the slow tier (a report, not a failure: a loaded machine is slow)."""
+    found = sorted((t, nodeid) for nodeid, t in unmarked_slow.items() if t > UNMARKED_SLOW_S)
+    if found:
+        terminalreporter.write_sep(
+            "-", f"{len(found)} tests took over {UNMARKED_SLOW_S:.0f} s without @pytest.mark.slow"
+        )
+        for t, nodeid in reversed(found):
+            terminalreporter.write_line(f"{t:6.2f} s  {nodeid}")

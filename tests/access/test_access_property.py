@@ -135,6 +135,7 @@ def _assert_sound(yaml: Path, chair: float = CHAIR) -> tuple[int, int]:
     return passable, blocked
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(p.name for p in INDOORGML_DATA.glob("*.gml")))
 def test_every_passable_link_of_a_shared_file_is_open_on_the_written_map(tmp_path: Path, name: str) -> None:
     result = convert_plan(INDOORGML_DATA / name, tmp_path, "m", RES, ConvertOptions(preview=False))
@@ -193,6 +194,7 @@ def plans(draw: st.DrawFn) -> tuple[str, str, list[tuple[str, str]], dict[int, s
     return cells, bounds, pairs, lines
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(plan=plans(), v2=st.booleans())
 def test_every_passable_link_of_a_random_plan_is_open_on_the_written_map(

@@ -38,6 +38,7 @@ EXPECTED = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_transitions_passable_per_file(name: str) -> None:
     building = read_building(INDOORGML_DIR / name)
@@ -53,6 +54,7 @@ def test_transitions_passable_per_file(name: str) -> None:
         assert all(k.names[0] and k.names[1] for k in r.blocked)
 
 
+@pytest.mark.slow
 def test_pmk_check_exit_codes_and_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["check", str(INDOORGML_DIR / "fzk_haus_poslist.gml"), "--chair-width", "1.0"]) == 1
     out = capsys.readouterr().out  # the attic door (0.9 m) and the others for a 1.0 m chair
@@ -74,6 +76,7 @@ def test_pmk_check_exit_codes_and_json(tmp_path: Path, capsys: pytest.CaptureFix
     assert "chair width" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_pmk_check_a_written_map_uses_its_rooms_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     src = INDOORGML_DIR / "pnu_abc_3floors_4layers.gml"
     assert main(["convert", str(src), "-r", "0.05", "--out", str(tmp_path), "--no-progress"]) == 0

@@ -65,6 +65,7 @@ def _pmk(capsys: pytest.CaptureFixture[str], maps: Path, *argv: str) -> tuple[in
     return code, out, err
 
 
+@pytest.mark.slow
 def test_published_catalogue_is_valid_stac_and_pystac_reads_it_back(site: Site, tmp_path: Path) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", DeprecationWarning)

@@ -49,6 +49,7 @@ def _check_json(config: Path, *extra: str) -> dict:
     return json.loads(proc.stdout)
 
 
+@pytest.mark.slow
 def test_pmk_check_uses_the_saved_profile_width(tmp_path: Path) -> None:
     assert {s["chair_width"] for s in _check_json(tmp_path)["storeys"]} == {0.7}  # no profile yet
     ProfileStore(tmp_path / "profiles.json", secrets=False).save(ChairProfile("lab", "127.0.0.1", chair_width=1.2))

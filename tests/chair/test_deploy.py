@@ -147,6 +147,7 @@ class SplitLink:
         return self.publishes.map_info(timeout)
 
 
+@pytest.mark.slow
 def test_confirm_step_catches_a_map_that_did_not_change(
     sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
 ) -> None:
@@ -221,6 +222,7 @@ def test_lost_reload_answer_is_followed_by_a_check_of_the_map(
     assert (report.map_info.width, report.map_info.height) == (900, 900)
 
 
+@pytest.mark.slow
 def test_lost_reload_answer_does_not_claim_the_old_map_stays(
     sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
 ) -> None:

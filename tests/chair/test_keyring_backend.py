@@ -13,6 +13,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from pmk_nb.chair.secrets import PLAIN_FILE_BACKEND
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -47,6 +49,7 @@ def test_chosen_plain_file_keyring_stores_and_a_new_process_reads_back(tmp_path:
     assert stat.S_IMODE(ring.stat().st_mode) == 0o600
 
 
+@pytest.mark.slow
 def test_plain_file_keyring_is_never_used_unless_chosen(tmp_path: Path) -> None:
     stored = _run(tmp_path, "store", chosen=False)
     assert stored["persists"] is False and "--key auto" in str(stored["where"])

@@ -120,6 +120,7 @@ def test_unauthorised_key_names_the_key(sshd_server: SshdServer, tmp_path: Path,
         upload_map(make_map(tmp_path, "m"), profile)
 
 
+@pytest.mark.slow
 def test_refused_and_silent_ports(sshd_server: SshdServer, tmp_path: Path) -> None:
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
@@ -142,6 +143,7 @@ def test_permission_denied_on_remote_folder(sshd_server: SshdServer, tmp_path: P
     assert not Path("/etc/pmk-test-denied").exists()
 
 
+@pytest.mark.slow
 def test_cut_connection_leaves_previous_files_intact(
     sshd_server: SshdServer, tmp_path: Path, remote_maps_dir: str
 ) -> None:

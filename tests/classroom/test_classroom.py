@@ -132,6 +132,7 @@ def _yaw(link: Any) -> float:
     return float(odom.theta)
 
 
+@pytest.mark.slow
 def test_two_classroom_pages_have_their_own_chairs(classroom: Any) -> None:
     """Driving one page's chair leaves the other's still; the third page is refused; all end with their kernels."""
     from pmk_nb.chair.link.client import ChairLink
@@ -216,6 +217,7 @@ def test_a_classroom_page_draws_at_the_classroom_frame_cap_and_says_so(classroom
         ctx.close()
 
 
+@pytest.mark.slow
 def test_a_killed_kernels_page_folder_is_removed_by_the_next_seat(classroom: Any) -> None:
     pages = Path(classroom.settings.state_dir) / "pages"
     dead = subprocess.Popen(["true"])

@@ -71,6 +71,7 @@ def _pmk_on_a_terminal(cfg: Path, answer: str, *args: str) -> tuple[int, str]:
             proc.kill()
 
 
+@pytest.mark.slow
 def test_chair_test_over_wss_refuses_then_pins_the_given_fingerprint(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -148,6 +148,7 @@ def test_bad_files_exit_2_and_touch_nothing(
     assert snapshot(existing) == before
 
 
+@pytest.mark.slow
 def test_real_process_exit_code(tmp_path: Path) -> None:
     pmk = Path(sys.executable).parent / "pmk"
     cmd = [str(pmk)] if pmk.exists() else [sys.executable, "-m", "pmk_nb.cli"]

@@ -57,6 +57,7 @@ def test_every_command_and_option_has_help(capsys: pytest.CaptureFixture[str]) -
     assert all(help_text for _module, help_text in COMMANDS.values())
 
 
+@pytest.mark.slow
 def test_the_pin_is_stored_salted_and_hashed_and_checked(tmp_path: Path) -> None:
     now = [0.0]
     pins = PinStore(tmp_path, clock=lambda: now[0])

@@ -93,6 +93,7 @@ def test_import_refuses_html(capsys: pytest.CaptureFixture[str], maps: Path, tmp
     assert not maps.exists() or list(maps.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_download(capsys: pytest.CaptureFixture[str], maps: Path, web: str) -> None:
     code, _, err = pmk(capsys, maps, "download", f"{web}/map.gml", "remote")  # a loopback server: refused
     assert code == 2 and "127.0.0.1 is a loopback address" in err and "--allow-local" in err
@@ -147,6 +148,7 @@ def test_list_marks_broken_maps(capsys: pytest.CaptureFixture[str], maps: Path, 
     assert "broken" in out and "clinic_F1.yaml BROKEN (" in out
 
 
+@pytest.mark.slow
 def test_entry_point_runs_as_a_process(maps: Path, gml: Path) -> None:
     env_cmd = [sys.executable, "-m", "pmk_nb.cli", "maps", "--dir", str(maps)]
     done = subprocess.run([*env_cmd, "import", str(gml)], capture_output=True, text=True, timeout=60)

@@ -38,6 +38,7 @@ def test_a_child_that_dies_is_a_typed_error_with_its_exit_code() -> None:
     assert (err.what, err.host, err.port, err.returncode) == ("the dying child", "127.0.0.1", port, 3)
 
 
+@pytest.mark.slow
 def test_a_child_that_never_listens_times_out() -> None:
     port = free_port()
     proc = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])

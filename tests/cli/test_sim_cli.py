@@ -41,6 +41,7 @@ def start_cli(*args: str) -> tuple[subprocess.Popen[str], list[str]]:
     raise AssertionError("no ready line:\n" + "\n".join(lines))
 
 
+@pytest.mark.slow
 def test_cli_serves_and_stops_on_sigterm(tmp_path):
     yaml = write_test_map(room_grid(5.0, 4.0), tmp_path, "room")
     proc, lines = start_cli("--sftp-port", "0", "--map", str(yaml), "--maps-dir", str(tmp_path), "--ros", "ros2")
@@ -71,6 +72,7 @@ def test_cli_serves_and_stops_on_sigterm(tmp_path):
             proc.wait()
 
 
+@pytest.mark.slow
 def test_cli_sigint_and_sample_map():
     proc, lines = start_cli("--no-sftp")
     try:
@@ -127,6 +129,7 @@ def _stop(proc: subprocess.Popen[str]) -> None:
     assert proc.wait(timeout=10) == 0
 
 
+@pytest.mark.slow
 def test_cli_authorized_key_and_password_both_log_in(tmp_path):
     private, public, fingerprint = _user_key(tmp_path)
     proc, lines = start_cli("--sftp-port", "0", "--sftp-authorized-key", str(public), "--sftp-password", "pw-123")
@@ -149,6 +152,7 @@ def test_cli_authorized_key_and_password_both_log_in(tmp_path):
             proc.wait()
 
 
+@pytest.mark.slow
 def test_cli_no_sftp_password_is_key_only(tmp_path):
     private, public, _ = _user_key(tmp_path)
     (tmp_path / "other").mkdir()
@@ -170,6 +174,7 @@ def test_cli_no_sftp_password_is_key_only(tmp_path):
             proc.wait()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("extra", "needle"),
     [

@@ -38,6 +38,7 @@ def _literal_defaults(path: Path) -> list[str]:
     return found
 
 
+@pytest.mark.slow
 def test_defaults_are_not_repeated_as_literals() -> None:
     found = [
         hit

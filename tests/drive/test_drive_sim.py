@@ -57,6 +57,7 @@ def page_message(seq: int, press: int, t_ms: float, y: float = 1.0, held: bool =
     )
 
 
+@pytest.mark.slow
 def test_the_stick_drives_the_chair_and_release_stops_it_within_half_a_second(chair: Any) -> None:
     sim, link, wire = chair
     x0 = sim.pose[0]
@@ -84,6 +85,7 @@ def test_the_stick_drives_the_chair_and_release_stops_it_within_half_a_second(ch
     assert session.gate.last_stop is StopReason.RELEASED
 
 
+@pytest.mark.slow
 def test_missing_keepalives_stop_the_chair_by_the_dashboard_not_its_timeout(chair: Any) -> None:
     sim, link, wire = chair
     stops: list[StopReason] = []
@@ -101,6 +103,7 @@ def test_missing_keepalives_stop_the_chair_by_the_dashboard_not_its_timeout(chai
     assert len(zeros) == 1 and stops == [StopReason.KEEPALIVE]
 
 
+@pytest.mark.slow
 def test_a_stale_link_stops_with_one_zero(chair: Any) -> None:
     sim, link, wire = chair
     with DriveSession(link) as session:
@@ -120,6 +123,7 @@ def test_a_stale_link_stops_with_one_zero(chair: Any) -> None:
     assert all(m[0] < paused_at for m in sent[:-1])
 
 
+@pytest.mark.slow
 def test_drive_for_from_python_respects_the_limits_and_the_topic(chair: Any, ros_factory: Any) -> None:
     sim, link, wire = chair
     other = Wire(ros_factory(sim), "/wheelchair/cmd_vel")
@@ -145,6 +149,7 @@ def test_drive_for_from_python_respects_the_limits_and_the_topic(chair: Any, ros
     assert wait_until(lambda: len(other.got) >= 4, 1.0) and other.got[-1][1:] == (0.0, 0.0)
 
 
+@pytest.mark.slow
 def test_stop_on_another_page_stops_the_driving_page_and_holds_until_released_there(
     chair: Any, link_factory: Any, tmp_path: Any
 ) -> None:

@@ -51,6 +51,7 @@ def test_fzk_doorway_cells_are_not_destinations_and_every_room_is_reached(tmp_pa
     assert (ok, refused) == (len(rooms.destinations()) - 1, [])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["pnu201_3floors_navi_corrected.gml", "fjk_haus_v1_0_3.gml"])
 def test_real_plans_route_or_name_the_narrow_door(name: str, tmp_path: Path) -> None:
     total_ok = 0

@@ -73,6 +73,7 @@ def test_root_rules() -> None:
     assert not is_indoorgml_root("CityModel", "http://www.opengis.net/citygml/2.0")
 
 
+@pytest.mark.slow
 def test_large_file_is_checked_in_chunks(tmp_path: Path) -> None:
     # ~4 MiB, several read chunks: elements split across chunk borders must not confuse the check
     cell = b'<cellSpaceMember><CellSpace gml:id="C"><gml:name>room</gml:name></CellSpace></cellSpaceMember>'

@@ -237,6 +237,7 @@ def test_doors_that_fit_another_unit_are_a_doubt_and_doors_that_fit_none_are_not
     assert unit_suspect(UnitEvidence(door_widths=[40.0, 50.0]), "dm") is None  # 4-5 m, or 0.4-0.5 m: no unit fits
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(
     unit=st.sampled_from(list(UNIT_SCALE)),

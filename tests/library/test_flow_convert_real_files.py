@@ -102,6 +102,7 @@ def value(grid: Any, p: Point) -> int | None:
     return grid.value_at(p.x, p.y)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", FILES, ids=[p.name for p in FILES])
 def test_real_file_imports_and_converts(tmp_path: Path, path: Path) -> None:
     folder = MapsFolder(tmp_path / "ALMA_MAPS")

@@ -174,6 +174,7 @@ def test_overwrite_refused_before_downloading_and_accepted_with_flag(server: Ser
     assert (folder.root / "keep.yaml").read_text() == "image: keep.pgm\n"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("path", "kwargs", "message"),
     [
@@ -198,6 +199,7 @@ def test_download_failures_leave_folder_untouched(
         assert snapshot(folder.root) == before
 
 
+@pytest.mark.slow
 def test_overall_deadline_cuts_off_a_trickling_server(server: str, folder: MapsFolder) -> None:
     before = snapshot(folder.root)
     url = f"{server}/trickle.gml"

@@ -104,6 +104,7 @@ def test_every_deploy_yaml_parses_and_names_only_chart_keys() -> None:
         assert not unknown, f"{path.name}: keys the chart does not have: {unknown}"
 
 
+@pytest.mark.slow
 def test_hub_config_names_real_jupyterhub_traits() -> None:
     from jupyterhub.app import JupyterHub
     from jupyterhub.auth import Authenticator
@@ -152,6 +153,7 @@ def test_limits_hold_what_the_sizing_table_measured() -> None:
     assert float(single["cpu"]["limit"]) >= chairs * kernel_cpu + server_cpu
 
 
+@pytest.mark.slow
 def test_the_image_entry_point_prepares_the_class_and_runs_its_arguments(tmp_path: Path) -> None:
     dockerfile = (DEPLOY / "Dockerfile").read_text(encoding="utf-8")
     assert 'ENTRYPOINT ["/usr/local/bin/pmk-class-start"]' in dockerfile

@@ -83,6 +83,7 @@ def test_no_control_flow_on_error_text(path: Path) -> None:
     assert not hits, f"{_rel(path)} decides on the text of an error at lines {hits}: use the error's type or fields"
 
 
+@pytest.mark.slow
 def test_core_imports_no_widget_library() -> None:
     offenders = []
     for path in _modules():
@@ -156,6 +157,7 @@ def _package_of(path: Path) -> str:
     return rel.parts[0] if len(rel.parts) > 1 else rel.stem
 
 
+@pytest.mark.slow
 def test_imports_follow_the_data_flow() -> None:
     wrong = []
     for path in _modules():

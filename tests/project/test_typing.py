@@ -49,6 +49,7 @@ def test_strict_packages_match_the_config() -> None:
         assert (ROOT / "pmk_nb" / package / "__init__.py").is_file(), package
 
 
+@pytest.mark.slow
 def test_pure_core_is_strictly_typed(monkeypatch: pytest.MonkeyPatch) -> None:
     from mypy import api
 

@@ -142,6 +142,7 @@ def test_lane_across_a_gap_is_walled_along_its_sides(tmp_path: Path, v2: bool) -
 SHARED = sorted(glob.glob(str(INDOORGML_DATA / "*.gml"))) + sorted(glob.glob(str(REPO / "sample_maps" / "*.gml")))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", SHARED, ids=[Path(p).stem for p in SHARED])
 def test_shared_files_never_put_free_beside_unknown(path: str) -> None:
     """Before this rule: InEditor example 2 storey 1 had 265 such cells (a 13 m façade boundary), PNU 201
@@ -155,6 +156,7 @@ def test_shared_files_never_put_free_beside_unknown(path: str) -> None:
 _ROOM_BOX = st.tuples(st.integers(0, 3), st.integers(0, 2), st.integers(2, 4), st.integers(2, 3))
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(
     gaps=st.lists(st.sampled_from([0.0, 0.2, 0.8, 1.5]), min_size=2, max_size=2),
@@ -194,6 +196,7 @@ def test_random_plans_never_put_free_beside_unknown(
     assert _leaks(b, b.storeys[0].name, grid, near=0.3 + res) == 0
 
 
+@pytest.mark.slow
 def test_seal_is_the_plain_8_neighbour_rule_across_strips() -> None:
     """The strip-wise seal equals a whole-grid dilation, also where strips are one to three rows tall
     (rows wider than the 64 Ki-cell strip) and across the halo rows."""

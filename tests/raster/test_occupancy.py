@@ -29,6 +29,7 @@ def deep_inside(grid: OccupancyGrid, geom: Polygon, depth: float) -> np.ndarray:
 # --- raster primitives --------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::RuntimeWarning")  # GEOS distance to degenerate slivers
 @settings(max_examples=60, deadline=None)
 @given(
@@ -155,6 +156,7 @@ def _two_rooms(split: float, shift: float) -> tuple[Polygon, Polygon]:
     return box(shift, shift, shift + split, shift + 3), box(shift + split, shift, shift + 6, shift + 3)
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(**two_rooms_params)
 def test_shared_edge_without_door_separates(split: float, res: float, thick: float, shift: float) -> None:
@@ -170,6 +172,7 @@ def _door_region(grid: OccupancyGrid, x: float, y0: float, y1: float, reach: flo
     return cells_in(grid, box(x - reach, y0 - reach, x + reach, y1 + reach))
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(door_at=st.floats(0.6, 2.0), **two_rooms_params)
 def test_door_boundary_connects_only_through_the_door(

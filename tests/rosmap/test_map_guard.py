@@ -103,6 +103,7 @@ def _no_decoding(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(files, "decode_image", refuse)
 
 
+@pytest.mark.slow
 def test_a_png_bomb_is_refused_from_its_header(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, bomb: bytes) -> None:
     png = tmp_path / "bomb.png"
     png.write_bytes(bomb)
@@ -120,6 +121,7 @@ def test_a_png_bomb_is_refused_from_its_header(tmp_path: Path, monkeypatch: pyte
     assert "was decoded" in str(raised.value.__cause__)  # past the check, at the (stubbed) decoder
 
 
+@pytest.mark.slow
 def test_the_map_servers_refuse_a_png_bomb(
     sim_factory, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, bomb: bytes
 ) -> None:

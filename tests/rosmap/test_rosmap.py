@@ -356,6 +356,7 @@ def test_write_png_format(tmp_path: Path) -> None:
     np.testing.assert_array_equal(read_map(files.yaml, reader="nav2_jazzy").data, data)
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(
     data=st.integers(1, 25).flatmap(

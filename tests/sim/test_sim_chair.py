@@ -49,6 +49,7 @@ def drive_for(topic: roslibpy.Topic, v: float, seconds: float, w: float = 0.0) -
         time.sleep(0.1)
 
 
+@pytest.mark.slow
 def test_odometry_rate_and_frames(sim_chair, ros_factory):
     ros = ros_factory(sim_chair)
     odom = Collector()
@@ -104,6 +105,7 @@ def test_scan_no_return_and_blind_rays_are_null_like_a_real_bridge(sim_factory, 
     assert all(r is None for r in side[12:18]), "blind rays (NaN) are null on the wire"  # -100..-80 deg
 
 
+@pytest.mark.slow
 def test_cmd_vel_moves_and_times_out(sim_factory, ros_factory):
     sim = sim_factory(grid=room_grid(8.0, 4.0), start_pose=(1.0, 2.0, 0.0))
     ros = ros_factory(sim)
@@ -120,6 +122,7 @@ def test_cmd_vel_moves_and_times_out(sim_factory, ros_factory):
     assert sim.pose[0] == pytest.approx(x1, abs=1e-9), "chair kept moving after the command timeout"
 
 
+@pytest.mark.slow
 def test_collision_stops_at_wall(sim_factory, ros_factory):
     sim = sim_factory(grid=room_grid(6.0, 4.0, wall_x=3.0), start_pose=(1.5, 2.0, 0.0))
     ros = ros_factory(sim)
@@ -177,6 +180,7 @@ def test_manual_command_cancels_goal(sim_factory, ros_factory):
     assert wait_until(lambda: sim.goal_status == "cancelled", 3.0)
 
 
+@pytest.mark.slow
 def test_patrol_moves_on_its_own(sim_factory):
     sim = sim_factory(patrol=True, limits=DriveLimits(v_max=1.2))
     start = sim.pose
@@ -192,6 +196,7 @@ def test_tf_tree(sim_chair, ros_factory):
     assert pairs == {("map", "odom"), ("odom", "base_link")}
 
 
+@pytest.mark.slow
 def test_pause_resume_and_restart_same_port(sim_chair, ros_factory):
     ros = ros_factory(sim_chair)
     odom = Collector()

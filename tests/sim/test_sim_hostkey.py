@@ -10,6 +10,8 @@ import signal
 import stat
 from pathlib import Path
 
+import pytest
+
 from pmk_nb.sim.hostkey import KEY_FILE, load_host_key
 from tests.cli.test_sim_cli import start_cli
 
@@ -29,6 +31,7 @@ def _run_once(state: Path, maps: Path) -> str:
         assert proc.wait(timeout=20) == 0
 
 
+@pytest.mark.slow
 def test_restarted_sim_process_keeps_its_host_key(tmp_path: Path) -> None:
     state = tmp_path / "state"
     first = _run_once(state, tmp_path / "maps")

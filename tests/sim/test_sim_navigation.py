@@ -25,6 +25,7 @@ def _pose(x: float, y: float, stamp: dict[str, int] | None = None) -> dict:
     return {"header": header, "pose": {"position": {"x": x, "y": y, "z": 0.0}, "orientation": {"w": 1.0}}}
 
 
+@pytest.mark.slow
 def test_navigate_to_pose_feedback_and_result(sim_factory, ros_factory) -> None:
     sim = sim_factory(ros="ros2", start_pose=START)
     ros = ros_factory(sim)
@@ -63,6 +64,7 @@ def test_navigate_to_pose_feedback_and_result(sim_factory, ros_factory) -> None:
     assert [m["status_list"][-1]["status"] for m in statuses][:1] == [2]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bridge", BRIDGE_MODES)
 def test_cancel_is_handled_at_once_or_after_the_goal(sim_factory, ros_factory, bridge: str) -> None:
     """rs cancels at once; rosbridge_suite (goals not in new threads) handles the cancel only after
@@ -83,6 +85,7 @@ def test_cancel_is_handled_at_once_or_after_the_goal(sim_factory, ros_factory, b
         assert math.dist(sim.pose[:2], (4.0, 6.0)) < 0.2
 
 
+@pytest.mark.slow
 def test_through_poses_and_aborts_and_rejects(sim_factory, ros_factory) -> None:
     sim = sim_factory(ros="ros2", start_pose=START, bridge="rs")  # rs answers a rejected goal
     ros = ros_factory(sim)
@@ -107,6 +110,7 @@ def test_through_poses_and_aborts_and_rejects(sim_factory, ros_factory) -> None:
     assert any("outside the map" in note for note in sim.notes)
 
 
+@pytest.mark.slow
 def test_move_base_actionlib_goal_cancel_and_status(sim_factory, ros_factory) -> None:
     """ROS 1: rosbridge 0.11 has no action ops (issue 24, fact 4); move_base is actionlib topics."""
     sim = sim_factory(ros="ros1", start_pose=START)
@@ -135,6 +139,7 @@ def test_move_base_actionlib_goal_cancel_and_status(sim_factory, ros_factory) ->
     assert wait_until(lambda: sim.velocity == (0.0, 0.0), 0.5)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bridge", BRIDGE_MODES)
 def test_a_rejected_goal_is_answered_or_never(sim_factory, ros_factory, bridge: str) -> None:
     """rs answers ``result: false``; rosbridge_suite never answers, and the client's later ops wait
@@ -157,6 +162,7 @@ def test_a_rejected_goal_is_answered_or_never(sim_factory, ros_factory, bridge: 
     assert other.call(roslibpy.ServiceRequest({}), timeout=2)["time"]["sec"] > 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("bridge", BRIDGE_MODES)
 def test_action_op_errors_and_a_gone_client(sim_factory, ros_factory, bridge: str) -> None:
     """A client sends a goal and drops: rs cancels the gone client's goal; rosbridge_suite lets it
@@ -194,6 +200,7 @@ def test_action_op_errors_and_a_gone_client(sim_factory, ros_factory, bridge: st
         assert math.dist(sim.pose[:2], (target, 6.0)) < 0.2
 
 
+@pytest.mark.slow
 def test_patrol_waits_after_a_cancelled_goal(sim_factory, ros_factory) -> None:
     sim = sim_factory(ros="ros2", start_pose=START, patrol=True, bridge="rs")  # rs: the cancel acts at once
     ros = ros_factory(sim)

@@ -115,6 +115,7 @@ def test_latched_map_reaches_late_subscriber(sim_chair, ros_factory):
     assert meta[0]["resolution"] == pytest.approx(grid.resolution)
 
 
+@pytest.mark.slow
 def test_throttle_rate_limits_messages(sim_chair, ros_factory):
     ros = ros_factory(sim_chair)
     stamps: list[float] = []
@@ -130,6 +131,7 @@ def test_throttle_rate_limits_messages(sim_chair, ros_factory):
     assert min(gaps) > 0.15
 
 
+@pytest.mark.slow
 def test_queue_length_with_throttle_sends_buffered_messages(raw):
     send(raw, op="subscribe", id="q", topic="/odom", throttle_rate=100, queue_length=1)
     t0 = time.monotonic()
@@ -189,6 +191,7 @@ def test_client_to_client_topic_and_service(sim_chair, ros_factory):
     assert result["sum"] == 42
 
 
+@pytest.mark.slow
 def test_slow_client_does_not_block_others(sim_factory, ros_factory):
     sim = sim_factory(grid=room_grid(6.0, 4.0), scan_rate=40.0, rays=1080)
     # a client with a tiny receive buffer that subscribes to everything and never reads

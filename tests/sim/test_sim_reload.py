@@ -8,6 +8,7 @@ import threading
 import time
 
 import numpy as np
+import pytest
 import roslibpy
 from websockets.sync.client import connect
 
@@ -38,6 +39,7 @@ def recv_until(ws, predicate, timeout: float) -> dict:
             return json.loads(raw)
 
 
+@pytest.mark.slow
 def test_odometry_keeps_flowing_during_a_big_reload(sim_factory, ros_factory, tmp_path):
     grid = big_floor(BIG)
     sim = sim_factory(grid=room_grid(6.0, 4.0), start_pose=(2.0, 2.0, 0.0), odom_rate=50.0)

@@ -29,6 +29,8 @@ import pytest
 from pmk_nb.sim import SimChair
 from tests.fixtures_sim import wait_until
 
+pytestmark = pytest.mark.slow  # every test waits on a Node process running roslibjs
+
 JS_DIR = Path(__file__).parents[1] / "js"
 SCRIPT = JS_DIR / "roslib_client.mjs"
 WINDOW_S = 1.2  # how long the script listens to /odom and /scan

@@ -128,6 +128,7 @@ def _rows_live(panel: Any) -> bool:
     return all(s.connection == "live" and s.pose is not None for s in panel.statuses())
 
 
+@pytest.mark.slow
 def test_fleet_panel_three_chairs_switch_without_reconnecting(lab: tuple[Any, list[Any], AppContext]) -> None:
     screen, sims, ctx = lab
     assert screen.start_preview()

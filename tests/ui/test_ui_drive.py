@@ -76,6 +76,7 @@ def page(seq: int, press: int, held: bool = True, **kw: Any) -> str:
     return json.dumps({**msg, "held": held, "hidden": False, **kw})
 
 
+@pytest.mark.slow
 def test_drive_panel_drives_the_chair_through_its_channel(sim_factory: Any, link_factory: Any, tmp_path: Any) -> None:
     sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0))
     link = link_factory(sim)
@@ -115,6 +116,7 @@ def test_drive_panel_drives_the_chair_through_its_channel(sim_factory: Any, link
     assert panel.widget.layout.display == "none"
 
 
+@pytest.mark.slow
 def test_the_drive_toggle_shows_the_stick_only_when_asked_and_stops_when_switched_off(
     sim_factory: Any, link_factory: Any, tmp_path: Any
 ) -> None:
@@ -144,6 +146,7 @@ def test_the_drive_toggle_shows_the_stick_only_when_asked_and_stops_when_switche
     assert panel.toggle.value is False and panel.toggle.layout.display == "none" and panel.session is None
 
 
+@pytest.mark.slow
 def test_two_panels_one_driver_take_over_needs_two_taps_and_stop_holds_for_both(
     sim_factory: Any, link_factory: Any, tmp_path: Any
 ) -> None:

@@ -123,6 +123,7 @@ def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: s
     assert said[1:] == [("stop", "Stopped, goal cancelled.")]
 
 
+@pytest.mark.slow
 def test_the_panel_says_the_official_bridge_ignored_the_cancel(sim_factory, link_factory) -> None:
     """rosbridge_suite holds the cancel behind the goal: the panel says "cancel sent", then "cancel
     not honoured" (the chair still moves); the cancel sent again on a second connection stops it."""

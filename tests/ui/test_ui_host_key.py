@@ -11,6 +11,8 @@ import struct
 from pathlib import Path
 from typing import Any
 
+import pytest
+
 from pmk_nb.ui.context import AppContext
 from pmk_nb.ui.maps_screen import MapsScreen
 from tests.fixtures_ssh import SshdServer, profile_for
@@ -22,6 +24,7 @@ def _errors(ctx: AppContext) -> list[str]:
     return [n.message for n in ctx.notifications if n.level == "error"]
 
 
+@pytest.mark.slow
 def test_first_host_key_is_shown_and_confirmed_before_any_upload(
     ctx: AppContext, sim_factory: Any, sshd_server: SshdServer, remote_maps_dir: str, tmp_path: Path
 ) -> None:

@@ -247,6 +247,7 @@ def test_the_pin_lockout_is_the_kiosks_not_the_pages(tmp_path: Path) -> None:
     assert reloaded.check(PIN).ok
 
 
+@pytest.mark.slow
 def test_lockouts_in_a_row_double_up_to_a_cap(tmp_path: Path) -> None:
     """A script guessing on and on: 30 s, 60 s, 120 s ... at most MAX_LOCKOUT_S; the right PIN resets it."""
     now = [0.0]

@@ -450,6 +450,7 @@ def test_measured_hold_counts_real_payload_with_one_send_wrapper_installed_once(
 
 
 # -- render loop ---------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_render_loop_thread_mode_caps_the_rate_and_stops() -> None:
     calls: list[float] = []
     loop = RenderLoop(lambda: calls.append(time.monotonic()), fps=20)
@@ -494,6 +495,7 @@ def test_render_loop_survives_and_reports_failing_steps() -> None:
     assert len(errors) == 5 and str(errors[0]) == "boom"
 
 
+@pytest.mark.slow
 def test_live_view_loop_draws_at_most_fps(tmp_path: Path) -> None:
     view = LiveView(200, 150, fps=10)
     view.set_map(sample_grid())

@@ -276,6 +276,7 @@ def _closed_port() -> int:
         return s.getsockname()[1]
 
 
+@pytest.mark.slow
 def test_download_then_confirm_overwrite(screen: MapsScreen, ctx: AppContext, web: str) -> None:
     ctx.maps.allow_local = True  # the test server is on 127.0.0.1 (pmk dashboard --allow-local)
     screen.tabs.selected_index = 1
@@ -293,6 +294,7 @@ def test_download_then_confirm_overwrite(screen: MapsScreen, ctx: AppContext, we
     wait_until(lambda: (ctx.maps.root / "clinic.gml").read_bytes() != first, what="overwrite")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("path", "expect"),
     [("/page.gml", "IndoorGML"), ("/missing.gml", "404"), (None, "")],
@@ -309,6 +311,7 @@ def test_download_failures_are_explained(
     assert not ctx.maps.exists("bad")
 
 
+@pytest.mark.slow
 def test_a_loopback_download_is_refused_by_default(screen: MapsScreen, ctx: AppContext, web: str) -> None:
     """Issue 30 (SSRF): the page could make the kernel fetch a loopback or LAN address and show it."""
     screen.downloader.url.value, screen.downloader.name.value = f"{web}/house.gml", "inside"

@@ -87,6 +87,7 @@ def chair_only(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tupl
         ctx.close()
 
 
+@pytest.mark.slow
 def test_home_shows_the_chairs_own_map_when_nothing_was_sent(chair_only: Any, tmp_path: Path) -> None:
     from pmk_nb.rosmap.files import read_map, write_map
     from pmk_nb.ui.home import HomeScreen

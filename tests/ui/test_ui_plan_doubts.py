@@ -124,6 +124,7 @@ def test_a_one_layer_plan_offers_no_layer_choice(screen: MapsScreen, tmp_path: P
     assert "Before you convert" not in screen.storeys_panel.table.value
 
 
+@pytest.mark.slow
 def test_the_access_panel_names_the_unit_before_any_door_and_a_lost_graph(screen: MapsScreen, tmp_path: Path) -> None:
     _storeys_shown(screen, "house", cm_house(tmp_path).read_bytes())
     screen.choices.unit.value = "m"  # the user picks the wrong unit: a 1000 x 800 m plan, drawn coarse

@@ -40,6 +40,7 @@ def _subscribers(sim: Any, topic: str) -> int:
     return sum(len(sub.by_id) for sub in entry.subs.values()) if entry is not None else 0  # subscriber ids
 
 
+@pytest.mark.slow
 def test_plots_topics_and_the_planned_path(home: tuple[Any, Any]) -> None:
     screen, sim = home
     plots = screen.plots

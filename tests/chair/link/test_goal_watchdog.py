@@ -136,6 +136,7 @@ class Listener:
             return [b for at, b in self.beats if at >= t]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ros", ["ros2", "ros1"])  # Nav2 action; move_base actionlib (std_msgs/String per version)
 def test_beats_while_a_goal_runs_then_idle_then_silence(sim_factory, link_factory, ros_factory, ros: str) -> None:
     sim = sim_factory(ros=ros, start_pose=START)
@@ -161,6 +162,7 @@ def test_beats_while_a_goal_runs_then_idle_then_silence(sim_factory, link_factor
     assert not heartbeat.for_link(link).active
 
 
+@pytest.mark.slow
 def test_beats_stop_when_the_link_drops_and_the_watch_trips(sim_factory, ros_factory) -> None:
     """A tablet off the network (a frozen proxy: no FIN, no RST): the watchdog hears silence and trips."""
     from pmk_nb.chair.link.client import ChairLink
@@ -199,6 +201,7 @@ def test_beats_stop_when_the_link_drops_and_the_watch_trips(sim_factory, ros_fac
         proxy.close()
 
 
+@pytest.mark.slow
 def test_closing_the_link_mid_goal_stops_the_beats_without_idle(sim_factory, link_factory, ros_factory) -> None:
     """A dashboard that lets go of a running goal (its kernel closes the link) leaves nobody watching:
     no "idle" (that would disarm the watchdog), just silence."""

@@ -56,6 +56,7 @@ def test_connection_report_matches_the_published_map(sim_factory, links, ros: st
     assert link.map_info(timeout=3.0) == report.map_info
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ros", ROS_VERSIONS)
 def test_streams_flow_at_throttled_rates(sim_factory, links, ros: str) -> None:
     sim = sim_factory(ros=ros, odom_rate=50.0, scan_rate=20.0, rays=360, start_pose=(2.0, 1.5, 0.7))
@@ -126,6 +127,7 @@ def test_pose_from_a_pose_topic(sim_factory, links, ros_factory, ros: str, type_
     assert abs(got.theta) == pytest.approx(math.pi)
 
 
+@pytest.mark.slow
 def test_stale_when_the_chair_stops_publishing(sim_chair, links) -> None:
     link = links(sim_chair, stale_after=0.5)
     seen: list[LinkState] = []
@@ -156,6 +158,7 @@ def test_stale_when_the_chair_stops_publishing(sim_chair, links) -> None:
     assert len(seen) == count  # no callback after unsubscribing
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ros", ROS_VERSIONS)
 def test_reconnects_and_resubscribes_after_the_chair_restarts(sim_factory, links, ros: str) -> None:
     sim = sim_factory(ros=ros)
@@ -288,6 +291,7 @@ def test_map_info_falls_back_to_the_map_topic(sim_chair, links) -> None:
     assert (report.map_info.width, report.map_info.height) == (sim_chair.grid.width, sim_chair.grid.height)
 
 
+@pytest.mark.slow
 def test_connected_but_no_map(sim_chair, links) -> None:
     link = links(sim_chair, map_topic="/no_map", map_metadata_topic="/no_metadata")
     t0 = time.monotonic()

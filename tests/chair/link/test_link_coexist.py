@@ -104,6 +104,7 @@ print(json.dumps({"factory": factory.__name__, "link": result}))
 """
 
 
+@pytest.mark.slow
 def test_importing_the_link_keeps_a_process_that_chose_twisted_working(sim_chair: SimChair) -> None:
     out = _run_child(CHILD_TWISTED, sim_chair.port, ROSLIBPY_TRANSPORT="twisted")
     assert out["factory"] == "AutobahnRosBridgeClientFactory"
@@ -128,6 +129,7 @@ ros.close()
 """
 
 
+@pytest.mark.slow
 def test_plain_ros_created_after_import_uses_the_shared_transport(sim_chair: SimChair) -> None:
     out = _run_child(CHILD_DEFAULT, sim_chair.port)
     assert out["factory"] == "AsyncioRosBridgeClientFactory"

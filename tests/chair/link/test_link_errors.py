@@ -29,6 +29,7 @@ def frozen_link(sim_chair: SimChair) -> Iterator[tuple[ChairLink, FreezableProxy
         proxy.close()
 
 
+@pytest.mark.slow
 def test_a_service_that_never_answers_raises_chair_timeout(frozen_link: tuple[ChairLink, FreezableProxy]) -> None:
     link, proxy = frozen_link
     assert "/rosapi/services" in link.services()
@@ -39,6 +40,7 @@ def test_a_service_that_never_answers_raises_chair_timeout(frozen_link: tuple[Ch
     assert (err.operation, err.seconds, err.host, err.port) == ("/rosapi/services", 0.5, "127.0.0.1", proxy.port)
 
 
+@pytest.mark.slow
 def test_reload_timeout_and_refusal_are_told_apart_by_type(
     frozen_link: tuple[ChairLink, FreezableProxy], monkeypatch: pytest.MonkeyPatch
 ) -> None:

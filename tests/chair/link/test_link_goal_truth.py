@@ -26,6 +26,7 @@ CASES = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("ros", "bridge", "on_loss", "goal", "chair", "final_status"), CASES)
 def test_link_loss_is_said_truthfully_and_the_goal_reattached(
     sim_factory, link_factory, ros, bridge, on_loss, goal, chair, final_status
@@ -56,6 +57,7 @@ def test_link_loss_is_said_truthfully_and_the_goal_reattached(
         assert handle.cancel_requested
 
 
+@pytest.mark.slow
 def test_a_goal_the_chair_no_longer_lists_is_read_from_the_pose(sim_factory) -> None:
     """ROS 1: the link is down longer than move_base lists a finished goal (5 s), so no status ever
     names it again: the pose says where the chair is; at the goal -> arrived, said as read from the pose."""

@@ -37,6 +37,7 @@ def _chair(sim_factory, link_factory, ros: str, actions: bool = True, bridge: st
     return sim, link
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("ros", "actions", "kind"), ROUTES)
 def test_a_goal_arrives_by_the_detected_route(sim_factory, link_factory, ros: str, actions: bool, kind: str) -> None:
     sim, link = _chair(sim_factory, link_factory, ros, actions)
@@ -55,6 +56,7 @@ def test_a_goal_arrives_by_the_detected_route(sim_factory, link_factory, ros: st
     assert left and left[0] > left[-1] + 2.0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("ros", "actions", "kind", "bridge"), CANCEL_ROUTES)
 def test_cancel_stops_the_chair(sim_factory, link_factory, ros: str, actions: bool, kind: str, bridge: str) -> None:
     sim, link = _chair(sim_factory, link_factory, ros, actions, bridge)
@@ -70,6 +72,7 @@ def test_cancel_stops_the_chair(sim_factory, link_factory, ros: str, actions: bo
     assert wait_until(lambda: handle.cancel_honoured is True, 1.0) and handle.zero_bursts == 0
 
 
+@pytest.mark.slow
 def test_a_cancel_the_official_bridge_holds_is_not_honoured(sim_factory, link_factory) -> None:
     """rosbridge_suite handles the link's cancel only after the goal: odometry still shows motion
     0.5 s later, so the handle says so, and the cancel and zero velocity at 20 Hz go again over a
@@ -140,6 +143,7 @@ def test_a_goal_off_the_map_is_rejected(sim_factory, link_factory, ros: str, bri
     assert ("outside the map" if ros == "ros1" else "goal rejected") in final.message  # rs gives no reason
 
 
+@pytest.mark.slow
 def test_no_answer_to_a_goal_is_said_and_cancelled(sim_factory, link_factory) -> None:
     """rosbridge_suite never answers a rejected goal: after accept_s the handle says "no answer"
     (the chair may have started) and sends a cancel; it never claims rejected (fact 2)."""
@@ -154,6 +158,7 @@ def test_no_answer_to_a_goal_is_said_and_cancelled(sim_factory, link_factory) ->
     assert sim.velocity == (0.0, 0.0)
 
 
+@pytest.mark.slow
 def test_a_silent_goal_is_flagged(sim_factory, link_factory) -> None:
     """No result or feedback for quiet_s: the progress carries how long the chair has been silent."""
     sim, link = _chair(sim_factory, link_factory, "ros2", quiet_s=0.6)
@@ -166,6 +171,7 @@ def test_a_silent_goal_is_flagged(sim_factory, link_factory) -> None:
     assert wait_until(lambda: handle.progress().quiet_s is None, 2.0)  # the chair spoke again
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("ros", "actions"), [("ros2", True), ("ros1", True)])
 def test_waypoints_are_passed_in_order(sim_factory, link_factory, ros: str, actions: bool) -> None:
     sim, link = _chair(sim_factory, link_factory, ros, actions)
@@ -190,6 +196,7 @@ def test_navigate_needs_a_connection(sim_factory) -> None:
     assert err.value.port == sim.port
 
 
+@pytest.mark.slow
 def test_cancel_between_waypoints_stops_the_legs(sim_factory, link_factory) -> None:
     sim, link = _chair(sim_factory, link_factory, "ros1")  # actionlib: waypoints go one after another
     handle = link.navigate_to(12.0, 6.0, 0.0, waypoints=[(4.0, 6.0), (8.0, 6.0)])

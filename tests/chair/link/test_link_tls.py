@@ -141,6 +141,7 @@ def test_trusting_never_replaces_a_pin_made_meanwhile(tmp_path: Path) -> None:
     assert store.read_text() == f"[127.0.0.1]:9 sha256 {first}\n"
 
 
+@pytest.mark.slow
 def test_wss_on_the_twisted_transport_is_refused_with_the_reason(tmp_path: Path) -> None:
     """A process where Twisted came first (a plain roslibpy.Ros): a wss link says why it cannot run,
     instead of connecting without the certificate check. A subprocess: the binding is process-wide."""

@@ -37,6 +37,7 @@ def test_the_path_ahead_starts_at_the_chair_and_ends_empty_on_arrival() -> None:
     assert ahead_of(pts, None).shape == (4, 2)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("ros", "topic"), [("ros2", "/plan"), ("ros1", "/move_base/NavfnROS/plan")])
 def test_the_simulator_publishes_its_plan_and_the_link_follows_it(
     sim_factory: Any, link_factory: Any, ros: str, topic: str
@@ -60,6 +61,7 @@ def test_the_simulator_publishes_its_plan_and_the_link_follows_it(
     assert named.topics == (topic,)
 
 
+@pytest.mark.slow
 def test_the_plan_subscription_comes_back_after_the_chair_restarts(sim_factory: Any) -> None:
     """The link's Ros reconnects by itself; the plan's own subscription is sent again then."""
     from pmk_nb.chair.link.client import ChairLink

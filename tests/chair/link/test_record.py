@@ -121,6 +121,7 @@ def _publish_for(link, seconds: float, v: float) -> None:
         time.sleep(0.1)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ros", ["ros1", "ros2"])
 def test_a_recording_of_the_sim_reads_back_with_rosbags(sim_factory, link_factory, tmp_path: Path, ros: str) -> None:
     sim = sim_factory(ros=ros, laser_blind=(-0.2, 0.2))
