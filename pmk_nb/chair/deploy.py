@@ -146,7 +146,7 @@ def detect_step(run: _Steps, link: Link | None, profile: ChairProfile, sent: Upl
             if link is None:
                 link = link_for(profile)
             if not getattr(link, "is_connected", True):
-                link.connect(timeout=timeout)  # type: ignore[attr-defined]
+                link.connect(timeout=timeout)  # type: ignore[union-attr]
             plan = _reload_plan(link, profile)
         except PmkError as err:
             raise step_failed(

@@ -85,7 +85,7 @@ class Scan:
     @property
     def blind(self) -> np.ndarray:
         """Rays that say nothing about the world (unknown or invalid): drawn as a grey tick, never free."""
-        return np.isin(self.kinds, ranges_mod.BLIND_KINDS)
+        return np.isin(np.asarray(self.kinds), ranges_mod.BLIND_KINDS)
 
     @property
     def too_close(self) -> np.ndarray:

@@ -9,6 +9,7 @@ system keyring when one works, otherwise memory for this session only), bound to
 
 from __future__ import annotations
 
+import builtins
 import dataclasses
 import json
 import os
@@ -344,7 +345,7 @@ class ProfileStore:
     def list(self) -> list[ChairProfile]:
         return [ChairProfile.from_dict(p) for p in self._read()["profiles"]]
 
-    def names(self) -> list[str]:
+    def names(self) -> builtins.list[str]:
         return [p.name for p in self.list()]
 
     def get(self, name: str) -> ChairProfile:

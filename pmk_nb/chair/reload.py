@@ -252,7 +252,7 @@ def check_response(service: ReloadService, remote_yaml_path: str, response: dict
             service=service.name,
             keeps_old_map=True,
         )
-    raw = response.get("result")
+    raw: Any = response.get("result")
     try:
         code = int(raw)
     except (TypeError, ValueError):

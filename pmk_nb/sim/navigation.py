@@ -232,8 +232,9 @@ class _ThroughPoses(_ToPose):
         if bad is not None:
             self._start(ref, bad, [])
             return
-        via = [(p[0][0], p[0][1]) for p in parsed[:-1]]  # type: ignore[index]
-        self._start(ref, parsed[-1], via)
+        good = [p for p in parsed if not isinstance(p, str)]
+        via = [(p[0][0], p[0][1]) for p in good[:-1]]
+        self._start(ref, good[-1], via)
 
 
 def _duration(seconds: float) -> dict[str, int]:

@@ -46,10 +46,10 @@ class Ros1Actionlib:
         goal_id = str((msg.get("goal_id") or {}).get("id") or f"sim-goal-{time.monotonic_ns()}")
         parsed = parse_pose((msg.get("goal") or {}).get("target_pose"))
         why = parsed if isinstance(parsed, str) else self.nav.check(*parsed)
-        if why is not None:
+        if isinstance(parsed, str) or why is not None:
             self._publish_result(self._entry(goal_id, REJECTED, f"goal rejected: {why}"))
             return
-        self.nav.start(NavGoal("ros1", parsed[0], goal_id=goal_id))  # type: ignore[index]
+        self.nav.start(NavGoal("ros1", parsed[0], goal_id=goal_id))
 
     def on_cancel(self, msg: dict[str, Any]) -> None:
         goal = self.nav.current

@@ -93,7 +93,7 @@ def run_connection_test(link: LinkCore, timeout: float, map_listed: Callable[[],
         error: ChairLinkError | None = None,
     ) -> ConnectionReport:
         rosapi = link.discovery.rosapi
-        notes = (no_rosapi_note(),) if rosapi is False else ()
+        notes: tuple[str, ...] = (no_rosapi_note(),) if rosapi is False else ()
         if bridge is not None and bridge.keeps_lost_goals:
             notes += (goal_words.bridge_ignores_cancels(bridge.goals_in_new_thread),)
         elapsed = time.monotonic() - t0

@@ -12,6 +12,7 @@ chair uses (a chair without one says "map not known").
 
 from __future__ import annotations
 
+import functools
 import logging
 import threading
 import time
@@ -141,19 +142,19 @@ class FleetLinks:
         with self._lock:
             watch = self._watches.get(member.name)
             controlled = self._controlled == member.name
-        common = {"name": member.name, "colour": member.colour, "controlled": controlled, "goal": goal}
+        row = functools.partial(ChairStatus, name=member.name, colour=member.colour, controlled=controlled, goal=goal)
         if watch is None:
-            return ChairStatus(connection="off", **common)
+            return row(connection="off")
         link, error, map_name, key = watch.link, watch.error, watch.map_name, watch.map_key
         same = shown_map is None or key is None or key == shown_map
         if link is None or (error is not None and not link.is_connected):
             problem = str(error) if error is not None else None
-            return ChairStatus(connection="unreachable" if error else "connecting", problem=problem, **common)
+            return row(connection="unreachable" if error else "connecting", problem=problem)
         state = link.state
         connection = {LinkState.CONNECTED: "live", LinkState.STALE: "stale"}.get(state, "connecting")
         pose = link.latest_pose() or link.latest_odom()
         xyt = (float(pose.x), float(pose.y), float(pose.theta)) if pose is not None else None
-        return ChairStatus(connection=connection, map_name=map_name, pose=xyt, same_map=same, **common)
+        return row(connection=connection, map_name=map_name, pose=xyt, same_map=same)
 
     # -- worker ------------------------------------------------------------------------------------
     def _run(self, watch: _Watch) -> None:

@@ -42,6 +42,8 @@ if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore
     from pmk_nb.chair.link.goal import GoalHandle, GoalProgress
 
+BEAT_ERRORS: tuple[type[BaseException], ...] = (*SIDE_ERRORS, WebSocketException)
+
 LOG = logging.getLogger(__name__)
 IDLE_BEATS = 2  # "idle" twice, a beat apart: one lost message must not leave the watchdog armed
 
@@ -143,7 +145,7 @@ class GoalHeartbeat:
                 kind = spell_type("std_msgs/String", link.ros_version)
                 self._ws.send(json.dumps({"op": "advertise", "topic": self.topic, "type": kind}))
             self._ws.send(json.dumps({"op": "publish", "topic": self.topic, "msg": {"data": beat.encode()}}))
-        except (*SIDE_ERRORS, WebSocketException):  # the next beat opens a new socket
+        except BEAT_ERRORS:  # the next beat opens a new socket
             LOG.debug("goal heartbeat not sent", exc_info=True)
             self._close_socket()
             return
@@ -154,7 +156,7 @@ class GoalHeartbeat:
         if ws is not None:
             try:
                 ws.close()
-            except (*SIDE_ERRORS, WebSocketException):
+            except BEAT_ERRORS:
                 pass
 
 

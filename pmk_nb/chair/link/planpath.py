@@ -10,6 +10,7 @@ a named topic is subscribed alone. A path is a few hundred poses: the subscripti
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import time
@@ -105,7 +106,7 @@ class PlanWatch:
         from pmk_nb.chair.link.inspect import OwnSubscription  # ends alone, see there
 
         subs = [
-            OwnSubscription(ros, name, PATH_TYPE, lambda msg, name=name: self._on_path(name, msg), THROTTLE_MS)
+            OwnSubscription(ros, name, PATH_TYPE, functools.partial(self._on_path, name), THROTTLE_MS)
             for name in self.topics
         ]
         with self._lock:

@@ -7,6 +7,7 @@ command delivered late after a reconnect would move the chair when nobody expect
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import roslibpy
 
@@ -70,7 +71,7 @@ class Publishers:
         )
         if topic is None:
             return False
-        header = {"frame_id": frame, "stamp": make_stamp(time.time(), ros_version)}
+        header: dict[str, Any] = {"frame_id": frame, "stamp": make_stamp(time.time(), ros_version)}
         if ros_version == 1:
             header["seq"] = 0
         pose = {"position": {"x": float(x), "y": float(y), "z": 0.0}, "orientation": quaternion_from_yaw(theta)}

@@ -15,6 +15,7 @@ half file. ``log_time`` is the receive time, ``publish_time`` the header stamp w
 from __future__ import annotations
 
 import logging
+import os
 import queue
 import threading
 import time
@@ -172,7 +173,9 @@ class _Abandoned(Exception):
 class Recording:
     """A running recording; :meth:`stop` finishes the file. Create with :meth:`ChairLink.start_recording`."""
 
-    def __init__(self, link: LinkCore, path: str | Path, types: dict[str, str], queue_limit: int = QUEUE_LIMIT):
+    def __init__(
+        self, link: LinkCore, path: str | os.PathLike[str], types: dict[str, str], queue_limit: int = QUEUE_LIMIT
+    ):
         self.path = Path(path)
         self.types = types
         self.stats = RecordStats(self.path, time.time(), messages=dict.fromkeys(types, 0))

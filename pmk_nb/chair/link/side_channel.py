@@ -44,15 +44,15 @@ def side_connect(link: LinkCore, timeout: float = 2.0) -> ClientConnection:
 
     host = f"[{link.host}]" if ":" in link.host else link.host
     url = f"{'wss' if link.tls else 'ws'}://{host}:{link.port}"
-    extra = {"ssl": link.tls.context()} if link.tls else {}
+    context = link.tls.context() if link.tls else None
     try:
-        ws = ws_client.connect(url, open_timeout=timeout, close_timeout=1.0, compression=None, **extra)
+        ws = ws_client.connect(url, open_timeout=timeout, close_timeout=1.0, compression=None, ssl=context)
     except WebSocketException as err:
         raise OSError(f"second connection to {url}: {err}") from err
     ws.__enter__()  # websockets >= 17 warns about a connection used outside ``with``; the caller closes it
     if link.tls:
         try:
-            check_peer(link.tls, link.host, link.port, ws.socket.getpeercert(binary_form=True))  # type: ignore[union-attr]
+            check_peer(link.tls, link.host, link.port, ws.socket.getpeercert(binary_form=True))  # type: ignore[attr-defined]
         except ChairLinkError:
             ws.close()
             raise
@@ -73,6 +73,7 @@ def side_stop(
     could not be reached (the caller falls back to the link's own connection)."""
     from websockets.exceptions import WebSocketException
 
+    errors: tuple[type[BaseException], ...] = (*SIDE_ERRORS, WebSocketException)
     twist = spell_type("geometry_msgs/Twist", link.ros_version)
     try:
         with side_connect(link, timeout) as ws:
@@ -84,7 +85,7 @@ def side_stop(
                 ws.send(publish)
                 time.sleep(1.0 / hz)
             ws.send(json.dumps({"op": "unadvertise", "topic": cmd_vel_topic}))
-    except (*SIDE_ERRORS, WebSocketException) as err:
+    except errors as err:
         LOG.warning("side-channel stop to %s:%s failed: %s", link.host, link.port, err)
         return False
     return True

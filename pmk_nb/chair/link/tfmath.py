@@ -7,6 +7,7 @@ the live view wants "where is the chair now", not a pose at a past instant.
 
 from __future__ import annotations
 
+import builtins
 import math
 import threading
 from dataclasses import dataclass
@@ -47,7 +48,7 @@ class TfTree:
         with self._lock:
             self._edges.clear()
 
-    def frames(self) -> set[str]:
+    def frames(self) -> builtins.set[str]:
         with self._lock:
             return set(self._edges) | {e.parent for e in self._edges.values()}
 
