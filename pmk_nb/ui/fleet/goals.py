@@ -19,7 +19,7 @@ from typing import Any
 class ParkedGoals:
     """What Home followed for one chair when control moved away from it."""
 
-    goal: Any = None  # the tapped destination (goal_picker.Goal) and its handle
+    goal: Any = None  # the tapped destination (goals.picker.Goal) and its handle
     handle: Any = None
     route: Any = None  # the Go to route (guide.route.Route) and its handle
     room_handle: Any = None

@@ -2,7 +2,7 @@
 
 Mirrors the original's two tabs (thesis 5.2.3.3): the IndoorGML maps with a resolution and Convert
 ("parse"), once converted a preview and a Send button per storey; and a Download tab (URL + name);
-the Catalogue tab (``maps_catalogue``) installs buildings from STAC map catalogues.
+the Catalogue tab (``catalogue``) installs buildings from STAC map catalogues.
 Sending a map makes it Home's current map. Slow work runs in a thread; every failure becomes a message.
 """
 

@@ -10,7 +10,6 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from pmk_nb.chair import reload
-from pmk_nb.chair.link.tfmath import TfTree
 from pmk_nb.chair.messages import (
     make_stamp,
     normalise_type,
@@ -173,36 +172,12 @@ def test_transform_compose_inverse(a: tuple, b: tuple) -> None:
     assert (px, py) == pytest.approx((qx, qy), abs=1e-9)
 
 
-def test_tf_tree_composes_map_odom_base_link() -> None:
-    tree = TfTree()
-    for t in parse_tf_message({"transforms": [_tf("odom", "base_link", 1.0, 0.0, math.pi / 2)]}):
-        tree.set(t, received=10.0)
-    for t in parse_tf_message({"transforms": [_tf("/map", "/odom", 2.0, 3.0, math.pi / 2)]}):
-        tree.set(t, received=8.0)
-    for t in parse_tf_message({"transforms": [_tf("base_link", "laser", 0.2, 0.0, 0.0)]}):
-        tree.set(t, received=0.0, static=True)
-    found = tree.lookup("map", "base_link")
-    assert found is not None
-    tf, oldest = found
-    # odom->base_link (1,0) rotated by map->odom's 90 deg -> (0,1), plus (2,3)
-    assert (tf.x, tf.y) == pytest.approx((2.0, 4.0))
-    assert tf.theta == pytest.approx(math.pi)
-    assert oldest == 8.0  # the oldest dynamic link of the chain
-    laser_in_odom, _ = tree.lookup("odom", "laser")  # type: ignore[misc]
-    assert (laser_in_odom.x, laser_in_odom.y) == pytest.approx((1.0, 0.2))
-    # the reverse direction is the inverse
-    back, _ = tree.lookup("base_link", "map")  # type: ignore[misc]
-    again = back.compose(tf)
-    assert (again.x, again.y) == pytest.approx((0.0, 0.0), abs=1e-9)
-    assert tree.lookup("map", "nowhere") is None
-
-
-def test_tf_tree_ignores_cycles() -> None:
-    tree = TfTree()
-    for parent, child in (("a", "b"), ("b", "a")):
-        for t in parse_tf_message({"transforms": [_tf(parent, child, 1, 0, 0)]}):
-            tree.set(t, received=1.0)
-    assert tree.lookup("map", "a") is None  # terminates despite the loop
+def test_tf_message_frames_lose_the_ros1_slash() -> None:
+    """The link feeds these to ``viewport.TfTree`` (tests/viewport/test_tftree.py): frames as tf2 spells them."""
+    (t,) = parse_tf_message({"transforms": [_tf("/map", "/odom", 2.0, 3.0, math.pi / 2)]})
+    assert (t.parent, t.child) == ("map", "odom")
+    assert (t.x, t.y, t.theta) == pytest.approx((2.0, 3.0, math.pi / 2))
+    assert t.stamp == 0.0
 
 
 # -- reload -----------------------------------------------------------------------------------------

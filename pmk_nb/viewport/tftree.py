@@ -1,18 +1,41 @@
-"""A tiny tf tree, enough to compose map -> odom -> base_link (the planar maths: ``pmk_nb.viewport.pose``).
+"""A tiny tf tree, enough to compose map -> odom -> base_link (the planar maths: ``pose``).
 
 A wheelchair moves in the plane, so (x, y, yaw) transforms are exact for it and far cheaper than
 a full tf2 buffer. The tree keeps only the latest transform per child frame (no interpolation):
-the live view wants "where is the chair now", not a pose at a past instant.
+the live view wants "where is the chair now", not a pose at a past instant. Pure (issue 25): the
+link (``pmk_nb.chair.link.streams``) fills it from ``/tf`` with the transforms ``chair.messages``
+parses; the maths lives here, with the live view's other maths, and knows no ROS message.
 """
 
 from __future__ import annotations
 
+import builtins
 import math
 import threading
 from dataclasses import dataclass
+from typing import Protocol
 
-from pmk_nb.chair.messages import TransformStamped2D, normalise_frame
-from pmk_nb.viewport import Transform2D
+from pmk_nb.viewport.pose import Transform2D
+
+
+def normalise_frame(frame: str) -> str:
+    """tf frame ids without the leading '/' ROS 1 tf allowed (``/odom`` == ``odom``)."""
+    return frame.lstrip("/")
+
+
+class FramedTransform(Protocol):
+    """One planar transform: ``child`` expressed in ``parent`` (``chair.messages.TransformStamped2D``)."""
+
+    @property
+    def parent(self) -> str: ...
+    @property
+    def child(self) -> str: ...
+    @property
+    def x(self) -> float: ...
+    @property
+    def y(self) -> float: ...
+    @property
+    def theta(self) -> float: ...
 
 
 @dataclass(frozen=True)
@@ -36,7 +59,7 @@ class TfTree:
         self._edges: dict[str, _Edge] = {}
         self._lock = threading.Lock()
 
-    def set(self, t: TransformStamped2D, received: float, *, static: bool = False) -> None:
+    def set(self, t: FramedTransform, received: float, *, static: bool = False) -> None:
         if not t.child or not t.parent or t.child == t.parent:
             return
         edge = _Edge(t.parent, Transform2D(t.x, t.y, t.theta), received, static)
@@ -47,7 +70,7 @@ class TfTree:
         with self._lock:
             self._edges.clear()
 
-    def frames(self) -> set[str]:
+    def frames(self) -> builtins.set[str]:  # builtins: ``set`` is the method above here
         with self._lock:
             return set(self._edges) | {e.parent for e in self._edges.values()}
 
