@@ -45,7 +45,7 @@ SETUP = """
 import asyncio, json, os, time
 from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.sim.demo import demo_grid
-from pmk_nb.ui.live_view import LiveView
+from pmk_nb.ui.live.view import LiveView
 link = ChairLink("127.0.0.1", {port}, throttle_ms={throttle})
 link.connect(timeout=10.0)
 link.start_streams()
@@ -258,7 +258,7 @@ BROWSER_NOTEBOOK = """
 import json, os, time
 from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.sim.demo import demo_grid
-from pmk_nb.ui.live_view import LiveView
+from pmk_nb.ui.live.view import LiveView
 
 class StampedView(LiveView):
     def _draw_dynamic(self, view, pose, odom, scan):

@@ -21,7 +21,7 @@ from typing import Any
 
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
-from pmk_nb.ui.context import AUTOSTART_ENV
+from pmk_nb.ui.common.context import AUTOSTART_ENV
 
 ROOT = Path(__file__).resolve().parents[1]
 SIM_CODE = """
@@ -54,7 +54,7 @@ def drive_world(root: Path, server: str = "voila") -> Iterator[DriveWorld]:
     from pmk_nb.library.folder import MapsFolder
     from pmk_nb.rosmap.files import write_map
     from pmk_nb.sim.demo import demo_grid
-    from pmk_nb.ui.context import AppContext
+    from pmk_nb.ui.common.context import AppContext
 
     maps_dir, config_dir = root / "maps", root / "config"
     maps_dir.mkdir(parents=True, exist_ok=True)

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.ui.context import AppContext
-from pmk_nb.ui.maps_screen import MapsScreen
+from pmk_nb.ui.common.context import AppContext
+from pmk_nb.ui.maps.screen import MapsScreen
 from tests.helpers import app_context
 
 

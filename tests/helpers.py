@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from shapely.geometry import Polygon
 
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.ui.context import AppContext
+    from pmk_nb.ui.common.context import AppContext
 
 
 def wait_ticking(cond: Callable[[], bool], timeout: float, tick: Callable[[], None] | None = None) -> bool:
@@ -56,7 +56,7 @@ def app_context(tmp_path: Path) -> Iterator[AppContext]:
     """An AppContext on ``tmp_path/maps`` with profiles in ``tmp_path/cfg`` (no keyring), closed at exit."""
     from pmk_nb.chair.profiles import ProfileStore
     from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.ui.context import AppContext
+    from pmk_nb.ui.common.context import AppContext
 
     store = ProfileStore(tmp_path / "cfg" / "profiles.json", secrets=False)
     context = AppContext(MapsFolder(tmp_path / "maps"), store, config_dir=tmp_path / "cfg")

@@ -2,7 +2,7 @@
 
 Home's canvas takes the page's room and the view keeps the followed chair clear of the panels
 over it (insets); the kernel publishes the canvas size, zoom level and insets on
-``.pmk-home-chair-at span`` (:mod:`pmk_nb.ui.home_fit`), and this builds the same
+``.pmk-home-chair-at span`` (:mod:`pmk_nb.ui.home.fit`), and this builds the same
 :class:`pmk_nb.viewport.Viewport`.  At zoom level 1 the map fits the uncovered part, so the view
 does not move while the chair does.
 """

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from pmk_nb.chair import ranges as ranges_mod
+from pmk_nb.viewport import normalise_frame
 
 
 @dataclass(frozen=True)
@@ -176,11 +177,6 @@ def normalise_type(type_name: str) -> str:
     """The ROS 1 spelling (``pkg/Type``), for comparing types across ROS versions."""
     parts = type_name.strip("/").split("/")
     return f"{parts[0]}/{parts[-1]}" if len(parts) == 3 else type_name.strip("/")
-
-
-def normalise_frame(frame: str) -> str:
-    """tf frame ids without the leading '/' ROS 1 tf allowed (``/odom`` == ``odom``)."""
-    return frame.lstrip("/")
 
 
 def yaw_from_quaternion(q: dict[str, Any] | None) -> float:

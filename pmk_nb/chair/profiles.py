@@ -101,7 +101,7 @@ class ChairProfile:
     goals_on_link_loss: str = "finish"
     goal_accept_s: float = 5.0
     goal_quiet_s: float = 30.0
-    # how the dashboard looks for this chair's rider (pmk_nb/ui/display_prefs.py, WCAG 2.2):
+    # how the dashboard looks for this chair's rider (pmk_nb/ui/common/display_prefs.py, WCAG 2.2):
     # black on white with thick borders, and text a third larger
     high_contrast: bool = False
     large_text: bool = False

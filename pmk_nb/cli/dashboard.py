@@ -19,8 +19,8 @@ from pmk_nb.cli import tablet_tls
 from pmk_nb.cli.options import add_maps_dir
 from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
 from pmk_nb.cli.voila import preflight, serve, server_options
-from pmk_nb.ui.context import AUTOSTART_ENV
-from pmk_nb.ui.kiosk_pin import KIOSK_ENV
+from pmk_nb.ui.common.context import AUTOSTART_ENV
+from pmk_nb.ui.kiosk.pin import KIOSK_ENV
 
 
 def add_parser(subparsers: Any) -> None:

@@ -40,7 +40,7 @@ def prepare_classroom(root: Path, *, gml: Path | None = None, max_chairs: int | 
         PmkError: the sample is missing or its conversion fails.
         ValueError: ``max_chairs`` below 1.
     """
-    from pmk_nb.ui.context import AUTOSTART_ENV
+    from pmk_nb.ui.common.context import AUTOSTART_ENV
 
     if max_chairs is not None and max_chairs < 1:
         raise ValueError(f"--max-chairs must be at least 1, not {max_chairs}")

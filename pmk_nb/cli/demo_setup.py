@@ -27,7 +27,7 @@ import pmk_nb
 from pmk_nb.cli.options import DEFAULT_RESOLUTION
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.errors import PmkError
-from pmk_nb.ui.context import AUTOSTART_ENV
+from pmk_nb.ui.common.context import AUTOSTART_ENV
 
 DEMO_PROFILE = "Simulated chair"
 DEMO_RESOLUTION = DEFAULT_RESOLUTION
@@ -140,7 +140,7 @@ def prepare_demo(
         PmkError: the sample is missing, conversion fails or the simulator does not start.
     """
     from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
-    from pmk_nb.ui.context import AppContext
+    from pmk_nb.ui.common.context import AppContext
 
     root = root.expanduser().resolve()
     maps_dir, config_dir, chair_dir = root / "maps", root / "config", root / "chair_maps"

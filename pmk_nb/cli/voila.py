@@ -16,7 +16,7 @@ Server choices, and why:
     down a few seconds after its page's websocket closed, and websocket pings every second close a
     connection whose tablet went to sleep.  Idle culling stays as a back-stop and now also culls
     connected kernels: a live page answers the page heartbeat every 2 s (see
-    :mod:`pmk_nb.ui.page_lifecycle`), so only a kernel whose page stopped pinging ever looks idle.
+    :mod:`pmk_nb.ui.common.page_lifecycle`), so only a kernel whose page stopped pinging ever looks idle.
   * HTTPS (issue 24) when a certificate is given or made (:mod:`pmk_nb.cli.tablet_tls`): Voilà is
     then started as :mod:`pmk_nb.cli.voila_tls` with ``ssl_options`` in ``voila.json``; beyond
     loopback, plain HTTP needs ``--insecure`` (:func:`pmk_nb.cli.serving.check_transport`).

@@ -19,8 +19,8 @@ websocket connections:
 A websocket that stays alive without the page in it (tablet asleep, page frozen: the browser still
 answers the server's websocket pings) stays "connected" here.  That case is caught by the kernel:
 its page heartbeat stops, it closes the app (the live view stops, the chair link closes) and sends
-:data:`~pmk_nb.ui.page_lifecycle.PAGE_GONE_MSG` on IOPub, which this manager listens for and
-answers by shutting the kernel down (:mod:`pmk_nb.ui.page_lifecycle`).  (A kernel ending its own
+:data:`~pmk_nb.ui.common.page_lifecycle.PAGE_GONE_MSG` on IOPub, which this manager listens for and
+answers by shutting the kernel down (:mod:`pmk_nb.ui.common.page_lifecycle`).  (A kernel ending its own
 process while its websocket is half open made Voilà 0.5 spin at 50 % CPU and stop answering: the
 kernel does not exit itself, the server ends it.)
 
@@ -45,7 +45,7 @@ from jupyter_server.services.kernels.kernelmanager import AsyncMappingKernelMana
 from tornado.ioloop import IOLoop, PeriodicCallback
 
 from pmk_nb.seams.jupyter_server_seam import kernel_connections
-from pmk_nb.ui.page_lifecycle import PAGE_GONE_MSG
+from pmk_nb.ui.common.page_lifecycle import PAGE_GONE_MSG
 
 PAGE_GRACE = 3.0
 FIRST_PAGE_WITHIN = 120.0

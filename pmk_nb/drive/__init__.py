@@ -1,6 +1,6 @@
 """Driving the chair by hand, safely: stick -> velocity, and the gate that decides what is sent.
 
-No widgets and no ROS here: the dashboard's joystick (:mod:`pmk_nb.ui.drive_panel`) and a notebook
+No widgets and no ROS here: the dashboard's joystick (:mod:`pmk_nb.ui.drive.panel`) and a notebook
 both feed a :class:`~pmk_nb.drive.session.DriveSession`, which publishes through anything with the
 chair link's ``publish_cmd_vel`` / ``is_connected`` / ``latest_odom``.
 

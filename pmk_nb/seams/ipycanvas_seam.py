@@ -3,7 +3,7 @@
 Touched: ``Canvas._canvas_manager`` (the kernel-wide ``_CanvasManager`` every canvas sends through),
 ``_CanvasManager._send_custom`` (the one funnel of batched and single commands) and
 ``_CanvasManager._current_canvas`` (the canvas it last switched to). Why: see
-:mod:`pmk_nb.ui.canvas_fix`. The byte meter (:mod:`pmk_nb.ui.frame_metrics`) wraps the manager's
+:mod:`pmk_nb.ui.live.canvas_fix`. The byte meter (:mod:`pmk_nb.ui.live.frame_metrics`) wraps the manager's
 public ``send`` (ipywidgets' ``Widget.send``) and needs only the manager from here.
 """
 

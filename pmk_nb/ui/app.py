@@ -4,7 +4,7 @@ Same layout as the original tablet app (thesis 4.2.1.1) on a wide screen: Home, 
 buttons, below them an information panel (the active screen's info plus the latest message with
 no place on the screen), and the screen's content filling the rest.  On a narrow app (portrait
 tablet, phone, JupyterLab beside its file browser) the same panel becomes a top bar; see
-:mod:`pmk_nb.ui.style`.  ``build_app()`` is all a notebook or the Voilà kiosk page needs.
+:mod:`pmk_nb.ui.common.style`.  ``build_app()`` is all a notebook or the Voilà kiosk page needs.
 """
 
 from __future__ import annotations
@@ -18,9 +18,9 @@ from typing import Any, Protocol
 import ipywidgets as w
 
 from pmk_nb.errors import PmkError
-from pmk_nb.ui.context import AppContext, Notification, autostart_from_env
-from pmk_nb.ui.display_prefs import DisplayPrefs
-from pmk_nb.ui.widgets import button, close_tree, escape, guard, style_widget
+from pmk_nb.ui.common.context import AppContext, Notification, autostart_from_env
+from pmk_nb.ui.common.display_prefs import DisplayPrefs
+from pmk_nb.ui.common.widgets import button, close_tree, escape, guard, style_widget
 
 log = logging.getLogger(__name__)
 
@@ -49,9 +49,9 @@ class Dashboard(w.VBox):
     """
 
     def __init__(self, ctx: AppContext, *, autostart_preview: bool = False) -> None:
-        from pmk_nb.ui.home import HomeScreen
-        from pmk_nb.ui.maps_screen import MapsScreen
-        from pmk_nb.ui.settings_screen import SettingsScreen
+        from pmk_nb.ui.home.screen import HomeScreen
+        from pmk_nb.ui.maps.screen import MapsScreen
+        from pmk_nb.ui.settings.screen import SettingsScreen
 
         self.ctx = ctx
         self._builders: dict[str, Callable[[], Any]] = {
@@ -79,7 +79,7 @@ class Dashboard(w.VBox):
         info.add_class("pmk-info")
         title = w.HTML("<div class='pmk-title'>PMK Wheelchair</div>")
         title.add_class("pmk-nav-title")
-        # sizes come from the style sheet (pmk_nb.ui.style): a sidebar on a wide app, a top bar on
+        # sizes come from the style sheet (pmk_nb.ui.common.style): a sidebar on a wide app, a top bar on
         # a narrow one; a Layout width here would be an inline style no container rule can change
         self.nav = w.VBox([title, *self.nav_buttons.values(), info])
         self.nav.add_class("pmk-nav")
@@ -91,12 +91,12 @@ class Dashboard(w.VBox):
         # portrait tablet, JupyterLab's main area beside the file browser), not the window's
         super().__init__([style_widget(), self.shell], layout=w.Layout(width="100%"))
         self.add_class("pmk-app")
-        self.display = DisplayPrefs(self, ctx)  # high contrast, large text (pmk_nb/ui/display_prefs.py)
+        self.display = DisplayPrefs(self, ctx)  # high contrast, large text (pmk_nb/ui/common/display_prefs.py)
         self._unsubscribe = ctx.observe_notifications(self._on_notification)
         if ctx.notifications:  # problems found while the screens were built
             self._on_notification(ctx.notifications[-1])
         self._closed = False
-        # kiosk hook (pmk_nb/ui/kiosk.py): return False to keep a screen closed (e.g. behind a PIN)
+        # kiosk hook (pmk_nb/ui/kiosk/mode.py): return False to keep a screen closed (e.g. behind a PIN)
         self.gate: Callable[[str], bool] | None = None
         self.show("home")
 
@@ -206,7 +206,7 @@ def build_app(
             maps = MapsFolder(Path(maps_dir) if maps_dir is not None else None)
             ctx = AppContext(maps, profiles, config_dir=cfg)
         if ctx.kiosk is None:  # a kiosk page (PMK_KIOSK): locked before any screen is built
-            from pmk_nb.ui.kiosk_pin import kiosk_lock
+            from pmk_nb.ui.kiosk.pin import kiosk_lock
 
             ctx.kiosk = kiosk_lock(ctx.config_dir)
         if autostart_preview is None:
@@ -218,9 +218,10 @@ def build_app(
         return box
     # One chair connection per page: closed when the kernel goes (Voilà culls idle kernels).
     atexit.register(app.ctx.close)
-    # Kiosk mode and the page's lifecycle (pmk_nb/ui/kiosk.py, pmk_nb/ui/page_lifecycle.py): both do
+    # Kiosk mode and the page's lifecycle (pmk_nb/ui/kiosk/mode.py, pmk_nb/ui/common/page_lifecycle.py): both do
     # nothing outside a Voilà page / without a kiosk lock (PMK_KIOSK).
-    from pmk_nb.ui import kiosk, page_lifecycle
+    from pmk_nb.ui.common import page_lifecycle
+    from pmk_nb.ui.kiosk import mode as kiosk
 
     kiosk.apply(app)
     page_lifecycle.attach(app)

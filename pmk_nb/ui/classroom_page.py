@@ -12,7 +12,7 @@ from pathlib import Path
 
 from pmk_nb.classroom import settings as classroom_settings
 from pmk_nb.classroom.seat import Seat, take_seat
-from pmk_nb.ui.context import AppContext
+from pmk_nb.ui.common.context import AppContext
 
 CLASSROOM_NOTE = (
     "Classroom: this chair is yours alone. It waits, parked, until you drive it or send it somewhere. "
@@ -23,7 +23,7 @@ CLASSROOM_NOTE = (
 
 
 class ClassroomContext(AppContext):
-    """A classroom page's session: closing it (the page gone, :mod:`pmk_nb.ui.page_lifecycle`) also
+    """A classroom page's session: closing it (the page gone, :mod:`pmk_nb.ui.common.page_lifecycle`) also
     stops its chair and gives the seat back, even where the server keeps the kernel a while (a
     JupyterHub user's server culls idle kernels only after minutes)."""
 

@@ -5,7 +5,9 @@ No widgets here: ``pmk_nb.ui`` only draws what this package computes. ``view`` h
 reduces the grid to screen pixels without losing a wall, ``outline`` turns a scan into hit points
 and a free-space polygon, ``laser`` into rays (the optional look), ``pose`` composes planar
 (x, y, yaw) transforms (a sensor's pose on the chair; the link's tf tree), ``occlusion`` the parts of
-the canvas panels cover (the follow target sits in the centre of the rest).
+the canvas panels cover (the follow target sits in the centre of the rest), ``tftree`` the latest
+transform per frame (the link's tf tree: map -> odom -> base_link), ``path`` the planned path still
+ahead of the chair.
 """
 
 from __future__ import annotations
@@ -14,7 +16,9 @@ from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
 from pmk_nb.viewport.mapimage import MapTile, clean_occupancy, plan_tile, pool_window, tile_covers, window_image
 from pmk_nb.viewport.occlusion import Insets, insets_from_boxes
 from pmk_nb.viewport.outline import LaserOutline, laser_outline
+from pmk_nb.viewport.path import ARRIVED_M, ahead_of
 from pmk_nb.viewport.pose import Transform2D, mounted, wrap_angle
+from pmk_nb.viewport.tftree import FramedTransform, TfTree, normalise_frame
 from pmk_nb.viewport.view import (
     MIN_CHAIR_RADIUS_PX,
     MIN_DOT_RADIUS_PX,
@@ -25,15 +29,19 @@ from pmk_nb.viewport.view import (
 )
 
 __all__ = [
+    "ARRIVED_M",
     "MIN_CHAIR_RADIUS_PX",
     "MIN_DOT_RADIUS_PX",
     "STILL_SPEED",
+    "FramedTransform",
     "Insets",
     "LaserOutline",
     "LaserSegments",
     "MapTile",
+    "TfTree",
     "Transform2D",
     "Viewport",
+    "ahead_of",
     "clean_occupancy",
     "fit_canvas",
     "heading_point",
@@ -41,6 +49,7 @@ __all__ = [
     "laser_outline",
     "laser_segments",
     "mounted",
+    "normalise_frame",
     "plan_tile",
     "pool_window",
     "ray_stride",

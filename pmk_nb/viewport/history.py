@@ -3,7 +3,7 @@ maths that turns a window of it into plot lines (issue 29: "odometry and speed o
 
 Home samples the link's latest odometry from its info timer (a few per second, never per message),
 so the buffer grows by at most :attr:`OdomHistory.capacity` samples whatever the chair's odometry
-rate; the oldest fall out. The plot widget (:mod:`pmk_nb.ui.plots_panel`) only draws what
+rate; the oldest fall out. The plot widget (:mod:`pmk_nb.ui.plots.panel`) only draws what
 :func:`plot_lines` returns.
 """
 

@@ -1,6 +1,6 @@
 """The map tools' pure maths: scale bar, grid lines, distances and headings in the map frame.
 
-No widgets: :mod:`pmk_nb.ui.live_tools` draws what these return. A scale bar is a round length
+No widgets: :mod:`pmk_nb.ui.live.tools` draws what these return. A scale bar is a round length
 (1, 2 or 5 x 10^k m) no longer than the room it is given on screen, so it reads at a glance at any
 zoom; grid lines are the multiples of a spacing that fall inside the view (a fixed 1 m, or "auto":
 the scale bar's rule applied to a target pixel gap, so lines never crowd nor vanish).

@@ -1,8 +1,8 @@
 """Planar pose maths: (x, y, yaw) transforms, composed, inverted, applied; a sensor's pose on the chair.
 
 A wheelchair moves in the plane, so (x, y, yaw) transforms are exact for it and far cheaper than a
-full tf2 buffer. Pure: the link's tf tree (``pmk_nb.chair.link.tfmath``) and the canvas layers both
-use it, so it lives with the live view's other maths rather than inside the link.
+full tf2 buffer. Pure: the tf tree (``tftree``, which the link fills from ``/tf``) and the canvas layers
+both use it, so it lives with the live view's other maths rather than inside the link.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """View maths of the live preview: zoom levels, follow, clamp, world <-> canvas pixel (pure NumPy).
 
-The live view (``pmk_nb.ui.live_view``) only draws what this module computes, so every rule of the
+The live view (``pmk_nb.ui.live.view``) only draws what this module computes, so every rule of the
 original MapViewer (thesis 4.2.1.3) lives here and is tested without widgets:
 
 * zoom level 1 shows the whole map (fitted and centred); each level up magnifies by ``zoom_step``;

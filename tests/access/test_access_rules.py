@@ -371,7 +371,7 @@ def test_split_level_without_a_graph_keeps_the_z_rule(tmp_path: Path, v2: bool) 
 @pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
 def test_unit_conflict_shows_before_conversion(tmp_path: Path, v2: bool) -> None:
     from pmk_nb.library.info import storeys_of
-    from pmk_nb.ui.maps_storeys import unit_warning
+    from pmk_nb.ui.maps.storeys import unit_warning
 
     cells = _solid("A", (0, 0, 30, 20), 0, 20) + _solid("B", (30, 0, 60, 20), 0, 20)
     door = _boundary("D1", ((30, 5), (30, 6.5)), "navi:ConnectionBoundary")

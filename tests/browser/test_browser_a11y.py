@@ -28,9 +28,9 @@ from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.cli.demo_setup import DemoWorld
 from pmk_nb.drive import StopReason
 from pmk_nb.guide import load_rooms
-from pmk_nb.ui.a11y_style import FOCUS_PX
-from pmk_nb.ui.contrast import NON_TEXT_AA, contrast_ratio
-from pmk_nb.ui.drive_panel import STOPPED
+from pmk_nb.ui.common.a11y_style import FOCUS_PX
+from pmk_nb.ui.common.contrast import NON_TEXT_AA, contrast_ratio
+from pmk_nb.ui.drive.panel import STOPPED
 from tests.axe_probe import describe, run_axe
 from tests.browser.kiosk_page import ARTIFACTS, chromium_page, serve_kiosk
 from tests.browser.test_browser_layout import _open

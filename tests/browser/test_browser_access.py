@@ -120,7 +120,7 @@ def test_the_maps_screen_says_a_plans_doubts_before_and_after_converting(tmp_pat
     and a unit that makes every door absurd, named before any door, as a kiosk user sees them."""
     from playwright.sync_api import expect
 
-    from tests.ui.test_ui_plan_doubts import cm_house, lost_graph_plan, zoned_plan
+    from tests.ui.maps.test_plan_doubts import cm_house, lost_graph_plan, zoned_plan
 
     plans = {name: tmp_path / name for name in ("zoned", "lost", "house")}
     for folder in plans.values():

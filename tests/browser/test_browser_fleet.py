@@ -23,7 +23,7 @@ import pytest
 from pmk_nb.chair.fleet import Fleet
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
-from pmk_nb.ui.context import AUTOSTART_ENV
+from pmk_nb.ui.common.context import AUTOSTART_ENV
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.browser.test_browser_kiosk import _pixels
 
@@ -40,7 +40,7 @@ def lab(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tuple[str, 
     from pmk_nb.library.folder import MapsFolder
     from pmk_nb.rosmap.files import write_map
     from pmk_nb.sim.demo import demo_grid
-    from pmk_nb.ui.context import AppContext
+    from pmk_nb.ui.common.context import AppContext
 
     maps_dir, config_dir = tmp_path / "maps", tmp_path / "config"
     files = write_map(demo_grid(), maps_dir, "demo_floor")

@@ -28,7 +28,7 @@ from tests.page_view import page_view
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
-GOAL_RGB = (200, 0, 160)  # pmk_nb.ui.goal_picker.GOAL_RGB
+GOAL_RGB = (200, 0, 160)  # pmk_nb.ui.goals.picker.GOAL_RGB
 
 
 def _page_xy(canvas: Any, view: Viewport, point: tuple[float, float]) -> tuple[float, float, float]:
@@ -77,7 +77,7 @@ def _goal_drawn(page: Any, view: Viewport, goal: tuple[float, float]) -> bool:
 def test_tap_to_go_reaches_the_goal_and_cancel_stops_the_chair(tmp_path: Path, ros: str) -> None:
     from playwright.sync_api import expect
 
-    # rs: a cancel acts at once; the official bridge's held cancel is tests/ui/test_ui_goal.py's (issue 24)
+    # rs: a cancel acts at once; the official bridge's held cancel is tests/ui/goals/test_goals.py's (issue 24)
     served = serve_kiosk(tmp_path, sim_args=("--ros", ros, "--bridge", "rs"), label=f"goal-{ros}")
     with served as (url, world), chromium_page(url, viewport=VIEWPORT) as page:
         grid = read_map(world.map_yaml)

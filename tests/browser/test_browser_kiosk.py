@@ -185,7 +185,7 @@ def _pin_prompt_says(page: Any, typed: str, expected: str, *, enter: bool = Fals
 def test_kiosk_mode_locks_maps_and_settings_behind_the_pin(tmp_path: Path) -> None:
     from playwright.sync_api import expect
 
-    from pmk_nb.ui.kiosk_pin import KIOSK_ENV, LOCKOUT_S, MAX_TRIES
+    from pmk_nb.ui.kiosk.pin import KIOSK_ENV, LOCKOUT_S, MAX_TRIES
 
     with (
         serve_kiosk(tmp_path, label="kiosk-mode", env={KIOSK_ENV: "1"}) as (url, _world),

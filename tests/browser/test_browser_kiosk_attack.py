@@ -17,8 +17,8 @@ from typing import Any
 import pytest
 
 from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
-from pmk_nb.ui.context import STATE_FILE
-from pmk_nb.ui.kiosk_pin import KIOSK_ENV, PIN_FILE, PinStore
+from pmk_nb.ui.common.context import STATE_FILE
+from pmk_nb.ui.kiosk.pin import KIOSK_ENV, PIN_FILE, PinStore
 from tests.browser.kiosk_page import VIEWPORT, chromium_page, serve_kiosk
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]

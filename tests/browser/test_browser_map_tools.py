@@ -90,7 +90,7 @@ def test_measure_two_taps_in_the_browser(tmp_path: Path) -> None:
         expect(page.locator(".pmk-tools-readout")).to_contain_text("Tap two points")
         # the researcher has scrolled down to the tools: the map's top is above the window (a press
         # then focused the canvas, which scrolled it into view between ipycanvas's two reads: the
-        # press's pixel was off by the scroll, 10.33 m for 5 m; pmk_nb/ui/canvas_focus.py)
+        # press's pixel was off by the scroll, 10.33 m for 5 m; pmk_nb/ui/live/canvas_focus.py)
         page.locator(".pmk-tools-readout").scroll_into_view_if_needed()
         canvas = page.locator(".pmk-live-canvas").first
         box = canvas.bounding_box()

@@ -24,7 +24,7 @@ from pmk_nb.guide import RoomsMap, load_rooms
 from tests.browser.kiosk_page import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT, serve_kiosk
 from tests.browser.test_browser_live import pixels
 
-ROUTE_RGB = (0, 150, 70)  # pmk_nb.ui.live_rooms_layer.ROUTE_RGB
+ROUTE_RGB = (0, 150, 70)  # pmk_nb.ui.rooms.layer.ROUTE_RGB
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(420)]
 

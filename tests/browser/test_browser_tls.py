@@ -20,7 +20,7 @@ import pytest
 
 from pmk_nb.cli import tablet_tls
 from pmk_nb.cli.procs import free_port, stop_process
-from pmk_nb.ui.kiosk import wake_lock_html
+from pmk_nb.ui.kiosk.mode import wake_lock_html
 from tests.browser.kiosk_page import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(180)]

@@ -310,7 +310,7 @@ def test_georeferenced_plan_gets_a_footprint(tmp_path: Path) -> None:
 
 def test_catalogue_tab_adds_a_url_searches_and_gets_a_building(site: Site, tmp_path: Path) -> None:
     """The Catalogue tab's kernel side: the URL kept in settings, statuses, search, Get, refusals shown."""
-    from pmk_nb.ui.maps_catalogue import CataloguePanel
+    from pmk_nb.ui.maps.catalogue import CataloguePanel
     from tests.helpers import app_context
 
     with app_context(tmp_path) as ctx:

@@ -58,7 +58,7 @@ def test_pmk_check_uses_the_saved_profile_width(tmp_path: Path) -> None:
 
 
 def test_settings_screen_saves_the_chair_width_and_refuses_a_wrong_one(tmp_path: Path) -> None:
-    from pmk_nb.ui.settings_screen import SettingsScreen
+    from pmk_nb.ui.settings.screen import SettingsScreen
     from tests.helpers import app_context
 
     with app_context(tmp_path) as ctx:

@@ -80,7 +80,7 @@ def test_a_scan_with_every_kind_of_reading_through_the_simulator_bridge(sim_fact
     import roslibpy
 
     from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.ui.home_info import laser_text
+    from pmk_nb.ui.home.info import laser_text
 
     sim = sim_factory()
     pub_ros = ros_factory(sim)

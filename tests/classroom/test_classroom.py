@@ -199,8 +199,8 @@ def test_a_classroom_page_draws_at_the_classroom_frame_cap_and_says_so(classroom
     """Ten pages share two cores (bench/soak_classroom.py): Home's live view is capped lower, in words too."""
     from pmk_nb.classroom.settings import LIVE_FPS
     from pmk_nb.ui.classroom_page import classroom_context
-    from pmk_nb.ui.home import HomeScreen
-    from pmk_nb.ui.live_view import DEFAULT_FPS
+    from pmk_nb.ui.home.screen import HomeScreen
+    from pmk_nb.ui.live.view import DEFAULT_FPS
 
     os.environ[CLASSROOM_ENV] = classroom.env[CLASSROOM_ENV]
     try:

@@ -12,7 +12,7 @@ from pmk_nb.cli import main
 from pmk_nb.cli.serving import ServingRefused, check_port_free, check_serving, resolve_token, url_lines
 from pmk_nb.cli.voila import write_dashboard_notebook
 from pmk_nb.errors import SettingsError
-from pmk_nb.ui.kiosk_pin import LOCKOUT_S, MAX_TRIES, PinStore
+from pmk_nb.ui.kiosk.pin import LOCKOUT_S, MAX_TRIES, PinStore
 
 
 def test_beyond_loopback_without_a_token_is_refused_in_one_line(capsys: pytest.CaptureFixture[str]) -> None:
@@ -93,7 +93,7 @@ def _ticking(watch: object, now: list[float], seconds: float) -> bool:
 
 
 def test_the_page_watchdog_closes_the_app_when_pings_stop() -> None:
-    from pmk_nb.ui.page_lifecycle import FIRST_PING_WITHIN, PAGE_GONE_AFTER, PageWatch
+    from pmk_nb.ui.common.page_lifecycle import FIRST_PING_WITHIN, PAGE_GONE_AFTER, PageWatch
 
     now = [0.0]
     closed: list[bool] = []
@@ -110,7 +110,7 @@ def test_the_page_watchdog_closes_the_app_when_pings_stop() -> None:
 
 def test_a_slow_page_or_a_starved_kernel_is_not_taken_for_gone() -> None:
     """On a loaded server, late pings made kernels end under live pages, which reloaded: a storm."""
-    from pmk_nb.ui.page_lifecycle import MAX_PAGE_GONE_AFTER, PAGE_GONE_AFTER, PageWatch
+    from pmk_nb.ui.common.page_lifecycle import MAX_PAGE_GONE_AFTER, PAGE_GONE_AFTER, PageWatch
 
     now = [0.0]
     closed: list[str] = []
@@ -141,8 +141,8 @@ def test_a_slow_page_or_a_starved_kernel_is_not_taken_for_gone() -> None:
 
 def test_a_voila_page_gets_frames_only_after_its_first_heartbeat(monkeypatch: pytest.MonkeyPatch) -> None:
     """Frames drawn before the page's websocket exists would pile up in Voilà's buffer."""
-    from pmk_nb.ui import page_lifecycle
-    from pmk_nb.ui.render_loop import RenderLoop
+    from pmk_nb.ui.common import page_lifecycle
+    from pmk_nb.ui.live.render_loop import RenderLoop
 
     assert page_lifecycle.page_ready()  # JupyterLab, tests: no page watch, always ready
     watch = page_lifecycle.PageWatch(lambda: None)
@@ -159,7 +159,7 @@ def test_a_voila_page_gets_frames_only_after_its_first_heartbeat(monkeypatch: py
 def test_the_page_gone_message_reaches_the_servers_iopub_listener() -> None:
     """What the kernel sends when its page is gone is what the server's manager looks for."""
     from pmk_nb.cli.voila_kernels import PageBoundKernelManager
-    from pmk_nb.ui.page_lifecycle import PAGE_GONE_MSG, reload_script
+    from pmk_nb.ui.common.page_lifecycle import PAGE_GONE_MSG, reload_script
 
     assert PAGE_GONE_MSG == "pmk_page_gone" and hasattr(PageBoundKernelManager, "_listen_for_page_gone")
     script = reload_script()
@@ -204,7 +204,7 @@ def test_the_server_collects_page_garbage_after_pages_come_or_go(monkeypatch: py
 
 def test_frames_wait_while_the_page_lags_behind_the_kernels_output() -> None:
     """Flow control: a pong the page has not acked for MAX_BEHIND s means frames are piling up."""
-    from pmk_nb.ui.page_lifecycle import MAX_BEHIND, PageWatch
+    from pmk_nb.ui.common.page_lifecycle import MAX_BEHIND, PageWatch
 
     now = [100.0]
     watch = PageWatch(lambda: None, clock=lambda: now[0])

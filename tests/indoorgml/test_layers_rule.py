@@ -184,7 +184,7 @@ def test_the_layer_choice_is_kept_in_the_rooms_files_and_the_maps_screen_lists_l
     from pmk_nb.access.sidecar import sidecar_doc
     from pmk_nb.library.choices import ConvertChoices, read_choices
     from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.ui.maps_access import AccessPanel
+    from pmk_nb.ui.maps.access import AccessPanel
 
     maps = MapsFolder(tmp_path / "maps")
     entry = maps.import_file(_layered_plan(tmp_path, v2=False, zone_graph=False, zone_words=""), "zones")

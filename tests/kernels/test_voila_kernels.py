@@ -70,7 +70,7 @@ def test_the_kernel_that_says_its_page_is_gone_is_shut_down_by_the_server(tmp_pa
     async def scenario(manager: PageBoundKernelManager, kid: str, client: object) -> None:
         manager.notify_connect(kid)  # a page is connected: only the message can end this kernel
         client.execute(  # type: ignore[attr-defined]
-            "from pmk_nb.ui.page_lifecycle import tell_server_page_gone\ntell_server_page_gone()"
+            "from pmk_nb.ui.common.page_lifecycle import tell_server_page_gone\ntell_server_page_gone()"
         )
         await _until(lambda: kid not in manager, "the kernel's shutdown after its page-gone message", timeout=60)
         assert kid not in manager._alone_since and kid not in manager._gone_streams

@@ -24,8 +24,8 @@ from pmk_nb.library.choices import (
     window_cells,
 )
 from pmk_nb.library.folder import MapsFolder
-from pmk_nb.ui.context import AppContext
-from pmk_nb.ui.maps_screen import MapsScreen
+from pmk_nb.ui.common.context import AppContext
+from pmk_nb.ui.maps.screen import MapsScreen
 from tests.access.test_not_window import _balcony
 
 WINDOW = "office window"

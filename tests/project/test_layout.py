@@ -121,7 +121,7 @@ ALLOWED_IMPORTS: dict[str, set[str]] = {
     "access": SHARED | {"indoorgml", "raster", "rosmap"},
     "rosmap": SHARED,
     "library": SHARED | {"indoorgml", "raster", "rosmap", "access"},
-    "chair": SHARED | {"rosmap", "viewport"},  # the tf tree composes viewport.pose transforms
+    "chair": SHARED | {"rosmap", "viewport"},  # the link fills viewport.TfTree; pose maths live there
     "sim": SHARED | {"rosmap", "indoorgml", "raster"},
     "robot": SHARED | {"rosmap", "sim"},  # chair-side ROS nodes: the map server, the simulator as a node
     "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "access"},

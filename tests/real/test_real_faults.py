@@ -202,7 +202,7 @@ def test_settings_screen_without_rosapi_shows_connected_and_says_why_pickers_are
 ) -> None:
     """Fault 1 on the Settings screen: "Connected", the map's size, and the plain-word note; never the
     "Disconnected: /rosapi/topics … type is required" the issue saw."""
-    from pmk_nb.ui.settings_screen import SettingsScreen
+    from pmk_nb.ui.settings.screen import SettingsScreen
     from tests.helpers import app_context
 
     start(real_chair, rosapi=False, sim_node=False)

@@ -1,6 +1,6 @@
 """Real-stack tier: Home's live view and notebook 02 against rosbridge-server-rs + the rclpy nodes (issue 9).
 
-The same flows as the simulator tests (tests/ui/test_ui_live.py, tests/kernels/test_notebooks.py), but the chair
+The same flows as the simulator tests (tests/ui/live/test_live.py, tests/kernels/test_notebooks.py), but the chair
 is a real ROS 2 graph behind a real rosbridge server: Home goes Live, draws frames with the chair and
 its laser, drives the sim node with the Drive joystick's channel; notebook 02 records from a saved
 chair profile.
@@ -20,7 +20,7 @@ from nbclient import NotebookClient
 
 from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.library.folder import MapsFolder
-from pmk_nb.ui.context import AppContext
+from pmk_nb.ui.common.context import AppContext
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair
 from tests.fixtures_sim import room_grid, write_test_map
@@ -43,7 +43,7 @@ def chair(real_chair: RealChair) -> RealChair:
 
 @pytest.mark.slow
 def test_home_goes_live_draws_frames_and_drives_the_real_chair(chair: RealChair, tmp_path: Path) -> None:
-    from pmk_nb.ui.home import HomeScreen
+    from pmk_nb.ui.home.screen import HomeScreen
 
     profiles = ProfileStore(tmp_path / "profiles.json", secrets=False)
     profiles.save(ChairProfile(name="real", host="127.0.0.1", port=chair.port, max_linear=0.4))

@@ -104,7 +104,7 @@ def test_the_sent_map_is_named_from_map_info_without_downloading_map(real_chair:
     so Home shows that map's own file under its name and never subscribes /map; another map loaded
     on the chair is then watched on /map and shown as the chair's own."""
     from pmk_nb.rosmap.files import read_map
-    from pmk_nb.ui.own_map import CHAIRS_MAP, OwnMap
+    from pmk_nb.ui.home.own_map import CHAIRS_MAP, OwnMap
     from tests.fixtures_sim import room_grid, write_test_map
 
     room = write_test_map(room_grid(8.0, 6.0), real_chair.maps, "room")

@@ -9,7 +9,7 @@ import numpy as np
 from pmk_nb.chair.messages import Pose2D, parse_scan
 from pmk_nb.chair.ranges import INVALID, UNKNOWN
 from pmk_nb.grid import OCCUPIED, OccupancyGrid
-from pmk_nb.ui.home_info import laser_text
+from pmk_nb.ui.home.info import laser_text
 from pmk_nb.viewport.mapcast import expected_no_return, explain_nulls, first_obstacle
 
 RES = 0.05
@@ -82,8 +82,8 @@ def test_only_nulls_are_explained_and_nothing_without_a_map() -> None:
 def test_the_screen_reader_hears_what_the_panel_shows_down_a_corridor_and_at_a_wall() -> None:
     """The live region's alerts come from the same map-aware reading as the panel's line: no spoken
     "Laser blind ahead" down a long corridor, one before a wall the laser should have seen."""
-    from pmk_nb.ui.home_info import info_texts
-    from pmk_nb.ui.live_region import Announcer
+    from pmk_nb.ui.home.info import info_texts
+    from pmk_nb.ui.home.live_region import Announcer
 
     pose = Pose2D(1.0, 0.0, 0.0, "map", 0.0)
     raw = [1.0] * 129 + [None] * 13 + [1.0] * 129

@@ -24,15 +24,13 @@ if TYPE_CHECKING:
 
     from pmk_nb.chair.link.inspect import OwnSubscription
 
-__all__ = ["AUTO", "PLAN_TOPICS", "PlanWatch", "PlannedPath", "ahead_of", "parse_path"]
+__all__ = ["AUTO", "PLAN_TOPICS", "PlanWatch", "PlannedPath", "parse_path"]
 
 AUTO = "auto"
 #: Where the navigation stacks publish their global plan: Nav2, then move_base's two global planners.
 PLAN_TOPICS = ("/plan", "/move_base/NavfnROS/plan", "/move_base/GlobalPlanner/plan")
 PATH_TYPE = "nav_msgs/Path"
 THROTTLE_MS = 500
-#: The chair this close (m) to the path's end has arrived: the path is no longer drawn.
-ARRIVED_M = 0.4
 
 
 @dataclass(frozen=True)
@@ -58,22 +56,6 @@ def parse_path(msg: dict[str, Any], topic: str, received: float) -> PlannedPath:
     frame = str((header or {}).get("frame_id") or "map") if isinstance(header, dict) else "map"
     points = np.array(xy, dtype=np.float64).reshape(-1, 2)
     return PlannedPath(points, frame.lstrip("/"), topic, received)
-
-
-def ahead_of(points: np.ndarray, chair: tuple[float, float] | None) -> np.ndarray:
-    """The part of the path still ahead of the chair: from the point nearest it to the end.
-
-    Empty once the chair is within :data:`ARRIVED_M` of the end (Nav2 and move_base publish no
-    empty path at the goal: the last plan would otherwise stay on the map for good).
-    """
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    if chair is None or pts.shape[0] == 0:
-        return pts
-    here = np.asarray(chair, dtype=np.float64)
-    if float(np.hypot(*(pts[-1] - here))) <= ARRIVED_M:
-        return pts[:0]
-    nearest = int(np.argmin(np.hypot(pts[:, 0] - here[0], pts[:, 1] - here[1])))
-    return np.vstack([here, pts[nearest:]])
 
 
 class PlanWatch:

@@ -16,7 +16,6 @@ from typing import Any, Literal
 
 import roslibpy
 
-from pmk_nb.chair.link.tfmath import TfTree
 from pmk_nb.chair.link.throttle import AUTO, AutoThrottle
 from pmk_nb.chair.messages import (
     Odometry,
@@ -29,6 +28,7 @@ from pmk_nb.chair.messages import (
     spell_type,
     stamp_ros_version,
 )
+from pmk_nb.viewport import TfTree
 
 LOG = logging.getLogger(__name__)
 

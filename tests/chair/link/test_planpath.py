@@ -7,10 +7,9 @@ import math
 import time
 from typing import Any
 
-import numpy as np
 import pytest
 
-from pmk_nb.chair.link.planpath import ARRIVED_M, PlanWatch, ahead_of, parse_path
+from pmk_nb.chair.link.planpath import PlanWatch, parse_path
 from tests.fixtures_sim import wait_until
 
 
@@ -27,14 +26,6 @@ def test_parse_path_keeps_finite_points_and_the_frame() -> None:
     path = parse_path(msg, "/plan", 1.0)
     assert path.points.tolist() == [[1.0, 2.5], [3.0, 4.0]] and path.frame == "map" and path.topic == "/plan"
     assert parse_path({}, "/plan", 0.0).points.shape == (0, 2)
-
-
-def test_the_path_ahead_starts_at_the_chair_and_ends_empty_on_arrival() -> None:
-    pts = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]])
-    ahead = ahead_of(pts, (1.9, 0.1))
-    assert ahead.tolist() == [[1.9, 0.1], [2.0, 0.0], [3.0, 0.0]]
-    assert ahead_of(pts, (3.0 - ARRIVED_M / 2, 0.0)).shape == (0, 2)
-    assert ahead_of(pts, None).shape == (4, 2)
 
 
 @pytest.mark.slow

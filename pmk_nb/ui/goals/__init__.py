@@ -1,0 +1,1 @@
+"""Home's destination: tap to set a goal, its heading, status and Cancel."""

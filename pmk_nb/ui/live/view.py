@@ -1,0 +1,399 @@
+"""The live preview canvas: the map, the chair, its heading/velocity and the laser scan (ipycanvas).
+
+Two layers in a ``MultiCanvas``: the map layer (:mod:`pmk_nb.ui.live.map_layer`) shows the grid
+at screen resolution from a tile that is re-rendered only on a zoom, a new map, a new client or
+when the view leaves it, and merely moved while the view follows the chair; the dynamic layer
+(:mod:`pmk_nb.ui.live.chair_layer`) is cleared and redrawn every frame with batched calls, all in
+one ``hold_canvas`` so a frame is one comm message.  A :class:`RenderLoop` draws at most ``fps``
+frames a second from the *latest* messages the chair link has stored, so a 50 Hz odometry or
+40 Hz scan never queues drawing work, and frames whose inputs did not change are skipped.
+Zoom comes from the screen's buttons (:meth:`LiveView.zoom_in`), the wheel and pinches; a drag
+(mouse or one finger) pans and turns Follow off; the view's own toolbar (:attr:`LiveView.toolbar`)
+has Follow and Centre (:mod:`pmk_nb.ui.live.gestures`).  The map shows with or without a chair.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+import time
+from collections.abc import Callable
+from typing import Any, Protocol
+
+from ipycanvas import MultiCanvas
+
+from pmk_nb.chair.messages import Odometry, Pose2D, Scan
+from pmk_nb.grid import OccupancyGrid
+from pmk_nb.ui.live.canvas_fix import make_messages_name_their_layer
+from pmk_nb.ui.live.chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer, pose_tuple
+from pmk_nb.ui.live.frame_metrics import FrameMetrics, install_byte_meter, measured_hold
+from pmk_nb.ui.live.gestures import LiveToolbar, ZoomGestures
+from pmk_nb.ui.live.map_layer import TILE_MARGIN, MapLayer
+from pmk_nb.ui.live.render_loop import RenderLoop
+from pmk_nb.viewport import Insets, Viewport, fit_canvas
+
+RAY_SPACING_PX = 2.0  # thin out rays that would end closer than this on screen
+#: Frame-rate cap: a little above the 30 fps the page must draw, so timer jitter on a busy kernel
+#: never takes it below (frames whose inputs did not change are skipped anyway).
+DEFAULT_FPS = 32.0
+#: After a canvas resize the page may apply the new size after the first frame's drawing (size and
+#: drawing travel on different comms) and that frame would be wiped: send everything again this late.
+RESIZE_RESEND_S = 0.5
+#: The largest canvas a page may ask for (fit_page): a big tablet's map area, one canvas pixel per CSS px.
+PAGE_MAX = (1600, 1200)
+
+
+class LiveSource(Protocol):
+    """What the live view reads: the chair link's latest messages (never blocking)."""
+
+    def latest_pose(self) -> Pose2D | None: ...
+    def latest_odom(self) -> Odometry | None: ...
+    def latest_scan(self) -> Scan | None: ...
+
+
+class Overlay(Protocol):
+    """Something drawn over the chair layer every frame (see :attr:`LiveView.overlays`)."""
+
+    version: int
+
+    def draw(self, layer: Any, view: Viewport) -> None: ...
+
+
+class LiveView:
+    """The live map canvas with zoom (buttons, wheel, pinch) and follow.
+
+    Args:
+        width, height: canvas size in pixels.
+        fps: frame-rate cap of the render loop.
+        footprint_radius: chair radius in metres (the blue circle).
+        zoom_step, max_zoom: see :class:`pmk_nb.viewport.Viewport`.
+        show_laser: draw the laser scan.
+        fit_to_map: treat ``width`` x ``height`` as the largest size and give the canvas the shape
+            of each map set (no empty band around the map at zoom level 1).
+        laser_style: "points" (hit dots over a light free-space polygon) or "rays" (one line per ray).
+        map_mode: "tile" (the grid at screen resolution, every wall kept) or "nearest" (one cell
+            per pixel, re-sent on every pan: the earlier look, kept for comparisons).
+        tile_margin: spare map around the view in the tile, in canvas sizes.
+    """
+
+    def __init__(
+        self,
+        width: int = 800,
+        height: int = 600,
+        *,
+        fps: float = DEFAULT_FPS,
+        footprint_radius: float = 0.35,
+        zoom_step: float = 1.5,
+        max_zoom: int = 8,
+        show_laser: bool = True,
+        fit_to_map: bool = False,
+        laser_style: str = "points",
+        map_mode: str = "tile",
+        tile_margin: float = TILE_MARGIN,
+    ) -> None:
+        if laser_style not in LASER_STYLES:
+            raise ValueError(f"laser_style must be one of {LASER_STYLES}, got {laser_style!r}")
+        self.canvas = MultiCanvas(2, width=int(width), height=int(height))
+        self.canvas.layout.max_width = "100%"
+        self.canvas.add_class("pmk-live-canvas")
+        make_messages_name_their_layer(self.canvas)
+        install_byte_meter(self.canvas)
+        self.max_size = (int(width), int(height))
+        self.fit_to_map = bool(fit_to_map)
+        self._resend_at: float | None = None
+        self._page_size: tuple[int, int] | None = None  # the page's room for the map (fit_page)
+        self.poses = PoseHistory()
+        self.map_layer = self.canvas[0]
+        self.dyn_layer = self.canvas[1]
+        self.map = MapLayer(self.map_layer, self.max_size, margin=tile_margin, mode=map_mode)
+        self.laser_style = laser_style
+        self._lock = threading.RLock()
+        self._zoom_step = zoom_step
+        self._max_zoom = max_zoom
+        self.footprint_radius = float(footprint_radius)
+        self.show_laser = bool(show_laser)
+        #: set by the screen when the chair's data stopped coming: the chair is drawn grey
+        self.stale = False
+        self.ray_spacing_px = RAY_SPACING_PX
+        self.viewport: Viewport | None = None
+        self._grid: OccupancyGrid | None = None
+        self._source: LiveSource | None = None
+        self._last_inputs: tuple[object, ...] | None = None
+        self._force = True
+        self._rays = (0, 0)  # (hits, max-range rays) of the last frame drawn
+        self._zoom_listeners: list[Callable[[int], None]] = []
+        self._error_listeners: list[Callable[[BaseException], None]] = []
+        #: drawn over the chair every frame, e.g. the rooms and route (:mod:`pmk_nb.ui.rooms.layer`);
+        #: each has ``draw(layer, view)`` and a ``version`` that changes when it has something new
+        self.overlays: list[Overlay] = []
+        self.metrics = FrameMetrics()
+        self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error)
+        self.canvas.on_client_ready(self._on_client_ready)
+        self.gestures = ZoomGestures(self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan)
+        self.toolbar = LiveToolbar()
+        self.toolbar.follow.observe(self._on_follow_toggle, names="value")
+        self.toolbar.centre.on_click(lambda _b: self.centre())
+
+    # -- setup ---------------------------------------------------------------------------------------
+    def set_map(self, grid: OccupancyGrid) -> None:
+        """Show ``grid`` (the same grid object again changes nothing: the view keeps its zoom and pan)."""
+        with self._lock:
+            if grid is self._grid and self.viewport is not None:
+                return
+            old = self.viewport
+            if self._page_size is not None:
+                self._resize(*self._page_size)
+            elif self.fit_to_map:
+                self._resize(*fit_canvas(int(grid.width), int(grid.height), *self.max_size))
+            self.viewport = Viewport.for_grid(
+                grid,
+                self.canvas.width,
+                self.canvas.height,
+                zoom_step=self._zoom_step,
+                max_zoom=self._max_zoom,
+            )
+            if old is not None:
+                self.viewport.following = old.following
+                self.viewport.set_zoom(old.zoom)
+            self._grid = grid
+            self.map.set_grid(grid)
+            self._force = True
+        self.request_redraw()
+
+    @property
+    def grid(self) -> OccupancyGrid | None:
+        """The map shown (None before :meth:`set_map`)."""
+        return self._grid
+
+    def _resize(self, width: int, height: int) -> None:
+        if (self.canvas.width, self.canvas.height) == (width, height):
+            return
+        self.canvas.width, self.canvas.height = width, height
+        self._resend_at = time.monotonic() + RESIZE_RESEND_S
+
+    def fit_page(self, width: int, height: int) -> bool:
+        """Give the canvas the page's room for the map (CSS px, clamped to 160 px .. PAGE_MAX),
+        whatever the map's shape: the map screen fills the window (issue 28). True if it changed."""
+        size = (min(max(int(width), 160), PAGE_MAX[0]), min(max(int(height), 160), PAGE_MAX[1]))
+        with self._lock:
+            if size == self._page_size:
+                return False
+            self._page_size = size
+            self.map.fit(size)
+            self._resize(*size)
+            if self.viewport is not None:
+                self.viewport.resize(*size)
+            self._force = True
+        self.request_redraw()
+        return True
+
+    def set_insets(self, insets: Insets) -> None:
+        """Panels cover ``insets`` of the canvas: following keeps the chair in the rest."""
+        with self._lock:
+            if self.viewport is None or self.viewport.insets == insets:
+                return
+            self.viewport.set_insets(insets)
+            self._force = True
+        self.request_redraw()
+
+    def chair_pixel(self) -> tuple[float, float] | None:
+        """Where the chair is drawn on the canvas, in canvas pixels (None before one was seen)."""
+        with self._lock:
+            return self.viewport.chair_pixel() if self.viewport is not None else None
+
+    def attach(self, source: LiveSource | None) -> None:
+        """Read poses and scans from ``source`` (a ChairLink); None shows the map alone."""
+        with self._lock:
+            self._source = source
+            self.poses.clear()
+            if self.viewport is not None:
+                self.viewport.forget_chair()  # Centre means the map until a chair is seen again
+            self._force = True
+        self.request_redraw()  # stopped: the map alone at once, not the last frame's chair
+
+    def start(self, source: LiveSource | None = None) -> str:
+        """Start drawing (at most ``fps`` frames/s); returns the loop mode ("asyncio" or "thread")."""
+        if source is not None:
+            self.attach(source)
+        return self.loop.start()
+
+    def stop(self) -> None:
+        self.loop.stop()
+
+    @property
+    def running(self) -> bool:
+        return self.loop.running
+
+    def on_zoom_change(self, cb: Callable[[int], None]) -> None:
+        self._zoom_listeners.append(cb)
+
+    def on_error(self, cb: Callable[[BaseException], None]) -> None:
+        self._error_listeners.append(cb)
+
+    # -- zoom ----------------------------------------------------------------------------------------
+    @property
+    def zoom(self) -> int:
+        return self.viewport.zoom if self.viewport is not None else 1
+
+    @property
+    def zoom_factor(self) -> float:
+        return self.viewport.zoom_factor if self.viewport is not None else 1.0
+
+    def set_zoom(self, level: object) -> int:
+        """Set the zoom level (clamped); raises ValueError for non-numbers. Returns the level set."""
+        with self._lock:
+            if self.viewport is None:
+                return 1
+            before = self.viewport.zoom
+            after = self.viewport.set_zoom(level)
+        if after != before:
+            for cb in list(self._zoom_listeners):
+                with contextlib.suppress(Exception):
+                    cb(after)
+            self.request_redraw()
+        return after
+
+    def zoom_in(self) -> int:
+        return self.set_zoom(self.zoom + 1)
+
+    def zoom_out(self) -> int:
+        return self.set_zoom(self.zoom - 1)
+
+    def _pinch_zoom(self, start_zoom: int, ratio: float) -> int | None:
+        view = self.viewport
+        return view.zoom_for_pinch(start_zoom, ratio) if view is not None else None
+
+    # -- pan, follow, centre -------------------------------------------------------------------------
+    @property
+    def following(self) -> bool:
+        return bool(self.toolbar.follow.value)
+
+    def pan(self, dx: float, dy: float) -> None:
+        """Move the map by (dx, dy) canvas pixels, as a drag does; turns Follow off."""
+        with self._lock:
+            if self.viewport is None:
+                return
+            self.viewport.pan_pixels(dx, dy)
+        self._show_following(False)
+        self.request_redraw()
+
+    def set_following(self, on: bool) -> None:
+        """Follow the chair (centred at once) or leave the view where it is."""
+        with self._lock:
+            if self.viewport is not None:
+                self.viewport.set_following(on)
+        self._show_following(bool(on))
+        self.request_redraw()
+
+    def centre(self) -> None:
+        """Centre on the chair (or on the map when no chair has been seen); Follow stays as it is."""
+        with self._lock:
+            if self.viewport is not None:
+                self.viewport.centre()
+        self.request_redraw()
+
+    def _show_following(self, on: bool) -> None:
+        if self.toolbar.follow.value != on:
+            self.toolbar.follow.value = on  # its observer calls set_following(on): a no-op by then
+
+    def _on_follow_toggle(self, change: dict[str, object]) -> None:
+        on = bool(change.get("new"))
+        if self.viewport is not None and self.viewport.following != on:
+            self.set_following(on)
+
+    # -- drawing -------------------------------------------------------------------------------------
+    def request_redraw(self) -> None:
+        """Redraw everything at the next frame (now, if the loop is not running)."""
+        with self._lock:
+            self._force = True
+        if not self.loop.running:
+            try:
+                self.render_frame()
+            except Exception as err:  # keep widget callbacks traceback-free
+                self._report_error(err)
+
+    def _on_client_ready(self) -> None:
+        # a new page (reload, second view) starts with empty canvases: send both layers again
+        with self._lock:
+            self.map.invalidate()
+        self.request_redraw()
+
+    def _report_error(self, err: BaseException) -> None:
+        self.metrics.errors += 1
+        for cb in list(self._error_listeners):
+            with contextlib.suppress(Exception):
+                cb(err)
+
+    def _read_source(self) -> tuple[Pose2D | Odometry | None, Odometry | None, Scan | None]:
+        source = self._source
+        if source is None:
+            return None, None, None
+        odom = source.latest_odom()
+        pose = source.latest_pose() or odom
+        scan = source.latest_scan() if self.show_laser else None
+        return pose, odom, scan
+
+    def render_frame(self) -> bool:
+        """Draw one frame from the latest messages; returns False when nothing changed (skipped)."""
+        with self._lock:
+            view = self.viewport
+            if view is None:
+                return False
+            if self._resend_at is not None and time.monotonic() >= self._resend_at:
+                self._resend_at = None
+                self._force = True
+                self.map.invalidate()
+            pose, odom, scan = self._read_source()
+            if pose is not None:
+                view.see_chair(pose.x, pose.y)
+                self.poses.remember(pose)
+            key = view.state_key()
+            inputs = (key, pose, odom, scan, self.show_laser, self.footprint_radius, self.stale, self.laser_style)
+            inputs += tuple(o.version for o in self.overlays)
+            if not self._force and self._same_inputs(inputs):
+                self.metrics.skipped += 1
+                return False
+            started = time.perf_counter()
+            with measured_hold(self.canvas) as sent:
+                draw_map = self.map.draw(view)
+                self._draw_dynamic(view, pose, odom, scan)
+            self._force = False
+            self._last_inputs = inputs
+            self.metrics.record(started, time.monotonic(), sent[0], draw_map, pose, odom, scan)
+            self.metrics.last_hits, self.metrics.last_max_rays = self._rays
+            return True
+
+    def scan_pose(self, pose: Pose2D | Odometry, scan: Scan) -> tuple[float, float, float]:
+        """Where the rays start: the remembered pose nearest the scan's arrival, else ``pose``."""
+        return self.poses.scan_pose(pose, scan)
+
+    def _same_inputs(self, inputs: tuple[object, ...]) -> bool:
+        last = self._last_inputs
+        if last is None:
+            return False
+        key, pose, odom, scan, *rest = inputs
+        last_key, last_pose, last_odom, last_scan, *last_rest = last
+        # the link stores one object per odom/scan message (identity = same message); a pose may be
+        # rebuilt on every call (from odometry or tf), so it compares by value
+        return (
+            key == last_key
+            and pose_tuple(pose) == pose_tuple(last_pose)  # type: ignore[arg-type]
+            and odom is last_odom
+            and scan is last_scan
+            and rest == last_rest
+        )
+
+    def _draw_dynamic(
+        self, view: Viewport, pose: Pose2D | Odometry | None, odom: Odometry | None, scan: Scan | None
+    ) -> None:
+        """The dynamic layer (a method so a subclass, e.g. the benchmark's, can draw more on it)."""
+        look = ChairLook(self.footprint_radius, self.stale, self.ray_spacing_px, self.laser_style)
+        self._rays = draw_chair_layer(self.dyn_layer, view, pose, odom, scan, look, self.poses)
+        for overlay in self.overlays:
+            overlay.draw(self.dyn_layer, view)
+
+    def close(self) -> None:
+        self.stop()
+        with self._lock:
+            self._source = None
+        self.canvas.close()

@@ -1,0 +1,1 @@
+"""The Maps screen: the maps folder, import, download, catalogues, conversion choices, access, Send."""

@@ -1,0 +1,1 @@
+"""Home's Plots panel: speed and turn rate, and the topic inspector."""

@@ -1,0 +1,150 @@
+"""Home's Record panel: Record / Stop recording, the running recording's time, messages and file,
+and download links for the finished recording and for the current map (YAML + image, zipped).
+
+Recordings go in ``recordings/`` beside the maps folder (``MapsFolder.root``'s parent), one MCAP
+file per recording named by its start time. Starting writes files on the tablet, so on a locked
+kiosk page it needs the PIN (:func:`~pmk_nb.ui.common.context.needs_pin`); stopping never does. The link
+calls (rosapi topic list, opening the recording's connection) run in a thread, never in a widget
+callback; a 2 Hz loop updates the status while a recording runs.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import ipywidgets as w
+
+from pmk_nb.ui.common.context import needs_pin
+from pmk_nb.ui.common.widgets import button, escape, guard, html_slot, run_in_thread
+from pmk_nb.ui.live.render_loop import RenderLoop
+from pmk_nb.ui.record.downloads import file_link_html, link_html, map_zip
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link.record import Recording, RecordStats
+    from pmk_nb.ui.common.context import AppContext
+
+STATUS_HZ = 2.0
+
+
+def recordings_dir(ctx: AppContext) -> Path:
+    """Where the dashboard keeps recordings: ``recordings/`` beside the maps folder."""
+    return ctx.maps.root.parent / "recordings"
+
+
+def status_text(seconds: float, messages: int, dropped: int, name: str) -> str:
+    clock = f"{int(seconds) // 60}:{int(seconds) % 60:02d}"
+    dropped_text = f", {dropped} dropped" if dropped else ""
+    return f"Recording {clock} · {messages} messages{dropped_text} · {escape(name)}"
+
+
+class RecordPanel:
+    """The Record button, its status line and the download links; ``widget`` goes under the map."""
+
+    def __init__(self, ctx: AppContext) -> None:
+        self.ctx = ctx
+        self.recording: Recording | None = None
+        self._busy = threading.Lock()  # one start or stop at a time, whatever the page sends
+        self.record_button = button("Record", "pmk-record-start", icon="circle", tooltip="Record the chair's topics")
+        self.stop_button = button("Stop recording", "pmk-record-stop", icon="stop")
+        self.map_button = button("Download map", "pmk-record-map", icon="download", tooltip="The current map as a zip")
+        self.status = html_slot("pmk-record-status")
+        self.downloads = html_slot("pmk-record-downloads")
+        self.map_link = html_slot("pmk-record-map-link")
+        self.record_button.on_click(guard(ctx, "Recording")(lambda _b: self.start()))
+        self.stop_button.on_click(guard(ctx, "Stopping the recording")(lambda _b: self.stop()))
+        self.map_button.on_click(guard(ctx, "Downloading the map")(lambda _b: self.offer_map()))
+        # wraps on a narrow screen (a phone) instead of making the page scroll sideways
+        row = w.HBox(
+            [self.record_button, self.stop_button, self.map_button, self.status],
+            layout=w.Layout(flex_flow="row wrap", align_items="center", max_width="100%"),
+        )
+        row.add_class("pmk-record-row")
+        self.widget = w.VBox([row, self.downloads, self.map_link])
+        self.widget.add_class("pmk-record")
+        self._loop = RenderLoop(self.refresh, STATUS_HZ)
+        self._show(False)
+
+    def _show(self, running: bool) -> None:
+        self.record_button.layout.display = "none" if running else ""
+        self.stop_button.layout.display = "" if running else "none"
+
+    @needs_pin("Recording")
+    def start(self) -> threading.Thread | None:
+        """Start recording the chair's default topics in a thread (the link asks rosapi first)."""
+        if self.recording is not None:
+            return None
+        link = self.ctx.link()
+        name = time.strftime("rec-%Y%m%d-%H%M%S.mcap")
+        folder = recordings_dir(self.ctx)
+
+        def work() -> Recording:
+            folder.mkdir(parents=True, exist_ok=True)
+            link.connect(timeout=5.0)
+            return link.start_recording(folder / name)
+
+        self.status.value = f"Starting the recording {escape(name)}…"
+        self.downloads.value = ""
+        return run_in_thread(
+            self.ctx, "Recording", work, on_done=self._started, on_error=self._failed, exclusive=self._busy
+        )
+
+    def _started(self, recording: Recording) -> None:
+        self.recording = recording
+        self._show(True)
+        self.refresh()
+        self._loop.start()
+
+    def _failed(self, err: BaseException) -> None:
+        self.status.value = f'<span class="pmk-record-error">Not recording: {escape(err)}</span>'
+
+    def refresh(self) -> None:
+        """The running recording's time, message count and file name."""
+        recording = self.recording
+        if recording is not None and recording.error is not None:  # the disk failed: stop and say why
+            self.stop()
+        elif recording is not None:
+            stats = recording.stats
+            seconds = time.time() - stats.started
+            self.status.value = status_text(seconds, stats.total, stats.dropped, recording.path.name)
+
+    def stop(self) -> threading.Thread | None:
+        """Finish the file (in a thread: the writer flushes what is queued) and offer its download."""
+        recording = self.recording
+        if recording is None:
+            return None
+        self._loop.stop()
+
+        def work() -> RecordStats:
+            try:
+                return recording.stop()
+            finally:
+                self.recording = None
+                self._show(False)
+
+        return run_in_thread(
+            self.ctx, "Stopping the recording", work, on_done=self._stopped, on_error=self._failed, exclusive=self._busy
+        )
+
+    def _stopped(self, stats: RecordStats) -> None:
+        path = stats.path
+        self.status.value = f"Recorded {stats.total} messages in {stats.duration:.0f} s: recordings/{escape(path.name)}"
+        self.downloads.value = file_link_html(path, f"Download {path.name}", "pmk-record-link")
+
+    def offer_map(self) -> None:
+        """A download link for the current map's YAML and image, zipped."""
+        current = self.ctx.current_map
+        if current is None:
+            self.map_link.value = "No current map to download."
+            return
+        zip_name, data = map_zip(current.yaml)
+        self.map_link.value = link_html(data, zip_name, f"Download {zip_name}", "pmk-map-link", "application/zip")
+
+    def close(self) -> None:
+        """Finish a running recording (a page that closes must not leave a file unwritten)."""
+        self._loop.stop()
+        recording, self.recording = self.recording, None
+        if recording is not None:
+            recording.stop()
