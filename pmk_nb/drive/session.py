@@ -38,7 +38,8 @@ _BLOCKED = {Hold.OTHER_DRIVER: StopReason.OTHER_DRIVER, Hold.STOPPED_ELSEWHERE: 
 
 
 class OdometryLike(Protocol):
-    received: float  # time.monotonic() when the link got it
+    @property
+    def received(self) -> float: ...  # time.monotonic() when the link got it (read-only: frozen messages)
 
 
 class DriveLink(Protocol):

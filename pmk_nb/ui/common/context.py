@@ -116,7 +116,7 @@ class AppContext:
         self.config_dir = Path(config_dir) if config_dir is not None else default_config_dir()
         self._lock = threading.RLock()
         self._map_observers: list[Callable[[CurrentMap | None], None]] = []
-        self._note_observers: list[Callable[[Notification], None]] = []
+        self._note_observers: list[Callable[[Notification], object]] = []
         # The chair this page talks to; its link lives in the kernel's link registry, not here.
         self._chair: tuple[str, int] | None = None
         self.notifications: list[Notification] = []
@@ -266,7 +266,7 @@ class AppContext:
         for cb in observers:
             self._safe_call(cb, note)
 
-    def observe_notifications(self, cb: Callable[[Notification], None]) -> Callable[[], None]:
+    def observe_notifications(self, cb: Callable[[Notification], object]) -> Callable[[], None]:
         """Call ``cb(notification)`` for every :meth:`notify`; returns a function that unsubscribes."""
         with self._lock:
             self._note_observers.append(cb)

@@ -315,7 +315,7 @@ def run_in_thread(
     work: Callable[[], Any],
     *,
     on_done: Callable[[Any], None] | None = None,
-    on_error: Callable[[BaseException], None] | None = None,
+    on_error: Callable[[BaseException], object] | None = None,
     busy: list[w.Widget] | None = None,
     exclusive: threading.Lock | None = None,
 ) -> threading.Thread | None:
@@ -373,7 +373,7 @@ class ConfirmBox:
     """
 
     def __init__(self, ctx: AppContext, css_prefix: str, *, yes: str = "Overwrite", no: str = "Cancel") -> None:
-        self._on_yes: Callable[[], None] | None = None
+        self._on_yes: Callable[[], object] | None = None
         self.message = w.HTML("")
         self.yes = button(yes, f"{css_prefix}-yes", style="warning", icon="check")
         self.no = button(no, f"{css_prefix}-no", icon="times")
@@ -389,7 +389,7 @@ class ConfirmBox:
     def visible(self) -> bool:
         return self.widget.layout.display != "none"
 
-    def ask(self, message: str, on_yes: Callable[[], None]) -> None:
+    def ask(self, message: str, on_yes: Callable[[], object]) -> None:
         self.message.value = f"<b>{escape(message)}</b>"
         self._on_yes = on_yes
         self.widget.layout.display = "flex"

@@ -83,7 +83,7 @@ class GoalPanel:
         self.live = live
         self.on_error = on_error
         # spoken feedback (Home wires it to the rooms guide's phrase queue): a (key, text) phrase
-        self.speak: Callable[[tuple[str, str]], None] | None = None
+        self.speak: Callable[[tuple[str, str]], object] | None = None
         self._spoken: GoalHandle | None = None  # the handle whose ending was said
         self.link: Any = None
         self.handle: GoalHandle | None = None

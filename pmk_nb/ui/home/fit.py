@@ -111,7 +111,7 @@ def parse_fit(text: object) -> tuple[int, int, list[tuple[float, float, float, f
         return None
     if not isinstance(raw, dict):
         return None
-    size = [raw.get("w"), raw.get("h")]
+    size: list[Any] = [raw.get("w"), raw.get("h")]
     if not all(_number(v) for v in size):
         return None
     width, height = (min(max(int(v), MIN_PX), MAX_PX) for v in size)

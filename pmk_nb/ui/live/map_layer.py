@@ -106,7 +106,7 @@ class MapLayer:
 
     def _draw_nearest(self, view: Viewport) -> bool:
         key = view.state_key()
-        if key == self._key:
+        if key == self._key or self._data_top is None:
             return False
         if self._gray is None:
             self._gray = np.ascontiguousarray(GRAY_LUT[self._data_top.view(np.uint8)])

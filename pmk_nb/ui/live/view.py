@@ -348,7 +348,16 @@ class LiveView:
                 view.see_chair(pose.x, pose.y)
                 self.poses.remember(pose)
             key = view.state_key()
-            inputs = (key, pose, odom, scan, self.show_laser, self.footprint_radius, self.stale, self.laser_style)
+            inputs: tuple[object, ...] = (
+                key,
+                pose,
+                odom,
+                scan,
+                self.show_laser,
+                self.footprint_radius,
+                self.stale,
+                self.laser_style,
+            )
             inputs += tuple(o.version for o in self.overlays)
             if not self._force and self._same_inputs(inputs):
                 self.metrics.skipped += 1

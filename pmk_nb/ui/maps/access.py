@@ -165,7 +165,8 @@ class AccessPanel:
             self.widget.layout.display = "none"
             return
         self.widget.layout.display = "flex"
-        parts, images, conflict, layers = [], [], "", []
+        parts, images, conflict = [], [], ""
+        layers: list[dict[str, Any]] = []
         suspect = next((s for doc in docs if isinstance(s := (doc or {}).get("unit_suspect"), dict)), None)
         if suspect is not None:  # before any door: a wrong unit makes every door look wrong
             parts.append(

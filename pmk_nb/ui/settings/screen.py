@@ -295,6 +295,7 @@ class SettingsScreen:
                 raise SettingsError(f"{name}: invalid value {value!r}: expected text", field=name)
         values = {k: v.strip() for k, v in values.items()}
         base = getattr(self, "_loaded", None)
+        drive_numbers: dict[str, Any] = {f: _parse_number(f, values[f]) for f in DRIVE_NUMBERS}
         profile = ChairProfile(
             name=values["name"],
             host=values["host"],
@@ -311,7 +312,7 @@ class SettingsScreen:
             key_file=values["key_file"] or None,
             remote_maps_dir=values["remote_maps_dir"],
             cmd_vel_topic=values["cmd_vel_topic"],
-            **{f: _parse_number(f, values[f]) for f in DRIVE_NUMBERS},
+            **drive_numbers,
             speech_on=values["speech_on"] == "True",
             speech_voice=values["speech_voice"],
             speech_rate=_parse_number("speech_rate", values["speech_rate"]),
