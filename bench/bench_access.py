@@ -52,7 +52,7 @@ def main(resolutions: list[float]) -> None:
 
     from pmk_nb.access.check import check_grid
     from pmk_nb.indoorgml import read_building
-    from pmk_nb.raster.openings import plan_openings
+    from pmk_nb.openings import plan_openings
     from pmk_nb.raster.storey import rasterise_storey
 
     with tempfile.TemporaryDirectory() as tmp:

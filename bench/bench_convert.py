@@ -213,7 +213,7 @@ def work_original(case: dict[str, Any], out: Path) -> dict[str, Any]:
     import numpy as np
     from PIL import Image, ImageDraw
 
-    from pmk_nb.raster.parts import polygons_of
+    from pmk_nb.geometry import polygons_of
 
     t0 = time.perf_counter()
     building = load(case)

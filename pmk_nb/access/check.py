@@ -8,8 +8,9 @@ from typing import TYPE_CHECKING
 
 from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport, check_storey
 from pmk_nb.access.sidecar import StoreyPlanFile, read_sidecar
+from pmk_nb.defaults import DEFAULT_DOOR_WIDTH
 from pmk_nb.errors import OccupancyError
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
+from pmk_nb.openings import OpeningPlan, plan_openings
 from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS, rasterise_storey
 
 if TYPE_CHECKING:

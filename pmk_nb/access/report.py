@@ -38,7 +38,7 @@ from pmk_nb.access.widths import free_widths
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH as DEFAULT_CHAIR_WIDTH  # declared once there, re-exported here
 from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.grid import FREE, UNKNOWN
-from pmk_nb.raster.openings import SKIP_WINDOW
+from pmk_nb.openings import SKIP_WINDOW
 from pmk_nb.raster.scanline import Frame, write_rects
 from pmk_nb.raster.spans import polygon_rects, polygon_rects_each
 
@@ -47,7 +47,7 @@ if TYPE_CHECKING:
 
     from pmk_nb.grid import OccupancyGrid
     from pmk_nb.indoorgml.model import Cell, Link
-    from pmk_nb.raster.openings import Opening, Skipped
+    from pmk_nb.openings import Opening, Skipped
 
 SKIP_OUTSIDE = "outside"  # a doorway that opens onto the map's edge: where it leads is not drawn
 

@@ -16,11 +16,11 @@ import shapely
 
 from pmk_nb.errors import MapFormatError, MapNotFound
 from pmk_nb.indoorgml.model import Cell, CellKind, Link
-from pmk_nb.raster.openings import Opening, Skipped
+from pmk_nb.openings import Opening, Skipped
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Building
-    from pmk_nb.raster.openings import OpeningPlan
+    from pmk_nb.openings import OpeningPlan
 
 FORMAT = "pmk-rooms/1"
 SUFFIX = ".rooms.json"

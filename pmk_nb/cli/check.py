@@ -61,7 +61,7 @@ def add_parser(subparsers: Any) -> None:
 def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
     """The storeys' reports and the plan's Building (None for a written map: its rooms file says the rest)."""
     from pmk_nb.access.check import check_building, check_map
-    from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
+    from pmk_nb.defaults import DEFAULT_DOOR_WIDTH
 
     target: Path = args.target
     width = chair_width_arg(args.chair_width)
@@ -97,7 +97,7 @@ def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any
     is to blame then), one summary line per storey, then each problem by name, then the transitions
     it could not check (windows: a misjudged one hides a door, so they are named, not only counted)."""
     from pmk_nb.indoorgml.levels import RAISED
-    from pmk_nb.raster.openings import SKIP_WINDOW
+    from pmk_nb.openings import SKIP_WINDOW
 
     lines = [f"suspect the unit first: {unit_suspect.message}"] if unit_suspect is not None else []
     for r in reports:

@@ -26,7 +26,7 @@ if TYPE_CHECKING:
     from pmk_nb.access import StoreyReport
     from pmk_nb.grid import OccupancyGrid
     from pmk_nb.indoorgml.model import Cell
-    from pmk_nb.raster.openings import Opening
+    from pmk_nb.openings import Opening
 
 
 @dataclass(frozen=True)

@@ -34,8 +34,8 @@ from pmk_nb.errors import MapFormatError, OccupancyError
 from pmk_nb.fileio import Content, replace_all
 from pmk_nb.library.choices import CHOICES_KEY, ConvertChoices
 from pmk_nb.library.naming import storey_map_names
+from pmk_nb.openings import plan_openings
 from pmk_nb.progress import ProgressCallback, emit, sub_range
-from pmk_nb.raster.openings import plan_openings
 from pmk_nb.raster.storey import plan_storey, rasterise_storey
 
 if TYPE_CHECKING:

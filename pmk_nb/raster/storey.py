@@ -29,14 +29,16 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pmk_nb.defaults import DEFAULT_DOOR_WIDTH
+
 # declared once in pmk_nb.defaults, re-exported here
 from pmk_nb.defaults import DEFAULT_MAX_CELLS as DEFAULT_MAX_CELLS
 from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP as DEFAULT_MAX_WALL_GAP
 from pmk_nb.defaults import DEFAULT_WALL_THICKNESS as DEFAULT_WALL_THICKNESS
 from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, new_cells, nice_ceil
+from pmk_nb.openings import OpeningPlan, plan_openings, thickest_wall
 from pmk_nb.progress import ProgressCallback, emit, sub_range
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
 from pmk_nb.raster.scanline import (
     Frame,
     axis_line_rects,
@@ -47,7 +49,6 @@ from pmk_nb.raster.scanline import (
 )
 from pmk_nb.raster.seal import seal_storey
 from pmk_nb.raster.spans import fill_polygons
-from pmk_nb.raster.thickness import thickest_wall
 from pmk_nb.raster.wallcut import wall_segments
 from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_walls, passages, shrink_segments
 

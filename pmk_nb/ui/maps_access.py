@@ -15,7 +15,7 @@ import ipywidgets as w
 import shapely
 
 from pmk_nb.access.report import SKIP_OUTSIDE
-from pmk_nb.raster.openings import SKIP_WINDOW
+from pmk_nb.openings import SKIP_WINDOW
 from pmk_nb.ui.widgets import escape, picture, replace_children
 
 if TYPE_CHECKING:

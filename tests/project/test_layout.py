@@ -17,12 +17,14 @@ TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
 TOP_LEVEL |= {"goalbeat.py"}  # the goal heartbeat's wire format: the link (chair/) and the watchdog (robot/)
 TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (sim, link, dashboard)
 TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
+TOP_LEVEL |= {"geometry.py"}  # shapely helpers shared by the openings plan and the rasteriser (issue 25)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
 PACKAGES |= {"catalogue"}  # STAC map catalogues: publish, browse, install (issue 27)
 PACKAGES |= {"classroom"}  # a simulated chair per page, the class's chair cap (issue 26)
 PACKAGES |= {"seams"}  # the only modules touching a library's private members, one per library (issue 25)
+PACKAGES |= {"openings"}  # where the navigation graph opens walls: raster draws it, access and guide read it (issue 25)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -112,23 +114,26 @@ def test_one_atomic_write_helper() -> None:
 SHARED = {"errors", "progress", "fileio", "grid"}
 SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the link and the dashboard
 SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
+SHARED |= {"geometry"}  # shapely helpers (polygon parts, boxes): a leaf over shapely and numpy
 ALLOWED_IMPORTS: dict[str, set[str]] = {
     "viewport": {"grid"},  # the shared grid type and its greys, nothing else
     "grid": set(),
     "indoorgml": SHARED,
-    "raster": SHARED | {"indoorgml"},
-    "access": SHARED | {"indoorgml", "raster", "rosmap"},
+    "openings": SHARED | {"indoorgml"},  # the plan of openings: from the building, before any grid
+    "raster": SHARED | {"indoorgml", "openings"},
+    "access": SHARED | {"indoorgml", "openings", "raster", "rosmap"},
     "rosmap": SHARED,
-    "library": SHARED | {"indoorgml", "raster", "rosmap", "access"},
+    "library": SHARED | {"indoorgml", "openings", "raster", "rosmap", "access"},
     "chair": SHARED | {"rosmap", "viewport"},  # the tf tree composes viewport.pose transforms
     "sim": SHARED | {"rosmap", "indoorgml", "raster"},
     "robot": SHARED | {"rosmap", "sim"},  # chair-side ROS nodes: the map server, the simulator as a node
-    "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "access"},
-    "guide": SHARED | {"indoorgml", "raster", "rosmap", "access"},  # rooms file + accessibility rules
+    "ui": SHARED | {"viewport", "indoorgml", "openings", "raster", "rosmap", "library", "chair", "access"},
+    "guide": SHARED | {"indoorgml", "openings", "raster", "rosmap", "access"},  # rooms file + accessibility rules
     "speech": SHARED,
     "cli": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "sim", "ui", "robot", "access"},
 }
 ALLOWED_IMPORTS["ui"] |= {"guide", "speech"}
+ALLOWED_IMPORTS["cli"] |= {"openings"}
 ALLOWED_IMPORTS["cli"] |= {"guide", "speech"}
 ALLOWED_IMPORTS["drive"] = set(SHARED)
 ALLOWED_IMPORTS["ui"] |= {"drive"}
