@@ -50,10 +50,10 @@ def with_graph(path: Path, nx: int, ny: int) -> Path:
 def main(resolutions: list[float]) -> None:
     from bench_convert import generated_gml
 
-    from pmk_nb.access.check import check_grid
+    from pmk_nb.access import check_grid
     from pmk_nb.indoorgml import read_building
     from pmk_nb.openings import plan_openings
-    from pmk_nb.raster.storey import rasterise_storey
+    from pmk_nb.raster import rasterise_storey
 
     with tempfile.TemporaryDirectory() as tmp:
         building = read_building(with_graph(generated_gml(Path(tmp), 1, 50, 50, 4.0, 4.0), 50, 50))

@@ -155,9 +155,9 @@ def wall_kept(
 
 
 def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
-    from pmk_nb.library.naming import storey_map_names
-    from pmk_nb.raster.storey import rasterise_storey
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.library import storey_map_names
+    from pmk_nb.raster import rasterise_storey
+    from pmk_nb.rosmap import write_map
 
     t0, c0 = time.perf_counter(), time.process_time()
     building = load(case)
@@ -185,7 +185,7 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
             kept.append(k)
             opened.append(doors_open(grid.data, (grid.resolution,) * 2, grid.origin[:2], case, 0))
         if "gen" not in case:  # the fidelity figures of issue 8, so speed is never bought with walls
-            from pmk_nb.access.check import check_grid
+            from pmk_nb.access import check_grid
 
             c = time.perf_counter()
             rep = check_grid(building, s, grid, chair_width=CHAIR)

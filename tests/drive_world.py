@@ -50,10 +50,10 @@ def drive_world(root: Path, server: str = "voila") -> Iterator[DriveWorld]:
 
     JupyterLab opens ``dashboard.ipynb`` at the yielded URL (token ``pmk-test``); run its cell.
     """
-    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import write_map
-    from pmk_nb.sim.demo import demo_grid
+    from pmk_nb.chair import PROFILES_FILE, ChairProfile, ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import write_map
+    from pmk_nb.sim import demo_grid
     from pmk_nb.ui.context import AppContext
 
     maps_dir, config_dir = root / "maps", root / "config"

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
+from pmk_nb.indoorgml import Boundary, Building, Cell, CellKind, Georeference, Storey
 
 if TYPE_CHECKING:
     from shapely.geometry import Polygon
@@ -54,8 +54,8 @@ def wait_until(cond: Callable[[], Any], timeout: float = 60.0, what: str = "cond
 @contextlib.contextmanager
 def app_context(tmp_path: Path) -> Iterator[AppContext]:
     """An AppContext on ``tmp_path/maps`` with profiles in ``tmp_path/cfg`` (no keyring), closed at exit."""
-    from pmk_nb.chair.profiles import ProfileStore
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.chair import ProfileStore
+    from pmk_nb.library import MapsFolder
     from pmk_nb.ui.context import AppContext
 
     store = ProfileStore(tmp_path / "cfg" / "profiles.json", secrets=False)

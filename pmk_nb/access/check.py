@@ -11,11 +11,11 @@ from pmk_nb.access.sidecar import StoreyPlanFile, read_sidecar
 from pmk_nb.defaults import DEFAULT_DOOR_WIDTH
 from pmk_nb.errors import OccupancyError
 from pmk_nb.openings import OpeningPlan, plan_openings
-from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS, rasterise_storey
+from pmk_nb.raster import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS, rasterise_storey
 
 if TYPE_CHECKING:
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.indoorgml.model import Building
+    from pmk_nb.indoorgml import Building
 
 
 def check_chair_width(value: float) -> float:
@@ -94,7 +94,7 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
     Raises:
         MapFormatError: the map or its rooms file cannot be read.
     """
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
 
     width = check_chair_width(chair_width)
     grid = read_map(Path(yaml_path))

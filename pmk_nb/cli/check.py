@@ -60,7 +60,7 @@ def add_parser(subparsers: Any) -> None:
 
 def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
     """The storeys' reports and the plan's Building (None for a written map: its rooms file says the rest)."""
-    from pmk_nb.access.check import check_building, check_map
+    from pmk_nb.access import check_building, check_map
     from pmk_nb.defaults import DEFAULT_DOOR_WIDTH
 
     target: Path = args.target
@@ -96,7 +96,7 @@ def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any
     """The text report: the unit first when the doors are absurd in it (see units.unit_suspect: no door
     is to blame then), one summary line per storey, then each problem by name, then the transitions
     it could not check (windows: a misjudged one hides a door, so they are named, not only counted)."""
-    from pmk_nb.indoorgml.levels import RAISED
+    from pmk_nb.indoorgml import RAISED
     from pmk_nb.openings import SKIP_WINDOW
 
     lines = [f"suspect the unit first: {unit_suspect.message}"] if unit_suspect is not None else []
@@ -138,7 +138,7 @@ def verdict(reports: list[Any], code: int) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.indoorgml.summary import graph_lines, layer_lines
+    from pmk_nb.indoorgml import graph_lines, layer_lines
 
     reports, building = _reports(args)
     code = exit_code(reports)

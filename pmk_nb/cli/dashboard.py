@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     if args.preview_on_start or args.kiosk:
         env[AUTOSTART_ENV] = "1"
     env[KIOSK_ENV] = "1" if args.kiosk else "0"
-    from pmk_nb.library.netguard import ALLOW_LOCAL_ENV  # here: the HTTP modules stay out of `pmk --help`
+    from pmk_nb.library import ALLOW_LOCAL_ENV  # here: the HTTP modules stay out of `pmk --help`
 
     env[ALLOW_LOCAL_ENV] = "1" if getattr(args, "allow_local", False) else "0"
     token = preflight(args, env, kiosk=args.kiosk)

@@ -10,8 +10,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from pmk_nb.classroom.cap import ChairCap, default_max_chairs
-from pmk_nb.classroom.settings import CLASSROOM_ENV, SETTINGS_FILE, ClassroomSettings
+from pmk_nb.classroom import CLASSROOM_ENV, SETTINGS_FILE, ChairCap, ClassroomSettings, default_max_chairs
 from pmk_nb.cli.demo_setup import convert_sample, make_key_pair
 
 STATE_DIR = "classroom"

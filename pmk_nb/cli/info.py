@@ -12,7 +12,7 @@ from pmk_nb.cli.options import add_layer_option, add_not_window_option
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
-    from pmk_nb.indoorgml.units import UNIT_CHOICES
+    from pmk_nb.indoorgml import UNIT_CHOICES
 
     p = subparsers.add_parser(
         "info",

@@ -17,9 +17,11 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from pmk_nb.library.convert import ConvertOptions, ConvertResult, StoreyMap, convert_plan
+    from pmk_nb.library.download import check_url, fetch
     from pmk_nb.library.folder import MapEntry, MapsFolder, check_name, default_maps_dir
     from pmk_nb.library.info import StoreyInfo
-    from pmk_nb.library.naming import safe_file_part, storey_map_names
+    from pmk_nb.library.naming import SOURCE_SUFFIXES, safe_file_part, storey_map_names
+    from pmk_nb.library.netguard import ALLOW_LOCAL_ENV
     from pmk_nb.library.scan import GeneratedMap
 
 _WHERE = {
@@ -27,17 +29,23 @@ _WHERE = {
     "ConvertResult": "convert",
     "StoreyMap": "convert",
     "convert_plan": "convert",
+    "check_url": "download",
+    "fetch": "download",
     "MapEntry": "folder",
     "MapsFolder": "folder",
     "check_name": "folder",
     "default_maps_dir": "folder",
     "StoreyInfo": "info",
+    "SOURCE_SUFFIXES": "naming",
     "safe_file_part": "naming",
     "storey_map_names": "naming",
+    "ALLOW_LOCAL_ENV": "netguard",
     "GeneratedMap": "scan",
 }
 
 __all__ = [
+    "ALLOW_LOCAL_ENV",
+    "SOURCE_SUFFIXES",
     "ConvertOptions",
     "ConvertResult",
     "GeneratedMap",
@@ -46,8 +54,10 @@ __all__ = [
     "StoreyInfo",
     "StoreyMap",
     "check_name",
+    "check_url",
     "convert_plan",
     "default_maps_dir",
+    "fetch",
     "safe_file_part",
     "storey_map_names",
 ]

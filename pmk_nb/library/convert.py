@@ -19,9 +19,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.access.check import check_chair_width, check_grid
-from pmk_nb.access.report import StoreyReport
-from pmk_nb.access.sidecar import sidecar_json, sidecar_path
+from pmk_nb.access import StoreyReport, check_chair_width, check_grid, sidecar_json, sidecar_path
 from pmk_nb.defaults import (
     DEFAULT_CHAIR_WIDTH,
     DEFAULT_DOOR_WIDTH,
@@ -36,11 +34,11 @@ from pmk_nb.library.choices import CHOICES_KEY, ConvertChoices
 from pmk_nb.library.naming import storey_map_names
 from pmk_nb.openings import plan_openings
 from pmk_nb.progress import ProgressCallback, emit, sub_range
-from pmk_nb.raster.storey import plan_storey, rasterise_storey
+from pmk_nb.raster import plan_storey, rasterise_storey
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.indoorgml import Building
+    from pmk_nb.rosmap import MapFiles
 
 __all__ = ["ConvertOptions", "ConvertResult", "StoreyMap", "convert_plan"]
 
@@ -134,7 +132,7 @@ def _stage_storeys(
     progress: ProgressCallback | None,
 ) -> list[StoreyMap]:
     """Rasterise and write every wanted storey into ``staging``; returns the maps (paths in staging)."""
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.rosmap import write_map
 
     resolution = opts.resolution
     for storey in wanted:  # every storey's size is checked before anything is rasterised
@@ -198,7 +196,7 @@ def _stage_storeys(
 def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
     """Move the staged files into ``out_dir`` (images and previews first, YAMLs last): renamed, as the
     staging folder lies inside ``out_dir`` (a copy of a 100 M-cell map cost 0.9 s)."""
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.rosmap import MapFiles
 
     data = [p for m in staged for p in (m.files.image, m.files.preview, m.rooms) if p is not None]
     yamls = [m.files.yaml for m in staged]

@@ -19,7 +19,7 @@ from pmk_nb.geometry import grown_box
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-    from pmk_nb.indoorgml.model import Boundary, Cell
+    from pmk_nb.indoorgml import Boundary, Cell
 
 
 class Nearby:

@@ -39,8 +39,7 @@ from shapely import ops
 
 from pmk_nb.defaults import DEFAULT_DOOR_WIDTH, DEFAULT_MAX_WALL_GAP
 from pmk_nb.geometry import boxes_overlap
-from pmk_nb.indoorgml.doors import says_corridor
-from pmk_nb.indoorgml.model import CellKind
+from pmk_nb.indoorgml import CellKind, says_corridor
 from pmk_nb.openings.doorface import door_face
 from pmk_nb.openings.doorslide import DEFAULT_INSET, place
 from pmk_nb.openings.nearby import Nearby
@@ -50,7 +49,7 @@ from pmk_nb.openings.thickness import MIN_WALL
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-    from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
+    from pmk_nb.indoorgml import Boundary, Building, Cell, Link
 
 RULES = ("door", "line", "corridor", "middle", "bridge")
 MAX_BRIDGE = 3.0  # metres: the widest gap between two linked cells that a passage is laid across

@@ -53,7 +53,7 @@ from pmk_nb.raster.wallcut import wall_segments
 from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_walls, passages, shrink_segments
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building, Cell
+    from pmk_nb.indoorgml import Building, Cell
 
 NAV2_MAX_CELLS_PER_SIDE = 32767
 _WALL = 101  # transient markers while drawing: a wall cell that a door may still open,

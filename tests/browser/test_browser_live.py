@@ -58,10 +58,10 @@ def thin_wall_grid() -> OccupancyGrid:
 @contextlib.contextmanager
 def serve_thin_walls(tmp_path: Path) -> Iterator[str]:
     """The demo chair, the thin-wall map as the current map, Voilà serving the dashboard (no autostart)."""
-    from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.chair import PROFILES_FILE, ProfileStore
+    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import write_map
     from pmk_nb.ui.context import AppContext
 
     world = prepare_demo(tmp_path / "demo")

@@ -9,7 +9,7 @@ import pytest
 
 from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.chair.secrets import KEYRING_SERVICE, PasswordCache, SshAccount
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.library import MapsFolder
 from pmk_nb.ui.context import AppContext
 from tests.chair.test_settings import DictKeyring
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb import defaults
-from pmk_nb.library.convert import ConvertOptions, convert_plan
+from pmk_nb.library import ConvertOptions, convert_plan
 
 PKG = Path(__file__).resolve().parents[2] / "pmk_nb"
 SAMPLE = PKG.parent / "sample_maps" / "clinic_floor.gml"

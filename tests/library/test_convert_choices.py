@@ -14,7 +14,7 @@ import pytest
 import shapely
 import traitlets
 
-from pmk_nb.access.sidecar import sidecar_doc, sidecar_path
+from pmk_nb.access import sidecar_doc, sidecar_path
 from pmk_nb.cli import main
 from pmk_nb.library.choices import (
     ConvertChoices,

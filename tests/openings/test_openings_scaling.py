@@ -10,8 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import LineString
 
-from pmk_nb.indoorgml import read_building
-from pmk_nb.indoorgml.model import Boundary, Cell, CellKind
+from pmk_nb.indoorgml import Boundary, Cell, CellKind, read_building
 from pmk_nb.openings import plan
 from pmk_nb.openings.nearby import Nearby
 from tests.access.test_access_rules import _boundary, _cell, _graph, _plan

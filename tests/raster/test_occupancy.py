@@ -13,7 +13,7 @@ from shapely.geometry import LineString, Polygon, box
 
 from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.indoorgml.model import Boundary, CellKind
+from pmk_nb.indoorgml import Boundary, CellKind
 from pmk_nb.progress import Progress
 from pmk_nb.raster.scanline import Frame, fill_polygon, line_segments, supercover_cells
 from pmk_nb.raster.storey import plan_storey, rasterise, rasterise_storey

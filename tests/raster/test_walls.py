@@ -14,8 +14,7 @@ from shapely import affinity
 from shapely.geometry import LineString, Polygon, box
 
 from pmk_nb.errors import OccupancyError
-from pmk_nb.indoorgml import read_building
-from pmk_nb.indoorgml.model import Boundary, CellKind
+from pmk_nb.indoorgml import Boundary, CellKind, read_building
 from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, rasterise_storey
 from pmk_nb.raster.walls import door_gaps, gap_walls
 from tests.helpers import building, cells_in, flood, room

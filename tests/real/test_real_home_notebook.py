@@ -18,8 +18,8 @@ import nbformat
 import pytest
 from nbclient import NotebookClient
 
-from pmk_nb.chair.profiles import ChairProfile, ProfileStore
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.chair import ChairProfile, ProfileStore
+from pmk_nb.library import MapsFolder
 from pmk_nb.ui.context import AppContext
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair

@@ -16,6 +16,7 @@ from pmk_nb.chair.link.client import ChairLink, ConnectionReport
 from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.registry import close_all_links, forget_link, get_link, open_links, use_only
 from pmk_nb.chair.link.state import LinkState
+from pmk_nb.chair.link.tls import trust_certificate
 
 __all__ = [
     "ChairLink",
@@ -26,5 +27,6 @@ __all__ = [
     "forget_link",
     "get_link",
     "open_links",
+    "trust_certificate",
     "use_only",
 ]
