@@ -156,7 +156,7 @@ def wall_kept(
 
 def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
     from pmk_nb.library import storey_map_names
-    from pmk_nb.raster import rasterise_storey
+    from pmk_nb.raster import RasterOptions, rasterise_storey
     from pmk_nb.rosmap import write_map
 
     t0, c0 = time.perf_counter(), time.process_time()
@@ -171,7 +171,7 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
     fid = [0, 0, 0, 0]  # links, passable r = 0, passable for the chair (CHAIR m), leaks
     for s in names:
         a, ca = time.perf_counter(), time.process_time()
-        grid = rasterise_storey(building, s, case["res"], max_cells=case.get("max_cells", 400_000_000))
+        grid = rasterise_storey(building, s, case["res"], RasterOptions(max_cells=case.get("max_cells", 400_000_000)))
         b, cb = time.perf_counter(), time.process_time()
         write_map(grid, out, files[s])
         t_r += b - a

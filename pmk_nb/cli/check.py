@@ -61,7 +61,7 @@ def add_parser(subparsers: Any) -> None:
 def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
     """The storeys' reports and the plan's Building (None for a written map: its rooms file says the rest)."""
     from pmk_nb.access import check_building, check_map
-    from pmk_nb.defaults import DEFAULT_DOOR_WIDTH
+    from pmk_nb.raster import RasterOptions
 
     target: Path = args.target
     width = chair_width_arg(args.chair_width)
@@ -80,8 +80,8 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
     from pmk_nb.indoorgml import read_building
 
     building = read_building(target, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
-    door = DEFAULT_DOOR_WIDTH if args.door_width is None else args.door_width
-    return check_building(building, args.resolution, chair_width=width, door_width=door), building
+    options = RasterOptions() if args.door_width is None else RasterOptions(door_width=args.door_width)
+    return check_building(building, args.resolution, chair_width=width, options=options), building
 
 
 MAX_NOT_CHECKED = 10  # transitions named per storey; the rest are counted

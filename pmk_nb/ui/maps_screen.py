@@ -17,7 +17,9 @@ import ipywidgets as w
 
 from pmk_nb.access.check import profile_chair_width
 from pmk_nb.access.sidecar import sidecar_doc
+from pmk_nb.defaults import DEFAULT_RESOLUTION
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
+from pmk_nb.library import ConvertOptions
 from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.host_key_prompt import HostKeyPrompt, strict
 from pmk_nb.ui.maps_access import AccessPanel
@@ -48,7 +50,6 @@ if TYPE_CHECKING:
     from pmk_nb.library.folder import GeneratedMap, MapEntry
     from pmk_nb.ui.context import AppContext
 
-DEFAULT_RESOLUTION = 0.05
 MAX_RESOLUTION = 1.0
 CONNECT_TIMEOUT = 10.0
 
@@ -283,17 +284,18 @@ class MapsScreen:
         which = f" (storeys {', '.join(storeys)})" if storeys else ""
         self.status.value = f"Converting {escape(entry.name)}{escape(which)} at {resolution:g} m…"
 
+        options = ConvertOptions(  # passed whole; every other setting is pmk_nb.defaults'
+            resolution=resolution,
+            storeys=storeys,
+            chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
+            unit=choices.unit,
+            not_windows=tuple(choices.not_windows),
+            layers=tuple(choices.layers),
+        )
+
         def work() -> list[GeneratedMap]:
-            return self.ctx.maps.convert(
-                entry.name,
-                resolution,
-                storeys=storeys,
-                progress=progress_callback(self.convert_progress, self.status),
-                chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
-                unit=choices.unit,
-                not_windows=choices.not_windows,
-                layers=choices.layers,
-            )
+            progress = progress_callback(self.convert_progress, self.status)
+            return self.ctx.maps.convert_with(entry.name, options, progress=progress)
 
         def done(generated: list[GeneratedMap]) -> None:
             self.refresh()

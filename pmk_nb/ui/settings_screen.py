@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, ChairProfile
+from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.errors import PmkError, SettingsError
 from pmk_nb.ui.context import needs_pin
 from pmk_nb.ui.host_key_prompt import CertificatePrompt
@@ -123,7 +124,7 @@ def _form_fields() -> dict[str, w.Widget]:
         "speech_on": w.ToggleButtons(options=[("Speak", "True"), ("Silent", "False")], value="True"),
         "speech_voice": text("en", "Voice (language code)", "pmk-settings-speech-voice", placeholder="en"),
         "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
-        "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
+        "chair_width": text(f"{DEFAULT_CHAIR_WIDTH:g}", "Chair width (m), for map checks", "pmk-settings-chair-width"),
         "goals_on_link_loss": _link_loss_toggle(),
         # the rider's display (pmk_nb/ui/display_prefs.py): applied on the app root once saved
         "high_contrast": w.ToggleButtons(

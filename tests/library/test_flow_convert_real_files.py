@@ -17,10 +17,10 @@ import shapely
 from shapely.geometry import Point
 from shapely.ops import polylabel
 
+from pmk_nb.defaults import DEFAULT_WALL_THICKNESS
 from pmk_nb.indoorgml import Building, Cell, read_building
 from pmk_nb.library.folder import MapsFolder
 from pmk_nb.openings import plan_openings
-from pmk_nb.raster import DEFAULT_WALL_THICKNESS
 from pmk_nb.rosmap import read_map
 from tests.helpers import cells_in, reachable
 from tests.shared_data import INDOORGML_DATA
