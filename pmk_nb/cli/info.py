@@ -34,7 +34,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def connectivity(building: Any) -> dict[str, Any]:
-    """How the navigation graph will open the walls: links, and the rule used per storey (see raster.openings)."""
+    """How the navigation graph will open the walls: links, and the rule used per storey (see pmk_nb.openings)."""
     from pmk_nb.openings import plan_openings
 
     per_storey: dict[str, dict[str, int]] = {}
