@@ -50,10 +50,10 @@ def with_graph(path: Path, nx: int, ny: int) -> Path:
 def main(resolutions: list[float]) -> None:
     from bench_convert import generated_gml
 
-    from pmk_nb.access.check import check_grid
+    from pmk_nb.access import check_grid
     from pmk_nb.indoorgml import read_building
-    from pmk_nb.raster.openings import plan_openings
-    from pmk_nb.raster.storey import rasterise_storey
+    from pmk_nb.openings import plan_openings
+    from pmk_nb.raster import RasterOptions, rasterise_storey
 
     with tempfile.TemporaryDirectory() as tmp:
         building = read_building(with_graph(generated_gml(Path(tmp), 1, 50, 50, 4.0, 4.0), 50, 50))
@@ -62,7 +62,9 @@ def main(resolutions: list[float]) -> None:
     print("| resolution | cells | check s | check peak MB (tracemalloc) | links passable |")
     print("|---|---|---|---|---|")
     for res in resolutions:
-        grid = rasterise_storey(building, storey, res, openings=plan, max_cells=450_000_000, allow_large=True)
+        grid = rasterise_storey(
+            building, storey, res, RasterOptions(max_cells=450_000_000, allow_large=True), openings=plan
+        )
         t = time.perf_counter()
         report = check_grid(building, storey, grid, plan=plan)
         dt = time.perf_counter() - t  # timed untraced: tracemalloc slows every allocation

@@ -155,9 +155,9 @@ def wall_kept(
 
 
 def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
-    from pmk_nb.library.naming import storey_map_names
-    from pmk_nb.raster.storey import rasterise_storey
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.library import storey_map_names
+    from pmk_nb.raster import RasterOptions, rasterise_storey
+    from pmk_nb.rosmap import write_map
 
     t0, c0 = time.perf_counter(), time.process_time()
     building = load(case)
@@ -171,7 +171,7 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
     fid = [0, 0, 0, 0]  # links, passable r = 0, passable for the chair (CHAIR m), leaks
     for s in names:
         a, ca = time.perf_counter(), time.process_time()
-        grid = rasterise_storey(building, s, case["res"], max_cells=case.get("max_cells", 400_000_000))
+        grid = rasterise_storey(building, s, case["res"], RasterOptions(max_cells=case.get("max_cells", 400_000_000)))
         b, cb = time.perf_counter(), time.process_time()
         write_map(grid, out, files[s])
         t_r += b - a
@@ -185,7 +185,7 @@ def work_new(case: dict[str, Any], out: Path) -> dict[str, Any]:
             kept.append(k)
             opened.append(doors_open(grid.data, (grid.resolution,) * 2, grid.origin[:2], case, 0))
         if "gen" not in case:  # the fidelity figures of issue 8, so speed is never bought with walls
-            from pmk_nb.access.check import check_grid
+            from pmk_nb.access import check_grid
 
             c = time.perf_counter()
             rep = check_grid(building, s, grid, chair_width=CHAIR)
@@ -213,7 +213,7 @@ def work_original(case: dict[str, Any], out: Path) -> dict[str, Any]:
     import numpy as np
     from PIL import Image, ImageDraw
 
-    from pmk_nb.raster.parts import polygons_of
+    from pmk_nb.geometry import polygons_of
 
     t0 = time.perf_counter()
     building = load(case)

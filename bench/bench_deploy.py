@@ -28,11 +28,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from pmk_nb.chair import ChairProfile  # noqa: E402
 from pmk_nb.chair.deploy import STEPS, deploy  # noqa: E402
-from pmk_nb.chair.link.client import ChairLink  # noqa: E402
-from pmk_nb.chair.profiles import ChairProfile  # noqa: E402
+from pmk_nb.chair.link import ChairLink  # noqa: E402
 from pmk_nb.grid import OccupancyGrid  # noqa: E402
-from pmk_nb.rosmap.files import write_map  # noqa: E402
+from pmk_nb.rosmap import write_map  # noqa: E402
 from pmk_nb.sim import SimChair  # noqa: E402
 
 

@@ -109,9 +109,9 @@ def reload_rows(sizes: tuple[int, ...], repeats: int) -> list[str]:
 
     from bench_deploy import building_grid
 
-    from pmk_nb.rosmap.files import read_map, write_map
+    from pmk_nb.rosmap import read_map, write_map
+    from pmk_nb.sim import World
     from pmk_nb.sim.messages import Names
-    from pmk_nb.sim.world import World
 
     rows = []
     with tempfile.TemporaryDirectory(prefix="pmk-bench-reload-") as tmp:
@@ -167,9 +167,7 @@ def reload_rows(sizes: tuple[int, ...], repeats: int) -> list[str]:
 
 
 def cast_ms(rays: int, repeat: int) -> float:
-    from pmk_nb.sim.demo import demo_grid
-    from pmk_nb.sim.laser import Laser
-    from pmk_nb.sim.world import World
+    from pmk_nb.sim import Laser, World, demo_grid
 
     world = World(demo_grid())
     laser = Laser(rays=rays)
@@ -189,9 +187,7 @@ def goal_rows(goals: int, steps: tuple[float, ...]) -> list[str]:
 
     import numpy as np
 
-    from pmk_nb.sim.chair import Chair
-    from pmk_nb.sim.demo import sample_floor
-    from pmk_nb.sim.world import World
+    from pmk_nb.sim import Chair, World, sample_floor
 
     grid = sample_floor()
     if grid is None:

@@ -19,3 +19,5 @@ DEFAULT_DOOR_WIDTH = 0.9
 DEFAULT_CHAIR_WIDTH = 0.70
 #: cells: the largest grid written without being asked (~400 MB of int8)
 DEFAULT_MAX_CELLS = 400_000_000
+#: cells: the longest side Nav2's map_server loads (an int16 index); larger grids only when asked
+NAV2_MAX_CELLS_PER_SIDE = 32767

@@ -21,7 +21,7 @@ from typing import Any
 
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
-from pmk_nb.ui.common.context import AUTOSTART_ENV
+from pmk_nb.ui import AUTOSTART_ENV
 
 ROOT = Path(__file__).resolve().parents[1]
 SIM_CODE = """
@@ -50,11 +50,11 @@ def drive_world(root: Path, server: str = "voila") -> Iterator[DriveWorld]:
 
     JupyterLab opens ``dashboard.ipynb`` at the yielded URL (token ``pmk-test``); run its cell.
     """
-    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import write_map
-    from pmk_nb.sim.demo import demo_grid
-    from pmk_nb.ui.common.context import AppContext
+    from pmk_nb.chair import PROFILES_FILE, ChairProfile, ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import write_map
+    from pmk_nb.sim import demo_grid
+    from pmk_nb.ui import AppContext
 
     maps_dir, config_dir = root / "maps", root / "config"
     maps_dir.mkdir(parents=True, exist_ok=True)

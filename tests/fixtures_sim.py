@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.chair import ChairProfile
 from pmk_nb.grid import FREE, OCCUPIED, OccupancyGrid
 from pmk_nb.sim import SimChair
 
@@ -55,7 +55,7 @@ def room_grid(
 
 def write_test_map(grid: OccupancyGrid, directory: Path, name: str) -> Path:
     """Write ``grid`` as NAME.yaml + NAME.pgm (the safe trinary encoding); returns the YAML path."""
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.rosmap import write_map
 
     return write_map(grid, directory, name, preview=False).yaml
 
@@ -131,7 +131,7 @@ def ros_factory() -> Iterator[Callable[..., Any]]:
 @pytest.fixture
 def link_factory() -> Iterator[Callable[[Any], Any]]:
     """``make(sim)`` -> a connected :class:`pmk_nb.chair.link.client.ChairLink` to that sim, closed at teardown."""
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link import ChairLink
 
     links: list[ChairLink] = []
 

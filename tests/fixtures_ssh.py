@@ -26,7 +26,7 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.chair import ChairProfile
 
 SSHD = "/usr/sbin/sshd"
 TEST_USER = "pmktest"

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.ui.common.context import AppContext
+from pmk_nb.ui import AppContext
 from pmk_nb.ui.maps.screen import MapsScreen
 from tests.helpers import app_context
 

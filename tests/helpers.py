@@ -19,13 +19,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
+from pmk_nb.indoorgml import Boundary, Building, Cell, CellKind, Georeference, Storey
 
 if TYPE_CHECKING:
     from shapely.geometry import Polygon
 
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.ui.common.context import AppContext
+    from pmk_nb.ui import AppContext
 
 
 def wait_ticking(cond: Callable[[], bool], timeout: float, tick: Callable[[], None] | None = None) -> bool:
@@ -54,9 +54,9 @@ def wait_until(cond: Callable[[], Any], timeout: float = 60.0, what: str = "cond
 @contextlib.contextmanager
 def app_context(tmp_path: Path) -> Iterator[AppContext]:
     """An AppContext on ``tmp_path/maps`` with profiles in ``tmp_path/cfg`` (no keyring), closed at exit."""
-    from pmk_nb.chair.profiles import ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.ui.common.context import AppContext
+    from pmk_nb.chair import ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.ui import AppContext
 
     store = ProfileStore(tmp_path / "cfg" / "profiles.json", secrets=False)
     context = AppContext(MapsFolder(tmp_path / "maps"), store, config_dir=tmp_path / "cfg")

@@ -4,7 +4,38 @@ Public API: :func:`check_storey` / :class:`StoreyReport` (:mod:`.report`); :func
 :func:`check_map`, :func:`check_grid` and :func:`check_plan_file` (:mod:`.check`); the pixel tools in :mod:`.pixels`.
 """
 
-from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, LinkCheck, NotChecked, StoreyReport, check_storey
+from pmk_nb.access.check import (
+    check_building,
+    check_chair_width,
+    check_grid,
+    check_map,
+    check_plan_file,
+    profile_chair_width,
+)
+from pmk_nb.access.pixels import disc_radius_px, erode
+from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, SKIP_OUTSIDE, LinkCheck, NotChecked, StoreyReport, check_storey
+from pmk_nb.access.sidecar import StoreyPlanFile, read_sidecar, sidecar_doc, sidecar_json, sidecar_path
 from pmk_nb.access.widths import free_width
 
-__all__ = ["DEFAULT_CHAIR_WIDTH", "LinkCheck", "NotChecked", "StoreyReport", "check_storey", "free_width"]
+__all__ = [
+    "DEFAULT_CHAIR_WIDTH",
+    "SKIP_OUTSIDE",
+    "LinkCheck",
+    "NotChecked",
+    "StoreyPlanFile",
+    "StoreyReport",
+    "check_building",
+    "check_chair_width",
+    "check_grid",
+    "check_map",
+    "check_plan_file",
+    "check_storey",
+    "disc_radius_px",
+    "erode",
+    "free_width",
+    "profile_chair_width",
+    "read_sidecar",
+    "sidecar_doc",
+    "sidecar_json",
+    "sidecar_path",
+]

@@ -9,12 +9,12 @@ from typing import TYPE_CHECKING
 from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, StoreyReport, check_storey
 from pmk_nb.access.sidecar import StoreyPlanFile, read_sidecar
 from pmk_nb.errors import OccupancyError
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
-from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS, rasterise_storey
+from pmk_nb.openings import OpeningPlan, plan_openings
+from pmk_nb.raster import RasterOptions, rasterise_storey
 
 if TYPE_CHECKING:
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.indoorgml.model import Building
+    from pmk_nb.indoorgml import Building
 
 
 def check_chair_width(value: float) -> float:
@@ -43,15 +43,15 @@ def check_grid(
     grid: OccupancyGrid,
     *,
     chair_width: float = DEFAULT_CHAIR_WIDTH,
-    door_width: float = DEFAULT_DOOR_WIDTH,
-    max_gap: float = DEFAULT_MAX_WALL_GAP,
-    wall_thickness: float = DEFAULT_WALL_THICKNESS,
+    options: RasterOptions | None = None,
     plan: OpeningPlan | None = None,
 ) -> StoreyReport:
-    """The report of one storey's grid against the building's graph (``plan``: the openings the grid
-    was rasterised with, when the caller has them)."""
+    """The report of one storey's grid against the building's graph (``options``: how the grid was
+    drawn, the defaults when None; ``plan``: the openings the grid was rasterised with, when the caller
+    has them)."""
+    opts = RasterOptions() if options is None else options
     if plan is None:
-        plan = plan_openings(building, storey, door_width=door_width, max_gap=max_gap)
+        plan = plan_openings(building, storey, door_width=opts.door_width, max_gap=opts.max_wall_gap)
     cells = [c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty]
     report = check_storey(
         storey,
@@ -59,8 +59,8 @@ def check_grid(
         cells,
         plan.openings,
         chair_width=chair_width,
-        wall_thickness=wall_thickness,
-        max_gap=max_gap,
+        wall_thickness=opts.wall_thickness,
+        max_gap=opts.max_wall_gap,
         skipped=plan.skipped,
     )
     status = building.graph_status
@@ -73,16 +73,17 @@ def check_building(
     resolution: float,
     *,
     chair_width: float = DEFAULT_CHAIR_WIDTH,
-    door_width: float = DEFAULT_DOOR_WIDTH,
+    options: RasterOptions | None = None,
     storeys: list[str] | None = None,
 ) -> list[StoreyReport]:
-    """Rasterise each storey in memory (nothing written) and check it."""
+    """Rasterise each storey in memory (nothing written) with ``options`` and check it."""
     width = check_chair_width(chair_width)
+    opts = RasterOptions() if options is None else options
     out = []
     for name in storeys or [s.name for s in building.storeys]:
-        plan = plan_openings(building, name, door_width=door_width)
-        grid = rasterise_storey(building, name, resolution, door_width=door_width, openings=plan)
-        out.append(check_grid(building, name, grid, chair_width=width, plan=plan))
+        plan = plan_openings(building, name, door_width=opts.door_width, max_gap=opts.max_wall_gap)
+        grid = rasterise_storey(building, name, resolution, opts, openings=plan)
+        out.append(check_grid(building, name, grid, chair_width=width, options=opts, plan=plan))
         del grid
     return out
 
@@ -93,7 +94,7 @@ def check_map(yaml_path: str | os.PathLike[str], *, chair_width: float = DEFAULT
     Raises:
         MapFormatError: the map or its rooms file cannot be read.
     """
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
 
     width = check_chair_width(chair_width)
     grid = read_map(Path(yaml_path))
@@ -109,8 +110,8 @@ def check_plan_file(plan: StoreyPlanFile, grid: OccupancyGrid, *, chair_width: f
         plan.cells,
         plan.openings,
         chair_width=check_chair_width(chair_width),
-        wall_thickness=float(grid.meta.get("wall_thickness", DEFAULT_WALL_THICKNESS)),
-        max_gap=float(grid.meta.get("max_wall_gap", DEFAULT_MAX_WALL_GAP)),
+        wall_thickness=float(grid.meta.get("wall_thickness", RasterOptions.wall_thickness)),
+        max_gap=float(grid.meta.get("max_wall_gap", RasterOptions.max_wall_gap)),
         skipped=plan.skipped,
     )
     graph = plan.raw.get("graph")  # the plan's graph status, in rooms files written since issue 31

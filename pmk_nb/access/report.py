@@ -38,16 +38,15 @@ from pmk_nb.access.widths import free_widths
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH as DEFAULT_CHAIR_WIDTH  # declared once there, re-exported here
 from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.grid import FREE, UNKNOWN
-from pmk_nb.raster.openings import SKIP_WINDOW
-from pmk_nb.raster.scanline import Frame, write_rects
-from pmk_nb.raster.spans import polygon_rects, polygon_rects_each
+from pmk_nb.openings import SKIP_WINDOW
+from pmk_nb.raster import Frame, polygon_rects, polygon_rects_each, write_rects
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.indoorgml.model import Cell, Link
-    from pmk_nb.raster.openings import Opening, Skipped
+    from pmk_nb.indoorgml import Cell, Link
+    from pmk_nb.openings import Opening, Skipped
 
 SKIP_OUTSIDE = "outside"  # a doorway that opens onto the map's edge: where it leads is not drawn
 

@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Any
 import shapely
 
 from pmk_nb.errors import MapFormatError, MapNotFound
-from pmk_nb.indoorgml.model import Cell, CellKind, Link
-from pmk_nb.raster.openings import Opening, Skipped
+from pmk_nb.indoorgml import Cell, CellKind, Link
+from pmk_nb.openings import Opening, Skipped
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building
-    from pmk_nb.raster.openings import OpeningPlan
+    from pmk_nb.indoorgml import Building
+    from pmk_nb.openings import OpeningPlan
 
 FORMAT = "pmk-rooms/1"
 SUFFIX = ".rooms.json"

@@ -10,4 +10,55 @@ at once; ``state`` keeps the catalogue URLs (settings) and what was installed fr
 
 from __future__ import annotations
 
-__all__ = ["install", "publish", "remote", "state"]
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from pmk_nb.catalogue.install import InstallResult
+    from pmk_nb.catalogue.remote import Building, Catalogue, Reader, read_catalogue
+    from pmk_nb.catalogue.state import CHANGED, INSTALLED, NEW, CatalogueSources, InstallRecord, read_json_object
+
+_WHERE = {
+    "InstallResult": "install",
+    "Building": "remote",
+    "Catalogue": "remote",
+    "Reader": "remote",
+    "read_catalogue": "remote",
+    "CHANGED": "state",
+    "CatalogueSources": "state",
+    "INSTALLED": "state",
+    "InstallRecord": "state",
+    "NEW": "state",
+    "read_json_object": "state",
+}
+
+__all__ = [
+    "CHANGED",
+    "INSTALLED",
+    "NEW",
+    "Building",
+    "Catalogue",
+    "CatalogueSources",
+    "InstallRecord",
+    "InstallResult",
+    "Reader",
+    "install",
+    "publish",
+    "read_catalogue",
+    "read_json_object",
+    "remote",
+    "state",
+]
+
+
+def __getattr__(name: str) -> Any:
+    """The face is lazy: a name loads only its own module (no paramiko, roslibpy or ROS for one name)."""
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+    globals()[name] = value  # once is enough
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -29,9 +29,8 @@ from pmk_nb.errors import (
     MapLoadError,
 )
 from pmk_nb.fileio import replace_all
-from pmk_nb.indoorgml.sniff import check_indoorgml
-from pmk_nb.library.folder import MapsFolder
-from pmk_nb.library.naming import SOURCE_SUFFIXES, check_name
+from pmk_nb.indoorgml import check_indoorgml
+from pmk_nb.library import SOURCE_SUFFIXES, MapsFolder, check_name
 from pmk_nb.progress import ProgressCallback, emit
 from pmk_nb.rosmap import read_map_yaml
 

@@ -18,13 +18,13 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import unquote
 
-from pmk_nb.access.sidecar import sidecar_path
+from pmk_nb.access import sidecar_path
 from pmk_nb.catalogue import geo, stacdocs
 from pmk_nb.catalogue.hashes import file_sha256, multihash
 from pmk_nb.catalogue.state import read_json_object
 from pmk_nb.errors import CatalogueError
 from pmk_nb.fileio import atomic_write
-from pmk_nb.library.folder import GeneratedMap, MapEntry, MapsFolder
+from pmk_nb.library import GeneratedMap, MapEntry, MapsFolder
 
 THUMBNAIL_PX = 256
 

@@ -19,7 +19,7 @@ from urllib.parse import unquote, urljoin, urlsplit
 
 from pmk_nb.catalogue.hashes import sha256_of_multihash
 from pmk_nb.errors import AssetOutsideCatalogue, CatalogueError, DownloadTooLarge, RedirectRefused
-from pmk_nb.library.download import check_url, fetch
+from pmk_nb.library import check_url, fetch
 
 MAX_DOC_BYTES = 4 * 1024 * 1024  # one STAC JSON document
 MAX_DOCS = 2000  # documents read for one catalogue (a bound on a hostile or looping one)

@@ -17,7 +17,7 @@ from typing import Any
 from pmk_nb.catalogue.remote import Building
 from pmk_nb.errors import SettingsError
 from pmk_nb.fileio import atomic_write
-from pmk_nb.library.download import check_url
+from pmk_nb.library import check_url
 
 SOURCES_FILE = "catalogues.json"
 RECORD_FILE = ".catalogue-installs.json"

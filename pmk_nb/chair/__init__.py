@@ -5,3 +5,95 @@
 host keys), ``reload`` (the three map reload services) and ``deploy`` (upload, reload, confirm).
 Submodules are imported on use, so that `pmk info` never pays for roslibpy or paramiko.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.confirm import grid_sha256
+    from pmk_nb.chair.deploy import STEP_SPANS, close_links, link_for
+    from pmk_nb.chair.fleet import ChairStatus, Fleet, FleetError, FleetMember, NotInFleet, row_words
+    from pmk_nb.chair.keysetup import make_key_pair, setup_key
+    from pmk_nb.chair.messages import Odometry, Pose2D, Scan
+    from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, PROFILES_FILE, ChairProfile, ProfileStore, config_dir
+    from pmk_nb.chair.ranges import BLIND_KINDS, NO_RETURN, UNKNOWN, blind_ahead
+    from pmk_nb.chair.secrets import SshAccount
+    from pmk_nb.chair.ssh import trust_host_key
+    from pmk_nb.chair.transfer import check_ssh
+
+_WHERE = {
+    "grid_sha256": "confirm",
+    "STEP_SPANS": "deploy",
+    "close_links": "deploy",
+    "link_for": "deploy",
+    "ChairStatus": "fleet",
+    "Fleet": "fleet",
+    "FleetError": "fleet",
+    "FleetMember": "fleet",
+    "NotInFleet": "fleet",
+    "row_words": "fleet",
+    "make_key_pair": "keysetup",
+    "setup_key": "keysetup",
+    "Odometry": "messages",
+    "Pose2D": "messages",
+    "Scan": "messages",
+    "AUTH_METHODS": "profiles",
+    "ChairProfile": "profiles",
+    "POSE_SOURCES": "profiles",
+    "PROFILES_FILE": "profiles",
+    "ProfileStore": "profiles",
+    "config_dir": "profiles",
+    "BLIND_KINDS": "ranges",
+    "NO_RETURN": "ranges",
+    "UNKNOWN": "ranges",
+    "blind_ahead": "ranges",
+    "SshAccount": "secrets",
+    "trust_host_key": "ssh",
+    "check_ssh": "transfer",
+}
+
+__all__ = [
+    "AUTH_METHODS",
+    "BLIND_KINDS",
+    "NO_RETURN",
+    "POSE_SOURCES",
+    "PROFILES_FILE",
+    "STEP_SPANS",
+    "UNKNOWN",
+    "ChairProfile",
+    "ChairStatus",
+    "Fleet",
+    "FleetError",
+    "FleetMember",
+    "NotInFleet",
+    "Odometry",
+    "Pose2D",
+    "ProfileStore",
+    "Scan",
+    "SshAccount",
+    "blind_ahead",
+    "check_ssh",
+    "close_links",
+    "config_dir",
+    "grid_sha256",
+    "link_for",
+    "make_key_pair",
+    "row_words",
+    "setup_key",
+    "trust_host_key",
+]
+
+
+def __getattr__(name: str) -> Any:
+    """The face is lazy: a name loads only its own module (no paramiko, roslibpy or ROS for one name)."""
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+    globals()[name] = value  # once is enough
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 from pmk_nb.errors import DeployError, PmkError
 
 if TYPE_CHECKING:
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.rosmap import MapFiles
 
 DATA_CHECK_MAX_CELLS = 1_000_000
 SAMPLED_ROWS = 16  # rows compared when a grid is too big to compare whole
@@ -78,7 +78,7 @@ def _still_publishes(info: Any, expected: ExpectedMap, timeout: float, cells: bo
 
 def grid_sha256(files: MapFiles) -> str:
     """SHA-256 of our cells as the PMK map server publishes them (its reader, int8, row 0 = bottom)."""
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
 
     return hashlib.sha256(
         read_map(files.yaml, reader="nav2_jazzy").data.astype("int8", copy=False).tobytes()
@@ -157,7 +157,7 @@ def confirm_map(
     info = _wait_for_map(link, expected, deadline, timeout)
     if (before is not None and not expected.matches(before)) or not hasattr(link, "fetch_map"):
         return info, "metadata"
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
 
     ours = read_map(files.yaml)
     theirs = link.fetch_map(timeout=max(2.0, deadline - time.monotonic()))

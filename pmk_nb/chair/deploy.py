@@ -29,7 +29,7 @@ from pmk_nb.progress import ProgressCallback, emit, sub_range
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.rosmap import MapFiles
 
 STEPS = ("upload", "detect", "reload", "confirm")
 # Share of the overall progress bar each step covers (upload dominates on real links).

@@ -26,7 +26,7 @@ from paramiko.sftp import SFTP_OP_UNSUPPORTED
 
 from pmk_nb.errors import TransferError, UnknownHostKey
 from pmk_nb.fileio import append_line
-from pmk_nb.seams.paramiko_seam import StatusHookSFTPClient
+from pmk_nb.seams import StatusHookSFTPClient
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile

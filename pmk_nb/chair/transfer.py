@@ -39,7 +39,7 @@ from pmk_nb.progress import ProgressCallback, emit
 
 if TYPE_CHECKING:
     from pmk_nb.chair.profiles import ChairProfile
-    from pmk_nb.rosmap.files import MapFiles, MapYaml
+    from pmk_nb.rosmap import MapFiles, MapYaml
 
 __all__ = [
     "HostKeyInfo",
@@ -84,7 +84,7 @@ def image_beside(yaml_path: Path) -> tuple[MapYaml, Path]:
     Raises:
         TransferError: (``path`` = the YAML) the YAML is unreadable, or its image is elsewhere or missing.
     """
-    from pmk_nb.rosmap.files import read_map_yaml
+    from pmk_nb.rosmap import read_map_yaml
 
     try:
         doc = read_map_yaml(yaml_path)

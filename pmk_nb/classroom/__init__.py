@@ -14,15 +14,19 @@ points at that chair; pages never share a chair.
 """
 
 from pmk_nb.classroom.cap import ChairCap, ClassroomFull, default_max_chairs
+from pmk_nb.classroom.fleet import class_chairs
 from pmk_nb.classroom.seat import Seat, take_seat
-from pmk_nb.classroom.settings import CLASSROOM_ENV, ClassroomSettings
+from pmk_nb.classroom.settings import CLASSROOM_ENV, SETTINGS_FILE, ClassroomSettings
 
 __all__ = [
     "CLASSROOM_ENV",
+    "SETTINGS_FILE",
     "ChairCap",
     "ClassroomFull",
     "ClassroomSettings",
     "Seat",
+    "class_chairs",
     "default_max_chairs",
+    "settings",
     "take_seat",
 ]

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from pmk_nb.classroom.cap import ChairCap
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
     from pmk_nb.classroom.settings import ClassroomSettings
 
 
@@ -28,7 +28,7 @@ def class_chairs(settings: ClassroomSettings) -> list[ChairProfile]:
     A seat whose port is not noted yet (its chair still starting) is left out: the next read
     finds it.
     """
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
 
     seats = ChairCap(Path(settings.state_dir), settings.max_chairs).live()
     out: list[ChairProfile] = []

@@ -104,7 +104,7 @@ def take_seat(settings: ClassroomSettings) -> Seat:
 
 
 def _write_profile(seat: Seat, settings: ClassroomSettings) -> None:
-    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
+    from pmk_nb.chair import PROFILES_FILE, ChairProfile, ProfileStore
 
     store = ProfileStore(seat.config_dir / PROFILES_FILE, secrets=False)
     store.save(

@@ -85,7 +85,7 @@ def add_parser(subparsers: Any) -> None:
 
 
 def _store() -> Any:
-    from pmk_nb.chair.profiles import ProfileStore
+    from pmk_nb.chair import ProfileStore
 
     return ProfileStore()
 
@@ -123,7 +123,7 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_add(args: argparse.Namespace) -> int:
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
 
     store = _store()
     changes = {
@@ -164,7 +164,7 @@ def _add_with_key(store: Any, profile: Any, args: argparse.Namespace) -> int:
     import getpass
     import sys
 
-    from pmk_nb.chair.keysetup import setup_key
+    from pmk_nb.chair import setup_key
 
     profile.validate()
     if args.password_stdin:
@@ -197,7 +197,7 @@ def certificate_trusted(err: BaseException | None, expected: str | None) -> bool
     has the ``--trust-fingerprint`` given; without a terminal nothing is trusted (False: refused)."""
     import sys
 
-    from pmk_nb.chair.link.tls import trust_certificate
+    from pmk_nb.chair.link import trust_certificate
     from pmk_nb.errors import UnknownChairCertificate
     from pmk_nb.tlscert import parse_fingerprint
 
@@ -235,7 +235,7 @@ def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | No
 
 
 def _test_bridge(profile: Any, args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:
-    from pmk_nb.chair.deploy import close_links, link_for
+    from pmk_nb.chair import close_links, link_for
 
     url = profile.bridge_url
     try:
@@ -255,7 +255,7 @@ def _test_bridge(profile: Any, args: argparse.Namespace) -> tuple[dict[str, Any]
 
 
 def _test_ssh(profile: Any, store: Any, args: argparse.Namespace) -> dict[str, Any]:
-    from pmk_nb.chair.transfer import check_ssh
+    from pmk_nb.chair import check_ssh
     from pmk_nb.cli.send import ask_password
 
     target = f"{profile.ssh_user}@{profile.host}:{profile.ssh_port}"

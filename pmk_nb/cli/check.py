@@ -60,8 +60,8 @@ def add_parser(subparsers: Any) -> None:
 
 def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
     """The storeys' reports and the plan's Building (None for a written map: its rooms file says the rest)."""
-    from pmk_nb.access.check import check_building, check_map
-    from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH
+    from pmk_nb.access import check_building, check_map
+    from pmk_nb.raster import RasterOptions
 
     target: Path = args.target
     width = chair_width_arg(args.chair_width)
@@ -80,8 +80,8 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
     from pmk_nb.indoorgml import read_building
 
     building = read_building(target, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
-    door = DEFAULT_DOOR_WIDTH if args.door_width is None else args.door_width
-    return check_building(building, args.resolution, chair_width=width, door_width=door), building
+    options = RasterOptions() if args.door_width is None else RasterOptions(door_width=args.door_width)
+    return check_building(building, args.resolution, chair_width=width, options=options), building
 
 
 MAX_NOT_CHECKED = 10  # transitions named per storey; the rest are counted
@@ -96,8 +96,8 @@ def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any
     """The text report: the unit first when the doors are absurd in it (see units.unit_suspect: no door
     is to blame then), one summary line per storey, then each problem by name, then the transitions
     it could not check (windows: a misjudged one hides a door, so they are named, not only counted)."""
-    from pmk_nb.indoorgml.levels import RAISED
-    from pmk_nb.raster.openings import SKIP_WINDOW
+    from pmk_nb.indoorgml import RAISED
+    from pmk_nb.openings import SKIP_WINDOW
 
     lines = [f"suspect the unit first: {unit_suspect.message}"] if unit_suspect is not None else []
     for r in reports:
@@ -138,7 +138,7 @@ def verdict(reports: list[Any], code: int) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.indoorgml.summary import graph_lines, layer_lines
+    from pmk_nb.indoorgml import graph_lines, layer_lines
 
     reports, building = _reports(args)
     code = exit_code(reports)

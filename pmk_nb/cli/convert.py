@@ -159,8 +159,7 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.library.convert import ConvertOptions, convert_plan
-    from pmk_nb.library.naming import safe_file_part
+    from pmk_nb.library import ConvertOptions, convert_plan, safe_file_part
 
     path: Path = args.file
     if path.is_dir():
@@ -206,7 +205,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(result.maps)} storey(s)")
     from dataclasses import asdict
 
-    from pmk_nb.indoorgml.summary import graph_lines, layer_lines
+    from pmk_nb.indoorgml import graph_lines, layer_lines
 
     for line in graph_lines(building.graph_status.to_json()) + layer_lines(list(map(asdict, building.skipped_layers))):
         print(line)

@@ -19,8 +19,7 @@ from pmk_nb.cli import tablet_tls
 from pmk_nb.cli.options import add_maps_dir
 from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
 from pmk_nb.cli.voila import preflight, serve, server_options
-from pmk_nb.ui.common.context import AUTOSTART_ENV
-from pmk_nb.ui.kiosk.pin import KIOSK_ENV
+from pmk_nb.ui import AUTOSTART_ENV, KIOSK_ENV
 
 
 def add_parser(subparsers: Any) -> None:
@@ -62,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     if args.preview_on_start or args.kiosk:
         env[AUTOSTART_ENV] = "1"
     env[KIOSK_ENV] = "1" if args.kiosk else "0"
-    from pmk_nb.library.netguard import ALLOW_LOCAL_ENV  # here: the HTTP modules stay out of `pmk --help`
+    from pmk_nb.library import ALLOW_LOCAL_ENV  # here: the HTTP modules stay out of `pmk --help`
 
     env[ALLOW_LOCAL_ENV] = "1" if getattr(args, "allow_local", False) else "0"
     token = preflight(args, env, kiosk=args.kiosk)

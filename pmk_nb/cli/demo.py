@@ -17,7 +17,7 @@ from typing import Any
 from pmk_nb.cli import tablet_tls
 from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
 from pmk_nb.cli.voila import preflight, serve, server_options
-from pmk_nb.ui.kiosk.pin import KIOSK_ENV
+from pmk_nb.ui import KIOSK_ENV
 
 
 def add_parser(subparsers: Any) -> None:

@@ -10,8 +10,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from pmk_nb.classroom.cap import ChairCap, default_max_chairs
-from pmk_nb.classroom.settings import CLASSROOM_ENV, SETTINGS_FILE, ClassroomSettings
+from pmk_nb.classroom import CLASSROOM_ENV, SETTINGS_FILE, ChairCap, ClassroomSettings, default_max_chairs
 from pmk_nb.cli.demo_setup import convert_sample, make_key_pair
 
 STATE_DIR = "classroom"
@@ -40,7 +39,7 @@ def prepare_classroom(root: Path, *, gml: Path | None = None, max_chairs: int | 
         PmkError: the sample is missing or its conversion fails.
         ValueError: ``max_chairs`` below 1.
     """
-    from pmk_nb.ui.common.context import AUTOSTART_ENV
+    from pmk_nb.ui import AUTOSTART_ENV
 
     if max_chairs is not None and max_chairs < 1:
         raise ValueError(f"--max-chairs must be at least 1, not {max_chairs}")

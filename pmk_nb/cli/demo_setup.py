@@ -27,7 +27,7 @@ import pmk_nb
 from pmk_nb.cli.options import DEFAULT_RESOLUTION
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.errors import PmkError
-from pmk_nb.ui.common.context import AUTOSTART_ENV
+from pmk_nb.ui import AUTOSTART_ENV
 
 DEMO_PROFILE = "Simulated chair"
 DEMO_RESOLUTION = DEFAULT_RESOLUTION
@@ -100,7 +100,7 @@ def sim_command(
 
 def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
     """A new ed25519 key pair for the demo chair (:func:`pmk_nb.chair.keysetup.make_key_pair`)."""
-    from pmk_nb.chair.keysetup import make_key_pair as make_pair
+    from pmk_nb.chair import make_key_pair as make_pair
 
     return make_pair(directory, name, comment="pmk-demo")
 
@@ -113,7 +113,7 @@ def convert_sample(root: Path, gml: Path | None = None) -> tuple[Any, Any]:
     Raises:
         PmkError: the sample is missing or conversion produces no map.
     """
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.library import MapsFolder
 
     source = (gml or sample_gml()).expanduser()
     if not source.is_file():
@@ -139,8 +139,8 @@ def prepare_demo(
     Raises:
         PmkError: the sample is missing, conversion fails or the simulator does not start.
     """
-    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
-    from pmk_nb.ui.common.context import AppContext
+    from pmk_nb.chair import PROFILES_FILE, ChairProfile, ProfileStore
+    from pmk_nb.ui import AppContext
 
     root = root.expanduser().resolve()
     maps_dir, config_dir, chair_dir = root / "maps", root / "config", root / "chair_maps"

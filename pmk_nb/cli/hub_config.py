@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import pmk_nb
-from pmk_nb.classroom.settings import CLASSROOM_ENV
+from pmk_nb.classroom import CLASSROOM_ENV
 from pmk_nb.cli import serving
 from pmk_nb.fileio import atomic_write
 

@@ -12,7 +12,7 @@ from pmk_nb.cli.options import add_layer_option, add_not_window_option
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
-    from pmk_nb.indoorgml.units import UNIT_CHOICES
+    from pmk_nb.indoorgml import UNIT_CHOICES
 
     p = subparsers.add_parser(
         "info",
@@ -34,8 +34,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 
 
 def connectivity(building: Any) -> dict[str, Any]:
-    """How the navigation graph will open the walls: links, and the rule used per storey (see raster.openings)."""
-    from pmk_nb.raster.openings import plan_openings
+    """How the navigation graph will open the walls: links, and the rule used per storey (see pmk_nb.openings)."""
+    from pmk_nb.openings import plan_openings
 
     per_storey: dict[str, dict[str, int]] = {}
     shut = 0

@@ -21,7 +21,7 @@ from pmk_nb.cli.options import add_json, add_maps_dir, add_resolution, chair_wid
 from pmk_nb.progress import Progress
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import GeneratedMap, MapEntry, MapsFolder
+    from pmk_nb.library import GeneratedMap, MapEntry, MapsFolder
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.library import MapsFolder
 
     folder = MapsFolder(args.maps_dir, allow_local=getattr(args, "allow_local", None) or None)
     action = args.maps_command
@@ -203,7 +203,7 @@ def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
 
 def accessibility_line(yaml_path: Path) -> str:
     """The accessibility summary kept in a map's rooms file ('' when it has none)."""
-    from pmk_nb.access.sidecar import sidecar_doc
+    from pmk_nb.access import sidecar_doc
 
     report = (sidecar_doc(yaml_path) or {}).get("accessibility") or {}
     c = report.get("counts")
@@ -218,7 +218,7 @@ def accessibility_line(yaml_path: Path) -> str:
 
 
 def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
-    from pmk_nb.library.convert import ConvertOptions
+    from pmk_nb.library import ConvertOptions
 
     with _status_line() as show:
 

@@ -13,7 +13,7 @@ from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.library import MapsFolder
 
 ACTIONS = ("publish", "catalogue", "get")
 
@@ -48,7 +48,7 @@ def add_parsers(sub: argparse._SubParsersAction, common: argparse.ArgumentParser
 def run(action: str, folder: MapsFolder, args: argparse.Namespace) -> int:
     if action == "publish":
         return _publish(folder, args)
-    from pmk_nb.catalogue.remote import read_catalogue
+    from pmk_nb.catalogue import read_catalogue
 
     catalogue = read_catalogue(args.url, allow_local=args.allow_local, allow_hosts=args.allow_host)
     if action == "catalogue":
@@ -72,7 +72,7 @@ def _size(n: int) -> str:
 
 
 def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
-    from pmk_nb.catalogue.state import InstallRecord
+    from pmk_nb.catalogue import InstallRecord
 
     record = InstallRecord(folder.root)
     status = {b.id: record.status(b, catalogue.url, present=folder.exists(b.id)) for b in catalogue.buildings}

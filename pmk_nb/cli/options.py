@@ -129,8 +129,8 @@ def add_not_window_option(p: argparse.ArgumentParser) -> None:
 
 def chair_width_arg(given: float | None) -> float:
     """--chair-width when given, else the width in the last used chair profile (Settings), else 0.70 m."""
-    from pmk_nb.access.check import profile_chair_width
-    from pmk_nb.chair.profiles import ProfileStore
+    from pmk_nb.access import profile_chair_width
+    from pmk_nb.chair import ProfileStore
 
     profile = None
     if given is None:

@@ -15,7 +15,7 @@ from typing import Any, overload
 
 from pmk_nb.cli.options import add_maps_dir
 from pmk_nb.errors import RosNotInstalled
-from pmk_nb.robot.mapstore import DEFAULT_MAPS
+from pmk_nb.robot import DEFAULT_MAPS
 
 
 def add_parser(subparsers: Any) -> None:
@@ -80,8 +80,7 @@ def add_parser(subparsers: Any) -> None:
 
 def _add_goal_watchdog(sub: Any) -> None:
     from pmk_nb.goalbeat import SILENCE_S, TOPIC
-    from pmk_nb.robot.watchdog_ros1 import CANCEL_TOPIC
-    from pmk_nb.robot.watchdog_ros2 import ACTIONS
+    from pmk_nb.robot import ACTIONS, CANCEL_TOPIC
 
     gw = sub.add_parser(
         "goal-watchdog",

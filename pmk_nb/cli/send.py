@@ -34,12 +34,12 @@ def add_parser(subparsers: Any) -> None:
 
 def pick_map(name: str, maps_dir: Path | None, storey: str | None) -> Any:
     """The MapFiles to send: a generated map of NAME (one storey), or NAME as a YAML path."""
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import MapFiles
 
     as_path = Path(name).expanduser()
     if as_path.suffix.lower() in (".yaml", ".yml") and as_path.is_file():
-        from pmk_nb.rosmap.files import read_map_yaml
+        from pmk_nb.rosmap import read_map_yaml
 
         return MapFiles(yaml=as_path, image=Path(read_map_yaml(as_path).image), preview=None)
     folder = MapsFolder(maps_dir)
@@ -85,7 +85,7 @@ def ask_password(profile: Any, store: Any, from_stdin: bool) -> str | None:
 def upload_quarters() -> Callable[[Progress], bool]:
     """Whether to print a progress event: every event, except that the upload's many byte counts
     print once per quarter of the upload (and at its end)."""
-    from pmk_nb.chair.deploy import STEP_SPANS
+    from pmk_nb.chair import STEP_SPANS
 
     lo, hi = STEP_SPANS["upload"]
     last_quarter = [-1]
@@ -125,8 +125,8 @@ def deploy_failure(err: DeployError) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.chair.deploy import close_links, deploy
-    from pmk_nb.chair.profiles import ProfileStore
+    from pmk_nb.chair import ProfileStore, close_links
+    from pmk_nb.chair.deploy import deploy
 
     store = ProfileStore()
     if args.chair:

@@ -12,11 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.cli.options import add_maps_dir
-from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE
-from pmk_nb.sim.demo import sample_floor
-from pmk_nb.sim.hostkey import default_state_dir
-from pmk_nb.sim.messages import ROS_VERSIONS
-from pmk_nb.sim.server import SimChair, SimError
+from pmk_nb.sim import BRIDGE_MODES, DEFAULT_BRIDGE, ROS_VERSIONS, SimChair, SimError, default_state_dir, sample_floor
 
 READY_LINE = "pmk sim: ready"
 

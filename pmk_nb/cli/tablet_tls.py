@@ -226,7 +226,7 @@ def self_signed(folder: Path, hosts: list[str]) -> TlsFiles:
 
 def tls_folder(env: dict[str, str]) -> Path:
     """``tls/`` in the config folder the dashboard uses (``--config-dir``/``$PMK_CONFIG_DIR`` or the user's)."""
-    from pmk_nb.chair.profiles import config_dir
+    from pmk_nb.chair import config_dir
 
     configured = env.get("PMK_CONFIG_DIR")
     return (Path(configured).expanduser() if configured else config_dir()) / TLS_DIR

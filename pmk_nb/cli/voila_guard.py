@@ -42,7 +42,7 @@ from jupyter_server.services.kernels.connection.channels import ZMQChannelsWebso
 from tornado import web
 
 from pmk_nb.cli.serving import DEFAULT_IP, server_names
-from pmk_nb.seams.jupyter_server_seam import forget_open_session
+from pmk_nb.seams import forget_open_session
 
 V1_PROTOCOL = "v1.kernel.websocket.jupyter.org"
 #: unsent bytes after which a kernel websocket is closed.  The page itself stays within a second and

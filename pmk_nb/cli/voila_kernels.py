@@ -44,8 +44,8 @@ from jupyter_client.session import Session
 from jupyter_server.services.kernels.kernelmanager import AsyncMappingKernelManager
 from tornado.ioloop import IOLoop, PeriodicCallback
 
-from pmk_nb.seams.jupyter_server_seam import kernel_connections
-from pmk_nb.ui.common.page_lifecycle import PAGE_GONE_MSG
+from pmk_nb.seams import kernel_connections
+from pmk_nb.ui import PAGE_GONE_MSG
 
 PAGE_GRACE = 3.0
 FIRST_PAGE_WITHIN = 120.0

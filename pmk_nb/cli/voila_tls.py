@@ -14,7 +14,7 @@ from __future__ import annotations
 import functools
 import ssl
 
-from pmk_nb.seams.voila_seam import UrlHookVoila
+from pmk_nb.seams import UrlHookVoila
 
 SSL_OPTIONS = "ssl_options"
 

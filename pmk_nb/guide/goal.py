@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
-from pmk_nb.access.pixels import disc_radius_px, erode
+from pmk_nb.access import disc_radius_px, erode
 from pmk_nb.grid import FREE
 
 if TYPE_CHECKING:

@@ -14,19 +14,18 @@ from typing import TYPE_CHECKING
 
 import shapely
 
-from pmk_nb.access.check import check_plan_file
-from pmk_nb.access.sidecar import StoreyPlanFile, read_sidecar
+from pmk_nb.access import StoreyPlanFile, check_plan_file, read_sidecar
 from pmk_nb.guide.errors import UnknownRoom
-from pmk_nb.indoorgml.model import CellKind
-from pmk_nb.rosmap.files import read_map
+from pmk_nb.indoorgml import CellKind
+from pmk_nb.rosmap import read_map
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
     from pmk_nb.access import StoreyReport
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.indoorgml.model import Cell
-    from pmk_nb.raster.openings import Opening
+    from pmk_nb.indoorgml import Cell
+    from pmk_nb.openings import Opening
 
 
 @dataclass(frozen=True)

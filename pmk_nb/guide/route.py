@@ -27,7 +27,7 @@ from pmk_nb.guide.goal import goal_in_room
 if TYPE_CHECKING:
     from pmk_nb.access import LinkCheck, StoreyReport
     from pmk_nb.guide.rooms import Room, RoomsMap
-    from pmk_nb.raster.openings import Opening
+    from pmk_nb.openings import Opening
 
 __all__ = ["NoAccessibleRoute", "NotOnMap", "Route", "RouteError", "UnknownRoom", "plan_route"]
 

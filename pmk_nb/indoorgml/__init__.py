@@ -8,12 +8,16 @@ modules underneath are layered: ``xmlsafe`` (safe streaming XML) -> ``gml`` (coo
 from __future__ import annotations
 
 from pmk_nb.errors import IndoorGMLError
-from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
+from pmk_nb.indoorgml.doors import says_corridor
+from pmk_nb.indoorgml.levels import RAISED
+from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Link, Storey
 from pmk_nb.indoorgml.reader import read_building
-from pmk_nb.indoorgml.summary import format_summary, summarize
+from pmk_nb.indoorgml.sniff import check_indoorgml
+from pmk_nb.indoorgml.summary import format_summary, graph_lines, layer_lines, summarize
 from pmk_nb.indoorgml.units import UNIT_CHOICES, UNIT_SCALE
 
 __all__ = [
+    "RAISED",
     "UNIT_CHOICES",
     "UNIT_SCALE",
     "Boundary",
@@ -22,8 +26,13 @@ __all__ = [
     "CellKind",
     "Georeference",
     "IndoorGMLError",
+    "Link",
     "Storey",
+    "check_indoorgml",
     "format_summary",
+    "graph_lines",
+    "layer_lines",
     "read_building",
+    "says_corridor",
     "summarize",
 ]

@@ -16,40 +16,61 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from pmk_nb.library.choices import ConvertChoices, last_choices, offered, window_cells
     from pmk_nb.library.convert import ConvertOptions, ConvertResult, StoreyMap, convert_plan
+    from pmk_nb.library.download import check_url, fetch
     from pmk_nb.library.folder import MapEntry, MapsFolder, check_name, default_maps_dir
-    from pmk_nb.library.info import StoreyInfo
-    from pmk_nb.library.naming import safe_file_part, storey_map_names
+    from pmk_nb.library.info import LayerOption, StoreyInfo
+    from pmk_nb.library.naming import SOURCE_SUFFIXES, safe_file_part, storey_map_names
+    from pmk_nb.library.netguard import ALLOW_LOCAL_ENV
     from pmk_nb.library.scan import GeneratedMap
 
 _WHERE = {
+    "ConvertChoices": "choices",
+    "last_choices": "choices",
+    "offered": "choices",
+    "window_cells": "choices",
     "ConvertOptions": "convert",
     "ConvertResult": "convert",
     "StoreyMap": "convert",
     "convert_plan": "convert",
+    "check_url": "download",
+    "fetch": "download",
     "MapEntry": "folder",
     "MapsFolder": "folder",
     "check_name": "folder",
     "default_maps_dir": "folder",
+    "LayerOption": "info",
     "StoreyInfo": "info",
+    "SOURCE_SUFFIXES": "naming",
     "safe_file_part": "naming",
     "storey_map_names": "naming",
+    "ALLOW_LOCAL_ENV": "netguard",
     "GeneratedMap": "scan",
 }
 
 __all__ = [
+    "ALLOW_LOCAL_ENV",
+    "SOURCE_SUFFIXES",
+    "ConvertChoices",
     "ConvertOptions",
     "ConvertResult",
     "GeneratedMap",
+    "LayerOption",
     "MapEntry",
     "MapsFolder",
     "StoreyInfo",
     "StoreyMap",
     "check_name",
+    "check_url",
     "convert_plan",
     "default_maps_dir",
+    "fetch",
+    "last_choices",
+    "offered",
     "safe_file_part",
     "storey_map_names",
+    "window_cells",
 ]
 
 

@@ -13,8 +13,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, TypeGuard
 
-from pmk_nb.indoorgml.units import UNIT_CHOICES
-from pmk_nb.raster.openings import SKIP_WINDOW
+from pmk_nb.indoorgml import UNIT_CHOICES
+from pmk_nb.openings import SKIP_WINDOW
 
 CHOICES_KEY = "choices"  # where a rooms file keeps them
 

@@ -19,9 +19,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.access.check import check_chair_width, check_grid
-from pmk_nb.access.report import StoreyReport
-from pmk_nb.access.sidecar import sidecar_json, sidecar_path
+from pmk_nb.access import StoreyReport, check_chair_width, check_grid, sidecar_json, sidecar_path
 from pmk_nb.defaults import (
     DEFAULT_CHAIR_WIDTH,
     DEFAULT_DOOR_WIDTH,
@@ -34,13 +32,13 @@ from pmk_nb.errors import MapFormatError, OccupancyError
 from pmk_nb.fileio import Content, replace_all
 from pmk_nb.library.choices import CHOICES_KEY, ConvertChoices
 from pmk_nb.library.naming import storey_map_names
+from pmk_nb.openings import plan_openings
 from pmk_nb.progress import ProgressCallback, emit, sub_range
-from pmk_nb.raster.openings import plan_openings
-from pmk_nb.raster.storey import plan_storey, rasterise_storey
+from pmk_nb.raster import RasterOptions, plan_storey, rasterise_storey
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.indoorgml import Building
+    from pmk_nb.rosmap import MapFiles
 
 __all__ = ["ConvertOptions", "ConvertResult", "StoreyMap", "convert_plan"]
 
@@ -69,6 +67,18 @@ class ConvertOptions:
     check: bool = True  # run the accessibility check and keep its report in the rooms file
     not_windows: tuple[str, ...] = ()  # cells (ids or names) the window/sill rule must leave navigable
     layers: tuple[str, ...] = ()  # space layers (ids or names) to draw instead of the navigable one
+
+    @property
+    def raster(self) -> RasterOptions:
+        """The rasteriser's share of these options, passed whole to ``rasterise_storey``."""
+        return RasterOptions(
+            wall_thickness=self.wall_thickness,
+            max_wall_gap=self.max_wall_gap,
+            door_width=self.door_width,
+            outside=self.outside,
+            max_cells=self.max_cells,
+            allow_large=self.allow_large,
+        )
 
 
 @dataclass(frozen=True)
@@ -134,18 +144,11 @@ def _stage_storeys(
     progress: ProgressCallback | None,
 ) -> list[StoreyMap]:
     """Rasterise and write every wanted storey into ``staging``; returns the maps (paths in staging)."""
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.rosmap import write_map
 
     resolution = opts.resolution
     for storey in wanted:  # every storey's size is checked before anything is rasterised
-        plan_storey(
-            building,
-            storey,
-            resolution,
-            wall_thickness=opts.wall_thickness,
-            max_cells=opts.max_cells,
-            allow_large=opts.allow_large,
-        )
+        plan_storey(building, storey, resolution, opts.raster)
     span = (_RASTER_END - _READ_END) / len(wanted)
     staged: list[StoreyMap] = []
     for i, storey in enumerate(wanted):
@@ -153,17 +156,7 @@ def _stage_storeys(
         emit(progress, "rasterise", start, f"storey {storey}")
         plan = plan_openings(building, storey, door_width=opts.door_width, max_gap=opts.max_wall_gap)
         grid = rasterise_storey(
-            building,
-            storey,
-            resolution,
-            outside=opts.outside,
-            max_wall_gap=opts.max_wall_gap,
-            door_width=opts.door_width,
-            openings=plan,
-            progress=sub_range(progress, start, start + span),
-            wall_thickness=opts.wall_thickness,
-            max_cells=opts.max_cells,
-            allow_large=opts.allow_large,
+            building, storey, resolution, opts.raster, openings=plan, progress=sub_range(progress, start, start + span)
         )
         grid.meta.update(extra_meta)
         files = write_map(
@@ -181,8 +174,7 @@ def _stage_storeys(
                 storey,
                 grid,
                 chair_width=opts.chair_width,
-                max_gap=opts.max_wall_gap,
-                wall_thickness=opts.wall_thickness,
+                options=opts.raster,
                 plan=plan,
             )
         rooms = sidecar_path(files.yaml)
@@ -198,7 +190,7 @@ def _stage_storeys(
 def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
     """Move the staged files into ``out_dir`` (images and previews first, YAMLs last): renamed, as the
     staging folder lies inside ``out_dir`` (a copy of a 100 M-cell map cost 0.9 s)."""
-    from pmk_nb.rosmap.files import MapFiles
+    from pmk_nb.rosmap import MapFiles
 
     data = [p for m in staged for p in (m.files.image, m.files.preview, m.rooms) if p is not None]
     yamls = [m.files.yaml for m in staged]

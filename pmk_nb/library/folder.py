@@ -19,11 +19,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO
 
-from pmk_nb.access.sidecar import sidecar_path
+from pmk_nb.access import sidecar_path
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH, DEFAULT_DOOR_WIDTH, DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.errors import AlreadyExists, IndoorGMLError, LibraryError, MapFormatError, OccupancyError
 from pmk_nb.fileio import atomic_write
-from pmk_nb.indoorgml.sniff import check_indoorgml
+from pmk_nb.indoorgml import check_indoorgml
 from pmk_nb.library.convert import ConvertOptions, convert_plan
 from pmk_nb.library.download import DEFAULT_DEADLINE, DEFAULT_MAX_BYTES, DEFAULT_TIMEOUT, check_url, fetch
 from pmk_nb.library.info import StoreyCache, StoreyInfo

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 from pmk_nb.errors import IndoorGMLError, LibraryError
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building
+    from pmk_nb.indoorgml import Building
 
 __all__ = ["LayerOption", "StoreyCache", "StoreyInfo", "layer_options", "plan_notes", "storeys_of"]
 
@@ -50,7 +50,7 @@ class StoreyInfo:
 
     def size_as(self, unit: str) -> tuple[float, float] | None:
         """Width and height in metres were the file read in ``unit`` ("auto": as it was read)."""
-        from pmk_nb.indoorgml.units import UNIT_SCALE
+        from pmk_nb.indoorgml import UNIT_SCALE
 
         size = self.size
         if size is None or unit not in UNIT_SCALE or unit == self.unit:

@@ -64,7 +64,7 @@ def _owner_by_name(stem: str, sources: dict[str, Path]) -> tuple[str, str | None
 
 
 def _read_one(path: Path, sources: dict[str, Path], by_file: dict[str, str]) -> tuple[str, GeneratedMap]:
-    from pmk_nb.rosmap.files import read_map_yaml
+    from pmk_nb.rosmap import read_map_yaml
 
     owner, storey = _owner_by_name(path.stem, sources)
     try:
@@ -115,7 +115,7 @@ def _image_size(image: Path) -> tuple[int, int, str]:
     """(width, height, "") from the image header, or (0, 0, reason)."""
     from PIL import Image, UnidentifiedImageError
 
-    from pmk_nb.rosmap.image import header_size
+    from pmk_nb.rosmap import header_size
 
     try:
         size = header_size(image)

@@ -17,7 +17,7 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from pmk_nb.raster.parts import polygons_of
+from pmk_nb.geometry import polygons_of
 
 # (block view of the grid, boolean mask of the same shape) -> None; updates the block in place
 CellOp = Callable[[np.ndarray, np.ndarray], None]

@@ -19,15 +19,15 @@ import numpy as np
 import shapely
 
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN
-from pmk_nb.indoorgml.model import CellKind
-from pmk_nb.raster.outside import facing_outside
+from pmk_nb.indoorgml import CellKind
+from pmk_nb.openings import facing_outside
 from pmk_nb.raster.scanline import Frame
 from pmk_nb.raster.spans import fill_polygons
 from pmk_nb.raster.walls import door_gaps, door_geometry
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building, Cell
-    from pmk_nb.raster.openings import OpeningPlan
+    from pmk_nb.indoorgml import Building, Cell
+    from pmk_nb.openings import OpeningPlan
 
 
 class _StoreyPlan(Protocol):

@@ -18,7 +18,7 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from pmk_nb.raster.parts import polygon_parts
+from pmk_nb.geometry import polygon_parts
 from pmk_nb.raster.scanline import Frame, Rects, Spans, span_rectangles, write_rects, write_spans
 
 _CHUNK_CELLS = 1_000_000  # (edge, row) crossings computed at once at most

@@ -29,14 +29,12 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-# declared once in pmk_nb.defaults, re-exported here
-from pmk_nb.defaults import DEFAULT_MAX_CELLS as DEFAULT_MAX_CELLS
-from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP as DEFAULT_MAX_WALL_GAP
-from pmk_nb.defaults import DEFAULT_WALL_THICKNESS as DEFAULT_WALL_THICKNESS
+from pmk_nb.defaults import NAV2_MAX_CELLS_PER_SIDE
 from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid, new_cells, nice_ceil
+from pmk_nb.openings import OpeningPlan, plan_openings, thickest_wall
 from pmk_nb.progress import ProgressCallback, emit, sub_range
-from pmk_nb.raster.openings import DEFAULT_DOOR_WIDTH, OpeningPlan, plan_openings
+from pmk_nb.raster.options import OUTSIDE_VALUES, RasterOptions
 from pmk_nb.raster.scanline import (
     Frame,
     axis_line_rects,
@@ -47,14 +45,12 @@ from pmk_nb.raster.scanline import (
 )
 from pmk_nb.raster.seal import seal_storey
 from pmk_nb.raster.spans import fill_polygons
-from pmk_nb.raster.thickness import thickest_wall
 from pmk_nb.raster.wallcut import wall_segments
 from pmk_nb.raster.walls import door_gaps, door_geometry, door_neighbours, gap_walls, passages, shrink_segments
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Building, Cell
+    from pmk_nb.indoorgml import Building, Cell
 
-NAV2_MAX_CELLS_PER_SIDE = 32767
 _WALL = 101  # transient markers while drawing: a wall cell that a door may still open,
 _OUTSIDE = 102  # and a cell outside every cell (unknown or occupied once finished)
 _MAX_DOOR_GAP = 1.0  # metres between a door line and the rooms it joins, at most (walls modelled as gaps)
@@ -90,14 +86,12 @@ def plan_storey(
     building: Building,
     storey: str,
     resolution: float,
+    options: RasterOptions | None = None,
     *,
-    wall_thickness: float = DEFAULT_WALL_THICKNESS,
-    margin: float | None = None,
-    max_cells: int = DEFAULT_MAX_CELLS,
-    allow_large: bool = False,
     cells: list[Cell] | None = None,
 ) -> Frame:
-    """The grid frame a storey needs, checked against the memory budget and the Nav2 size limit.
+    """The grid frame a storey needs, checked against the memory budget and the Nav2 size limit
+    (``options``: the wall thickness, margin, budget and size limit; the defaults when None).
 
     ``cells``: the storey's cells when the caller has them from :func:`_storey_cells` already.
 
@@ -106,9 +100,11 @@ def plan_storey(
             ``allow_large``); ``suggested_resolution`` is the finest resolution that fits.
         OccupancyError: bad numbers or an empty storey.
     """
+    opts = RasterOptions() if options is None else options
+    max_cells, allow_large = opts.max_cells, opts.allow_large
     res = _check_number("resolution", resolution, positive=True)
-    thick = _check_number("wall thickness", wall_thickness, positive=False)
-    pad = thick + res if margin is None else _check_number("margin", margin, positive=False)
+    thick = _check_number("wall thickness", opts.wall_thickness, positive=False)
+    pad = thick + res if opts.margin is None else _check_number("margin", opts.margin, positive=False)
     if cells is None:
         cells = _storey_cells(building, storey)
     b = shapely.bounds(np.asarray([c.footprint for c in cells], dtype=object))
@@ -135,7 +131,7 @@ def plan_storey(
     )
     fit = nice_ceil(guess)
     for _ in range(100):
-        f = frame_at(fit, thick + fit if margin is None else pad)
+        f = frame_at(fit, thick + fit if opts.margin is None else pad)
         if f.width * f.height <= max_cells and (allow_large or max(f.width, f.height) <= NAV2_MAX_CELLS_PER_SIDE):
             break
         fit = nice_ceil(fit * 1.01)
@@ -219,24 +215,21 @@ def _plan(
     building: Building,
     storey: str,
     resolution: float,
-    wall_thickness: float,
-    max_wall_gap: float,
-    door_width: float,
+    opts: RasterOptions,
     openings: OpeningPlan | None = None,
-    **plan_kw: Any,
 ) -> _Plan:
     """Step 1: the frame (budget-checked), the storey's cells sorted into rooms, blocked and doors, and
     the openings the navigation graph asks for (door lines between cells it does not join stay shut)."""
-    max_gap = _check_number("max wall gap", max_wall_gap, positive=False)
-    width = _check_number("door width", door_width, positive=True)
+    max_gap = _check_number("max wall gap", opts.max_wall_gap, positive=False)
+    width = _check_number("door width", opts.door_width, positive=True)
     cells = _storey_cells(building, storey)
-    frame = plan_storey(building, storey, resolution, wall_thickness=wall_thickness, cells=cells, **plan_kw)
+    frame = plan_storey(building, storey, resolution, opts, cells=cells)
     if openings is None:
         openings = plan_openings(building, storey, door_width=width, max_gap=max_gap)
     door_polys, door_lines = door_geometry(building, storey, cells, skip=openings.shut_doors)
     return _Plan(
         frame=frame,
-        half=float(wall_thickness) / 2,
+        half=float(opts.wall_thickness) / 2,
         max_gap=max_gap,
         cells=cells,
         rooms=[c.footprint for c in cells if c.kind.is_free and not c.kind.is_door],
@@ -333,39 +326,26 @@ def rasterise_storey(
     building: Building,
     storey: str,
     resolution: float,
+    options: RasterOptions | None = None,
     *,
-    wall_thickness: float = DEFAULT_WALL_THICKNESS,
-    outside: str = "unknown",
-    max_wall_gap: float = DEFAULT_MAX_WALL_GAP,
-    max_cells: int = DEFAULT_MAX_CELLS,
-    margin: float | None = None,
-    allow_large: bool = False,
-    door_width: float = DEFAULT_DOOR_WIDTH,
     openings: OpeningPlan | None = None,
     progress: ProgressCallback | None = None,
 ) -> OccupancyGrid:
     """One storey as an OccupancyGrid (-1 unknown, 0 free, 100 occupied; row 0 = bottom).
 
     Steps: plan -> cells -> walls -> doors -> grid (see the module docstring for the rules).
+    ``options``: how to draw it (:class:`~pmk_nb.raster.options.RasterOptions`, passed whole; the
+    defaults when None); ``openings``: the openings plan when the caller has made it already.
     ``progress`` gets ``rasterise`` reports, 0..1 for this storey.
 
     Raises:
         OccupancyError: bad parameters or an empty storey; GridTooLarge over budget (see plan_storey).
     """
-    if outside not in ("unknown", "occupied"):
+    opts = RasterOptions() if options is None else options
+    outside = opts.outside
+    if outside not in OUTSIDE_VALUES:
         raise OccupancyError(f"outside must be 'unknown' or 'occupied', got {outside!r}")
-    plan = _plan(
-        building,
-        storey,
-        resolution,
-        wall_thickness,
-        max_wall_gap,
-        door_width,
-        openings,
-        margin=margin,
-        max_cells=max_cells,
-        allow_large=allow_large,
-    )
+    plan = _plan(building, storey, resolution, opts, openings)
     plan.outside_mark = UNKNOWN if outside == "unknown" else _OUTSIDE  # unknown from the start: no pass
     tick = _Ticker(progress, plan.steps, storey)
     grid = _fill_cells(plan, storey, tick)
@@ -379,8 +359,8 @@ def rasterise_storey(
         origin=(plan.frame.x0, plan.frame.y0, 0.0),
         frame_id="map",
         meta={
-            **_meta(building, storey, float(wall_thickness), outside, plan.max_gap),
-            "door_width": float(door_width),
+            **_meta(building, storey, float(opts.wall_thickness), outside, plan.max_gap),
+            "door_width": float(opts.door_width),
             "openings": plan.openings.rule_counts(),
         },
     )
@@ -406,10 +386,10 @@ def _meta(building: Building, storey: str, wall_thickness: float, outside: str, 
 def rasterise(
     building: Building,
     resolution: float,
+    options: RasterOptions | None = None,
     *,
     storeys: Iterable[str] | None = None,
     progress: ProgressCallback | None = None,
-    **kwargs: Any,
 ) -> dict[str, OccupancyGrid]:
     """One grid per storey (all storeys, or those named), in building order.
 
@@ -422,12 +402,11 @@ def rasterise(
     names = [s.name for s in building.storeys] if storeys is None else list(dict.fromkeys(storeys))
     if not names:
         raise OccupancyError(f"{building.source}: no storeys to rasterise")
-    plan_kwargs = {k: kwargs[k] for k in ("wall_thickness", "margin", "max_cells", "allow_large") if k in kwargs}
     for name in names:
-        plan_storey(building, name, resolution, **plan_kwargs)
+        plan_storey(building, name, resolution, options)
     grids: dict[str, OccupancyGrid] = {}
     for i, name in enumerate(names):
         sub = sub_range(progress, i / len(names), (i + 1) / len(names))
-        grids[name] = rasterise_storey(building, name, resolution, progress=sub, **kwargs)
+        grids[name] = rasterise_storey(building, name, resolution, options, progress=sub)
     emit(progress, "rasterise", 1.0, f"{len(names)} storeys")
     return grids

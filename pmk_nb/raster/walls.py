@@ -13,12 +13,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from pmk_nb.indoorgml.model import CellKind
-from pmk_nb.raster.nearby import grown_box
-from pmk_nb.raster.parts import door_frame, polygon_parts, polygons_of
+from pmk_nb.geometry import door_frame, grown_box, polygon_parts, polygons_of
+from pmk_nb.indoorgml import CellKind
 
 if TYPE_CHECKING:
-    from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
+    from pmk_nb.indoorgml import Boundary, Building, Cell, Link
 
 
 def door_geometry(

@@ -17,8 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap.files import MAP_DOES_NOT_EXIST, MapLoadError, read_map
-from pmk_nb.rosmap.image import ImageReader
+from pmk_nb.rosmap import MAP_DOES_NOT_EXIST, ImageReader, MapLoadError, read_map
 
 UNDEFINED_FAILURE = 255
 DEFAULT_MAPS = Path.home() / "ALMA_MAPS"

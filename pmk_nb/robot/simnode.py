@@ -19,11 +19,8 @@ from typing import Any
 import numpy as np
 
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap.files import read_map
-from pmk_nb.sim.chair import Chair
-from pmk_nb.sim.demo import demo_grid
-from pmk_nb.sim.laser import Laser
-from pmk_nb.sim.world import World
+from pmk_nb.rosmap import read_map
+from pmk_nb.sim import Chair, Laser, World, demo_grid
 
 READY_LINE = "pmk robot sim-node: ready"
 Pose = tuple[float, float, float]

@@ -18,7 +18,7 @@ from pmk_nb.rosmap.files import (
     read_map_yaml,
     write_map,
 )
-from pmk_nb.rosmap.image import READERS, ImageReader, grid_to_gray
+from pmk_nb.rosmap.image import READERS, ImageReader, grid_to_gray, header_size
 
 __all__ = [
     "INVALID_MAP_DATA",
@@ -31,6 +31,7 @@ __all__ = [
     "MapLoadError",
     "MapYaml",
     "grid_to_gray",
+    "header_size",
     "read_map",
     "read_map_yaml",
     "write_map",

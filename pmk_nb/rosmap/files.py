@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from pmk_nb import __version__
+from pmk_nb.defaults import NAV2_MAX_CELLS_PER_SIDE as NAV2_MAX_CELLS_PER_SIDE  # declared there, re-exported
 from pmk_nb.errors import INVALID_MAP_DATA as INVALID_MAP_DATA  # the Nav2 codes and error: re-exported
 from pmk_nb.errors import INVALID_MAP_METADATA as INVALID_MAP_METADATA
 from pmk_nb.errors import MAP_DOES_NOT_EXIST as MAP_DOES_NOT_EXIST
@@ -39,7 +40,6 @@ from pmk_nb.rosmap.image import (
     write_pgm,
 )
 
-NAV2_MAX_CELLS_PER_SIDE = 32767
 PREVIEW_MAX_SIDE = 4096
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.196

@@ -12,3 +12,52 @@ changes, before a screen or a chair misbehaves. ``tests/project/test_private_acc
 * ``jupyter_server_seam``: how many websockets a kernel has; a refused connection forgotten.
 * ``voila_seam``: the URL Voilà prints, rewritten (``https`` when it serves TLS).
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from pmk_nb.seams.ipycanvas_seam import canvas_manager, forget_layer_after_each_message
+    from pmk_nb.seams.jupyter_server_seam import forget_open_session, kernel_connections
+    from pmk_nb.seams.paramiko_seam import StatusHookSFTPClient
+    from pmk_nb.seams.roslibpy_seam import FactorySeam, init_id_counter, install_status_handler
+    from pmk_nb.seams.voila_seam import UrlHookVoila
+
+_WHERE = {
+    "canvas_manager": "ipycanvas_seam",
+    "forget_layer_after_each_message": "ipycanvas_seam",
+    "forget_open_session": "jupyter_server_seam",
+    "kernel_connections": "jupyter_server_seam",
+    "StatusHookSFTPClient": "paramiko_seam",
+    "FactorySeam": "roslibpy_seam",
+    "init_id_counter": "roslibpy_seam",
+    "install_status_handler": "roslibpy_seam",
+    "UrlHookVoila": "voila_seam",
+}
+
+__all__ = [
+    "FactorySeam",
+    "StatusHookSFTPClient",
+    "UrlHookVoila",
+    "canvas_manager",
+    "forget_layer_after_each_message",
+    "forget_open_session",
+    "init_id_counter",
+    "install_status_handler",
+    "kernel_connections",
+]
+
+
+def __getattr__(name: str) -> Any:
+    """The face is lazy: a name loads only its own module (no paramiko, roslibpy or ROS for one name)."""
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+    globals()[name] = value  # once is enough
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -51,7 +51,7 @@ def sample_floor(resolution: float = DEFAULT_RESOLUTION) -> OccupancyGrid | None
         return None
     try:
         from pmk_nb.indoorgml import read_building
-        from pmk_nb.raster.storey import rasterise_storey
+        from pmk_nb.raster import rasterise_storey
     except ImportError:
         return None
     building = read_building(SAMPLE_GML)

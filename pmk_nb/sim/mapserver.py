@@ -24,7 +24,7 @@ import time
 from collections.abc import Awaitable, Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.rosmap.files import MAP_DOES_NOT_EXIST, MapLoadError, read_map
+from pmk_nb.rosmap import MAP_DOES_NOT_EXIST, MapLoadError, read_map
 
 if TYPE_CHECKING:
     from pathlib import Path

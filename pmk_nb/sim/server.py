@@ -282,7 +282,7 @@ class SimChair:
         if self._initial_grid is not None:
             return self._initial_grid
         if self.map_yaml is not None:
-            from pmk_nb.rosmap.files import read_map
+            from pmk_nb.rosmap import read_map
 
             return read_map(self.map_yaml, reader=image_reader(self.ros))
         return demo_grid()

@@ -7,7 +7,16 @@ in the kernel with espeak-ng, for browsers without speech synthesis).
 """
 
 from pmk_nb.speech import phrases
-from pmk_nb.speech.espeak import SpeechUnavailable, list_voices, synthesize, wav_stats
+from pmk_nb.speech.espeak import DEFAULT_VOICE, SpeechUnavailable, list_voices, synthesize, wav_stats
 from pmk_nb.speech.queue import Phrase, PhraseQueue
 
-__all__ = ["Phrase", "PhraseQueue", "SpeechUnavailable", "list_voices", "phrases", "synthesize", "wav_stats"]
+__all__ = [
+    "DEFAULT_VOICE",
+    "Phrase",
+    "PhraseQueue",
+    "SpeechUnavailable",
+    "list_voices",
+    "phrases",
+    "synthesize",
+    "wav_stats",
+]

@@ -8,14 +8,40 @@ Subpackages by screen and layer (issue 25): ``home``, ``maps``, ``settings``, ``
 
 from __future__ import annotations
 
-from typing import Any
+import importlib
+from typing import TYPE_CHECKING, Any
 
-__all__ = ["build_app"]
+if TYPE_CHECKING:
+    from pmk_nb.ui.app import build_app
+    from pmk_nb.ui.common.context import AUTOSTART_ENV, AppContext
+    from pmk_nb.ui.common.page_lifecycle import PAGE_GONE_MSG
+    from pmk_nb.ui.kiosk.pin import KIOSK_ENV
+
+_WHERE = {
+    "build_app": "app",
+    "AUTOSTART_ENV": "common.context",
+    "AppContext": "common.context",
+    "PAGE_GONE_MSG": "common.page_lifecycle",
+    "KIOSK_ENV": "kiosk.pin",
+}
+
+__all__ = [
+    "AUTOSTART_ENV",
+    "KIOSK_ENV",
+    "PAGE_GONE_MSG",
+    "AppContext",
+    "build_app",
+]
 
 
 def __getattr__(name: str) -> Any:
-    if name == "build_app":
-        from pmk_nb.ui.app import build_app
+    """The face is lazy: a name loads only its own module (no paramiko, roslibpy or ROS for one name)."""
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+    globals()[name] = value  # once is enough
+    return value
 
-        return build_app
-    raise AttributeError(f"module 'pmk_nb.ui' has no attribute {name!r}")
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -198,8 +198,8 @@ def build_app(
 
             ctx = classroom_context(maps_dir)
         if ctx is None:
-            from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
-            from pmk_nb.library.folder import MapsFolder
+            from pmk_nb.chair import PROFILES_FILE, ProfileStore
+            from pmk_nb.library import MapsFolder
 
             cfg = Path(config_dir) if config_dir is not None else None
             profiles = ProfileStore(cfg / PROFILES_FILE) if cfg is not None else ProfileStore()

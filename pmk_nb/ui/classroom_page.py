@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pmk_nb.classroom import Seat, take_seat
 from pmk_nb.classroom import settings as classroom_settings
-from pmk_nb.classroom.seat import Seat, take_seat
 from pmk_nb.ui.common.context import AppContext
 
 CLASSROOM_NOTE = (
@@ -45,8 +45,8 @@ def classroom_context(maps_dir: str | Path | None) -> AppContext | None:
     settings = classroom_settings.from_env()
     if settings is None:
         return None
-    from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.chair import PROFILES_FILE, ProfileStore
+    from pmk_nb.library import MapsFolder
 
     seat = take_seat(settings)
     profiles = ProfileStore(seat.config_dir / PROFILES_FILE, secrets=False)

@@ -12,10 +12,30 @@ ahead of the chair.
 
 from __future__ import annotations
 
+from pmk_nb.viewport.history import OdomHistory, plot_lines
 from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
-from pmk_nb.viewport.mapimage import MapTile, clean_occupancy, plan_tile, pool_window, tile_covers, window_image
+from pmk_nb.viewport.mapcast import explain_nulls
+from pmk_nb.viewport.mapimage import (
+    GRAY_LUT,
+    MapTile,
+    clean_occupancy,
+    plan_tile,
+    pool_window,
+    tile_covers,
+    tile_size_for,
+    window_image,
+)
+from pmk_nb.viewport.maptools import (
+    coordinates_text,
+    distance,
+    grid_lines,
+    grid_spacing,
+    heading,
+    pixel_to_map,
+    scale_bar,
+)
 from pmk_nb.viewport.occlusion import Insets, insets_from_boxes
-from pmk_nb.viewport.outline import LaserOutline, laser_outline
+from pmk_nb.viewport.outline import LaserOutline, laser_outline, tick_segments
 from pmk_nb.viewport.path import ARRIVED_M, ahead_of
 from pmk_nb.viewport.pose import Transform2D, mounted, wrap_angle
 from pmk_nb.viewport.tftree import FramedTransform, TfTree, normalise_frame
@@ -30,6 +50,7 @@ from pmk_nb.viewport.view import (
 
 __all__ = [
     "ARRIVED_M",
+    "GRAY_LUT",
     "MIN_CHAIR_RADIUS_PX",
     "MIN_DOT_RADIUS_PX",
     "STILL_SPEED",
@@ -38,22 +59,34 @@ __all__ = [
     "LaserOutline",
     "LaserSegments",
     "MapTile",
+    "OdomHistory",
     "TfTree",
     "Transform2D",
     "Viewport",
     "ahead_of",
     "clean_occupancy",
+    "coordinates_text",
+    "distance",
+    "explain_nulls",
     "fit_canvas",
+    "grid_lines",
+    "grid_spacing",
+    "heading",
     "heading_point",
     "insets_from_boxes",
     "laser_outline",
     "laser_segments",
     "mounted",
     "normalise_frame",
+    "pixel_to_map",
     "plan_tile",
+    "plot_lines",
     "pool_window",
     "ray_stride",
+    "scale_bar",
+    "tick_segments",
     "tile_covers",
+    "tile_size_for",
     "window_image",
     "wrap_angle",
 ]

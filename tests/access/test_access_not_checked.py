@@ -23,8 +23,8 @@ from pmk_nb.cli.check import MAX_NOT_CHECKED, format_report
 from pmk_nb.errors import MapFormatError
 from pmk_nb.guide import NoAccessibleRoute, load_rooms, plan_route
 from pmk_nb.indoorgml import read_building
-from pmk_nb.raster.openings import SKIP_DECLARED, SKIP_WINDOW, plan_openings
-from pmk_nb.raster.storey import rasterise_storey
+from pmk_nb.openings import SKIP_DECLARED, SKIP_WINDOW, plan_openings
+from pmk_nb.raster import rasterise_storey
 from pmk_nb.ui.maps.access import _storey_html
 from tests.access.test_access_rules import _cell, _graph, _named_solid, _plan
 from tests.shared_data import INDOORGML_DATA

@@ -31,8 +31,8 @@ from scipy import ndimage
 
 from pmk_nb.access.sidecar import read_sidecar
 from pmk_nb.grid import FREE
-from pmk_nb.library.convert import ConvertOptions, convert_plan
-from pmk_nb.rosmap.files import read_map
+from pmk_nb.library import ConvertOptions, convert_plan
+from pmk_nb.rosmap import read_map
 from tests.access.test_access_rules import ROOMS, _boundary, _cell, _graph, _grid_and_report, _plan
 from tests.shared_data import INDOORGML_DATA
 

@@ -103,9 +103,8 @@ def test_owners_painted_strip_by_strip_match_the_whole_grid_paint(name: str) -> 
 
     from pmk_nb.access.pixels import strip_rows
     from pmk_nb.access.report import _Owners
-    from pmk_nb.raster.scanline import Frame
+    from pmk_nb.raster import Frame, rasterise_storey
     from pmk_nb.raster.spans import fill_polygons
-    from pmk_nb.raster.storey import rasterise_storey
 
     building = read_building(INDOORGML_DIR / name)
     most = 0

@@ -14,8 +14,8 @@ import pytest
 from pmk_nb.access.check import check_grid
 from pmk_nb.grid import FREE, OCCUPIED
 from pmk_nb.indoorgml import read_building
-from pmk_nb.raster.openings import plan_openings
-from pmk_nb.raster.storey import rasterise_storey
+from pmk_nb.openings import plan_openings
+from pmk_nb.raster import rasterise_storey
 
 NS = (
     'xmlns="http://www.opengis.net/indoorgml/1.0/core" xmlns:gml="http://www.opengis.net/gml/3.2" '

@@ -19,7 +19,7 @@ from pmk_nb.cli import main
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.grid import FREE
 from pmk_nb.indoorgml import read_building
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.library import MapsFolder
 from tests.access.test_access_not_checked import SPELLINGS, WINDOWED, _windowed
 
 # the "window" W of WINDOWED is a 0.3 m deep, 1 m wide cell 1 m up the office's outer wall; here the file's
@@ -103,7 +103,7 @@ def test_the_maps_folder_converts_with_it(tmp_path: Path) -> None:
     assert next(c for c in plan.cells if c.id == "W").kind.is_free and plan.skipped == ()
     grid = check_map(gm.yaml, chair_width=0.7)
     assert grid.ok and grid.counts()["links"] == 3
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
 
     assert read_map(gm.yaml).value_at(10.15, 1.5) == FREE  # inside the kept cell
 

@@ -7,8 +7,7 @@ import shapely
 import shapely.affinity
 
 from pmk_nb.access.widths import _sample
-from pmk_nb.raster.scanline import Frame
-from pmk_nb.raster.spans import polygon_rects, polygon_rects_each
+from pmk_nb.raster import Frame, polygon_rects, polygon_rects_each
 
 
 def test_free_width_samples_are_geos_own_points() -> None:

@@ -24,7 +24,7 @@ from typing import Any
 import pytest
 import shapely
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink
 from pmk_nb.cli.demo_setup import DemoWorld
 from pmk_nb.drive import StopReason
 from pmk_nb.guide import load_rooms

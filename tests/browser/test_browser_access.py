@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.access.sidecar import sidecar_doc
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.access import sidecar_doc
+from pmk_nb.library import MapsFolder
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 from tests.shared_data import INDOORGML_DATA
 

@@ -7,8 +7,7 @@ import time
 from pathlib import Path
 
 from pmk_nb.catalogue.publish import publish
-from pmk_nb.library.folder import MapsFolder
-from pmk_nb.library.netguard import ALLOW_LOCAL_ENV
+from pmk_nb.library import ALLOW_LOCAL_ENV, MapsFolder
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 from tests.stac_site import serve_static
 

@@ -19,7 +19,7 @@ import pytest
 
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
-from pmk_nb.ui.kiosk.pin import KIOSK_ENV
+from pmk_nb.ui import KIOSK_ENV
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.browser.test_browser_drive import ready
 from tests.drive_world import ChairWatch

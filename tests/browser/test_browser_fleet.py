@@ -20,10 +20,10 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pmk_nb.chair.fleet import Fleet
+from pmk_nb.chair import Fleet
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
-from pmk_nb.ui.common.context import AUTOSTART_ENV
+from pmk_nb.ui import AUTOSTART_ENV
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.browser.test_browser_kiosk import _pixels
 
@@ -36,11 +36,11 @@ NAMES = ["chair A", "chair B", "chair C"]
 @pytest.fixture
 def lab(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tuple[str, list[Any]]]:
     """Three simulated chairs (classroom rates), their profiles, the demo floor current, Voilà."""
-    from pmk_nb.chair.profiles import PROFILES_FILE, ChairProfile, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import write_map
-    from pmk_nb.sim.demo import demo_grid
-    from pmk_nb.ui.common.context import AppContext
+    from pmk_nb.chair import PROFILES_FILE, ChairProfile, ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import write_map
+    from pmk_nb.sim import demo_grid
+    from pmk_nb.ui import AppContext
 
     maps_dir, config_dir = tmp_path / "maps", tmp_path / "config"
     files = write_map(demo_grid(), maps_dir, "demo_floor")
@@ -134,7 +134,7 @@ def test_the_fleet_panel_with_three_chairs(lab: tuple[str, list[Any]]) -> None:
 
 
 def _profiles(sims: list[Any]) -> list[Any]:
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
 
     return [ChairProfile(name=n, host="127.0.0.1", port=s.port) for n, s in zip(NAMES, sims, strict=True)]
 

@@ -18,9 +18,9 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pmk_nb.chair.link.client import ChairLink
-from pmk_nb.rosmap.files import read_map
-from pmk_nb.sim.world import World
+from pmk_nb.chair.link import ChairLink
+from pmk_nb.rosmap import read_map
+from pmk_nb.sim import World
 from pmk_nb.viewport import Viewport
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 from tests.browser.test_browser_live import pixels, wait_until

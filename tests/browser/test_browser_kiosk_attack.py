@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
+from pmk_nb.chair import PROFILES_FILE, ProfileStore
 from pmk_nb.ui.common.context import STATE_FILE
 from pmk_nb.ui.kiosk.pin import KIOSK_ENV, PIN_FILE, PinStore
 from tests.browser.kiosk_page import VIEWPORT, chromium_page, serve_kiosk

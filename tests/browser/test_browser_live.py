@@ -29,7 +29,7 @@ from pmk_nb.cli.demo_setup import prepare_demo
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.ui.common.context import AUTOSTART_ENV
+from pmk_nb.ui import AUTOSTART_ENV
 from pmk_nb.viewport import Viewport
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.page_view import settled_state
@@ -58,11 +58,11 @@ def thin_wall_grid() -> OccupancyGrid:
 @contextlib.contextmanager
 def serve_thin_walls(tmp_path: Path) -> Iterator[str]:
     """The demo chair, the thin-wall map as the current map, Voilà serving the dashboard (no autostart)."""
-    from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.chair.profiles import PROFILES_FILE, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import write_map
-    from pmk_nb.ui.common.context import AppContext
+    from pmk_nb.chair import PROFILES_FILE, ProfileStore
+    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import write_map
+    from pmk_nb.ui import AppContext
 
     world = prepare_demo(tmp_path / "demo")
     log = (tmp_path / "voila.log").open("wb")

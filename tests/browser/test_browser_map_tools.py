@@ -17,9 +17,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pmk_nb.rosmap.files import read_map
-from pmk_nb.viewport import Viewport
-from pmk_nb.viewport.maptools import scale_bar
+from pmk_nb.rosmap import read_map
+from pmk_nb.viewport import Viewport, scale_bar
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page, serve_kiosk
 from tests.browser.test_browser_live import pixels, wait_until
 from tests.page_view import page_view

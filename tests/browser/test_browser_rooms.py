@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 import shapely
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink
 from pmk_nb.guide import RoomsMap, load_rooms
 from tests.browser.kiosk_page import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT, serve_kiosk
 from tests.browser.test_browser_live import pixels

@@ -26,7 +26,7 @@ from pmk_nb.catalogue.publish import publish
 from pmk_nb.catalogue.remote import read_catalogue
 from pmk_nb.cli import main
 from pmk_nb.errors import AssetMismatch, AssetOutsideCatalogue, AssetTooLarge, RedirectRefused
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.library import MapsFolder
 from tests.stac_site import Site, schema_map, serve_static
 
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_two_storeys.gml"

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.access.check import profile_chair_width
+from pmk_nb.access import profile_chair_width
 from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.errors import SettingsError
 

@@ -16,7 +16,7 @@ from pmk_nb.chair.link.client import ChairLink
 from pmk_nb.errors import DeployError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.progress import Progress
-from pmk_nb.rosmap.files import write_map
+from pmk_nb.rosmap import write_map
 from tests.fixtures_sim import sim_profile
 from tests.fixtures_ssh import SshdServer, profile_for
 

@@ -9,8 +9,8 @@ import pytest
 
 from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.chair.secrets import KEYRING_SERVICE, PasswordCache, SshAccount
-from pmk_nb.library.folder import MapsFolder
-from pmk_nb.ui.common.context import AppContext
+from pmk_nb.library import MapsFolder
+from pmk_nb.ui import AppContext
 from tests.chair.test_settings import DictKeyring
 
 ALMA = SshAccount("pmk", "192.168.1.20", 22)

@@ -18,7 +18,7 @@ from pmk_nb.chair.transfer import check_ssh, upload, upload_map
 from pmk_nb.errors import TransferError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.progress import Progress
-from pmk_nb.rosmap.files import MapFiles, write_map
+from pmk_nb.rosmap import MapFiles, write_map
 from tests.fixtures_ssh import SshdServer, profile_for
 
 

@@ -8,9 +8,9 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.access.sidecar import read_sidecar
+from pmk_nb.access import read_sidecar
 from pmk_nb.chair.transfer import upload
-from pmk_nb.library.convert import convert_plan
+from pmk_nb.library import convert_plan
 from tests.chair.test_transfer_sim import on_chair, small_map
 from tests.fixtures_sim import sim_profile
 

@@ -15,7 +15,7 @@ import yaml
 from pmk_nb.chair.transfer import upload
 from pmk_nb.errors import TransferError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap.files import MapFiles, write_map
+from pmk_nb.rosmap import MapFiles, write_map
 from pmk_nb.sim.sftp import ChairSFTPServer
 from tests.fixtures_sim import sim_profile
 

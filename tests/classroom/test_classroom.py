@@ -135,7 +135,7 @@ def _yaw(link: Any) -> float:
 @pytest.mark.slow
 def test_two_classroom_pages_have_their_own_chairs(classroom: Any) -> None:
     """Driving one page's chair leaves the other's still; the third page is refused; all end with their kernels."""
-    from pmk_nb.chair.link.client import ChairLink
+    from pmk_nb.chair.link import ChairLink
     from pmk_nb.drive import drive_for
 
     assert classroom.env[CLASSROOM_ENV].endswith("classroom.json")

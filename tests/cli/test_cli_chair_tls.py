@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
+from pmk_nb.chair import ProfileStore
 from pmk_nb.chair.link.tls import pinned
-from pmk_nb.chair.profiles import ProfileStore
 from tests.cli.test_sim_cli import start_cli
 
 ROOT = Path(__file__).resolve().parents[2]

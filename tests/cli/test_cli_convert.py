@@ -13,8 +13,8 @@ import yaml
 
 from pmk_nb.cli import main
 from pmk_nb.indoorgml import read_building
-from pmk_nb.raster.storey import rasterise_storey
-from pmk_nb.rosmap.files import read_map
+from pmk_nb.raster import rasterise_storey
+from pmk_nb.rosmap import read_map
 from tests.shared_data import INDOORGML_DATA
 
 SAMPLES = INDOORGML_DATA

@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.library import MapsFolder
 from tests.cli.test_cli_send import Pmk, add_profile, house, pmk
 from tests.fixtures_sim import room_grid
 from tests.fixtures_ssh import SshdServer

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.cli import main
-from pmk_nb.rosmap.files import read_map
+from pmk_nb.rosmap import read_map
 from tests.indoorgml_samples import HTML_PAGE, two_rooms
 
 

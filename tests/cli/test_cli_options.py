@@ -149,7 +149,7 @@ def test_old_spellings_still_parse(argv: list[str], dest: str, value: object) ->
 
 
 def test_chair_add_footprint_radius_is_half_the_chair_width(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from pmk_nb.chair.profiles import ProfileStore
+    from pmk_nb.chair import ProfileStore
 
     monkeypatch.setenv("PMK_CONFIG_DIR", str(tmp_path))
     assert main(["chair", "add", "a", "--host", "127.0.0.1", "--chair-width", "0.8"]) == 0

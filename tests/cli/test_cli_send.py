@@ -12,8 +12,8 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link.client import ChairLink
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.chair.link import ChairLink
+from pmk_nb.library import MapsFolder
 from tests.fixtures_sim import room_grid
 from tests.fixtures_ssh import SshdServer
 from tests.indoorgml_samples import two_rooms

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from pmk_nb.chair.deploy import STEP_SPANS
+from pmk_nb.chair import STEP_SPANS
 from pmk_nb.cli.send import deploy_failure, print_progress
 from pmk_nb.errors import DeployError
 from pmk_nb.progress import Progress

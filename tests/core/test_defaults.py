@@ -4,17 +4,22 @@
 from __future__ import annotations
 
 import ast
+import inspect
+from dataclasses import fields
 from pathlib import Path
 
 import pytest
 
 from pmk_nb import defaults
-from pmk_nb.library.convert import ConvertOptions, convert_plan
+from pmk_nb.library import ConvertOptions, convert_plan
+from pmk_nb.raster import RasterOptions, rasterise_storey
 
 PKG = Path(__file__).resolve().parents[2] / "pmk_nb"
 SAMPLE = PKG.parent / "sample_maps" / "clinic_floor.gml"
 # parameter / field names that carry one of the defaults
 NAMES = {"resolution", "wall_thickness", "max_wall_gap", "max_gap", "door_width", "chair_width", "max_cells"}
+# the names pmk_nb/defaults.py declares: declared again anywhere else, they drift apart
+DECLARED = {name for name in vars(defaults) if name.isupper()}
 # still literal, in packages other helpers restructure this wave (issue 25): to read pmk_nb.defaults next
 PENDING = {"pmk_nb/chair/profiles.py"}
 
@@ -32,8 +37,18 @@ def _literal_defaults(path: Path) -> list[str]:
             pairs += [(a.arg, d) for a, d in zip(args.kwonlyargs, args.kw_defaults, strict=True)]
         elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
             pairs.append((node.target.id, node.value))
+        elif isinstance(node, ast.Assign):  # `self.chair_width = 0.70`, `DEFAULT_RESOLUTION = 0.05`
+            for target in node.targets:
+                if isinstance(target, ast.Attribute):
+                    pairs.append((target.attr, node.value))
+                elif isinstance(target, ast.Name) and target.id in DECLARED:
+                    pairs.append((target.id, node.value))
         for name, value in pairs:
-            if name in NAMES and isinstance(value, ast.Constant) and type(value.value) in (int, float):
+            if (
+                (name in NAMES or name in DECLARED)
+                and isinstance(value, ast.Constant)
+                and type(value.value) in (int, float)
+            ):
                 found.append(f"{path.relative_to(PKG.parent)}:{value.lineno} {name} = {value.value!r}")
     return found
 
@@ -66,3 +81,28 @@ def test_a_bad_resolution_in_the_options_is_refused(tmp_path: Path, bad: float) 
     with pytest.raises(OccupancyError):
         convert_plan(SAMPLE, tmp_path, "clinic", options=ConvertOptions(resolution=bad))
     assert not (tmp_path / "clinic.yaml").exists()
+
+
+def test_the_rasteriser_takes_its_options_whole() -> None:
+    """rasterise_storey took 12 keyword arguments, each caller repeating the defaults: now one
+    RasterOptions, which ConvertOptions hands on field for field."""
+    assert list(inspect.signature(rasterise_storey).parameters) == [
+        "building",
+        "storey",
+        "resolution",
+        "options",
+        "openings",
+        "progress",
+    ]
+    assert ConvertOptions().raster == RasterOptions()
+    changed = {
+        "wall_thickness": 0.2,
+        "max_wall_gap": 0.3,
+        "door_width": 1.1,
+        "outside": "occupied",
+        "max_cells": 123,
+        "allow_large": True,
+    }
+    assert set(changed) == {f.name for f in fields(RasterOptions)} & {f.name for f in fields(ConvertOptions)}
+    for name, value in changed.items():
+        assert getattr(ConvertOptions(**{name: value}).raster, name) == value, name

@@ -65,7 +65,7 @@ def test_the_settings_folder_is_private(tmp_path: Path, monkeypatch: pytest.Monk
 
 
 def _settings_folder_is_private(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from pmk_nb.chair.profiles import ChairProfile, ProfileStore
+    from pmk_nb.chair import ChairProfile, ProfileStore
 
     fresh = tmp_path / "new" / "pmk_nb"
     monkeypatch.setenv("PMK_CONFIG_DIR", str(fresh))

@@ -14,7 +14,7 @@ from typing import Any
 import pytest
 
 from pmk_nb.drive import DriveSession, SpeedLimits, StopReason, drive_for
-from pmk_nb.sim.demo import demo_grid
+from pmk_nb.sim import demo_grid
 from tests.fixtures_sim import wait_until
 
 CORRIDOR = (2.0, 6.0, 0.0)  # facing along the demo floor's 20 m corridor

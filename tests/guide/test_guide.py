@@ -14,7 +14,7 @@ from pmk_nb.grid import FREE
 from pmk_nb.guide import NoAccessibleRoute, UnknownRoom, goal_in_room, load_rooms, plan_route
 from pmk_nb.guide.errors import NotOnMap
 from pmk_nb.guide.route import narrow_passages
-from pmk_nb.library.convert import convert_plan
+from pmk_nb.library import convert_plan
 
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 D5 = "1550.0 890.0 1640.0 890.0 1640.0 910.0 1550.0 910.0 1550.0 890.0"

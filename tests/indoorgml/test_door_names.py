@@ -11,7 +11,7 @@ import pytest
 from pmk_nb.grid import FREE
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.model import CellKind
-from pmk_nb.raster.storey import rasterise_storey
+from pmk_nb.raster import rasterise_storey
 from tests.access.test_access_rules import RES, _cell, _graph, _plan
 
 SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])

@@ -18,7 +18,7 @@ from pmk_nb.grid import FREE
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.footprint import cell_footprint
 from pmk_nb.indoorgml.scan import scan
-from pmk_nb.raster.storey import rasterise_storey
+from pmk_nb.raster import rasterise_storey
 from tests.access.test_access_rules import RES, _graph, _ring
 from tests.shared_data import INDOORGML_DATA
 

@@ -14,10 +14,10 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.access.check import check_grid
+from pmk_nb.access import check_grid
 from pmk_nb.cli import main
 from pmk_nb.indoorgml import read_building
-from pmk_nb.raster.storey import rasterise_storey
+from pmk_nb.raster import rasterise_storey
 from tests.access.test_access_rules import RES, ROOMS, _cell, _graph, _plan
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.x-state-transition", "2.0-node-edge"])
@@ -149,7 +149,7 @@ def test_pmk_maps_says_nothing_was_checked_for_a_plan_without_graph(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     from pmk_nb.cli.maps import accessibility_line
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.library import MapsFolder
 
     maps = MapsFolder(tmp_path / "maps")
     entry = maps.import_file(_plan(tmp_path, ROOMS), "nograph")

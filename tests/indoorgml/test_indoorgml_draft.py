@@ -10,11 +10,11 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.access.check import check_grid
+from pmk_nb.access import check_grid
 from pmk_nb.grid import FREE, OCCUPIED
 from pmk_nb.indoorgml import read_building
 from pmk_nb.indoorgml.model import CellKind
-from pmk_nb.raster.storey import rasterise_storey
+from pmk_nb.raster import rasterise_storey
 
 HEAD = (
     '<?xml version="1.0" standalone="yes"?><indoorcore:MultiLayeredGraph gml:id="MG1" '

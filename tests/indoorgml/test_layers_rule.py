@@ -18,7 +18,7 @@ from pmk_nb.cli import main
 from pmk_nb.errors import UnknownLayer
 from pmk_nb.grid import FREE, OCCUPIED
 from pmk_nb.indoorgml import read_building
-from pmk_nb.raster.storey import rasterise_storey
+from pmk_nb.raster import rasterise_storey
 from tests.access.test_access_rules import NS, RES, _cell, _solid
 
 ROOMS = _cell("A", (0, 0, 5, 4)) + _cell("B", (5, 0, 10, 4))
@@ -181,9 +181,9 @@ def test_a_layer_of_non_navigable_spaces_is_drawn_as_obstacles(tmp_path: Path, v
 def test_the_layer_choice_is_kept_in_the_rooms_files_and_the_maps_screen_lists_layers_not_drawn(
     tmp_path: Path,
 ) -> None:
-    from pmk_nb.access.sidecar import sidecar_doc
+    from pmk_nb.access import sidecar_doc
+    from pmk_nb.library import MapsFolder
     from pmk_nb.library.choices import ConvertChoices, read_choices
-    from pmk_nb.library.folder import MapsFolder
     from pmk_nb.ui.maps.access import AccessPanel
 
     maps = MapsFolder(tmp_path / "maps")

@@ -14,7 +14,7 @@ import pytest
 import shapely
 import traitlets
 
-from pmk_nb.access.sidecar import sidecar_doc, sidecar_path
+from pmk_nb.access import sidecar_doc, sidecar_path
 from pmk_nb.cli import main
 from pmk_nb.library.choices import (
     ConvertChoices,
@@ -24,7 +24,7 @@ from pmk_nb.library.choices import (
     window_cells,
 )
 from pmk_nb.library.folder import MapsFolder
-from pmk_nb.ui.common.context import AppContext
+from pmk_nb.ui import AppContext
 from pmk_nb.ui.maps.screen import MapsScreen
 from tests.access.test_not_window import _balcony
 

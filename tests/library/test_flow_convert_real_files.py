@@ -17,12 +17,11 @@ import shapely
 from shapely.geometry import Point
 from shapely.ops import polylabel
 
-from pmk_nb.indoorgml import read_building
-from pmk_nb.indoorgml.model import Building, Cell
+from pmk_nb.defaults import DEFAULT_WALL_THICKNESS
+from pmk_nb.indoorgml import Building, Cell, read_building
 from pmk_nb.library.folder import MapsFolder
-from pmk_nb.raster.openings import plan_openings
-from pmk_nb.raster.storey import DEFAULT_WALL_THICKNESS
-from pmk_nb.rosmap.files import read_map
+from pmk_nb.openings import plan_openings
+from pmk_nb.rosmap import read_map
 from tests.helpers import cells_in, reachable
 from tests.shared_data import INDOORGML_DATA
 

@@ -12,7 +12,7 @@ from pmk_nb.errors import AlreadyExists, GridTooLarge, IndoorGMLError, LibraryEr
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.library.folder import MapsFolder, check_name, default_maps_dir
 from pmk_nb.progress import Progress
-from pmk_nb.rosmap.files import read_map, write_map
+from pmk_nb.rosmap import read_map, write_map
 from tests.indoorgml_samples import BROKEN_HTML, ENTITY_BOMB, HTML_PAGE, OTHER_XML, two_rooms
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.errors import LibraryError
-from pmk_nb.indoorgml.sniff import check_indoorgml
+from pmk_nb.indoorgml import check_indoorgml
 from pmk_nb.library.folder import MapsFolder
 
 

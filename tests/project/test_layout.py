@@ -5,6 +5,7 @@ one atomic-write helper."""
 from __future__ import annotations
 
 import ast
+import functools
 import re
 from pathlib import Path
 
@@ -17,12 +18,14 @@ TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
 TOP_LEVEL |= {"goalbeat.py"}  # the goal heartbeat's wire format: the link (chair/) and the watchdog (robot/)
 TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (sim, link, dashboard)
 TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
+TOP_LEVEL |= {"geometry.py"}  # shapely helpers shared by the openings plan and the rasteriser (issue 25)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
 PACKAGES |= {"catalogue"}  # STAC map catalogues: publish, browse, install (issue 27)
 PACKAGES |= {"classroom"}  # a simulated chair per page, the class's chair cap (issue 26)
 PACKAGES |= {"seams"}  # the only modules touching a library's private members, one per library (issue 25)
+PACKAGES |= {"openings"}  # where the navigation graph opens walls: raster draws it, access and guide read it (issue 25)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -113,23 +116,26 @@ def test_one_atomic_write_helper() -> None:
 SHARED = {"errors", "progress", "fileio", "grid"}
 SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the link and the dashboard
 SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
+SHARED |= {"geometry"}  # shapely helpers (polygon parts, boxes): a leaf over shapely and numpy
 ALLOWED_IMPORTS: dict[str, set[str]] = {
     "viewport": {"grid"},  # the shared grid type and its greys, nothing else
     "grid": set(),
     "indoorgml": SHARED,
-    "raster": SHARED | {"indoorgml"},
-    "access": SHARED | {"indoorgml", "raster", "rosmap"},
+    "openings": SHARED | {"indoorgml"},  # the plan of openings: from the building, before any grid
+    "raster": SHARED | {"indoorgml", "openings"},
+    "access": SHARED | {"indoorgml", "openings", "raster", "rosmap"},
     "rosmap": SHARED,
-    "library": SHARED | {"indoorgml", "raster", "rosmap", "access"},
+    "library": SHARED | {"indoorgml", "openings", "raster", "rosmap", "access"},
     "chair": SHARED | {"rosmap", "viewport"},  # the link fills viewport.TfTree; pose maths live there
     "sim": SHARED | {"rosmap", "indoorgml", "raster"},
     "robot": SHARED | {"rosmap", "sim"},  # chair-side ROS nodes: the map server, the simulator as a node
-    "ui": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "access"},
-    "guide": SHARED | {"indoorgml", "raster", "rosmap", "access"},  # rooms file + accessibility rules
+    "ui": SHARED | {"viewport", "indoorgml", "openings", "raster", "rosmap", "library", "chair", "access"},
+    "guide": SHARED | {"indoorgml", "openings", "raster", "rosmap", "access"},  # rooms file + accessibility rules
     "speech": SHARED,
     "cli": SHARED | {"viewport", "indoorgml", "raster", "rosmap", "library", "chair", "sim", "ui", "robot", "access"},
 }
 ALLOWED_IMPORTS["ui"] |= {"guide", "speech"}
+ALLOWED_IMPORTS["cli"] |= {"openings"}
 ALLOWED_IMPORTS["cli"] |= {"guide", "speech"}
 ALLOWED_IMPORTS["drive"] = set(SHARED)
 ALLOWED_IMPORTS["ui"] |= {"drive"}
@@ -179,3 +185,60 @@ def test_imports_follow_the_data_flow() -> None:
                 if target != own and target not in allowed:
                     wrong.append(f"{_rel(path)}:{node.lineno} imports {module}")
     assert not wrong, "imports against the data flow (see ARCHITECTURE.md):\n" + "\n".join(wrong)
+
+
+# Cross-package imports go through the package faces (issue 25): `from pmk_nb.raster import Frame`, not
+# `from pmk_nb.raster.scanline import Frame`, and each name is in the face's `__all__`, so the face says
+# what other packages use. `chair/link` (the rosbridge link) is a face of its own, beside chair's.
+SUBFACES = ("chair.link",)
+# packages whose imports may still go past the faces: none since ui was split into subpackages
+NOT_THROUGH_FACES_YET: set[str] = set()
+# (module, name) imported past a face, each with its reason
+PAST_THE_FACE = {
+    ("pmk_nb.catalogue.publish", "publish"): "a function named as its module: the lazy face's attribute is the module",
+    ("pmk_nb.catalogue.install", "install"): "a function named as its module: the lazy face's attribute is the module",
+    ("pmk_nb.chair.deploy", "deploy"): "a function named as its module: the lazy face's attribute is the module",
+}
+
+
+def _face_of(module: str) -> str | None:
+    """The face (dotted, under pmk_nb) that ``module`` belongs to; None for a top-level module."""
+    rel = module.removeprefix("pmk_nb.")
+    for sub in SUBFACES:
+        if rel == sub or rel.startswith(sub + "."):
+            return sub
+    top = rel.split(".")[0]
+    return top if (PKG / top / "__init__.py").is_file() else None
+
+
+@functools.cache
+def _face_names(face: str) -> frozenset[str]:
+    tree = ast.parse((PKG.joinpath(*face.split(".")) / "__init__.py").read_text(encoding="utf-8"))
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets):
+            return frozenset(ast.literal_eval(node.value))
+    return frozenset()
+
+
+def test_cross_package_imports_go_through_the_faces() -> None:
+    wrong = []
+    for path in _modules():
+        own = _package_of(path)
+        if own in NOT_THROUGH_FACES_YET:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                wrong += [
+                    f"{_rel(path)}:{node.lineno} import {a.name}" for a in node.names if a.name.startswith("pmk_nb.")
+                ]
+            if not (isinstance(node, ast.ImportFrom) and node.level == 0 and (node.module or "").startswith("pmk_nb.")):
+                continue
+            face = _face_of(node.module or "")
+            if face is None or face.split(".")[0] in {own} | NOT_THROUGH_FACES_YET:
+                continue
+            for alias in node.names:
+                if node.module != f"pmk_nb.{face}" and (node.module, alias.name) not in PAST_THE_FACE:
+                    wrong.append(f"{_rel(path)}:{node.lineno} {node.module}.{alias.name} (use pmk_nb.{face})")
+                elif node.module == f"pmk_nb.{face}" and alias.name not in _face_names(face):
+                    wrong.append(f"{_rel(path)}:{node.lineno} {alias.name} is not in pmk_nb.{face}'s __all__")
+    assert not wrong, "cross-package imports past the package faces (see ARCHITECTURE.md):\n" + "\n".join(wrong)

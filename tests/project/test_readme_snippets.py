@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.access.sidecar import read_sidecar
+from pmk_nb.access import read_sidecar
 from pmk_nb.cli import COMMANDS, build_parser
 from pmk_nb.errors import MapNotFound
 

@@ -14,7 +14,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 # the pure core: no widgets, no network, no ROS (ARCHITECTURE.md); strict in pyproject.toml's [tool.mypy] too
-STRICT_PACKAGES = ("indoorgml", "raster", "rosmap", "access", "viewport", "drive", "guide", "speech")
+STRICT_PACKAGES = ("indoorgml", "openings", "raster", "rosmap", "access", "viewport", "drive", "guide", "speech")
 # what --strict turns on per module (mypy 2.4); warn_unused_configs and warn_redundant_casts are global
 STRICT_FLAGS = (
     "disallow_any_generics",

@@ -20,9 +20,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from pmk_nb.grid import FREE, OCCUPIED, UNKNOWN, OccupancyGrid
-from pmk_nb.indoorgml import read_building
-from pmk_nb.indoorgml.model import Building, CellKind
-from pmk_nb.raster.openings import plan_openings
+from pmk_nb.indoorgml import Building, CellKind, read_building
+from pmk_nb.openings import plan_openings
 from pmk_nb.raster.scanline import Frame
 from pmk_nb.raster.seal import seal_outside
 from pmk_nb.raster.storey import rasterise_storey

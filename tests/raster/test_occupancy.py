@@ -13,10 +13,10 @@ from shapely.geometry import LineString, Polygon, box
 
 from pmk_nb.errors import GridTooLarge, OccupancyError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.indoorgml.model import Boundary, CellKind
+from pmk_nb.indoorgml import Boundary, CellKind
 from pmk_nb.progress import Progress
+from pmk_nb.raster import RasterOptions, plan_storey, rasterise, rasterise_storey
 from pmk_nb.raster.scanline import Frame, fill_polygon, line_segments, supercover_cells
-from pmk_nb.raster.storey import plan_storey, rasterise, rasterise_storey
 from tests.helpers import building, cells_in, flood, reachable, room
 
 # --- helpers ----------------------------------------------------------------------------------------
@@ -104,7 +104,7 @@ def test_line_segments_of_rings_and_lines() -> None:
 )
 def test_rectangle_room(w: float, h: float, x0: float, y0: float, res: float, thick: float) -> None:
     geom = box(x0, y0, x0 + w, y0 + h)
-    grid = rasterise_storey(building([room("R", geom)]), "F1", res, wall_thickness=thick)
+    grid = rasterise_storey(building([room("R", geom)]), "F1", res, RasterOptions(wall_thickness=thick))
     free = grid.data == 0
     # free only inside the room, and everything deeper than the wall band is free
     assert not (free & ~cells_in(grid, geom)).any()
@@ -137,7 +137,7 @@ def test_non_navigable_and_outside_modes() -> None:
     grid = rasterise_storey(building(cells), "F1", 0.1)
     assert (grid.data[cells_in(grid, box(2.05, 2.05, 2.95, 2.95))] == 100).all()
     assert grid.data[0, 0] == -1
-    closed = rasterise_storey(building(cells), "F1", 0.1, outside="occupied")
+    closed = rasterise_storey(building(cells), "F1", 0.1, RasterOptions(outside="occupied"))
     assert closed.data[0, 0] == 100
     assert (closed.data == 0).sum() == (grid.data == 0).sum()
 
@@ -161,7 +161,7 @@ def _two_rooms(split: float, shift: float) -> tuple[Polygon, Polygon]:
 @given(**two_rooms_params)
 def test_shared_edge_without_door_separates(split: float, res: float, thick: float, shift: float) -> None:
     a, b = _two_rooms(split, shift)
-    grid = rasterise_storey(building([room("A", a), room("B", b)]), "F1", res, wall_thickness=thick)
+    grid = rasterise_storey(building([room("A", a), room("B", b)]), "F1", res, RasterOptions(wall_thickness=thick))
     free = grid.data == 0
     seed_a, seed_b = cells_in(grid, a.buffer(-0.4)), cells_in(grid, b.buffer(-0.4))
     assert seed_a.any() and seed_b.any()
@@ -181,7 +181,9 @@ def test_door_boundary_connects_only_through_the_door(
     a, b = _two_rooms(split, shift)
     x, y0, y1 = shift + split, shift + door_at, shift + door_at + 0.9
     door = Boundary("door", True, LineString([(x, y0), (x, y1)]), "F1")
-    grid = rasterise_storey(building([room("A", a), room("B", b)], [door]), "F1", res, wall_thickness=thick)
+    grid = rasterise_storey(
+        building([room("A", a), room("B", b)], [door]), "F1", res, RasterOptions(wall_thickness=thick)
+    )
     free = grid.data == 0
     seed_a, seed_b = cells_in(grid, a.buffer(-0.4)), cells_in(grid, b.buffer(-0.4))
     assert (flood(free, seed_a) & seed_b).any()
@@ -203,7 +205,7 @@ def test_door_cell_connects_only_through_the_door(res: float, thick: float, gap:
     b = box(3 + gap, 0, 6, 3)
     door = box(3 - 0.05, 1.0, 3 + gap + 0.05, 1.9) if gap else box(2.9, 1.0, 3.1, 1.9)
     cells = [room("A", a), room("B", b), room("D", door, CellKind.CONNECTION)]
-    grid = rasterise_storey(building(cells), "F1", res, wall_thickness=thick)
+    grid = rasterise_storey(building(cells), "F1", res, RasterOptions(wall_thickness=thick))
     free = grid.data == 0
     seed_a, seed_b = cells_in(grid, a.buffer(-0.4)), cells_in(grid, b.buffer(-0.4))
     assert (flood(free, seed_a) & seed_b).any()
@@ -214,7 +216,7 @@ def test_door_cell_connects_only_through_the_door(res: float, thick: float, gap:
 
 def test_thin_wall_at_coarse_resolution_is_one_cell() -> None:
     a, b = box(0, 0, 3.05, 3), box(3.05, 0, 6, 3)
-    grid = rasterise_storey(building([room("A", a), room("B", b)]), "F1", 0.5, wall_thickness=0.05)
+    grid = rasterise_storey(building([room("A", a), room("B", b)]), "F1", 0.5, RasterOptions(wall_thickness=0.05))
     row = grid.data[grid.height // 2]
     inner = row[(row != -1)]
     assert (inner == 100).sum() == 3  # left wall, shared wall, right wall: one cell each
@@ -235,13 +237,13 @@ def test_door_is_free_on_the_preview_of_real_doors() -> None:
 def test_budget_error_names_a_resolution_that_fits() -> None:
     b = building([room("R", box(0, 0, 200, 200))])
     with pytest.raises(GridTooLarge) as info:
-        plan_storey(b, "F1", 0.005, max_cells=4_000_000)
+        plan_storey(b, "F1", 0.005, RasterOptions(max_cells=4_000_000))
     msg = str(info.value)
     assert "0.005" in msg and "x" in msg
     assert info.value.limit == 4_000_000 and info.value.cells > 4_000_000
     suggested = info.value.suggested_resolution
     assert f"{suggested:g}" in info.value.hint
-    frame = plan_storey(b, "F1", suggested, max_cells=4_000_000)
+    frame = plan_storey(b, "F1", suggested, RasterOptions(max_cells=4_000_000))
     assert frame.width * frame.height <= 4_000_000
     assert suggested <= 0.11  # the finest that fits, not just any
 
@@ -253,7 +255,7 @@ def test_nav2_side_limit() -> None:
     assert info.value.limit == 32767 and info.value.cells > 32767
     suggested = info.value.suggested_resolution
     assert plan_storey(b, "F1", suggested).width <= 32767
-    assert plan_storey(b, "F1", 0.01, allow_large=True).width > 32767
+    assert plan_storey(b, "F1", 0.01, RasterOptions(allow_large=True)).width > 32767
 
 
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), 0.0, -0.1, "x"])
@@ -265,7 +267,7 @@ def test_bad_resolution_rejected(bad: object) -> None:
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), -0.1])
 def test_bad_wall_thickness_rejected(bad: float) -> None:
     with pytest.raises(OccupancyError, match="wall thickness"):
-        rasterise_storey(building([room("R", box(0, 0, 1, 1))]), "F1", 0.1, wall_thickness=bad)
+        rasterise_storey(building([room("R", box(0, 0, 1, 1))]), "F1", 0.1, RasterOptions(wall_thickness=bad))
 
 
 @pytest.mark.filterwarnings("ignore::RuntimeWarning")  # shapely warns while building the NaN ring
@@ -311,7 +313,7 @@ def test_oversize_storey_fails_before_any_work() -> None:
     cells = [room("A", box(0, 0, 5, 4), storey="F1"), room("B", box(0, 0, 500, 500), storey="F2")]
     calls: list[Progress] = []
     with pytest.raises(GridTooLarge, match="F2"):
-        rasterise(building(cells), 0.01, max_cells=10_000_000, progress=calls.append)
+        rasterise(building(cells), 0.01, RasterOptions(max_cells=10_000_000), progress=calls.append)
     assert calls == []
 
 
@@ -320,7 +322,7 @@ def test_door_line_across_a_gap_between_rooms(outside: str) -> None:
     # rooms 0.2 m apart (the wall itself is not modelled), door boundary in the middle of the gap
     a, b = box(0, 0, 3, 3), box(3.2, 0, 6, 3)
     door = Boundary("d", True, LineString([(3.1, 1.0), (3.1, 1.9)]), "F1")
-    grid = rasterise_storey(building([room("A", a), room("B", b)], [door]), "F1", 0.05, outside=outside)
+    grid = rasterise_storey(building([room("A", a), room("B", b)], [door]), "F1", 0.05, RasterOptions(outside=outside))
     free = grid.data == 0
     seed_a, seed_b = cells_in(grid, a.buffer(-0.4)), cells_in(grid, b.buffer(-0.4))
     assert (flood(free, seed_a) & seed_b).any()

@@ -201,7 +201,7 @@ def test_run_labels_and_erosion_match_a_pixel_by_pixel_reference() -> None:
 
 def test_polygon_parts_takes_plain_polygons_as_they_are_and_flattens_the_rest() -> None:
     """The vectorised fast path and the per-geometry fallback give the parts :func:`polygons_of` gives."""
-    from pmk_nb.raster.parts import polygon_parts, polygons_of
+    from pmk_nb.geometry import polygon_parts, polygons_of
 
     plain = [box(0, 0, 1, 1), box(2, 0, 3, 1)]
     assert polygon_parts(plain) == plain and polygon_parts(plain)[0] is plain[0]

@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 from shapely import affinity
 from shapely.geometry import LineString, Polygon, box
 
+from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP
 from pmk_nb.errors import OccupancyError
-from pmk_nb.indoorgml import read_building
-from pmk_nb.indoorgml.model import Boundary, CellKind
-from pmk_nb.raster.storey import DEFAULT_MAX_WALL_GAP, rasterise_storey
+from pmk_nb.indoorgml import Boundary, CellKind, read_building
+from pmk_nb.raster import RasterOptions, rasterise_storey
 from pmk_nb.raster.walls import door_gaps, gap_walls
 from tests.helpers import building, cells_in, flood, room
 
@@ -129,7 +129,7 @@ def test_clinic_gap_is_wall_except_at_the_doors(clinic, res: float) -> None:
 
 
 def test_clinic_gap_stays_unknown_when_turned_off(clinic) -> None:
-    grid = rasterise_storey(clinic, "0", 0.05, max_wall_gap=0)
+    grid = rasterise_storey(clinic, "0", 0.05, RasterOptions(max_wall_gap=0))
     assert grid.value_at(12.0, 6.0) == -1
 
 
@@ -182,4 +182,4 @@ def test_door_cell_spanning_the_gap_stays_open_and_obstacles_stay() -> None:
 @pytest.mark.parametrize("bad", [-0.1, float("nan"), float("inf"), "wide"])
 def test_bad_max_wall_gap_rejected(bad: object) -> None:
     with pytest.raises(OccupancyError, match="max wall gap"):
-        rasterise_storey(building([room("A", box(0, 0, 3, 3))]), "F1", 0.1, max_wall_gap=bad)  # type: ignore[arg-type]
+        rasterise_storey(building([room("A", box(0, 0, 3, 3))]), "F1", 0.1, RasterOptions(max_wall_gap=bad))  # type: ignore[arg-type]

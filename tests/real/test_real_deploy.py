@@ -13,11 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pmk_nb.chair.confirm import grid_sha256
+from pmk_nb.chair import grid_sha256
 from pmk_nb.chair.deploy import deploy
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap.files import MapFiles, write_map
+from pmk_nb.rosmap import MapFiles, write_map
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair
 from tests.fixtures_ssh import SshdServer, profile_for

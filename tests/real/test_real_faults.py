@@ -9,9 +9,8 @@ from collections.abc import Iterator
 
 import pytest
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink, LinkState
 from pmk_nb.chair.link.discovery import RosapiMissing
-from pmk_nb.chair.link.state import LinkState
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair, free_port
 from tests.fixtures_sim import room_grid, write_test_map

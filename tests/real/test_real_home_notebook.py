@@ -18,9 +18,9 @@ import nbformat
 import pytest
 from nbclient import NotebookClient
 
-from pmk_nb.chair.profiles import ChairProfile, ProfileStore
-from pmk_nb.library.folder import MapsFolder
-from pmk_nb.ui.common.context import AppContext
+from pmk_nb.chair import ChairProfile, ProfileStore
+from pmk_nb.library import MapsFolder
+from pmk_nb.ui import AppContext
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair
 from tests.fixtures_sim import room_grid, write_test_map

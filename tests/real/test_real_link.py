@@ -9,7 +9,7 @@ from collections.abc import Iterator
 import pytest
 import roslibpy
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair, close_client
 from tests.fixtures_sim import room_grid, write_test_map

@@ -7,7 +7,7 @@ import json
 import math
 import time
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair
 from tests.helpers import wait_until
@@ -75,7 +75,7 @@ def test_initial_pose_reaches_a_real_rclpy_subscriber(real_chair: RealChair) -> 
 def test_the_map_watch_gets_the_transient_local_map_and_each_reload(real_chair: RealChair) -> None:
     """Home's own-map source on a real ROS 2 map server: /map is transient local (a late subscriber
     gets it at once), and a reload publishes the new one to the same subscription."""
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
     from tests.fixtures_sim import room_grid, write_test_map
 
     room = write_test_map(room_grid(8.0, 6.0), real_chair.maps, "room")
@@ -103,7 +103,7 @@ def test_the_sent_map_is_named_from_map_info_without_downloading_map(real_chair:
     """Big maps: the PMK map server's MapInfo SHA-256 says the chair publishes the map sent from here,
     so Home shows that map's own file under its name and never subscribes /map; another map loaded
     on the chair is then watched on /map and shown as the chair's own."""
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
     from pmk_nb.ui.home.own_map import CHAIRS_MAP, OwnMap
     from tests.fixtures_sim import room_grid, write_test_map
 

@@ -10,7 +10,7 @@ import pytest
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_typestore
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair
 from tests.fixtures_sim import room_grid, write_test_map

@@ -21,7 +21,7 @@ import pytest
 
 from pmk_nb.robot import ros1_mapserver
 from pmk_nb.robot.mapstore import grid_sha256
-from pmk_nb.rosmap.files import read_map
+from pmk_nb.rosmap import read_map
 from tests.fixtures_ros2 import free_port
 from tests.fixtures_sim import room_grid, write_test_map
 

@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 import roslibpy
 
-from pmk_nb.chair.link.client import ChairLink
+from pmk_nb.chair.link import ChairLink
 from pmk_nb.chair.link.throttle import AUTO, SCREEN_HZ
 from pmk_nb.chair.messages import Odometry, Scan, stamp_to_sec
-from pmk_nb.rosmap.files import read_map
+from pmk_nb.rosmap import read_map
 from pmk_nb.ui.live.chair_layer import PoseHistory
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair, close_client

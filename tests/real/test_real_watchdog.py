@@ -20,9 +20,7 @@ from collections.abc import Iterator
 
 import pytest
 
-from pmk_nb.chair.link import heartbeat
-from pmk_nb.chair.link.client import ChairLink
-from pmk_nb.chair.link.navigate import GoalStatus
+from pmk_nb.chair.link import ChairLink, GoalStatus, heartbeat
 from pmk_nb.robot import ros1_mapserver
 from pmk_nb.robot.goalwatch import READY_LINE
 from tests import fixtures_ros2

@@ -463,7 +463,7 @@ def test_palette_png_ros1_reads_indices_nav2_reads_colours(tmp_path: Path) -> No
 
 
 def test_storey_file_names() -> None:
-    from pmk_nb.library.naming import safe_file_part, storey_map_names
+    from pmk_nb.library import safe_file_part, storey_map_names
 
     assert storey_map_names("house", ["F1"]) == {"F1": "house"}
     assert storey_map_names("house", ["2"], several=True) == {"2": "house_2"}

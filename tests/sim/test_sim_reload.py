@@ -115,7 +115,7 @@ def test_static_map_and_late_subscriber_get_the_same_encoding(sim_factory, tmp_p
 
 def test_reload_fills_the_odd_values_of_a_scale_map(sim_factory, tmp_path):
     """A ``mode: scale`` map keeps values 1..99: they must survive the fast encoding as numbers."""
-    from pmk_nb.rosmap.files import read_map
+    from pmk_nb.rosmap import read_map
 
     folder = tmp_path / "maps"
     yaml = write_test_map(room_grid(4.0, 3.0), folder, "scaled")

@@ -16,11 +16,11 @@ from typing import Any
 import ipywidgets as w
 import pytest
 
-from pmk_nb.chair.link.registry import open_links
-from pmk_nb.chair.profiles import ChairProfile, ProfileStore
+from pmk_nb.chair import ChairProfile, ProfileStore
+from pmk_nb.chair.link import open_links
 from pmk_nb.cli.voila import DASHBOARD_SOURCE, dashboard_notebook, voila_command
 from pmk_nb.errors import LibraryError
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.library import MapsFolder
 from pmk_nb.progress import Progress
 from pmk_nb.ui import build_app
 from pmk_nb.ui.app import SCREENS, Dashboard

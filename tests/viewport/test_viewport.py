@@ -407,7 +407,7 @@ def test_pooling_is_the_max_over_each_pixels_cells(
 
 def test_window_image_uses_the_map_file_greys_and_a_transparent_letterbox() -> None:
     from pmk_nb.grid import OccupancyGrid
-    from pmk_nb.rosmap.image import grid_to_gray
+    from pmk_nb.rosmap import grid_to_gray
     from pmk_nb.viewport import clean_occupancy, window_image
     from pmk_nb.viewport.mapimage import GRAY_LUT
 

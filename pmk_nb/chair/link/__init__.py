@@ -13,18 +13,38 @@ file with ROS 2 schemas).
 from __future__ import annotations
 
 from pmk_nb.chair.link.client import ChairLink, ConnectionReport
+from pmk_nb.chair.link.fleet_links import FleetLinks
+from pmk_nb.chair.link.inspect import TopicProbe, pretty_message, rate_text, topic_rows
 from pmk_nb.chair.link.linkconfig import LinkConfig
+from pmk_nb.chair.link.navigate import GoalHandle, GoalProgress, GoalStatus
+from pmk_nb.chair.link.planpath import AUTO, PlanWatch
+from pmk_nb.chair.link.record import Recording, RecordStats
 from pmk_nb.chair.link.registry import close_all_links, forget_link, get_link, open_links, use_only
 from pmk_nb.chair.link.state import LinkState
+from pmk_nb.chair.link.tls import trust_certificate
 
 __all__ = [
+    "AUTO",
     "ChairLink",
     "ConnectionReport",
+    "FleetLinks",
+    "GoalHandle",
+    "GoalProgress",
+    "GoalStatus",
     "LinkConfig",
     "LinkState",
+    "PlanWatch",
+    "RecordStats",
+    "Recording",
+    "TopicProbe",
     "close_all_links",
     "forget_link",
     "get_link",
+    "goal_words",
     "open_links",
+    "pretty_message",
+    "rate_text",
+    "topic_rows",
+    "trust_certificate",
     "use_only",
 ]

@@ -28,7 +28,7 @@ from roslibpy.comm.comm_asyncio import (
 from pmk_nb.chair.link.backoff import set_backoff, set_pings
 from pmk_nb.chair.link.tls import ChairTls, check_peer, handshake_failure
 from pmk_nb.errors import ChairCertificateError
-from pmk_nb.seams.roslibpy_seam import FactorySeam
+from pmk_nb.seams import FactorySeam
 
 
 class CheckedProtocol(AsyncioRosBridgeProtocol):

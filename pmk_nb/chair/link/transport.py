@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING, Any
 import roslibpy
 
 from pmk_nb.errors import ChairLinkError
-from pmk_nb.seams.roslibpy_seam import init_id_counter, install_status_handler
+from pmk_nb.seams import init_id_counter, install_status_handler
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.factory import LinkFactory

@@ -24,10 +24,9 @@ from pmk_nb.errors import KioskLocked
 from pmk_nb.fileio import atomic_write
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.fleet import Fleet
-    from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.chair.profiles import ChairProfile, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.chair import ChairProfile, Fleet, ProfileStore
+    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.library import MapsFolder
     from pmk_nb.ui.kiosk.pin import KioskLock
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -49,7 +48,7 @@ def autostart_from_env() -> bool:
 
 def default_config_dir() -> Path:
     """Directory for UI state: the chair profiles' config dir (``PMK_CONFIG_DIR`` overrides)."""
-    from pmk_nb.chair.profiles import config_dir
+    from pmk_nb.chair import config_dir
 
     return config_dir()
 
@@ -175,7 +174,7 @@ class AppContext:
         Raises:
             SettingsError: when no chair profile has been saved yet.
         """
-        from pmk_nb.chair.link.registry import use_only
+        from pmk_nb.chair.link import use_only
         from pmk_nb.errors import SettingsError
 
         profile = self.profile()
@@ -194,7 +193,7 @@ class AppContext:
 
     def remember_password(self, profile: ChairProfile, password: str) -> None:
         """Keep a password typed in a dialog for this session only (never written to disk)."""
-        from pmk_nb.chair.secrets import SshAccount
+        from pmk_nb.chair import SshAccount
 
         self.profiles.passwords.remember(SshAccount.of(profile), password)
 
@@ -275,7 +274,7 @@ class AppContext:
     # -- lifecycle ---------------------------------------------------------------------------------
     def close(self) -> None:
         """Close the chair link this session used (called when the kernel goes away)."""
-        from pmk_nb.chair.link.registry import forget_link
+        from pmk_nb.chair.link import forget_link
 
         with self._lock:
             if self._closed:

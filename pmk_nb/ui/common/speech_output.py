@@ -21,8 +21,7 @@ from collections.abc import Callable
 import ipywidgets as w
 from IPython.display import HTML
 
-from pmk_nb.speech import PhraseQueue, SpeechUnavailable, synthesize
-from pmk_nb.speech.espeak import DEFAULT_VOICE
+from pmk_nb.speech import DEFAULT_VOICE, PhraseQueue, SpeechUnavailable, synthesize
 
 log = logging.getLogger(__name__)
 ESPEAK_WPM = 175  # espeak-ng's normal rate: rate 1.0

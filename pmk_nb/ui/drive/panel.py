@@ -33,8 +33,8 @@ from pmk_nb.ui.common.widgets import TOUCH_PX, button
 from pmk_nb.ui.drive.script import CHANNEL_CLASS, LOCKED_CLASS, PAD_HTML, page_html
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
+    from pmk_nb.chair.link import ChairLink
 
 log = logging.getLogger(__name__)
 
@@ -164,7 +164,7 @@ class DrivePanel:
         topic = profile.cmd_vel_topic if profile is not None else None
         folder = self.claims_dir
         if folder is None:
-            from pmk_nb.chair.profiles import config_dir
+            from pmk_nb.chair import config_dir
 
             folder = config_dir() / "drive"
         claim = DriveClaim(folder, link.host, link.port, member=self.member)

@@ -22,8 +22,8 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.chair.fleet import ChairStatus, Fleet, FleetError, FleetMember, NotInFleet, row_words
-from pmk_nb.chair.link.fleet_links import FleetLinks
+from pmk_nb.chair import ChairStatus, Fleet, FleetError, FleetMember, NotInFleet, row_words
+from pmk_nb.chair.link import FleetLinks
 from pmk_nb.errors import SettingsError
 from pmk_nb.ui.common.context import needs_pin
 from pmk_nb.ui.common.style import TOUCH_PX
@@ -168,7 +168,7 @@ class FleetPanel:
     @needs_pin("Fleet")
     def open_class(self) -> list[FleetMember]:
         """The instructor's view: every live seat's simulated chair of the class this page is in."""
-        from pmk_nb.classroom.fleet import class_chairs
+        from pmk_nb.classroom import class_chairs
 
         settings = _class_settings()
         if settings is None:

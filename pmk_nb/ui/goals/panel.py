@@ -19,15 +19,15 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
+from pmk_nb.chair.link import GoalStatus
 from pmk_nb.chair.link import goal_words as words
-from pmk_nb.chair.link.navigate import GoalStatus
 from pmk_nb.errors import PmkError
 from pmk_nb.speech import phrases
 from pmk_nb.ui.common.widgets import TOUCH_PX, button, escape
 from pmk_nb.ui.goals.picker import Goal, GoalOverlay, GoalPicker
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.navigate import GoalHandle, GoalProgress
+    from pmk_nb.chair.link import GoalHandle, GoalProgress
     from pmk_nb.ui.live.view import LiveView
 
 log = logging.getLogger(__name__)

@@ -15,15 +15,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pmk_nb.chair.messages import Odometry, Pose2D, Scan
-from pmk_nb.chair.ranges import BLIND_KINDS, NO_RETURN, UNKNOWN, blind_ahead
+from pmk_nb.chair import BLIND_KINDS, NO_RETURN, UNKNOWN, Odometry, Pose2D, Scan, blind_ahead
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.common.widgets import escape
-from pmk_nb.viewport.mapcast import explain_nulls
-from pmk_nb.viewport.pose import mounted
+from pmk_nb.viewport import explain_nulls, mounted
 
 if TYPE_CHECKING:  # the link package pulls in roslibpy: imported when a preview starts, not before
-    from pmk_nb.chair.link.state import LinkState
+    from pmk_nb.chair.link import LinkState
     from pmk_nb.grid import OccupancyGrid
 
 NO_VALUE = "—"  # shown instead of a value that is not current

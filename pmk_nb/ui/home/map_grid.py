@@ -32,7 +32,7 @@ class MapGridCache:
 
     def load(self, current: CurrentMap) -> OccupancyGrid:
         """The map's grid; raises FileNotFoundError, MapFormatError, OSError or ValueError if unreadable."""
-        from pmk_nb.rosmap.files import read_map, read_map_yaml
+        from pmk_nb.rosmap import read_map, read_map_yaml
 
         yaml_path = Path(current.yaml)
         if not yaml_path.is_file():

@@ -184,8 +184,8 @@ class _FactsCheck:
 
 def _file_sha256(yaml: Path) -> str:
     """SHA-256 of a map file's cells as the PMK map server computes it (the deploy check's helper)."""
-    from pmk_nb.chair.confirm import grid_sha256
-    from pmk_nb.rosmap.files import MapFiles, read_map_yaml
+    from pmk_nb.chair import grid_sha256
+    from pmk_nb.rosmap import MapFiles, read_map_yaml
 
     return grid_sha256(MapFiles(yaml, Path(read_map_yaml(yaml).image), None))
 

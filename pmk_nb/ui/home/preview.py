@@ -18,8 +18,7 @@ from pmk_nb.ui.common.page_lifecycle import page_seen
 from pmk_nb.ui.home.info import CONNECT_TIMEOUT, STOPPED, PreviewSnapshot, unreachable_text
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.chair.link.state import LinkState
+    from pmk_nb.chair.link import ChairLink, LinkState
 
 log = logging.getLogger(__name__)
 READY_POLL_S = 0.1

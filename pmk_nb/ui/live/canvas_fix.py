@@ -26,7 +26,7 @@ from __future__ import annotations
 import logging
 from typing import Any
 
-from pmk_nb.seams.ipycanvas_seam import canvas_manager, forget_layer_after_each_message
+from pmk_nb.seams import canvas_manager, forget_layer_after_each_message
 
 log = logging.getLogger(__name__)
 

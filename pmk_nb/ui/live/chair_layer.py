@@ -18,9 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from ipycanvas import Canvas
 
-from pmk_nb.chair.messages import Odometry, Pose2D, Scan
-from pmk_nb.viewport import Viewport, heading_point, laser_outline, laser_segments, mounted
-from pmk_nb.viewport.outline import tick_segments
+from pmk_nb.chair import Odometry, Pose2D, Scan
+from pmk_nb.viewport import Viewport, heading_point, laser_outline, laser_segments, mounted, tick_segments
 
 CHAIR_RGB = (31, 111, 235)  # blue
 HEADING_RGB = (245, 196, 0)  # yellow

@@ -19,8 +19,8 @@ from typing import Any
 import numpy as np
 from ipycanvas import hold_canvas
 
-from pmk_nb.chair.messages import Odometry, Pose2D, Scan
-from pmk_nb.seams.ipycanvas_seam import canvas_manager
+from pmk_nb.chair import Odometry, Pose2D, Scan
+from pmk_nb.seams import canvas_manager
 
 HISTORY = 4000  # frames kept for the metrics
 

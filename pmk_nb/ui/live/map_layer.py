@@ -17,8 +17,16 @@ import numpy as np
 from ipycanvas import Canvas
 
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.viewport import MapTile, Viewport, clean_occupancy, plan_tile, tile_covers, window_image
-from pmk_nb.viewport.mapimage import GRAY_LUT, tile_size_for
+from pmk_nb.viewport import (
+    GRAY_LUT,
+    MapTile,
+    Viewport,
+    clean_occupancy,
+    plan_tile,
+    tile_covers,
+    tile_size_for,
+    window_image,
+)
 
 #: Spare map around the view, as a fraction of the canvas on each side.
 TILE_MARGIN = 0.5

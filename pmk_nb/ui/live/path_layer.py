@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from pmk_nb.chair.link.planpath import AUTO, PlanWatch
+from pmk_nb.chair.link import AUTO, PlanWatch
 from pmk_nb.viewport import ahead_of
 
 if TYPE_CHECKING:

@@ -26,15 +26,7 @@ import numpy as np
 
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.common.widgets import TOUCH_PX, escape
-from pmk_nb.viewport.maptools import (
-    coordinates_text,
-    distance,
-    grid_lines,
-    grid_spacing,
-    heading,
-    pixel_to_map,
-    scale_bar,
-)
+from pmk_nb.viewport import coordinates_text, distance, grid_lines, grid_spacing, heading, pixel_to_map, scale_bar
 
 if TYPE_CHECKING:
     from ipycanvas import Canvas

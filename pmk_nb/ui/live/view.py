@@ -22,7 +22,7 @@ from typing import Any, Protocol
 
 from ipycanvas import MultiCanvas
 
-from pmk_nb.chair.messages import Odometry, Pose2D, Scan
+from pmk_nb.chair import Odometry, Pose2D, Scan
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.canvas_fix import make_messages_name_their_layer
 from pmk_nb.ui.live.chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer, pose_tuple

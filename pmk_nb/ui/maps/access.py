@@ -14,12 +14,12 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 import shapely
 
-from pmk_nb.access.report import SKIP_OUTSIDE
-from pmk_nb.raster.openings import SKIP_WINDOW
+from pmk_nb.access import SKIP_OUTSIDE
+from pmk_nb.openings import SKIP_WINDOW
 from pmk_nb.ui.common.widgets import escape, picture, replace_children
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import GeneratedMap, MapEntry
+    from pmk_nb.library import GeneratedMap, MapEntry
 
 RED = (220, 30, 30, 255)
 
@@ -28,7 +28,7 @@ def marked_preview(gm: GeneratedMap, doc: dict[str, Any]) -> bytes | None:
     """The storey's preview PNG with the openings the chair cannot pass drawn in red (None: no preview)."""
     from PIL import Image, ImageDraw
 
-    from pmk_nb.rosmap.files import read_map_yaml
+    from pmk_nb.rosmap import read_map_yaml
 
     if gm.preview is None or not gm.preview.is_file():
         return None

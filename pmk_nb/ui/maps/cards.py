@@ -11,7 +11,7 @@ import ipywidgets as w
 from pmk_nb.ui.common.widgets import button, escape, guard, picture
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import GeneratedMap, MapEntry, StoreyInfo
+    from pmk_nb.library import GeneratedMap, MapEntry, StoreyInfo
     from pmk_nb.ui.common.context import AppContext
 
 THUMB_PX = 220

@@ -17,9 +17,19 @@ from typing import TYPE_CHECKING
 
 import ipywidgets as w
 
-from pmk_nb.catalogue.install import InstallResult, install
-from pmk_nb.catalogue.remote import Building, Catalogue, Reader, read_catalogue
-from pmk_nb.catalogue.state import CHANGED, INSTALLED, NEW, CatalogueSources, InstallRecord
+from pmk_nb.catalogue import (
+    CHANGED,
+    INSTALLED,
+    NEW,
+    Building,
+    Catalogue,
+    CatalogueSources,
+    InstallRecord,
+    InstallResult,
+    Reader,
+    read_catalogue,
+)
+from pmk_nb.catalogue.install import install
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.common.context import needs_pin
 from pmk_nb.ui.common.widgets import (

@@ -15,14 +15,13 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.errors import LibraryError
-from pmk_nb.indoorgml.units import UNIT_CHOICES
-from pmk_nb.library.choices import ConvertChoices, last_choices, offered, window_cells
+from pmk_nb.indoorgml import UNIT_CHOICES
+from pmk_nb.library import ConvertChoices, last_choices, offered, window_cells
 from pmk_nb.ui.common.style import TOUCH_PX
 from pmk_nb.ui.common.widgets import checkbox, escape, field_error, guard, replace_children, tick_exactly
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import MapEntry
-    from pmk_nb.library.info import LayerOption
+    from pmk_nb.library import LayerOption, MapEntry
     from pmk_nb.ui.common.context import AppContext
 
 UNIT_LABELS = {

@@ -31,7 +31,7 @@ from pmk_nb.ui.common.widgets import (
 )
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import MapEntry
+    from pmk_nb.library import MapEntry
     from pmk_nb.ui.common.context import AppContext
 
 

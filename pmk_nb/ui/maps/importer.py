@@ -20,7 +20,7 @@ from pmk_nb.ui.common.context import needs_pin
 from pmk_nb.ui.common.widgets import TOUCH_PX, ConfirmBox, escape, guard
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import MapEntry
+    from pmk_nb.library import MapEntry
     from pmk_nb.ui.common.context import AppContext
 
 UPLOAD_MAX_BYTES = 200 * 1024 * 1024

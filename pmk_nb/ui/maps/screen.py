@@ -15,9 +15,10 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.access.check import profile_chair_width
-from pmk_nb.access.sidecar import sidecar_doc
+from pmk_nb.access import profile_chair_width, sidecar_doc
+from pmk_nb.defaults import DEFAULT_RESOLUTION
 from pmk_nb.errors import GridTooLarge, LibraryError, PmkError
+from pmk_nb.library import ConvertOptions
 from pmk_nb.ui.common.context import needs_pin
 from pmk_nb.ui.common.widgets import (
     button,
@@ -45,10 +46,9 @@ from pmk_nb.ui.maps.storeys import StoreysPanel
 from pmk_nb.ui.settings.host_key_prompt import HostKeyPrompt, strict
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import GeneratedMap, MapEntry
+    from pmk_nb.library import GeneratedMap, MapEntry
     from pmk_nb.ui.common.context import AppContext
 
-DEFAULT_RESOLUTION = 0.05
 MAX_RESOLUTION = 1.0
 CONNECT_TIMEOUT = 10.0
 
@@ -283,17 +283,18 @@ class MapsScreen:
         which = f" (storeys {', '.join(storeys)})" if storeys else ""
         self.status.value = f"Converting {escape(entry.name)}{escape(which)} at {resolution:g} m…"
 
+        options = ConvertOptions(  # passed whole; every other setting is pmk_nb.defaults'
+            resolution=resolution,
+            storeys=storeys,
+            chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
+            unit=choices.unit,
+            not_windows=tuple(choices.not_windows),
+            layers=tuple(choices.layers),
+        )
+
         def work() -> list[GeneratedMap]:
-            return self.ctx.maps.convert(
-                entry.name,
-                resolution,
-                storeys=storeys,
-                progress=progress_callback(self.convert_progress, self.status),
-                chair_width=profile_chair_width(None, self.ctx.profile()),  # Settings: the chair's width
-                unit=choices.unit,
-                not_windows=choices.not_windows,
-                layers=choices.layers,
-            )
+            progress = progress_callback(self.convert_progress, self.status)
+            return self.ctx.maps.convert_with(entry.name, options, progress=progress)
 
         def done(generated: list[GeneratedMap]) -> None:
             self.refresh()
@@ -346,7 +347,7 @@ class MapsScreen:
 
         def work() -> Any:
             from pmk_nb.chair.deploy import deploy
-            from pmk_nb.rosmap.files import MapFiles
+            from pmk_nb.rosmap import MapFiles
 
             files = MapFiles(yaml=Path(gm.yaml), image=Path(gm.image), preview=gm.preview)
             link = self.ctx.link()

@@ -18,8 +18,7 @@ from pmk_nb.errors import LibraryError
 from pmk_nb.ui.common.widgets import checkbox, escape, field_error, replace_children, run_in_thread, tick_exactly
 
 if TYPE_CHECKING:
-    from pmk_nb.library.folder import MapEntry, StoreyInfo
-    from pmk_nb.library.info import LayerOption
+    from pmk_nb.library import LayerOption, MapEntry, StoreyInfo
     from pmk_nb.ui.common.context import AppContext
 
 

@@ -20,7 +20,7 @@ from ipycanvas import Canvas, hold_canvas
 from pmk_nb.ui.common.widgets import TOUCH_PX
 from pmk_nb.ui.home.info import whole_degrees
 from pmk_nb.ui.plots.topic_inspector import TopicInspector
-from pmk_nb.viewport.history import OdomHistory, plot_lines
+from pmk_nb.viewport import OdomHistory, plot_lines
 
 PLOT_HZ = 2.0  # chart redraws per second while the panel is open
 SPAN_S = 300.0  # the chart shows the last five minutes

@@ -16,7 +16,7 @@ from typing import Any
 
 import ipywidgets as w
 
-from pmk_nb.chair.link.inspect import TopicProbe, pretty_message, rate_text, topic_rows
+from pmk_nb.chair.link import TopicProbe, pretty_message, rate_text, topic_rows
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.common.widgets import button, escape
 

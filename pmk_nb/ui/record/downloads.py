@@ -13,7 +13,7 @@ import io
 import zipfile
 from pathlib import Path
 
-from pmk_nb.rosmap.files import read_map_yaml
+from pmk_nb.rosmap import read_map_yaml
 from pmk_nb.ui.common.widgets import escape
 
 PAGE_LIMIT = 25 * 1024 * 1024  # bytes a download link may carry inside the page

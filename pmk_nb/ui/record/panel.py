@@ -23,7 +23,7 @@ from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.record.downloads import file_link_html, link_html, map_zip
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.record import Recording, RecordStats
+    from pmk_nb.chair.link import Recording, RecordStats
     from pmk_nb.ui.common.context import AppContext
 
 STATUS_HZ = 2.0

@@ -14,7 +14,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.access.sidecar import sidecar_path
+from pmk_nb.access import sidecar_path
+from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.errors import PmkError
 from pmk_nb.guide import NoAccessibleRoute, NoGraph, RoomsMap, go_to, load_rooms
 from pmk_nb.speech import phrases
@@ -43,7 +44,7 @@ class RoomsGuide:
         live.overlays.append(self.overlay)
         self.rooms: RoomsMap | None = None
         self.link: Any = None
-        self.chair_width = 0.70
+        self.chair_width = DEFAULT_CHAIR_WIDTH  # until the profile says (attach)
         self.route: Route | None = None
         self.handle: Any = None
         self._status: str | None = None

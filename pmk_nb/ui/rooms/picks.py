@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.catalogue.state import read_json_object
+from pmk_nb.catalogue import read_json_object
 from pmk_nb.fileio import atomic_write
 
 PICKS_FILE = "room_picks.json"

@@ -26,7 +26,7 @@ from pmk_nb.ui.common.widgets import ConfirmBox, set_progress
 if TYPE_CHECKING:
     import ipywidgets as w
 
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
     from pmk_nb.ui.common.context import AppContext
 
 
@@ -80,7 +80,7 @@ class HostKeyPrompt:
 
     @needs_pin("Trusting the chair's host key")  # it writes known_hosts: a locked kiosk page may not
     def _trust(self, unknown: UnknownHostKey, retry: Callable[[], object]) -> None:
-        from pmk_nb.chair.ssh import trust_host_key
+        from pmk_nb.chair import trust_host_key
 
         self.pending = None
         trust_host_key(unknown)
@@ -113,7 +113,7 @@ class CertificatePrompt:
 
     @needs_pin("Trusting the chair's certificate")  # it writes known_certs: a locked kiosk page may not
     def _trust(self, unknown: UnknownChairCertificate, retry: Callable[[], object]) -> None:
-        from pmk_nb.chair.link.tls import trust_certificate
+        from pmk_nb.chair.link import trust_certificate
 
         self.pending = None
         trust_certificate(unknown)

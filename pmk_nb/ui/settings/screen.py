@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, ChairProfile
+from pmk_nb.chair import AUTH_METHODS, POSE_SOURCES, ChairProfile
+from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.errors import PmkError, SettingsError
 from pmk_nb.ui.common.context import needs_pin
 from pmk_nb.ui.common.widgets import (
@@ -33,7 +34,7 @@ from pmk_nb.ui.kiosk.mode import pin_section
 from pmk_nb.ui.settings.host_key_prompt import CertificatePrompt
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.client import ConnectionReport
+    from pmk_nb.chair.link import ConnectionReport
     from pmk_nb.ui.common.context import AppContext
 
 TEST_TIMEOUT = 5.0
@@ -133,7 +134,7 @@ def _form_fields() -> dict[str, w.Widget]:
         "speech_on": w.ToggleButtons(options=[("Speak", "True"), ("Silent", "False")], value="True"),
         "speech_voice": text("en", "Voice (language code)", "pmk-settings-speech-voice", placeholder="en"),
         "speech_rate": text("1.0", "Speaking rate (1 = normal)", "pmk-settings-speech-rate"),
-        "chair_width": text("0.7", "Chair width (m), for map checks", "pmk-settings-chair-width"),
+        "chair_width": text(f"{DEFAULT_CHAIR_WIDTH:g}", "Chair width (m), for map checks", "pmk-settings-chair-width"),
         "goals_on_link_loss": _link_loss_toggle(),
         # the rider's display (pmk_nb/ui/common/display_prefs.py): applied on the app root once saved
         "high_contrast": w.ToggleButtons(
@@ -173,8 +174,7 @@ def page_link_state(ctx: AppContext) -> str | None:
 
     if "pmk_nb.chair.link.registry" not in sys.modules:  # no link was ever made in this kernel
         return None
-    from pmk_nb.chair.link.registry import open_links
-    from pmk_nb.chair.link.state import LinkState
+    from pmk_nb.chair.link import LinkState, open_links
 
     profile = ctx.profile()
     if profile is None:
@@ -394,7 +394,7 @@ class SettingsScreen:
         self.cert_prompt.box.hide()
 
         def work() -> tuple[ConnectionReport, dict[str, list[str]]]:
-            from pmk_nb.chair.link.client import ChairLink
+            from pmk_nb.chair.link import ChairLink
 
             link = ChairLink(profile.host, profile.port, **profile.link_options())
             try:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from pmk_nb.chair.link.bridge_kind import detect_bridge
-from pmk_nb.sim.bridge_modes import BRIDGE_MODES
+from pmk_nb.sim import BRIDGE_MODES
 
 
 @pytest.mark.parametrize("bridge", BRIDGE_MODES)

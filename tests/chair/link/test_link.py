@@ -270,7 +270,7 @@ def test_commands_reach_the_chair(sim_factory, links) -> None:
 
 @pytest.mark.parametrize("ros", ROS_VERSIONS)
 def test_fetch_map_returns_the_published_grid(sim_factory, links, tmp_path, ros: str) -> None:
-    from pmk_nb.rosmap.files import read_map, write_map
+    from pmk_nb.rosmap import read_map, write_map
 
     sim = sim_factory(ros=ros)
     link = links(sim)

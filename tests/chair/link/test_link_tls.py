@@ -20,7 +20,7 @@ from pmk_nb.errors import (
     ChairLinkError,
     UnknownChairCertificate,
 )
-from pmk_nb.sim.server import SimChair
+from pmk_nb.sim import SimChair
 from pmk_nb.tlscert import file_fingerprint, write_self_signed
 from tests.helpers import wait_until
 

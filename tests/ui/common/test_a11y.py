@@ -11,8 +11,7 @@ import ipywidgets as w
 import numpy as np
 import pytest
 
-from pmk_nb.chair.messages import Scan
-from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.chair import ChairProfile, Scan
 from pmk_nb.errors import SettingsError
 from pmk_nb.speech import phrases
 from pmk_nb.ui.common.a11y_style import A11Y_CSS, BUTTON_STYLES, CHECKED_PAIRS, FOCUS_PX

@@ -12,10 +12,10 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.chair import ChairProfile
 from pmk_nb.drive import StopReason
 from pmk_nb.errors import SettingsError
-from pmk_nb.sim.demo import demo_grid
+from pmk_nb.sim import demo_grid
 from pmk_nb.ui.common.context import AppContext
 from pmk_nb.ui.drive.panel import DrivePanel, limits_of
 from pmk_nb.ui.settings.screen import SettingsScreen

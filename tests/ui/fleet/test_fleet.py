@@ -17,6 +17,7 @@ from typing import Any
 
 import pytest
 
+from pmk_nb.chair import ChairProfile, ProfileStore
 from pmk_nb.chair.fleet import (
     PALETTE,
     ChairStatus,
@@ -27,9 +28,8 @@ from pmk_nb.chair.fleet import (
     row_words,
 )
 from pmk_nb.chair.link.fleet_links import BACKGROUND_THROTTLE_MS
-from pmk_nb.chair.profiles import ChairProfile, ProfileStore
 from pmk_nb.errors import KioskLocked, SettingsError
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.library import MapsFolder
 from pmk_nb.ui.common.context import AppContext
 from pmk_nb.ui.fleet.layer import FleetLayer, Marker
 from tests.fixtures_sim import room_grid, write_test_map
@@ -89,9 +89,7 @@ def test_markers_change_version_only_when_moved() -> None:
 
 
 def test_class_chairs_read_the_seats(tmp_path: Path) -> None:
-    from pmk_nb.classroom.cap import ChairCap
-    from pmk_nb.classroom.fleet import class_chairs
-    from pmk_nb.classroom.settings import ClassroomSettings
+    from pmk_nb.classroom import ChairCap, ClassroomSettings, class_chairs
 
     settings = ClassroomSettings("m.yaml", "m", None, "k.pub", "k", 5, str(tmp_path / "class"))
     cap = ChairCap(tmp_path / "class", 5)
@@ -244,8 +242,7 @@ def test_an_instructor_opens_the_class_fleet(
 ) -> None:
     """A page of a class (``PMK_CLASSROOM``) offers the class's fleet: each live seat's chair, read
     from the seats' file (here one seat, this process, on chair C's simulator)."""
-    from pmk_nb.classroom.cap import ChairCap
-    from pmk_nb.classroom.settings import CLASSROOM_ENV, ClassroomSettings
+    from pmk_nb.classroom import CLASSROOM_ENV, ChairCap, ClassroomSettings
 
     screen, sims, _ctx = lab
     panel = screen.fleet

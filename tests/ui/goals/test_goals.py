@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from pmk_nb.chair.link.navigate import GoalProgress, GoalStatus
+from pmk_nb.chair.link import GoalProgress, GoalStatus
 from pmk_nb.ui.goals.panel import GoalPanel, status_html
 from pmk_nb.ui.goals.picker import GoalPicker, goal_from_pixels
 from pmk_nb.ui.live.view import LiveView

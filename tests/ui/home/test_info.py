@@ -6,8 +6,8 @@ import socket
 import time
 from pathlib import Path
 
-from pmk_nb.chair.link.state import LinkState
-from pmk_nb.chair.messages import Odometry, Pose2D
+from pmk_nb.chair import Odometry, Pose2D
+from pmk_nb.chair.link import LinkState
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.ui.common.context import CurrentMap
 from pmk_nb.ui.home.checks import preview_image_path, preview_image_problem, probe_chair

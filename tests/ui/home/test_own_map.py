@@ -72,9 +72,9 @@ def test_same_map_tolerates_a_few_cells_but_not_another_frame() -> None:
 @pytest.fixture
 def chair_only(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tuple[Any, Any]]:
     """A session with a chair profile but no map sent from this dashboard; the chair has its own map."""
-    from pmk_nb.chair.profiles import ChairProfile, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.sim.demo import demo_grid
+    from pmk_nb.chair import ChairProfile, ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.sim import demo_grid
     from pmk_nb.ui.common.context import AppContext
 
     sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0), odom_rate=20.0, scan_rate=5.0, rays=90)
@@ -89,7 +89,7 @@ def chair_only(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tupl
 
 @pytest.mark.slow
 def test_home_shows_the_chairs_own_map_when_nothing_was_sent(chair_only: Any, tmp_path: Path) -> None:
-    from pmk_nb.rosmap.files import read_map, write_map
+    from pmk_nb.rosmap import read_map, write_map
     from pmk_nb.ui.home.screen import HomeScreen
 
     ctx, sim = chair_only
@@ -125,8 +125,8 @@ def test_home_shows_the_chairs_own_map_when_nothing_was_sent(chair_only: Any, tm
 
 def test_the_map_watch_survives_a_one_shot_map_read(sim_factory: Callable[..., Any]) -> None:
     """roslibpy's unsubscribe drops every listener of /map: the watch listens again after fetch_map."""
-    from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.rosmap import write_map
 
     sim = sim_factory(grid=OccupancyGrid(np.zeros((40, 50), np.int8), 0.1, (0.0, 0.0, 0.0)))
     link = ChairLink("127.0.0.1", sim.port)

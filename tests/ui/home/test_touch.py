@@ -10,7 +10,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.chair import ChairProfile
 from pmk_nb.errors import SettingsError
 from pmk_nb.ui.goals.heading_buttons import HeadingButtons, heading_of
 from pmk_nb.ui.goals.picker import goal_from_pixels
@@ -110,8 +110,8 @@ def test_the_status_line_is_short() -> None:
 
 
 def test_settings_keep_the_joystick_side(tmp_path: Path) -> None:
-    from pmk_nb.chair.profiles import ProfileStore
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.chair import ProfileStore
+    from pmk_nb.library import MapsFolder
     from pmk_nb.ui.common.context import AppContext
     from pmk_nb.ui.settings.screen import SettingsScreen
 

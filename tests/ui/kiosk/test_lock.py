@@ -14,7 +14,7 @@ import ipywidgets as w
 import pytest
 from ipywidgets.widgets.widget import _instances  # the kernel's registry of live widget models
 
-from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.chair import ChairProfile
 from pmk_nb.errors import KioskLocked, UnknownHostKey
 from pmk_nb.ui import build_app
 from pmk_nb.ui.app import Dashboard

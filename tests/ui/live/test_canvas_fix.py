@@ -19,7 +19,7 @@ import numpy as np
 from ipycanvas import Canvas
 from ipycanvas.canvas import _CMD_LIST, _CanvasManager
 
-from pmk_nb.chair.messages import Odometry
+from pmk_nb.chair import Odometry
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.canvas_fix import make_messages_name_their_layer
 from pmk_nb.ui.live.view import LiveView

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from ipycanvas.canvas import _CMD_LIST
 
-from pmk_nb.chair.messages import Odometry, Scan
+from pmk_nb.chair import Odometry, Scan
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.frame_metrics import measured_hold
 from pmk_nb.ui.live.render_loop import RenderLoop
@@ -517,10 +517,10 @@ def test_live_view_loop_draws_at_most_fps(tmp_path: Path) -> None:
 @pytest.fixture
 def home_env(tmp_path: Path, sim_factory: Callable[..., Any]) -> Iterator[tuple[Any, Any, Any]]:
     """A session (real AppContext, maps folder, profile store) whose chair is a running simulator."""
-    from pmk_nb.chair.profiles import ChairProfile, ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import write_map
-    from pmk_nb.sim.demo import demo_grid
+    from pmk_nb.chair import ChairProfile, ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import write_map
+    from pmk_nb.sim import demo_grid
     from pmk_nb.ui.common.context import AppContext
 
     grid = demo_grid()
@@ -656,7 +656,7 @@ def test_home_warns_about_a_missing_preview_image_but_keeps_preview(home_env: An
 def test_home_says_early_when_the_chair_does_not_answer(home_env: Any) -> None:
     import socket
 
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
     from pmk_nb.ui.home.screen import HomeScreen
 
     ctx, sim, _files = home_env
@@ -680,8 +680,8 @@ def test_home_says_early_when_the_chair_does_not_answer(home_env: Any) -> None:
 
 
 def test_home_without_a_chair_profile_points_to_settings(tmp_path: Path) -> None:
-    from pmk_nb.chair.profiles import ProfileStore
-    from pmk_nb.library.folder import MapsFolder
+    from pmk_nb.chair import ProfileStore
+    from pmk_nb.library import MapsFolder
     from pmk_nb.ui.common.context import AppContext
     from pmk_nb.ui.home.screen import HomeScreen
 
@@ -698,9 +698,9 @@ def test_home_without_a_chair_profile_points_to_settings(tmp_path: Path) -> None
 
 
 def test_home_follows_the_current_map_and_handles_no_map(tmp_path: Path) -> None:
-    from pmk_nb.chair.profiles import ProfileStore
-    from pmk_nb.library.folder import MapsFolder
-    from pmk_nb.rosmap.files import write_map
+    from pmk_nb.chair import ProfileStore
+    from pmk_nb.library import MapsFolder
+    from pmk_nb.rosmap import write_map
     from pmk_nb.ui.common.context import AppContext
     from pmk_nb.ui.home.screen import HomeScreen
 
@@ -726,7 +726,7 @@ def test_home_follows_the_current_map_and_handles_no_map(tmp_path: Path) -> None
 def test_home_reports_an_unreachable_chair(home_env: Any, tmp_path: Path) -> None:
     import socket
 
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
     from pmk_nb.ui.home.screen import HomeScreen
 
     ctx, _sim, _files = home_env

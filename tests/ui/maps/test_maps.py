@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 
 import pytest
 
-from pmk_nb.chair.profiles import ChairProfile
+from pmk_nb.chair import ChairProfile
 from pmk_nb.ui.common.context import AppContext
 from pmk_nb.ui.maps.screen import MapsScreen, parse_resolution
 from tests.fixtures_sim import sim_profile

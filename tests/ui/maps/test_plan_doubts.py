@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import traitlets
 
-from pmk_nb.access.sidecar import sidecar_doc
+from pmk_nb.access import sidecar_doc
 from pmk_nb.errors import LibraryError
 from pmk_nb.indoorgml import read_building
 from pmk_nb.library.choices import read_choices

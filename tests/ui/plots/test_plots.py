@@ -10,8 +10,8 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.profiles import ChairProfile, ProfileStore
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.chair import ChairProfile, ProfileStore
+from pmk_nb.library import MapsFolder
 from pmk_nb.ui.common.context import AppContext
 from pmk_nb.ui.plots.panel import PlotsPanel
 from tests.fixtures_sim import room_grid, write_test_map

@@ -9,8 +9,8 @@ import re
 import zipfile
 from pathlib import Path
 
-from pmk_nb.chair.profiles import ChairProfile
-from pmk_nb.rosmap.files import write_map
+from pmk_nb.chair import ChairProfile
+from pmk_nb.rosmap import write_map
 from pmk_nb.ui.kiosk.pin import KioskLock, PinStore
 from pmk_nb.ui.record.panel import RecordPanel, recordings_dir
 from tests.fixtures_sim import room_grid, wait_until

@@ -12,9 +12,8 @@ from typing import Any
 import pytest
 import shapely
 
-from pmk_nb.chair.profiles import ChairProfile, ProfileStore
-from pmk_nb.library.convert import convert_plan
-from pmk_nb.library.folder import MapsFolder
+from pmk_nb.chair import ChairProfile, ProfileStore
+from pmk_nb.library import MapsFolder, convert_plan
 from pmk_nb.sim.chair import DriveLimits
 from pmk_nb.ui.common.context import AppContext
 from pmk_nb.ui.rooms.layer import RoomsOverlay
@@ -95,7 +94,7 @@ def test_blocked_room_names_the_door_and_the_page_gets_espeak_audio(clinic_home:
 
 @pytest.mark.slow
 def test_link_and_stop_phrases(clinic_home: Any) -> None:
-    from pmk_nb.drive.gate import StopReason
+    from pmk_nb.drive import StopReason
 
     home, sim, _yaml = clinic_home
     rooms = home.rooms

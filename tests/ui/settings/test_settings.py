@@ -143,8 +143,8 @@ def test_profile_picker_switches_between_saved_chairs(ctx: AppContext, tmp_path:
 
 def test_settings_says_connected_while_the_page_holds_a_live_link(tmp_path: Path, sim_factory: Any) -> None:
     """Issue 29 item 9: Settings said "Disconnected" while Home was live on the same chair."""
-    from pmk_nb.chair.link.registry import close_all_links
-    from pmk_nb.chair.profiles import ChairProfile
+    from pmk_nb.chair import ChairProfile
+    from pmk_nb.chair.link import close_all_links
     from pmk_nb.ui import build_app
     from tests.helpers import app_context
 

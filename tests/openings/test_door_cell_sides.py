@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.grid import FREE, OCCUPIED
-from pmk_nb.raster.openings import plan_openings
+from pmk_nb.openings import plan_openings
 from tests.access.test_access_rules import _cell, _graph, _grid_and_report, _plan
 
 SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])

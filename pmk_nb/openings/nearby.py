@@ -1,7 +1,7 @@
 """What lies near a link: R-trees over a storey's cells, door boundaries and virtual boundaries.
 
 Placing each opening once looked at every door, virtual boundary or cell of the storey, which made
-:func:`pmk_nb.raster.openings.plan_openings` quadratic in the plan (issue 31: a 4x plan took 8-9x
+:func:`pmk_nb.openings.plan.plan_openings` quadratic in the plan (issue 31: a 4x plan took 8-9x
 the time). Each query here returns a superset of what the exact test keeps (or the exact answer), in
 list order, as the loops over everything did, so the openings are the same.
 """
@@ -10,15 +10,16 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from functools import cached_property
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-import numpy as np
 import shapely
+
+from pmk_nb.geometry import grown_box
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-    from pmk_nb.indoorgml.model import Boundary, Cell
+    from pmk_nb.indoorgml import Boundary, Cell
 
 
 class Nearby:
@@ -61,9 +62,3 @@ def _within(tree: shapely.STRtree, geom: BaseGeometry, reach: float) -> list[int
     nanometre) of ``geom``'s: every item at most ``reach`` away, and some further (GEOS's own dwithin
     query misses degenerate items, e.g. a zero-length line, so the boxes decide)."""
     return sorted(tree.query(grown_box(geom, reach + 1e-9)).tolist())
-
-
-def grown_box(geom: Any, by: Any) -> Any:
-    """The bounding box(es) of ``geom`` (one geometry or an array) grown by ``by`` on every side."""
-    x0, y0, x1, y1 = np.moveaxis(shapely.bounds(geom), -1, 0)
-    return shapely.box(x0 - by, y0 - by, x1 + by, y1 + by)

@@ -1,9 +1,10 @@
-"""The polygon parts of geometries: what every fill and wall step rasterises."""
+"""Shapely helpers the openings plan and the rasteriser share: the polygon parts of geometries (what every
+fill and wall step rasterises), a door cell's frame, bounding-box tests."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
@@ -53,3 +54,9 @@ def boxes_overlap(a: BaseGeometry, b: BaseGeometry) -> bool:
     ax0, ay0, ax1, ay1 = a.bounds
     bx0, by0, bx1, by1 = b.bounds
     return bool(min(ax1, bx1) > max(ax0, bx0) and min(ay1, by1) > max(ay0, by0))
+
+
+def grown_box(geom: Any, by: Any) -> Any:
+    """The bounding box(es) of ``geom`` (one geometry or an array) grown by ``by`` on every side."""
+    x0, y0, x1, y1 = np.moveaxis(shapely.bounds(geom), -1, 0)
+    return shapely.box(x0 - by, y0 - by, x1 + by, y1 + by)

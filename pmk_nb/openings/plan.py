@@ -10,7 +10,7 @@ separates them, up to ``max_gap``), by the first rule with evidence:
    face) - so a plain wall that a transition is merely dual to is not opened when a real door sits
    beside it, and a dual face that spans the whole wall is no door at all;
 2. ``line``: where the transition's own LineString crosses the shared boundary, ``door_width`` wide, on
-   one straight stretch clear of corners and crossing walls (:mod:`pmk_nb.raster.doorslide`);
+   one straight stretch clear of corners and crossing walls (:mod:`pmk_nb.openings.doorslide`);
 3. ``corridor``: both cells corridor-like (TransitionSpace, or named corridor/hall/lobby), or the
    boundary is virtual, or the file draws walls as gaps and these two cells touch (no wall): the
    whole shared boundary;
@@ -37,21 +37,19 @@ from typing import TYPE_CHECKING
 import shapely
 from shapely import ops
 
-from pmk_nb.defaults import DEFAULT_DOOR_WIDTH as DEFAULT_DOOR_WIDTH  # declared once there, re-exported here
-from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP
-from pmk_nb.indoorgml.doors import says_corridor
-from pmk_nb.indoorgml.model import CellKind
-from pmk_nb.raster.doorface import door_face
-from pmk_nb.raster.doorslide import DEFAULT_INSET, place
-from pmk_nb.raster.nearby import Nearby
-from pmk_nb.raster.outside import outer_guesses
-from pmk_nb.raster.parts import boxes_overlap
-from pmk_nb.raster.thickness import MIN_WALL
+from pmk_nb.defaults import DEFAULT_DOOR_WIDTH, DEFAULT_MAX_WALL_GAP
+from pmk_nb.geometry import boxes_overlap
+from pmk_nb.indoorgml import CellKind, says_corridor
+from pmk_nb.openings.doorface import door_face
+from pmk_nb.openings.doorslide import DEFAULT_INSET, place
+from pmk_nb.openings.nearby import Nearby
+from pmk_nb.openings.outside import outer_guesses
+from pmk_nb.openings.thickness import MIN_WALL
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-    from pmk_nb.indoorgml.model import Boundary, Building, Cell, Link
+    from pmk_nb.indoorgml import Boundary, Building, Cell, Link
 
 RULES = ("door", "line", "corridor", "middle", "bridge")
 MAX_BRIDGE = 3.0  # metres: the widest gap between two linked cells that a passage is laid across

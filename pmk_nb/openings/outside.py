@@ -19,7 +19,7 @@ import shapely
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-    from pmk_nb.indoorgml.model import Boundary
+    from pmk_nb.indoorgml import Boundary
 
 GUESSED = frozenset({"partial"})  # door evidence that is only a guess from the geometry
 CROSS = 0.05  # metres: a transition's line this close to a door line goes through it (not one passing by)

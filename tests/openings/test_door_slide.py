@@ -16,7 +16,7 @@ import pytest
 from scipy import ndimage
 
 from pmk_nb.grid import FREE
-from pmk_nb.raster.openings import plan_openings
+from pmk_nb.openings import plan_openings
 from tests.access.test_access_rules import RES, _cell, _graph, _grid_and_report, _plan, _poly_cell
 
 V = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])

@@ -18,7 +18,7 @@ import numpy as np
 import shapely
 from shapely import ops
 
-from pmk_nb.raster.parts import boxes_overlap, door_frame, polygons_of
+from pmk_nb.geometry import boxes_overlap, door_frame, polygons_of
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
