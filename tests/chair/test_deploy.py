@@ -3,6 +3,7 @@ reached through the real ChairLink (roslibpy)."""
 
 from __future__ import annotations
 
+import asyncio
 import shutil
 from collections.abc import Callable
 from pathlib import Path
@@ -210,23 +211,39 @@ def test_profile_naming_a_missing_service_fails_at_detect(
     assert "uploaded to" in str(info.value) and str(info.value).count("keeps its previous map") == 1
 
 
+def answer_late(sim: Any, monkeypatch: pytest.MonkeyPatch, delay: float = 2.0) -> None:
+    """The chair acts on the reload but its answer comes ``delay`` s late: past the dashboard's reload
+    timeout however slow the test machine (a 1 ms timeout alone lost the race on a loaded machine)."""
+    load = sim.mapserver.load
+
+    async def late(path: str) -> Any:
+        result = await load(path)
+        await asyncio.sleep(delay)
+        return result
+
+    monkeypatch.setattr(sim.mapserver, "load", late)
+
+
+@pytest.mark.slow
 def test_lost_reload_answer_is_followed_by_a_check_of_the_map(
-    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Issue 9, fault 2: the answer is lost (timeout) but the chair loaded the map: say so, succeed."""
     sim = sim_factory(grid=grid_of(20, 20, seed=17), sftp_port=0, maps_dir=tmp_path / "chair_maps")
+    answer_late(sim, monkeypatch)
     files = write_map(grid_of(900, 900, seed=18), tmp_path / "local", "big")
     link = link_factory(sim)
-    report = deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link, reload_timeout=0.001)
+    report = deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link, reload_timeout=0.5)
     assert any("answer was lost" in note for note in report.notes), report.notes
     assert (report.map_info.width, report.map_info.height) == (900, 900)
 
 
 @pytest.mark.slow
 def test_lost_reload_answer_does_not_claim_the_old_map_stays(
-    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path
+    sim_factory: Any, link_factory: Callable[[Any], ChairLink], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     sim = sim_factory(grid=grid_of(20, 20, seed=17), sftp_port=0, maps_dir=tmp_path / "chair_maps")
+    answer_late(sim, monkeypatch)
     files = write_map(grid_of(900, 900, seed=18), tmp_path / "local", "big")
     files.image.write_bytes(files.image.read_bytes()[:-1000])  # header fine, cells missing: not loadable
     with pytest.raises(DeployError) as info:
@@ -235,7 +252,7 @@ def test_lost_reload_answer_does_not_claim_the_old_map_stays(
             sim_profile(sim, tmp_path),
             password=sim.sftp_password,
             link=link_factory(sim),
-            reload_timeout=0.001,
+            reload_timeout=0.5,
             confirm_timeout=1.5,
         )
     err = info.value
