@@ -27,7 +27,7 @@ a third room does not count. A leak must join the two rooms without crossing a d
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields, is_dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -164,11 +164,23 @@ class StoreyReport:
         return out
 
     def to_json(self) -> dict[str, Any]:
-        out = asdict(self)
+        out = _as_plain(self)
         out["counts"] = self.counts()
         out["ok"] = self.ok
         out["checked"] = self.checked
         return out
+
+
+def _as_plain(value: Any) -> Any:
+    """``dataclasses.asdict`` for the report's plain fields (str, numbers, bools, lists, tuples, dicts):
+    the same mapping, without asdict's deep copy of every leaf (0.3 s for 3000 links)."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _as_plain(getattr(value, f.name)) for f in fields(value)}
+    if isinstance(value, list | tuple):
+        return type(value)(_as_plain(v) for v in value)
+    if isinstance(value, dict):
+        return {_as_plain(k): _as_plain(v) for k, v in value.items()}
+    return value
 
 
 class _Regions:
