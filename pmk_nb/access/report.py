@@ -164,7 +164,7 @@ class StoreyReport:
         return out
 
     def to_json(self) -> dict[str, Any]:
-        out = _as_plain(self)
+        out: dict[str, Any] = _as_plain(self)
         out["counts"] = self.counts()
         out["ok"] = self.ok
         out["checked"] = self.checked

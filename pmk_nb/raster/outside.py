@@ -83,7 +83,7 @@ def facing_outside(lines: list[BaseGeometry], cells: list[BaseGeometry], reach: 
     hit[tree.query(shapely.points(np.vstack([mid + normal, mid - normal])), predicate="within")[0]] = True
     # a door line drawn in the middle of a wall gap has no cell 1 mm off it: probe a straight line again
     # half the strip deep (a point inside a cell there is a cell covering some of the strip)
-    deep = np.flatnonzero(~(hit[:n] & hit[n:]) & (counts == 2) & (length > 0)) if reach > 0 else []
+    deep = np.flatnonzero(~(hit[:n] & hit[n:]) & (counts == 2) & (length > 0) & (reach > 0))
     if len(deep):
         off = normal[deep] * (reach / 2 / 1e-3)
         far = np.zeros(2 * len(deep), dtype=bool)
