@@ -242,12 +242,13 @@ class _Owners:
         self.dtype = np.uint8 if top < 255 else np.int16 if top < 32767 else np.int32
         self.layers: list[tuple[int, tuple[np.ndarray, ...]]] = []
         order = sorted(range(len(cells)), key=lambda i: -cells[i].footprint.area)
-        shapes = [
-            shapely.buffer(cells[i].footprint, grid.resolution / 2, join_style="mitre")
-            if cells[i].kind.is_door
-            else cells[i].footprint
-            for i in order
-        ]
+        shapes = [cells[i].footprint for i in order]
+        doors = [k for k, i in enumerate(order) if cells[i].kind.is_door]  # grown in one array call
+        grown = shapely.buffer(
+            np.array([shapes[k] for k in doors], dtype=object), grid.resolution / 2, join_style="mitre"
+        )
+        for k, g in zip(doors, grown.tolist(), strict=True):
+            shapes[k] = g
         painted = polygon_rects_each(frame, shapes)  # all cells at once, not a call each
         cores = None
         if core_radius is not None:

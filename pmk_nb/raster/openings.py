@@ -246,10 +246,10 @@ def _made(link: Link, rule: str, segs: Sequence[BaseGeometry], a: Cell, b: Cell,
     return Opening(link, rule, tuple(segs), width, gap, (_label(a), _label(b)), tuple(reaches))
 
 
-def _opening(link: Link, cells: dict[str, Cell], ctx: _Context, gap: float, near: BaseGeometry | None) -> Opening:
-    """``gap``: the distance between the two cells; ``near``: see :func:`_shared`."""
+def _opening(link: Link, cells: dict[str, Cell], ctx: _Context, gap: float, outline: BaseGeometry | None) -> Opening:
+    """``gap``: the distance between the two cells; ``outline``: see :func:`_shared`."""
     a, b = cells[link.a], cells[link.b]
-    shared = _shared(a, b, gap, ctx.tol, near) if gap <= ctx.max_gap else shapely.MultiLineString()
+    shared = _shared(a, b, gap, ctx.tol, outline) if gap <= ctx.max_gap else shapely.MultiLineString()
     if shared.is_empty:
         return _bridge(link, a, b, gap, ctx) or Opening(link, "apart", (), 0.0, gap, (_label(a), _label(b)))
     runs = _runs(shared)

@@ -207,11 +207,12 @@ def door_jambs(room_arr: np.ndarray, door_polys: list[Any], tol: float) -> list[
         return out
     tree = shapely.STRtree(room_arr) if len(room_arr) else None
     touching = _doors_within(door_polys, tol)
-    for i, door in enumerate(door_polys):
+    arr = np.asarray(door_polys, dtype=object)
+    grown, rings = shapely.buffer(arr, tol).tolist(), shapely.boundary(arr).tolist()  # array calls, not one each
+    for i, ring in enumerate(rings):
         near = [door_polys[j] for j in touching[i]]
         if tree is not None:
-            near += list(room_arr[tree.query(shapely.buffer(door, tol), predicate="intersects")])
-        ring = shapely.boundary(door)
+            near += list(room_arr[tree.query(grown[i], predicate="intersects")])
         if near:
             ring = shapely.difference(ring, shapely.buffer(shapely.union_all(near), tol))
         if not ring.is_empty:
