@@ -6,8 +6,8 @@ free) is more than the chair's half-width, pixel centre to pixel centre, i.e. wh
 that radius holds only free pixels. It is exact (the same pixels as
 ``scipy.ndimage.distance_transform_edt(free) > r``): a chair of width w needs
 2 * floor(w / 2 / res) + 1 free pixels across (15 for 0.70 m at 0.05 m). It runs on row strips with
-prefix sums per row, about six times faster than scipy's distance transform on the same strips and
-without its float64 and int32 arrays.
+runs of free pixels per row doubled level by level (bool ANDs only), well over six times faster than
+scipy's distance transform on the same strips and without its float64 and int32 arrays.
 Labelling works on runs of pixels per row, joined across rows with a vectorised union-find, so a
 storey of a few million pixels labels in well under a second, and it can keep regions of different
 owners apart and say which touch, which scipy's labelling cannot.
@@ -72,20 +72,25 @@ def erode_rows(
 
 def _erode_padded(padded: np.ndarray, radius_px: float, r: int, n: int, w: int) -> np.ndarray:
     """The ``n`` middle rows of ``padded`` (r rows and columns of margin) eroded by the disc."""
-    # blocked pixels per row, counted modulo 256 (or 65536): a window of 2r + 1 columns, fewer than that,
-    # holds none exactly when the wrapped counts at its two ends are equal, so narrow counts are exact
-    count = np.uint8 if 2 * r + 1 < 256 else np.uint16 if 2 * r + 1 < 65536 else np.int64
-    blocked = np.zeros((padded.shape[0], padded.shape[1] + 1), dtype=count)
-    np.cumsum(~padded, axis=1, dtype=count, out=blocked[:, 1:])
+    # runs[k][:, x]: the 2**k padded columns from x on are all free (doubling: one AND per level), so any
+    # window of L columns is two overlapping runs of the largest 2**k <= L: bool ANDs only, no prefix
+    # sums (a row-wise cumsum was a third of the erosion of a 100 M-cell storey)
+    runs = [padded]
+    while 2 ** len(runs) <= 2 * r + 1:
+        prev, step = runs[-1], 2 ** (len(runs) - 1)
+        runs.append(prev[:, : prev.shape[1] - step] & prev[:, step:])
     out = np.ones((n, w), dtype=bool)
     clear = np.empty((padded.shape[0], w), dtype=bool)
     last = -1
     for dy in range(r + 1):
         half = math.floor(math.sqrt(max(radius_px * radius_px - dy * dy, 0.0)))
         # rows whose columns [x - half, x + half] are all free (padded column x + r), once for rows +-dy
-        # and once for every dy of the same half (17 comparisons, not 28, at 0.0128 m)
+        # and once for every dy of the same half (17 windows, not 28, at 0.0128 m)
         if half != last:
-            np.equal(blocked[:, r + half + 1 : r + half + 1 + w], blocked[:, r - half : r - half + w], out=clear)
+            size = 2 * half + 1
+            k = size.bit_length() - 1
+            lo, hi = r - half, r - half + size - 2**k
+            np.logical_and(runs[k][:, lo : lo + w], runs[k][:, hi : hi + w], out=clear)
             last = half
         out &= clear[r + dy : r + dy + n]
         if dy:

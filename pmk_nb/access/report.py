@@ -27,7 +27,7 @@ a third room does not count. A leak must join the two rooms without crossing a d
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields, is_dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -163,11 +163,23 @@ class StoreyReport:
         return out
 
     def to_json(self) -> dict[str, Any]:
-        out = asdict(self)
+        out: dict[str, Any] = _as_plain(self)
         out["counts"] = self.counts()
         out["ok"] = self.ok
         out["checked"] = self.checked
         return out
+
+
+def _as_plain(value: Any) -> Any:
+    """``dataclasses.asdict`` for the report's plain fields (str, numbers, bools, lists, tuples, dicts):
+    the same mapping, without asdict's deep copy of every leaf (0.3 s for 3000 links)."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _as_plain(getattr(value, f.name)) for f in fields(value)}
+    if isinstance(value, list | tuple):
+        return type(value)(_as_plain(v) for v in value)
+    if isinstance(value, dict):
+        return {_as_plain(k): _as_plain(v) for k, v in value.items()}
+    return value
 
 
 class _Regions:
@@ -229,12 +241,13 @@ class _Owners:
         self.dtype = np.uint8 if top < 255 else np.int16 if top < 32767 else np.int32
         self.layers: list[tuple[int, tuple[np.ndarray, ...]]] = []
         order = sorted(range(len(cells)), key=lambda i: -cells[i].footprint.area)
-        shapes = [
-            shapely.buffer(cells[i].footprint, grid.resolution / 2, join_style="mitre")
-            if cells[i].kind.is_door
-            else cells[i].footprint
-            for i in order
-        ]
+        shapes = [cells[i].footprint for i in order]
+        doors = [k for k, i in enumerate(order) if cells[i].kind.is_door]  # grown in one array call
+        grown = shapely.buffer(
+            np.array([shapes[k] for k in doors], dtype=object), grid.resolution / 2, join_style="mitre"
+        )
+        for k, g in zip(doors, grown.tolist(), strict=True):
+            shapes[k] = g
         painted = polygon_rects_each(frame, shapes)  # all cells at once, not a call each
         cores = None
         if core_radius is not None:

@@ -25,12 +25,13 @@ def free_widths(grid: OccupancyGrid, openings: Sequence[Sequence[BaseGeometry]])
     if not segs:
         return best
     res = grid.resolution
-    lengths = np.array([seg.length for _, seg in segs])
+    lines = np.asarray([seg for _, seg in segs], dtype=object)
+    lengths = shapely.length(lines)
     n = np.maximum(2, (lengths / (res / 2)).astype(np.int64) + 1)  # samples per segment
     first = np.cumsum(n) - n
     k = np.arange(int(n.sum())) - np.repeat(first, n)  # sample index within its segment
     along = k * np.repeat(lengths / (n - 1), n)
-    pts = _sample(np.asarray([seg for _, seg in segs], dtype=object), n, along)
+    pts = _sample(lines, n, along)
     cols = np.floor((pts[:, 0] - grid.origin[0]) / res).astype(np.int64)
     rows = np.floor((pts[:, 1] - grid.origin[1]) / res).astype(np.int64)
     ok = (cols >= 0) & (cols < grid.width) & (rows >= 0) & (rows < grid.height)

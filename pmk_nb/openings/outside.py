@@ -81,6 +81,15 @@ def facing_outside(lines: list[BaseGeometry], cells: list[BaseGeometry], reach: 
     normal = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.where(length > 0, length, 1.0)[:, None] * 1e-3
     hit = np.zeros(2 * n, dtype=bool)
     hit[tree.query(shapely.points(np.vstack([mid + normal, mid - normal])), predicate="within")[0]] = True
+    # a door line drawn in the middle of a wall gap has no cell 1 mm off it: probe a straight line again
+    # half the strip deep (a point inside a cell there is a cell covering some of the strip)
+    deep = np.flatnonzero(~(hit[:n] & hit[n:]) & (counts == 2) & (length > 0) & (reach > 0))
+    if len(deep):
+        off = normal[deep] * (reach / 2 / 1e-3)
+        far = np.zeros(2 * len(deep), dtype=bool)
+        far[tree.query(shapely.points(np.vstack([mid[deep] + off, mid[deep] - off])), predicate="within")[0]] = True
+        hit[deep] |= far[: len(deep)]
+        hit[n + deep] |= far[len(deep) :]
     both = hit[:n] & hit[n:] & (length > 0)
     out = [False] * len(lines)
     for i in np.flatnonzero(~both).tolist():

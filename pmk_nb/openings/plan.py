@@ -32,8 +32,9 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
+import numpy as np
 import shapely
 from shapely import ops
 
@@ -57,6 +58,7 @@ _EVIDENCE_RANK = {"type": 0, "name": 0, "partial": 1, "duality": 2}
 _TOUCH = 0.02  # metres: cells closer than this share a face with no wall drawn between them
 _HOOK = 0.03  # metres: an end edge this short is the shared boundary's tolerance turning round a jamb
 _FULL = 0.95  # a dual face covering 95 % of the shared boundary is the wall itself, not a door
+_ENDS_MID = np.array([0.0, 0.5, 1.0])  # where a segment's local gap is measured (normalised)
 _ALONG = 0.5  # a door line lies on a shared boundary when it covers this share of it (or of itself) there
 
 
@@ -146,26 +148,42 @@ class OpeningPlan:
         """The storey's links when the graph decides (opened or skipped), else none."""
         return [o.link for o in self.openings] + [k.link for k in self.skipped] if self.graph else []
 
+    def wall_polygons(self, reach: float) -> list[BaseGeometry]:
+        """:meth:`Opening.polygons` of every opening cut in a wall (not a bridge), in order: the same
+        rectangles, buffered in one array call (a call each was a tenth of a large storey's doors step)."""
+        lines, widths = [], []
+        for o in self.openings:
+            if o.path is None:
+                lines += [_extend(_unhooked(s), 0.0) for s in o.segments]
+                widths += [g + reach for g in o.reaches or (o.gap,) * len(o.segments)]
+        out = shapely.buffer(np.array(lines, dtype=object), np.array(widths, dtype=np.float64), cap_style="flat")
+        return [p for p in out.tolist() if not p.is_empty]
+
 
 def _label(cell: Cell) -> str:
     return cell.name or cell.id
 
 
-def _shared(a: Cell, b: Cell, gap: float, tol: float) -> BaseGeometry:
+def _shared(a: Cell, b: Cell, gap: float, tol: float, near: BaseGeometry | None = None) -> BaseGeometry:
     """The part of ``a``'s outline within ``gap`` (+ ``tol``) of ``b``, as merged lines.
 
     A cell drawn inside another (a room inside a hall's footprint) shares its own outline, less
-    what lies on the outer cell's outline.
+    what lies on the outer cell's outline. ``near``: that part before merging, when computed already
+    for cells whose boxes do not overlap (:func:`_near_outlines`).
     """
     small, big = sorted((a, b), key=lambda c: c.footprint.area)
     overlap = (
-        shapely.intersection(small.footprint, big.footprint).area if boxes_overlap(a.footprint, b.footprint) else 0.0
+        shapely.intersection(small.footprint, big.footprint).area
+        if near is None and boxes_overlap(a.footprint, b.footprint)
+        else 0.0
     )
     if overlap > 0.5 * small.footprint.area:
         line = shapely.difference(
             shapely.intersection(shapely.boundary(small.footprint), big.footprint),
             shapely.buffer(shapely.boundary(big.footprint), tol),
         )
+    elif near is not None:
+        line = near
     else:
         line = shapely.intersection(shapely.boundary(a.footprint), shapely.buffer(b.footprint, gap + tol))
     parts = [p for p in shapely.get_parts(line) if p.geom_type == "LineString" and p.length > 2 * tol]
@@ -223,20 +241,24 @@ def _corridor_like(a: Cell, b: Cell, virtual: bool, walls_as_gaps: bool, gap: fl
 def _made(link: Link, rule: str, segs: Sequence[BaseGeometry], a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening:
     """An opening with each segment's local gap: how far its ends and middle are from either cell's
     outline (a gap between the cells, or an overlap where both outlines are drawn as walls)."""
-    rings = (shapely.boundary(a.footprint), shapely.boundary(b.footprint))
+    rings = shapely.boundary(np.array([a.footprint, b.footprint], dtype=object))
+    # ends and middle of every segment, each one's distance to both outlines: two array calls
+    pts = shapely.line_interpolate_point(
+        np.repeat(np.array(segs, dtype=object), 3), np.tile(_ENDS_MID, len(segs)), True
+    )
+    dist = shapely.distance(rings[:, None], pts[None, :]).reshape(2, len(segs), 3).transpose(1, 0, 2)
     reaches = []
-    for seg in segs:
-        pts = [seg.interpolate(f, normalized=True) for f in (0.0, 0.5, 1.0)]
-        far = max(ring.distance(p) for ring in rings for p in pts)
+    for d in dist.reshape(len(segs), 6).tolist():
+        far = max(d)  # ring by ring, point by point, as a loop over them would
         reaches.append(min(max(far, gap), ctx.max_gap))
     width = min((s.length for s in segs), default=0.0)
     return Opening(link, rule, tuple(segs), width, gap, (_label(a), _label(b)), tuple(reaches))
 
 
-def _opening(link: Link, cells: dict[str, Cell], ctx: _Context) -> Opening:
+def _opening(link: Link, cells: dict[str, Cell], ctx: _Context, gap: float, outline: BaseGeometry | None) -> Opening:
+    """``gap``: the distance between the two cells; ``outline``: see :func:`_shared`."""
     a, b = cells[link.a], cells[link.b]
-    gap = float(a.footprint.distance(b.footprint))
-    shared = _shared(a, b, gap, ctx.tol) if gap <= ctx.max_gap else shapely.MultiLineString()
+    shared = _shared(a, b, gap, ctx.tol, outline) if gap <= ctx.max_gap else shapely.MultiLineString()
     if shared.is_empty:
         return _bridge(link, a, b, gap, ctx) or Opening(link, "apart", (), 0.0, gap, (_label(a), _label(b)))
     runs = _runs(shared)
@@ -321,11 +343,14 @@ def plan_openings(
             (links if cells[k.a].kind.is_free and cells[k.b].kind.is_free else not_free).append(k)
     doors = [d for d in building.doors_of(storey) if d.geometry is not None]
     virtual = [bd.geometry for bd in building.boundaries_of(storey) if bd.virtual and bd.geometry]
-    gaps = [cells[k.a].footprint.distance(cells[k.b].footprint) for k in links]
-    walls_as_gaps = bool(gaps) and sum(g > _TOUCH for g in gaps) * 2 > len(gaps)
+    # the distances and near outlines of all links in a few array calls (a call per link was most of the time)
+    ends = [np.array([cells[getattr(k, end)].footprint for k in links], dtype=object) for end in ("a", "b")]
+    gaps = shapely.distance(*ends) if links else np.zeros(0)
+    walls_as_gaps = len(gaps) > 0 and int(np.count_nonzero(gaps > _TOUCH)) * 2 > len(gaps)
     near = Nearby(list(cells.values()), doors, virtual)
     ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, near, inset)
-    openings = [_opening(k, cells, ctx) for k in links]
+    outlines = _near_outlines(ends[0], ends[1], gaps, tol, max_gap) if links else []
+    openings = [_opening(k, cells, ctx, g, o) for k, g, o in zip(links, gaps.tolist(), outlines, strict=True)]
     graph = _Graph.of(cells, links)
     shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
@@ -335,6 +360,22 @@ def plan_openings(
     shut += [d for d in outer_guesses(doors, [c.footprint for c in cells.values()], crossing, reach) if d not in shut]
     skipped = tuple(_skipped(k, cells) for k in not_free)
     return OpeningPlan(openings, shut, bool(links), tuple(_seams(graph, tol)), skipped)
+
+
+def _near_outlines(fa: np.ndarray, fb: np.ndarray, gaps: np.ndarray, tol: float, max_gap: float) -> list[Any]:
+    """Per link (footprints ``fa[i]``, ``fb[i]``), what :func:`_shared` takes for the part of a's outline
+    near b, for all links at once; None where it decides itself (the cells' boxes overlap: one may be
+    drawn inside the other) or where the cells are further apart than ``max_gap``."""
+    ba, bb = shapely.bounds(fa), shapely.bounds(fb)
+    overlap = (np.minimum(ba[:, 2], bb[:, 2]) > np.maximum(ba[:, 0], bb[:, 0])) & (
+        np.minimum(ba[:, 3], bb[:, 3]) > np.maximum(ba[:, 1], bb[:, 1])
+    )
+    todo = np.flatnonzero(~overlap & (gaps <= max_gap))
+    out: list[Any] = [None] * len(fa)
+    lines = shapely.intersection(shapely.boundary(fa[todo]), shapely.buffer(fb[todo], gaps[todo] + tol))
+    for i, line in zip(todo.tolist(), lines.tolist(), strict=True):
+        out[i] = line
+    return out
 
 
 def _skipped(link: Link, cells: dict[str, Cell]) -> Skipped:

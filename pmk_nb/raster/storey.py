@@ -287,8 +287,7 @@ def _open_doors(grid: np.ndarray, plan: _Plan, gaps: np.ndarray, tick: _Ticker) 
     sides = door_neighbours(doors, rooms, plan.openings.links, reach)
     _draw_lines(grid, frame, passages(plan.door_polys, door_segs, door_reach, reach, sides), FREE, plan.spare)
     # the graph's openings: wall cells only (never obstacles or outside), after every wall is drawn
-    walls = [o for o in plan.openings.openings if o.path is None]
-    polys = [poly for opening in walls for poly in opening.polygons(reach)]
+    polys = plan.openings.wall_polygons(reach)
     fill_polygons(grid, frame, polys, FREE, keep=(OCCUPIED, plan.outside_mark, FREE))
     _lay_bridges(grid, plan, reach)
     seams, _ = segments_with_owner(list(plan.openings.seams))

@@ -206,11 +206,12 @@ def door_jambs(room_arr: np.ndarray, door_polys: list[Any], tol: float) -> list[
         return out
     tree = shapely.STRtree(room_arr) if len(room_arr) else None
     touching = _doors_within(door_polys, tol)
-    for i, door in enumerate(door_polys):
+    arr = np.asarray(door_polys, dtype=object)
+    grown, rings = shapely.buffer(arr, tol).tolist(), shapely.boundary(arr).tolist()  # array calls, not one each
+    for i, ring in enumerate(rings):
         near = [door_polys[j] for j in touching[i]]
         if tree is not None:
-            near += list(room_arr[tree.query(shapely.buffer(door, tol), predicate="intersects")])
-        ring = shapely.boundary(door)
+            near += list(room_arr[tree.query(grown[i], predicate="intersects")])
         if near:
             ring = shapely.difference(ring, shapely.buffer(shapely.union_all(near), tol))
         if not ring.is_empty:
@@ -245,19 +246,18 @@ def shrink_segments(segments: np.ndarray, by: float) -> np.ndarray:
     return np.hstack([p0 + d * cut, p1 - d * cut])
 
 
-def door_neighbours(
-    door_cells: list[Cell], rooms: list[Cell], links: list[Link], reach: float
-) -> list[tuple[Any, Any] | None]:
-    """Per door cell, (cells the graph links it to, other free cells) within 2 ``reach``, each as one
-    geometry; for a door cell the graph never names (a file without a graph), every nearby cell counts
-    as linked. None for an entrance (AnchorSpace): every side opens, the outside too."""
+def door_neighbours(door_cells: list[Cell], rooms: list[Cell], links: list[Link], reach: float) -> list[Any | None]:
+    """Per door cell, the cells the graph links it to within 2 ``reach``, as one geometry; for a door cell
+    the graph never names (a file without a graph), every nearby cell counts as linked. None for an
+    entrance (AnchorSpace): every side opens, the outside too. (The other cells near it are not
+    unioned: nothing asks for them, and a union each was a tenth of a large storey's door step.)"""
     linked: dict[str, set[str]] = {}
     for k in links:
         linked.setdefault(k.a, set()).add(k.b)
         linked.setdefault(k.b, set()).add(k.a)
     others = rooms + door_cells
     tree = shapely.STRtree([c.footprint for c in others]) if others else None
-    out: list[tuple[Any, Any] | None] = []
+    out: list[Any | None] = []
     for door in door_cells:
         mine = linked.get(door.id)
         if door.kind is CellKind.ANCHOR or tree is None:
@@ -265,13 +265,7 @@ def door_neighbours(
             continue
         hits = tree.query(door.footprint, predicate="dwithin", distance=2 * reach).tolist()
         near = [others[i] for i in hits if others[i].id != door.id]
-        ours = [not mine or c.id in mine for c in near]
-        out.append(
-            (
-                shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if o]),
-                shapely.union_all([c.footprint for c, o in zip(near, ours, strict=True) if not o]),
-            )
-        )
+        out.append(shapely.union_all([c.footprint for c in near if not mine or c.id in mine]))
     return out
 
 
@@ -280,14 +274,15 @@ def passages(
     door_segs: np.ndarray,
     seg_reach: np.ndarray,
     reach: float,
-    sides: list[tuple[Any, Any] | None] | None = None,
+    sides: list[Any | None] | None = None,
 ) -> np.ndarray:
     """Segments across each door (perpendicular to the wall), ``reach`` beyond it on both sides.
 
-    ``sides`` (from :func:`door_neighbours`, one per leading door polygon) keeps a door cell's passage
-    inside the door on a side where no cell it is linked to lies: the graph decides, and a door cell
-    0.13 m from a room it has no transition to must not join it (a leak); nor may a door cell standing
-    out of the outer wall reach into the unknown outside (unless it is an entrance: ``sides`` None).
+    ``sides`` (from :func:`door_neighbours`, one per leading door polygon: the cells it is linked to)
+    keeps a door cell's passage inside the door on a side where no cell it is linked to lies: the graph
+    decides, and a door cell 0.13 m from a room it has no transition to must not join it (a leak); nor
+    may a door cell standing out of the outer wall reach into the unknown outside (unless it is an
+    entrance: ``sides`` None).
     """
     d = door_segs[:, 2:4] - door_segs[:, 0:2]
     length = np.hypot(d[:, 0], d[:, 1])
@@ -309,7 +304,7 @@ def passages(
             near = sides[i] if sides is not None and i < len(sides) else None
             for k, sign in enumerate((-1.0, 1.0)) if near is not None else ():
                 probe = shapely.LineString([c + sign * u * ls / 2, c + sign * u * (ls / 2 + 2 * reach)])
-                if not probe.intersects(near[0]):  # type: ignore[index]  # near: not None in this loop
+                if not probe.intersects(near):
                     ends[k] = 0.0  # no cell the graph links on this side (or none at all): stop mid-door
             a, b = c - u * ends[0], c + u * ends[1]
             segs.append(np.array([[a[0], a[1], b[0], b[1]]]))
