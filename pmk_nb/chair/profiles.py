@@ -23,6 +23,7 @@ from typing import Any
 import platformdirs
 
 from pmk_nb.chair.secrets import PasswordCache, SecretBackend, SshAccount
+from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.errors import SettingsError
 from pmk_nb.fileio import atomic_write, private_dir
 
@@ -78,7 +79,7 @@ class ChairProfile:
     reload_service: str = "auto"
     reload_kind: str = "auto"
     footprint_radius: float = 0.35
-    chair_width: float = 0.70  # metres: the wheelchair's width, for the maps' accessibility check
+    chair_width: float = DEFAULT_CHAIR_WIDTH  # metres: the wheelchair's width, for the maps' accessibility check
     known_hosts: str | None = None
     host_key_check: str = "tofu"
     # driving from Home (pmk_nb.drive): where velocity commands go, the largest speeds, slow mode

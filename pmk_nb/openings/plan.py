@@ -244,7 +244,7 @@ def _made(link: Link, rule: str, segs: Sequence[BaseGeometry], a: Cell, b: Cell,
     rings = shapely.boundary(np.array([a.footprint, b.footprint], dtype=object))
     # ends and middle of every segment, each one's distance to both outlines: two array calls
     pts = shapely.line_interpolate_point(
-        np.repeat(np.array(segs, dtype=object), 3), np.tile(_ENDS_MID, len(segs)), True
+        np.repeat(np.array(segs, dtype=object), 3), np.tile(_ENDS_MID, len(segs)), normalized=True
     )
     dist = shapely.distance(rings[:, None], pts[None, :]).reshape(2, len(segs), 3).transpose(1, 0, 2)
     reaches = []

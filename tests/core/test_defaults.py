@@ -20,8 +20,8 @@ SAMPLE = PKG.parent / "sample_maps" / "clinic_floor.gml"
 NAMES = {"resolution", "wall_thickness", "max_wall_gap", "max_gap", "door_width", "chair_width", "max_cells"}
 # the names pmk_nb/defaults.py declares: declared again anywhere else, they drift apart
 DECLARED = {name for name in vars(defaults) if name.isupper()}
-# still literal, in packages other helpers restructure this wave (issue 25): to read pmk_nb.defaults next
-PENDING = {"pmk_nb/chair/profiles.py"}
+# files allowed to keep a literal default: none left
+PENDING: set[str] = set()
 
 
 def _literal_defaults(path: Path) -> list[str]:
