@@ -87,7 +87,12 @@ def test_a_cancel_the_official_bridge_holds_is_not_honoured(sim_factory, link_fa
     handle.cancel()
     final = handle.wait(5.0)
     assert final.status is GoalStatus.CANCELLED, final  # the chair said so: now that is the truth
-    ignored = [p for p in seen if p.status is GoalStatus.CANCEL_IGNORED]
+    # said once: one run of CANCEL_IGNORED updates (a loaded machine can fit a second feedback into it)
+    ignored = [
+        p
+        for i, p in enumerate(seen)
+        if p.status is GoalStatus.CANCEL_IGNORED and (i == 0 or seen[i - 1].status is not GoalStatus.CANCEL_IGNORED)
+    ]
     assert len(ignored) == 1 and "did not honour the cancel" in ignored[0].message, seen
     assert handle.cancel_honoured is False and handle.zero_bursts == 1
     assert sim.pose[0] < 5.0 and wait_until(lambda: sim.velocity == (0.0, 0.0), 1.0)
