@@ -66,9 +66,10 @@ AFTER_CLOSE_S = 30.0
 GOAL_FPS, GOAL_P95_MS = 10.0, 300.0
 PARKED_S = 10.0  # the parked window
 TURN_W = 0.4  # rad/s: every chair turns on the spot during the frames window
-#: Frames drawn, counted in the page: clears of its busiest canvas, at most one per task (ipycanvas
-#: handles a frame's message in one task and clears the layer's canvas and the one on screen for it,
-#: more than once when it composites a frame twice); ``__pmkClears`` counts every clear (composites).
+#: Frames drawn, counted in the page: clears of its busiest canvas, clears in one run of code (until
+#: its microtasks) counting once: ipycanvas clears the composite canvas and the one on screen for a
+#: frame's message, more than once when it composites a frame twice (a timer reset instead ran late on
+#: a loaded page and missed frames); ``__pmkClears`` counts every clear (composites).
 FRAME_COUNTER_JS = """
 window.__pmkFrames = 0; window.__pmkClears = 0;
 const _clearRect = CanvasRenderingContext2D.prototype.clearRect;
@@ -77,7 +78,7 @@ CanvasRenderingContext2D.prototype.clearRect = function (...args) {
   c.__pmkAll = (c.__pmkAll || 0) + 1;
   if (!c.__pmkInTask) {
     c.__pmkInTask = true;
-    setTimeout(() => { c.__pmkInTask = false; }, 0);
+    queueMicrotask(() => { c.__pmkInTask = false; });
     c.__pmkClears = (c.__pmkClears || 0) + 1;
   }
   if (c.__pmkClears > window.__pmkFrames) { window.__pmkFrames = c.__pmkClears; window.__pmkClears = c.__pmkAll; }
