@@ -212,6 +212,9 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         if self._channels.get(self.kernel_id) is self:
             self._channels.pop(self.kernel_id, None)
         self._admitted = False
+        socket_closed = getattr(self.multi_kernel_manager, "socket_closed", None)  # the page-bound manager's
+        if socket_closed is not None:
+            socket_closed(self.kernel_id, self.websocket_handler.close_code)
         super().disconnect()
 
     @property

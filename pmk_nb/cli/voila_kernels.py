@@ -5,16 +5,23 @@ a reload that races the beacon leaves a kernel running the live view for ever (i
 sees it idle, and the server buffers its output).  Here the server itself watches each kernel's
 websocket connections:
 
-  * a kernel whose last page connection closed is shut down after :data:`PAGE_GRACE` seconds
-    (a reload reconnects within that time only if it is the same page; a new page has a new kernel);
+  * a kernel whose last page connection closed is shut down after :data:`PAGE_GRACE` seconds when the
+    page closed it (a reload reconnects within that time only if it is the same page; a new page has a
+    new kernel), after :data:`RECONNECT_GRACE` seconds when the page did not say goodbye (no close
+    code: the server gave up on its pings, the network dropped): a live page on a starved machine
+    answered a websocket ping too late, lost its socket and reconnected to a kernel already ended;
   * a kernel whose page never connected (closed while it loaded, or a reload that raced it) is shut
     down some time after Voilà finished running the notebook in it (it stops its execution client
     then, and sends the page's last HTML); the page connects once its scripts have loaded.  That time is
     :data:`RENDERED_PAGE_WITHIN` seconds, or :data:`SLOW_CONNECT_FACTOR` times the slowest recent
-    page's wait, whichever is longer (make soak, 10 pages on 2 cores for 30 min: 114 pages connected a
-    median 3.0 s, at most 7.2 s, after the render; timed from the kernel's own "idle" instead, some took
-    over 20 s and lost their kernel while loading).  The cells' own run is
-    not counted; :data:`FIRST_PAGE_WITHIN` seconds after the start is the limit for every kernel.
+    page's wait, or as long as its own render took (a page rendered slowly on a loaded machine loads its
+    scripts slowly too: the classroom soak at load 20-30 ended pages 20 s after a long render, still
+    loading), whichever is longer, at most :data:`FIRST_PAGE_WITHIN` (make soak, 10 pages on 2 cores for
+    30 min: 114 pages connected a median 3.0 s, at most 7.2 s, after the render; timed from the
+    kernel's own "idle" instead, some took over 20 s and lost their kernel while loading).  While Voilà
+    still runs the notebook for the page (its request open, waiting for the HTML) the kernel is never
+    taken for orphaned before :data:`RENDERING_LIMIT` seconds: the classroom page's kernel starts its
+    own chair, and a fixed 120 s from the kernel's start ended renders still running at load 26.
 
 A websocket that stays alive without the page in it (tablet asleep, page frozen: the browser still
 answers the server's websocket pings) stays "connected" here.  That case is caught by the kernel:
@@ -48,7 +55,10 @@ from pmk_nb.seams import kernel_connections
 from pmk_nb.ui import PAGE_GONE_MSG
 
 PAGE_GRACE = 3.0
-FIRST_PAGE_WITHIN = 120.0
+RECONNECT_GRACE = 12.0  # a socket closed without the page's goodbye: its page may reconnect
+GOODBYE_CODES = (1000, 1001)  # websocket close codes a page sends when it closes or leaves
+FIRST_PAGE_WITHIN = 120.0  # the longest wait for a page after its render
+RENDERING_LIMIT = 900.0  # a render still running after this long is taken for stuck
 RENDERED_PAGE_WITHIN = 20.0  # seconds after the render, at least
 SLOW_CONNECT_FACTOR = 3.0
 CONNECT_MEMORY = 600.0  # seconds: how long a page's slow connection lengthens the grace of the next ones
@@ -66,6 +76,8 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         self._alone_since: dict[str, float] = {}  # kernel id -> when it last had no page
         self._had_page: set[str] = set()
         self._rendered_at: dict[str, float] = {}  # kernel id -> when Voilà finished running it, until a page came
+        self._render_took: dict[str, float] = {}  # kernel id -> seconds from its start to the render's end
+        self._left_grace: dict[str, float] = {}  # kernel id -> the grace after its page's socket closed
         self._connect_waits: list[tuple[float, float]] = []  # (when, seconds from render to page connection)
         self._checker: PeriodicCallback | None = None
         self._gone_streams: dict[str, Any] = {}  # kernel id -> IOPub stream watched for PAGE_GONE_MSG
@@ -88,13 +100,14 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
     def _listen_for_page_gone(self, kernel_id: str) -> None:
         """Shut the kernel down as soon as it says its page is gone (a silent, still-open websocket)."""
         kernel = self.get_kernel(kernel_id)
-        stream = kernel.connect_iopub()
+        stream: Any = kernel.connect_iopub()  # a ZMQStream (jupyter_client's hints say a socket)
         session = Session(config=kernel.session.config, key=kernel.session.key)
         marker = f'"{PAGE_GONE_MSG}"'.encode()
 
         def on_iopub(frames: list[Any]) -> None:
             _idents, fed = session.feed_identities(frames, copy=False)
-            if len(fed) < 2 or marker not in fed[1].bytes:  # the header frame: cheap test first
+            header: Any = fed[1] if len(fed) >= 2 else None  # a zmq.Frame (copy=False)
+            if header is None or marker not in header.bytes:  # the header frame: cheap test first
                 return
             try:
                 msg_type = session.deserialize(fed, content=False, copy=False)["header"]["msg_type"]
@@ -121,17 +134,21 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
             def stop_channels() -> None:
                 stop()
                 if kernel_id in self._alone_since and kernel_id not in self._had_page:
-                    self._rendered_at[kernel_id] = time.monotonic()
+                    now = time.monotonic()
+                    self._rendered_at[kernel_id] = now
+                    self._render_took[kernel_id] = now - self._alone_since[kernel_id]
 
-            kc.stop_channels = stop_channels
+            kc.stop_channels = stop_channels  # type: ignore[method-assign]  # this one client, on purpose
             return kc
 
-        kernel.client = client
+        kernel.client = client  # type: ignore[method-assign]  # this one kernel's, on purpose
 
     def _forget(self, kernel_id: str) -> None:
         self._alone_since.pop(kernel_id, None)
         self._had_page.discard(kernel_id)
         self._rendered_at.pop(kernel_id, None)
+        self._render_took.pop(kernel_id, None)
+        self._left_grace.pop(kernel_id, None)
         stream = self._gone_streams.pop(kernel_id, None)
         if stream is not None and not stream.closed():
             stream.close()
@@ -148,6 +165,12 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         self._rendered_at.pop(kernel_id, None)
         self._churned = True  # the page's render is done: its garbage can go
 
+    def socket_closed(self, kernel_id: str, close_code: int | None) -> None:
+        """The page's socket closed with ``close_code`` (None: no close frame from the page): the grace
+        before its kernel ends, if no other socket is left (called just before :meth:`notify_disconnect`)."""
+        self._left_grace[kernel_id] = PAGE_GRACE if close_code in GOODBYE_CODES else RECONNECT_GRACE
+        self.log.info("Kernel %s: its page's socket closed (code %s)", kernel_id, close_code)
+
     def notify_disconnect(self, kernel_id: str) -> None:
         super().notify_disconnect(kernel_id)
         if kernel_connections(self, kernel_id) <= 0:
@@ -159,17 +182,20 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
 
         def orphaned(kid: str, since: float) -> bool:
             if kid in self._had_page:
-                return now - since > PAGE_GRACE
+                return now - since > self._left_grace.get(kid, PAGE_GRACE)
             rendered = self._rendered_at.get(kid)
-            return now - since > FIRST_PAGE_WITHIN or (rendered is not None and now - rendered > grace)
+            if rendered is None:  # Voilà is still running the notebook for its page
+                return now - since > RENDERING_LIMIT
+            return now - rendered > self.render_grace(now, self._render_took.get(kid, 0.0))
 
-        grace = self.render_grace(now)
         return [kid for kid, since in self._alone_since.items() if orphaned(kid, since)]
 
-    def render_grace(self, now: float) -> float:
-        """Seconds a page may take to connect after its kernel's render: longer while pages load slowly."""
+    def render_grace(self, now: float, render_took: float = 0.0) -> float:
+        """Seconds a page may take to connect after its kernel's render: longer while pages load slowly,
+        and at least as long as the render took (``render_took``)."""
         recent = [waited for when, waited in self._connect_waits if now - when <= CONNECT_MEMORY]
-        return min(max(RENDERED_PAGE_WITHIN, SLOW_CONNECT_FACTOR * max(recent, default=0.0)), FIRST_PAGE_WITHIN)
+        slow = max(SLOW_CONNECT_FACTOR * max(recent, default=0.0), render_took)
+        return min(max(RENDERED_PAGE_WITHIN, slow), FIRST_PAGE_WITHIN)
 
     async def reap(self) -> None:
         """Start shutting down the kernels whose page is gone; returns at once.

@@ -1,10 +1,11 @@
 """A drive session: the gate, a lock, and the publisher thread that sends what the gate decides.
 
 The thread ticks at :data:`DEFAULT_RATE` (20 Hz: within the 10-20 Hz a base controller expects,
-and a release reaches the chair within one 50 ms tick). It is bounded (one thread per session,
-joined on close) and never runs in a roslibpy callback: publishing only hands a message to the
-link's I/O loop. Messages from the page arrive on the kernel's main thread (a widget change);
-both sides take the lock for microseconds only.
+and a release reaches the chair within one 50 ms tick); a press that starts or ends ticks it at
+once (the first command leaves as soon as the page's message is in, not up to a tick later). It is
+bounded (one thread per session, joined on close) and never runs in a roslibpy callback: publishing
+only hands a message to the link's I/O loop. Messages from the page arrive on the kernel's main
+thread (a widget change); both sides take the lock for microseconds only.
 
 From a notebook::
 
@@ -95,6 +96,8 @@ class DriveSession:
         self._claim_error: OSError | None = None
         self._lock = threading.Lock()
         self._stop = threading.Event()
+        #: set when a press starts or ends: the publisher ticks at once instead of at its next tick
+        self._kick = threading.Event()
         self._thread: threading.Thread | None = None
 
     # -- lifecycle -------------------------------------------------------------------------------
@@ -112,6 +115,7 @@ class DriveSession:
                 self.gate.stop(StopReason.CLOSED)
             pending = self.gate.tick(self._clock(), True)  # the zero still owed, sent right here
         self._stop.set()
+        self._kick.set()
         thread, self._thread = self._thread, None
         if thread is not None and thread is not threading.current_thread():
             thread.join(2.0)
@@ -157,7 +161,11 @@ class DriveSession:
             self.last_error = err
             return None
         with self._lock:
+            was = self.gate.driving
             self.gate.on_event(event, now, self._admit if self.claim is not None else None)
+            changed = self.gate.driving != was
+        if changed:  # a press starts (or ends): its first command (or zero) goes now, not up to a tick later
+            self._kick.set()
         return event
 
     def push(self, v: float, w: float) -> bool:
@@ -263,7 +271,9 @@ class DriveSession:
                     self.gate.stop(StopReason.LINK)
             self._report_stop()
             next_t = max(next_t + self.period, self._clock())
-            stop.wait(max(0.0, next_t - self._clock()))
+            if self._kick.wait(max(0.0, next_t - self._clock())):
+                self._kick.clear()
+                next_t = self._clock()  # the kicked tick starts the schedule anew
 
     def _report_stop(self) -> None:
         count, cause = self.gate.stop_count, self.gate.last_stop

@@ -17,8 +17,8 @@ from pmk_nb.ui.common.context import AppContext
 CLASSROOM_NOTE = (
     "Classroom: this chair is yours alone. It waits, parked, until you drive it or send it somewhere. "
     f"Simulated at lower rates (odometry {classroom_settings.ODOM_RATE:g} Hz, laser "
-    f"{classroom_settings.SCAN_RATE:g} Hz, map redrawn {classroom_settings.LIVE_FPS:g} times a second) so "
-    "the whole class fits on one machine."
+    f"{classroom_settings.SCAN_RATE:g} Hz, map redrawn at most {classroom_settings.LIVE_FPS:g} times a second, "
+    "only when something moved) so the whole class fits on one machine."
 )
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import stat
+import time
 from pathlib import Path
 from typing import Any
 
@@ -215,3 +216,33 @@ def test_an_unusable_shared_folder_drives_nothing(tmp_path: Path) -> None:
     session.feed(msg("p", 1, 1, mono.t))
     assert not session.driving and session.gate.last_stop is StopReason.NO_CLAIM
     assert tick(session) is None and not session.push(0.3, 0.0)
+
+
+def test_a_press_is_published_at_once_not_at_the_next_tick() -> None:
+    """The first command of a press leaves when the page's message is in, not at the publisher's next
+    tick (here a minute away, standing for the up to 50 ms a press waited at 20 Hz)."""
+
+    class CountingLink(FakeLink):
+        ticks = 0
+
+        def latest_odom(self) -> Any:
+            self.ticks += 1  # read once per tick
+            return super().latest_odom()
+
+    clock = Clock()
+    link = CountingLink(clock)
+    session = DriveSession(link, clock=clock)
+    session.period = 60.0
+    session.start()
+    try:
+        deadline = time.monotonic() + 30.0
+        while link.ticks == 0 and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert link.ticks == 1 and link.sent == [], "the first tick ran, with nothing to send"
+        session.feed(msg("p", 1, 1, 5.0))
+        while not link.sent and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert link.sent and link.sent[0][0] > 0.0, "published at once, long before the next tick"
+        assert link.ticks == 2
+    finally:
+        session.close()

@@ -98,3 +98,46 @@ def test_the_render_grace_grows_while_pages_load_slowly() -> None:
     assert manager.render_grace(t + CONNECT_MEMORY + 1) == RENDERED_PAGE_WITHIN, "slow pages are forgotten"
     manager._connect_waits.append((t, 100.0))
     assert manager.render_grace(t) == FIRST_PAGE_WITHIN, "never past the limit for every kernel"
+
+
+def test_a_kernel_is_not_culled_while_voila_still_renders_its_page() -> None:
+    """Classroom soak at load 26: a page's render (its kernel starts its own chair) ran past a fixed
+    120 s from the kernel's start and its kernel was ended before the page could connect."""
+    from pmk_nb.cli.voila_kernels import RENDERING_LIMIT
+
+    manager = PageBoundKernelManager()
+    t = time.monotonic()
+    manager._alone_since["k"] = t  # started, Voilà runs its notebook
+    assert "k" not in manager.orphans(t + FIRST_PAGE_WITHIN + 60), "still rendering: its page is waiting"
+    assert "k" in manager.orphans(t + RENDERING_LIMIT + 1), "a render that never ends is taken for stuck"
+
+
+def test_a_page_rendered_slowly_gets_as_long_to_connect() -> None:
+    """A page whose render took 80 s on a loaded machine loads its scripts slowly too: not ended 20 s on."""
+    manager = PageBoundKernelManager()
+    t = time.monotonic()
+    manager._alone_since["k"] = t
+    manager._rendered_at["k"], manager._render_took["k"] = t + 80.0, 80.0
+    assert "k" not in manager.orphans(t + 80.0 + RENDERED_PAGE_WITHIN + 30), "within its own render time"
+    assert "k" in manager.orphans(t + 80.0 + 81.0)
+    manager._rendered_at["k"], manager._render_took["k"] = t + 2.0, 2.0  # a quick render: the floor
+    assert "k" in manager.orphans(t + 2.0 + RENDERED_PAGE_WITHIN + 1)
+
+
+def test_a_socket_closed_without_the_pages_goodbye_may_reconnect() -> None:
+    """A live page on a starved machine answered the server's websocket ping late: the server closed its
+    socket (no close code from the page), the page reconnected 3 s later to a kernel already ended."""
+    from pmk_nb.cli.voila_kernels import PAGE_GRACE, RECONNECT_GRACE
+
+    manager = PageBoundKernelManager()
+    t = time.monotonic()
+    for kid, code in (("dropped", None), ("closed", 1001)):
+        manager._alone_since[kid] = t - 10.0
+        manager.notify_connect(kid)
+        manager.socket_closed(kid, code)
+        manager._alone_since[kid] = t  # what notify_disconnect records (no real socket here)
+    assert manager.orphans(t + PAGE_GRACE + 1) == ["closed"], "the page that closed goes after the short grace"
+    assert "dropped" not in manager.orphans(t + PAGE_GRACE + 5)
+    assert "dropped" in manager.orphans(t + RECONNECT_GRACE + 1)
+    manager.notify_connect("dropped")  # it came back
+    assert "dropped" not in manager.orphans(t + RECONNECT_GRACE + 60)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import inspect
+import json
 
 import ipycanvas
 from ipycanvas import Canvas
@@ -47,3 +48,27 @@ def test_unknown_internals_are_refused_not_patched() -> None:
         pass
 
     assert canvas_manager(Other()) is None and not forget_layer_after_each_message(Other())
+
+
+def test_a_batch_ends_with_the_extra_command_and_single_commands_stay_alone() -> None:
+    from ipycanvas import hold_canvas
+
+    canvas = Canvas(width=4, height=4)  # hold_canvas holds the shared manager
+    manager = canvas_manager(canvas)
+    extra = [canvas_module.COMMANDS["beginPath"], []]
+    assert forget_layer_after_each_message(manager)
+    assert forget_layer_after_each_message(manager, lambda: extra)  # a later end replaces none
+    sent = []
+    original_send = manager.send
+    manager.send = lambda content, buffers=None: sent.append(bytes(memoryview(buffers[0])))
+    try:
+        with hold_canvas():
+            canvas.fill_rect(0, 0, 1, 1)
+        canvas.fill_rect(0, 0, 1, 1)  # not held: the switch and the command, each alone
+    finally:
+        manager.send = original_send
+        forget_layer_after_each_message(manager, lambda: None)
+    batch = json.loads(sent[0])
+    assert batch[-1] == extra and len(batch) == 3  # switch, fillRect, the extra
+    switch, fill = canvas_module.COMMANDS["switchCanvas"], canvas_module.COMMANDS["fillRect"]
+    assert [json.loads(m)[0] for m in sent[1:]] == [switch, fill]

@@ -30,7 +30,7 @@ import ipywidgets as w
 
 from pmk_nb.drive import ClaimView, DriveClaim, DriveSession, Hold, SpeedLimits, StopReason
 from pmk_nb.ui.common.widgets import TOUCH_PX, button
-from pmk_nb.ui.drive.script import CHANNEL_CLASS, LOCKED_CLASS, PAD_HTML, page_html
+from pmk_nb.ui.drive.script import CHANNEL_CLASS, LANES, LOCKED_CLASS, PAD_HTML, PANEL_CLASS, page_html
 
 if TYPE_CHECKING:
     from pmk_nb.chair import ChairProfile
@@ -108,9 +108,12 @@ class DrivePanel:
         self.toggle.observe(self._on_toggle, names="value")
         self.pad = w.HTML(PAD_HTML)
         self.pad.add_class("pmk-drive-pad-box")
-        self.channel = w.Text(value="", continuous_update=True, layout=w.Layout(display="none"))
-        self.channel.add_class(CHANNEL_CLASS)
-        self.channel.observe(self._on_message, names="value")
+        # the stick's messages, in turn on each lane (drive_script.py: one update per widget in flight)
+        self.lanes = [w.Text(value="", continuous_update=True, layout=w.Layout(display="none")) for _ in range(LANES)]
+        for lane in self.lanes:
+            lane.add_class(CHANNEL_CLASS)
+            lane.observe(self._on_message, names="value")
+        self.channel = self.lanes[0]
         self.stop_button = button("Stop", "pmk-drive-stop", icon="stop", style="danger", width="180px")
         self.stop_button.layout.height = "72px"
         self.stop_button.on_click(lambda _b: self.stop())
@@ -128,9 +131,9 @@ class DrivePanel:
         self.page.add_class("pmk-drive-page")
         self._page_shown = False
         self.widget = w.VBox(
-            [self.stop_button, self.pad, self.slow, self.claim_button, self.status, self.channel, self.page]
+            [self.stop_button, self.pad, self.slow, self.claim_button, self.status, *self.lanes, self.page]
         )
-        self.widget.add_class("pmk-drive")
+        self.widget.add_class(PANEL_CLASS)
         self.widget.add_class("pmk-drive-right")
         self.widget.layout.display = "none"
 

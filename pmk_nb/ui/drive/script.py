@@ -7,7 +7,11 @@ hidden Text widget ``.pmk-drive-channel`` (setting its value and dispatching ``i
 how the Text view sends a value to the kernel). No custom widget, nothing to install.
 
 While held it re-sends the position every :data:`KEEPALIVE_MS` (the kernel stops the chair when
-they stop coming). It releases on pointer up or cancel, lost capture, window blur, page hidden
+they stop coming), in turn on :data:`LANES` hidden Text widgets of the panel: ipywidgets keeps one
+update per widget in flight and holds the next until the kernel has answered the last (its "idle"
+back on the page), so one channel carried at most one message per round trip, and a round trip over
+300 ms on a loaded machine stopped the chair (the classroom soak: "the connection is too slow").
+It releases on pointer up or cancel, lost capture, window blur, page hidden
 (``hidden: true``) and page hide. Arrow keys drive while the pad has the focus, or, in a Voilà
 page, anywhere outside a text field; the pad carries ``data-lm-suppress-shortcuts`` so that
 JupyterLab's own arrow-key shortcuts stay out of the way.
@@ -16,6 +20,8 @@ JupyterLab's own arrow-key shortcuts stay out of the way.
 from __future__ import annotations
 
 KEEPALIVE_MS = 100
+LANES = 3  # channels the stick's messages take in turn: up to three in flight
+PANEL_CLASS = "pmk-drive"
 MOVE_MS = 40  # at most one message per this many ms while the finger moves
 CHANNEL_CLASS = "pmk-drive-channel"
 PAD_CLASS = "pmk-drive-pad"
@@ -47,11 +53,15 @@ SCRIPT = """<script>
   if (window.__pmkDrive) return;
   window.__pmkDrive = { sent: 0 };
   var page = Math.random().toString(36).slice(2, 10) + Date.now().toString(36);
-  var seq = 0, press = 0, held = false, via = null, x = 0, y = 0, keys = {}, last = 0;
+  var seq = 0, press = 0, held = false, via = null, x = 0, y = 0, keys = {}, last = 0, lane = 0;
   var KEYS = { ArrowUp: [0, 1], ArrowDown: [0, -1], ArrowLeft: [-1, 0], ArrowRight: [1, 0] };
   function send(hidden) {
-    var el = document.querySelector('.__CHANNEL__ input, input.__CHANNEL__');
-    if (!el) return;
+    var first = document.querySelector('.__CHANNEL__');  // the first panel's lanes, in turn
+    var box = (first && first.closest('.__PANEL__')) || document;
+    var els = box.querySelectorAll('.__CHANNEL__ input, input.__CHANNEL__');
+    if (!els.length) return;
+    var el = els[lane % els.length];
+    lane += 1;
     seq += 1;
     el.value = JSON.stringify({ page: page, seq: seq, press: press, t: performance.now(),
                                 x: x, y: y, held: held, hidden: !!hidden });
@@ -143,6 +153,7 @@ LOCKED_CLASS = "pmk-drive-locked"  # on the pad's box while another page drives 
 _TOKENS = {
     "__LOCKED__": LOCKED_CLASS,
     "__CHANNEL__": CHANNEL_CLASS,
+    "__PANEL__": PANEL_CLASS,
     "__PAD__": PAD_CLASS,
     "__MOVE__": MOVE_MS,
     "__KEEPALIVE__": KEEPALIVE_MS,

@@ -20,12 +20,13 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
+import numpy as np
 from ipycanvas import MultiCanvas
 
 from pmk_nb.chair import Odometry, Pose2D, Scan
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.canvas_fix import make_messages_name_their_layer
-from pmk_nb.ui.live.chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer, pose_tuple
+from pmk_nb.ui.live.chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer
 from pmk_nb.ui.live.frame_metrics import FrameMetrics, install_byte_meter, measured_hold
 from pmk_nb.ui.live.gestures import LiveToolbar, ZoomGestures
 from pmk_nb.ui.live.map_layer import TILE_MARGIN, MapLayer
@@ -41,6 +42,38 @@ DEFAULT_FPS = 32.0
 RESIZE_RESEND_S = 0.5
 #: The largest canvas a page may ask for (fit_page): a big tablet's map area, one canvas pixel per CSS px.
 PAGE_MAX = (1600, 1200)
+
+
+def drawn_same(
+    pose: object,
+    odom: object,
+    scan: object,
+    last_pose: object,
+    last_odom: object,
+    last_scan: object,
+) -> bool:
+    """Whether pose, odometry and scan draw what the last frame's did: the pose's place, the velocity
+    dot's speeds, the scan's rays (its arrival time matters only through the pose it is drawn from)."""
+
+    def place(p: object) -> tuple[object, ...] | None:
+        return None if p is None else (p.x, p.y, p.theta, getattr(p, "frame", None))  # type: ignore[attr-defined]
+
+    def speeds(o: object) -> tuple[object, ...] | None:
+        return None if o is None else (*place(o), o.v, o.w)  # type: ignore[attr-defined, misc]
+
+    if place(pose) != place(last_pose) or speeds(odom) != speeds(last_odom):
+        return False
+    if scan is last_scan:
+        return True
+    if not isinstance(scan, Scan) or not isinstance(last_scan, Scan):
+        return False
+    a, b = scan, last_scan
+    return (
+        (a.angle_min, a.angle_increment, a.range_max, a.mount) == (b.angle_min, b.angle_increment, b.range_max, b.mount)
+        and np.array_equal(a.ranges, b.ranges, equal_nan=True)
+        and np.array_equal(a.at_max, b.at_max)
+        and np.array_equal(a.kinds, b.kinds)  # type: ignore[arg-type]
+    )
 
 
 class LiveSource(Protocol):
@@ -382,15 +415,9 @@ class LiveView:
             return False
         key, pose, odom, scan, *rest = inputs
         last_key, last_pose, last_odom, last_scan, *last_rest = last
-        # the link stores one object per odom/scan message (identity = same message); a pose may be
-        # rebuilt on every call (from odometry or tf), so it compares by value
-        return (
-            key == last_key
-            and pose_tuple(pose) == pose_tuple(last_pose)  # type: ignore[arg-type]
-            and odom is last_odom
-            and scan is last_scan
-            and rest == last_rest
-        )
+        # compared by what is drawn, not by message: a parked chair's 20 Hz odometry and unchanged
+        # scans draw the same frame again (a classroom page redrew it 12 times a second for nothing)
+        return key == last_key and rest == last_rest and drawn_same(pose, odom, scan, last_pose, last_odom, last_scan)
 
     def _draw_dynamic(
         self, view: Viewport, pose: Pose2D | Odometry | None, odom: Odometry | None, scan: Scan | None

@@ -230,3 +230,30 @@ def test_two_panels_one_driver_take_over_needs_two_taps_and_stop_holds_for_both(
         a.detach()
         b.detach()
     assert wait_until(lambda: sim.velocity == (0.0, 0.0), 2.0)
+
+
+def test_the_stick_takes_the_panels_lanes_in_turn(sim_factory: Any, link_factory: Any, tmp_path: Any) -> None:
+    """ipywidgets holds a widget's next update until the kernel answered its last: one channel carried
+    one message per round trip, and a round trip over 300 ms stopped the chair (classroom soak at load
+    10: "the connection is too slow"). The page's script takes the panel's lanes in turn."""
+    from pmk_nb.ui.drive.script import CHANNEL_CLASS, LANES, SCRIPT
+
+    sim = sim_factory(grid=demo_grid(), start_pose=(2.0, 6.0, 0.0))
+    link = link_factory(sim)
+    link.start_streams()
+    assert wait_until(lambda: link.latest_odom() is not None, 10.0)
+    panel = DrivePanel(claims_dir=tmp_path)
+    session = panel.attach(link, ChairProfile(name="sim", host="127.0.0.1", port=sim.port, max_linear=0.3))
+    assert LANES >= 3 and len(panel.lanes) == LANES and panel.channel is panel.lanes[0]
+    assert all(CHANNEL_CLASS in lane._dom_classes and lane in panel.widget.children for lane in panel.lanes)
+    assert "els[lane % els.length]" in SCRIPT  # the page rotates over them
+    for seq in range(1, 10):  # a press whose messages come on every lane in turn drives
+        panel.lanes[seq % LANES].value = page(seq, 1)
+        time.sleep(0.05)
+    assert wait_until(lambda: sim.velocity[0] == pytest.approx(0.3, abs=0.01), 2.0)
+    ignored = session.gate.stats.ignored
+    panel.lanes[1].value = page(9, 1, held=False)  # an older message held back on its lane: ignored
+    assert session.gate.stats.ignored == ignored + 1 and session.driving
+    panel.lanes[2].value = page(10, 1, held=False)  # the release
+    assert wait_until(lambda: sim.velocity == (0.0, 0.0), 2.0)
+    panel.detach()

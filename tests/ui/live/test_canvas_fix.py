@@ -4,6 +4,8 @@ A fake page stands in for ipycanvas's ``CanvasManagerModel`` in the browser: it 
 messages the kernel's canvas manager sends and, like the real one, draws each command on the
 canvas the last ``switchCanvas`` it received named, or nowhere when it has received none (a page
 that connected after that switch was sent: Voilà drops earlier messages, a reload starts fresh).
+It also keeps ipycanvas's list of canvases a message refreshes (``onCommand``: the canvas current
+when the message starts, then one entry per ``switchCanvas``), each refresh a composite on screen.
 """
 
 from __future__ import annotations
@@ -32,18 +34,22 @@ class FakePage:
         self.current: str | None = None
         self.drawn: list[tuple[str, str]] = []
         self.lost: list[str] = []
+        self.refreshed: list[list[str]] = []  # per message, the canvases refreshed, in order
 
     def receive(self, buffers: list[Any]) -> None:
         raw = json.loads(bytes(memoryview(buffers[0])).decode())
         batch = raw if raw and isinstance(raw[0], list) else [raw]
+        refresh = [self.current] if self.current is not None else []
         for cmd in batch:
             name = _CMD_LIST[cmd[0]]
             if name == "switchCanvas":
                 self.current = str(cmd[1][0]).removeprefix("IPY_MODEL_")
+                refresh.append(self.current)
             elif self.current is None:
                 self.lost.append(name)
             else:
                 self.drawn.append((self.current, name))
+        self.refreshed.append(refresh)
 
 
 @contextlib.contextmanager
@@ -118,4 +124,24 @@ def test_a_page_joining_after_the_first_frames_gets_the_next_dynamic_only_frame(
     assert page.lost == []
     assert (view.dyn_layer.model_id, "fillStyledCircles") in page.drawn
     assert all(model == view.dyn_layer.model_id for model, _ in page.drawn)
+    view.close()
+
+
+def test_each_live_frame_refreshes_the_dynamic_layer_once() -> None:
+    # ipycanvas's page refreshed the layer a frame switched to twice when the previous frame had
+    # left it current: every frame composited twice on screen (a classroom page: 24 composites a
+    # second for 12 frames); each batch now ends on a parking canvas that nothing shows
+    view = LiveView(200, 150)
+    view.set_map(OccupancyGrid(np.zeros((100, 150), np.int8), 0.1))
+    view.attach(Moving())
+    assert view.render_frame()
+    with page_joins(view.canvas._canvas_manager) as page:
+        for _ in range(3):
+            assert view.render_frame()
+    dyn, layers = view.dyn_layer.model_id, {view.dyn_layer.model_id, view.map_layer.model_id}
+    assert len(page.refreshed) == 3
+    for refresh in page.refreshed:
+        assert refresh.count(dyn) == 1, refresh
+    assert all(refresh[0] not in layers for refresh in page.refreshed[1:])  # each starts on the parking canvas
+    assert page.current not in layers
     view.close()

@@ -54,8 +54,9 @@ def _storeys_shown(screen: MapsScreen, name: str, data: bytes) -> None:
     screen.import_bytes(f"{name}.gml", data)
     screen.select(name)
     wait_until(  # the storeys, then (in the same background callback) the layers offered from them
-        lambda: screen.storeys_panel.storeys is not None
-        and screen.choices._offered == tuple(screen.storeys_panel.layers()),
+        lambda: (
+            screen.storeys_panel.storeys is not None and screen.choices._offered == tuple(screen.storeys_panel.layers())
+        ),
         what="storeys read in the background and their layers offered",
     )
 
