@@ -1,15 +1,37 @@
-"""Simulated PMK wheelchair speaking rosbridge v2 (+ SFTP): see :class:`SimChair`."""
+"""Simulated PMK wheelchair speaking rosbridge v2 (+ SFTP): see :class:`SimChair`.
+
+The face is lazy: a name loads only its own module. The ROS 2 sim node imports the physics
+(``Chair``, ``Laser``, ``World``) in a ROS environment that has no asyncssh (the SFTP side's library).
+"""
 
 from __future__ import annotations
 
-from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE
-from pmk_nb.sim.chair import Chair
-from pmk_nb.sim.demo import demo_grid, sample_floor
-from pmk_nb.sim.hostkey import default_state_dir
-from pmk_nb.sim.laser import Laser
-from pmk_nb.sim.messages import ROS_VERSIONS
-from pmk_nb.sim.server import SimChair, SimError
-from pmk_nb.sim.world import World
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE
+    from pmk_nb.sim.chair import Chair
+    from pmk_nb.sim.demo import demo_grid, sample_floor
+    from pmk_nb.sim.hostkey import default_state_dir
+    from pmk_nb.sim.laser import Laser
+    from pmk_nb.sim.messages import ROS_VERSIONS
+    from pmk_nb.sim.server import SimChair, SimError
+    from pmk_nb.sim.world import World
+
+_WHERE = {
+    "BRIDGE_MODES": "bridge_modes",
+    "DEFAULT_BRIDGE": "bridge_modes",
+    "Chair": "chair",
+    "demo_grid": "demo",
+    "sample_floor": "demo",
+    "default_state_dir": "hostkey",
+    "Laser": "laser",
+    "ROS_VERSIONS": "messages",
+    "SimChair": "server",
+    "SimError": "server",
+    "World": "world",
+}
 
 __all__ = [
     "BRIDGE_MODES",
@@ -24,3 +46,15 @@ __all__ = [
     "demo_grid",
     "sample_floor",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+    globals()[name] = value  # once is enough
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})
