@@ -353,6 +353,31 @@ def test_exclusive_work_refuses_a_second_start_even_if_the_page_reenables_the_bu
     assert done == [True] and not btn.disabled and not lock.locked()
 
 
+def test_the_outcome_of_exclusive_work_may_start_it_again(ctx: AppContext) -> None:
+    """A failed Send asks to trust the host key; "Trust and send" starts Send again at once. The
+    question comes after the work is over, so it never finds Send "already running" (seen in a
+    full run: the retry was refused while the first thread had not yet released the lock)."""
+    import threading
+
+    from pmk_nb.ui.common.widgets import button, run_in_thread
+
+    lock, retried, btn = threading.Lock(), [], button("Send", "x")
+
+    def ask_and_retry(_err: BaseException) -> None:
+        retried.append((btn.disabled, run_in_thread(ctx, "Sending", lambda: None, busy=[btn], exclusive=lock)))
+
+    def fail() -> None:
+        raise OSError("unknown host key")
+
+    first = run_in_thread(ctx, "Sending", fail, on_error=ask_and_retry, busy=[btn], exclusive=lock)
+    assert first is not None
+    first.join(5)
+    [(disabled_when_asked, again)] = retried
+    assert not disabled_when_asked and again is not None  # the retry ran, not refused
+    again.join(5)
+    assert not lock.locked() and not any("already running" in n.message for n in ctx.notifications)
+
+
 def test_one_chair_connection_per_page(ctx: AppContext) -> None:
     ctx.profiles.save(ChairProfile(name="a", host="127.0.0.1", port=9101))
     first = ctx.link()

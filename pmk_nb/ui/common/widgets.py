@@ -333,21 +333,26 @@ def run_in_thread(
         widget.disabled = True
 
     def target() -> None:
+        # the work is over before its outcome is shown: a question the outcome asks (a host key to
+        # trust) may start the action again at once, and must not find it "already running"
+        failure: Exception | None = None
+        result: Any = None
         try:
             result = work()
         except Exception as err:
-            # with an on_error the failure is shown there: one place per message
-            report_error(ctx, err, action, inline=on_error is not None)
-            if on_error is not None:
-                guard(ctx, action)(on_error)(err)
-        else:
-            if on_done is not None:
-                guard(ctx, action)(on_done)(result)
+            failure = err
         finally:
             for widget in busy or []:
                 widget.disabled = False
             if exclusive is not None:
                 exclusive.release()
+        if failure is not None:
+            # with an on_error the failure is shown there: one place per message
+            report_error(ctx, failure, action, inline=on_error is not None)
+            if on_error is not None:
+                guard(ctx, action)(on_error)(failure)
+        elif on_done is not None:
+            guard(ctx, action)(on_done)(result)
 
     thread = threading.Thread(target=target, name=f"pmk-{action}", daemon=True)
     try:

@@ -95,9 +95,10 @@ class OwnMap:
             thread.join(timeout=2 * POLL_S)
         if old is not None and old is not link:
             threading.Thread(target=_unwatch, args=(old,), daemon=True, name="pmk-own-map-stop").start()
-        if link is not None:
-            self._thread = threading.Thread(target=self._run, args=(link, self._stop), daemon=True, name="pmk-own-map")
-            self._thread.start()
+        if link is not None:  # started before it is published: another attach may join it at once
+            started = threading.Thread(target=self._run, args=(link, self._stop), daemon=True, name="pmk-own-map")
+            started.start()
+            self._thread = started
 
     def take(self) -> ChairMap | None:
         """The map to show now if it is new since the last call, else None (Home's info refresh)."""

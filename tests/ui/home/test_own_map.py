@@ -146,3 +146,38 @@ def test_the_map_watch_survives_a_one_shot_map_read(sim_factory: Callable[..., A
         assert not link.watching_map and link.latest_map() == (0, None)
     finally:
         link.close()
+
+
+def test_attach_from_two_threads_never_joins_a_thread_not_yet_started(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Home's connect thread stops the preview (``attach(None)``) while the page's thread attaches a link:
+    the watcher thread must be started before another attach can see it (a full run raised
+    "cannot join thread before it is started" there, and Home never said the chair was unreachable)."""
+    from pmk_nb.ui.home import own_map as module
+
+    own = module.OwnMap()
+    errors: list[BaseException] = []
+    real_thread = threading.Thread
+
+    class Interleaved(real_thread):
+        def start(self) -> None:
+            if self.name == "pmk-own-map":  # the other thread's attach(None) runs right here
+
+                def stop() -> None:
+                    try:
+                        own.attach(None)
+                    except BaseException as err:  # collected for the assertion
+                        errors.append(err)
+
+                other = real_thread(target=stop)
+                other.start()
+                other.join(5)
+            super().start()
+
+    monkeypatch.setattr(module.threading, "Thread", Interleaved)
+
+    class Link:
+        is_connected, watching_map = False, False
+
+    own.attach(Link())
+    own.attach(None)
+    assert errors == []
