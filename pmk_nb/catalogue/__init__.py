@@ -10,8 +10,9 @@ at once; ``state`` keeps the catalogue URLs (settings) and what was installed fr
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from pmk_nb.lazyface import lazy_face
 
 if TYPE_CHECKING:
     from pmk_nb.catalogue.install import InstallResult
@@ -51,14 +52,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    """The face is lazy: a name loads only its own module (no paramiko, roslibpy or ROS for one name)."""
-    if name not in _WHERE:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
-    globals()[name] = value  # once is enough
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_face(__name__, _WHERE, __all__)

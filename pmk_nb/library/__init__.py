@@ -12,8 +12,9 @@ whole convert in 0.5 s).
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from pmk_nb.lazyface import lazy_face
 
 if TYPE_CHECKING:
     from pmk_nb.library.choices import ConvertChoices, last_choices, offered, window_cells
@@ -74,13 +75,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _WHERE:
-        raise AttributeError(f"module 'pmk_nb.library' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"pmk_nb.library.{_WHERE[name]}"), name)
-    globals()[name] = value  # once is enough
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_face(__name__, _WHERE, __all__)

@@ -19,6 +19,7 @@ TOP_LEVEL |= {"goalbeat.py"}  # the goal heartbeat's wire format: the link (chai
 TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (sim, link, dashboard)
 TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
 TOP_LEVEL |= {"geometry.py"}  # shapely helpers shared by the openings plan and the rasteriser (issue 25)
+TOP_LEVEL |= {"lazyface.py"}  # the one lazy package face (issue 25)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
@@ -117,6 +118,7 @@ SHARED = {"errors", "progress", "fileio", "grid"}
 SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the link and the dashboard
 SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
 SHARED |= {"geometry"}  # shapely helpers (polygon parts, boxes): a leaf over shapely and numpy
+SHARED |= {"lazyface"}  # the one lazy package face: a name loads only its own module
 ALLOWED_IMPORTS: dict[str, set[str]] = {
     "viewport": {"grid"},  # the shared grid type and its greys, nothing else
     "grid": set(),
@@ -153,7 +155,7 @@ ALLOWED_IMPORTS["classroom"] = SHARED | {"sim", "chair"}
 ALLOWED_IMPORTS["ui"] |= {"classroom"}
 ALLOWED_IMPORTS["cli"] |= {"classroom"}
 # Library seams (issue 25): leaves over their library, used by the link, the screens and the commands.
-ALLOWED_IMPORTS["seams"] = set()
+ALLOWED_IMPORTS["seams"] = {"lazyface"}  # its face is lazy: one seam never loads another library
 for _user in ("chair", "ui", "cli"):
     ALLOWED_IMPORTS[_user] |= {"seams"}
 
