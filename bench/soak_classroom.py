@@ -66,6 +66,7 @@ AFTER_CLOSE_S = 30.0
 GOAL_FPS, GOAL_P95_MS = 10.0, 300.0
 PARKED_S = 10.0  # the parked window
 TURN_W = 0.4  # rad/s: every chair turns on the spot during the frames window
+TURN_HZ = 10.0  # its /cmd_vel rate per chair
 #: Frames drawn, counted in the page: clears of its busiest canvas, clears in one run of code (until
 #: its microtasks) counting once: ipycanvas clears the composite canvas and the one on screen for a
 #: frame's message, more than once when it composites a frame twice (a timer reset instead ran late on
@@ -135,8 +136,10 @@ def _ready(page: Any) -> tuple[float, float, float]:
     page.locator(".pmk-home-info-state", has_text="Live").wait_for(state="attached", timeout=OPEN_WAIT_MS)
     page.locator(".pmk-drive-toggle").click()
     page.wait_for_function("() => document.querySelector('.pmk-drive-pad[data-pmk-bound]') !== null")
-    box = page.locator(".pmk-drive-pad").bounding_box()
-    assert box is not None
+    pad = page.locator(".pmk-drive-pad")
+    pad.wait_for(state="visible", timeout=OPEN_WAIT_MS)  # bound before it is laid out: no box yet
+    box = pad.bounding_box()
+    assert box is not None, "the drive pad has no box"
     return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2, box["width"] / 2
 
 
@@ -168,7 +171,7 @@ class Turning:
         return roslibpy.Message({"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": w}})
 
     def _run(self) -> None:
-        while not self.stop.wait(0.1):
+        while not self.stop.wait(1.0 / TURN_HZ):
             for t in self.topics:
                 with contextlib.suppress(Exception):
                     t.publish(self._twist(TURN_W))
@@ -192,7 +195,7 @@ def measure_frames(
     """Frames/s of every page over ``seconds``, with CPU and memory per kernel, Voilà and Chromium into ``usage``."""
     ks = kernels(voila)
     chromium = [p for p in psutil.Process().children(recursive=True) if "chrom" in p.name().lower()]
-    groups = {"kernels": ks, "voila": [voila], "chromium": chromium}
+    groups = {"kernels": ks, "voila": [voila], "chromium": chromium, "harness": [psutil.Process()]}
     _sample(groups)  # primes cpu_percent
     for s in students:
         s.frames0, s.clears0 = _frames(s.page)
@@ -211,7 +214,7 @@ def measure_frames(
     for name in groups:
         cpu = statistics.mean(x[name][0] for x in samples)
         rss = max(x[name][1] for x in samples)
-        per = n if name != "voila" else 1
+        per = n if name not in ("voila", "harness") else 1
         usage[f"{name} CPU %"] = cpu / per
         usage[f"{name} RSS MiB"] = rss / per
     usage["kernels counted"] = len(ks)
@@ -286,14 +289,14 @@ def _open(browser: Any, url: str, res: Results) -> list[Student]:
     for i in range(res.pages):  # one after the other, like students arriving
         page = browser.new_context(viewport=VIEWPORT).new_page()
         page.set_default_timeout(OPEN_WAIT_MS)
-        page.add_init_script(FRAME_COUNTER_JS)
+        page.add_init_script(FRAME_COUNTER_JS + os.environ.get("PMK_EXP_JS", ""))
         try:
             page.goto(url, wait_until="commit", timeout=OPEN_WAIT_MS)
             students.append(Student(page, _ready(page)))
         except Exception as err:  # a page that never came up counts (0 frames/s, no presses); go on
             students.append(Student(page))
             res.not_live += 1
-            print(f"page {i + 1} not live: {str(err).splitlines()[0]}", flush=True)
+            print(f"page {i + 1} not live: {(str(err) or type(err).__name__).splitlines()[0]}", flush=True)
         print(f"page {i + 1} after {time.monotonic() - t0:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
     res.open_s = time.monotonic() - t0
     return students
@@ -325,13 +328,45 @@ def run(pages: int, seconds: float, reps: int) -> Results:
                 try:
                     students = _open(browser, f"http://127.0.0.1:{port}/", res)
                     res.load.append(("pages open", os.getloadavg()))
+                    if os.environ.get("PMK_EXP_EVAL"):
+                        print("EVAL", students[0].page.evaluate(os.environ["PMK_EXP_EVAL"]), flush=True)
                     ports = sorted(int(e["ros_port"]) for e in room.cap.live().values() if "ros_port" in e)
-                    watches = [ChairWatch(p) for p in ports]
+                    # connected only: the watches subscribe for the presses, after the frames windows,
+                    # so that the harness's own watching does not load the chairs it measures
+                    watches = [ChairWatch(p, listen=False) for p in ports]
                     try:
                         res.fps_parked = measure_frames(students, voila, PARKED_S, res, res.usage_parked)
                         with Turning(watches):
+                            prof = os.environ.get("PMK_EXP_PROFILE")
+                            if prof:
+                                import json as _json
+
+                                cdp = students[0].page.context.new_cdp_session(students[0].page)
+                                cdp.send("Profiler.enable")
+                                cdp.send("Profiler.setSamplingInterval", {"interval": 200})
+                                cdp.send("Profiler.start")
+                            trace = os.environ.get("PMK_EXP_TRACE")
+                            if trace:
+                                browser.start_tracing(
+                                    page=students[0].page,
+                                    categories=[
+                                        "devtools.timeline",
+                                        "disabled-by-default-devtools.timeline",
+                                        "toplevel",
+                                        "cc",
+                                        "viz",
+                                        "gpu",
+                                        "blink",
+                                    ],
+                                )
                             res.fps = measure_frames(students, voila, seconds, res, res.usage)
+                            if trace:
+                                Path(trace).write_bytes(browser.stop_tracing())
+                            if prof:
+                                Path(prof).write_text(_json.dumps(cdp.send("Profiler.stop")["profile"]))
                         res.window_s = res.usage["window s"]
+                        for w in watches:
+                            w.listen()
                         res.load.append(("after the frames window", os.getloadavg()))
                         measure_drive(students, watches, reps, res)
                     finally:
@@ -406,6 +441,8 @@ def write(res: Results, reps: int) -> bool:
         f"| {up.get('chromium CPU %', float('nan')):.1f} | {u['chromium RSS MiB']:.0f} |",
         f"| Voilà server (whole, all pages) | {u['voila CPU %']:.1f} | {up.get('voila CPU %', float('nan')):.1f} "
         f"| {u['voila RSS MiB']:.0f} |",
+        f"| this harness (whole: it turns every chair, {TURN_HZ:g} Hz each) | {u['harness CPU %']:.1f} "
+        f"| {up.get('harness CPU %', float('nan')):.1f} | {u['harness RSS MiB']:.0f} |",
         "",
     ]
     atomic_write(HERE / OUT, "\n".join(lines))
