@@ -22,7 +22,7 @@ Goals (issue 26): every page >= 10 frames/s, p95 press -> moving <= 300 ms, noth
 The machine's load average is written beside the numbers: on a shared machine they say how loaded
 it was.  Writes ``bench/results-soak-classroom.md`` and merges it into ``bench/results.md``.
 
-Usage: python bench/soak_classroom.py [--pages N] [--seconds S] [--reps R]   (``make soak``)
+Usage: python bench/soak_classroom.py [--pages N] [--seconds S] [--reps R] [--trace FILE]   (``make soak``)
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -97,6 +98,7 @@ class Student:
     watch: ChairWatch | None = None
     frames0: int = 0
     clears0: int = 0
+    read0: float = 0.0
 
 
 @dataclass
@@ -199,13 +201,17 @@ def measure_frames(
     _sample(groups)  # primes cpu_percent
     for s in students:
         s.frames0, s.clears0 = _frames(s.page)
+        s.read0 = time.monotonic()  # each page's frames over its own interval (reading ten pages takes a while)
     t0 = time.monotonic()
     samples: list[dict[str, tuple[float, float]]] = []
     while time.monotonic() - t0 < seconds:
         time.sleep(min(5.0, max(0.1, seconds - (time.monotonic() - t0))))
         samples.append(_sample(groups))
     window = time.monotonic() - t0
-    counts = [_frames(s.page) for s in students]
+    counts, spans = [], []
+    for s in students:
+        counts.append(_frames(s.page))
+        spans.append(time.monotonic() - s.read0)
     frames = [f - s.frames0 for (f, _c), s in zip(counts, students, strict=True)]
     clears = [c - s.clears0 for (_f, c), s in zip(counts, students, strict=True)]
     if sum(frames) > 0:
@@ -219,7 +225,7 @@ def measure_frames(
         usage[f"{name} RSS MiB"] = rss / per
     usage["kernels counted"] = len(ks)
     usage["window s"] = window
-    return [f / window for f in frames]
+    return [f / span for f, span in zip(frames, spans, strict=True)]
 
 
 def _press(s: Student, watches: list[ChairWatch], res: Results) -> None:
@@ -289,7 +295,7 @@ def _open(browser: Any, url: str, res: Results) -> list[Student]:
     for i in range(res.pages):  # one after the other, like students arriving
         page = browser.new_context(viewport=VIEWPORT).new_page()
         page.set_default_timeout(OPEN_WAIT_MS)
-        page.add_init_script(FRAME_COUNTER_JS + os.environ.get("PMK_EXP_JS", ""))
+        page.add_init_script(FRAME_COUNTER_JS)
         try:
             page.goto(url, wait_until="commit", timeout=OPEN_WAIT_MS)
             students.append(Student(page, _ready(page)))
@@ -302,7 +308,24 @@ def _open(browser: Any, url: str, res: Results) -> list[Student]:
     return students
 
 
-def run(pages: int, seconds: float, reps: int) -> Results:
+@contextlib.contextmanager
+def browser_trace(browser: Any, page: Any, path: Path | None) -> Iterator[None]:
+    """A Chromium trace (chrome://tracing, Perfetto) of the block into ``path``; nothing when None.
+
+    Where a page's frame goes: the renderer's main thread (the frame's message, ipycanvas's
+    commands and composites), its compositor and the display compositor (``viz``)."""
+    if path is None:
+        yield
+        return
+    categories = ["devtools.timeline", "disabled-by-default-devtools.timeline", "toplevel", "cc", "viz", "blink"]
+    browser.start_tracing(page=page, categories=categories)
+    try:
+        yield
+    finally:
+        path.write_bytes(browser.stop_tracing())
+
+
+def run(pages: int, seconds: float, reps: int, trace: Path | None = None) -> Results:
     from playwright.sync_api import sync_playwright
 
     res = Results(pages)
@@ -314,6 +337,8 @@ def run(pages: int, seconds: float, reps: int) -> Results:
         # every kernel compiled pmk_nb again: 1 s of CPU per page start, 0.96 of its 4.8 s build)
         room.env.pop("PYTHONDONTWRITEBYTECODE", None)
         room.env["PYTHONPYCACHEPREFIX"] = str(Path(tmp) / "pycache")
+        # the kernels run this tree's pmk_nb (a second checkout's soak measured the installed one)
+        room.env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), room.env.get("PYTHONPATH", "")) if p)
         port = free_port()
         notebook = write_dashboard_notebook(Path(tmp) / "served")
         log = (Path(tmp) / "voila.log").open("wb")
@@ -328,42 +353,14 @@ def run(pages: int, seconds: float, reps: int) -> Results:
                 try:
                     students = _open(browser, f"http://127.0.0.1:{port}/", res)
                     res.load.append(("pages open", os.getloadavg()))
-                    if os.environ.get("PMK_EXP_EVAL"):
-                        print("EVAL", students[0].page.evaluate(os.environ["PMK_EXP_EVAL"]), flush=True)
                     ports = sorted(int(e["ros_port"]) for e in room.cap.live().values() if "ros_port" in e)
                     # connected only: the watches subscribe for the presses, after the frames windows,
                     # so that the harness's own watching does not load the chairs it measures
                     watches = [ChairWatch(p, listen=False) for p in ports]
                     try:
                         res.fps_parked = measure_frames(students, voila, PARKED_S, res, res.usage_parked)
-                        with Turning(watches):
-                            prof = os.environ.get("PMK_EXP_PROFILE")
-                            if prof:
-                                import json as _json
-
-                                cdp = students[0].page.context.new_cdp_session(students[0].page)
-                                cdp.send("Profiler.enable")
-                                cdp.send("Profiler.setSamplingInterval", {"interval": 200})
-                                cdp.send("Profiler.start")
-                            trace = os.environ.get("PMK_EXP_TRACE")
-                            if trace:
-                                browser.start_tracing(
-                                    page=students[0].page,
-                                    categories=[
-                                        "devtools.timeline",
-                                        "disabled-by-default-devtools.timeline",
-                                        "toplevel",
-                                        "cc",
-                                        "viz",
-                                        "gpu",
-                                        "blink",
-                                    ],
-                                )
+                        with Turning(watches), browser_trace(browser, students[0].page, trace):
                             res.fps = measure_frames(students, voila, seconds, res, res.usage)
-                            if trace:
-                                Path(trace).write_bytes(browser.stop_tracing())
-                            if prof:
-                                Path(prof).write_text(_json.dumps(cdp.send("Profiler.stop")["profile"]))
                         res.window_s = res.usage["window s"]
                         for w in watches:
                             w.listen()
@@ -455,9 +452,10 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pages", type=int, default=10, help="classroom pages at once (default 10)")
     parser.add_argument("--seconds", type=float, default=60.0, help="frames window (default 60)")
+    parser.add_argument("--trace", type=Path, help="write a Chromium trace of the turning window here")
     parser.add_argument("--reps", type=int, default=3, help="presses per page (default 3)")
     args = parser.parse_args(argv)
-    res = run(max(1, args.pages), max(5.0, args.seconds), max(1, args.reps))
+    res = run(max(1, args.pages), max(5.0, args.seconds), max(1, args.reps), args.trace)
     ok = write(res, args.reps)
     print("classroom soak:", "every goal met" if ok else "a goal not met: see the table", flush=True)
     return 0 if ok else 1
