@@ -265,6 +265,7 @@ def _wait(cond: Any, seconds: float = 10.0) -> bool:
     return bool(cond())
 
 
+@pytest.mark.slow
 def test_an_idle_session_ticks_slowly_and_any_input_wakes_it(monkeypatch: pytest.MonkeyPatch) -> None:
     """Nothing to send: the publisher ticks every IDLE_PERIOD_S, not 20 times a second (ten classroom
     pages read their claim files 200 times a second for nothing); a push, a release and the Stop
