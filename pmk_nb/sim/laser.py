@@ -16,7 +16,6 @@ import math
 
 import numpy as np
 
-
 #: The largest block of steps sampled at once (a block doubles while rays go on: a room's walls are
 #: found in the first small blocks, a corridor's end in a few large ones; 360 rays: 2.3 -> 1.0 ms).
 MAX_BLOCK = 192
