@@ -22,7 +22,7 @@ Goals (issue 26): every page >= 10 frames/s, p95 press -> moving <= 300 ms, noth
 The machine's load average is written beside the numbers: on a shared machine they say how loaded
 it was.  Writes ``bench/results-soak-classroom.md`` and merges it into ``bench/results.md``.
 
-Usage: python bench/soak_classroom.py [--pages N] [--seconds S] [--reps R]   (``make soak``)
+Usage: python bench/soak_classroom.py [--pages N] [--seconds S] [--reps R] [--trace FILE]   (``make soak``)
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -66,6 +67,7 @@ AFTER_CLOSE_S = 30.0
 GOAL_FPS, GOAL_P95_MS = 10.0, 300.0
 PARKED_S = 10.0  # the parked window
 TURN_W = 0.4  # rad/s: every chair turns on the spot during the frames window
+TURN_HZ = 10.0  # its /cmd_vel rate per chair
 #: Frames drawn, counted in the page: clears of its busiest canvas, clears in one run of code (until
 #: its microtasks) counting once: ipycanvas clears the composite canvas and the one on screen for a
 #: frame's message, more than once when it composites a frame twice (a timer reset instead ran late on
@@ -96,6 +98,7 @@ class Student:
     watch: ChairWatch | None = None
     frames0: int = 0
     clears0: int = 0
+    read0: float = 0.0
 
 
 @dataclass
@@ -135,8 +138,10 @@ def _ready(page: Any) -> tuple[float, float, float]:
     page.locator(".pmk-home-info-state", has_text="Live").wait_for(state="attached", timeout=OPEN_WAIT_MS)
     page.locator(".pmk-drive-toggle").click()
     page.wait_for_function("() => document.querySelector('.pmk-drive-pad[data-pmk-bound]') !== null")
-    box = page.locator(".pmk-drive-pad").bounding_box()
-    assert box is not None
+    pad = page.locator(".pmk-drive-pad")
+    pad.wait_for(state="visible", timeout=OPEN_WAIT_MS)  # bound before it is laid out: no box yet
+    box = pad.bounding_box()
+    assert box is not None, "the drive pad has no box"
     return box["x"] + box["width"] / 2, box["y"] + box["height"] / 2, box["width"] / 2
 
 
@@ -168,7 +173,7 @@ class Turning:
         return roslibpy.Message({"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": w}})
 
     def _run(self) -> None:
-        while not self.stop.wait(0.1):
+        while not self.stop.wait(1.0 / TURN_HZ):
             for t in self.topics:
                 with contextlib.suppress(Exception):
                     t.publish(self._twist(TURN_W))
@@ -192,17 +197,21 @@ def measure_frames(
     """Frames/s of every page over ``seconds``, with CPU and memory per kernel, Voilà and Chromium into ``usage``."""
     ks = kernels(voila)
     chromium = [p for p in psutil.Process().children(recursive=True) if "chrom" in p.name().lower()]
-    groups = {"kernels": ks, "voila": [voila], "chromium": chromium}
+    groups = {"kernels": ks, "voila": [voila], "chromium": chromium, "harness": [psutil.Process()]}
     _sample(groups)  # primes cpu_percent
     for s in students:
         s.frames0, s.clears0 = _frames(s.page)
+        s.read0 = time.monotonic()  # each page's frames over its own interval (reading ten pages takes a while)
     t0 = time.monotonic()
     samples: list[dict[str, tuple[float, float]]] = []
     while time.monotonic() - t0 < seconds:
         time.sleep(min(5.0, max(0.1, seconds - (time.monotonic() - t0))))
         samples.append(_sample(groups))
     window = time.monotonic() - t0
-    counts = [_frames(s.page) for s in students]
+    counts, spans = [], []
+    for s in students:
+        counts.append(_frames(s.page))
+        spans.append(time.monotonic() - s.read0)
     frames = [f - s.frames0 for (f, _c), s in zip(counts, students, strict=True)]
     clears = [c - s.clears0 for (_f, c), s in zip(counts, students, strict=True)]
     if sum(frames) > 0:
@@ -211,12 +220,12 @@ def measure_frames(
     for name in groups:
         cpu = statistics.mean(x[name][0] for x in samples)
         rss = max(x[name][1] for x in samples)
-        per = n if name != "voila" else 1
+        per = n if name not in ("voila", "harness") else 1
         usage[f"{name} CPU %"] = cpu / per
         usage[f"{name} RSS MiB"] = rss / per
     usage["kernels counted"] = len(ks)
     usage["window s"] = window
-    return [f / window for f in frames]
+    return [f / span for f, span in zip(frames, spans, strict=True)]
 
 
 def _press(s: Student, watches: list[ChairWatch], res: Results) -> None:
@@ -293,13 +302,30 @@ def _open(browser: Any, url: str, res: Results) -> list[Student]:
         except Exception as err:  # a page that never came up counts (0 frames/s, no presses); go on
             students.append(Student(page))
             res.not_live += 1
-            print(f"page {i + 1} not live: {str(err).splitlines()[0]}", flush=True)
+            print(f"page {i + 1} not live: {(str(err) or type(err).__name__).splitlines()[0]}", flush=True)
         print(f"page {i + 1} after {time.monotonic() - t0:.0f} s, load {os.getloadavg()[0]:.1f}", flush=True)
     res.open_s = time.monotonic() - t0
     return students
 
 
-def run(pages: int, seconds: float, reps: int) -> Results:
+@contextlib.contextmanager
+def browser_trace(browser: Any, page: Any, path: Path | None) -> Iterator[None]:
+    """A Chromium trace (chrome://tracing, Perfetto) of the block into ``path``; nothing when None.
+
+    Where a page's frame goes: the renderer's main thread (the frame's message, ipycanvas's
+    commands and composites), its compositor and the display compositor (``viz``)."""
+    if path is None:
+        yield
+        return
+    categories = ["devtools.timeline", "disabled-by-default-devtools.timeline", "toplevel", "cc", "viz", "blink"]
+    browser.start_tracing(page=page, categories=categories)
+    try:
+        yield
+    finally:
+        path.write_bytes(browser.stop_tracing())
+
+
+def run(pages: int, seconds: float, reps: int, trace: Path | None = None) -> Results:
     from playwright.sync_api import sync_playwright
 
     res = Results(pages)
@@ -311,6 +337,8 @@ def run(pages: int, seconds: float, reps: int) -> Results:
         # every kernel compiled pmk_nb again: 1 s of CPU per page start, 0.96 of its 4.8 s build)
         room.env.pop("PYTHONDONTWRITEBYTECODE", None)
         room.env["PYTHONPYCACHEPREFIX"] = str(Path(tmp) / "pycache")
+        # the kernels run this tree's pmk_nb (a second checkout's soak measured the installed one)
+        room.env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), room.env.get("PYTHONPATH", "")) if p)
         port = free_port()
         notebook = write_dashboard_notebook(Path(tmp) / "served")
         log = (Path(tmp) / "voila.log").open("wb")
@@ -326,12 +354,16 @@ def run(pages: int, seconds: float, reps: int) -> Results:
                     students = _open(browser, f"http://127.0.0.1:{port}/", res)
                     res.load.append(("pages open", os.getloadavg()))
                     ports = sorted(int(e["ros_port"]) for e in room.cap.live().values() if "ros_port" in e)
-                    watches = [ChairWatch(p) for p in ports]
+                    # connected only: the watches subscribe for the presses, after the frames windows,
+                    # so that the harness's own watching does not load the chairs it measures
+                    watches = [ChairWatch(p, listen=False) for p in ports]
                     try:
                         res.fps_parked = measure_frames(students, voila, PARKED_S, res, res.usage_parked)
-                        with Turning(watches):
+                        with Turning(watches), browser_trace(browser, students[0].page, trace):
                             res.fps = measure_frames(students, voila, seconds, res, res.usage)
                         res.window_s = res.usage["window s"]
+                        for w in watches:
+                            w.listen()
                         res.load.append(("after the frames window", os.getloadavg()))
                         measure_drive(students, watches, reps, res)
                     finally:
@@ -406,6 +438,8 @@ def write(res: Results, reps: int) -> bool:
         f"| {up.get('chromium CPU %', float('nan')):.1f} | {u['chromium RSS MiB']:.0f} |",
         f"| Voilà server (whole, all pages) | {u['voila CPU %']:.1f} | {up.get('voila CPU %', float('nan')):.1f} "
         f"| {u['voila RSS MiB']:.0f} |",
+        f"| this harness (whole: it turns every chair, {TURN_HZ:g} Hz each) | {u['harness CPU %']:.1f} "
+        f"| {up.get('harness CPU %', float('nan')):.1f} | {u['harness RSS MiB']:.0f} |",
         "",
     ]
     atomic_write(HERE / OUT, "\n".join(lines))
@@ -418,9 +452,10 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pages", type=int, default=10, help="classroom pages at once (default 10)")
     parser.add_argument("--seconds", type=float, default=60.0, help="frames window (default 60)")
+    parser.add_argument("--trace", type=Path, help="write a Chromium trace of the turning window here")
     parser.add_argument("--reps", type=int, default=3, help="presses per page (default 3)")
     args = parser.parse_args(argv)
-    res = run(max(1, args.pages), max(5.0, args.seconds), max(1, args.reps))
+    res = run(max(1, args.pages), max(5.0, args.seconds), max(1, args.reps), args.trace)
     ok = write(res, args.reps)
     print("classroom soak:", "every goal met" if ok else "a goal not met: see the table", flush=True)
     return 0 if ok else 1

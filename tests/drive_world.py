@@ -125,7 +125,9 @@ def _waited(proc: subprocess.Popen[Any], seconds: float) -> bool:
 class ChairWatch:
     """The simulator's odometry (v, w) and the /cmd_vel messages, each with its arrival time."""
 
-    def __init__(self, port: int) -> None:
+    def __init__(self, port: int, *, listen: bool = True) -> None:
+        """``listen=False``: connect only (a load harness publishes through it and subscribes later,
+        so that its own watching does not load the chairs it measures)."""
         import roslibpy
 
         self.ros = roslibpy.Ros("127.0.0.1", port, transport="asyncio")  # as the link (one transport per process)
@@ -133,6 +135,16 @@ class ChairWatch:
         self.odom: list[tuple[float, float, float]] = []
         self.cmds: list[tuple[float, float, float]] = []
         self._lock = threading.Lock()
+        self._topics: list[Any] = []
+        if listen:
+            self.listen()
+
+    def listen(self) -> None:
+        """Subscribe to the odometry and /cmd_vel (once) and wait up to 10 s for the first odometry."""
+        import roslibpy
+
+        if self._topics:
+            return
         self._topics = [
             roslibpy.Topic(self.ros, "/odom", "nav_msgs/Odometry", queue_length=0),
             roslibpy.Topic(self.ros, "/cmd_vel", "geometry_msgs/Twist", queue_length=0),

@@ -18,8 +18,9 @@ from pmk_nb.fileio import atomic_write
 CLASSROOM_ENV = "PMK_CLASSROOM"
 SETTINGS_FILE = "classroom.json"
 #: the simulator's rates on a classroom page (the standalone simulator's defaults: 50 Hz, 20 Hz, 720
-#: rays): many chairs share a few cores, and the page says so
-ODOM_RATE = 20.0
+#: rays): many chairs share a few cores, and the page says so.  15 Hz odometry still gives the live
+#: view (at most LIVE_FPS frames, drawn on change) a new pose for every frame of a moving chair.
+ODOM_RATE = 15.0
 SCAN_RATE = 5.0
 RAYS = 360
 #: the live view's frame cap on a classroom page (elsewhere 32): ten pages with their browsers share

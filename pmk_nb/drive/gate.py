@@ -166,6 +166,11 @@ class DriveGate:
         self._zero_pending = True
         self.last_stop = cause
 
+    @property
+    def idle(self) -> bool:
+        """Nothing to send until a new input: not driving, no zero owed (the publisher may tick slowly)."""
+        return not self.driving and not self._zero_pending
+
     # -- the publisher's tick ----------------------------------------------------------------------
     def tick(self, now: float, link_ok: bool) -> tuple[float, float] | None:
         """The twist to publish now, or None for silence."""

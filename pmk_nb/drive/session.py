@@ -34,6 +34,11 @@ from pmk_nb.drive.stick import StickEvent, StickMessageError, parse_stick_messag
 
 log = logging.getLogger(__name__)
 DEFAULT_RATE = 20.0  # Hz
+#: Seconds between ticks while the gate is idle (nothing driving, no zero owed): the tick then only
+#: refreshes the claim's view (a file read; the page shows it a few times a second) and its 1 s
+#: heartbeat.  Every input that gives the gate something to send wakes the thread at once.  Ten
+#: classroom pages each read their claim file 20 times a second for nothing (bench/soak_classroom.py).
+IDLE_PERIOD_S = 0.25
 MIN_RATE, MAX_RATE = 10.0, 50.0
 _BLOCKED = {Hold.OTHER_DRIVER: StopReason.OTHER_DRIVER, Hold.STOPPED_ELSEWHERE: StopReason.STOPPED_ELSEWHERE}
 
@@ -175,17 +180,26 @@ class DriveSession:
         before driving again.
         """
         with self._lock:
-            return self.gate.on_twist(v, w, self._clock(), self._admit if self.claim is not None else None)
+            was = self.gate.driving
+            ok = self.gate.on_twist(v, w, self._clock(), self._admit if self.claim is not None else None)
+            changed = self.gate.driving != was
+        if changed:  # the first command goes now, not at the next (idle, slower) tick
+            self._kick.set()
+        return ok
 
     def release(self) -> None:
         with self._lock:
             self.gate.release()
+            owed = not self.gate.idle
+        if owed:  # the zero goes now
+            self._kick.set()
 
     def stop(self) -> None:
         """The Stop button: one zero at the next tick, this press drives no more, and (with a claim)
         the chair-wide latch stops every other page's session at its next tick until released here."""
         with self._lock:
             self.gate.stop(StopReason.STOP_BUTTON)
+        self._kick.set()  # the zero goes now, not at the next (idle, slower) tick
         if self.claim is not None:
             try:
                 self.claim_view = self.claim.stop()
@@ -270,7 +284,8 @@ class DriveSession:
                 with self._lock:
                     self.gate.stop(StopReason.LINK)
             self._report_stop()
-            next_t = max(next_t + self.period, self._clock())
+            period = max(self.period, IDLE_PERIOD_S) if self.gate.idle else self.period
+            next_t = max(next_t + period, self._clock())
             if self._kick.wait(max(0.0, next_t - self._clock())):
                 self._kick.clear()
                 next_t = self._clock()  # the kicked tick starts the schedule anew

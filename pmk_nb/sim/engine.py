@@ -245,6 +245,8 @@ class Engine:
         next_t = loop.time()
         seq = 0
         lz = self.laser
+        cast: tuple[object, ...] | None = None  # what the last cast saw: a parked chair's scan is the same
+        ranges: np.ndarray | None = None
         while True:
             next_t += period
             await asyncio.sleep(max(0.0, next_t - loop.time()))
@@ -255,7 +257,12 @@ class Engine:
             if not bridge.has_subscribers("/scan"):
                 continue
             grid = world.grid
-            ranges = lz.cast(world.hit, grid.resolution, grid.origin[:2], chair.pose)
+            seen = (world, tuple(float(v) for v in chair.pose), lz.blind, lz.rays, lz.range_max)
+            if cast is None or seen[0] is not cast[0] or seen[1:] != cast[1:]:
+                # the world's masks never change in place (a new map is a new World): same inputs, same ranges
+                ranges = lz.cast(world.hit, grid.resolution, grid.origin[:2], chair.pose)
+                cast = seen
+            assert ranges is not None
             seq += 1
             msg = self.names.laser_scan(
                 ranges, lz.angle_min, lz.angle_increment, lz.range_min, lz.range_max, period, time.time(), seq

@@ -16,6 +16,10 @@ import math
 
 import numpy as np
 
+#: The largest block of steps sampled at once (a block doubles while rays go on: a room's walls are
+#: found in the first small blocks, a corridor's end in a few large ones; 360 rays: 2.3 -> 1.0 ms).
+MAX_BLOCK = 192
+
 
 class Laser:
     """A planar scanner centred on base_link, ``rays`` beams spread evenly over ``fov`` radians."""
@@ -68,8 +72,9 @@ class Laser:
         dx, dy = np.cos(ang) * 0.5, np.sin(ang) * 0.5  # cells per step
         ranges = np.full(self.rays, np.inf, dtype=np.float32)
         active = np.arange(self.rays)
-        for first in range(0, n_steps, self.block):
-            t = np.arange(first, min(first + self.block, n_steps), dtype=np.float64)
+        first, size = 0, self.block
+        while first < n_steps:
+            t = np.arange(first, min(first + size, n_steps), dtype=np.float64)
             cols = np.floor(gx + dx[active, None] * t).astype(np.intp)
             rows = np.floor(gy + dy[active, None] * t).astype(np.intp)
             inside = (cols >= 0) & (cols < w) & (rows >= 0) & (rows < h)
@@ -85,6 +90,8 @@ class Laser:
             active = active[keep]
             if active.size == 0:
                 break
+            # the rays still out are the long ones: each block twice the last, fewer NumPy passes
+            first, size = first + size, min(2 * size, MAX_BLOCK)
         if self._blind_mask is not None:
             ranges[self._blind_mask] = np.nan
         return ranges

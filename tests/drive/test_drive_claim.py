@@ -246,3 +246,54 @@ def test_a_press_is_published_at_once_not_at_the_next_tick() -> None:
         assert link.ticks == 2
     finally:
         session.close()
+
+
+class TickCounting(FakeLink):
+    """Counts the publisher's ticks (it reads the odometry once per tick)."""
+
+    ticks = 0
+
+    def latest_odom(self) -> Any:
+        self.ticks += 1
+        return super().latest_odom()
+
+
+def _wait(cond: Any, seconds: float = 10.0) -> bool:
+    deadline = time.monotonic() + seconds
+    while not cond() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return bool(cond())
+
+
+@pytest.mark.slow
+def test_an_idle_session_ticks_slowly_and_any_input_wakes_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Nothing to send: the publisher ticks every IDLE_PERIOD_S, not 20 times a second (ten classroom
+    pages read their claim files 200 times a second for nothing); a push, a release and the Stop
+    button each reach the chair at once, not at the next idle tick (here a minute away)."""
+    import pmk_nb.drive.session as session_module
+
+    link = TickCounting(time.monotonic)
+    session = DriveSession(link)  # 20 Hz while driving
+    monkeypatch.setattr(session_module, "IDLE_PERIOD_S", 0.25, raising=False)
+    session.start()
+    try:
+        assert _wait(lambda: link.ticks >= 1)
+        time.sleep(1.0)
+        assert link.ticks <= 6, f"{link.ticks} ticks in 1 s while idle (20 Hz would be about 20)"
+        monkeypatch.setattr(session_module, "IDLE_PERIOD_S", 60.0)
+        seen = link.ticks
+        assert _wait(lambda: link.ticks > seen, 3.0), "one more idle tick: the next one is a minute away"
+        before = link.ticks
+        assert session.push(0.3, 0.0)
+        assert _wait(lambda: bool(link.sent)), "a push is published at once"
+        assert link.sent[0] == pytest.approx((0.3, 0.0))
+        assert _wait(lambda: link.ticks >= before + 5), "driving ticks at the full rate"
+        session.push(0.3, 0.0)
+        session.release()
+        assert _wait(lambda: link.sent[-1] == (0.0, 0.0)), "the release's zero goes at once"
+        sent = len(link.sent)
+        session.stop()
+        assert _wait(lambda: len(link.sent) == sent + 1), "the Stop button's zero goes at once, though idle"
+        assert link.sent[-1] == (0.0, 0.0)
+    finally:
+        session.close()

@@ -237,3 +237,33 @@ def test_client_queue_drops_oldest_when_the_socket_stalls():
     assert ws.sent == ["m0"]
     assert list(session._data) == ["m5", "m6", "m7"] and session.dropped == 4
     assert list(session._control) == ["status"]
+
+
+def test_a_parked_chair_scans_without_casting_again(sim_factory, ros_factory):
+    """Same world, same pose, same laser: the same ranges, sent again without a new ray cast (ten
+    parked classroom chairs cast 50 scans a second for nothing); a chair that moves casts again."""
+    sim = sim_factory(grid=room_grid(6.0, 4.0), scan_rate=20.0)
+    laser = sim.engine.laser
+    casts: list[float] = []
+    real_cast = laser.cast
+
+    def counting_cast(*args, **kwargs):
+        casts.append(time.monotonic())
+        return real_cast(*args, **kwargs)
+
+    laser.cast = counting_cast
+    ros = ros_factory(sim)
+    scans: list[list[float | None]] = []
+    roslibpy.Topic(ros, "/scan", "sensor_msgs/LaserScan").subscribe(lambda m: scans.append(m["ranges"]))
+    assert wait_until(lambda: len(scans) >= 8, 10.0), "scans keep coming from a parked chair"
+    assert len(casts) <= 2, f"{len(casts)} casts for {len(scans)} scans of a parked chair"
+    assert all(s == scans[0] for s in scans), "a parked chair's scans are all the same"
+    twist = {"linear": {"x": 0.0, "y": 0.0, "z": 0.0}, "angular": {"x": 0.0, "y": 0.0, "z": 0.8}}
+    cmd = roslibpy.Topic(ros, "/cmd_vel", "geometry_msgs/Twist")
+    before = len(casts)
+    deadline = time.monotonic() + 10.0
+    while len(casts) < before + 2 and time.monotonic() < deadline:
+        cmd.publish(roslibpy.Message(twist))
+        time.sleep(0.1)
+    assert len(casts) >= before + 2, "a turning chair casts again"
+    assert scans[-1] != scans[0], "and its scans change"

@@ -266,3 +266,28 @@ def test_a_goal_past_a_corner_is_reached_not_given_up(heading):
     assert chair.goal_status == "reached", f"{chair.goal_status} at {chair.pose} after {t:.1f} s"
     assert math.dist(chair.pose[:2], goal) < 0.15
     assert not world.blocked_at(*chair.pose[:2])
+
+
+def test_laser_blocks_that_grow_give_the_ranges_of_stepping_each_ray_alone() -> None:
+    """The cast samples in blocks that double as rays go on; every range equals a plain walk along
+    the ray in half-cell steps (first sample in a wall cell, backed off half a step)."""
+    rng = np.random.default_rng(7)
+    hit = rng.random((120, 160)) < 0.004  # sparse posts: rays of every length, some leave the grid
+    hit[0, :] = hit[-1, :] = False
+    res, origin = 0.05, (-1.0, -2.0)
+    laser = Laser(rays=181, fov=2 * math.pi * 180 / 181, range_max=12.0, block=4)
+    step = 0.5 * res
+    for _ in range(5):
+        pose = (origin[0] + rng.uniform(1, 7), origin[1] + rng.uniform(1, 5), rng.uniform(-3, 3))
+        got = laser.cast(hit, res, origin, pose)
+        gx, gy = (pose[0] - origin[0]) / res, (pose[1] - origin[1]) / res
+        for i, a in enumerate(pose[2] + laser.angles):
+            want = math.inf
+            for k in range(int(laser.range_max / step) + 1):
+                c, r = math.floor(gx + math.cos(a) * 0.5 * k), math.floor(gy + math.sin(a) * 0.5 * k)
+                if not (0 <= c < 160 and 0 <= r < 120):
+                    break
+                if hit[r, c]:
+                    want = max((k - 0.5) * step, laser.range_min)
+                    break
+            assert got[i] == pytest.approx(want, abs=1e-5), f"ray {i} at pose {pose}"

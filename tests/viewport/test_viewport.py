@@ -513,3 +513,20 @@ def test_unique_pixels_keeps_one_point_per_dot_and_drops_far_off_points() -> Non
     assert sorted(map(tuple, one.tolist())) == [(10.5, 5.5), (11.5, 5.5), (12.5, 5.5)]
     four = unique_pixels(x, y, 100, 100, cell=4.0)  # 4 px dots: a 4 x 4 grid, one point per square
     assert sorted(map(tuple, four.tolist())) == [(10.0, 6.0), (14.0, 6.0)]
+
+
+def test_simplify_ring_stays_within_its_tolerance_on_a_gentle_curve() -> None:
+    """Every vertex dropped lies within the tolerance of the outline kept (Douglas-Peucker's bound);
+    the earlier passes could drift a tolerance per pass on a gently curving outline."""
+    import shapely
+
+    from pmk_nb.viewport.outline import simplify_ring
+
+    ang = np.linspace(0.0, 1.5, 1200)
+    arc = np.c_[500 + 500 * np.cos(ang), 500 + 500 * np.sin(ang)]  # 0.3 px steps: each nearly straight
+    simple = simplify_ring(arc, 0.5)
+    assert simple.shape[0] < arc.shape[0] / 4
+    kept = shapely.linestrings(simple.astype(np.float64))
+    worst = max(shapely.distance(kept, shapely.points(arc)))
+    assert worst <= 0.5 + 1e-3, f"a dropped vertex lies {worst:.2f} px from the outline kept"
+    assert tuple(simple[0]) == pytest.approx(tuple(arc[0])) and tuple(simple[-1]) == pytest.approx(tuple(arc[-1]))

@@ -26,6 +26,7 @@ from __future__ import annotations
 import logging
 import math
 import threading
+import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -71,6 +72,11 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 INFO_HZ = 4.0  # info panel refresh rate: text widgets need no 20 fps
+#: Seconds between updates of the Details card's readings (position, speed, zoom, laser) while the
+#: card is closed (the state and the status line keep INFO_HZ): a turning chair's heading changed the
+#: hidden position text 4 times a second, a widget message each for the kernel, Voilà and the page,
+#: as many as half its frames on a classroom page.  Opening the card or a zoom updates them at once.
+HIDDEN_TEXTS_S = 1.0
 #: The live canvas until the page has said how much room the map has (pmk_nb/ui/home/fit.py):
 #: then it takes that room, whatever the map's shape, up to LiveView.PAGE_MAX.
 CANVAS_MAX = (920, 560)
@@ -105,9 +111,11 @@ class HomeScreen:
         self.own = OwnMap()  # the chair's own /map while the preview runs (pmk_nb/ui/home/own_map.py)
         fps = fps if fps is not None else ctx.live_fps if ctx.live_fps is not None else LIVE_FPS
         self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True)
-        self.live.on_zoom_change(lambda _z: self.refresh_info())
+        self.live.on_zoom_change(lambda _z: self.refresh_info(texts=True))
         self.live.on_error(self._on_live_error)
         self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
+        self._texts_at = -math.inf  # when the Details card's readings were last written
+        self.ui.details_toggle.observe(self._on_details, names="value")
         self.widget = self.ui.widget
         # the text panel is Home's Details card over the map (pmk_nb/ui/home/layout.py); the
         # navigation's panel keeps only the messages on Home
@@ -370,26 +378,36 @@ class HomeScreen:
         """("off"|"connecting"|"live"|"stale"|"unreachable", seconds since the last odometry or None)."""
         return connection_state(self.preview.snapshot())
 
-    def refresh_info(self) -> None:
-        """Update position, speed, zoom and state texts (a widget whose text is unchanged sends nothing)."""
+    def _on_details(self, change: dict[str, Any]) -> None:
+        if change.get("new") is True:
+            self.refresh_info(texts=True)
+
+    def refresh_info(self, texts: bool = False) -> None:
+        """Update position, speed, zoom and state texts (a widget whose text is unchanged sends nothing).
+
+        ``texts``: write the Details card's readings now, even while it is closed (see HIDDEN_TEXTS_S).
+        """
         snap = self.preview.snapshot()
         state, age = connection_state(snap)
         live = self.live
-        texts = info_texts(state, age, snap.pose, snap.odom, live.zoom, live.zoom_factor, snap.scan, live.grid)
+        reading = info_texts(state, age, snap.pose, snap.odom, live.zoom, live.zoom_factor, snap.scan, live.grid)
         self.live.stale = state == "stale"  # the loop redraws: the chair turns grey
         info = self.ui.info
-        info.state.value = texts.state
-        info.pos.value = texts.position
-        info.speed.value = texts.speed
-        info.zoom.value = texts.zoom
-        info.laser.value = texts.laser
+        info.state.value = reading.state
+        now = time.monotonic()
+        if texts or self.ui.details_toggle.value or now - self._texts_at >= HIDDEN_TEXTS_S:
+            self._texts_at = now
+            info.pos.value = reading.position
+            info.speed.value = reading.speed
+            info.zoom.value = reading.zoom
+            info.laser.value = reading.laser
         self.drive.refresh()
         self.fit.tick()
         here = self.rooms.panel.here_name
         doing = self.drive.doing() or self.goal.doing() or self._room_doing()
         self.ui.statusline.value = status_line(state, age, here, snap.odom, doing)
-        if texts.status is not None:
-            self.ui.status.value = texts.status
+        if reading.status is not None:
+            self.ui.status.value = reading.status
         chair_map = self.own.take()
         if chair_map is not None:
             self._show_chair_map(chair_map)
@@ -397,7 +415,7 @@ class HomeScreen:
         self.plots.tick(snap.odom if state == "live" else None)
         self.path.tick(snap.pose or snap.odom)
         self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
-        self.announcer.tick(state, alerts=texts.alerts)  # the same reading the panel shows
+        self.announcer.tick(state, alerts=reading.alerts)  # the same reading the panel shows
 
     def _room_doing(self) -> str | None:
         """The status line's last words while a Go to goal runs ("Going to Kitchen"), else None."""

@@ -70,6 +70,8 @@ class MapLayer:
         self._data_top: np.ndarray | None = None
         self._gray: np.ndarray | None = None
         self._key: tuple[object, ...] | None = None  # nearest mode: the view last drawn
+        #: True when the last :meth:`draw` cleared and drew the layer again (its overlays go again)
+        self.repainted = False
 
     def set_grid(self, grid: OccupancyGrid) -> None:
         """Show ``grid`` from the next :meth:`draw` on."""
@@ -85,6 +87,11 @@ class MapLayer:
             self.tile_canvas.width, self.tile_canvas.height = size
             self.invalidate()
 
+    def repaint(self) -> None:
+        """Clear and draw the layer again at the next :meth:`draw` (the tile is kept)."""
+        self._placed = None
+        self._key = None
+
     def invalidate(self) -> None:
         """Render and place everything again at the next :meth:`draw` (a new page, a new map)."""
         self.tile = None
@@ -93,6 +100,7 @@ class MapLayer:
 
     def draw(self, view: Viewport) -> bool:
         """Bring the layer up to date with ``view``; True when a new image (tile) was sent."""
+        self.repainted = False
         if self._data_top is None:
             return False
         if self.mode == "nearest":
@@ -110,6 +118,7 @@ class MapLayer:
             self.layer.clear()
             self.layer.draw_image(self.tile_canvas, self.tile.x0 - origin[0], self.tile.y0 - origin[1])
             self._placed = origin
+            self.repainted = True
         return rendered
 
     def _draw_nearest(self, view: Viewport) -> bool:
@@ -120,4 +129,5 @@ class MapLayer:
             self._gray = np.ascontiguousarray(GRAY_LUT[self._data_top.view(np.uint8)])
         draw_map_layer(self.layer, view, self._gray)
         self._key = key
+        self.repainted = True
         return True

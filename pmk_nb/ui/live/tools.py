@@ -1,7 +1,7 @@
 """Map tools on the live canvas: scale bar, grid, pointer coordinates, Measure and Set pose (issue 29).
 
 What a researcher used to RViz or Foxglove expects on a map. The maths is in the pure
-:mod:`pmk_nb.viewport.maptools`; this draws it as one of :attr:`LiveView.overlays` (scale bar at
+:mod:`pmk_nb.viewport.maptools`; this draws it as one of :attr:`LiveView.map_overlays` (scale bar at
 the lower left, always; grid lines when Grid is on) and holds the tools' buttons and read-out:
 
 * the pointer's (mouse or one finger) position in the map frame, in the read-out;
@@ -77,7 +77,8 @@ class TapPicker:
 
 
 class MapToolsOverlay:
-    """Scale bar, grid and the tools' marks, drawn every frame over the chair (``version`` as overlays)."""
+    """Scale bar, grid and the tools' marks: a map overlay (:attr:`LiveView.map_overlays`), drawn with the
+    map when the view changes or ``version`` does, not in every frame of a moving chair."""
 
     def __init__(self) -> None:
         self.version = 0
@@ -168,7 +169,7 @@ class MapTools:
         self.live, self.ctx = live, ctx
         self.link: Any = None
         self.overlay = MapToolsOverlay()
-        live.overlays.append(self.overlay)
+        live.map_overlays.append(self.overlay)
         self.picker = TapPicker(lambda: live.viewport, self._on_tap)
         self.mode = w.ToggleButtons(
             options=list(TOOLS),

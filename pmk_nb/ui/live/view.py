@@ -92,6 +92,12 @@ class Overlay(Protocol):
     def draw(self, layer: Any, view: Viewport) -> None: ...
 
 
+class MapOverlay(Overlay, Protocol):
+    """An overlay that depends only on the view and itself (a scale bar, a grid, tapped marks): drawn
+    on the map layer when the map is repainted or its ``version`` changes, not every frame
+    (see :attr:`LiveView.map_overlays`)."""
+
+
 class LiveView:
     """The live map canvas with zoom (buttons, wheel, pinch) and follow.
 
@@ -159,6 +165,11 @@ class LiveView:
         #: drawn over the chair every frame, e.g. the rooms and route (:mod:`pmk_nb.ui.rooms.layer`);
         #: each has ``draw(layer, view)`` and a ``version`` that changes when it has something new
         self.overlays: list[Overlay] = []
+        #: drawn on the map layer, under the chair, only when the map is repainted (the view moved,
+        #: a zoom, a new page) or one of them has a new ``version``: a turning chair's frames do not
+        #: send them again (the scale bar was a third of a classroom frame's kernel time)
+        self.map_overlays: list[MapOverlay] = []
+        self._map_overlay_key: tuple[object, ...] | None = None
         self.metrics = FrameMetrics()
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error)
         self.canvas.on_client_ready(self._on_client_ready)
@@ -391,13 +402,13 @@ class LiveView:
                 self.stale,
                 self.laser_style,
             )
-            inputs += tuple(o.version for o in self.overlays)
+            inputs += tuple(o.version for o in self.overlays) + tuple(o.version for o in self.map_overlays)
             if not self._force and self._same_inputs(inputs):
                 self.metrics.skipped += 1
                 return False
             started = time.perf_counter()
             with measured_hold(self.canvas) as sent:
-                draw_map = self.map.draw(view)
+                draw_map = self._draw_map(view, key)
                 self._draw_dynamic(view, pose, odom, scan)
             self._force = False
             self._last_inputs = inputs
@@ -418,6 +429,19 @@ class LiveView:
         # compared by what is drawn, not by message: a parked chair's 20 Hz odometry and unchanged
         # scans draw the same frame again (a classroom page redrew it 12 times a second for nothing)
         return key == last_key and rest == last_rest and drawn_same(pose, odom, scan, last_pose, last_odom, last_scan)
+
+    def _draw_map(self, view: Viewport, key: object) -> bool:
+        """The map layer, and the map overlays on it when it was repainted or they changed; True when
+        a new map image was sent."""
+        overlay_key = (key, *(o.version for o in self.map_overlays))
+        if overlay_key != self._map_overlay_key and self.map_overlays:
+            self.map.repaint()
+        rendered = self.map.draw(view)
+        if self.map.repainted:
+            for overlay in self.map_overlays:
+                overlay.draw(self.map_layer, view)
+        self._map_overlay_key = overlay_key
+        return rendered
 
     def _draw_dynamic(
         self, view: Viewport, pose: Pose2D | Odometry | None, odom: Odometry | None, scan: Scan | None

@@ -849,3 +849,37 @@ def test_the_live_canvas_is_not_clipped_with_rounded_corners() -> None:
     ]
     assert len(rules) >= 2
     assert not any("border-radius" in body for body in rules), rules
+
+
+@pytest.mark.slow
+def test_the_closed_details_card_follows_a_turning_chair_once_a_second(home_env: Any) -> None:
+    """Its position text changed with every heading (4 widget messages a second for a card nobody
+    sees); now once a second while closed, and at once when it opens or the zoom changes."""
+    from pmk_nb.ui.home.screen import HIDDEN_TEXTS_S, HomeScreen
+
+    ctx, _sim, _files = home_env
+    home = HomeScreen(ctx, canvas_width=320, canvas_height=240, fps=20)
+    try:
+        home.preview_button.click()
+        assert wait_for(lambda: home.connection_state()[0] == "live", 10.0), home.ui.warning.value
+        link = ctx.link()
+        changes: list[str] = []
+        home.ui.info.pos.observe(lambda ch: changes.append(ch["new"]), names="value")
+        assert not home.ui.details_toggle.value
+        start = time.monotonic()
+        while time.monotonic() - start < 1.2 * HIDDEN_TEXTS_S:
+            assert link.publish_cmd_vel(0.0, 1.0)
+            home.refresh_info()
+            time.sleep(0.05)
+        spent = time.monotonic() - start
+        assert 1 <= len(changes) <= spent / HIDDEN_TEXTS_S + 1, f"{len(changes)} updates in {spent:.1f} s, closed"
+        seen = len(changes)
+        link.publish_cmd_vel(0.0, 1.0)
+        assert wait_for(lambda: home.live.metrics.last_pose is not None, 2.0)
+        time.sleep(0.2)  # the heading moved on since the last text
+        home.ui.details_toggle.value = True
+        assert len(changes) == seen + 1, "opening the card writes the reading at once"
+        assert changes[-1] == home.ui.info.pos.value
+    finally:
+        link.publish_cmd_vel(0.0, 0.0)
+        home.close()

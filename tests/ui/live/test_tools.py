@@ -111,7 +111,7 @@ def test_scale_bar_and_grid_are_drawn_and_follow_the_zoom(monkeypatch: Any) -> N
     live, tools = tools_on_map()
     texts: list[str] = []
     segments: list[int] = []
-    layer = live.dyn_layer
+    layer = live.map_layer  # a map overlay: drawn with the map, under the chair
     real_fill_text, real_segments = layer.fill_text, layer.stroke_line_segments
     monkeypatch.setattr(layer, "fill_text", lambda t, *a, **k: (texts.append(t), real_fill_text(t, *a, **k)))
     monkeypatch.setattr(layer, "stroke_line_segments", lambda p, *a: (segments.append(len(p)), real_segments(p, *a)))
@@ -124,3 +124,31 @@ def test_scale_bar_and_grid_are_drawn_and_follow_the_zoom(monkeypatch: Any) -> N
     live.zoom_in()  # 1.5^2 x 40 = 90 px/m: 2 m would be 180 px, more than the bar's 120
     assert "<b>1 m</b>" in tools.scale.value
     assert texts[-1] == "1 m"
+
+
+def test_the_scale_bar_is_sent_with_the_map_not_in_every_frame_of_a_turning_chair(monkeypatch: Any) -> None:
+    """A chair turning on the spot changes every frame, the view does not: the scale bar goes with
+    the map layer once, and again only when the view changes (a zoom) or the tools do (Grid)."""
+    from tests.ui.live.test_live import Source
+
+    live, tools = tools_on_map()
+    texts: list[str] = []
+    real_fill_text = live.map_layer.fill_text
+    monkeypatch.setattr(live.map_layer, "fill_text", lambda t, *a, **k: (texts.append(t), real_fill_text(t, *a, **k)))
+    source = Source()
+    source.set_scan()
+    live._source = source
+    drawn = 0
+    for i in range(8):
+        source.move(5.0, 2.5, 0.2 * i)
+        drawn += live.render_frame()
+    assert drawn == 8, "every turning frame is drawn"
+    assert texts == ["2 m"], f"the scale bar went {len(texts)} times in 8 frames of a view that did not move"
+    live.zoom_in()
+    source.move(5.0, 2.5, 2.0)
+    live.render_frame()
+    assert len(texts) == 2, "a zoom sends it again"
+    tools.grid.value = True
+    source.move(5.0, 2.5, 2.2)
+    live.render_frame()
+    assert len(texts) == 3, "so does a change of the tools (Grid on)"
