@@ -1,8 +1,8 @@
 """Classroom pages, measured: CPU and memory of one page's kernel + its own chair (issue 26).
 
 ``pmk demo --classroom``'s world served by Voilà; ``--pages`` headless Chromium pages stay on Home
-with the live view running, each page's kernel running its own simulated chair (classroom rates:
-odometry 20 Hz, laser 5 Hz, 360 rays).  After a warm-up, for ``--seconds``, psutil samples each
+with the live view running, each page's kernel running its own simulated chair (the classroom rates of
+:mod:`pmk_nb.classroom.settings`).  After a warm-up, for ``--seconds``, psutil samples each
 kernel (chair included: it is a thread of the kernel), Voilà's server and Chromium (all its
 processes, divided by the pages).  Writes ``bench/results-classroom.md``.
 
@@ -26,6 +26,7 @@ sys.path[:0] = [str(ROOT)]
 
 import psutil  # noqa: E402
 
+from pmk_nb.classroom.settings import ODOM_RATE, RAYS, SCAN_RATE  # noqa: E402
 from pmk_nb.cli.demo_classroom import prepare_classroom  # noqa: E402
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port  # noqa: E402
 from pmk_nb.cli.voila import voila_command, write_dashboard_notebook  # noqa: E402
@@ -119,7 +120,8 @@ def main() -> int:
         "# Classroom pages: CPU and memory per page (issue 26)",
         "",
         f"`python bench/classroom_pages.py --pages {r['pages']} --seconds {r['seconds']:g}` on {r['cores']} cores; "
-        "live view on Home, default page rates, classroom chair rates (odometry 20 Hz, laser 5 Hz, 360 rays). "
+        "live view on Home, default page rates, classroom chair rates (odometry "
+        f"{ODOM_RATE:g} Hz, laser {SCAN_RATE:g} Hz, {RAYS} rays). "
         "CPU in % of one core (psutil), memory RSS.",
         "",
         "| per page | CPU % (mean) | CPU % (max kernel) | RSS MiB (mean) | RSS MiB (max) |",
