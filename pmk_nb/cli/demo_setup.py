@@ -18,7 +18,7 @@ import contextlib
 import os
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -33,6 +33,7 @@ DEMO_PROFILE = "Simulated chair"
 DEMO_RESOLUTION = DEFAULT_RESOLUTION
 DEMO_SFTP_USER = "pmk"
 SIM_START_TIMEOUT = 60.0
+PORT_TRIES = 3  # starts of the simulator on fresh ports when one it was given was taken meanwhile
 KEY_NAME = "chair_key"
 
 
@@ -147,22 +148,23 @@ def prepare_demo(
     maps, first = convert_sample(root, gml)
 
     private_key, public_key = make_key_pair(config_dir)
-    ros_port, sftp_port = free_port(), free_port()
     env = dict(os.environ)
     env.update({"PMK_MAPS_DIR": str(maps_dir), "PMK_CONFIG_DIR": str(config_dir), AUTOSTART_ENV: "1"})
     log_path = root / "sim.log"
     log = log_path.open("ab")
-    sim = subprocess.Popen(
-        sim_command(first.yaml, ros_port, sftp_port, chair_dir, public_key, sim_args),
-        env=env,
-        stdout=log,
-        stderr=subprocess.STDOUT,
-        cwd=root,
-    )
+    try:
+        sim, ros_port, sftp_port = _start_sim(
+            sim_command_for=lambda ros, sftp: sim_command(first.yaml, ros, sftp, chair_dir, public_key, sim_args),
+            env=env,
+            log=log,
+            cwd=root,
+        )
+    except BaseException:
+        log.close()
+        _print_log_tail(log_path)
+        raise
     world = DemoWorld(root, maps_dir, config_dir, chair_dir, first.yaml, ros_port, sftp_port, env, sim, log_path, log)
     try:
-        wait_for_port("127.0.0.1", ros_port, sim, "the simulated chair (rosbridge)", SIM_START_TIMEOUT)
-        wait_for_port("127.0.0.1", sftp_port, sim, "the simulated chair (SFTP)", SIM_START_TIMEOUT)
         store = ProfileStore(config_dir / PROFILES_FILE, secrets=False)
         store.save(
             ChairProfile(
@@ -182,8 +184,40 @@ def prepare_demo(
     except BaseException:
         stop_process(sim)
         log.close()
-        tail = log_path.read_text(errors="replace")[-2000:] if log_path.exists() else ""
-        if tail:
-            print(f"simulator log ({log_path}):\n{tail}", file=sys.stderr)
+        _print_log_tail(log_path)
         raise
     return world
+
+
+def _print_log_tail(log_path: Path) -> None:
+    tail = log_path.read_text(errors="replace")[-2000:] if log_path.exists() else ""
+    if tail:
+        print(f"simulator log ({log_path}):\n{tail}", file=sys.stderr)
+
+
+def _start_sim(
+    *, sim_command_for: Callable[[int, int], list[str]], env: dict[str, str], log: Any, cwd: Path
+) -> tuple[subprocess.Popen[bytes], int, int]:
+    """Start ``pmk sim`` on two free ports and wait until both listen; (process, rosbridge, SFTP port).
+
+    A free port found here may be taken by another program before the simulator binds it (tests and
+    servers start side by side): the simulator then exits with PORT_IN_USE_EXIT and starts again on
+    other ports, up to PORT_TRIES times.  Any other failure raises at once.
+    """
+    from pmk_nb.sim import PORT_IN_USE_EXIT
+
+    for attempt in range(1, PORT_TRIES + 1):
+        ros_port, sftp_port = free_port(), free_port()
+        sim = subprocess.Popen(
+            sim_command_for(ros_port, sftp_port), env=env, stdout=log, stderr=subprocess.STDOUT, cwd=cwd
+        )
+        try:
+            wait_for_port("127.0.0.1", ros_port, sim, "the simulated chair (rosbridge)", SIM_START_TIMEOUT)
+            wait_for_port("127.0.0.1", sftp_port, sim, "the simulated chair (SFTP)", SIM_START_TIMEOUT)
+        except BaseException:
+            stop_process(sim)
+            if sim.returncode == PORT_IN_USE_EXIT and attempt < PORT_TRIES:
+                continue
+            raise
+        return sim, ros_port, sftp_port
+    raise AssertionError("unreachable: the last attempt returns or raises")

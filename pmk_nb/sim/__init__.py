@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from pmk_nb.sim.hostkey import default_state_dir
     from pmk_nb.sim.laser import Laser
     from pmk_nb.sim.messages import ROS_VERSIONS
-    from pmk_nb.sim.server import SimChair, SimError
+    from pmk_nb.sim.server import PORT_IN_USE_EXIT, SimChair, SimError, SimPortInUse
     from pmk_nb.sim.world import World
 
 _WHERE = {
@@ -31,17 +31,21 @@ _WHERE = {
     "ROS_VERSIONS": "messages",
     "SimChair": "server",
     "SimError": "server",
+    "SimPortInUse": "server",
+    "PORT_IN_USE_EXIT": "server",
     "World": "world",
 }
 
 __all__ = [
     "BRIDGE_MODES",
     "DEFAULT_BRIDGE",
+    "PORT_IN_USE_EXIT",
     "ROS_VERSIONS",
     "Chair",
     "Laser",
     "SimChair",
     "SimError",
+    "SimPortInUse",
     "World",
     "default_state_dir",
     "demo_grid",

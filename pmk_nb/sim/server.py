@@ -9,6 +9,7 @@ open (stale-data tests).
 from __future__ import annotations
 
 import asyncio
+import errno
 import math
 import shutil
 import ssl
@@ -41,6 +42,26 @@ from pmk_nb.sim.rosapi import register_rosapi
 
 class SimError(PmkError):
     """The simulator could not start (port in use, bad map, bad option)."""
+
+
+#: ``pmk sim``'s exit status when a port it was given is taken (``os.EX_TEMPFAIL``): a launcher that
+#: picked the ports itself (``pmk demo``) picks others and starts it again; any other failure is 2.
+PORT_IN_USE_EXIT = 75
+
+
+class SimPortInUse(SimError):
+    """A port the simulator was told to listen on is taken by another program.
+
+    Attributes:
+        host: the address it tried to listen on.
+        port: the rosbridge port it was given (the taken one may be its SFTP port).
+    """
+
+    exit_code = PORT_IN_USE_EXIT
+
+    def __init__(self, message: str, *, host: str, port: int) -> None:
+        super().__init__(message, hint="choose other ports, or stop the program that holds this one")
+        self.host, self.port = host, port
 
 
 class SimChair:
@@ -178,7 +199,10 @@ class SimChair:
         if self._error is not None:
             self._thread.join(timeout)
             err = self._error
-            raise SimError(f"simulator could not start on {self.host}:{self._port}: {err}") from err
+            message = f"simulator could not start on {self.host}:{self._port}: {err}"
+            if isinstance(err, OSError) and err.errno == errno.EADDRINUSE:
+                raise SimPortInUse(message, host=self.host, port=self._port) from err
+            raise SimError(message) from err
         return self
 
     def stop(self, timeout: float = 10.0) -> None:

@@ -75,3 +75,43 @@ def test_a_reader_that_leaves_early_ends_pmk_quietly(tmp_path: Path) -> None:
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == BROKEN_PIPE, err.decode()
     assert b"Traceback" not in err
+
+
+@pytest.mark.slow
+def test_the_demo_simulator_starts_again_on_other_ports_when_one_was_taken_meanwhile(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``pmk demo`` picks two free ports and starts ``pmk sim`` on them; another program may bind one
+    first (a make test run saw it). The simulator says so by its exit status and starts again on
+    other ports; any other failure still raises at once."""
+    from pmk_nb.cli import demo_setup
+
+    taken = socket.socket()
+    taken.bind(("127.0.0.1", 0))
+    taken.listen()
+    port = taken.getsockname()[1]
+    handed = iter([free_port(), port])  # the first start gets the taken port for its SFTP server
+    monkeypatch.setattr(demo_setup, "free_port", lambda: next(handed, None) or free_port())
+    starts: list[tuple[int, int]] = []
+    map_arg: list[str] = []
+
+    def command(ros: int, sftp: int) -> list[str]:
+        starts.append((ros, sftp))
+        return [sys.executable, "-m", "pmk_nb.cli", "sim", "--port", str(ros), "--sftp-port", str(sftp), *map_arg]
+
+    with (tmp_path / "sim.log").open("ab") as log:
+        try:
+            sim, ros, sftp = demo_setup._start_sim(sim_command_for=command, env=dict(os.environ), log=log, cwd=tmp_path)
+        finally:
+            taken.close()
+        try:
+            assert sim.poll() is None, "the second start runs"
+            assert len(starts) == 2 and starts[0][1] == port and port not in (ros, sftp)
+        finally:
+            stop_process(sim)
+
+    starts.clear()
+    map_arg[:] = ["--map", str(tmp_path / "missing.yaml")]  # not a port: no second start, the error at once
+    with (tmp_path / "bad.log").open("ab") as log, pytest.raises(ProcessStartError):
+        demo_setup._start_sim(sim_command_for=command, env=dict(os.environ), log=log, cwd=tmp_path)
+    assert len(starts) == 1
