@@ -68,6 +68,9 @@ GOAL_FPS, GOAL_P95_MS = 10.0, 300.0
 PARKED_S = 10.0  # the parked window
 TURN_W = 0.4  # rad/s: every chair turns on the spot during the frames window
 TURN_HZ = 10.0  # its /cmd_vel rate per chair
+#: Seconds between the first /cmd_vel and counting: the first page's count began while the chairs still
+#: stood (it read a few percent low in every run)
+SETTLE_S = 1.5
 #: Frames drawn, counted in the page: clears of its busiest canvas, clears in one run of code (until
 #: its microtasks) counting once: ipycanvas clears the composite canvas and the one on screen for a
 #: frame's message, more than once when it composites a frame twice (a timer reset instead ran late on
@@ -183,6 +186,7 @@ class Turning:
 
     def __enter__(self) -> Turning:
         self.thread.start()
+        time.sleep(SETTLE_S)  # every chair turning (and every page drawing) before the frames are counted
         return self
 
     def __exit__(self, *_exc: object) -> None:
