@@ -258,8 +258,7 @@ class Engine:
                 continue
             grid = world.grid
             seen = (world, tuple(float(v) for v in chair.pose), lz.blind, lz.rays, lz.range_max)
-            if cast is None or seen[0] is not cast[0] or seen[1:] != cast[1:]:
-                # the world's masks never change in place (a new map is a new World): same inputs, same ranges
+            if seen != cast:  # a World compares by identity: its masks never change in place (a new map is a new World)
                 ranges = lz.cast(world.hit, grid.resolution, grid.origin[:2], chair.pose)
                 cast = seen
             assert ranges is not None
