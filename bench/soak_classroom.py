@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import os
 import socket
 import statistics
@@ -127,12 +128,17 @@ def pct(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, round(q * (len(ordered) - 1)))] if ordered else float("nan")
 
 
-def _frames(page: Any) -> tuple[int, int]:
-    """(frames, clears) of the page's busiest canvas."""
+def _frames(page: Any) -> tuple[int, int, float]:
+    """(frames, clears) of the page's busiest canvas, and the page's own clock (s) when it counted them.
+
+    The rate is taken between two such readings on the page's clock: the harness's clock also counts
+    the time a reading takes to come back, which on a loaded machine made the first page read look
+    10 % slower than the rest, whichever page it was (tried with the reading order reversed)."""
     try:
-        return tuple(page.evaluate("[window.__pmkFrames || 0, window.__pmkClears || 0]"))  # type: ignore[return-value]
+        got = page.evaluate("[window.__pmkFrames || 0, window.__pmkClears || 0, performance.now() / 1000]")
+        return int(got[0]), int(got[1]), float(got[2])
     except Exception:  # a page that lost its kernel and reloaded: count from zero
-        return 0, 0
+        return 0, 0, math.nan
 
 
 def _ready(page: Any) -> tuple[float, float, float]:
@@ -204,20 +210,17 @@ def measure_frames(
     groups = {"kernels": ks, "voila": [voila], "chromium": chromium, "harness": [psutil.Process()]}
     _sample(groups)  # primes cpu_percent
     for s in students:
-        s.frames0, s.clears0 = _frames(s.page)
-        s.read0 = time.monotonic()  # each page's frames over its own interval (reading ten pages takes a while)
+        s.frames0, s.clears0, s.read0 = _frames(s.page)  # each page's frames over its own interval
     t0 = time.monotonic()
     samples: list[dict[str, tuple[float, float]]] = []
     while time.monotonic() - t0 < seconds:
         time.sleep(min(5.0, max(0.1, seconds - (time.monotonic() - t0))))
         samples.append(_sample(groups))
     window = time.monotonic() - t0
-    counts, spans = [], []
-    for s in students:
-        counts.append(_frames(s.page))
-        spans.append(time.monotonic() - s.read0)
-    frames = [f - s.frames0 for (f, _c), s in zip(counts, students, strict=True)]
-    clears = [c - s.clears0 for (_f, c), s in zip(counts, students, strict=True)]
+    counts = [_frames(s.page) for s in students]
+    spans = [t - s.read0 if t > s.read0 else window for (_f, _c, t), s in zip(counts, students, strict=True)]
+    frames = [f - s.frames0 for (f, _c, _t), s in zip(counts, students, strict=True)]
+    clears = [c - s.clears0 for (_f, c, _t), s in zip(counts, students, strict=True)]
     if sum(frames) > 0:
         res.clears_per_frame = sum(clears) / sum(frames)
     n = max(1, len(ks))
