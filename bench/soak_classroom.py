@@ -69,8 +69,8 @@ GOAL_FPS, GOAL_P95_MS = 10.0, 300.0
 PARKED_S = 10.0  # the parked window
 TURN_W = 0.4  # rad/s: every chair turns on the spot during the frames window
 TURN_HZ = 10.0  # its /cmd_vel rate per chair
-#: Seconds between the first /cmd_vel and counting: the first page's count began while the chairs still
-#: stood (it read a few percent low in every run)
+#: Seconds between the first /cmd_vel and counting: every chair turning and every page drawing, so the
+#: window measures the steady state, not the chairs starting
 SETTLE_S = 1.5
 #: Frames drawn, counted in the page: clears of its busiest canvas, clears in one run of code (until
 #: its microtasks) counting once: ipycanvas clears the composite canvas and the one on screen for a

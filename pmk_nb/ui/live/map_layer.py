@@ -95,8 +95,7 @@ class MapLayer:
     def invalidate(self) -> None:
         """Render and place everything again at the next :meth:`draw` (a new page, a new map)."""
         self.tile = None
-        self._placed = None
-        self._key = None
+        self.repaint()
 
     def draw(self, view: Viewport) -> bool:
         """Bring the layer up to date with ``view``; True when a new image (tile) was sent."""
