@@ -115,6 +115,7 @@ class HomeScreen:
         self.live.on_error(self._on_live_error)
         self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
         self._texts_at = -math.inf  # when the Details card's readings were last written
+        self._texts_state = ""  # the connection state they were written in
         self.ui.details_toggle.observe(self._on_details, names="value")
         self.widget = self.ui.widget
         # the text panel is Home's Details card over the map (pmk_nb/ui/home/layout.py); the
@@ -386,6 +387,7 @@ class HomeScreen:
         """Update position, speed, zoom and state texts (a widget whose text is unchanged sends nothing).
 
         ``texts``: write the Details card's readings now, even while it is closed (see HIDDEN_TEXTS_S).
+        A change of connection state writes them at once too: a silent chair's speed is not current.
         """
         snap = self.preview.snapshot()
         state, age = connection_state(snap)
@@ -395,8 +397,9 @@ class HomeScreen:
         info = self.ui.info
         info.state.value = reading.state
         now = time.monotonic()
-        if texts or self.ui.details_toggle.value or now - self._texts_at >= HIDDEN_TEXTS_S:
-            self._texts_at = now
+        due = now - self._texts_at >= HIDDEN_TEXTS_S or state != self._texts_state
+        if texts or self.ui.details_toggle.value or due:
+            self._texts_at, self._texts_state = now, state
             info.pos.value = reading.position
             info.speed.value = reading.speed
             info.zoom.value = reading.zoom

@@ -593,6 +593,7 @@ def test_home_preview_follows_the_chair_zooms_toggles_sensors_and_goes_stale(hom
         assert wait_for(lambda: "No data" in home.ui.info.state.value, 6.0)
         assert "No data from the chair" in home.ui.status.value
         assert home.live.stale  # the chair is drawn grey while its data is missing
+        assert "m/s" not in home.ui.info.speed.value  # nor does the closed Details card show a speed
         sim.resume()
         assert wait_for(lambda: home.ui.info.state.value.endswith("Live</span>"), 6.0)
         assert wait_for(lambda: home.ui.status.value == "", 2.0)  # cleared (by the next refresh at the latest)
@@ -882,4 +883,32 @@ def test_the_closed_details_card_follows_a_turning_chair_once_a_second(home_env:
         assert changes[-1] == home.ui.info.pos.value
     finally:
         link.publish_cmd_vel(0.0, 0.0)
+        home.close()
+
+
+@pytest.mark.slow
+def test_the_closed_details_card_drops_a_silent_chairs_speed_at_once(
+    home_env: Any, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A change of connection state writes the closed card's readings in the same refresh: with the
+    once-a-second gate, a stalled chair's speed stayed "0.80 m/s" next to "No data" (CI, Chromium)."""
+    import pmk_nb.ui.home.screen as screen
+
+    ctx, sim, _files = home_env
+    monkeypatch.setattr(screen, "HIDDEN_TEXTS_S", 1e6)  # only a state change can write the readings now
+    home = screen.HomeScreen(ctx, canvas_width=320, canvas_height=240, fps=20)
+    try:
+        home.preview_button.click()
+        assert wait_for(lambda: home.connection_state()[0] == "live", 10.0), home.ui.warning.value
+        assert wait_for(lambda: "m/s" in home.ui.info.speed.value, 5.0), home.ui.info.speed.value
+        assert not home.ui.details_toggle.value
+        sim.pause()
+        try:
+            assert wait_for(lambda: "No data" in home.ui.info.state.value, 6.0)
+            speed = home.ui.info.speed.value
+            assert "m/s" not in speed and "—" in speed, f"a stale speed is shown as current: {speed}"
+        finally:
+            sim.resume()
+        assert wait_for(lambda: "m/s" in home.ui.info.speed.value, 6.0), "live again: the speed is back"
+    finally:
         home.close()
