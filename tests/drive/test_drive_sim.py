@@ -78,7 +78,10 @@ def test_the_stick_drives_the_chair_and_release_stops_it_within_half_a_second(ch
     assert sim.pose[0] - x0 > 0.5
     sent = wire.since(t0)
     rates = [m for m in sent if m[0] < released]
-    assert 10 <= len(rates) / 1.5 <= 21, f"{len(rates)} commands in 1.5 s"
+    # over the press's real span (the last keepalive's sleep ends past 1.5 s, more so on a busy machine):
+    # 20 Hz ticks, plus the command the press sends at once and one tick of rounding
+    span = released - t0
+    assert 10 * span <= len(rates) <= 20 * span + 2, f"{len(rates)} commands in {span:.2f} s"
     # release: one zero, then silence (commands published just before the release are still in flight)
     assert sent[-1][1:] == (0.0, 0.0) and [m[1:] for m in sent].count((0.0, 0.0)) == 1
     assert all(m[0] < released + 0.1 for m in sent[:-1])
