@@ -115,7 +115,8 @@ def storey_gml(folder: Path, nx: int, ny: int) -> tuple[Path, dict[str, int]]:
 def child(report: str, argv: list[str]) -> int:
     """`pmk convert ARGV` in this process, with the time spent writing files recorded in ``report``:
     the map set (:func:`pmk_nb.rosmap.files.write_map`: PGM, preview PNG, YAML, each fsynced) and moving
-    the staged sets into place (``replace_all``)."""
+    the staged sets into place (``replace_all``); also the time reading the plan, and the modules the
+    run imported (for :func:`floor`)."""
     before = set(sys.modules)
     import pmk_nb.indoorgml as indoorgml
     import pmk_nb.library.convert as convert
@@ -123,39 +124,31 @@ def child(report: str, argv: list[str]) -> int:
     import pmk_nb.rosmap.files as files
     from pmk_nb.cli import main
 
-    spent = {"write_s": 0.0, "write_cpu": 0.0, "cells": 0}
+    spent = {"write_s": 0.0, "write_cpu": 0.0, "read_s": 0.0, "read_cpu": 0.0, "cells": 0}
 
-    def timed(fn: Any, grid_arg: bool = False) -> Any:
+    def timed(fn: Any, what: str, grid_arg: bool = False) -> Any:
+        """``fn``, its wall and CPU time added to spent[what + "_s"] and spent[what + "_cpu"]."""
+
         def run(*args: Any, **kw: Any) -> Any:
             w, c = time.perf_counter(), time.process_time()
             try:
                 return fn(*args, **kw)
             finally:
-                spent["write_s"] += time.perf_counter() - w
-                spent["write_cpu"] += time.process_time() - c
+                spent[f"{what}_s"] += time.perf_counter() - w
+                spent[f"{what}_cpu"] += time.process_time() - c
                 if grid_arg:
                     spent["cells"] += args[0].width * args[0].height
 
         return run
 
     # both names: the rosmap face keeps the function once a name is first taken from it
-    files.write_map = rosmap.write_map = timed(files.write_map, grid_arg=True)
-    convert.replace_all = timed(convert.replace_all)
-    read = {"read_s": 0.0, "read_cpu": 0.0}
-
-    def read_timed(*args: Any, **kw: Any) -> Any:
-        w, c = time.perf_counter(), time.process_time()
-        try:
-            return reader(*args, **kw)
-        finally:
-            read["read_s"] += time.perf_counter() - w
-            read["read_cpu"] += time.process_time() - c
-
-    reader = indoorgml.read_building
-    indoorgml.read_building = read_timed  # convert_plan takes it from the package face at call time
+    files.write_map = rosmap.write_map = timed(files.write_map, "write", grid_arg=True)
+    convert.replace_all = timed(convert.replace_all, "write")
+    # convert_plan takes it from the package face at call time
+    indoorgml.read_building = timed(indoorgml.read_building, "read")
     code = main(["convert", *argv])
     modules = [m for m in sys.modules if m not in before]
-    Path(report).write_text(json.dumps({**spent, **read, "modules": modules}), encoding="utf-8")
+    Path(report).write_text(json.dumps({**spent, "modules": modules}), encoding="utf-8")
     return code
 
 
