@@ -15,7 +15,12 @@ class PmkError(Exception):
     Args:
         message: what went wrong, naming the file / element / host at fault.
         hint: what the user can do about it (optional; shown after the message).
+
+    Attributes:
+        exit_code: the `pmk` command's exit status when this error ends it (a type may say otherwise).
     """
+
+    exit_code: int = 2
 
     def __init__(self, message: str, *, hint: str = "") -> None:
         super().__init__(message)

@@ -58,7 +58,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             print_json(error_json(err, args.command))
         print(f"pmk {args.command}: error: {err}", file=sys.stderr)
-        return int(getattr(err, "exit_code", 2))  # 2, or what the error's type says (pmk sim: a port taken)
+        return err.exit_code  # 2, or what the error's type says (pmk sim: a port taken)
     except KeyboardInterrupt:
         print(f"pmk {args.command}: interrupted", file=sys.stderr)
         return 130
