@@ -164,31 +164,36 @@ def test_two_panels_one_driver_take_over_needs_two_taps_and_stop_holds_for_both(
 
     seqs = {id(a): 0, id(b): 0}
     presses = {id(a): 0, id(b): 0}
+    handled: dict[int, int] = {}  # per panel, the safety stops its holds have answered so far
 
     def hold(panel: DrivePanel, press: int, until: Any, timeout: float = 5.0, least: int = 2) -> bool:
         """Hold the stick as a page does (a message every 0.1 s) until ``until()`` holds, at least ``least`` ticks.
 
         Waits on the chair's state, not a fixed count, so a loaded machine's lag is no failure; a
         safety stop from a starved test thread (no message for 0.3 s) is answered by a new press, as
-        a rider would lift and press again. ``press`` 0 keeps the panel's current press."""
+        a rider would lift and press again, also when it came between two holds (the test's own steps
+        between them can take over 0.3 s). ``press`` 0 keeps the panel's current press."""
         deadline = time.monotonic() + timeout
         assert panel.session is not None
         if press:
             presses[id(panel)] = max(presses[id(panel)] + 1, press)
-        stops = panel.session.gate.stop_count
+        stops = handled.setdefault(id(panel), panel.session.gate.stop_count)
         ticks = 0
-        while True:
-            if panel.session.gate.stop_count != stops and until is not stopped:
-                presses[id(panel)] += 1
-                stops = panel.session.gate.stop_count
-            seqs[id(panel)] += 1
-            panel.channel.value = page(seqs[id(panel)], presses[id(panel)])
-            time.sleep(0.1)
-            ticks += 1
-            if ticks >= least and until():
-                return True
-            if time.monotonic() > deadline:
-                return False
+        try:
+            while True:
+                if panel.session.gate.stop_count != stops and until is not stopped:
+                    presses[id(panel)] += 1
+                    stops = panel.session.gate.stop_count
+                seqs[id(panel)] += 1
+                panel.channel.value = page(seqs[id(panel)], presses[id(panel)])
+                time.sleep(0.1)
+                ticks += 1
+                if ticks >= least and until():
+                    return True
+                if time.monotonic() > deadline:
+                    return False
+        finally:
+            handled[id(panel)] = stops
 
     def driving() -> bool:
         return bool(sim.velocity[0] == pytest.approx(0.3, abs=0.01))
