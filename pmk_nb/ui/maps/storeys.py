@@ -115,12 +115,14 @@ class StoreysPanel:
         )
 
     def _fill(self, storeys: list[StoreyInfo]) -> None:
+        """The storeys' checkboxes, then their table: once the table shows them (from the reading
+        thread), the checkboxes to choose among them are there too."""
         self.storeys = list(storeys)
+        self._set_choices(storeys if len(storeys) > 1 else [])
         if not storeys:
             self.table.value = "<i>No storeys with cells in this file.</i>"
         else:
             self.table.value = storeys_table(storeys, self.unit) + unit_warning(storeys)
-        self._set_choices(storeys if len(storeys) > 1 else [])
 
     def layers(self) -> tuple[LayerOption, ...]:
         """The plan's layers with cells (the same for every storey), () while its storeys are unknown."""
