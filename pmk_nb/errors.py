@@ -43,6 +43,36 @@ class IndoorGMLError(PmkError):
         self.element = element
 
 
+class NotWellFormed(IndoorGMLError):
+    """The file is not well-formed XML.
+
+    Attributes:
+        line: the line the parser stopped at (1-based), or None when it could not say.
+        column: the column there, or None.
+        began_as_xml: True when the file began as an XML document (a prolog and a root start tag) and
+            broke later ("malformed XML"); False when it is not XML at all. Read from the file's bytes,
+            never from how far the parser got, which depends on how it batches its input.
+        open_elements: the elements open at the error, outermost first, as written (``gml:Polygon``).
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str,
+        line: int | None,
+        column: int | None,
+        began_as_xml: bool,
+        open_elements: tuple[str, ...],
+        hint: str = "",
+    ) -> None:
+        super().__init__(message, path=path, element=open_elements[-1] if open_elements else None, hint=hint)
+        self.line = line
+        self.column = column
+        self.began_as_xml = began_as_xml
+        self.open_elements = open_elements
+
+
 class UnknownLayer(IndoorGMLError):
     """``--layer NAME`` names no space layer of the file with cells to draw.
 

@@ -22,7 +22,8 @@ from typing import TYPE_CHECKING, Any, BinaryIO, Literal
 
 from lxml import etree
 
-from pmk_nb.errors import IndoorGMLError
+from pmk_nb.errors import IndoorGMLError, NotWellFormed
+from pmk_nb.indoorgml.xmlwhere import began_as_xml, open_elements
 from pmk_nb.progress import ProgressCallback, emit
 
 if TYPE_CHECKING:
@@ -146,31 +147,37 @@ def iter_events(
         fh.seek(0)
         reader = _CountingReader(fh, total, progress)
         events = iterparse(reader)
-        # the open elements themselves: their names and ids are only read for an error message
-        open_elems: list[etree._Element] = []
+        depth = 0  # only to find the root's start: where the elements stood at an error is read from the file
         try:
             for event, elem in events:
                 if event == "start":
-                    if not open_elems and (why := doctype_problem(elem.getroottree().docinfo)):
+                    if depth == 0 and (why := doctype_problem(elem.getroottree().docinfo)):
                         raise _refused(p, why)
-                    open_elems.append(elem)
+                    depth += 1
                 else:
-                    open_elems.pop()
+                    depth -= 1
                 yield event, elem
         except etree.XMLSyntaxError as err:
-            where = f"line {err.lineno}" if err.lineno else "unknown line"
-            inside = ""
-            if open_elems:
-                ident = next((i for i in (e.get(GML_ID) for e in reversed(open_elems)) if i), None)
-                inside = f" inside <{_short(open_elems[-1])}>" + (f" (near gml:id={ident!r})" if ident else "")
-            kind = "not XML" if not open_elems and reader.bytes_read <= len(head) else "malformed XML"
-            msg = err.msg or str(err)
-            element = _short(open_elems[-1]) if open_elems else None
-            raise IndoorGMLError(f"{p}: {kind} at {where}{inside}: {msg}", path=str(p), element=element) from err
+            raise not_well_formed(p, head, err) from err
         emit(progress, "read", 1.0, f"{total} bytes")
 
 
-def _short(elem: etree._Element) -> str:
-    q = etree.QName(elem)
-    prefix = elem.prefix
-    return f"{prefix}:{q.localname}" if prefix else q.localname
+def not_well_formed(path: Path, head: bytes, err: etree.XMLSyntaxError) -> NotWellFormed:
+    """The error for a parse that failed, worded from the file's bytes (see :mod:`.xmlwhere`)."""
+    line, column = err.position if err.position and err.position[0] else (err.lineno or None, None)
+    began = began_as_xml(head)
+    stack = open_elements(path, line, column) if began and line else []
+    where = f"line {line}" if line else "unknown line"
+    inside = ""
+    if stack:
+        ident = next((e.gml_id for e in reversed(stack) if e.gml_id), None)
+        inside = f" inside <{stack[-1].name}>" + (f" (near gml:id={ident!r})" if ident else "")
+    kind = "malformed XML" if began else "not XML"
+    return NotWellFormed(
+        f"{path}: {kind} at {where}{inside}: {err.msg or err}",
+        path=str(path),
+        line=line,
+        column=column,
+        began_as_xml=began,
+        open_elements=tuple(e.name for e in stack),
+    )
