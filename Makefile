@@ -9,7 +9,12 @@ XDIST ?= -n 2 --dist worksteal
 JS_STAMP := tests/js/node_modules/.package-lock.json
 PROXY_STAMP := proxy/node_modules/.package-lock.json
 
-.PHONY: demo hub test check lint bench soak system-deps venv clean ros2
+# Locked installs (requirements/*.txt, pinned with hashes by `make lock`): every target installs from them.
+LOCKS  := requirements/build.txt requirements/dev.txt
+PIP_COMPILE := .venv-lock/bin/pip-compile
+LOCK_FLAGS := --quiet --generate-hashes --allow-unsafe --strip-extras --no-emit-find-links --no-emit-index-url
+
+.PHONY: demo hub test check lint format bench soak system-deps venv clean ros2 lock test-latest
 
 demo: $(STAMP)  ## convert the sample, start the simulated chair and the Voilà kiosk, print the URL
 	$(BIN)/pmk demo
@@ -24,8 +29,8 @@ check: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) lint  ## the fast loop: l
 	$(BIN)/python -m pytest -n 2 -m "not heavy and not slow" $(PYTEST_ARGS)
 
 lint: $(STAMP)  ## ruff, and mypy (strict on the pure core: [tool.mypy] in pyproject.toml)
-	$(BIN)/ruff check pmk_nb tests bench conftest.py sample_maps
-	$(BIN)/ruff format --check pmk_nb tests bench conftest.py sample_maps
+	$(BIN)/ruff check pmk_nb tests bench conftest.py sample_maps requirements
+	$(BIN)/ruff format --check pmk_nb tests bench conftest.py sample_maps requirements
 	$(BIN)/python -m mypy
 
 bench: $(STAMP) system-deps ros2  ## speed and memory figures, written to bench/results.md
@@ -36,11 +41,37 @@ soak: $(STAMP) system-deps  ## 10 kiosk pages for 10 min: nothing may grow; then
 
 venv: $(STAMP)
 
-$(STAMP): pyproject.toml
+format: $(STAMP)  ## ruff's fixes and formatting, in place
+	$(BIN)/ruff check --fix pmk_nb tests bench conftest.py sample_maps requirements
+	$(BIN)/ruff format pmk_nb tests bench conftest.py sample_maps requirements
+
+# the lock: the build backend first (pmk_nb installs without build isolation), then every dependency
+# (runtime, dev, hub) exactly as locked, then pmk_nb itself with no dependency resolution at all
+$(STAMP): pyproject.toml $(LOCKS)
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[dev,hub]'
+	$(BIN)/python -m pip install --quiet --require-hashes -r requirements/build.txt
+	$(BIN)/python -m pip install --quiet --require-hashes --no-deps -r requirements/dev.txt
+	$(BIN)/python -m pip install --quiet --no-deps --no-build-isolation -e .
+	$(BIN)/python -m pip check
 	touch $(STAMP)
+
+# Refresh the locks to the newest releases pyproject.toml's ranges allow (pip-tools in its own venv).
+# The base and hub locks are constrained by the dev lock, so every lock names the same versions.
+lock:  ## re-resolve requirements/*.txt (pinned, with hashes) to the newest releases
+	test -x $(PIP_COMPILE) || { $(PYTHON) -m venv .venv-lock && .venv-lock/bin/python -m pip install --quiet pip-tools==7.7.0; }
+	cd requirements && ../$(PIP_COMPILE) $(LOCK_FLAGS) --upgrade --output-file build.txt build.in
+	cd requirements && ../$(PIP_COMPILE) $(LOCK_FLAGS) --upgrade --extra dev --extra hub --output-file dev.txt ../pyproject.toml
+	cd requirements && ../$(PIP_COMPILE) $(LOCK_FLAGS) --upgrade --output-file base.txt ../pyproject.toml constrain-dev.in
+	cd requirements && ../$(PIP_COMPILE) $(LOCK_FLAGS) --upgrade --output-file ros2.txt ros2.in
+
+# The fast tier against the newest releases (a venv of its own, the lock untouched): what moved is
+# printed first, so drift is seen before a fresh install meets it.
+test-latest: system-deps $(JS_STAMP) $(PROXY_STAMP)  ## the fast tier on the newest releases; prints what moved from the lock
+	test -x .venv-latest/bin/python || $(PYTHON) -m venv .venv-latest
+	.venv-latest/bin/python -m pip install --quiet --upgrade pip
+	.venv-latest/bin/python -m pip install --quiet --upgrade --upgrade-strategy eager -e '.[dev,hub]'
+	.venv-latest/bin/python requirements/drift.py
+	.venv-latest/bin/python -m pytest -n 2 -m "not heavy and not slow" $(PYTEST_ARGS)
 
 # Real parts the tests use: OpenSSH server (SFTP tests), Debian's Chromium (kiosk tests), espeak-ng
 # (spoken feedback for pages without speech synthesis) and Debian's
@@ -73,7 +104,7 @@ $(PROXY_STAMP): proxy/package.json proxy/package-lock.json
 	touch $(PROXY_STAMP)
 
 clean:
-	rm -rf $(VENV) tests/js/node_modules proxy/node_modules .pytest_cache .ruff_cache .mypy_cache .hypothesis test-artifacts .demo
+	rm -rf $(VENV) .venv-lock .venv-latest tests/js/node_modules proxy/node_modules .pytest_cache .ruff_cache .mypy_cache .hypothesis test-artifacts .demo
 
 # --- real ROS 2 stack (issue 9) -------------------------------------------------------------
 # Jazzy wheels + rosbridge-server-rs + our interfaces (ros/interfaces, rosapi_msgs included so the

