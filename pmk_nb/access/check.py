@@ -13,6 +13,8 @@ from pmk_nb.openings import OpeningPlan, plan_openings
 from pmk_nb.raster import RasterOptions, rasterise_storey
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from pmk_nb.grid import OccupancyGrid
     from pmk_nb.indoorgml import Building
 
@@ -75,8 +77,10 @@ def check_building(
     chair_width: float = DEFAULT_CHAIR_WIDTH,
     options: RasterOptions | None = None,
     storeys: list[str] | None = None,
+    on_grid: Callable[[str, OccupancyGrid], None] | None = None,
 ) -> list[StoreyReport]:
-    """Rasterise each storey in memory (nothing written) with ``options`` and check it."""
+    """Rasterise each storey in memory (nothing written) with ``options`` and check it; ``on_grid``
+    sees each storey's grid before it is dropped (the command line's witness judges it there)."""
     width = check_chair_width(chair_width)
     opts = RasterOptions() if options is None else options
     out = []
@@ -84,6 +88,8 @@ def check_building(
         plan = plan_openings(building, name, door_width=opts.door_width, max_gap=opts.max_wall_gap)
         grid = rasterise_storey(building, name, resolution, opts, openings=plan)
         out.append(check_grid(building, name, grid, chair_width=width, options=opts, plan=plan))
+        if on_grid is not None:
+            on_grid(name, grid)
         del grid
     return out
 

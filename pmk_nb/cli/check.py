@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from dataclasses import asdict
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -52,16 +52,51 @@ def add_parser(subparsers: Any) -> None:
         metavar="M",
         help="width of openings made where the file gives no door geometry (default 0.9)",
     )
+    p.add_argument(
+        "--plan",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="for a map (.yaml): the plan it was converted from (default: the plan its YAML names, "
+        "found as written, from the map's folder or beside the map)",
+    )
+    p.add_argument(
+        "--picture",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="write a PNG of the map with the witness's findings ringed and numbered "
+        "(FILE_<storey>.png per storey when there are several)",
+    )
     add_not_window_option(p)
     add_layer_option(p)
     add_json(p, "the report")
     p.set_defaults(run=run)
 
 
-def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
-    """The storeys' reports and the plan's Building (None for a written map: its rooms file says the rest)."""
+@dataclass
+class Witnessed:
+    """The witness's reports (one per storey) with the grids they judged, or why it could not run."""
+
+    reports: list[Any] = field(default_factory=list)
+    grids: list[Any] = field(default_factory=list)
+    missing: str = ""  # why the witness could not run ('' when it ran)
+
+    @property
+    def findings(self) -> int:
+        return sum(len(r.findings) for r in self.reports)
+
+    @property
+    def complete(self) -> bool:
+        return not self.missing and bool(self.reports) and all(r.graph for r in self.reports)
+
+
+def _reports(args: argparse.Namespace) -> tuple[list[Any], Any, Witnessed]:
+    """The storeys' reports, the plan's Building (None for a written map: its rooms file says the
+    rest) and the witness's verdict on the same grids."""
     from pmk_nb.access import check_building, check_map
     from pmk_nb.raster import RasterOptions
+    from pmk_nb.witness import PlanNotFound, witness_grid, witness_map
 
     target: Path = args.target
     width = chair_width_arg(args.chair_width)
@@ -69,6 +104,7 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
         raise PmkError(f"{target} is a folder", hint="Name an IndoorGML file (.gml) or a map YAML (.yaml).")
     if not target.is_file():
         raise PmkError(f"{target}: no such file", hint="Name an IndoorGML file (.gml) or a map YAML (.yaml).")
+    witnessed = Witnessed()
     if target.suffix.lower() in (".yaml", ".yml"):
         if args.not_windows or args.layers:
             opt = "--not-window" if args.not_windows else "--layer"
@@ -76,12 +112,26 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], Any]:
                 f"{target}: {opt} applies to a plan (.gml), not to a written map",
                 hint=f"Convert the plan again with {opt}, then check the new map.",
             )
-        return [check_map(target, chair_width=width)], None
+        report = check_map(target, chair_width=width)
+        try:
+            verdict, grid = witness_map(target, chair_width=width, plan=args.plan)
+            witnessed.reports.append(verdict)
+            witnessed.grids.append(grid)
+        except PlanNotFound as err:
+            witnessed.missing = str(err)
+        return [report], None, witnessed
     from pmk_nb.indoorgml import read_building
 
     building = read_building(target, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
     options = RasterOptions() if args.door_width is None else RasterOptions(door_width=args.door_width)
-    return check_building(building, args.resolution, chair_width=width, options=options), building
+
+    def judge(storey: str, grid: Any) -> None:
+        witnessed.reports.append(witness_grid(building, grid, chair_width=width))
+        if args.picture is not None:
+            witnessed.grids.append(grid)
+
+    reports = check_building(building, args.resolution, chair_width=width, options=options, on_grid=judge)
+    return reports, building, witnessed
 
 
 MAX_NOT_CHECKED = 10  # transitions named per storey; the rest are counted
@@ -118,32 +168,63 @@ def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any
     return lines
 
 
-def exit_code(reports: list[Any]) -> int:
-    """1 when a checked storey has a problem; else 3 when a storey (or the plan) could not be checked; else 0."""
-    if any(r.checked and not r.ok for r in reports):
+def exit_code(reports: list[Any], witnessed: Witnessed | None = None) -> int:
+    """1 when a checked storey has a problem or the witness finds the map disagrees with the plan; else 3
+    when a storey (or the plan) could not be checked, or the witness could not judge it; else 0."""
+    if any(r.checked and not r.ok for r in reports) or (witnessed is not None and witnessed.findings):
         return EXIT_PROBLEMS
+    if witnessed is not None and not witnessed.complete:
+        return EXIT_NOTHING_CHECKED
     return EXIT_OK if reports and all(r.checked for r in reports) else EXIT_NOTHING_CHECKED
 
 
-def verdict(reports: list[Any], code: int) -> str:
+def verdict(reports: list[Any], code: int, witnessed: Witnessed | None = None) -> str:
     """The last line: what the exit code means for this plan."""
     if code == EXIT_PROBLEMS:
         return "problems found"
+    if code == EXIT_NOTHING_CHECKED and witnessed is not None and witnessed.missing:
+        return "not checked (exit 3): the witness could not judge the map against its plan; see above"
     if code == EXIT_NOTHING_CHECKED:
         names = ", ".join(r.storey for r in reports if not r.checked) or "-"
         return f"not checked (exit 3): nothing could be checked on storey(s) {names}; see above"
     skipped = sum(len(r.not_checked) for r in reports)
     said = f"every transition checked ({skipped} not checked, above)" if skipped else "everywhere the graph says"
-    return f"ok: the chair can pass {said}"
+    return f"ok: the chair can pass {said}, and the written map agrees with the plan"
+
+
+def witness_lines(witnessed: Witnessed) -> list[str]:
+    """The witness's part of the text report: each storey's verdict, then its findings, numbered as in
+    the picture."""
+    if witnessed.missing:
+        return [f"witness: not run: {witnessed.missing}"]
+    lines = []
+    for r in witnessed.reports:
+        lines.append(r.summary())
+        lines.extend(f"  {n}. {f.describe()}" for n, f in enumerate(r.findings, 1))
+    return lines
+
+
+def _pictures(path: Path, witnessed: Witnessed) -> list[Path]:
+    """Write the witness's picture per storey: ``path`` itself for one storey, ``path_<storey>.png`` else."""
+    from pmk_nb.witness import write_picture
+
+    written = []
+    several = len(witnessed.reports) > 1
+    for report, grid in zip(witnessed.reports, witnessed.grids, strict=True):
+        out = path.with_name(f"{path.stem}_{report.storey}{path.suffix or '.png'}") if several else path
+        write_picture(out, grid, report.findings)
+        written.append(out)
+    return written
 
 
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.indoorgml import graph_lines, layer_lines
 
-    reports, building = _reports(args)
-    code = exit_code(reports)
+    reports, building, witnessed = _reports(args)
+    code = exit_code(reports, witnessed)
     conflict = building.unit_conflict if building is not None else ""
     suspect = building.unit_suspect if building is not None else None
+    pictures = [] if args.picture is None or witnessed.missing else _pictures(args.picture, witnessed)
     if args.json:
         doc = {
             "ok": code == EXIT_OK,
@@ -153,6 +234,12 @@ def run(args: argparse.Namespace) -> int:
             "graph": None if building is None else building.graph_status.to_json(),
             "skipped_layers": [] if building is None else [asdict(n) for n in building.skipped_layers],
             "storeys": [r.to_json() for r in reports],
+            "witness": {
+                "ran": not witnessed.missing,
+                "reason": witnessed.missing,
+                "storeys": [r.to_json() for r in witnessed.reports],
+                "pictures": [str(p) for p in pictures],
+            },
         }
         json.dump(doc, sys.stdout, indent=2, ensure_ascii=False)
         sys.stdout.write("\n")
@@ -165,6 +252,8 @@ def run(args: argparse.Namespace) -> int:
                 *layer_lines([asdict(n) for n in building.skipped_layers]),
             ]
         )
-        print("\n".join(head + format_report(reports, conflict, suspect)))
-        print(verdict(reports, code))
+        print("\n".join(head + format_report(reports, conflict, suspect) + witness_lines(witnessed)))
+        for picture in pictures:
+            print(f"picture: {picture}")
+        print(verdict(reports, code, witnessed))
     return code

@@ -125,6 +125,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     p.set_defaults(run=run)
 
 
+MAX_FINDINGS = 5  # the witness's findings printed per storey; `pmk check` lists them all
+
+
 def result_json(path: Path, result: Any) -> dict[str, Any]:
     """`pmk convert --json`: the files written per storey and each storey's access verdict."""
     from dataclasses import asdict
@@ -144,6 +147,7 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
                 "height": m.height,
                 "resolution": m.resolution,
                 "access": None if m.access is None else m.access.to_json(),
+                "witness": None if m.witness is None else m.witness.to_json(),
             }
         )
     return {
@@ -218,11 +222,18 @@ def run(args: argparse.Namespace) -> int:
         )
         if m.access is not None:
             print(f"    accessibility: {m.access.summary().split(': ', 1)[1]}")
+        if m.witness is not None:
+            print(f"    {m.witness.summary()}")
+            for finding in m.witness.findings[:MAX_FINDINGS]:
+                print(f"      {finding.describe()}")
+            if len(m.witness.findings) > MAX_FINDINGS:
+                print(f"      and {len(m.witness.findings) - MAX_FINDINGS} more (pmk check MAP.yaml lists them all)")
     if building.unit_conflict:
         print(f"  unit warning: {building.unit_conflict} (--unit m|dm|cm|mm)")
     if building.unit_suspect is not None:  # absurd doors: the unit before any door
         print(f"  unit suspect: {building.unit_suspect.message}")
     problems = [m for m in result.maps if m.access is not None and (not m.access.ok or m.access.not_checked)]
+    problems += [m for m in result.maps if m.witness is not None and m.witness.findings]
     if problems:
         print(f"  details: pmk check {result.maps[0].files.yaml.parent}/<map>.yaml  (or pmk check {path})")
     return 0

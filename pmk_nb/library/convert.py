@@ -35,6 +35,7 @@ from pmk_nb.library.naming import storey_map_names
 from pmk_nb.openings import plan_openings
 from pmk_nb.progress import ProgressCallback, emit, sub_range
 from pmk_nb.raster import RasterOptions, plan_storey, rasterise_storey
+from pmk_nb.witness import WitnessReport, witness_grid
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml import Building
@@ -43,6 +44,7 @@ if TYPE_CHECKING:
 __all__ = ["ConvertOptions", "ConvertResult", "StoreyMap", "convert_plan"]
 
 _READ_END = 0.3  # share of the progress bar for reading the plan
+WITNESS_KEY = "witness"  # where a rooms file keeps the witness's verdict on the map beside it
 _RASTER_END = 0.9  # ... and for rasterising every storey; the rest is writing
 
 
@@ -92,6 +94,7 @@ class StoreyMap:
     resolution: float
     rooms: Path | None = None
     access: StoreyReport | None = None
+    witness: WitnessReport | None = None  # the written files judged against the plan (pmk_nb.witness)
 
     @property
     def size_m(self) -> tuple[float, float]:
@@ -159,6 +162,7 @@ def _stage_storeys(
             building, storey, resolution, opts.raster, openings=plan, progress=sub_range(progress, start, start + span)
         )
         grid.meta.update(extra_meta)
+        grid.meta.setdefault("source_path", str(Path(building.source).resolve()))  # the witness finds the plan
         files = write_map(
             grid,
             staging,
@@ -177,14 +181,25 @@ def _stage_storeys(
                 options=opts.raster,
                 plan=plan,
             )
+        width, height, cell = grid.width, grid.height, grid.resolution
+        del grid  # one storey's grid in memory at a time
+        witnessed = _witness(building, files.yaml, opts.chair_width, width * height) if opts.check else None
         rooms = sidecar_path(files.yaml)
         doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
         choices = ConvertChoices(opts.unit, tuple(opts.not_windows), tuple(opts.layers))
         doc[CHOICES_KEY] = choices.to_json()  # kept for the next time
+        if witnessed is not None:
+            doc[WITNESS_KEY] = witnessed.to_json()
         rooms.write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
-        staged.append(StoreyMap(storey, files, grid.width, grid.height, grid.resolution, rooms, report))
-        del grid  # one storey's grid in memory at a time
+        staged.append(StoreyMap(storey, files, width, height, cell, rooms, report, witnessed))
     return staged
+
+
+def _witness(building: Building, yaml_path: Path, chair_width: float, pixels: int) -> WitnessReport:
+    """The files just written, read back as a map server reads them, judged against the plan."""
+    from pmk_nb.rosmap import read_map
+
+    return witness_grid(building, read_map(yaml_path, max_pixels=pixels), chair_width=chair_width)
 
 
 def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
@@ -206,7 +221,7 @@ def _install(staged: list[StoreyMap], out_dir: Path) -> list[StoreyMap]:
         preview = None if f.preview is None else out_dir / f.preview.name
         files = MapFiles(out_dir / f.yaml.name, out_dir / f.image.name, preview)
         rooms = None if m.rooms is None else out_dir / m.rooms.name
-        moved.append(StoreyMap(m.storey, files, m.width, m.height, m.resolution, rooms, m.access))
+        moved.append(StoreyMap(m.storey, files, m.width, m.height, m.resolution, rooms, m.access, m.witness))
     return moved
 
 

@@ -27,6 +27,7 @@ PACKAGES |= {"catalogue"}  # STAC map catalogues: publish, browse, install (issu
 PACKAGES |= {"classroom"}  # a simulated chair per page, the class's chair cap (issue 26)
 PACKAGES |= {"seams"}  # the only modules touching a library's private members, one per library (issue 25)
 PACKAGES |= {"openings"}  # where the navigation graph opens walls: raster draws it, access and guide read it (issue 25)
+PACKAGES |= {"witness"}  # the written map judged against its plan, sharing no decision with the converter (issue 37)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -149,6 +150,11 @@ ALLOWED_IMPORTS["robot"] |= {"goalbeat"}
 ALLOWED_IMPORTS["cli"] |= {"goalbeat"}
 ALLOWED_IMPORTS["catalogue"] = SHARED | {"library", "access", "indoorgml", "rosmap"}  # on top of the maps folder
 ALLOWED_IMPORTS["ui"] |= {"catalogue"}
+# The witness (issue 37) reads the plan and the written files only: never openings/, raster/ or access/,
+# so none of the converter's decisions can be repeated in the verdict on its output.
+ALLOWED_IMPORTS["witness"] = SHARED | {"indoorgml", "rosmap"}
+for _user in ("library", "cli", "ui", "catalogue"):
+    ALLOWED_IMPORTS[_user] |= {"witness"}
 ALLOWED_IMPORTS["cli"] |= {"catalogue"}
 # A chair per classroom page (issue 26): a simulator and a profile for it, for the ui and the cli.
 ALLOWED_IMPORTS["classroom"] = SHARED | {"sim", "chair"}

@@ -1,0 +1,24 @@
+"""The witness: a written map judged against its plan, sharing no decision with the converter.
+
+Public API: :func:`witness_map` and :func:`witness_grid` (:mod:`.check`), :func:`witness_storey`
+(:mod:`.storey`), the findings (:mod:`.findings`), the picture of the findings (:mod:`.picture`).
+"""
+
+from pmk_nb.witness.check import PlanChanged, PlanNotFound, find_plan, witness_grid, witness_map
+from pmk_nb.witness.findings import Finding, FindingKind, WitnessReport
+from pmk_nb.witness.picture import findings_png, write_picture
+from pmk_nb.witness.storey import witness_storey
+
+__all__ = [
+    "Finding",
+    "FindingKind",
+    "PlanChanged",
+    "PlanNotFound",
+    "WitnessReport",
+    "find_plan",
+    "findings_png",
+    "witness_grid",
+    "witness_map",
+    "witness_storey",
+    "write_picture",
+]

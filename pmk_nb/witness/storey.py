@@ -1,0 +1,331 @@
+"""The witness of one storey: the written grid judged against the plan's cells and graph alone.
+
+It shares no code with the openings planner or the rasteriser (``tests/project/test_layout.py`` holds
+that: this package may import only the reader, the map files and the shared leaves), so a wrong
+decision of the converter is not repeated here. Its rules follow what the plan says:
+
+* a navigable cell's interior (eroded by half a wall and a pixel) is free, but for the non-navigable
+  cells inside it; a non-navigable cell's interior is not free;
+* two touching cells that no transition (nor a door boundary they share) joins are not connected in
+  the map through the wall between them (a *leak*), any other cell being excluded from the way;
+* a transition joins its two cells for the chair: its centre stays farther than half its width from
+  every pixel that is not free (SciPy's exact distance transform), from one cell to the other,
+  within the two cells and the wall between them;
+* a cell no chair fits in (a door slab) is crossed: the chair goes from each of its rooms to every
+  other through it, so openings on its two faces must line up.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+import shapely
+from scipy import ndimage
+from shapely.ops import nearest_points
+
+from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
+from pmk_nb.grid import FREE
+from pmk_nb.witness.findings import Finding, FindingKind, WitnessReport
+from pmk_nb.witness.frame import MapFrame, Window
+from pmk_nb.witness.plausible import implausible, overlaps
+
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
+
+    from pmk_nb.grid import OccupancyGrid
+    from pmk_nb.indoorgml import Building, Cell
+
+#: a cell's interior may have this share of its pixels wrong before it is a finding (pixel rounding)
+TOLERANCE = 0.01
+MIN_PIXELS = 3
+_EIGHT = np.ones((3, 3), dtype=bool)
+WHOLE_MAP_PIXELS = 40_000_000  # one distance transform for the map up to this size (8 bytes a pixel)
+
+
+@dataclass
+class _Storey:
+    """What every rule of one storey reads: the map, its frame, the cells and the graph's pairs."""
+
+    name: str
+    frame: MapFrame
+    free: np.ndarray  # bool, the grid's free pixels (row 0 = bottom)
+    cells: dict[str, Cell]
+    tree: shapely.STRtree
+    order: list[str]  # cell ids in the tree's order
+    joined: set[frozenset[str]]
+    links: list[tuple[str, str]]
+    erode: float  # metres a cell's outline is drawn into it (half a wall and a pixel)
+    gap: float  # cells this far apart share a wall
+    radius: float  # the chair's half-width
+    chair_room: np.ndarray | None = None  # where the chair's centre may stand, for the whole map
+    masks: dict[tuple[str, float], tuple[Window, np.ndarray]] = field(default_factory=dict)  # per cell, once
+
+    def cell_mask(self, win: Window, cell_id: str, grow: float = 0.0) -> np.ndarray:
+        """A cell's pixels in ``win``, its outline moved out by ``grow`` metres (in, when negative);
+        each drawn once per storey."""
+        key = (cell_id, grow)
+        if key not in self.masks:
+            foot = self.cells[cell_id].footprint
+            shape = foot.buffer(grow) if grow else foot
+            own = self.frame.window(shape.bounds, 1) if not shape.is_empty else Window(0, 0, 0, 0)
+            self.masks[key] = (own, self.frame.mask(own, shape))
+        own, mask = self.masks[key]
+        return self.frame.paste(win, own, mask)
+
+    def neighbours(self, cell_id: str) -> set[str]:
+        """The cells a transition joins to ``cell_id``."""
+        return {a if b == cell_id else b for a, b in self.links if cell_id in (a, b)}
+
+    def name_of(self, cell_id: str) -> str:
+        return self.cells[cell_id].name or cell_id
+
+    def band(self, a: str, b: str) -> BaseGeometry:
+        """Where the wall between ``a`` and ``b`` may be drawn."""
+        return self.cells[a].footprint.buffer(self.gap).intersection(self.cells[b].footprint.buffer(self.gap))
+
+
+def witness_storey(
+    building: Building, storey: str, grid: OccupancyGrid, *, chair_width: float, wall_thickness: float | None = None
+) -> WitnessReport:
+    """Judge one storey's written ``grid`` against ``building`` (read from the plan itself)."""
+    st = _prepare(building, storey, grid, chair_width, wall_thickness)
+    status = building.graph_status
+    graph = not status.lost and bool(st.links)
+    report = WitnessReport(storey, chair_width, grid.resolution, graph)
+    report.findings += _interiors(st)
+    report.findings += overlaps(storey, st.cells, st.tree, st.order)
+    report.findings += implausible(storey, st.cells, [b.geometry for b in building.doors_of(storey)])
+    report.counts = {"cells": len(st.cells)}
+    if graph:
+        pairs = _touching_pairs(st)
+        report.findings += _leaks(st, pairs)
+        report.findings += _transitions(st)
+        report.findings += _passages(st)
+        report.counts |= {"touching pairs": len(pairs), "transitions": len(st.links)}
+    return report
+
+
+def _prepare(
+    building: Building, storey: str, grid: OccupancyGrid, chair_width: float, wall_thickness: float | None
+) -> _Storey:
+    cells = {c.id: c for c in building.cells_of(storey) if c.footprint is not None and not c.footprint.is_empty}
+    order = list(cells)
+    tree = shapely.STRtree([cells[c].footprint for c in order])
+    joined: set[frozenset[str]] = set()
+    links: list[tuple[str, str]] = []
+    for link in building.links_of(storey):
+        if link.a in cells and link.b in cells and link.a != link.b:
+            joined.add(frozenset((link.a, link.b)))
+            if _walkable(cells[link.a]) and _walkable(cells[link.b]):
+                links.append((link.a, link.b))
+    doors = {b.id for b in building.doors_of(storey)}
+    owners: dict[str, list[str]] = {}
+    for c in cells.values():
+        for bid in c.boundary_ids:
+            if bid in doors:
+                owners.setdefault(bid, []).append(c.id)
+    joined |= {frozenset(o[:2]) for o in owners.values() if len(o) >= 2}
+    thick = DEFAULT_WALL_THICKNESS if wall_thickness is None else wall_thickness
+    return _Storey(
+        name=storey,
+        frame=MapFrame.of(grid),
+        free=grid.data == FREE,
+        cells=cells,
+        tree=tree,
+        order=order,
+        joined=joined,
+        links=sorted(set(links)),
+        erode=thick / 2 + grid.resolution,
+        gap=max(DEFAULT_MAX_WALL_GAP, thick + 2 * grid.resolution),
+        radius=chair_width / 2,
+    )
+
+
+def _walkable(cell: Cell) -> bool:
+    return cell.kind.is_free and not cell.window
+
+
+def _interiors(st: _Storey) -> list[Finding]:
+    """Rooms free, obstacles not free, every cell on the map."""
+    out: list[Finding] = []
+    obstacles = [c.footprint for c in st.cells.values() if not c.kind.is_free]
+    blocked = shapely.union_all(obstacles).buffer(st.erode) if obstacles else None
+    for cell in st.cells.values():
+        if cell.window:
+            continue
+        inner: BaseGeometry = cell.footprint.buffer(-st.erode)
+        if cell.kind.is_free and blocked is not None:
+            inner = inner.difference(blocked)
+        if inner.is_empty:
+            continue
+        win = st.frame.window(inner.bounds)
+        mask = st.frame.mask(win, inner)
+        expected = inner.area / st.frame.resolution**2
+        if mask.sum() < 0.5 * expected - MIN_PIXELS:
+            out.append(_finding(st, FindingKind.OUTSIDE_MAP, (cell.id,), inner.centroid, "the map does not cover it"))
+            continue
+        sub = st.free[win.r0 : win.r1, win.c0 : win.c1]
+        wrong = mask & (~sub if cell.kind.is_free else sub)
+        share = wrong.sum() / max(mask.sum(), 1)
+        if wrong.sum() >= MIN_PIXELS and share > TOLERANCE:
+            kind = FindingKind.ROOM_NOT_FREE if cell.kind.is_free else FindingKind.OBSTACLE_FREE
+            what = "not free" if cell.kind.is_free else "free"
+            place = _centroid(st, win, wrong)
+            out.append(_finding(st, kind, (cell.id,), place, f"{share:.0%} of its interior is {what}", share))
+    return out
+
+
+def _touching_pairs(st: _Storey) -> list[tuple[str, str]]:
+    """Walkable cells close enough to share a wall, each pair once."""
+    walk = [c for c in st.order if _walkable(st.cells[c])]
+    index = {c: i for i, c in enumerate(st.order)}
+    pairs = set()
+    for c in walk:
+        for i in st.tree.query(st.cells[c].footprint, predicate="dwithin", distance=st.gap):
+            other = st.order[i]
+            if other != c and _walkable(st.cells[other]):
+                pairs.add((c, other) if index[c] < index[other] else (other, c))
+    return sorted(pairs, key=lambda p: (index[p[0]], index[p[1]]))
+
+
+def _region(st: _Storey, members: list[str], bands: list[BaseGeometry], pad: int) -> tuple[Window, np.ndarray]:
+    """The pixels of the cells ``members`` and of the walls ``bands`` between them; the walls lose any other
+    cell with the wall drawn round it (so a doorway cell's jambs are its own, not a way past it)."""
+    shapes = [st.cells[c].footprint for c in members] + bands
+    bounds = np.array([g.bounds for g in shapes if not g.is_empty])
+    box = (bounds[:, 0].min(), bounds[:, 1].min(), bounds[:, 2].max(), bounds[:, 3].max())
+    win = st.frame.window(box, pad)
+    walls = np.zeros(win.shape, dtype=bool)
+    for band in bands:
+        walls |= st.frame.mask(win, band)
+    for i in st.tree.query(shapely.box(*box).buffer(st.erode)):
+        if st.order[i] not in members:
+            walls &= ~st.cell_mask(win, st.order[i], st.erode)
+    for c in members:
+        walls |= st.cell_mask(win, c)
+    return win, walls
+
+
+def _core(st: _Storey, win: Window, cell_id: str) -> np.ndarray:
+    """A cell's pixels well inside it; all its pixels for a cell no chair fits in (a doorway): a chair
+    is in such a cell wherever its centre is."""
+    if _thin(st, cell_id):
+        return st.cell_mask(win, cell_id)
+    core = st.cell_mask(win, cell_id, -st.erode)
+    return core if core.any() else st.cell_mask(win, cell_id)
+
+
+def _thin(st: _Storey, cell_id: str) -> bool:
+    """A cell no chair fits in wholly."""
+    return bool(st.cells[cell_id].footprint.buffer(-st.radius).is_empty)
+
+
+def _leaks(st: _Storey, pairs: list[tuple[str, str]]) -> list[Finding]:
+    out = []
+    for a, b in pairs:
+        if frozenset((a, b)) in st.joined:
+            continue
+        band = st.band(a, b)
+        win, region = _region(st, [a, b], [band], 1)
+        ways = st.free[win.r0 : win.r1, win.c0 : win.c1] & region
+        labels, _ = ndimage.label(ways, structure=_EIGHT)
+        common = np.intersect1d(labels[_core(st, win, a)], labels[_core(st, win, b)])
+        common = common[common > 0]
+        if common.size:
+            joined = np.isin(labels, common) & st.frame.mask(win, band)
+            place = _centroid(st, win, joined) if joined.any() else band.centroid
+            out.append(_finding(st, FindingKind.LEAK, (a, b), place, "joined in the map but not in the graph"))
+    return out
+
+
+def _chair_room(st: _Storey, win: Window) -> np.ndarray:
+    """Where the chair's centre may stand in ``win``: farther than its half-width from anything not free.
+
+    One exact distance transform of the whole map when it is of a size to hold (then sliced), else one
+    per window (padded by the chair's radius, so a window's edge hides no wall).
+    """
+    if st.chair_room is None and st.free.size <= WHOLE_MAP_PIXELS:
+        st.chair_room = np.asarray(ndimage.distance_transform_edt(st.free) * st.frame.resolution > st.radius)
+    if st.chair_room is not None:
+        return st.chair_room[win.r0 : win.r1, win.c0 : win.c1]
+    free = st.free[win.r0 : win.r1, win.c0 : win.c1]
+    return np.asarray(ndimage.distance_transform_edt(free) * st.frame.resolution > st.radius)
+
+
+def _connected(st: _Storey, members: list[str], bands: list[BaseGeometry], ends: list[str], *, chair: bool) -> bool:
+    """Whether the free pixels of the region of ``members`` and ``bands`` join the cores of all ``ends``."""
+    pad = int(np.ceil(st.radius / st.frame.resolution)) + 2
+    win, region = _region(st, members, bands, pad)
+    room = _chair_room(st, win) if chair else st.free[win.r0 : win.r1, win.c0 : win.c1]
+    labels, _ = ndimage.label(room & region, structure=_EIGHT)
+    seen = [set(np.unique(labels[_core(st, win, c)]).tolist()) - {0} for c in ends]
+    return bool(set.intersection(*seen)) if seen else False
+
+
+def _transitions(st: _Storey) -> list[Finding]:
+    out = []
+    ends = _degrees(st)
+    for a, b in st.links:
+        fa, fb = st.cells[a].footprint, st.cells[b].footprint
+        if fa.distance(fb) > st.gap:
+            continue  # apart: the graph joins them through cells between, which their own links judge
+        # the graph may also join them through doorway cells: a way through one of those counts
+        via = sorted(c for c in st.neighbours(a) & st.neighbours(b) if _thin(st, c))
+        members = [a, b, *via]
+        bands = [st.band(a, b)] + [st.band(x, c) for c in via for x in (a, b)]
+        # a way out (a doorway no chair fits in, with nothing beyond it in the graph): nothing is drawn
+        # past it, so a chair cannot be shown through; the map must still leave a way for a point
+        exit_ = any(ends.get(c, 0) == 1 and _thin(st, c) for c in (a, b))
+        if not exit_ and _connected(st, members, bands, [a, b], chair=True):
+            continue
+        point = _connected(st, members, bands, [a, b], chair=False)
+        if exit_ and point:
+            continue
+        why = "narrower than the chair" if point else "no way through at all"
+        p, q = nearest_points(fa, fb)
+        place = shapely.Point((p.x + q.x) / 2, (p.y + q.y) / 2)
+        out.append(_finding(st, FindingKind.BLOCKED, (a, b), place, f"a transition joins them: {why}"))
+    return out
+
+
+def _degrees(st: _Storey) -> dict[str, int]:
+    """How many transitions of the storey each cell has."""
+    out: dict[str, int] = {}
+    for a, b in st.links:
+        out[a] = out.get(a, 0) + 1
+        out[b] = out.get(b, 0) + 1
+    return out
+
+
+def _passages(st: _Storey) -> list[Finding]:
+    """A cell no chair fits in, joined to two or more cells: the chair must cross it between them."""
+    out = []
+    for cell_id, cell in st.cells.items():
+        if not _walkable(cell) or not _thin(st, cell_id):
+            continue
+        ends = sorted(st.neighbours(cell_id))
+        for i, a in enumerate(ends):
+            for b in ends[i + 1 :]:
+                if frozenset((a, b)) in st.joined:
+                    continue
+                bands = [st.band(a, cell_id), st.band(cell_id, b)]
+                if not _connected(st, [a, cell_id, b], bands, [a, b], chair=True):
+                    detail = f"the chair cannot cross {st.name_of(cell_id)!r} between them (openings not in line?)"
+                    out.append(
+                        _finding(st, FindingKind.NO_WAY_THROUGH, (a, cell_id, b), cell.footprint.centroid, detail)
+                    )
+    return out
+
+
+def _centroid(st: _Storey, win: Window, mask: np.ndarray) -> shapely.Point:
+    rows, cols = np.nonzero(mask)
+    return shapely.Point(st.frame.point(win, float(rows.mean()), float(cols.mean())))
+
+
+def _finding(
+    st: _Storey, kind: FindingKind, cells: tuple[str, ...], place: shapely.Point, detail: str, amount: float = 0.0
+) -> Finding:
+    names = tuple(st.name_of(c) for c in cells)
+    return Finding(kind, st.name, cells, names, (float(place.x), float(place.y)), detail, float(amount))

@@ -1,0 +1,51 @@
+"""The witness's own pixel fill agrees with shapely's point-in-polygon on every pixel centre."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pmk_nb.grid import OccupancyGrid
+from pmk_nb.witness.frame import MapFrame, Window
+
+coord = st.floats(min_value=-3.0, max_value=13.0, allow_nan=False).map(lambda v: round(v, 3))
+
+
+@st.composite
+def shapes(draw: st.DrawFn) -> shapely.Geometry:
+    """Random polygons (convex hulls of points, some with a hole, some in two parts)."""
+    pts = draw(st.lists(st.tuples(coord, coord), min_size=3, max_size=9))
+    poly = shapely.MultiPoint(pts).convex_hull
+    if draw(st.booleans()):
+        poly = poly.difference(poly.centroid.buffer(draw(st.floats(0.1, 2.0))))
+    if draw(st.booleans()):
+        poly = poly.union(shapely.box(*draw(st.tuples(coord, coord)), 14.0, 14.0))
+    return poly
+
+
+@pytest.mark.slow
+@settings(max_examples=150, deadline=None)
+@given(
+    shape=shapes(),
+    res=st.sampled_from([0.05, 0.1, 0.137]),
+    window=st.tuples(st.integers(0, 40), st.integers(41, 120), st.integers(0, 40), st.integers(41, 120)),
+)
+def test_the_fill_is_shapely_point_in_polygon(shape: shapely.Geometry, res: float, window: tuple[int, ...]) -> None:
+    frame = MapFrame(-1.0, -2.0, res, 120, 120)
+    win = Window(*window)
+    xs, ys = frame.centres(win)
+    expected = shapely.contains_xy(shape, xs, ys) if not shape.is_empty else np.zeros(win.shape, bool)
+    got = frame.mask(win, shape)
+    on_edge = shapely.dwithin(shape.boundary, shapely.points(xs, ys), 1e-9) if not shape.is_empty else expected
+    assert not np.any((got != expected) & ~on_edge)
+
+
+def test_the_frame_of_a_grid_is_its_origin_resolution_and_size() -> None:
+    grid = OccupancyGrid(np.zeros((30, 40), dtype=np.int8), 0.05, (1.5, -2.0, 0.0))
+    frame = MapFrame.of(grid)
+    assert (frame.x0, frame.y0, frame.resolution, frame.width, frame.height) == (1.5, -2.0, 0.05, 40, 30)
+    win = frame.window((1.5, -2.0, 1.6, -1.9))
+    assert frame.point(win, 0, 0) == (1.525, -1.975)
