@@ -157,6 +157,11 @@ def _serve(tmp_path: Path, token: str | None = None) -> Iterator[tuple[int, subp
         log.close()
 
 
+def _log(tmp_path: Path) -> str:
+    """What the served Voilà has logged so far."""
+    return (tmp_path / "voila.log").read_text(errors="replace")
+
+
 @pytest.fixture
 def served(tmp_path: Path) -> Iterator[tuple[int, subprocess.Popen[bytes]]]:
     yield from _serve(tmp_path)
@@ -217,6 +222,9 @@ def test_a_token_does_not_excuse_a_foreign_origin(tmp_path: Path) -> None:
         channels = f"ws://127.0.0.1:{port}/api/kernels/{kernel}/channels?token={token}&session_id=s"
         assert _ws_status(channels, origin=f"http://evil.example:{port}") in (400, 403)
         assert _ws_status(channels, origin=f"http://127.0.0.1:{port}") == 101
+        assert httpx.get(base + f"voila/static/none.js?token={token}", timeout=60).status_code in (403, 404)
+        assert wait_until(lambda: "none.js?token=***" in _log(tmp_path), 60) is not None
+        assert token not in _log(tmp_path), "the token was logged"
 
 
 @pytest.mark.slow
@@ -313,4 +321,4 @@ def test_crafted_frames_on_a_closed_or_open_socket_do_not_grow_voila(
     assert httpx.get(f"http://127.0.0.1:{port}/login", timeout=120).status_code in (200, 302)
     grown = rss_mb(voila) - baseline
     assert grown < GROWTH_LIMIT_MB, f"Voilà grew by {grown:.0f} MB ({after_close} + {while_open} frames)"
-    assert "a websocket sent a malformed frame" in (tmp_path / "voila.log").read_text(errors="replace")
+    assert "a websocket sent a malformed frame" in _log(tmp_path)
