@@ -21,6 +21,8 @@ Server choices, and why:
     then started as :mod:`pmk_nb.cli.voila_tls` with ``ssl_options`` in ``voila.json``; beyond
     loopback, plain HTTP needs ``--insecure`` (:func:`pmk_nb.cli.serving.check_transport`).
   * ``show_tracebacks`` stays False: the app reports errors itself.
+  * Tokens are masked in the server's log (``?token=***``): tornado logs each 4xx with its URL
+    (:mod:`pmk_nb.cli.tokenmask`).
   * Only this server's own names are served (Host and Origin checked, token or not), a kernel has
     one websocket (its page's, binary protocol, bounded output), see :mod:`pmk_nb.cli.voila_guard`;
     a kiosk always requires a token, on loopback too (:func:`preflight`).
@@ -36,7 +38,7 @@ import webbrowser
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pmk_nb.cli import serving
+from pmk_nb.cli import serving, tokenmask
 from pmk_nb.cli.procs import stop_process, wait_children, wait_for_port
 from pmk_nb.cli.voila_kernels import WS_PING_INTERVAL_MS, WS_PING_TIMEOUT_MS
 from pmk_nb.fileio import atomic_write
@@ -86,7 +88,8 @@ def dashboard_notebook() -> dict[str, object]:
 def server_config(token: str | None = None, ip: str = DEFAULT_IP, tls: TlsFiles | None = None) -> dict[str, object]:
     """Voilà's config file: websocket pings (integers, which the command line would make strings), token,
     the guards of :mod:`pmk_nb.cli.voila_guard` (Host/Origin for ``ip``, one bounded channel per kernel),
-    the certificate to serve HTTPS with (read by :mod:`pmk_nb.cli.voila_tls`)."""
+    the certificate to serve HTTPS with (read by :mod:`pmk_nb.cli.voila_tls`), tokens masked in its log
+    (:mod:`pmk_nb.cli.tokenmask`)."""
     tornado: dict[str, object] = {"ws_ping_interval": WS_PING_INTERVAL_MS, "ws_ping_timeout": WS_PING_TIMEOUT_MS}
     if tls is not None:
         tornado["ssl_options"] = {"certfile": str(tls.certfile), "keyfile": str(tls.keyfile)}
@@ -98,6 +101,7 @@ def server_config(token: str | None = None, ip: str = DEFAULT_IP, tls: TlsFiles 
         "tornado_settings": tornado,
         "identity_provider_class": IDENTITY_PROVIDER,
         "kernel_websocket_connection_class": KERNEL_CONNECTION,
+        "logging_config": tokenmask.logging_config(),
     }
     if token:
         voila["token"] = token

@@ -16,7 +16,10 @@ configuration (``voila.json``, :func:`pmk_nb.cli.voila.server_config`):
     most one websocket, the page's own (the first session that connected; a reconnect of that page
     is admitted once its old socket is closed); only the binary v1 protocol is spoken (the page's
     scripts always offer it); and a connection whose unsent output passes :data:`MAX_UNSENT_BYTES`
-    is closed (nothing more is queued for it meanwhile).
+    is closed (nothing more is queued for it meanwhile).  Frames from the page reach the kernel only
+    while its socket is admitted and open, and only when their header fits the frame
+    (:mod:`pmk_nb.cli.voila_frames`): jupyter_server parses a closed socket's frames with its legacy
+    deserializer, which trusts a buffer count (one 68-byte frame: +270 MB, kept).
 
 The refusals are what bound the server: with them switched off in an experiment, a silent legacy
 socket grew the server from 100 to 265 MB in 12 s although only one message went through its
@@ -24,8 +27,8 @@ socket grew the server from 100 to 265 MB in 12 s although only one message went
 and the output budget never tripped.  The budget is a back-stop for the page's own socket only.
 
 This module is the one seam to jupyter_server's kernel-websocket internals (``ZMQChannelsWebsocketConnection``'s
-``prepare``/``connect``/``disconnect``/``write_message``, ``_open_sessions``); tests/kernels/test_voila_guard_seam.py
-pins them in the installed version.
+``prepare``/``connect``/``disconnect``/``write_message``/``handle_incoming_message``, ``_open_sessions``);
+tests/kernels/test_voila_guard_seam.py pins them in the installed version.
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ from jupyter_server.services.kernels.connection.channels import ZMQChannelsWebso
 from tornado import web
 
 from pmk_nb.cli.serving import DEFAULT_IP, server_names
+from pmk_nb.cli.voila_frames import v1_frame_fault
 from pmk_nb.seams import forget_open_session
 
 V1_PROTOCOL = "v1.kernel.websocket.jupyter.org"
@@ -216,6 +220,29 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         if socket_closed is not None:
             socket_closed(self.kernel_id, self.websocket_handler.close_code)
         super().disconnect()
+
+    def handle_incoming_message(self, incoming_msg: Any) -> None:
+        """Pass a frame from the page on to the kernel only while this socket is admitted and open, and
+        only a v1 frame whose header fits it (:func:`~pmk_nb.cli.voila_frames.v1_frame_fault`).
+
+        Once the server closed the socket (a ping timeout, :meth:`_bounded_write`), jupyter_server reads
+        the subprotocol as None and parses what still arrives with its legacy deserializer: one 68-byte
+        frame then grew Voilà by 270 MB for good.  Those frames are dropped here, unread; a malformed
+        frame closes the socket."""
+        if not (self._admitted and self._open()):
+            return
+        fault = v1_frame_fault(incoming_msg)
+        if fault is not None:
+            log = self.multi_kernel_manager.log
+            log.warning("Kernel %s: a websocket sent a malformed frame (%s); closing it", self.kernel_id, fault.value)
+            self.websocket_handler.close(POLICY_VIOLATION, "malformed frame")
+            return
+        super().handle_incoming_message(incoming_msg)
+
+    def _open(self) -> bool:
+        """The websocket is open, in the v1 protocol, and not closing (no close frame sent or received)."""
+        ws = self.websocket_handler.ws_connection
+        return ws is not None and not ws.is_closing() and self.subprotocol == V1_PROTOCOL
 
     @property
     def write_message(self) -> Any:  # type: ignore[override]

@@ -10,6 +10,7 @@ too.  A kiosk served on loopback needed no token.
 from __future__ import annotations
 
 import argparse
+import logging
 import os
 import re
 import socket
@@ -18,8 +19,11 @@ import sys
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
 
 import httpx
+import psutil
 import pytest
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
@@ -27,7 +31,17 @@ from websockets.sync.client import connect
 from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.cli.serving import server_names
 from pmk_nb.cli.voila import preflight, server_config, voila_command, write_dashboard_notebook
-from pmk_nb.cli.voila_guard import V1_PROTOCOL, OutputBudget, host_allowed, is_own_address, request_host
+from pmk_nb.cli.voila_guard import (
+    POLICY_VIOLATION,
+    V1_PROTOCOL,
+    OutputBudget,
+    PageChannelConnection,
+    host_allowed,
+    is_own_address,
+    request_host,
+)
+from tests.page_probes import rss_mb, wait_until
+from tests.raw_websocket import RawWebSocket
 
 # --- units -----------------------------------------------------------------------------------------
 
@@ -85,6 +99,45 @@ def test_a_kiosk_gets_a_token_on_loopback_too() -> None:
     assert token and len(token) >= 16
 
 
+class _Handler:
+    """A websocket handler as the guard sees it: its protocol (None once the server closed it), close()."""
+
+    def __init__(self, *, open_: bool = True, closing: bool = False) -> None:
+        self.ws_connection = SimpleNamespace(is_closing=lambda: closing) if open_ else None
+        self.selected_subprotocol = V1_PROTOCOL
+        self.closed: list[tuple[int, str]] = []
+
+    def close(self, code: int, reason: str) -> None:
+        self.closed.append((code, reason))
+
+
+class _Connection(PageChannelConnection):
+    """The guard over a stand-in handler, without a kernel behind it."""
+
+    websocket_handler: Any = None  # plain attribute: the stand-in is no tornado handler
+    kernel_id = "k"
+    multi_kernel_manager = SimpleNamespace(log=logging.getLogger("test"))
+
+
+def _connection(handler: _Handler, *, admitted: bool = True) -> PageChannelConnection:
+    conn = _Connection()
+    conn.websocket_handler = handler
+    conn._admitted = admitted
+    return conn
+
+
+def test_a_closed_closing_or_unadmitted_socket_drops_frames_and_a_malformed_frame_closes_it() -> None:
+    malformed = (1 << 24).to_bytes(8, "little") + b"\0" * 60
+    for handler, admitted in ((_Handler(open_=False), True), (_Handler(closing=True), True), (_Handler(), False)):
+        conn = _connection(handler, admitted=admitted)
+        conn.handle_incoming_message(malformed)  # type: ignore[arg-type]
+        assert handler.closed == []  # dropped unread: not even judged malformed
+    handler = _Handler()
+    conn = _connection(handler)
+    conn.handle_incoming_message(malformed)  # type: ignore[arg-type]
+    assert handler.closed == [(POLICY_VIOLATION, "malformed frame")]
+
+
 # --- a real Voilà ------------------------------------------------------------------------------------
 
 
@@ -102,6 +155,11 @@ def _serve(tmp_path: Path, token: str | None = None) -> Iterator[tuple[int, subp
     finally:
         stop_process(voila)
         log.close()
+
+
+def _log(tmp_path: Path) -> str:
+    """What the served Voilà has logged so far."""
+    return (tmp_path / "voila.log").read_text(errors="replace")
 
 
 @pytest.fixture
@@ -164,6 +222,9 @@ def test_a_token_does_not_excuse_a_foreign_origin(tmp_path: Path) -> None:
         channels = f"ws://127.0.0.1:{port}/api/kernels/{kernel}/channels?token={token}&session_id=s"
         assert _ws_status(channels, origin=f"http://evil.example:{port}") in (400, 403)
         assert _ws_status(channels, origin=f"http://127.0.0.1:{port}") == 101
+        assert httpx.get(base + f"voila/static/none.js?token={token}", timeout=60).status_code in (403, 404)
+        assert wait_until(lambda: "none.js?token=***" in _log(tmp_path), 60) is not None
+        assert token not in _log(tmp_path), "the token was logged"
 
 
 @pytest.mark.slow
@@ -191,3 +252,73 @@ def test_pmk_dashboard_kiosk_on_loopback_requires_the_printed_token(tmp_path: Pa
         _kernel_id(httpx.get(printed, timeout=120))
     finally:
         stop_process(served)
+
+
+# --- frames a kernel socket must not parse (issue 38, item 3) -----------------------------------------
+
+#: read by jupyter_server's legacy deserializer (a closed socket's frames were): a count of 2**23
+#: offsets, for which it built and cached a struct format of 2**23 codes (+270 MB, kept)
+LEGACY_68 = (1 << 23).to_bytes(4, "big") + b"\0" * 64
+#: as a v1 frame: a count of 2**24 offsets, which jupyter_server listed one by one (13 s, +260 MB for a while)
+V1_68 = (1 << 24).to_bytes(8, "little") + b"\0" * 60
+FLOOD_SECONDS = 20.0
+GROWTH_LIMIT_MB = 50.0
+
+
+def _flood(ws: RawWebSocket, voila: psutil.Process, baseline: float, until: float) -> int:
+    """Send both crafted frames, alternately, until the server drops the connection or ``until``;
+    stop at once (failing) if the server grows by :data:`GROWTH_LIMIT_MB` (it would go on by GB)."""
+    sent = 0
+    while time.monotonic() < until and not ws.ended.is_set() and ws.send(LEGACY_68 if sent % 2 == 0 else V1_68):
+        sent += 1
+        grown = rss_mb(voila) - baseline
+        assert grown < GROWTH_LIMIT_MB, f"Voilà grew by {grown:.0f} MB after {sent} frames of 68 bytes"
+    return sent
+
+
+def _page_socket(port: int, kernel: str) -> RawWebSocket:
+    """The page's socket (session "page"), once the server let go of its previous one."""
+    path = f"/api/kernels/{kernel}/channels?session_id=page"
+    opened: list[RawWebSocket] = []
+
+    def admitted() -> bool:
+        ws = RawWebSocket("127.0.0.1", port, path, subprotocol=V1_PROTOCOL, origin=f"http://127.0.0.1:{port}")
+        if ws.status == 101:
+            opened.append(ws)
+        else:
+            ws.close()
+        return bool(opened)
+
+    assert wait_until(admitted, 60) is not None, "the page's socket was not admitted again"
+    return opened[0]
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(300)
+def test_crafted_frames_on_a_closed_or_open_socket_do_not_grow_voila(
+    served: tuple[int, subprocess.Popen[bytes]], tmp_path: Path
+) -> None:
+    """68-byte frames after the server closed the socket (ping timeout: this client never answers a
+    ping), then on an open one, and a flood of both for at most 20 s: Voilà's memory stays flat."""
+    port, server = served
+    voila = psutil.Process(server.pid)
+    kernel = _kernel_id(httpx.get(f"http://127.0.0.1:{port}/", timeout=120))
+    ws = _page_socket(port, kernel)
+    baseline = rss_mb(voila)
+    assert ws.closed_by_server.wait(60), "the server never closed a socket that answers no ping"
+    assert ws.close_code is None  # jupyter_server's own close on a ping timeout
+    until = time.monotonic() + FLOOD_SECONDS
+    after_close = _flood(ws, voila, baseline, until)
+    ws.close()
+
+    ws = _page_socket(port, kernel)  # its kernel waits for the page: the same page reconnects
+    assert ws.send(V1_68)
+    assert ws.closed_by_server.wait(60) and ws.close_code == POLICY_VIOLATION, "a malformed frame was not refused"
+    while_open = _flood(ws, voila, baseline, until)
+    ws.close()
+
+    assert after_close > 0 and while_open > 0
+    assert httpx.get(f"http://127.0.0.1:{port}/login", timeout=120).status_code in (200, 302)
+    grown = rss_mb(voila) - baseline
+    assert grown < GROWTH_LIMIT_MB, f"Voilà grew by {grown:.0f} MB ({after_close} + {while_open} frames)"
+    assert "a websocket sent a malformed frame" in _log(tmp_path)

@@ -12,6 +12,7 @@ from jupyter_server.base import handlers as base_handlers
 from jupyter_server.base import websocket as base_websocket
 from jupyter_server.services.kernels import websocket as kernel_websocket
 from jupyter_server.services.kernels.connection import channels
+from tornado import websocket
 from voila import app as voila_app
 
 from pmk_nb.cli.voila_guard import V1_PROTOCOL, HostCheckingIdentityProvider, PageChannelConnection
@@ -55,3 +56,26 @@ def test_every_write_to_the_page_goes_through_the_connections_write_message() ->
         assert hasattr(channels.ZMQChannelsWebsocketConnection, name) or name in source, name
     assert "notify_connect" in inspect.getsource(channels.ZMQChannelsWebsocketConnection.connect)
     assert "notify_disconnect" in inspect.getsource(channels.ZMQChannelsWebsocketConnection.disconnect)
+
+
+def test_frames_from_the_page_enter_through_handle_incoming_message_and_a_closed_socket_reads_as_legacy() -> None:
+    """Why PageChannelConnection drops a closed socket's frames: tornado lets go of the protocol on the
+    server's close but still hands the page's frames to ``on_message`` until the connection ends, and
+    jupyter_server then reads the subprotocol as None and parses them with its legacy deserializer."""
+    assert "self.connection.handle_incoming_message(" in inspect.getsource(
+        kernel_websocket.KernelWebsocketHandler.on_message
+    )
+    incoming = inspect.getsource(channels.ZMQChannelsWebsocketConnection.handle_incoming_message)
+    assert "deserialize_msg_from_ws_v1(ws_msg)" in incoming and "deserialize_binary_message(ws_msg)" in incoming
+    subprotocol = inspect.getsource(channels.ZMQChannelsWebsocketConnection.subprotocol.fget)
+    assert "self.websocket_handler.selected_subprotocol" in subprotocol and "protocol = None" in subprotocol
+    close = inspect.getsource(websocket.WebSocketHandler.close)
+    assert "self.ws_connection = None" in close
+    assert "assert self.ws_connection is not None" in inspect.getsource(
+        websocket.WebSocketHandler.selected_subprotocol.fget
+    )
+    assert "self._run_callback(self.handler.on_message" in inspect.getsource(
+        websocket.WebSocketProtocol13._handle_message
+    )
+    assert callable(websocket.WebSocketProtocol.is_closing)
+    assert "handle_incoming_message" in PageChannelConnection.__dict__
