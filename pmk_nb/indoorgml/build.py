@@ -351,6 +351,11 @@ def _stats_warnings(doc: RawDocument, warnings: list[str]) -> None:
         warnings.append(f"{st.unclosed} rings were not closed (closed them)")
     if st.repeated:
         warnings.append(f"{st.repeated} repeated consecutive points dropped")
+    if st.interior_only:
+        warnings.append(
+            f"{st.interior_only} solids have interior shells but no exterior shell: "
+            "their interior shells read as the solid (nothing to be a void in)"
+        )
 
 
 def _boundaries(
