@@ -154,6 +154,7 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
         "unit_conflict": building.unit_conflict or None,
         "unit_suspect": None if building.unit_suspect is None else asdict(building.unit_suspect),
         "graph": building.graph_status.to_json(),
+        "overlaps": [asdict(o) for o in building.overlaps],
         "storeys": storeys,
     }
 
@@ -205,9 +206,13 @@ def run(args: argparse.Namespace) -> int:
     print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(result.maps)} storey(s)")
     from dataclasses import asdict
 
-    from pmk_nb.indoorgml import graph_lines, layer_lines
+    from pmk_nb.indoorgml import graph_lines, layer_lines, overlap_lines
 
-    for line in graph_lines(building.graph_status.to_json()) + layer_lines(list(map(asdict, building.skipped_layers))):
+    for line in (
+        graph_lines(building.graph_status.to_json())
+        + layer_lines(list(map(asdict, building.skipped_layers)))
+        + overlap_lines(list(map(asdict, building.overlaps)))
+    ):
         print(line)
     for m in result.maps:
         w_m, h_m = m.size_m

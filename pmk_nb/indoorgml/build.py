@@ -18,6 +18,7 @@ from pmk_nb.indoorgml.graph import graph_status, linked_pairs, nav_graph, resolv
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
 from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
+from pmk_nb.indoorgml.overlaps import find_overlaps
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.unit_evidence import gather
@@ -147,6 +148,7 @@ def build_building(
         unit_suspect=choice.suspect,
         skipped_layers=skipped,
         graph_status=status,
+        overlaps=find_overlaps((st.name, [model_cells[i] for i in st.cell_ids]) for st in storeys),
     )
 
 

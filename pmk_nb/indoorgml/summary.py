@@ -67,8 +67,28 @@ def summarize(building: Building) -> dict[str, Any]:
             "lla": list(g.lla) if g.lla else None,
             "srs_name": g.srs_name,
         },
+        "overlaps": [asdict(o) for o in building.overlaps],
         "warnings": list(building.warnings),
     }
+
+
+SHOWN_OVERLAPS = 10  # pairs listed by name; the rest counted
+
+
+def overlap_lines(overlaps: list[dict[str, Any]]) -> list[str]:
+    """The cells of one storey that overlap (IndoorGML cells must not), largest overlap first."""
+    if not overlaps:
+        return []
+    n = len(overlaps)
+    lines = [f"  OVERLAPPING CELLS ({n} pair{'s' if n != 1 else ''}; the map draws each pair as one space):"]
+    for o in overlaps[:SHOWN_OVERLAPS]:
+        lines.append(
+            f"    - {o['a']} and {o['b']} (storey {o['storey']}): {o['area']:.3g} m², "
+            f"{o['share']:.1%} of the smaller cell"
+        )
+    if len(overlaps) > SHOWN_OVERLAPS:
+        lines.append(f"    ... and {len(overlaps) - SHOWN_OVERLAPS} more (pmk info --json lists them all)")
+    return lines
 
 
 def layer_lines(skipped: list[dict[str, Any]]) -> list[str]:
@@ -108,6 +128,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"{', '.join(x or '(primal features)' for x in summary['geometry_layers'])})",
         *layer_lines(summary["skipped_layers"]),
         *graph_lines(summary["graph_status"]),
+        *overlap_lines(summary["overlaps"]),
         f"  storeys: {len(summary['storeys'])}",
     ]
     for st in summary["storeys"]:
