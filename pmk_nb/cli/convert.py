@@ -152,6 +152,7 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
         "unit": building.unit,
         "unit_reason": building.unit_reason,
         "unit_conflict": building.unit_conflict or None,
+        "unit_votes": [asdict(v) for v in building.unit_votes],
         "unit_suspect": None if building.unit_suspect is None else asdict(building.unit_suspect),
         "graph": building.graph_status.to_json(),
         "overlaps": [asdict(o) for o in building.overlaps],

@@ -146,6 +146,7 @@ def build_building(
         links=links,
         unit_conflict=choice.conflict,
         unit_suspect=choice.suspect,
+        unit_votes=list(choice.votes),
         skipped_layers=skipped,
         graph_status=status,
         overlaps=find_overlaps((st.name, [model_cells[i] for i in st.cell_ids]) for st in storeys),
@@ -265,7 +266,7 @@ def _choose_unit(doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, 
     if unit == "auto":
         choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
     elif unit in UNIT_SCALE:
-        choice = UnitChoice(unit, f"given: {unit}", suspect=unit_suspect(evidence, unit))
+        choice = UnitChoice(unit, f"given: {unit}", suspect=unit_suspect(evidence, unit), votes=tuple(evidence.votes()))
     else:
         raise IndoorGMLError(
             f"{doc.path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}", path=str(doc.path)

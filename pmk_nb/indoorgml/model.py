@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
     from pmk_nb.indoorgml.overlaps import CellOverlap
-    from pmk_nb.indoorgml.units import UnitSuspect
+    from pmk_nb.indoorgml.units import UnitSuspect, UnitVote
 
 
 class CellKind(str, Enum):
@@ -182,6 +182,7 @@ class Building:
     skipped_layers: list[LayerNote] = field(default_factory=list)  # layers of the file not drawn, and why
     graph_status: GraphStatus = field(default_factory=GraphStatus)
     unit_suspect: UnitSuspect | None = None  # the unit, not the doors, is the likely fault (a unit given by hand)
+    unit_votes: list[UnitVote] = field(default_factory=list)  # each piece of unit evidence and the unit it says
     overlaps: list[CellOverlap] = field(default_factory=list)  # cells of one storey that overlap, largest first
     _by_storey: tuple[tuple[int, int], dict[str | None, list[Boundary]]] | None = field(
         default=None, init=False, repr=False, compare=False

@@ -8,6 +8,7 @@ from typing import Any
 import shapely
 
 from pmk_nb.indoorgml.model import Building
+from pmk_nb.indoorgml.units import UnitVote, vote_words
 
 
 def _r(v: float | None) -> float | None:
@@ -52,6 +53,7 @@ def summarize(building: Building) -> dict[str, Any]:
         "namespaces": dict(building.namespaces),
         "unit": building.unit,
         "unit_reason": building.unit_reason,
+        "unit_votes": [asdict(v) for v in building.unit_votes],
         "storeys": storeys,
         "cells": len(building.cells),
         "boundaries": len(building.boundaries),
@@ -91,6 +93,15 @@ def overlap_lines(overlaps: list[dict[str, Any]]) -> list[str]:
     return lines
 
 
+def vote_lines(votes: list[dict[str, Any]]) -> list[str]:
+    """The unit evidence, vote by vote (what each kind measured, the unit it says)."""
+    if not votes:
+        return []
+    lines = [f"  unit votes: {vote_words(UnitVote(**{**v, 'units': tuple(v['units'])}) for v in votes)}"]
+    lines += [f"    - {v['source']}: {', '.join(v['units']) or 'no unit'} ({v['detail']})" for v in votes]
+    return lines
+
+
 def layer_lines(skipped: list[dict[str, Any]]) -> list[str]:
     """The layers not drawn and why (``pmk info``, ``pmk convert``); ``--layer`` draws one on request."""
     if not skipped:
@@ -121,6 +132,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"{summary['source']}",
         f"  IndoorGML version: {summary['version']}",
         f"  units: {summary['unit']} ({summary['unit_reason']})",
+        *vote_lines(summary["unit_votes"]),
         f"  cells: {summary['cells']}   doors: {summary['doors']['total']} "
         f"({summary['doors']['boundaries']} boundaries, {summary['doors']['cells']} door cells)",
         f"  graph: {summary['graph']['states']} states, {summary['graph']['transitions']} transitions",
