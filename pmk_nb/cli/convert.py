@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from pmk_nb.cli.options import (
+    add_crs_option,
     add_json,
     add_layer_option,
     add_not_window_option,
@@ -82,6 +83,7 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     )
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
+    add_crs_option(p)
     p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
     p.add_argument(
         "--door-width",
@@ -173,6 +175,7 @@ def run(args: argparse.Namespace) -> int:
     options = ConvertOptions(
         resolution=args.resolution,
         unit=args.unit,
+        crs=args.crs,
         storeys=args.storeys,
         wall_thickness=args.wall_thickness,
         max_wall_gap=args.max_wall_gap,

@@ -12,6 +12,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
+from pmk_nb.indoorgml.crs import CRS_AUTO, MAX_EXTENT_M, Frame, choose_frame, refuse_extent, shift
 from pmk_nb.indoorgml.drafts import DRAFT_VERSION, is_draft
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
 from pmk_nb.indoorgml.graph import graph_status, linked_pairs, nav_graph, resolve_links, state_cells
@@ -23,8 +24,6 @@ from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.unit_evidence import gather
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit, unit_suspect
-
-MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
 
 KIND_BY_NAME = {
     "navigablespace": CellKind.NAVIGABLE,
@@ -91,12 +90,21 @@ def _zs(v: float | None, s: float) -> float | None:
 
 
 def build_building(
-    doc: RawDocument, sha256: str, unit: str, not_windows: Sequence[str] = (), layers: Sequence[str] = ()
+    doc: RawDocument,
+    sha256: str,
+    unit: str,
+    not_windows: Sequence[str] = (),
+    layers: Sequence[str] = (),
+    crs: str = CRS_AUTO,
 ) -> Building:
-    """Interpret ``doc``: cells -> kinds -> boundaries and doors -> unit -> storeys -> the model.
+    """Interpret ``doc``: frame -> cells -> kinds -> boundaries and doors -> unit -> storeys -> the model.
     ``not_windows``: ids or names of cells the window rule must leave free (see levels.not_window_ids);
-    ``layers``: ids or names of the layers to draw instead of the navigable one (see layers.select_layers)."""
+    ``layers``: ids or names of the layers to draw instead of the navigable one (see layers.select_layers);
+    ``crs``: the frame of the coordinates (see :mod:`pmk_nb.indoorgml.crs`). ``doc`` is moved to the frame."""
     warnings: list[str] = []
+    frame = choose_frame(doc, crs)
+    shift(doc, frame.origin)
+    doc.srs_name = frame.srs
     alma = detect_alma(doc)
     cells, skipped = select_layers(usable_cells(doc, warnings), doc, alma, warnings, layers)
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
@@ -140,7 +148,7 @@ def build_building(
         cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
         graph=graph,
-        georef=_georef(doc, s),
+        georef=_georef(doc, s, frame),
         layers=[layer.id for layer in doc.layers],
         warnings=warnings,
         links=links,
@@ -261,7 +269,7 @@ def _round(z: float | None) -> float | None:
 
 
 def _choose_unit(doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence) -> UnitChoice:
-    """The unit (given, or judged from the evidence) and why; refuses absurd coordinates."""
+    """The unit (given, or judged from the evidence) and why; refuses a plan larger than any building."""
     minx, miny, maxx, maxy = shapely.total_bounds([c.geometry for c in cells]).tolist()
     if unit == "auto":
         choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
@@ -271,16 +279,12 @@ def _choose_unit(doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, 
         raise IndoorGMLError(
             f"{doc.path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}", path=str(doc.path)
         )
-    unit = choice.unit
-    if max(abs(minx), abs(miny), abs(maxx), abs(maxy)) * UNIT_SCALE[unit] > MAX_COORD_M:
-        worst = max(cells, key=lambda c: max(abs(v) for v in c.geometry.bounds))
-        raise IndoorGMLError(
-            f"{doc.path}: cell {worst.raw.id!r} (line {worst.raw.line}) has coordinates beyond 1e7 m "
-            f"({max(abs(v) for v in worst.geometry.bounds):.3g} {unit}); the file is corrupt or uses a "
-            "geographic/other CRS",
-            path=str(doc.path),
-            element=worst.raw.id,
-        )
+    extent = max(maxx - minx, maxy - miny) * UNIT_SCALE[choice.unit]
+    if extent > MAX_EXTENT_M:  # the cell farthest from the others' middle is the likely stray
+        middles = shapely.get_coordinates(shapely.centroid([c.geometry for c in cells]))
+        centre = np.tile(np.median(middles, axis=0), 2)  # (x, y, x, y): against a cell's bounds
+        worst = max(cells, key=lambda c: float(np.abs(np.asarray(c.geometry.bounds) - centre).max()))
+        refuse_extent(str(doc.path), doc.srs_name, extent, worst.raw.id, worst.raw.line)
     return choice
 
 
@@ -339,12 +343,13 @@ def _model_cells(
     return model_cells
 
 
-def _georef(doc: RawDocument, s: float) -> Georeference:
+def _georef(doc: RawDocument, s: float, frame: Frame) -> Georeference:
     return Georeference(
         translation=(doc.translation[0] * s, doc.translation[1] * s) if doc.translation else (0.0, 0.0),
         rotation=doc.rotation or 0.0,
         lla=doc.lla,
-        srs_name=doc.srs_name,
+        srs_name=frame.srs,
+        origin=(frame.origin[0] * s, frame.origin[1] * s),
     )
 
 

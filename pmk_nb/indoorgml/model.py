@@ -117,7 +117,10 @@ class Georeference:
     translation: tuple[float, float] = (0.0, 0.0)  # metres, building frame -> world
     rotation: float = 0.0  # degrees, counter-clockwise
     lla: tuple[float, float, float] | None = None  # lat, lon, alt of the frame origin
-    srs_name: str | None = None
+    srs_name: str | None = None  # the CRS of the file's coordinates (its srsName, or --crs); None: a local frame
+    # where the building frame's (0, 0) lies in that CRS, metres: large projected coordinates (UTM, Web
+    # Mercator) are read relative to this local origin (see indoorgml.crs)
+    origin: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass(frozen=True)

@@ -68,6 +68,7 @@ def summarize(building: Building) -> dict[str, Any]:
             "rotation": g.rotation,
             "lla": list(g.lla) if g.lla else None,
             "srs_name": g.srs_name,
+            "origin": [_r(g.origin[0]), _r(g.origin[1])],
         },
         "overlaps": [asdict(o) for o in building.overlaps],
         "warnings": list(building.warnings),
@@ -156,6 +157,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"  georeference: translation {g['translation']} m, rotation {g['rotation']} deg"
         + (f", lla {g['lla']}" if g["lla"] else "")
         + (f", srs {g['srs_name']}" if g["srs_name"] else "")
+        + (f", map origin at {g['origin']} m in the CRS" if any(g["origin"]) else "")
     )
     ns = ", ".join(f"{k or '(default)'}={v}" for k, v in summary["namespaces"].items())
     lines.append(f"  namespaces: {ns}")

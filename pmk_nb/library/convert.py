@@ -54,6 +54,7 @@ class ConvertOptions:
 
     resolution: float = DEFAULT_RESOLUTION  # metres per cell
     unit: str = "auto"
+    crs: str = "auto"  # the coordinates' frame: auto, local, or a CRS name (see pmk_nb.indoorgml.crs)
     storeys: Sequence[str] | None = None
     wall_thickness: float = DEFAULT_WALL_THICKNESS
     max_wall_gap: float = DEFAULT_MAX_WALL_GAP
@@ -179,7 +180,7 @@ def _stage_storeys(
             )
         rooms = sidecar_path(files.yaml)
         doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
-        choices = ConvertChoices(opts.unit, tuple(opts.not_windows), tuple(opts.layers))
+        choices = ConvertChoices(opts.unit, tuple(opts.not_windows), tuple(opts.layers), opts.crs)
         doc[CHOICES_KEY] = choices.to_json()  # kept for the next time
         rooms.write_text(json.dumps(doc, ensure_ascii=False), encoding="utf-8")
         staged.append(StoreyMap(storey, files, grid.width, grid.height, grid.resolution, rooms, report))
@@ -246,6 +247,7 @@ def convert_plan(
     building = read_building(
         source,
         unit=opts.unit,
+        crs=opts.crs,
         progress=sub_range(progress, 0.0, _READ_END),
         not_windows=opts.not_windows,
         layers=opts.layers,
