@@ -27,8 +27,6 @@ import math
 import re
 from dataclasses import dataclass
 
-import numpy as np
-
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml.scan import RawDocument
 
@@ -98,16 +96,12 @@ def check_crs_option(crs: str, path: str = "") -> str:
 
 
 def _bounds(doc: RawDocument) -> tuple[float, float, float, float] | None:
-    xs: list[float] = []
-    ys: list[float] = []
-    for cell in doc.cells:
-        for poly in cell.polygons:
-            xs.extend(c[0] for c in poly.exterior)
-            ys.extend(c[1] for c in poly.exterior)
+    """The plan's bounds in file units (every cell's exterior rings): what the frame is judged by."""
+    xs = [c[0] for cell in doc.cells for poly in cell.polygons for c in poly.exterior]
     if not xs:
         return None
-    x, y = np.asarray(xs), np.asarray(ys)
-    return float(x.min()), float(y.min()), float(x.max()), float(y.max())
+    ys = [c[1] for cell in doc.cells for poly in cell.polygons for c in poly.exterior]
+    return min(xs), min(ys), max(xs), max(ys)
 
 
 def _degree_like(b: tuple[float, float, float, float]) -> bool:

@@ -85,3 +85,13 @@ def test_pmk_info_lists_the_overlaps(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert main(["info", str(path), "--unit", "m"]) == 0
     out = capsys.readouterr().out
     assert "OVERLAPPING CELLS (1 pair;" in out and "A and B" in out and "20.0% of the smaller cell" in out
+
+
+def test_pmk_convert_reports_the_overlaps(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _two_rooms(tmp_path, "1.0-bare", (0, 0, 6, 4), (5, 0, 10, 4))
+    out = tmp_path / "maps"
+    assert main(["convert", str(path), "--unit", "m", "--out", str(out), "-r", "0.1", "--no-preview", "--json"]) == 0
+    [o] = json.loads(capsys.readouterr().out)["overlaps"]
+    assert (o["a"], o["b"], o["area"]) == ("A", "B", pytest.approx(4.0))
+    assert main(["convert", str(path), "--unit", "m", "--out", str(out), "-r", "0.1", "--no-preview"]) == 0
+    assert "OVERLAPPING CELLS (1 pair;" in capsys.readouterr().out

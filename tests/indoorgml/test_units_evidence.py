@@ -378,3 +378,17 @@ def test_check_names_the_unit_before_any_door(tmp_path: Path, v2: bool, capsys: 
     assert main(["info", str(path), "--unit", "cm"]) == 0
     out = capsys.readouterr().out
     assert "units: cm (given: cm)" in out and "UNIT SUSPECT: all doors are 0.009 m wide" in out
+
+
+def test_pmk_info_and_convert_list_every_vote(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _hall_with_a_centimetre_door(tmp_path, v2=True)
+    assert main(["info", str(path), "--json"]) == 0
+    votes = json.loads(capsys.readouterr().out)["unit_votes"]
+    assert {v["source"]: v["units"] for v in votes}["door widths"] == ["cm"]
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "unit votes: metres 3 (door heights, cell heights, plan extent); decimetres 1 (room areas); " in out
+    assert "    - door widths: cm (door widths 0.9 m in centimetres)" in out
+    assert main(["convert", str(path), "--out", str(tmp_path / "maps"), "-r", "1", "--no-preview", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["unit"] == "m" and len(result["unit_votes"]) == 6 and "The votes: metres 3" in result["unit_conflict"]
