@@ -170,7 +170,12 @@ class UnitEvidence:
 
     def tally(self, unit: str) -> float:
         """The votes for ``unit``."""
-        return sum(v.weight for v in self.votes() if unit in v.units)
+        return tally(self.votes(), unit)
+
+
+def tally(votes: Iterable[UnitVote], unit: str) -> float:
+    """The votes among ``votes`` for ``unit``."""
+    return sum(v.weight for v in votes if unit in v.units)
 
 
 EXPORTER_WEIGHT = 6.0
@@ -211,12 +216,12 @@ def choose_unit(*, alma: bool, alma_why: str, evidence: UnitEvidence) -> UnitCho
     if alma:
         return UnitChoice("cm", f"auto: ALMA style ({alma_why}) -> centimetres")
     votes = tuple(evidence.votes())
-    tally = {u: sum(v.weight for v in votes if u in v.units) for u in UNIT_SCALE}
+    counts = {u: tally(votes, u) for u in UNIT_SCALE}
     scores = {u: evidence.score(u) for u in UNIT_SCALE}
     by_extent = _extent_unit(evidence.extent)
 
     def rank(u: str) -> tuple[float, float, bool, bool]:
-        return (tally[u], round(scores[u], 6), u == by_extent, u == "m")
+        return (counts[u], round(scores[u], 6), u == by_extent, u == "m")
 
     unit = "m" if evidence.crs else max(UNIT_SCALE, key=rank)
     said = [v.detail for v in votes if unit in v.units]
@@ -228,10 +233,10 @@ def choose_unit(*, alma: bool, alma_why: str, evidence: UnitEvidence) -> UnitCho
         )
     runner = max((u for u in UNIT_SCALE if u != unit), key=rank)
     total = sum(v.weight for v in votes)
-    tie = not evidence.crs and tally[unit] == tally[runner]
+    tie = not evidence.crs and counts[unit] == counts[runner]
     reason = (
-        f"auto: {UNIT_WORDS[unit]} ({'; '.join(said)}; {tally[unit]:g} of {total:g} votes, "
-        f"next {UNIT_WORDS[runner]} {tally[runner]:g}"
+        f"auto: {UNIT_WORDS[unit]} ({'; '.join(said)}; {counts[unit]:g} of {total:g} votes, "
+        f"next {UNIT_WORDS[runner]} {counts[runner]:g}"
         + (f"; a tie, the weightier evidence decides: {scores[unit]:.1f} to {scores[runner]:.1f}" if tie else "")
         + ")"
     )
@@ -270,7 +275,7 @@ def _conflict(evidence: UnitEvidence, unit: str) -> str:
 
 def vote_words(votes: Iterable[UnitVote]) -> str:
     """Every vote in one line: "metres 3 (door heights, cell heights, plan extent); centimetres 1 (door
-    widths); none 1 (room areas)"."""
+    widths); no unit 1 (room areas)"."""
     by_unit: dict[str, list[UnitVote]] = {}
     for v in votes:
         for u in v.units or ("",):
