@@ -67,6 +67,15 @@ def footprint(srs: str | None, extent: tuple[float, float, float, float] | None)
     return {"type": "Polygon", "coordinates": [[[round(lon, 8), round(lat, 8)] for lon, lat in ring]]}
 
 
+def in_crs(
+    extent: tuple[float, float, float, float] | None, origin: tuple[float, float]
+) -> tuple[float, float, float, float] | None:
+    """A storey's extent (read from a local origin) back in the plan's CRS."""
+    if extent is None:
+        return None
+    return (extent[0] + origin[0], extent[1] + origin[1], extent[2] + origin[0], extent[3] + origin[1])
+
+
 def bbox_of(geometry: dict[str, object] | None) -> list[float] | None:
     """[west, south, east, north] of a polygon from :func:`footprint`."""
     if geometry is None:

@@ -111,7 +111,7 @@ def _publish_building(folder: MapsFolder, entry: MapEntry, site: Path, title: st
     size, sha = writer.put(bdir / source_name, entry.source)
     source = stacdocs.asset("indoorgml", stacdocs.rel(".", source_name), size, multihash(sha))
     srs = geo.plan_srs(entry.source)
-    extents = {s.name: s.extent for s in folder.storeys(entry.name)} if geo.utm_zone(srs) else {}
+    extents = {s.name: geo.in_crs(s.extent, s.origin) for s in folder.storeys(entry.name)} if geo.utm_zone(srs) else {}
     old = read_json_object(bdir / "collection.json")
     items = []
     for gm in entry.generated:

@@ -15,7 +15,14 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.cli.options import add_json, add_layer_option, add_not_window_option, add_resolution, chair_width_arg
+from pmk_nb.cli.options import (
+    add_crs_option,
+    add_json,
+    add_layer_option,
+    add_not_window_option,
+    add_resolution,
+    chair_width_arg,
+)
 from pmk_nb.errors import PmkError
 
 EXIT_OK, EXIT_PROBLEMS, EXIT_NOTHING_CHECKED = 0, 1, 3  # 2: bad input (every PmkError, cli/__init__)
@@ -45,6 +52,7 @@ def add_parser(subparsers: Any) -> None:
     )
     add_resolution(p, what="metres per cell when checking a .gml file")
     p.add_argument("--unit", default="auto", help="unit of a .gml file's coordinates: auto (default), m, dm, cm, mm")
+    add_crs_option(p)
     p.add_argument(
         "--door-width",
         type=float,
@@ -122,7 +130,7 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], Any, Witnessed]:
         return [report], None, witnessed
     from pmk_nb.indoorgml import read_building
 
-    building = read_building(target, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
+    building = read_building(target, unit=args.unit, not_windows=args.not_windows, layers=args.layers, crs=args.crs)
     options = RasterOptions() if args.door_width is None else RasterOptions(door_width=args.door_width)
 
     def judge(storey: str, grid: Any) -> None:

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from pmk_nb.cli.options import (
+    add_crs_option,
     add_json,
     add_layer_option,
     add_not_window_option,
@@ -82,6 +83,7 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     )
     # no argparse choices: they live in pmk_nb.indoorgml, too heavy to import for every `pmk` call
     p.add_argument("--unit", default="auto", help="unit of the file's coordinates: auto (default), m, dm, cm, mm")
+    add_crs_option(p)
     p.add_argument("--format", choices=("pgm", "png"), default="pgm", dest="image_format", help="map image format")
     p.add_argument(
         "--door-width",
@@ -156,8 +158,10 @@ def result_json(path: Path, result: Any) -> dict[str, Any]:
         "unit": building.unit,
         "unit_reason": building.unit_reason,
         "unit_conflict": building.unit_conflict or None,
+        "unit_votes": [asdict(v) for v in building.unit_votes],
         "unit_suspect": None if building.unit_suspect is None else asdict(building.unit_suspect),
         "graph": building.graph_status.to_json(),
+        "overlaps": [asdict(o) for o in building.overlaps],
         "storeys": storeys,
     }
 
@@ -175,6 +179,7 @@ def run(args: argparse.Namespace) -> int:
     options = ConvertOptions(
         resolution=args.resolution,
         unit=args.unit,
+        crs=args.crs,
         storeys=args.storeys,
         wall_thickness=args.wall_thickness,
         max_wall_gap=args.max_wall_gap,
@@ -209,9 +214,13 @@ def run(args: argparse.Namespace) -> int:
     print(f"{path}: unit {building.unit} ({building.unit_reason}); {len(result.maps)} storey(s)")
     from dataclasses import asdict
 
-    from pmk_nb.indoorgml import graph_lines, layer_lines
+    from pmk_nb.indoorgml import graph_lines, layer_lines, overlap_lines
 
-    for line in graph_lines(building.graph_status.to_json()) + layer_lines(list(map(asdict, building.skipped_layers))):
+    for line in (
+        graph_lines(building.graph_status.to_json())
+        + layer_lines(list(map(asdict, building.skipped_layers)))
+        + overlap_lines(list(map(asdict, building.overlaps)))
+    ):
         print(line)
     for m in result.maps:
         w_m, h_m = m.size_m

@@ -8,7 +8,7 @@ import sys
 from dataclasses import asdict
 from typing import Any
 
-from pmk_nb.cli.options import add_layer_option, add_not_window_option
+from pmk_nb.cli.options import add_crs_option, add_layer_option, add_not_window_option
 
 
 def add_parser(subparsers: Any) -> argparse.ArgumentParser:
@@ -26,6 +26,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
         choices=UNIT_CHOICES,
         help="coordinate unit of the file (default: auto-detect, see the reason printed)",
     )
+    add_crs_option(p)
     add_not_window_option(p)
     add_layer_option(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
@@ -85,7 +86,7 @@ def format_connectivity(c: dict[str, Any]) -> list[str]:
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.indoorgml import format_summary, read_building, summarize
 
-    building = read_building(args.file, unit=args.unit, not_windows=args.not_windows, layers=args.layers)
+    building = read_building(args.file, unit=args.unit, not_windows=args.not_windows, layers=args.layers, crs=args.crs)
     summary = summarize(building)
     summary["connectivity"] = connectivity(building)
     if args.json:

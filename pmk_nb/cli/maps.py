@@ -231,6 +231,7 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             wall_thickness=args.wall_thickness,
             max_wall_gap=args.max_wall_gap,
             unit=args.unit,
+            crs=args.crs,
             image_format=args.image_format,
             door_width=args.door_width,
             chair_width=chair_width_arg(args.chair_width),

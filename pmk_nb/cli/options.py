@@ -114,6 +114,18 @@ def add_layer_option(p: argparse.ArgumentParser) -> None:
     )
 
 
+def add_crs_option(p: argparse.ArgumentParser) -> None:
+    """--crs: the frame of a plan's coordinates when the file is wrong or silent about it (one wording)."""
+    p.add_argument(
+        "--crs",
+        default="auto",
+        metavar="CRS",
+        help="the coordinates' CRS: auto (default: the file's srsName, else judged), local (a local frame), "
+        "or a CRS such as EPSG:3857 or EPSG:25832 (replaces the file's); large projected coordinates are "
+        "read from a local origin, kept in the georeference",
+    )
+
+
 def add_not_window_option(p: argparse.ArgumentParser) -> None:
     """--not-window: the override `pmk check` offers when a cell it names as a window is a door (one wording)."""
     p.add_argument(

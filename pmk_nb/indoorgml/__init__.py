@@ -11,9 +11,10 @@ from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.levels import RAISED
 from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Link, Storey
+from pmk_nb.indoorgml.overlaps import CellOverlap
 from pmk_nb.indoorgml.reader import read_building
 from pmk_nb.indoorgml.sniff import check_indoorgml
-from pmk_nb.indoorgml.summary import format_summary, graph_lines, layer_lines, summarize
+from pmk_nb.indoorgml.summary import format_summary, graph_lines, layer_lines, overlap_lines, summarize
 from pmk_nb.indoorgml.units import UNIT_CHOICES, UNIT_SCALE
 
 __all__ = [
@@ -24,6 +25,7 @@ __all__ = [
     "Building",
     "Cell",
     "CellKind",
+    "CellOverlap",
     "Georeference",
     "IndoorGMLError",
     "Link",
@@ -32,6 +34,7 @@ __all__ = [
     "format_summary",
     "graph_lines",
     "layer_lines",
+    "overlap_lines",
     "read_building",
     "says_corridor",
     "summarize",

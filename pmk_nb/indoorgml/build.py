@@ -12,18 +12,18 @@ from shapely.geometry.base import BaseGeometry
 
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml import doors as doorlib
+from pmk_nb.indoorgml.crs import CRS_AUTO, MAX_EXTENT_M, Frame, choose_frame, refuse_extent, shift
 from pmk_nb.indoorgml.drafts import DRAFT_VERSION, is_draft
 from pmk_nb.indoorgml.footprint import Footprint, boundary_footprints, floor_height
 from pmk_nb.indoorgml.graph import graph_status, linked_pairs, nav_graph, resolve_links, state_cells
 from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
 from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
+from pmk_nb.indoorgml.overlaps import find_overlaps
 from pmk_nb.indoorgml.scan import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.unit_evidence import gather
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit, unit_suspect
-
-MAX_COORD_M = 1e7  # larger than any projected CRS: a coordinate beyond this is garbage
 
 KIND_BY_NAME = {
     "navigablespace": CellKind.NAVIGABLE,
@@ -90,12 +90,21 @@ def _zs(v: float | None, s: float) -> float | None:
 
 
 def build_building(
-    doc: RawDocument, sha256: str, unit: str, not_windows: Sequence[str] = (), layers: Sequence[str] = ()
+    doc: RawDocument,
+    sha256: str,
+    unit: str,
+    not_windows: Sequence[str] = (),
+    layers: Sequence[str] = (),
+    crs: str = CRS_AUTO,
 ) -> Building:
-    """Interpret ``doc``: cells -> kinds -> boundaries and doors -> unit -> storeys -> the model.
+    """Interpret ``doc``: frame -> cells -> kinds -> boundaries and doors -> unit -> storeys -> the model.
     ``not_windows``: ids or names of cells the window rule must leave free (see levels.not_window_ids);
-    ``layers``: ids or names of the layers to draw instead of the navigable one (see layers.select_layers)."""
+    ``layers``: ids or names of the layers to draw instead of the navigable one (see layers.select_layers);
+    ``crs``: the frame of the coordinates (see :mod:`pmk_nb.indoorgml.crs`). ``doc`` is moved to the frame."""
     warnings: list[str] = []
+    frame = choose_frame(doc, crs)
+    shift(doc, frame.origin)
+    doc.srs_name = frame.srs
     alma = detect_alma(doc)
     cells, skipped = select_layers(usable_cells(doc, warnings), doc, alma, warnings, layers)
     keep = not_window_ids(((c.raw.id, c.raw.name) for c in cells), not_windows, str(doc.path))
@@ -139,14 +148,16 @@ def build_building(
         cells=model_cells,
         boundaries=_boundaries(doc, bfps, _boundary_refs(cells), model_cells, storeys, s),
         graph=graph,
-        georef=_georef(doc, s),
+        georef=_georef(doc, s, frame),
         layers=[layer.id for layer in doc.layers],
         warnings=warnings,
         links=links,
         unit_conflict=choice.conflict,
         unit_suspect=choice.suspect,
+        unit_votes=list(choice.votes),
         skipped_layers=skipped,
         graph_status=status,
+        overlaps=find_overlaps((st.name, [model_cells[i] for i in st.cell_ids]) for st in storeys),
     )
 
 
@@ -258,26 +269,22 @@ def _round(z: float | None) -> float | None:
 
 
 def _choose_unit(doc: RawDocument, cells: list[KeptCell], unit: str, alma: str, evidence: UnitEvidence) -> UnitChoice:
-    """The unit (given, or judged from the evidence) and why; refuses absurd coordinates."""
+    """The unit (given, or judged from the evidence) and why; refuses a plan larger than any building."""
     minx, miny, maxx, maxy = shapely.total_bounds([c.geometry for c in cells]).tolist()
     if unit == "auto":
         choice = choose_unit(alma=bool(alma), alma_why=alma, evidence=evidence)
     elif unit in UNIT_SCALE:
-        choice = UnitChoice(unit, f"given: {unit}", suspect=unit_suspect(evidence, unit))
+        choice = UnitChoice(unit, f"given: {unit}", suspect=unit_suspect(evidence, unit), votes=tuple(evidence.votes()))
     else:
         raise IndoorGMLError(
             f"{doc.path}: unknown unit {unit!r}; use one of auto, {', '.join(UNIT_SCALE)}", path=str(doc.path)
         )
-    unit = choice.unit
-    if max(abs(minx), abs(miny), abs(maxx), abs(maxy)) * UNIT_SCALE[unit] > MAX_COORD_M:
-        worst = max(cells, key=lambda c: max(abs(v) for v in c.geometry.bounds))
-        raise IndoorGMLError(
-            f"{doc.path}: cell {worst.raw.id!r} (line {worst.raw.line}) has coordinates beyond 1e7 m "
-            f"({max(abs(v) for v in worst.geometry.bounds):.3g} {unit}); the file is corrupt or uses a "
-            "geographic/other CRS",
-            path=str(doc.path),
-            element=worst.raw.id,
-        )
+    extent = max(maxx - minx, maxy - miny) * UNIT_SCALE[choice.unit]
+    if extent > MAX_EXTENT_M:  # the cell farthest from the others' middle is the likely stray
+        middles = shapely.get_coordinates(shapely.centroid([c.geometry for c in cells]))
+        centre = np.tile(np.median(middles, axis=0), 2)  # (x, y, x, y): against a cell's bounds
+        worst = max(cells, key=lambda c: float(np.abs(np.asarray(c.geometry.bounds) - centre).max()))
+        refuse_extent(str(doc.path), doc.srs_name, extent, worst.raw.id, worst.raw.line)
     return choice
 
 
@@ -336,12 +343,13 @@ def _model_cells(
     return model_cells
 
 
-def _georef(doc: RawDocument, s: float) -> Georeference:
+def _georef(doc: RawDocument, s: float, frame: Frame) -> Georeference:
     return Georeference(
         translation=(doc.translation[0] * s, doc.translation[1] * s) if doc.translation else (0.0, 0.0),
         rotation=doc.rotation or 0.0,
         lla=doc.lla,
-        srs_name=doc.srs_name,
+        srs_name=frame.srs,
+        origin=(frame.origin[0] * s, frame.origin[1] * s),
     )
 
 
@@ -351,6 +359,11 @@ def _stats_warnings(doc: RawDocument, warnings: list[str]) -> None:
         warnings.append(f"{st.unclosed} rings were not closed (closed them)")
     if st.repeated:
         warnings.append(f"{st.repeated} repeated consecutive points dropped")
+    if st.interior_only:
+        warnings.append(
+            f"{st.interior_only} solids have interior shells but no exterior shell: "
+            "their interior shells read as the solid (nothing to be a void in)"
+        )
 
 
 def _boundaries(

@@ -5,7 +5,8 @@ from which reading closes the ring), ``gml:coordinates`` (with its ``cs``, ``ts`
 unclosed rings and repeated points. Surfaces are read wherever GML 3.2 puts them: Polygon, the patches
 of Surface / PolyhedralSurface / TriangulatedSurface / Tin (PolygonPatch, Triangle, Rectangle), inside
 MultiSurface, CompositeSurface, Shell, OrientableSurface (the orientation does not change a plan) and
-Solid / CompositeSolid / MultiSolid, whose interior shells are voids (:attr:`PolygonZ.void`). The
+Solid / CompositeSolid / MultiSolid, whose interior shells are voids (:attr:`PolygonZ.void`) when an exterior
+shell holds them (a solid written with interior shells only is read from those). The
 result is plain tuples; the footprint maths lives in :mod:`pmk_nb.indoorgml.footprint`.
 """
 
@@ -30,6 +31,7 @@ class RingStats:
     unclosed: int = 0
     repeated: int = 0
     inferred_dim: int = 0
+    interior_only: int = 0  # solids written with interior shells and no exterior: read as the solid
 
 
 @dataclass(slots=True)
@@ -246,16 +248,26 @@ def clean_ring(points: list[Coord], stats: RingStats) -> list[Coord]:
     return out
 
 
-def _voids(root: etree._Element, tags: GmlTags) -> dict[etree._Element, int]:
+def _voids(root: etree._Element, tags: GmlTags, stats: RingStats) -> dict[etree._Element, int]:
     """The surfaces of the interior shells of the solids below ``root``, numbered by shell (from 1). The
-    dict keeps the element proxies alive, so lxml hands out the same ones again in the walk that asks."""
+    dict keeps the element proxies alive, so lxml hands out the same ones again in the walk that asks.
+
+    An interior shell bounds a void *inside the exterior* (GML 3.2, SolidType): a solid with no exterior
+    surfaces has nothing to hold a void, so its interior shells are the only geometry there is and are
+    read as the solid itself (counted in ``stats.interior_only``), not dropped as voids."""
     out: dict[etree._Element, int] = {}
     shell = 0
     for solid in root.iter(*tags.solids):
-        for part in solid:
-            if local(part) == "interior" and is_gml(part):
-                shell += 1
-                out.update((el, shell) for el in part.iter(*tags.surfaces))
+        parts = [p for p in solid if is_gml(p)]
+        inner = [p for p in parts if local(p) == "interior"]
+        if not inner:
+            continue
+        if not any(local(p) == "exterior" and next(p.iter(*tags.surfaces), None) is not None for p in parts):
+            stats.interior_only += 1
+            continue
+        for part in inner:
+            shell += 1
+            out.update((el, shell) for el in part.iter(*tags.surfaces))
     return out
 
 
@@ -263,7 +275,7 @@ def polygons_under(root: etree._Element, stats: RingStats, hint: int | None, tag
     """Every gml:Polygon / PolygonPatch / Triangle / Rectangle below ``root`` (surfaces of solids included;
     those of a solid's interior shells marked as voids)."""
     out: list[PolygonZ] = []
-    voids = _voids(root, tags) if tags.solids else {}
+    voids = _voids(root, tags, stats) if tags.solids else {}
     for el in root.iter(*tags.surfaces) if tags.surfaces else ():
         exterior: list[Coord] = []
         interiors: list[list[Coord]] = []

@@ -13,7 +13,8 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-    from pmk_nb.indoorgml.units import UnitSuspect
+    from pmk_nb.indoorgml.overlaps import CellOverlap
+    from pmk_nb.indoorgml.units import UnitSuspect, UnitVote
 
 
 class CellKind(str, Enum):
@@ -116,7 +117,10 @@ class Georeference:
     translation: tuple[float, float] = (0.0, 0.0)  # metres, building frame -> world
     rotation: float = 0.0  # degrees, counter-clockwise
     lla: tuple[float, float, float] | None = None  # lat, lon, alt of the frame origin
-    srs_name: str | None = None
+    srs_name: str | None = None  # the CRS of the file's coordinates (its srsName, or --crs); None: a local frame
+    # where the building frame's (0, 0) lies in that CRS, metres: large projected coordinates (UTM, Web
+    # Mercator) are read relative to this local origin (see indoorgml.crs)
+    origin: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -181,6 +185,8 @@ class Building:
     skipped_layers: list[LayerNote] = field(default_factory=list)  # layers of the file not drawn, and why
     graph_status: GraphStatus = field(default_factory=GraphStatus)
     unit_suspect: UnitSuspect | None = None  # the unit, not the doors, is the likely fault (a unit given by hand)
+    unit_votes: list[UnitVote] = field(default_factory=list)  # each piece of unit evidence and the unit it says
+    overlaps: list[CellOverlap] = field(default_factory=list)  # cells of one storey that overlap, largest first
     _by_storey: tuple[tuple[int, int], dict[str | None, list[Boundary]]] | None = field(
         default=None, init=False, repr=False, compare=False
     )

@@ -8,6 +8,7 @@ from typing import Any
 import shapely
 
 from pmk_nb.indoorgml.model import Building
+from pmk_nb.indoorgml.units import UnitVote, vote_words
 
 
 def _r(v: float | None) -> float | None:
@@ -52,6 +53,7 @@ def summarize(building: Building) -> dict[str, Any]:
         "namespaces": dict(building.namespaces),
         "unit": building.unit,
         "unit_reason": building.unit_reason,
+        "unit_votes": [asdict(v) for v in building.unit_votes],
         "storeys": storeys,
         "cells": len(building.cells),
         "boundaries": len(building.boundaries),
@@ -66,9 +68,39 @@ def summarize(building: Building) -> dict[str, Any]:
             "rotation": g.rotation,
             "lla": list(g.lla) if g.lla else None,
             "srs_name": g.srs_name,
+            "origin": [_r(g.origin[0]), _r(g.origin[1])],
         },
+        "overlaps": [asdict(o) for o in building.overlaps],
         "warnings": list(building.warnings),
     }
+
+
+SHOWN_OVERLAPS = 10  # pairs listed by name; the rest counted
+
+
+def overlap_lines(overlaps: list[dict[str, Any]]) -> list[str]:
+    """The cells of one storey that overlap (IndoorGML cells must not), largest overlap first."""
+    if not overlaps:
+        return []
+    n = len(overlaps)
+    lines = [f"  OVERLAPPING CELLS ({n} pair{'s' if n != 1 else ''}; the map draws each pair as one space):"]
+    for o in overlaps[:SHOWN_OVERLAPS]:
+        lines.append(
+            f"    - {o['a']} and {o['b']} (storey {o['storey']}): {o['area']:.3g} m², "
+            f"{o['share']:.1%} of the smaller cell"
+        )
+    if len(overlaps) > SHOWN_OVERLAPS:
+        lines.append(f"    ... and {len(overlaps) - SHOWN_OVERLAPS} more (pmk info --json lists them all)")
+    return lines
+
+
+def vote_lines(votes: list[dict[str, Any]]) -> list[str]:
+    """The unit evidence, vote by vote (what each kind measured, the unit it says)."""
+    if not votes:
+        return []
+    lines = [f"  unit votes: {vote_words(UnitVote(**{**v, 'units': tuple(v['units'])}) for v in votes)}"]
+    lines += [f"    - {v['source']}: {', '.join(v['units']) or 'no unit'} ({v['detail']})" for v in votes]
+    return lines
 
 
 def layer_lines(skipped: list[dict[str, Any]]) -> list[str]:
@@ -101,6 +133,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"{summary['source']}",
         f"  IndoorGML version: {summary['version']}",
         f"  units: {summary['unit']} ({summary['unit_reason']})",
+        *vote_lines(summary["unit_votes"]),
         f"  cells: {summary['cells']}   doors: {summary['doors']['total']} "
         f"({summary['doors']['boundaries']} boundaries, {summary['doors']['cells']} door cells)",
         f"  graph: {summary['graph']['states']} states, {summary['graph']['transitions']} transitions",
@@ -108,6 +141,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"{', '.join(x or '(primal features)' for x in summary['geometry_layers'])})",
         *layer_lines(summary["skipped_layers"]),
         *graph_lines(summary["graph_status"]),
+        *overlap_lines(summary["overlaps"]),
         f"  storeys: {len(summary['storeys'])}",
     ]
     for st in summary["storeys"]:
@@ -123,6 +157,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         f"  georeference: translation {g['translation']} m, rotation {g['rotation']} deg"
         + (f", lla {g['lla']}" if g["lla"] else "")
         + (f", srs {g['srs_name']}" if g["srs_name"] else "")
+        + (f", map origin at {g['origin']} m in the CRS" if any(g["origin"]) else "")
     )
     ns = ", ".join(f"{k or '(default)'}={v}" for k, v in summary["namespaces"].items())
     lines.append(f"  namespaces: {ns}")

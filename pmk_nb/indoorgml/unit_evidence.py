@@ -44,7 +44,7 @@ def gather(
     minx, miny, maxx, maxy = shapely.total_bounds([c.geometry for c in cells]).tolist()
     big = sorted(cells, key=lambda c: c.geometry.area)[len(cells) // 2 :]  # rooms, not windows or doors
     big_ids = {c.raw.id for c in big}  # by id: comparing the records themselves made this O(cells²)
-    ev = UnitEvidence(extent=max(maxx - minx, maxy - miny), exporter=exporter(doc))
+    ev = UnitEvidence(extent=max(maxx - minx, maxy - miny), exporter=exporter(doc), crs=metric_crs(doc.srs_name))
     ev.cell_heights = [h for c in big if (h := _height(c.fp)) is not None]
     for fp, why in bfps.values():
         if fp.geometry is None or fp.geometry.geom_type != "LineString" or not why:
@@ -126,10 +126,15 @@ def stair_rise(polys: Sequence[PolygonZ]) -> float | None:
     return statistics.median(rises) if rises else None
 
 
+def metric_crs(srs_name: str | None) -> str:
+    """What the file says when ``srs_name`` is a metric projected CRS (its coordinates are metres), else ''."""
+    if srs_name and METRIC_CRS.search(srs_name):
+        return f"drawn in {srs_name} (srsName), a projected CRS in metres"
+    return ""
+
+
 def exporter(doc: RawDocument) -> tuple[str, str] | None:
-    """(unit, what the file says) when it names a writer whose unit is known, or a metric projected CRS."""
-    if doc.srs_name and METRIC_CRS.search(doc.srs_name):
-        return "m", f"drawn in {doc.srs_name} (srsName), a projected CRS in metres"
+    """(unit, what the file says) when it names a writer whose unit is known."""
     try:
         with open(doc.path, "rb") as fh:
             head = fh.read(HEAD_BYTES).decode("utf-8", "replace")

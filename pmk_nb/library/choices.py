@@ -24,10 +24,12 @@ class ConvertChoices:
     unit: str = "auto"  # "auto" (judged from the plan) or one of pmk_nb.indoorgml.units.UNIT_SCALE
     not_windows: tuple[str, ...] = ()  # cell names or ids the window/sill rule must leave navigable
     layers: tuple[str, ...] = ()  # space layers (ids or names) drawn instead of the navigable one
+    crs: str = "auto"  # the coordinates' frame (--crs): auto, local, or a CRS name
 
     def to_json(self) -> dict[str, Any]:
         layers = {"layers": list(self.layers)} if self.layers else {}  # only when asked: older readers ignore it
-        return {"unit": self.unit, "not_windows": list(self.not_windows), **layers}
+        crs = {"crs": self.crs} if self.crs != "auto" else {}
+        return {"unit": self.unit, "not_windows": list(self.not_windows), **layers, **crs}
 
 
 def read_choices(doc: Mapping[str, Any] | None) -> ConvertChoices | None:
@@ -39,9 +41,10 @@ def read_choices(doc: Mapping[str, Any] | None) -> ConvertChoices | None:
     unit = raw.get("unit")
     words = raw.get("not_windows")
     layers = raw.get("layers", [])  # absent in rooms files written before --layer
-    if unit not in UNIT_CHOICES or not _strings(words) or not _strings(layers):
+    crs = raw.get("crs", "auto")  # absent unless --crs was given
+    if unit not in UNIT_CHOICES or not _strings(words) or not _strings(layers) or not isinstance(crs, str):
         return None
-    return ConvertChoices(str(unit), tuple(words), tuple(layers))
+    return ConvertChoices(str(unit), tuple(words), tuple(layers), crs)
 
 
 def _strings(value: Any) -> TypeGuard[list[str]]:

@@ -56,6 +56,7 @@ class ConvertOptions:
 
     resolution: float = DEFAULT_RESOLUTION  # metres per cell
     unit: str = "auto"
+    crs: str = "auto"  # the coordinates' frame: auto, local, or a CRS name (see pmk_nb.indoorgml.crs)
     storeys: Sequence[str] | None = None
     wall_thickness: float = DEFAULT_WALL_THICKNESS
     max_wall_gap: float = DEFAULT_MAX_WALL_GAP
@@ -186,7 +187,7 @@ def _stage_storeys(
         witnessed = _witness(building, files.yaml, opts.chair_width, width * height) if opts.check else None
         rooms = sidecar_path(files.yaml)
         doc = sidecar_json(building, storey, plan, None if report is None else report.to_json())
-        choices = ConvertChoices(opts.unit, tuple(opts.not_windows), tuple(opts.layers))
+        choices = ConvertChoices(opts.unit, tuple(opts.not_windows), tuple(opts.layers), opts.crs)
         doc[CHOICES_KEY] = choices.to_json()  # kept for the next time
         if witnessed is not None:
             doc[WITNESS_KEY] = witnessed.to_json()
@@ -261,6 +262,7 @@ def convert_plan(
     building = read_building(
         source,
         unit=opts.unit,
+        crs=opts.crs,
         progress=sub_range(progress, 0.0, _READ_END),
         not_windows=opts.not_windows,
         layers=opts.layers,

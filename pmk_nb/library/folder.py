@@ -361,7 +361,8 @@ class MapsFolder:
                 name=entry.name,
                 hint="Use a coarser resolution (a larger number).",
             ) from err
-        if options.unit == "auto" and not options.layers:  # what storeys() reads too (the plan as read by default)
+        default = options.unit == "auto" and not options.layers and options.crs == "auto"
+        if default:  # what storeys() reads too (the plan as read by default)
             self._storey_cache.put(entry.source, (st.st_mtime_ns, st.st_size), result.building)
         new_names = {p.name for m in result.maps for p in (m.files.yaml, m.files.image, m.files.preview, m.rooms) if p}
         self._remove_superseded(old, new_names, set(result.stems.values()))

@@ -40,6 +40,7 @@ class StoreyInfo:
     unit: str = "m"  # the unit the file was read in (judged from its sizes): what ``extent`` was scaled by
     notes: tuple[str, ...] = ()  # the plan's doubts, said before converting (see plan_notes)
     layers: tuple[LayerOption, ...] = ()  # the space layers with cells: what the Maps screen offers to draw
+    origin: tuple[float, float] = (0.0, 0.0)  # where ``extent``'s (0, 0) lies in the plan's CRS (local origin)
 
     @property
     def size(self) -> tuple[float, float] | None:
@@ -124,6 +125,7 @@ def storeys_of(building: Building) -> list[StoreyInfo]:
                 unit=building.unit,
                 notes=notes,
                 layers=layers,
+                origin=building.georef.origin,
             )
         )
     return result

@@ -379,6 +379,9 @@ def _meta(building: Building, storey: str, wall_thickness: float, outside: str, 
         "wall_thickness": wall_thickness,
         "outside": outside,
         "max_wall_gap": max_gap,
+        # large projected coordinates are read from a local origin: where the map's (0, 0) lies in the CRS
+        **({"crs_origin": [float(geo.origin[0]), float(geo.origin[1])]} if any(geo.origin) else {}),
+        **({"srs_name": geo.srs_name} if geo.srs_name else {}),
     }
 
 

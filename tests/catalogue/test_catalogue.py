@@ -414,3 +414,19 @@ def test_pmk_maps_publish_prints_what_it_wrote_and_refuses_an_unconverted_map(
     code, out, err = _pmk(capsys, maps, "publish", "--out", str(site))
     assert code == 0 and "0 file(s) written, 15 unchanged" in out
     assert json.loads((site / "catalog.json").read_text())["title"] == "Ward 3"  # kept when not given
+
+
+def test_a_plan_read_from_a_local_origin_is_placed_where_it_stands(tmp_path: Path) -> None:
+    """Issue 37 item 4: UTM coordinates are read from a local origin; the footprint adds it back. The
+    plan's corner is 15 E 45 N (on zone 33's meridian); 44 x 91 m reach 0.00056 E and 0.00082 N."""
+    from tests.indoorgml.test_crs import _plan
+
+    plan = _plan(tmp_path, "1.0.3-cellSpaceGeometry", (500_000.0, 0.9996 * 4_984_944.378), "EPSG:32633")
+    folder = MapsFolder(tmp_path / "maps")
+    folder.import_file(plan, "utm")
+    folder.convert("utm", 0.1)
+    publish(folder, tmp_path / "site")
+    item_file = tmp_path / "site" / "utm" / "utm" / "utm.json"
+    west, south, east, north = json.loads(item_file.read_text())["bbox"]
+    assert (west, south) == (pytest.approx(15.0, abs=1e-7), pytest.approx(45.0, abs=1e-7))
+    assert (east - west, north - south) == (pytest.approx(0.00056, abs=1e-5), pytest.approx(0.00082, abs=1e-5))

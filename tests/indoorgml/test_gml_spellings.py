@@ -135,6 +135,7 @@ SPELLINGS_2D = {
     ),
     "coordinates-space-after-comma": _ring_of("<gml:coordinates>0, 0 5, 0 5, 4 0, 4 0, 0</gml:coordinates>"),
 }
+PATCHES = _el("PolyhedralSurface", _el("polygonPatches", "".join(_box_faces(BOX, 0, 3, "PolygonPatch"))))
 SPELLINGS_3D = {
     "Solid-Shell": _solid(_box_faces(BOX, 0, 3)),
     "Solid-CompositeSurface": _solid(_box_faces(BOX, 0, 3), "CompositeSurface"),
@@ -144,6 +145,17 @@ SPELLINGS_3D = {
     ),
     "MultiSolid": _el("MultiSolid", _members([_solid(_box_faces(h, 0, 3)) for h in HALVES], "solidMember")),
     "CompositeSolid": _el("CompositeSolid", _members([_solid(_box_faces(h, 0, 3)) for h in HALVES], "solidMember")),
+    # issue 37 item 7: a Solid's shell in every surface spelling GML allows, and a Solid written with
+    # interior shells only (no exterior to be a void in: the interior shells are the solid)
+    "Solid-exterior-PolyhedralSurface": _el("Solid", _el("exterior", PATCHES)),
+    "Solid-exterior-Surface-patches": _el(
+        "Solid", _el("exterior", _el("Surface", _el("patches", "".join(_box_faces(BOX, 0, 3, "PolygonPatch")))))
+    ),
+    "Solid-interior-only-PolyhedralSurface": _el("Solid", _el("interior", PATCHES)),
+    "Solid-interior-only-Shell": _el("Solid", _el("interior", _el("Shell", _members(_box_faces(BOX, 0, 3))))),
+    "Solid-interior-only-CompositeSurface": _el(
+        "Solid", _el("interior", _el("CompositeSurface", _members(_box_faces(BOX, 0, 3))))
+    ),
     # walls only, no floor or ceiling face: the room is what the walls enclose
     "PolyhedralSurface-walls-only": _el(
         "PolyhedralSurface", _el("polygonPatches", "".join(_box_faces(BOX, 0, 3, "PolygonPatch")[2:]))
@@ -174,6 +186,16 @@ def test_polygon_interior_is_a_hole(tmp_path: Path, spelling: str) -> None:
     assert b.cells["A"].footprint.area == pytest.approx(19.0)
     grid = rasterise_storey(b, b.storeys[0].name, RES)
     assert grid.value_at(1.5, 1.5) != FREE and grid.value_at(3.5, 2.0) == FREE
+
+
+@pytest.mark.parametrize("spelling", WRAPPERS)
+def test_solid_of_interior_shells_only_is_read_and_said(tmp_path: Path, spelling: str) -> None:
+    """The interior shells of a solid with no exterior are its geometry, and the reader says it read them so."""
+    b = read_building(_plan(tmp_path, SPELLINGS_3D["Solid-interior-only-PolyhedralSurface"], "3D", spelling))
+    assert b.cells["A"].footprint.area == pytest.approx(20.0)
+    assert any("interior shells but no exterior" in w for w in b.warnings)
+    plain = read_building(_plan(tmp_path, SPELLINGS_3D["Solid-Shell"], "3D", spelling))
+    assert not any("interior shells" in w for w in plain.warnings)
 
 
 def _solid_with_voids(voids: list[tuple[tuple[float, float, float, float], float, float]]) -> str:

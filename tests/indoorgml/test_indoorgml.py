@@ -31,15 +31,17 @@ EXPECTED: dict[str, dict] = {
         "unit": "m",
         "storeys": {"0": 6, "1": 4, "2": 4},
         "doors": 0,
-        "inside": {"0": (445539.85, 5444906.80), "1": (445537.99, 5444906.62), "2": (445537.94, 5444907.22)},
-        "outside": {s: (445532.4, 5444895.4) for s in "012"},
+        # UTM 32N, read from the local origin (445534, 5444897): the points are 445539.85 E 5444906.80 N, ...
+        "inside": {"0": (5.85, 9.80), "1": (3.99, 9.62), "2": (3.94, 10.22)},
+        "outside": {s: (-1.6, -1.6) for s in "012"},
     },
     "fjk_haus_v1_0_3.gml": {
         "unit": "m",
         "storeys": {"0": 6, "1": 4, "2": 4},
         "doors": 0,
-        "inside": {"0": (445539.85, 5444906.80), "1": (445537.99, 5444906.62), "2": (445537.94, 5444907.22)},
-        "outside": {s: (445532.4, 5444895.4) for s in "012"},
+        # UTM 32N, read from the local origin (445534, 5444897): the points are 445539.85 E 5444906.80 N, ...
+        "inside": {"0": (5.85, 9.80), "1": (3.99, 9.62), "2": (3.94, 10.22)},
+        "outside": {s: (-1.6, -1.6) for s in "012"},
     },
     # FZK-Haus: z_min clusters {0, 0.8, 0.95} (ground floor, doors and windows) and
     # {2.5, 2.7, 3.51} (attic and its gable windows): a two-storey house.

@@ -9,6 +9,7 @@ import pytest
 
 from pmk_nb.errors import IndoorGMLError, NotWellFormed
 from pmk_nb.indoorgml import read_building
+from pmk_nb.indoorgml.crs import InconsistentCoordinates
 
 SAMPLE = Path(__file__).resolve().parents[2] / "sample_maps" / "clinic_floor.gml"
 
@@ -152,8 +153,12 @@ def test_garbage_coordinate(tmp_path: Path) -> None:
 
 
 def test_huge_coordinates(tmp_path: Path) -> None:
+    """One stray coordinate makes the plan larger than any building: refused, naming the cell it is in."""
     text = SAMPLE.read_text().replace("1000.0 0.0 1000.0 590.0", "1e12 0.0 1000.0 590.0", 1)
-    _error(_write(tmp_path, "huge.gml", text), "1e7 m", "'R1'")
+    _error(_write(tmp_path, "huge.gml", text), "'R1'", "--crs")
+    with pytest.raises(InconsistentCoordinates) as info:
+        read_building(tmp_path / "huge.gml")
+    assert info.value.element == "R1" and info.value.extent_m == pytest.approx(1e10, rel=1e-3)
 
 
 def test_no_usable_cell(tmp_path: Path) -> None:

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from pmk_nb.cli import main
 from pmk_nb.indoorgml import read_building
-from pmk_nb.indoorgml.units import UNIT_SCALE, UnitEvidence, choose_unit, unit_suspect
+from pmk_nb.indoorgml.units import UNIT_SCALE, UnitEvidence, UnitVote, choose_unit, unit_suspect
 from tests.access.test_access_rules import _boundary, _cell, _graph, _plan, _ring, _solid
 
 SPELLINGS = pytest.mark.parametrize("v2", [False, True], ids=["1.0-state-transition", "2.0-node-edge"])
@@ -95,7 +95,7 @@ def test_small_house_with_whole_wall_transitions_keeps_its_unit(tmp_path: Path, 
 def test_small_house_of_solids_is_read_in_its_unit(tmp_path: Path, unit: str, v2: bool) -> None:
     b = read_building(_house(tmp_path, unit, v2=v2, solid=True))
     assert b.unit == unit and "3 of 3 cell heights (median 2.5 m)" in b.unit_reason
-    assert "score" in b.unit_reason and b.unit_suspect is None
+    assert "votes" in b.unit_reason and b.unit_suspect is None
 
 
 def _stair(cid: str, x0: float, k: float, steps: int = 16, rise: float = 0.175, run: float = 0.28) -> str:
@@ -213,8 +213,70 @@ def test_strong_sizes_outweigh_a_named_writer_and_say_so() -> None:
         exporter=("m", "written by a CityGML converter"),
     )
     choice = choose_unit(alma=False, alma_why="", evidence=ev)
-    assert choice.unit == "cm" and "score 8.0, next metres 6.0" in choice.reason
+    assert choice.unit == "cm" and "3 of 5 votes, next metres 1)" in choice.reason
     assert "the file is written by a CityGML converter, which means metres" in choice.conflict
+
+
+def _hall_with_a_centimetre_door(tmp_path: Path, v2: bool) -> Path:
+    """Issue 37 item 5: two 90 x 140 m halls 3 m high, drawn in metres, and the door between them drawn 90
+    units wide (centimetres) and 2.1 high (metres); its transition crosses the whole 140-unit wall."""
+    cells = _solid("A", (0, 0, 90, 140), 0, 3) + _solid("B", (90, 0, 180, 140), 0, 3)
+    face = "90 20 0 90 110 0 90 110 2.1 90 20 2.1 90 20 0"
+    door = (
+        '<cellSpaceBoundaryMember><navi:ConnectionBoundary gml:id="D"><cellSpaceBoundaryGeometry><geometry3D>'
+        f"<gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>{face}</gml:posList>"
+        "</gml:LinearRing></gml:exterior></gml:Polygon></geometry3D></cellSpaceBoundaryGeometry>"
+        "</navi:ConnectionBoundary></cellSpaceBoundaryMember>"
+    )
+    return _plan(tmp_path, cells, _graph([("A", "B")], v2=v2), door + _face("F", (90, 0), (90, 140), "T0"), v2=v2)
+
+
+@SPELLINGS
+def test_one_door_cannot_outvote_three_kinds_that_agree(tmp_path: Path, v2: bool) -> None:
+    """The door width (and the face that repeats it) say centimetres, the door height, the cell heights and
+    the extent metres: the majority reads metres (the old weights read centimetres: 1.8 x 1.4 m halls),
+    and the conflict lists every vote."""
+    b = read_building(_hall_with_a_centimetre_door(tmp_path, v2))
+    assert b.unit == "m", b.unit_reason
+    assert b.cells["B"].footprint.bounds == pytest.approx((90, 0, 180, 140))
+    votes = {v.source: v.units for v in b.unit_votes}
+    assert votes == {
+        "door widths": ("cm",),
+        "door heights": ("m",),
+        "cell heights": ("m",),
+        "room areas": ("dm",),
+        "transition faces": ("cm",),
+        "plan extent": ("m",),
+    }
+    assert "3 of 5.5 votes, next centimetres 1.5" in b.unit_reason
+    assert "The votes: metres 3 (door heights, cell heights, plan extent); decimetres 1 (room areas); " in (
+        b.unit_conflict
+    )
+    assert "centimetres 1.5 (door widths, transition faces)" in b.unit_conflict
+
+
+def test_votes_are_counted_by_kind_not_by_weight() -> None:
+    ev = UnitEvidence(door_widths=[90.0], door_heights=[2.1], cell_heights=[3.0], extent=180.0, passage_widths=[90.0])
+    choice = choose_unit(alma=False, alma_why="", evidence=ev)
+    assert ev.score("cm") > ev.score("m")  # the weights alone (doors count four times) say centimetres
+    assert choice.unit == "m" and [v.units for v in choice.votes] == [("cm",), ("m",), ("m",), ("cm",), ("m",)]
+    assert choice.votes[0] == UnitVote("door widths", ("cm",), 1.0, "door widths 0.9 m in centimetres")
+
+
+def test_a_tie_is_decided_by_the_weightier_evidence_and_said() -> None:
+    """PNU 201's doors and extent say metres, its rooms and corridors decimetres: the doors weigh more."""
+    ev = UnitEvidence(door_widths=[2.4] * 5, room_areas=[1500.0] * 4, corridor_widths=[11.0], extent=240.0)
+    choice = choose_unit(alma=False, alma_why="", evidence=ev)
+    assert choice.unit == "m"
+    assert "2 of 4 votes, next decimetres 2; a tie, the weightier evidence decides: 5.0 to 3.0)" in choice.reason
+
+
+def test_a_metric_crs_in_srs_name_is_the_unit_not_a_vote() -> None:
+    """GML: coordinates are in the unit of the CRS srsName names; every kind voting decimetres does not change it."""
+    ev = UnitEvidence(door_widths=[9.0] * 3, room_areas=[2000.0] * 3, extent=300.0, crs="drawn in EPSG:25832")
+    choice = choose_unit(alma=False, alma_why="", evidence=ev)
+    assert choice.unit == "m" and choice.reason.startswith("auto: metres (drawn in EPSG:25832;")
+    assert "The votes: decimetres 3 (door widths, room areas, plan extent)" in choice.conflict
 
 
 def test_a_unit_given_by_hand_that_makes_doors_absurd_is_the_suspect() -> None:
@@ -316,3 +378,17 @@ def test_check_names_the_unit_before_any_door(tmp_path: Path, v2: bool, capsys: 
     assert main(["info", str(path), "--unit", "cm"]) == 0
     out = capsys.readouterr().out
     assert "units: cm (given: cm)" in out and "UNIT SUSPECT: all doors are 0.009 m wide" in out
+
+
+def test_pmk_info_and_convert_list_every_vote(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _hall_with_a_centimetre_door(tmp_path, v2=True)
+    assert main(["info", str(path), "--json"]) == 0
+    votes = json.loads(capsys.readouterr().out)["unit_votes"]
+    assert {v["source"]: v["units"] for v in votes}["door widths"] == ["cm"]
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "unit votes: metres 3 (door heights, cell heights, plan extent); decimetres 1 (room areas); " in out
+    assert "    - door widths: cm (door widths 0.9 m in centimetres)" in out
+    assert main(["convert", str(path), "--out", str(tmp_path / "maps"), "-r", "1", "--no-preview", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["unit"] == "m" and len(result["unit_votes"]) == 6 and "The votes: metres 3" in result["unit_conflict"]

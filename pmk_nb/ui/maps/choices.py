@@ -73,6 +73,7 @@ class ChoicesPanel:
         self._layers: tuple[str, ...] = ()  # the layers the last conversion drew (--layer), kept as they were
         self._auto: tuple[str, ...] = ()  # the layers the converter draws when none is asked for
         self._offered: tuple[LayerOption, ...] | None = None  # None: nothing offered yet for this map
+        self._crs = "auto"  # the frame the last conversion read the coordinates in (--crs), kept as it was
 
     def show(self, entry: MapEntry | None, docs: list[dict[str, Any] | None]) -> None:
         """The choices of ``entry``'s last conversion, and the cells its reports took for windows (``docs``:
@@ -85,6 +86,7 @@ class ChoicesPanel:
             return
         self._shown = shown
         self._layers = last.layers  # chosen here or by `pmk maps convert --layer`: kept when converting again
+        self._crs = last.crs  # given by `pmk maps convert --crs`: kept when converting again
         self._offered = None  # a new map or conversion: its layers are offered afresh
         self.set_layers(())
         self.unit.value = last.unit
@@ -164,4 +166,4 @@ class ChoicesPanel:
         """
         unit = self._valid_unit(self.unit.value)
         ticked = [str(b.description) for b in self.windows.children if isinstance(b, w.Checkbox) and b.value is True]
-        return ConvertChoices(unit, tuple(ticked), self._chosen_layers())
+        return ConvertChoices(unit, tuple(ticked), self._chosen_layers(), self._crs)

@@ -290,6 +290,7 @@ class MapsScreen:
             unit=choices.unit,
             not_windows=tuple(choices.not_windows),
             layers=tuple(choices.layers),
+            crs=choices.crs,
         )
 
         def work() -> list[GeneratedMap]:
