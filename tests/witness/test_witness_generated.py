@@ -146,7 +146,7 @@ def truth(m: _Map, drawn: Drawn) -> list[str]:
     wrong = []
     bx = drawn.boxes
     for room in [*drawn.rooms, "COR"]:
-        x0, y0, x1, y1 = bx[room]
+        x1, y1 = bx[room][2:]
         if not m.at(x1 - 1.0, y1 - 0.8):
             wrong.append(f"{room} not free")
     if drawn.obstacle and m.at(*_centre(bx[drawn.obstacle])):
