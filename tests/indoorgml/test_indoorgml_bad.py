@@ -100,7 +100,7 @@ def _plan_lines(n: int) -> list[str]:
     return head + [f"<gml:name>room {i}</gml:name>" for i in range(n - len(head))]
 
 
-@pytest.mark.parametrize("lines", [5, 228, 20_000])
+@pytest.mark.parametrize("lines", [5, 228, pytest.param(20_000, marks=pytest.mark.slow)])
 def test_a_mismatched_tag_is_malformed_xml_wherever_the_parser_batches(tmp_path: Path, lines: int) -> None:
     """lxml 6 / libxml2 2.14 deliver no event before an error in their first read buffer: the verdict,
     the line and the open elements must not depend on that (228 lines is the file that was called "not XML")."""
