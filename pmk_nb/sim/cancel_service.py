@@ -39,8 +39,9 @@ def cancel_goal(nav: Navigator, action: str, args: dict[str, Any]) -> dict[str, 
     A goal sent on Nav2's ``/goal_pose`` topic is a NavigateToPose goal of bt_navigator's own: a
     cancel-all of ``/navigate_to_pose`` ends it too. A stamp alone names every goal accepted before
     it: the running goal was, so it counts as all."""
-    info = args.get("goal_info") if isinstance(args.get("goal_info"), dict) else {}
-    raw = (info.get("goal_id") or {}).get("uuid") if isinstance(info.get("goal_id"), dict) else None
+    info = args.get("goal_info")
+    goal_id = info.get("goal_id") if isinstance(info, dict) else None
+    raw = goal_id.get("uuid") if isinstance(goal_id, dict) else None
     uuid = tuple(int(b) for b in raw if isinstance(b, int)) if isinstance(raw, list) else ()
     goal = nav.current
     if goal is None:
