@@ -12,7 +12,7 @@ keep publishing their own velocity. :func:`stop_goals` (``ChairLink.stop_goals``
    * ROS 2: calls ``<action>/_action/cancel_goal`` of Nav2's two actions with a zero goal id and stamp
      (``action_msgs/srv/CancelGoal``: every goal of that action, whoever sent it);
    * ROS 1: an empty ``actionlib_msgs/GoalID`` on ``/move_base/cancel`` (actionlib: all goals);
-   * zero velocity at 20 Hz for 1 s.
+   * zero velocity at 20 Hz for :data:`BURST_S`.
    When the second socket cannot be opened, zero velocity goes over the link's own connection.
 
 The goal gate: ``link.goal_gate`` (None, or a callable returning the wall time of a latched Stop, else
@@ -40,7 +40,9 @@ if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore
 
 LOG = logging.getLogger(__name__)
-BURST_HZ, BURST_S = 20.0, 1.0
+#: zero velocity after the cancels: short, since a chair released after a Stop must not meet stale
+#: zeros from it (the cancels stop the goals; the zeros stop what has no goal and what a held link sent)
+BURST_HZ, BURST_S = 20.0, 0.25
 CANCEL_SERVICE = "action_msgs/srv/CancelGoal"
 _RUNNING: weakref.WeakKeyDictionary[LinkCore, set[GoalHandle]] = weakref.WeakKeyDictionary()
 _LOCK = threading.Lock()
