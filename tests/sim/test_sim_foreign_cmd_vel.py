@@ -19,6 +19,7 @@ import roslibpy
 import websockets.sync.client as ws_client
 from roslibpy.ros1 import actionlib
 
+from pmk_nb.sim.cancel_service import ERROR_NONE
 from tests.fixtures_sim import wait_until
 
 START = (1.0, 6.0, 0.0)  # the demo floor's corridor
@@ -81,7 +82,7 @@ def test_a_cancel_all_from_another_client_stops_the_goal(sim_factory, ros_factor
             ws.send(json.dumps({"op": "call_service", "id": "c", "service": "/navigate_to_pose/_action/cancel_goal"}))
             answer = json.loads(ws.recv(3))
             assert answer["op"] == "service_response" and answer["result"] is True, answer
-            assert answer["values"]["return_code"] == 0 and len(answer["values"]["goals_canceling"]) == 1
+            assert answer["values"]["return_code"] == ERROR_NONE and len(answer["values"]["goals_canceling"]) == 1
         else:  # actionlib: an empty GoalID cancels every goal
             ws.send(json.dumps({"op": "advertise", "topic": "/move_base/cancel", "type": "actionlib_msgs/GoalID"}))
             ws.send(json.dumps({"op": "publish", "topic": "/move_base/cancel", "msg": {"id": ""}}))

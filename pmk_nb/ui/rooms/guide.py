@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.access import sidecar_path
-from pmk_nb.chair.link.goal_stop import GoalsStopped
+from pmk_nb.chair.link import GoalsStopped
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.errors import PmkError
 from pmk_nb.guide import NoAccessibleRoute, NoGraph, RoomsMap, go_to, load_rooms
