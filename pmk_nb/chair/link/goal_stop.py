@@ -58,10 +58,15 @@ class GoalsStopped(NavigationError):
         self.stop_at = stop_at
 
 
+def latched_at(link: LinkCore) -> float | None:
+    """The wall time of the Stop latched for ``link``'s chair (``link.goal_gate``), else None."""
+    gate = getattr(link, "goal_gate", None)
+    return gate() if gate is not None else None
+
+
 def check_gate(link: LinkCore) -> None:
     """Raise :class:`GoalsStopped` when ``link.goal_gate`` says a Stop is latched."""
-    gate = getattr(link, "goal_gate", None)
-    stop_at = gate() if gate is not None else None
+    stop_at = latched_at(link)
     if stop_at is not None:
         raise GoalsStopped(
             f"Stopped (at {time.strftime('%H:%M', time.localtime(stop_at))}): no goal is sent to the chair at "
@@ -73,18 +78,23 @@ def check_gate(link: LinkCore) -> None:
 
 
 def track(link: LinkCore, handle: GoalHandle) -> None:
-    """Keep ``handle`` among ``link``'s running goals until it is done."""
+    """Keep ``handle`` among ``link``'s running goals until it is done; cancel it at once when a Stop
+    was latched while it was being sent (after the gate let it through: no goal slips past a Stop)."""
     with _LOCK:
         _RUNNING.setdefault(link, set()).add(handle)
+    ref = weakref.ref(link)  # the handle's callback must not keep the link (the registry's weak key) alive
 
     def on_update(progress: object) -> None:  # roslibpy's I/O thread: store only
-        if getattr(progress, "done", False):
+        owner = ref()
+        if getattr(progress, "done", False) and owner is not None:
             with _LOCK:
-                _RUNNING.get(link, set()).discard(handle)
+                _RUNNING.get(owner, set()).discard(handle)
 
     handle.on_update(on_update)
     if handle.progress().done:
         on_update(handle.progress())
+    elif latched_at(link) is not None:
+        handle.cancel()
 
 
 def running(link: LinkCore) -> list[GoalHandle]:

@@ -76,3 +76,16 @@ def test_a_latched_stop_refuses_a_goal(sim_factory, link_factory) -> None:
     link.goal_gate = lambda: None  # released: goals go again
     handle = link.navigate_to(*FAR)
     assert wait_until(lambda: handle.progress().status is GoalStatus.MOVING, 10.0)
+
+
+def test_a_stop_latched_while_a_goal_is_being_sent_cancels_it(sim_factory, link_factory) -> None:
+    """The gate let the goal through, then another page's Stop latched before the goal was tracked
+    (its watch found nothing to cancel): the goal is cancelled as soon as it is tracked."""
+    sim = sim_factory(ros="ros2", start_pose=START, bridge="rs")
+    link = link_factory(sim)
+    answers = iter([None])
+    link.goal_gate = lambda: next(answers, 99.0)  # open at the gate, latched from then on
+    handle = link.navigate_to(*FAR)
+    assert handle.cancel_requested
+    assert wait_until(lambda: handle.progress().status is GoalStatus.CANCELLED, 5.0), handle.progress()
+    assert sim.velocity == (0.0, 0.0) and running(link) == []
