@@ -34,7 +34,7 @@ import roslibpy
 
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
-from pmk_nb.chair.link.goal_stop import stop_goals
+from pmk_nb.chair.link.goal_stop import running, stop_goals
 from pmk_nb.chair.link.initialpose import publish_initial_pose
 from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.mapread import MapFacts, MapReader
@@ -359,6 +359,10 @@ class ChairLink:
         """The Stop for goals: cancel every goal this link runs, cancel all goals natively where the
         route allows, tell ``pmk robot goal-watchdog``, zero velocity: see :mod:`.goal_stop`."""
         return stop_goals(self, cmd_vel_topic, wait=wait)
+
+    def running_goals(self) -> list[GoalHandle]:
+        """The goals this link started that have not ended."""
+        return running(self)
 
     def server_statuses(self) -> list[ServerStatus]:
         """The rosbridge server's latest ``status`` messages (e.g. a subscription with a wrong type)."""

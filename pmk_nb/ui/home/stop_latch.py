@@ -2,7 +2,7 @@
 
 While the preview has a chair link, the watch reads the chair's Stop latch (shared by every page's
 kernel, keyed on the chair's resolved address): another page's Stop cancels this kernel's goals
-(``ChairLink.stop_goals``) and every goal is refused while it holds (``ChairLink.goal_gate``). Home
+(``ChairLink.stop_goals``, when it runs any) and every goal is refused while it holds (``ChairLink.goal_gate``). Home
 greys "Set destination" and "Go to" meanwhile; the kernel refuses them anyway (a page can click a
 disabled button).
 """
@@ -37,7 +37,7 @@ class StopLatch:
         if link is None:
             return
         claim = DriveClaim(self.folder, link.host, link.port, member=self.member)
-        self.watch = StopWatch(claim, lambda: link.stop_goals(topic)).start()
+        self.watch = StopWatch(claim, lambda: on_latch(link, topic)).start()
         link.goal_gate = self.watch.latched_at
 
     @property
@@ -48,3 +48,11 @@ class StopLatch:
 
     def close(self) -> None:
         self.attach(None)
+
+
+def on_latch(link: Any, topic: str | None) -> None:
+    """Another page latched a Stop: this page's goals end the way its own Stop ends them. The page that
+    pressed Stop has cancelled all goals natively already; this page adds its own goals' cancels (and,
+    for them, a second native cancel-all), and stays quiet when it runs none (ten pages, one burst)."""
+    if link.running_goals():
+        link.stop_goals(topic)

@@ -110,3 +110,25 @@ def test_on_a_kiosk_take_over_needs_the_pin_and_stop_does_not(tmp_path: Path) ->
     finally:
         driver.detach()
         kiosk.detach()
+
+
+def test_another_pages_stop_cancels_here_only_when_goals_run_here() -> None:
+    """Ten pages, one Stop: the pressing page cancelled all goals natively; a page that runs none sends
+    nothing more (no burst per page), a page that runs one cancels it."""
+    from pmk_nb.ui.home.stop_latch import on_latch
+
+    class Link:
+        def __init__(self, goals: list[str]) -> None:
+            self.goals, self.stops = goals, []  # type: ignore[var-annotated]
+
+        def running_goals(self) -> list[str]:
+            return self.goals
+
+        def stop_goals(self, topic: str | None = None) -> list[str]:
+            self.stops.append(topic)
+            return self.goals
+
+    idle, busy = Link([]), Link(["goal"])
+    on_latch(idle, "/cmd_vel")
+    on_latch(busy, "/chair/cmd_vel")
+    assert idle.stops == [] and busy.stops == ["/chair/cmd_vel"]
