@@ -47,3 +47,25 @@ class Beat:
         if not isinstance(active, bool) or not isinstance(goals, int) or not isinstance(seq, int):
             return None
         return cls(data["client"], active, goals, seq)
+
+
+#: The dashboard's Stop, for ``pmk robot goal-watchdog`` (issue 38): a ``std_msgs/String`` whose
+#: ``data`` is ``{"client": ..., "stop": true}``. Any message here means "cancel every navigation
+#: goal now": the watchdog cancels them natively (Nav2's CancelGoal with a zero id, move_base's empty
+#: GoalID), because a bridge may hold a client's own cancel behind the goal it cancels.
+STOP_TOPIC = "/pmk/stop"
+
+
+def stop_message(client: str) -> str:
+    """The ``data`` of one Stop on :data:`STOP_TOPIC`."""
+    return json.dumps({"client": client, "stop": True})
+
+
+def stop_client(text: str) -> str:
+    """Who sent a Stop (for the log); "?" when the message is not ours: it still stops."""
+    try:
+        data = json.loads(text)
+    except (TypeError, ValueError):
+        return "?"
+    client = data.get("client") if isinstance(data, dict) else None
+    return client if isinstance(client, str) and client else "?"

@@ -45,8 +45,9 @@ class DriveWorld:
 
 
 @contextlib.contextmanager
-def drive_world(root: Path, server: str = "voila") -> Iterator[DriveWorld]:
+def drive_world(root: Path, server: str = "voila", extra_env: dict[str, str] | None = None) -> Iterator[DriveWorld]:
     """Simulator + profile + current map + Voilà (or JupyterLab: ``server="lab"``); all stopped at exit.
+    ``extra_env`` adds to the server's environment (``PMK_KIOSK=1``: kiosk pages).
 
     JupyterLab opens ``dashboard.ipynb`` at the yielded URL (token ``pmk-test``); run its cell.
     """
@@ -82,6 +83,7 @@ def drive_world(root: Path, server: str = "voila") -> Iterator[DriveWorld]:
         import os
 
         env = {**os.environ, "PMK_MAPS_DIR": str(maps_dir), "PMK_CONFIG_DIR": str(config_dir), AUTOSTART_ENV: "1"}
+        env.update(extra_env or {})
         port = free_port()
         notebook = write_dashboard_notebook(root / "kiosk")
         cmd, url = voila_command(notebook, port=port), f"http://127.0.0.1:{port}/"

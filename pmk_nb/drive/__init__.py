@@ -9,7 +9,10 @@ chair link's ``publish_cmd_vel`` / ``is_connected`` / ``latest_odom``.
   clock offset that tells how old a message is.
 * ``gate``: the deadman: commands only while held and fresh; one zero on release, then silence;
   a command older than 200 ms is dropped; a stale link, a hidden page or missing keepalives stop.
-* ``claim``: one driving page per chair and the chair-wide Stop latch, in a file all kernels see.
+* ``claim``: one driving page per chair and the chair-wide Stop latch, in a file all kernels see,
+  keyed on the chair's resolved address (``chairkey``: one chair, one key, whatever the spelling).
+* ``stopwatch``: every page's eye on that latch for navigation goals: another page's Stop cancels
+  this kernel's goals, and a latched Stop refuses new ones (the link's goal gate).
 * ``session``: the gate plus the bounded publisher thread (20 Hz), and :func:`drive_for` for scripts.
 """
 
@@ -18,6 +21,7 @@ from pmk_nb.drive.gate import DriveGate, GateTiming, StopReason
 from pmk_nb.drive.limits import SpeedLimits, stick_to_twist
 from pmk_nb.drive.session import DriveSession, drive_for
 from pmk_nb.drive.stick import ClockOffset, StickEvent, StickMessageError, parse_stick_message
+from pmk_nb.drive.stopwatch import StopWatch
 
 __all__ = [
     "ClaimView",
@@ -31,6 +35,7 @@ __all__ = [
     "StickEvent",
     "StickMessageError",
     "StopReason",
+    "StopWatch",
     "drive_for",
     "parse_stick_message",
     "stick_to_twist",

@@ -1,7 +1,8 @@
 """One driver per chair, and a Stop that holds for every page: a small file all kernels share.
 
 Each dashboard page has its own kernel (a separate process), so "who drives" and "Stop was
-pressed" cannot live in a kernel. They live in one JSON file per chair (``host_port.json``) in a
+pressed" cannot live in a kernel. They live in one JSON file per chair (``address_port.json``, the
+chair's resolved address: :mod:`pmk_nb.drive.chairkey`, so every spelling of one chair shares it) in a
 folder every kernel of the dashboard sees (the settings folder's ``drive/``, mode 0700):
 
 * ``pages``: every page with the drive panel open and its heartbeat (wall time, written at most
@@ -18,7 +19,7 @@ seen by the next tick of every kernel without a network round trip or a subscrip
 and a Stop is never lost to a dropped websocket. Pages of *another* dashboard (a second tablet with
 its own server) do not see it; the chair's own watchdog and each page's Stop still apply there.
 
-Writers take an ``flock`` on ``host_port.lock`` for their read-modify-write and replace the file
+Writers take an ``flock`` on ``address_port.lock`` for their read-modify-write and replace the file
 atomically (:func:`pmk_nb.fileio.atomic_write`); readers need no lock. The page's identity is the
 kernel-side :attr:`DriveClaim.member`, never an id the page sends.
 """
@@ -28,7 +29,6 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import json
-import re
 import time
 import uuid
 from collections.abc import Callable, Iterator
@@ -37,6 +37,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.drive.chairkey import chair_key
 from pmk_nb.fileio import atomic_write
 
 STALE_S = 3.0  # a page without a heartbeat for this long is gone
@@ -103,11 +104,6 @@ class _State:
 
 def _num(value: Any) -> float | None:
     return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
-
-
-def chair_key(host: str, port: int) -> str:
-    """A file name for one chair: ``host_port`` with anything but letters, digits, ``.-`` as ``_``."""
-    return re.sub(r"[^A-Za-z0-9.-]", "_", f"{host}_{int(port)}")[:120]
 
 
 class DriveClaim:
@@ -180,6 +176,10 @@ class DriveClaim:
         if self._beat_at is None or now - self._beat_at >= self.beat_every or now < self._beat_at:
             return self._change(lambda _s, _n: None)
         return self._view(self._read(), now)
+
+    def peek(self) -> ClaimView:
+        """The shared state now, without this page's heartbeat (a watcher is not a driving page)."""
+        return self._view(self._read(), self.clock())
 
     # -- writing --------------------------------------------------------------------------------------
     @contextlib.contextmanager

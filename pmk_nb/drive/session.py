@@ -72,6 +72,9 @@ class DriveSession:
         clock: monotonic seconds, the same clock as the odometry's ``received``.
         claim: this page's handle on the chair's shared drive state (one driver per chair, the
             chair-wide Stop); None for a script that is the only driver it knows of.
+        stop_goals: what Stop calls to end navigation goals (issue 38: zero velocity does not stop
+            a goal, its controller keeps publishing), with the velocity topic; default the link's
+            ``stop_goals`` (``ChairLink.stop_goals``) when it has one.
     """
 
     def __init__(
@@ -85,6 +88,7 @@ class DriveSession:
         on_stop: Callable[[StopReason], None] | None = None,
         clock: Callable[[], float] = time.monotonic,
         claim: DriveClaim | None = None,
+        stop_goals: Callable[[str | None], object] | None = None,
     ) -> None:
         if not MIN_RATE <= rate <= MAX_RATE:
             raise ValueError(f"rate must be {MIN_RATE:g} to {MAX_RATE:g} Hz, got {rate!r}")
@@ -96,6 +100,7 @@ class DriveSession:
         self.last_error: StickMessageError | None = None
         self._clock = clock
         self.claim = claim
+        self.stop_goals = stop_goals if stop_goals is not None else getattr(link, "stop_goals", None)
         #: the shared state at the latest tick (None without a claim, or before the first tick)
         self.claim_view: ClaimView | None = None
         self._claim_error: OSError | None = None
@@ -195,8 +200,10 @@ class DriveSession:
             self._kick.set()
 
     def stop(self) -> None:
-        """The Stop button: one zero at the next tick, this press drives no more, and (with a claim)
-        the chair-wide latch stops every other page's session at its next tick until released here."""
+        """The Stop button: one zero at the next tick, this press drives no more, (with a claim) the
+        chair-wide latch stops every other page's session at its next tick and refuses goals until
+        released here, and every navigation goal is cancelled (:attr:`stop_goals`; the other pages'
+        kernels cancel theirs when they see the latch: :mod:`pmk_nb.drive.stopwatch`)."""
         with self._lock:
             self.gate.stop(StopReason.STOP_BUTTON)
         self._kick.set()  # the zero goes now, not at the next (idle, slower) tick
@@ -205,6 +212,11 @@ class DriveSession:
                 self.claim_view = self.claim.stop()
             except OSError:
                 log.exception("latching the Stop for the other pages failed")
+        if self.stop_goals is not None:
+            try:
+                self.stop_goals(self.topic)
+            except Exception:  # the zero and the latch are out; say so, never raise from Stop
+                log.exception("cancelling the navigation goals failed")
 
     def take_over(self) -> ClaimView | None:
         """The explicit take-over: this page becomes the driver (the other page stops at its next tick)."""

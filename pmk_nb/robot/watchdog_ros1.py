@@ -4,7 +4,8 @@ The ROS 1 rosbridge has no action ops: the dashboard drives move_base over actio
 when its socket drops nobody cancels. This node listens to ``/pmk/goal_heartbeat``
 (:mod:`pmk_nb.goalbeat`) and, when an armed dashboard is silent for ``--silence`` s, publishes an
 empty ``actionlib_msgs/GoalID`` on ``/move_base/cancel``: a zero id and a zero stamp is actionlib's
-"cancel all goals".
+"cancel all goals". The dashboard's Stop on ``/pmk/stop`` (:data:`pmk_nb.goalbeat.STOP_TOPIC`, issue
+38) publishes the same at once.
 
 Runs with the system Python that has Debian's python3-rospy (as :mod:`pmk_nb.robot.ros1_mapserver`);
 imports only the standard library, rospy, Debian's message packages and the pure goal watch.
@@ -18,7 +19,7 @@ import argparse
 import threading
 from typing import Any
 
-from pmk_nb.goalbeat import SILENCE_S, TOPIC, Beat
+from pmk_nb.goalbeat import SILENCE_S, STOP_TOPIC, TOPIC, Beat, stop_client
 from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch
 
 CANCEL_TOPIC = "/move_base/cancel"
@@ -28,7 +29,9 @@ TICK_S = 0.1
 class Ros1Watchdog:
     """The heartbeat subscriber, the cancel publisher and the timer of one rospy node."""
 
-    def __init__(self, watch: GoalWatch, topic: str = TOPIC, cancel_topic: str = CANCEL_TOPIC) -> None:
+    def __init__(
+        self, watch: GoalWatch, topic: str = TOPIC, cancel_topic: str = CANCEL_TOPIC, stop_topic: str = STOP_TOPIC
+    ) -> None:
         import rospy
         from actionlib_msgs.msg import GoalID
         from std_msgs.msg import String
@@ -38,6 +41,7 @@ class Ros1Watchdog:
         self.lock = threading.Lock()
         self.cancel_pub = rospy.Publisher(cancel_topic, GoalID, queue_size=10)
         self.subscriber = rospy.Subscriber(topic, String, self.on_beat, queue_size=10)
+        self.stop_subscriber = rospy.Subscriber(stop_topic, String, self.on_stop, queue_size=10)
         self.timer = rospy.Timer(rospy.Duration(TICK_S), self.on_tick)
         self.cancels_sent = 0
 
@@ -51,6 +55,16 @@ class Ros1Watchdog:
         if change is not None:
             what = "armed: a goal runs" if change.armed else "disarmed: its goals ended"
             self.rospy.loginfo(f"{change.client}: {what}")
+
+    def on_stop(self, msg: Any) -> None:
+        """The dashboard's Stop: cancel all goals now (any message counts: a Stop errs on stopping)."""
+        self.cancel_pub.publish(self.goal_id())
+        with self.lock:
+            self.cancels_sent += 1
+        self.rospy.logwarn(
+            f"{stop_client(msg.data)}: Stop pressed: "
+            f"published an empty GoalID on {self.cancel_topic} (cancel all goals)"
+        )
 
     def on_tick(self, _event: Any) -> None:
         with self.lock:
@@ -70,7 +84,10 @@ def run(silence_s: float = SILENCE_S, topic: str = TOPIC, cancel_topic: str = CA
 
     rospy.init_node("pmk_goal_watchdog", disable_signals=False)
     Ros1Watchdog(GoalWatch(silence_s), topic, cancel_topic)
-    rospy.loginfo(f"watching {topic}: empty GoalID on {cancel_topic} after {silence_s:g} s of silence")
+    rospy.loginfo(
+        f"watching {topic}: empty GoalID on {cancel_topic} after {silence_s:g} s of silence, "
+        f"and at once on {STOP_TOPIC}"
+    )
     print(READY_LINE, flush=True)
     rospy.spin()
     return 0

@@ -7,6 +7,10 @@ This node runs on the chair beside Nav2 and listens to ``/pmk/goal_heartbeat``
 action's ``<action>/_action/cancel_goal`` service with a zero goal id and a zero stamp, which
 ``action_msgs/srv/CancelGoal`` defines as "cancel all goals" of that action server.
 
+It also listens to the dashboard's Stop on ``/pmk/stop`` (:data:`pmk_nb.goalbeat.STOP_TOPIC`, issue
+38) and cancels all goals the same way at once: a bridge may hold the dashboard's own cancel behind
+the goal it cancels, and a goal another page started is this page's only through a cancel-all.
+
 Single-threaded: the subscription, the 10 Hz timer and the service replies all run in rclpy's
 executor, so :class:`~pmk_nb.robot.goalwatch.GoalWatch` needs no lock.
 """
@@ -16,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from pmk_nb.goalbeat import SILENCE_S, TOPIC, Beat
+from pmk_nb.goalbeat import SILENCE_S, STOP_TOPIC, TOPIC, Beat, stop_client
 from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch, Trip
 
 ACTIONS = ("/navigate_to_pose", "/navigate_through_poses")
@@ -28,7 +32,14 @@ CANCEL_CODES = {0: "accepted", 1: "rejected", 2: "unknown goal id", 3: "goal alr
 class Ros2Watchdog:
     """The node's parts: one cancel client per action, the heartbeat subscription, the timer."""
 
-    def __init__(self, node: Any, watch: GoalWatch, actions: Sequence[str] = ACTIONS, topic: str = TOPIC) -> None:
+    def __init__(
+        self,
+        node: Any,
+        watch: GoalWatch,
+        actions: Sequence[str] = ACTIONS,
+        topic: str = TOPIC,
+        stop_topic: str = STOP_TOPIC,
+    ) -> None:
         from action_msgs.srv import CancelGoal
         from rclpy.qos import QoSProfile, ReliabilityPolicy
         from std_msgs.msg import String
@@ -39,6 +50,7 @@ class Ros2Watchdog:
         # best effort matches any publisher's reliability (a bridge may publish either way)
         qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
         self.subscription = node.create_subscription(String, topic, self.on_beat, qos)
+        self.stop_subscription = node.create_subscription(String, stop_topic, self.on_stop, qos)
         self.timer = node.create_timer(TICK_S, self.on_tick)
         self.cancels_sent = 0
 
@@ -52,16 +64,17 @@ class Ros2Watchdog:
             what = "armed: a goal runs" if change.armed else "disarmed: its goals ended"
             self.log.info(f"{change.client}: {what}")
 
+    def on_stop(self, msg: Any) -> None:
+        """The dashboard's Stop: every goal ends now (any message counts: a Stop errs on stopping)."""
+        self.cancel_all(f"{stop_client(msg.data)}: Stop pressed")
+
     def on_tick(self) -> None:
         for trip in self.watch.tick():
-            self.cancel_all(trip)
+            self.cancel_all(silent_text(trip))
 
-    def cancel_all(self, trip: Trip) -> None:
+    def cancel_all(self, why: str) -> None:
         """Cancel every goal of every watched action (zero id + zero stamp = all goals)."""
-        self.log.warning(
-            f"{trip.client}: heartbeat silent for {trip.silent_s:.1f} s with {trip.goals} goal(s) running: "
-            f"cancelling all goals of {', '.join(self.clients)}"
-        )
+        self.log.warning(f"{why}: cancelling all goals of {', '.join(self.clients)}")
         for name, client in self.clients.items():
             if not client.service_is_ready():
                 self.log.info(f"{name}: no action server offers cancel_goal here; nothing to cancel")
@@ -79,6 +92,10 @@ class Ros2Watchdog:
         self.log.warning(f"{name}: cancel {code}; {len(reply.goals_canceling)} goal(s) cancelling")
 
 
+def silent_text(trip: Trip) -> str:
+    return f"{trip.client}: heartbeat silent for {trip.silent_s:.1f} s with {trip.goals} goal(s) running"
+
+
 def run(silence_s: float = SILENCE_S, actions: Sequence[str] = ACTIONS, topic: str = TOPIC) -> int:
     """Spin until interrupted; prints READY_LINE once subscribed."""
     import rclpy
@@ -87,7 +104,9 @@ def run(silence_s: float = SILENCE_S, actions: Sequence[str] = ACTIONS, topic: s
     rclpy.init()
     node = rclpy.create_node("pmk_goal_watchdog")
     Ros2Watchdog(node, GoalWatch(silence_s), actions, topic)
-    node.get_logger().info(f"watching {topic}: cancel {', '.join(actions)} after {silence_s:g} s of silence")
+    node.get_logger().info(
+        f"watching {topic}: cancel {', '.join(actions)} after {silence_s:g} s of silence, and at once on {STOP_TOPIC}"
+    )
     print(READY_LINE, flush=True)
     try:
         rclpy.spin(node)

@@ -2,7 +2,9 @@
 
 Manual ``/cmd_vel`` commands hold for ``cmd_timeout`` seconds (0.5 s, like a teleop watchdog) and
 then the chair stops. A goal (``/move_base_simple/goal``) is followed with pure pursuit along a
-planned path; a manual command cancels it. Collision: the chair's centre may not enter a cell of
+planned path; a manual command given to the body cancels it (the engine decides whether a
+``/cmd_vel`` reaches the body while a client's goal runs: with Nav2 or move_base it does not).
+Collision: the chair's centre may not enter a cell of
 the footprint-inflated blocked mask (occupied, unknown or off-map); the move is refused, linear
 speed drops to zero (rotation in place is always possible for a round footprint) and ``bumped``
 is set.

@@ -134,11 +134,19 @@ class Engine:
     # -- inputs -----------------------------------------------------------------------------------
 
     def on_cmd_vel(self, msg: dict[str, Any]) -> None:
+        """A velocity command from a client. While a client's goal runs on a chair with Nav2 or
+        move_base, it changes nothing: their controllers keep publishing (Nav2's controller_server
+        at 20 Hz, move_base at ``controller_frequency``), so a command from elsewhere is overwritten
+        at the next cycle and the goal runs on; only a cancel ends it. A patrol leg (the simulator's
+        own demo) and a goal-topic follower without action servers yield to it, as a teleop would."""
         if self.chair is None:
             return
         lin, ang = msg.get("linear") or {}, msg.get("angular") or {}
         now = asyncio.get_running_loop().time()
         self._last_manual = now
+        nav = self.navigator
+        if nav.current is not None and nav.offer_actions:
+            return  # the navigation stack's controller wins (see above)
         self.cancel_plan()
         self.chair.command(float(lin.get("x", 0.0)), float(ang.get("z", 0.0)), now)
 

@@ -4,7 +4,10 @@ ROS 2 flavour: Nav2's ``/navigate_to_pose`` (``nav2_msgs/action/NavigateToPose``
 ``/navigate_through_poses`` actions over the rosbridge action ops, plus the ``/goal_pose`` topic.
 ROS 1 flavour: ``move_base`` over actionlib topics (``/move_base/goal``, ``/cancel``, ``/status``,
 ``/feedback``, ``/result``), plus ``/move_base_simple/goal``. One goal at a time: a new goal (from
-any of these) preempts the running one, a ``/cmd_vel`` command cancels it. Feedback (distance
+any of these) preempts the running one. A ``/cmd_vel`` command from elsewhere does not cancel it:
+Nav2's and move_base's controllers keep publishing, so only a cancel (the action's, move_base's
+``/cancel`` or Nav2's ``_action/cancel_goal`` service with a zero id: all goals) ends it. A chair
+with goal topics only (``offer_actions`` False: a simple goal follower) yields to ``/cmd_vel``. Feedback (distance
 remaining along the planned path) goes out at ``FEEDBACK_HZ``. Goals off the map, in another frame
 or not finite are rejected; goals the planner cannot reach are accepted, then aborted, as Nav2 does.
 """
@@ -20,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 from pmk_nb.sim import actions as a2
 from pmk_nb.sim.action_status import ActionStatus
 from pmk_nb.sim.actions import GoalRef
+from pmk_nb.sim.cancel_service import add_cancel_services
 from pmk_nb.sim.messages import pose_msg
 from pmk_nb.sim.navgoal import NavGoal, parse_pose
 from pmk_nb.sim.navigation_ros1 import Ros1Actionlib
@@ -55,6 +59,7 @@ class Navigator:
             bridge.add_action("/navigate_to_pose", "nav2_msgs/action/NavigateToPose", _ToPose(self))
             bridge.add_action("/navigate_through_poses", "nav2_msgs/action/NavigateThroughPoses", _ThroughPoses(self))
             self.status = ActionStatus(bridge, n, ("/navigate_to_pose", "/navigate_through_poses"))
+            add_cancel_services(self, ("/navigate_to_pose", "/navigate_through_poses"))
         elif self.offer_actions:
             self.ros1 = Ros1Actionlib(self, bridge, n)
         if n.ros == "ros2":

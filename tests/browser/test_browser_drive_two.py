@@ -64,3 +64,59 @@ def test_stop_on_another_page_stops_the_chair_and_that_page_cannot_drive(world: 
             page_a.mouse.up()
     finally:
         watch.close()
+
+
+CLICK_JS = """async (cls) => {
+  const manager = await window.jupyterapp.widgetManagerPromise.promise;
+  const held = manager._models instanceof Map ? [...manager._models.values()] : Object.values(manager._models);
+  const models = (await Promise.all(held.map(p => Promise.resolve(p).catch(() => null)))).filter(m => m && m.comm_live);
+  const hits = models.filter(m => (m.get('_dom_classes') || []).includes(cls));
+  for (const m of hits) m.send({event: 'click'}, {});
+  return hits.length;
+}"""
+
+
+def test_on_a_kiosk_taking_over_needs_the_pin_and_stop_does_not(tmp_path: Path) -> None:
+    """Issue 38 (low): page B of a kiosk takes over driving from page A only with the PIN; a page
+    script that clicks Take over driving (as often as it likes) takes nothing; Stop needs no PIN."""
+    from playwright.sync_api import expect
+
+    from pmk_nb.ui.kiosk.pin import KIOSK_ENV, PinStore
+
+    with drive_world(tmp_path, extra_env={KIOSK_ENV: "1"}) as world:
+        PinStore(world.root / "config").set_pin("4711", "4711")  # before the pages (and kernels) start
+        watch = ChairWatch(world.ros_port)
+        try:
+            with chromium_page(world.url, viewport=VIEWPORT) as page_a:
+                page_b: Any = page_a.context.browser.new_page(viewport=VIEWPORT)
+                page_b.set_default_timeout(60_000)
+                page_b.goto(world.url, wait_until="domcontentloaded")
+                centre = ready(page_a)
+                ready(page_b)
+                press_forward(page_a, watch, centre)
+                status_a, status_b = page_a.locator(".pmk-drive-status"), page_b.locator(".pmk-drive-status")
+                claim_b = page_b.locator("button.pmk-drive-claim")
+                expect(claim_b).to_contain_text("Take over driving", timeout=5_000)
+                expect(page_b.locator(".pmk-drive-pin input")).to_be_visible()
+                claim_b.click()
+                claim_b.click()  # the double tap that takes over elsewhere: not on a kiosk with a PIN
+                assert page_b.evaluate(CLICK_JS, "pmk-drive-claim") == 1  # a page script's clicks too
+                assert page_b.evaluate(CLICK_JS, "pmk-drive-claim") == 1
+                expect(status_b).to_contain_text("Type the kiosk PIN", timeout=5_000)
+                expect(status_b).to_contain_text("Driven from another page")
+                page_b.locator(".pmk-drive-pin input").fill("1234")
+                claim_b.click()
+                expect(status_b).to_contain_text("Wrong PIN", timeout=5_000)
+                expect(status_a).not_to_contain_text("Driven from another page")
+                page_b.locator(".pmk-drive-pin input").fill("4711")
+                claim_b.click()
+                expect(status_a).to_contain_text("Driven from another page", timeout=5_000)
+                expect(claim_b).to_be_hidden()
+                page_a.mouse.up()
+                stop = time.monotonic()
+                page_a.locator("button.pmk-drive-stop").click()  # Stop on a kiosk page: no PIN
+                assert watch.first(stop, watch.still, 3.0) is not None
+                expect(status_b).to_contain_text("Stopped from another page", timeout=5_000)
+                shot(page_b, "kiosk-take-over")
+        finally:
+            watch.close()

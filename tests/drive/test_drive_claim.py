@@ -48,7 +48,7 @@ def test_the_first_page_to_drive_holds_the_chair_the_others_see_it_until_it_goes
     assert a.view().hold is Hold.OTHER_DRIVER  # A comes back: B drives now
     folder = tmp_path / "drive"
     assert stat.S_IMODE(os.stat(folder).st_mode) == 0o700 and stat.S_IMODE(os.stat(a.path).st_mode) == 0o600
-    assert a.path.name == "127.0.0.1_9090.json"
+    assert a.path.name == "loopback_9090.json"  # the resolved address (issue 38): every spelling of it
     assert DriveClaim(folder, "127.0.0.1", 9091, clock=clock).view().hold is Hold.FREE  # another chair
 
 

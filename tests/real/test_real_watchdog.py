@@ -177,3 +177,90 @@ def test_ros1_watchdog_publishes_cancel_all_when_the_heartbeat_stops(ros1: Ros1)
     assert out["id"] == "" and out["stamp"] == 0.0  # actionlib: empty id + zero stamp = cancel all goals
     assert out["after_idle"] == 0, log
     assert "ros1-tablet: disarmed" in log and "published an empty GoalID" in log
+
+
+# -- issue 38: the dashboard's Stop on /pmk/stop, cancelled natively by the watchdog -------------------
+
+
+def test_a_stop_from_another_dashboard_cancels_the_goal_at_once(nav_chair) -> None:
+    """Page A's link runs a goal; page B (its own link, straight to the bridge) presses Stop. The
+    watchdog hears /pmk/stop and cancels every goal with CancelGoal's zero id, without waiting for any
+    silence; B's own cancel-all goes too. The goal ends well within the heartbeat window."""
+    chair, link_a, _proxy = nav_chair
+    handle = send_goal(link_a, [])
+    assert handle.route.startswith("Nav2"), handle.route
+    nav, watchdog = chair.procs["nav"], chair.procs["watchdog"]
+    assert first_line_time(nav, "/navigate_to_pose accepted", 10.0), nav.tail()
+    link_b = ChairLink("127.0.0.1", chair.port)
+    try:
+        link_b.connect(timeout=10.0)
+        pressed = time.monotonic()
+        assert link_b.stop_goals(wait=True) == []  # B runs no goal: the chair's goal is A's
+        cancelled = first_line_time(nav, "/navigate_to_pose canceled", SILENCE)
+        assert cancelled is not None, f"the goal ran on:\n{nav.tail()}\n--- watchdog:\n{watchdog.tail()}"
+        assert cancelled - pressed < SILENCE - 0.5, "cancelled by the silence, not by the Stop"
+        assert first_line_time(watchdog, "Stop pressed: cancelling all goals", 3.0), watchdog.tail()
+        assert heartbeat.client_id().rsplit("-", 1)[0] in watchdog.tail()  # B's name in the log
+        assert handle.wait(5.0).status is GoalStatus.CANCELLED, handle.progress()
+    finally:
+        link_b.close()
+
+
+ROS1_STOP_CLIENT = """
+import json, time, rospy
+from std_msgs.msg import String
+from actionlib_msgs.msg import GoalID
+rospy.init_node("pmk_test_stop", anonymous=True, disable_signals=True)
+cancels = []
+rospy.Subscriber("/move_base/cancel", GoalID, lambda m: cancels.append((time.monotonic(), m.id, m.stamp.to_sec())))
+stop = rospy.Publisher("/pmk/stop", String, queue_size=10)
+deadline = time.monotonic() + 10
+while stop.get_num_connections() < 1 and time.monotonic() < deadline:  # the watchdog subscribed
+    time.sleep(0.05)
+time.sleep(0.5)  # the cancel subscription connects too
+sent = time.monotonic()
+stop.publish(String(json.dumps({"client": "ros1-page-b", "stop": True})))
+while not cancels and time.monotonic() < sent + 5:
+    time.sleep(0.02)
+first = cancels[0] if cancels else None
+print(json.dumps({"after": None if first is None else first[0] - sent,
+                  "id": None if first is None else first[1], "stamp": None if first is None else first[2]}))
+"""
+
+
+def test_ros1_watchdog_cancels_all_on_the_dashboards_stop(ros1: Ros1) -> None:  # noqa: F811
+    """No heartbeat at all (a goal another page started): a Stop on /pmk/stop is an empty GoalID at once."""
+    cmd = [sys.executable, "-m", "pmk_nb.cli", "robot", "goal-watchdog", "--ros1", "--silence", "30"]
+    ros1.spawn(cmd, "watchdog.log")
+    ros1.wait_line("watchdog.log", READY_LINE)
+    done = subprocess.run(
+        [ros1_mapserver.SYSTEM_PYTHON, "-c", ROS1_STOP_CLIENT], env=ros1.env, capture_output=True, text=True, timeout=60
+    )
+    log = (ros1.tmp / "watchdog.log").read_text(errors="replace")
+    assert done.returncode == 0, done.stderr[-3000:]
+    out = json.loads(done.stdout.strip().splitlines()[-1])
+    assert out["after"] is not None and out["after"] < 2.0, f"no cancel after the Stop:\n{log}"
+    assert out["id"] == "" and out["stamp"] == 0.0
+    assert "ros1-page-b: Stop pressed" in log, log
+
+
+def test_a_stop_cancels_another_dashboards_goal_through_the_bridge_alone(real_chair: RealChair) -> None:
+    """No watchdog on this chair: page B's Stop calls Nav2's cancel_goal service with a zero id through
+    rosbridge-server-rs, which ends page A's goal (a goal of another connection, which the bridge's own
+    cancel_action_goal refuses)."""
+    real_chair.start_bridge(rosapi=True)
+    start_nav_server(real_chair, 60.0)
+    link_a, link_b = ChairLink("127.0.0.1", real_chair.port), ChairLink("127.0.0.1", real_chair.port)
+    try:
+        link_a.connect(timeout=10.0)
+        link_b.connect(timeout=10.0)
+        handle = send_goal(link_a, [])
+        assert handle.route.startswith("Nav2"), handle.route
+        nav = real_chair.procs["nav"]
+        assert first_line_time(nav, "/navigate_to_pose accepted", 10.0), nav.tail()
+        link_b.stop_goals(wait=True)
+        assert first_line_time(nav, "/navigate_to_pose canceled", 5.0), nav.tail()
+        assert handle.wait(5.0).status is GoalStatus.CANCELLED, handle.progress()
+    finally:
+        link_a.close()
+        link_b.close()

@@ -170,8 +170,10 @@ def test_goal_through_a_real_door(sim_factory):
     assert math.dist(sim.pose[:2], (16.0, 7.5)) < 0.2
 
 
-def test_manual_command_cancels_goal(sim_factory, ros_factory):
-    sim = sim_factory(grid=room_grid(8.0, 4.0), start_pose=(1.0, 2.0, 0.0))
+def test_manual_command_cancels_a_goal_topic_followers_goal(sim_factory, ros_factory):
+    """A chair with goal topics only (a simple follower, no Nav2 / move_base) yields to /cmd_vel;
+    with Nav2 or move_base it does not (tests/sim/test_sim_foreign_cmd_vel.py)."""
+    sim = sim_factory(grid=room_grid(8.0, 4.0), start_pose=(1.0, 2.0, 0.0), nav_actions=False)
     ros = ros_factory(sim)
     goal = roslibpy.Topic(ros, "/move_base_simple/goal", "geometry_msgs/PoseStamped")
     goal.publish(roslibpy.Message({"pose": {"position": {"x": 7.0, "y": 2.0, "z": 0.0}}}))

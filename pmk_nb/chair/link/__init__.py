@@ -7,13 +7,15 @@ server?), ``connectivity`` (the connection test), ``streams`` (odometry, scan, p
 only store), ``publish`` (commands, goals), ``services`` (one blocking call), ``discovery``
 (rosapi), ``mapread`` (the published map), ``state`` and ``registry`` (the kernel's only set of
 links: one per chair); ``record`` (``ChairLink.record`` / ``start_recording``: topics to an MCAP
-file with ROS 2 schemas).
+file with ROS 2 schemas); ``goal_stop`` (``ChairLink.stop_goals``: the Stop for navigation goals,
+and the goal gate a latched Stop closes).
 """
 
 from __future__ import annotations
 
 from pmk_nb.chair.link.client import ChairLink, ConnectionReport
 from pmk_nb.chair.link.fleet_links import FleetLinks
+from pmk_nb.chair.link.goal_stop import GoalsStopped
 from pmk_nb.chair.link.inspect import TopicProbe, pretty_message, rate_text, topic_rows
 from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.navigate import GoalHandle, GoalProgress, GoalStatus
@@ -31,6 +33,7 @@ __all__ = [
     "GoalHandle",
     "GoalProgress",
     "GoalStatus",
+    "GoalsStopped",
     "LinkConfig",
     "LinkState",
     "PlanWatch",

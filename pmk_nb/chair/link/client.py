@@ -34,6 +34,7 @@ import roslibpy
 
 from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
 from pmk_nb.chair.link.discovery import Discovery
+from pmk_nb.chair.link.goal_stop import running, stop_goals
 from pmk_nb.chair.link.initialpose import publish_initial_pose
 from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.mapread import MapFacts, MapReader
@@ -86,6 +87,9 @@ class ChairLink:
         self.discovery = Discovery(self.call, f"{self.host}:{self.port}")
         self._maps = MapReader(self, cfg.map_topic, cfg.map_metadata_topic)
         self.goal_policy = GoalPolicy()  # deadlines, and what a link loss does to goals (the profile's)
+        #: asked before every goal: the wall time of a latched Stop (the goal is refused), else None;
+        #: the dashboard sets it from the chair-wide Stop latch (pmk_nb.drive.stopwatch)
+        self.goal_gate: Callable[[], float | None] | None = None
 
     def __repr__(self) -> str:
         return f"ChairLink({self.host!r}, {self.port}, state={self.state.value})"
@@ -350,6 +354,15 @@ class ChairLink:
     ) -> GoalHandle:
         """Drive to (x, y, yaw) with the chair's navigation stack, detected: see :mod:`.navigate`."""
         return navigate(self, x, y, yaw, frame, waypoints)
+
+    def stop_goals(self, cmd_vel_topic: str | None = None, *, wait: bool = False) -> list[GoalHandle]:
+        """The Stop for goals: cancel every goal this link runs, cancel all goals natively where the
+        route allows, tell ``pmk robot goal-watchdog``, zero velocity: see :mod:`.goal_stop`."""
+        return stop_goals(self, cmd_vel_topic, wait=wait)
+
+    def running_goals(self) -> list[GoalHandle]:
+        """The goals this link started that have not ended."""
+        return running(self)
 
     def server_statuses(self) -> list[ServerStatus]:
         """The rosbridge server's latest ``status`` messages (e.g. a subscription with a wrong type)."""

@@ -57,6 +57,10 @@ def cancel_sent() -> str:
 
 
 # Home panel: the status word shown for each state (GoalStatus value -> words)
+def stop_latched() -> str:
+    return "Stopped: no destination until the Stop is released on the page where it was pressed."
+
+
 STATUS_WORDS = {
     "pending": "sending",
     "accepted": "accepted",

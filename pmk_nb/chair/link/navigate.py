@@ -25,7 +25,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from pmk_nb.chair.link import goal_routes, heartbeat
+from pmk_nb.chair.link import goal_routes, goal_stop, heartbeat
 from pmk_nb.chair.link.goal import (
     ARRIVE_TOLERANCE,
     LINK_LOSS_POLICIES,
@@ -81,6 +81,7 @@ def navigate(
     """Send the chair to (x, y, yaw) in ``frame``, through ``waypoints`` first; see the module docstring.
 
     Raises:
+        GoalsStopped: a Stop is latched for this chair (``link.goal_gate``).
         NavigationError: not connected, or the goal could not be sent.
         ChairLinkError: rosapi did not answer while detecting the route.
     """
@@ -91,6 +92,7 @@ def navigate(
         raise NavigationError(
             f"Not connected to the chair at {link.host}:{link.port}: connect first", host=link.host, port=link.port
         )
+    goal_stop.check_gate(link)  # a latched Stop refuses every goal (issue 38)
     route = detect_route(link)
     handle = GoalHandle(goal, route.label)
     if route.kind == "nav2":  # odometry verifies a cancel; rosbridge_suite holds a subscribe behind a goal
@@ -105,6 +107,7 @@ def navigate(
         goal_routes.start_leg(link, route, handle, goal, frame)
     # -- goal heartbeat (issue 24, W): beats while this goal runs, "idle" when it ends ----------------
     heartbeat.track(link, handle)
+    goal_stop.track(link, handle)  # a Stop cancels it (ChairLink.stop_goals)
     # -- end goal heartbeat ----------------------------------------------------------------------------
     watch = GoalWatch(link, handle, route.kind, getattr(link, "goal_policy", GoalPolicy()))
     # Things that live as long as the goal hook in here: watch.on_end(stop) runs stop() when it ends.

@@ -13,7 +13,10 @@ Another page's panel shows "Driven from another page (since hh:mm)", its stick i
 greyed), and **Take over driving** (tap twice) moves the claim; the previous driver's session stops
 at its next tick. Stop on any page latches the chair-wide Stop until that page releases it (its
 next press, or **Release the Stop**); a Stop whose page is gone is released only by an explicit
-double tap on another page.
+double tap on another page. Stop also cancels every navigation goal of the chair (issue 38: the
+session calls ``ChairLink.stop_goals``; other pages' kernels cancel theirs through Home's
+``stop_latch``). On a kiosk page with a PIN, **Take over driving** needs the PIN typed beside it
+(Stop never does).
 """
 
 from __future__ import annotations
@@ -29,12 +32,14 @@ from typing import TYPE_CHECKING, Any
 import ipywidgets as w
 
 from pmk_nb.drive import ClaimView, DriveClaim, DriveSession, Hold, SpeedLimits, StopReason
+from pmk_nb.errors import SettingsError
 from pmk_nb.ui.common.widgets import TOUCH_PX, button
 from pmk_nb.ui.drive.script import CHANNEL_CLASS, LANES, LOCKED_CLASS, PAD_HTML, PANEL_CLASS, page_html
 
 if TYPE_CHECKING:
     from pmk_nb.chair import ChairProfile
     from pmk_nb.chair.link import ChairLink
+    from pmk_nb.ui.kiosk.pin import KioskLock
 
 log = logging.getLogger(__name__)
 
@@ -75,6 +80,8 @@ def claim_state(view: ClaimView | None) -> tuple[str | None, str | None]:
     if view.hold is Hold.STOPPED_ELSEWHERE:
         text = f"Stopped from another page (since {hhmm(view.stop_at)}) until released there."
         return text, (None if view.setter_live else "force")
+    if view.hold is Hold.STOPPED_HERE:  # the stick's next press releases it too; goals need this button
+        return None, "release"
     return None, None
 
 
@@ -92,8 +99,15 @@ def limits_of(profile: ChairProfile | None) -> SpeedLimits:
 class DrivePanel:
     """The widgets and their wiring; :meth:`attach` a link to drive, :meth:`detach` to stop."""
 
-    def __init__(self, on_stop: Callable[[StopReason], None] | None = None, *, claims_dir: Path | None = None) -> None:
+    def __init__(
+        self,
+        on_stop: Callable[[StopReason], None] | None = None,
+        *,
+        claims_dir: Path | None = None,
+        kiosk: KioskLock | None = None,
+    ) -> None:
         self.on_stop = on_stop
+        self.kiosk = kiosk  # a kiosk page: taking over driving needs the PIN (Stop never does)
         self.session: DriveSession | None = None
         self.member = uuid.uuid4().hex  # this page's id for the other pages: the kernel's, not the page's
         self.claims_dir = claims_dir
@@ -124,6 +138,10 @@ class DrivePanel:
         self.claim_button = button(CLAIM_ACTIONS["take"][0], "pmk-drive-claim", style="warning", width="180px")
         self.claim_button.layout.display = "none"
         self.claim_button.on_click(lambda _b: self.claim_action())
+        # the kiosk PIN for Take over driving (shown with it on a kiosk page with a PIN)
+        self.pin = w.Password(value="", placeholder="Kiosk PIN", layout=w.Layout(width="180px", display="none"))
+        self.pin.add_class("pmk-drive-pin")
+        self._pin_note = ""
         self.status = w.HTML(READY)
         self.status.add_class("pmk-drive-status")
         self.status.layout = w.Layout(max_width="180px")  # wraps under Stop and Slow (an inline style wins)
@@ -131,7 +149,7 @@ class DrivePanel:
         self.page.add_class("pmk-drive-page")
         self._page_shown = False
         self.widget = w.VBox(
-            [self.stop_button, self.pad, self.slow, self.claim_button, self.status, *self.lanes, self.page]
+            [self.stop_button, self.pad, self.slow, self.pin, self.claim_button, self.status, *self.lanes, self.page]
         )
         self.widget.add_class(PANEL_CLASS)
         self.widget.add_class("pmk-drive-right")
@@ -211,6 +229,8 @@ class DrivePanel:
         elif text is None:
             cause = session.gate.last_stop
             text = STOPPED[cause] if cause is not None else READY
+        if mode == "take" and self._pin_note:
+            text = f"{text} {self._pin_note}"
         if self.status.value != text:
             self.status.value = text
         locked = view is not None and not view.may_drive
@@ -226,7 +246,16 @@ class DrivePanel:
             return None
         return "Driving (slow)" if session.slow else "Driving"
 
+    def needs_pin(self) -> bool:
+        """Taking over needs the kiosk PIN here: a kiosk page with a PIN set."""
+        return self.kiosk is not None and self.kiosk.pins.is_set()
+
     def _show_claim_button(self, mode: str | None) -> None:
+        pin_display = "" if mode == "take" and self.needs_pin() else "none"
+        if self.pin.layout.display != pin_display:
+            self.pin.layout.display = pin_display
+        if mode != "take":
+            self._pin_note = ""
         armed = self._armed
         if armed is not None and (armed[0] != mode or time.monotonic() - armed[1] > CONFIRM_S):
             self._armed = armed = None
@@ -249,7 +278,10 @@ class DrivePanel:
         except OSError as err:
             log.warning("reading the drive claim failed: %s", err)
             return
-        if mode is None:
+        if mode == "take" and self.needs_pin():
+            self._armed = None
+            self._take_with_pin(session)
+        elif mode is None:
             self._armed = None
         elif CLAIM_ACTIONS[mode][1] and (
             self._armed is None or self._armed[0] != mode or time.monotonic() - self._armed[1] > CONFIRM_S
@@ -265,6 +297,31 @@ class DrivePanel:
             except OSError as err:  # the shared folder went away: nothing changes, nothing drives
                 log.warning("changing the drive claim failed: %s", err)
         self.refresh()
+
+    def _take_with_pin(self, session: DriveSession) -> None:
+        """Take over on a kiosk page: the PIN typed beside the button, checked by the kernel (the
+        wrong tries count with the kiosk's, and lock out alike); the typed PIN is cleared either way."""
+        assert self.kiosk is not None
+        typed = str(self.pin.value or "").strip()
+        self.pin.value = ""
+        if not typed:
+            self._pin_note = "Type the kiosk PIN, then tap Take over driving."
+            return
+        try:
+            answer = self.kiosk.pins.check(typed)
+        except SettingsError as err:
+            self._pin_note = str(err)
+            return
+        if answer.wait_s > 0:
+            self._pin_note = f"Too many wrong PINs: try again in {answer.wait_s:.0f} s."
+        elif not answer.ok:
+            self._pin_note = "Wrong PIN."
+        else:
+            self._pin_note = ""
+            try:
+                session.take_over()
+            except OSError as err:
+                log.warning("changing the drive claim failed: %s", err)
 
     # -- callbacks (kernel thread) -------------------------------------------------------------------
     def _on_message(self, change: dict[str, Any]) -> None:

@@ -91,6 +91,7 @@ class GoalPanel:
         self._chair: tuple[float, float] | None = None
         self._note = ""
         self._elsewhere: str | None = None  # the room a Go to… drives to (Home's tick says)
+        self._stopped = False  # a Stop holds for this chair (any page's): no destination (issue 38)
         self.picker = GoalPicker(lambda: live.viewport, lambda: self._chair, self.send, self._redraw)
         self.overlay = GoalOverlay(self.picker)
         live.overlays.append(self.overlay)
@@ -111,12 +112,26 @@ class GoalPanel:
     def attach(self, link: Any) -> None:
         """The chair link goals go to (None: no preview running, nothing can be sent)."""
         self.link = link
-        self.toggle.disabled = link is None
-        if link is None:
+        self._enable()
+
+    def set_stopped(self, stopped: bool) -> None:
+        """A Stop holds for this chair (Home's tick): Set destination is greyed and refused."""
+        if stopped != self._stopped:
+            self._stopped = stopped
+            self._enable()
+            self.refresh()
+
+    def _enable(self) -> None:
+        off = self.link is None or self._stopped
+        self.toggle.disabled = off
+        if off and self.toggle.value:
             self.toggle.value = False
 
     def _on_toggle(self, change: dict[str, Any]) -> None:
         on = change.get("new") is True  # front-end value: anything but a real True is off
+        if on and (self._stopped or self.link is None):  # a page can click a greyed button
+            self.toggle.value = False
+            return
         gestures = self.live.gestures
         gestures.picker = self.picker if on and self.link is not None else None
         if not on:
@@ -170,9 +185,10 @@ class GoalPanel:
         progress = handle.progress() if handle is not None else None
         pending = handle is not None and handle.cancel_requested and handle.cancel_honoured is None
         pending = pending and progress is not None and progress.status is not GoalStatus.CANCEL_IGNORED
-        self.status.value = status_html(
-            self.goal, progress, self._note, cancel_pending=pending, elsewhere=self._elsewhere
-        )
+        text = status_html(self.goal, progress, self._note, cancel_pending=pending, elsewhere=self._elsewhere)
+        if self._stopped:  # any page's Stop holds: say why Set destination is greyed
+            text += f"<br><b class='pmk-goal-stopped pmk-warn'>{escape(words.stop_latched())}</b>"
+        self.status.value = text
         active = self.goal is not None and (progress is None or not progress.done) and not self._note
         self.cancel_button.layout.display = "" if active else "none"
         if progress is not None and progress.done and self.overlay.goal is not None:

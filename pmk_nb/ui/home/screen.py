@@ -54,6 +54,7 @@ from pmk_nb.ui.home.map_grid import MapGridCache
 from pmk_nb.ui.home.own_map import CHAIRS_MAP, ChairMap, OwnMap, map_label_html
 from pmk_nb.ui.home.preview import PreviewController
 from pmk_nb.ui.home.statusline import status_line
+from pmk_nb.ui.home.stop_latch import StopLatch
 from pmk_nb.ui.live.path_layer import LivePathLayer
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.tools import MapTools
@@ -137,11 +138,13 @@ class HomeScreen:
         self.goal = GoalPanel(self.live, on_error=lambda m: self.ctx.notify(m, "error", inline=True))
         self.goal.speak = self.rooms.speech.say  # "Going to the destination.", "Arrived at …"
         # the joystick, Stop and Slow (pmk_nb/ui/drive/panel.py): over the map while Drive is on
-        self.drive = DrivePanel(claims_dir=ctx.config_dir / "drive")  # shared by every page's kernel
+        self.drive = DrivePanel(claims_dir=ctx.config_dir / "drive", kiosk=ctx.kiosk)  # shared by every page's kernel
         self.drive.on_stop = self.rooms.say_stopped  # "Stopped." spoken (pmk_nb/ui/rooms/guide.py)
         self.ui.map_stack.children = (*self.ui.map_stack.children, self.drive.widget)
         # a press of Stop is said even when the chair was not moving (the drive reports only stops)
         self.drive.stop_button.on_click(lambda _b: self.announcer.phrase(phrases.stopped("stop button")))
+        # another page's Stop cancels this page's goals and refuses new ones (issue 38, stop_latch.py)
+        self.stop_latch = StopLatch(ctx.config_dir / "drive", self.drive.member)
         self._floating_tools()
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.goal.widget, self.fit.widget)
         # issue 29: the Plots toggle in the floating bar; its panel, the map tools and Record under the map
@@ -264,6 +267,7 @@ class HomeScreen:
         self.plots.attach(link)
         self.path.attach(link, profile.plan_topic if profile is not None else "auto")
         self.drive.offer(link, profile)
+        self.stop_latch.attach(link, profile.cmd_vel_topic if profile is not None else None)
         # routes use the accessibility check's chair width (Settings), else the footprint's diameter
         self.rooms.attach(link, getattr(profile, "chair_width", None) or 2 * self.live.footprint_radius)
         if profile is not None:
@@ -287,6 +291,7 @@ class HomeScreen:
         self.plots.attach(None)
         self.path.attach(None)
         self.drive.offer(None, None)
+        self.stop_latch.attach(None)
         self.rooms.attach(None)
         self._show_running(False)
         self.refresh_info()
@@ -405,6 +410,9 @@ class HomeScreen:
             info.zoom.value = reading.zoom
             info.laser.value = reading.laser
         self.drive.refresh()
+        stopped = self.stop_latch.latched  # any page's Stop: no Set destination, no Go to (issue 38)
+        self.goal.set_stopped(stopped)
+        self.goto.set_stopped(stopped)
         self.fit.tick()
         here = self.rooms.panel.here_name
         doing = self.drive.doing() or self.goal.doing() or self._room_doing()

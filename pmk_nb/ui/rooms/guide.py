@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.access import sidecar_path
+from pmk_nb.chair.link import GoalsStopped
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.errors import PmkError
 from pmk_nb.guide import NoAccessibleRoute, NoGraph, RoomsMap, go_to, load_rooms
@@ -111,6 +112,10 @@ class RoomsGuide:
         self.cancel()
         try:
             route, handle = go_to(self.link, self.rooms, name, self.chair_width)
+        except GoalsStopped as err:  # a Stop holds on some page of this chair (issue 38)
+            self.overlay.clear_route()
+            self.panel.say(error_text(err), "warning")
+            return None
         except (NoAccessibleRoute, NoGraph) as err:
             self.overlay.clear_route()
             self.panel.say(str(err), "error")

@@ -46,6 +46,14 @@ class RoomPicker:
         self.card.add_class("pmk-home-goto-card")
         self.card.layout.display = "none"
 
+    def set_stopped(self, stopped: bool) -> None:
+        """A Stop holds for this chair (Home's tick, issue 38): Go to is greyed and its card closed;
+        the guide refuses a goal anyway (the link's goal gate)."""
+        if self.button.disabled != stopped:
+            self.button.disabled = stopped
+            if stopped:
+                self.close()
+
     def rooms(self) -> list[str]:
         """The map's rooms in the picker's order (favourites, recent, the rest)."""
         rooms = self.guide.rooms
