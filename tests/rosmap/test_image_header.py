@@ -88,10 +88,14 @@ def test_a_header_the_decoder_reads_otherwise_is_refused(tmp_path: Path, monkeyp
         (b"P5\n4#a comment splits no token: it is dropped whole\n0 3 255\n", (40, 3)),
         (b"P5\n4 3 255#after the maxval\n\n", (4, 3)),
         (b"P2\n4 3\n255\n", (4, 3)),
+        (b"P6 #colour\r4 3 255\n", (4, 3)),
+        (b"P4\n# bits: no maxval\r16 3\n", (16, 3)),
     ],
 )
 def test_the_netpbm_header_follows_the_grammar_as_pillow_does(tmp_path: Path, header: bytes, size: tuple) -> None:
-    raster = b"1 " * (size[0] * size[1]) if header.startswith(b"P2") else b"\x80" * (size[0] * size[1])
+    cells = size[0] * size[1]
+    rasters = {b"P2": b"1 " * cells, b"P6": b"\x80" * cells * 3, b"P4": b"\x0f" * (size[0] // 8 * size[1])}
+    raster = rasters.get(header[:2], b"\x80" * cells)
     path = tmp_path / "m.pgm"
     path.write_bytes(header + raster)
     assert header_size(path) == size
