@@ -166,18 +166,34 @@ class MapOutsideFolder(MapLoadError):
 
 
 class MapImageTooLarge(MapLoadError):
-    """A map image's header declares more pixels than a map server decodes (checked before decoding).
+    """A map image has more pixels than a map server decodes (checked before decoding).
 
     Attributes:
-        width, height: from the header (None when only the decoder could tell it is too large).
-        limit: the pixel cap it exceeds.
+        width, height: the size the decoder would decode (None when it refused to even open it).
+        limit: the pixels of this kind of image the cap allows (the cap itself for 8-bit gray).
+        mode: the decoder's pixel mode ("L", "I;16", "RGBA", ...; None when it refused to open it).
     """
 
-    def __init__(self, message: str, *, path: str, width: int | None, height: int | None, limit: int) -> None:
+    def __init__(
+        self, message: str, *, path: str, width: int | None, height: int | None, limit: int, mode: str | None = None
+    ) -> None:
         super().__init__(message, INVALID_MAP_DATA, path=path)
         self.width = width
         self.height = height
         self.limit = limit
+        self.mode = mode
+
+
+class MalformedImageHeader(MapLoadError):
+    """A map image's header breaks its format's grammar (a Netpbm header read by the spec).
+
+    Attributes:
+        path: the image file; reason: what is wrong, in words.
+    """
+
+    def __init__(self, message: str, *, path: str, reason: str) -> None:
+        super().__init__(message, INVALID_MAP_DATA, path=path)
+        self.reason = reason
 
 
 class LibraryError(PmkError):

@@ -6,8 +6,14 @@ not exist there, and the access token crosses the Wi-Fi in clear.  ``pmk dashboa
 folder (``tls/``), the way mkcert does: a small certificate authority (``dashboard-ca.crt``, made
 once; the tablet trusts it once) and the server certificate it signs (``dashboard.crt``), valid for
 every name and address this server is reached by.  The server certificate is reissued under the
-same authority when a new name or address appears or it nears its end, so the tablet's trust
-survives a new DHCP lease.  Keys are 0600, the folder 0700.
+same authority when a new name or address appears or it nears its end.  Keys are 0600, the folder 0700.
+
+The authority is bound by name constraints (issue 38: a tablet that installed an unconstrained one
+trusted it for every site): it may vouch only for this machine's names (and their subdomains),
+loopback, and the networks of its LAN addresses (a /24 for a private IPv4 address, a /64 for a
+private IPv6 one, the address alone otherwise), so the tablet's trust survives a new DHCP lease in
+the same network.  A name or network the authority does not cover (or an authority made before the
+constraints) gets a new authority, which the tablet must trust again (``TlsFiles.replaced_authority``).
 """
 
 from __future__ import annotations
@@ -51,6 +57,7 @@ class TlsFiles:
         names: the DNS names and IP addresses the certificate is valid for.
         ca_file, ca_fingerprint: the authority to trust on the tablet (``--https`` only).
         created: True when this run made or reissued the server certificate.
+        replaced_authority: True when this run replaced the folder's authority (tablets must trust it again).
     """
 
     certfile: Path
@@ -60,6 +67,7 @@ class TlsFiles:
     ca_file: Path | None = None
     ca_fingerprint: str | None = None
     created: bool = False
+    replaced_authority: bool = False
 
 
 def fingerprint(cert: x509.Certificate) -> str:
@@ -120,6 +128,45 @@ def _name_entry(host: str) -> x509.GeneralName:
         return x509.DNSName(host)
 
 
+#: the network a private LAN address stands for in the authority's constraints, by IP version
+PRIVATE_PREFIX = {4: 24, 6: 64}
+
+
+def permitted_subtrees(hosts: list[str]) -> list[x509.GeneralName]:
+    """What the authority may vouch for: each name, and each address's network (see the module)."""
+    trees: list[x509.GeneralName] = []
+    for host in hosts:
+        entry = _name_entry(host)
+        if isinstance(entry, x509.IPAddress):
+            address = ipaddress.ip_address(host)
+            wide = address.is_private and not address.is_loopback
+            prefix = PRIVATE_PREFIX[address.version] if wide else address.max_prefixlen
+            entry = x509.IPAddress(ipaddress.ip_network(f"{address}/{prefix}", strict=False))
+        if entry not in trees:
+            trees.append(entry)
+    return trees
+
+
+def authority_permits(ca: x509.Certificate, host: str) -> bool:
+    """Whether ``ca``'s name constraints let it vouch for ``host``; an authority without them never
+    does (one made before issue 38 is replaced, not trusted for every site any longer)."""
+    try:
+        constraints = ca.extensions.get_extension_for_class(x509.NameConstraints).value
+    except x509.ExtensionNotFound:
+        return False
+    entry = _name_entry(host)
+    for tree in constraints.permitted_subtrees or []:
+        if isinstance(entry, x509.IPAddress) and isinstance(tree, x509.IPAddress):
+            network = tree.value
+            if isinstance(network, ipaddress.IPv4Network | ipaddress.IPv6Network) and entry.value in network:
+                return True
+        elif isinstance(entry, x509.DNSName) and isinstance(tree, x509.DNSName):
+            name, base = entry.value.lower(), tree.value.lower()
+            if name == base or name.endswith("." + base):
+                return True
+    return False
+
+
 def _key_pem(key: ec.EllipticCurvePrivateKey) -> bytes:
     pkcs8 = serialization.PrivateFormat.PKCS8
     return key.private_bytes(serialization.Encoding.PEM, pkcs8, serialization.NoEncryption())
@@ -133,7 +180,8 @@ def _certificate(
     days: int,
     hosts: list[str],
 ) -> x509.Certificate:
-    """An authority (``issuer`` None: self-signed, may sign server certificates only) or a server certificate."""
+    """An authority (``issuer`` None: self-signed, may sign server certificates for ``hosts`` only) or a
+    server certificate for ``hosts``."""
     now = dt.datetime.now(dt.UTC)
     name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, subject)])
     builder = (
@@ -149,6 +197,8 @@ def _certificate(
     if issuer is None:
         usage = dict(digital_signature=True, key_cert_sign=True, crl_sign=True, key_encipherment=False)
         builder = builder.add_extension(x509.BasicConstraints(ca=True, path_length=0), critical=True)
+        constraints = x509.NameConstraints(permitted_subtrees=permitted_subtrees(hosts), excluded_subtrees=None)
+        builder = builder.add_extension(constraints, critical=True)  # RFC 5280: critical
     else:
         usage = dict(digital_signature=True, key_cert_sign=False, crl_sign=False, key_encipherment=False)
         builder = (
@@ -169,19 +219,23 @@ def _write_pair(folder: Path, names: tuple[str, str], cert: x509.Certificate, ke
     atomic_write(folder / cert_name, cert.public_bytes(serialization.Encoding.PEM), mode=0o644)
 
 
-def _authority(folder: Path) -> tuple[x509.Certificate, ec.EllipticCurvePrivateKey]:
-    """The folder's authority, made on first use (or when it is unreadable or expired)."""
+def _authority(folder: Path, hosts: list[str]) -> tuple[x509.Certificate, ec.EllipticCurvePrivateKey, bool]:
+    """The folder's authority and whether it replaced another: made on first use, or when the one
+    there is unreadable, expired, or its name constraints do not cover every one of ``hosts``."""
     try:
         cert = x509.load_pem_x509_certificate((folder / CA_CERT).read_bytes())
         key = serialization.load_pem_private_key((folder / CA_KEY).read_bytes(), password=None)
-        if isinstance(key, ec.EllipticCurvePrivateKey) and cert.not_valid_after_utc > dt.datetime.now(dt.UTC):
-            return cert, key
+        live = cert.not_valid_after_utc > dt.datetime.now(dt.UTC)
+        if isinstance(key, ec.EllipticCurvePrivateKey) and live and all(authority_permits(cert, h) for h in hosts):
+            return cert, key, False
     except (OSError, ValueError):
         pass
+    replaced = (folder / CA_CERT).exists()
     key = ec.generate_private_key(ec.SECP256R1())
-    cert = _certificate(f"PMK dashboard CA ({socket.gethostname()})", key, None, key, CA_DAYS, [])
+    own = list(dict.fromkeys([*hosts, *served_hosts("0.0.0.0")]))  # a loopback run's authority serves the LAN too
+    cert = _certificate(f"PMK dashboard CA ({socket.gethostname()})", key, None, key, CA_DAYS, own)
     _write_pair(folder, (CA_CERT, CA_KEY), cert, key)
-    return cert, key
+    return cert, key, replaced
 
 
 def _current(folder: Path, ca: x509.Certificate, hosts: list[str]) -> x509.Certificate | None:
@@ -200,7 +254,7 @@ def self_signed(folder: Path, hosts: list[str]) -> TlsFiles:
     """The server certificate in ``folder`` for ``hosts``: reused when it already names them all, else made
     (keeping the names it had, so a tablet using an old name still gets through)."""
     private_dir(folder, tighten=True)
-    ca, ca_key = _authority(folder)
+    ca, ca_key, replaced_authority = _authority(folder, hosts)
     cert = _current(folder, ca, hosts)
     created = cert is None
     if cert is None:
@@ -209,7 +263,7 @@ def self_signed(folder: Path, hosts: list[str]) -> TlsFiles:
             old = certificate_names(x509.load_pem_x509_certificate((folder / CERT).read_bytes()))
         except (OSError, ValueError):
             pass
-        names = list(dict.fromkeys([*hosts, *old]))
+        names = list(dict.fromkeys([*hosts, *(n for n in old if authority_permits(ca, n))]))
         key = ec.generate_private_key(ec.SECP256R1())
         cert = _certificate(f"PMK dashboard ({socket.gethostname()})", key, ca, ca_key, CERT_DAYS, names)
         _write_pair(folder, (CERT, KEY), cert, key)
@@ -221,6 +275,7 @@ def self_signed(folder: Path, hosts: list[str]) -> TlsFiles:
         ca_file=folder / CA_CERT,
         ca_fingerprint=fingerprint(ca),
         created=created,
+        replaced_authority=replaced_authority,
     )
 
 

@@ -242,7 +242,12 @@ def tls_lines(ip: str, port: int, token: str | None, tls: TlsFiles | None, *, co
         # a new one: a tablet that checked the old fingerprint (and trusts no authority) must check again
         lines.append(f"  {'new ' if tls.created else ''}certificate SHA-256: {tls.fingerprint}")
         if tls.ca_file is not None:
-            lines.append(f"  to trust on the tablet (once): {tls.ca_file}  SHA-256 {tls.ca_fingerprint}")
+            trust = (
+                "a new authority to trust on the tablet (again)"
+                if tls.replaced_authority
+                else "to trust on the tablet (once)"
+            )
+            lines.append(f"  {trust}: {tls.ca_file}  SHA-256 {tls.ca_fingerprint}")
     url = serving.tablet_url(ip, port, token, "https" if tls else "http")
     if url is not None:
         lines.append(f"  scan on the tablet: {url}")

@@ -115,6 +115,7 @@ def _image_size(image: Path) -> tuple[int, int, str]:
     """(width, height, "") from the image header, or (0, 0, reason)."""
     from PIL import Image, UnidentifiedImageError
 
+    from pmk_nb.errors import MalformedImageHeader
     from pmk_nb.rosmap import header_size
 
     try:
@@ -125,6 +126,8 @@ def _image_size(image: Path) -> tuple[int, int, str]:
         width, height = size
     except FileNotFoundError:
         return 0, 0, f"image file {image} is missing"
+    except MalformedImageHeader as err:
+        return 0, 0, str(err)
     except (OSError, UnidentifiedImageError, ValueError) as err:
         return 0, 0, f"cannot read image {image}: {err}"
     return int(width), int(height), ""

@@ -28,7 +28,7 @@ from pmk_nb.errors import MapFormatError
 from pmk_nb.errors import MapLoadError as MapLoadError
 from pmk_nb.fileio import Content, Writer, replace_all
 from pmk_nb.grid import OccupancyGrid, nice_ceil
-from pmk_nb.rosmap.guard import check_pixels, confine, pixel_cap
+from pmk_nb.rosmap.guard import confine, pixel_cap
 from pmk_nb.rosmap.image import (
     MODES,
     READERS,
@@ -182,12 +182,14 @@ def read_map(
 
     Returns an OccupancyGrid (row 0 = bottom) whose ``meta`` holds the YAML's extra keys. ``within``
     (a map server's folder) confines the YAML and its image, symlinks followed; ``max_pixels``
-    (default ``PMK_MAP_MAX_PIXELS`` or :data:`~pmk_nb.rosmap.guard.MAX_MAP_PIXELS`) caps the image's
-    size, read from its header before decoding.
+    (default ``PMK_MAP_MAX_PIXELS`` or :data:`~pmk_nb.rosmap.guard.MAX_MAP_PIXELS`, in 8-bit gray
+    pixels: a 16-bit or colour image gets fewer) caps the image's size as the decoder opened it,
+    before it decodes a pixel.
 
     Raises:
         MapLoadError: code 3 for YAML problems, 2 when the image is missing or unreadable (or, for
-            nav2_jazzy, wider/taller than 32767 cells); MapOutsideFolder, MapImageTooLarge.
+            nav2_jazzy, wider/taller than 32767 cells); MapOutsideFolder, MapImageTooLarge,
+            MalformedImageHeader.
     """
     if reader not in READERS:
         raise ValueError(f"unknown map reader {reader!r}; use one of {', '.join(READERS)}")
@@ -197,8 +199,7 @@ def read_map(
     if within is not None:
         confine(info.image, within, what="image", yaml=info.path)
     try:
-        check_pixels(info.image, pixel_cap() if max_pixels is None else max_pixels)
-        img = decode_image(info.image)
+        img = decode_image(info.image, max_pixels=pixel_cap() if max_pixels is None else max_pixels)
     except FileNotFoundError as err:
         msg = f"{info.path}: image file {info.image} not found"
         raise MapLoadError(msg, INVALID_MAP_DATA, path=str(info.image)) from err

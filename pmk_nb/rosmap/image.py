@@ -28,6 +28,8 @@ import numpy as np
 from pmk_nb.grid import GRAY_LUT as _GRAY_LUT
 from pmk_nb.grid import GRAY_UNKNOWN as GRAY_UNKNOWN  # the greys are the grid's
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.rosmap.guard import check_agrees, check_decode, refused_by_decoder
+from pmk_nb.rosmap.header import header_size
 
 #: The map server image readers copied here; ``read_map(..., reader=...)`` picks one.
 ImageReader = Literal["ros1", "nav2_humble", "nav2_jazzy"]
@@ -54,15 +56,30 @@ class DecodedImage:
     sdl_alpha_mask: bool
 
 
-def decode_image(path: Path) -> DecodedImage:
+def decode_image(path: Path, *, max_pixels: int | None = None) -> DecodedImage:
     """Decode a PGM/PNG/BMP (anything Pillow reads) into the views each loader uses.
 
+    With ``max_pixels`` (8-bit gray pixels, :mod:`pmk_nb.rosmap.guard`), the image Pillow opened is
+    priced by its own size and mode before ``load()`` decodes a pixel; a Netpbm/PNG/BMP header must
+    give Pillow's size by its grammar.
+
     Raises:
+        MapImageTooLarge: over the cap. MalformedImageHeader: a header that breaks its grammar.
         OSError / ValueError: the file is missing or not a readable image (callers wrap these).
     """
     from PIL import Image
 
-    with Image.open(path) as im:
+    declared = header_size(path)
+    try:
+        opened = Image.open(path)  # reads the header only
+    except Image.DecompressionBombError as err:
+        if max_pixels is None:
+            raise
+        raise refused_by_decoder(path, declared, max_pixels) from err
+    with opened as im:
+        if max_pixels is not None:
+            check_decode(path, im.size, im.mode, "transparency" in im.info, max_pixels)
+        check_agrees(path, declared, im.size)
         im.load()
         fmt = (im.format or "").upper()
         mode = im.mode
@@ -269,33 +286,3 @@ def preview_image(grid: OccupancyGrid, px_per_m: float, max_side: int) -> tuple[
     rows = np.minimum(((np.arange(ph) + 0.5) * grid.height / ph).astype(np.int64), grid.height - 1)
     picked = grid.data[np.ix_(grid.height - 1 - rows, cols)]  # image row 0 = top = last grid row
     return np.ascontiguousarray(_GRAY_LUT[picked.view(np.uint8)]), pw / width_m
-
-
-PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-
-
-def header_size(path: Path) -> tuple[int, int] | None:
-    """(width, height) read from a PGM, PNG or BMP header without decoding, else None (another format:
-    ask Pillow). Pillow refuses to even open an image over its decompression-bomb limit, and a large map
-    of ours (a 1 km plan at 0.05 m) is one: listing it must still say its size; map readers check it
-    against their pixel cap before decoding (issue 30)."""
-    with open(path, "rb") as fh:
-        head = fh.read(512)
-    if head.startswith(PNG_SIGNATURE) and head[12:16] == b"IHDR":
-        return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
-    if head[:2] == b"BM" and len(head) >= 26:
-        if int.from_bytes(head[14:18], "little") == 12:  # OS/2 BITMAPCOREHEADER: 16-bit sides
-            return int.from_bytes(head[18:20], "little"), int.from_bytes(head[20:22], "little")
-        width = int.from_bytes(head[18:22], "little", signed=True)
-        height = int.from_bytes(head[22:26], "little", signed=True)  # negative: rows stored top-down
-        return abs(width), abs(height)
-    if head[:2] not in (b"P5", b"P2"):
-        return None
-    words: list[bytes] = []
-    for line in head[2:].split(b"\n"):
-        words += line.split(b"#", 1)[0].split()
-        if len(words) >= 2:
-            break
-    if len(words) < 2 or not all(w.isdigit() for w in words[:2]):
-        return None
-    return int(words[0]), int(words[1])

@@ -78,3 +78,10 @@ def inside_roots(host: Path, roots: Iterable[Path]) -> bool:
     """
     real = Path(os.path.realpath(host))
     return any(real == root or real.is_relative_to(root) for root in roots)
+
+
+def holds_a_root(host: Path, roots: Iterable[Path]) -> bool:
+    """True if the REAL path of ``host`` is one of ``roots`` or a folder above one: what a rename or
+    rmdir must never touch (``rename("ALMA_MAPS", "../moved")`` moved the chair's maps folder away)."""
+    real = Path(os.path.realpath(host))
+    return any(root == real or root.is_relative_to(real) for root in roots)

@@ -8,7 +8,9 @@ private scratch folder.
 Confinement: the endpoint refuses to create symlinks (they let a client build a relative path that
 escapes), and every path a client names is checked by its real path (symlinks followed; for a new
 file, its parent folder) against the two roots, maps_dir and the scratch folder. A symlink someone
-put on disk inside a root that points outside is therefore refused too. What is not covered: a
+put on disk inside a root that points outside is therefore refused too. A rename is confined on
+both sides and neither side may be a root itself (issue 38: ``rename("ALMA_MAPS", "../moved")``
+moved the maps folder into the scratch home); nor may rmdir remove one. What is not covered: a
 local user swapping a folder for a symlink between that check and the open (clients cannot).
 Auth: the configured user with its password (unless password login is off), or with any of the
 authorized public keys if given (an OpenSSH public key line, or a file of them like authorized_keys).
@@ -27,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import asyncssh
 
 from pmk_nb.sim.hostkey import load_host_key
-from pmk_nb.sim.paths import inside_roots
+from pmk_nb.sim.paths import holds_a_root, inside_roots
 
 if TYPE_CHECKING:
     from pmk_nb.sim.paths import ChairFS
@@ -52,6 +54,29 @@ class ChairSFTPServer(asyncssh.SFTPServer):
         if not inside_roots(host, self._roots):
             raise asyncssh.SFTPPermissionDenied(f"{virtual}: leads outside the chair's folders")
         return os.fsencode(host)
+
+    def rename(self, oldpath: bytes, newpath: bytes) -> None:
+        """Both sides inside the chair's folders, neither a root (the maps folder stays where it is)."""
+        self._not_a_root(oldpath)
+        self._not_a_root(newpath)
+        super().rename(oldpath, newpath)
+
+    def posix_rename(self, oldpath: bytes, newpath: bytes) -> None:
+        """As :meth:`rename`; an empty maps folder must not be replaced by another folder either."""
+        self._not_a_root(oldpath)
+        self._not_a_root(newpath)
+        super().posix_rename(oldpath, newpath)
+
+    def rmdir(self, path: bytes) -> None:
+        """An empty maps folder is not removed: the map server and uploads need it."""
+        self._not_a_root(path)
+        super().rmdir(path)
+
+    def _not_a_root(self, path: bytes) -> None:
+        host = Path(os.fsdecode(self.map_path(path)))
+        if holds_a_root(host, self._roots):
+            virtual = self._fs.virtual(os.fsdecode(path))
+            raise asyncssh.SFTPPermissionDenied(f"{virtual}: the chair's own folder cannot be moved or removed")
 
     def symlink(self, oldpath: bytes, newpath: bytes) -> None:
         """Refused: a link made through another link can point anywhere (the chair needs none)."""

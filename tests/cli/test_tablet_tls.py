@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import ipaddress
 import json
 import socket
 import ssl
@@ -12,6 +13,7 @@ import threading
 from pathlib import Path
 
 import pytest
+from cryptography import x509
 
 from pmk_nb.cli import main, tablet_tls
 from pmk_nb.cli.procs import free_port
@@ -71,12 +73,19 @@ def test_https_makes_a_certificate_once_in_the_config_folder_and_reuses_it(tmp_p
     again = tablet_tls.resolve(_https_args(), env)
     assert again is not None and not again.created and again.fingerprint == made.fingerprint
     assert {p.name: p.read_bytes() for p in folder.iterdir()} == files
-    # a new name: a new server certificate under the same authority, keeping the old names
-    newer = tablet_tls.self_signed(folder, ["tablet-gw.example"])
-    assert newer.created and newer.fingerprint != made.fingerprint and newer.ca_fingerprint == made.ca_fingerprint
-    assert set(made.names) | {"tablet-gw.example"} == set(newer.names)
-    assert _handshake(newer, "tablet-gw.example") == newer.fingerprint
-    assert certificate_hosts(str(newer.certfile)) == newer.names  # what the server's Host check accepts
+    assert not again.replaced_authority
+    # a new address in a network the authority covers: a new server certificate under the same
+    # authority (the tablet's trust survives a new DHCP lease), keeping the old names
+    newer = tablet_tls.self_signed(folder, ["localhost", "192.168.77.20"])
+    assert tablet_tls.self_signed(folder, ["localhost", "192.168.77.21"]).ca_fingerprint == newer.ca_fingerprint
+    newer = tablet_tls.self_signed(folder, ["localhost", "192.168.77.22"])
+    assert newer.created and not newer.replaced_authority and {"192.168.77.20", "192.168.77.22"} <= set(newer.names)
+    # a name the authority does not cover: a new authority (the tablet must trust it again)
+    other = tablet_tls.self_signed(folder, ["tablet-gw.example"])
+    assert other.created and other.replaced_authority and other.ca_fingerprint != made.ca_fingerprint
+    assert "tablet-gw.example" in other.names and "192.168.77.22" not in other.names
+    assert _handshake(other, "tablet-gw.example") == other.fingerprint
+    assert certificate_hosts(str(other.certfile)) == other.names  # what the server's Host check accepts
 
 
 def test_a_given_certificate_is_checked_before_anything_starts(
@@ -184,3 +193,157 @@ def test_voila_is_started_with_the_certificate_in_its_config_only_when_asked(tmp
     assert "ssl_options" not in json.dumps(server_config("t" * 20, "127.0.0.1"))
     assert voila_command(tmp_path / "d.ipynb", tls=True)[1:3] == ["-m", "pmk_nb.cli.voila_tls"]
     assert voila_command(tmp_path / "d.ipynb")[1:3] == ["-m", "voila"]
+
+
+def _signed_by(folder: Path, host: str) -> x509.Certificate:
+    """A server certificate for ``host`` signed with the authority's key: what anyone holding that
+    key (a stolen laptop, a leaked backup) could make."""
+    import datetime as dt
+    import ipaddress
+
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import ec
+    from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
+
+    ca = x509.load_pem_x509_certificate((folder / tablet_tls.CA_CERT).read_bytes())
+    ca_key = serialization.load_pem_private_key((folder / tablet_tls.CA_KEY).read_bytes(), password=None)
+    assert isinstance(ca_key, ec.EllipticCurvePrivateKey)
+    try:
+        alt: x509.GeneralName = x509.IPAddress(ipaddress.ip_address(host))
+    except ValueError:
+        alt = x509.DNSName(host)
+    key = ec.generate_private_key(ec.SECP256R1())
+    now = dt.datetime.now(dt.UTC)
+    return (
+        x509.CertificateBuilder()
+        .subject_name(x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, host)]))
+        .issuer_name(ca.subject)
+        .public_key(key.public_key())
+        .serial_number(x509.random_serial_number())
+        .not_valid_before(now - dt.timedelta(minutes=5))
+        .not_valid_after(now + dt.timedelta(days=30))
+        .add_extension(x509.BasicConstraints(ca=False, path_length=None), critical=True)
+        .add_extension(x509.ExtendedKeyUsage([ExtendedKeyUsageOID.SERVER_AUTH]), critical=False)
+        .add_extension(x509.SubjectAlternativeName([alt]), critical=False)
+        .add_extension(x509.AuthorityKeyIdentifier.from_issuer_public_key(ca_key.public_key()), critical=False)
+        .sign(ca_key, hashes.SHA256())
+    )
+
+
+def _verified(folder: Path, cert: x509.Certificate, host: str) -> bool:
+    """cryptography's own path validation (RFC 5280 + CA/B Forum), the authority as the only root."""
+    import datetime as dt
+    import ipaddress
+
+    from cryptography.x509 import verification
+
+    ca = x509.load_pem_x509_certificate((folder / tablet_tls.CA_CERT).read_bytes())
+    try:
+        subject: verification.Subject = verification.IPAddress(ipaddress.ip_address(host))
+    except ValueError:
+        subject = verification.DNSName(host)
+    verifier = (
+        verification.PolicyBuilder()
+        .store(verification.Store([ca]))
+        .time(dt.datetime.now(dt.UTC))
+        .build_server_verifier(subject)
+    )
+    try:
+        verifier.verify(cert, [])
+    except verification.VerificationError:
+        return False
+    return True
+
+
+def _openssl_verifies(folder: Path, cert: x509.Certificate, tmp_path: Path) -> bool:
+    import shutil
+    import subprocess
+
+    from cryptography.hazmat.primitives import serialization
+
+    openssl = shutil.which("openssl")
+    assert openssl, "openssl is needed to check the authority's name constraints (apt-get install openssl)"
+    leaf = tmp_path / "leaf.pem"
+    leaf.write_bytes(cert.public_bytes(serialization.Encoding.PEM))
+    run = subprocess.run(
+        [openssl, "verify", "-CAfile", str(folder / tablet_tls.CA_CERT), "-purpose", "sslserver", str(leaf)],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        check=False,
+    )
+    return run.returncode == 0
+
+
+LAB_HOSTS = ["localhost", "127.0.0.1", "::1", "chair-pc", "chair-pc.local", "192.168.1.20"]
+
+
+def test_the_authority_vouches_only_for_the_dashboards_own_names_and_networks(tmp_path: Path) -> None:
+    """Issue 38: a tablet that installed the authority trusted it for every site."""
+    folder = tmp_path / "tls"
+    made = tablet_tls.self_signed(folder, LAB_HOSTS)
+    ca = x509.load_pem_x509_certificate((folder / tablet_tls.CA_CERT).read_bytes())
+    ext = ca.extensions.get_extension_for_class(x509.NameConstraints)
+    assert ext.critical and ext.value.excluded_subtrees is None
+    permitted = list(ext.value.permitted_subtrees or [])
+    names = {t.value for t in permitted if isinstance(t, x509.DNSName)}
+    networks = {t.value for t in permitted if isinstance(t, x509.IPAddress)}
+    own = set(tablet_tls.served_hosts("0.0.0.0")) | set(LAB_HOSTS)
+    assert {"localhost", "chair-pc", "chair-pc.local"} <= names <= own
+    lab_nets = {ipaddress.ip_network(n) for n in ("127.0.0.1/32", "::1/128", "192.168.1.0/24")}
+    assert lab_nets <= networks
+    assert all(n.prefixlen >= (24 if n.version == 4 else 64) for n in networks)  # never a wide range
+    assert len(permitted) == len(names) + len(networks)  # no other kind of name is vouched for
+    served = x509.load_pem_x509_certificate(made.certfile.read_bytes())
+    for host in ("localhost", "chair-pc.local", "192.168.1.20", "::1"):
+        assert _verified(folder, served, host), host
+    assert _openssl_verifies(folder, served, tmp_path)
+    # the key in the wrong hands still cannot vouch for another site, name or address
+    for host in ("bank.example", "www.google.com", "chair-pc.evil.example", "8.8.8.8", "192.168.2.7", "10.0.0.1"):
+        forged = _signed_by(folder, host)
+        assert not _verified(folder, forged, host), host
+        assert not _openssl_verifies(folder, forged, tmp_path), host
+    # within its names (a subdomain of its own name) a certificate it signs is valid, as the constraints say
+    assert _verified(folder, _signed_by(folder, "tablet.chair-pc.local"), "tablet.chair-pc.local")
+
+
+def test_an_authority_without_name_constraints_is_replaced(tmp_path: Path) -> None:
+    """One made before the constraints is not kept: it would still vouch for every site."""
+    import datetime as dt
+
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import ec
+    from cryptography.x509.oid import NameOID
+
+    folder = tmp_path / "tls"
+    folder.mkdir(mode=0o700)
+    key = ec.generate_private_key(ec.SECP256R1())
+    name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "PMK dashboard CA (old)")])
+    now = dt.datetime.now(dt.UTC)
+    old = (
+        x509.CertificateBuilder()
+        .subject_name(name)
+        .issuer_name(name)
+        .public_key(key.public_key())
+        .serial_number(x509.random_serial_number())
+        .not_valid_before(now - dt.timedelta(days=1))
+        .not_valid_after(now + dt.timedelta(days=3000))
+        .add_extension(x509.BasicConstraints(ca=True, path_length=0), critical=True)
+        .sign(key, hashes.SHA256())
+    )
+    pkcs8 = serialization.PrivateFormat.PKCS8
+    (folder / tablet_tls.CA_KEY).write_bytes(
+        key.private_bytes(serialization.Encoding.PEM, pkcs8, serialization.NoEncryption())
+    )
+    (folder / tablet_tls.CA_CERT).write_bytes(old.public_bytes(serialization.Encoding.PEM))
+    made = tablet_tls.self_signed(folder, LAB_HOSTS)
+    assert made.replaced_authority and made.ca_fingerprint != tablet_tls.fingerprint(old)
+    ca = x509.load_pem_x509_certificate((folder / tablet_tls.CA_CERT).read_bytes())
+    assert ca.extensions.get_extension_for_class(x509.NameConstraints).critical
+    again = tablet_tls.self_signed(folder, LAB_HOSTS)
+    assert not again.replaced_authority and not again.created  # kept from now on
+    lines = tls_lines("127.0.0.1", 8866, None, made)
+    assert any(line.startswith("  a new authority to trust on the tablet (again): ") for line in lines)
+    assert any(
+        line.startswith("  to trust on the tablet (once): ") for line in tls_lines("127.0.0.1", 8866, None, again)
+    )

@@ -120,3 +120,48 @@ def test_planted_folder_link_pointing_outside_refused(sim_factory, tmp_path):
         client.close()
     assert sorted(p.name for p in outside.iterdir()) == ["keep.txt"]
     assert (outside / "keep.txt").read_bytes() == SECRET
+
+
+def test_the_maps_folder_cannot_be_renamed_away(sim_factory):
+    """Issue 38: ``rename("ALMA_MAPS", "../moved")`` moved the maps folder into the scratch home."""
+    sim = sim_factory(sftp_port=0)
+    maps = sim.maps_dir
+    (maps / "kept.yaml").write_bytes(b"image: kept.pgm\n")
+    client, sftp = paramiko_sftp(sim, password=sim.sftp_password)
+    try:
+        for old, new in (("ALMA_MAPS", "../moved"), ("/home/pmk/ALMA_MAPS", "moved"), ("~/ALMA_MAPS", "x/..")):
+            with pytest.raises(IOError):
+                sftp.rename(old, new)
+            with pytest.raises(IOError):
+                sftp.posix_rename(old, new)
+        with pytest.raises(IOError):
+            sftp.rename("/", "ALMA_MAPS/home")  # the scratch home is a root too
+        sftp.mkdir("spare")
+        with pytest.raises(IOError):
+            sftp.rename("spare", "ALMA_MAPS/sub/../..")
+        sftp.rename("ALMA_MAPS/kept.yaml", "ALMA_MAPS/renamed.yaml")  # inside the folder: as before
+        sftp.rename("ALMA_MAPS/renamed.yaml", "parked.yaml")  # out to the home and back: both sides confined
+        sftp.posix_rename("parked.yaml", "ALMA_MAPS/kept.yaml")
+    finally:
+        client.close()
+    assert maps.is_dir() and sorted(os.listdir(maps)) == ["kept.yaml"]
+    assert (maps / "kept.yaml").read_bytes() == b"image: kept.pgm\n"
+
+
+def test_an_empty_maps_folder_is_neither_replaced_nor_removed(sim_factory):
+    sim = sim_factory(sftp_port=0)
+    maps = sim.maps_dir
+    client, sftp = paramiko_sftp(sim, password=sim.sftp_password)
+    try:
+        sftp.mkdir("other")
+        with sftp.open("other/marker.txt", "w") as fh:
+            fh.write("not the maps")
+        with pytest.raises(IOError):
+            sftp.posix_rename("other", "ALMA_MAPS")  # os.replace would swap an empty folder for it
+        with pytest.raises(IOError):
+            sftp.rmdir("ALMA_MAPS")
+        with pytest.raises(IOError):
+            sftp.rmdir("/home/pmk/ALMA_MAPS/")
+    finally:
+        client.close()
+    assert maps.is_dir() and os.listdir(maps) == []

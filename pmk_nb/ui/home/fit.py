@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import json
 import logging
-import math
 from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
+from pmk_nb.ui.common.page_numbers import page_number
 from pmk_nb.ui.live import canvas_focus
 from pmk_nb.viewport import insets_from_boxes
 
@@ -97,8 +97,9 @@ def page_html() -> str:
     )
 
 
-def _number(value: object) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+def _number(value: object) -> float | None:
+    """A JSON number within the page-pixel bound (a string, bool or 400-digit integer is None)."""
+    return page_number(value) if isinstance(value, int | float) else None
 
 
 def parse_fit(text: object) -> tuple[int, int, list[tuple[float, float, float, float]]] | None:
@@ -111,15 +112,17 @@ def parse_fit(text: object) -> tuple[int, int, list[tuple[float, float, float, f
         return None
     if not isinstance(raw, dict):
         return None
-    size: list[Any] = [raw.get("w"), raw.get("h")]
-    if not all(_number(v) for v in size):
+    w, h = _number(raw.get("w")), _number(raw.get("h"))
+    if w is None or h is None:
         return None
-    width, height = (min(max(int(v), MIN_PX), MAX_PX) for v in size)
+    width, height = (min(max(int(v), MIN_PX), MAX_PX) for v in (w, h))
     boxes: list[tuple[float, float, float, float]] = []
     items = raw.get("boxes")
     for box in items[:MAX_BOXES] if isinstance(items, list) else []:
-        if isinstance(box, list) and len(box) == 4 and all(_number(v) for v in box):
-            boxes.append((float(box[0]), float(box[1]), float(box[2]), float(box[3])))
+        values = [_number(v) for v in box] if isinstance(box, list) and len(box) == 4 else []
+        numbers = [v for v in values if v is not None]
+        if len(numbers) == 4:
+            boxes.append((numbers[0], numbers[1], numbers[2], numbers[3]))
     return width, height, boxes
 
 

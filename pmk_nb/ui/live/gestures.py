@@ -17,6 +17,7 @@ from typing import Protocol
 import ipywidgets as w
 from ipycanvas import MultiCanvas
 
+from pmk_nb.ui.common.page_numbers import page_number
 from pmk_nb.ui.common.widgets import TOUCH_PX, button
 
 WHEEL_INTERVAL = 0.15  # s between two wheel zoom steps (trackpads send bursts of events)
@@ -28,20 +29,23 @@ def touch_point(touches: object) -> tuple[float, float] | None:
         points = list(touches)  # type: ignore[call-overload]
         if len(points) != 1:
             return None
-        x, y = (float(v) for v in points[0])
+        x, y = points[0]
     except (TypeError, ValueError):
         return None
-    return (x, y) if math.isfinite(x) and math.isfinite(y) else None
+    return _point(x, y)
 
 
 def pinch_distance(touches: object) -> float | None:
     """Distance in pixels between the first two touches, or None for anything else."""
     try:
         (x0, y0), (x1, y1) = list(touches)[:2]  # type: ignore[call-overload]
-        d = math.hypot(float(x1) - float(x0), float(y1) - float(y0))
     except (TypeError, ValueError):
         return None
-    return d if math.isfinite(d) and d > 0 else None
+    first, second = _point(x0, y0), _point(x1, y1)
+    if first is None or second is None:
+        return None
+    d = math.hypot(second[0] - first[0], second[1] - first[1])
+    return d if d > 0 else None
 
 
 class PointPicker(Protocol):
@@ -99,12 +103,9 @@ class ZoomGestures:
 
     def on_wheel(self, dx: object, dy: object) -> None:
         """One zoom step per wheel burst: wheel up (negative delta) zooms in."""
-        try:
-            delta = float(dy)  # type: ignore[arg-type]
-        except (TypeError, ValueError):
-            return
+        delta = page_number(dy)
         now = time.monotonic()
-        if not math.isfinite(delta) or delta == 0 or now - self.last_wheel < WHEEL_INTERVAL:
+        if delta is None or delta == 0 or now - self.last_wheel < WHEEL_INTERVAL:
             return
         self.last_wheel = now
         self._set_zoom(self._zoom() + (1 if delta < 0 else -1))
@@ -188,11 +189,9 @@ class ZoomGestures:
 
 
 def _point(x: object, y: object) -> tuple[float, float] | None:
-    try:
-        px, py = float(x), float(y)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        return None
-    return (px, py) if math.isfinite(px) and math.isfinite(py) else None
+    """A canvas point from the page's numbers (each checked by :func:`page_number`), else None."""
+    px, py = page_number(x), page_number(y)
+    return None if px is None or py is None else (px, py)
 
 
 class LiveToolbar:
