@@ -11,7 +11,7 @@ import argparse
 from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.cli.options import print_json
+from pmk_nb.cli.options import error_json, print_json
 
 if TYPE_CHECKING:
     from pmk_nb.library import MapsFolder
@@ -86,6 +86,7 @@ def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
             "buildings": [
                 {**asdict(b), "size": b.size, "updated": b.updated, "status": status[b.id]} for b in catalogue.buildings
             ],
+            "refused": [{**error_json(r.error, "maps"), "id": r.id, "url": r.url} for r in catalogue.refused],
         }
         print_json(doc)
         return 0
@@ -97,6 +98,8 @@ def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
         for s in b.storeys:
             where = f"storey {s.storey}: " if s.storey else ""
             print(f"    {where}{s.id} {s.width}x{s.height} cells at {s.resolution:g} m, {_size(s.size)}, {s.updated}")
+    for r in catalogue.refused:  # listed apart: nothing of it can be installed
+        print(f"{r.id}  REFUSED: {r.error}")
     return 0
 
 
