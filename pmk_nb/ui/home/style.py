@@ -48,6 +48,11 @@ def home_css(phone_px: int) -> str:
    max-width: min(440px, calc(100% - 12px)); max-height: calc(100% - 130px); overflow: auto;
    background: rgba(38, 50, 56, 0.92); color: #eceff1; border-radius: 12px; padding: 8px 12px; }}
 .pmk-home-details .widget-html-content, .pmk-home-details .pmk-heading {{ color: #eceff1; }}
+/* the heading keeps its width (a heading may break anywhere: beside a long map name it was squeezed to one
+   letter a line); the map's name takes the rest of the row, or the next row */
+.pmk-app .pmk-home-details-head {{ flex-wrap: wrap; align-items: baseline; column-gap: 12px; }}
+.pmk-app .pmk-home-details-head > .pmk-home-details-title {{ flex: 0 0 auto; }}
+.pmk-app .pmk-home-details-head > .pmk-home-map {{ flex: 1 1 12em; min-width: 0; }}
 .pmk-home-details .pmk-content .pmk-msg-info, .pmk-home-details .pmk-msg-info {{ color: #b3e5fc; }}
 .pmk-info:has(.pmk-home-info-slot) .pmk-message:empty {{ display: none; }}
 .pmk-info:has(.pmk-home-info-slot):not(:has(.pmk-message .widget-html-content:not(:empty)))
