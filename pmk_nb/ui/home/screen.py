@@ -376,6 +376,7 @@ class HomeScreen:
         self._warn(message)
 
     def _on_current_map(self, _current: CurrentMap | None) -> None:
+        self.goal.forget_finished()  # a destination on the old map is not this map's
         grid = self.refresh_map()
         if self.running and grid is not None:
             self.live.set_map(grid)
