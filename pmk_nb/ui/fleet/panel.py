@@ -41,8 +41,8 @@ log = logging.getLogger(__name__)
 
 ROWS_HZ = 4.0  # rows and markers: text needs no more, a watched chair's odometry comes at 5 Hz
 FLEET_CSS = """<style>
-.pmk-app .pmk-fleet-card { position: absolute; top: 70px; left: 6px; z-index: 9; box-sizing: border-box;
-   width: min(560px, calc(100% - 12px)); max-height: calc(100% - 130px); overflow: auto; gap: 6px;
+.pmk-app .pmk-home-toolbar > .pmk-fleet-card { position: static; flex: 1 1 100%; box-sizing: border-box;
+   max-width: 560px; max-height: 60vh; overflow: auto; gap: 6px;
    background: rgba(255, 255, 255, 0.97); border-radius: 12px; padding: 8px 12px;
    box-shadow: 0 2px 10px rgba(0, 0, 0, .3); }
 .pmk-app .pmk-fleet-row { gap: 8px; align-items: center; border-top: 1px solid #ddd; padding-top: 4px; }
@@ -52,8 +52,9 @@ FLEET_CSS = """<style>
 .pmk-app .pmk-fleet-row.pmk-fleet-in-control { background: #eef6ff; }
 .pmk-app .pmk-fleet-head { justify-content: space-between; align-items: center; }
 </style>"""
-#: The card opens below Home's floating bar (6 px + a 48 px target + 8 px of padding), never over its own
-#: Fleet button (issue 40: at 1280x800 it covered it, and had no close button).
+#: The card is the last item of Home's floating bar, on a row of its own: it opens below the bar's buttons
+#: however many rows they wrap to, never over its own Fleet button (issue 40: at 1280x800 the bar took two
+#: rows and the card, placed over the map's corner, covered it; it had no close button either).
 
 
 class _Row:
@@ -136,7 +137,7 @@ class FleetPanel:
         self.class_button.on_click(self._act("Opening the class's fleet", lambda _b: self.open_class()))
         self._loop = RenderLoop(self.tick, ROWS_HZ, on_error=lambda err: self._say(error_text(err), "error"))
         home.ui.add_tool(self.toggle)
-        home.ui.map_stack.children = (*home.ui.map_stack.children, self.card)
+        home.ui.toolbar.children = (*home.ui.toolbar.children, self.card)
 
     # -- sources -------------------------------------------------------------------------------------
     def _on_toggle(self, change: dict[str, Any]) -> None:
