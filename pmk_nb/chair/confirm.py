@@ -20,8 +20,7 @@ from typing import TYPE_CHECKING, Any
 from pmk_nb.errors import DeployError, PmkError
 
 if TYPE_CHECKING:
-    from pmk_nb.rosmap import MapFiles
-    from pmk_nb.rosmap.image import ImageReader
+    from pmk_nb.rosmap import ImageReader, MapFiles
 
 DATA_CHECK_MAX_CELLS = 1_000_000
 SAMPLED_ROWS = 16  # rows compared when a grid is too big to compare whole
@@ -135,7 +134,7 @@ def chair_readers(link: Any) -> tuple[ImageReader, ...]:
     """The image readers the chair's map server may be: ROS 1's on a ROS 1 chair, Nav2's (Jazzy, then Humble:
     the link cannot tell which) on a ROS 2 chair, all three when the version is unknown. A scale-mode map
     reads differently under ROS 1's rules and Nav2's (issue 40: a map that loaded was 'different cells')."""
-    from pmk_nb.rosmap.image import READERS
+    from pmk_nb.rosmap import READERS
 
     version = getattr(link, "ros_version", None)
     if version == 1:

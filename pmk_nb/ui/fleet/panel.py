@@ -22,8 +22,16 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.chair import ChairStatus, Fleet, FleetError, FleetMember, NotInFleet, row_words
-from pmk_nb.chair.fleet import NoChairChosen, SameAddress
+from pmk_nb.chair import (
+    ChairStatus,
+    Fleet,
+    FleetError,
+    FleetMember,
+    NoChairChosen,
+    NotInFleet,
+    SameAddress,
+    row_words,
+)
 from pmk_nb.chair.link import FleetLinks
 from pmk_nb.errors import SettingsError
 from pmk_nb.ui.common.context import needs_pin
