@@ -204,6 +204,21 @@ class LibraryError(PmkError):
         self.name = name
 
 
+class MapsFolderMissing(LibraryError):
+    """The maps folder to read does not exist (a mistyped ``--maps-dir``): never listed as an empty folder.
+
+    Attributes:
+        path: the folder that is not there.
+    """
+
+    def __init__(self, path: str) -> None:
+        super().__init__(
+            f"the maps folder {path} does not exist",
+            hint="Check --maps-dir; `pmk maps import FILE` creates the folder.",
+        )
+        self.path = path
+
+
 class AlreadyExists(LibraryError):
     """A map of that name exists and overwriting was not asked for."""
 

@@ -106,6 +106,39 @@ class StoreyPlanFile:
     skipped: tuple[Skipped, ...] = ()  # links left without an opening (none in files written before them)
 
 
+class NoRoomsFile(MapFormatError):
+    """A map with no rooms file beside it: nothing to check it against.
+
+    Attributes:
+        path: the rooms file that is not there.
+        map_path: the map's YAML.
+        converted: True when the YAML says PMK Notebook wrote it (then converting the plan again writes the
+            rooms file); False for a map made elsewhere, e.g. by SLAM, which no plan's graph describes.
+    """
+
+    def __init__(self, path: Path, map_path: Path, *, converted: bool) -> None:
+        if converted:
+            hint = "Convert the building plan again: maps made before this version have no rooms file."
+        else:
+            hint = (
+                "This map was not converted from a building plan (a SLAM or hand-drawn map has no navigation "
+                "graph to check): check the building plan instead, `pmk check PLAN.gml`."
+            )
+        super().__init__(f"{path.name}: not found beside {map_path.name}", path=str(path), hint=hint)
+        self.map_path = str(map_path)
+        self.converted = converted
+
+
+def _converted_here(yaml_path: Path) -> bool:
+    """The map's YAML names PMK Notebook as its writer (rosmap.write_map's ``generator``)."""
+    from pmk_nb.rosmap import read_map_yaml
+
+    try:
+        return str(read_map_yaml(yaml_path).extras.get("generator", "")).startswith("pmk_nb")
+    except MapFormatError:
+        return False
+
+
 def map_missing(yaml_path: str | Path) -> None:
     """Raise :class:`MapNotFound` (naming the maps that are there) when the map itself is not there:
     a missing map is not a missing rooms file."""
@@ -122,18 +155,15 @@ def read_sidecar(yaml_path: str | Path) -> StoreyPlanFile:
 
     Raises:
         MapNotFound: no map at ``yaml_path`` (a missing map is not a missing rooms file).
-        MapFormatError: no sidecar, or one this version cannot read (names the file).
+        NoRoomsFile: no sidecar (says whether converting the plan again would write one).
+        MapFormatError: a sidecar this version cannot read (names the file).
     """
     path = sidecar_path(yaml_path)
     map_missing(yaml_path)
     try:
         doc = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError as err:
-        raise MapFormatError(
-            f"{path.name}: not found beside {Path(yaml_path).name}",
-            path=str(path),
-            hint="Convert the building plan again: maps made before this version have no rooms file.",
-        ) from err
+        raise NoRoomsFile(path, Path(yaml_path), converted=_converted_here(Path(yaml_path))) from err
     except (OSError, ValueError) as err:
         raise MapFormatError(f"{path}: not a readable rooms file ({err})", path=str(path)) from err
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:

@@ -77,8 +77,44 @@ def install(
     if not overwrite and folder.exists(building.id) and (rec is None or rec.get("catalogue") != catalogue.url):
         raise AlreadyExists(f"map {building.id!r} already exists; pass overwrite=True to replace it", name=building.id)
     reader = Reader(catalogue.url, allow_local=folder.allow_local, allow_hosts=allow_hosts)
+    made = [p for p in (folder.root, *folder.root.parents) if not p.exists()]  # folders this install creates
     folder.root.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=".catalogue-", dir=folder.root))
+    try:
+        _install_files(catalogue, building, chosen, assets, folder, reader, rec, stage, progress)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        for path in made:  # a refused install leaves no empty maps folder behind (issue 40)
+            with contextlib.suppress(OSError):
+                path.rmdir()  # only when empty
+        raise
+    shutil.rmtree(stage, ignore_errors=True)
+    files = {a.file_name: a.sha256 for a in assets}
+
+    everything = len(chosen) == len(building.storeys)
+    same = rec is not None and rec.get("catalogue") == catalogue.url and isinstance(rec.get("files"), dict)
+    same_rec = rec if same else None
+    # --storey adds to what is there
+    kept = {**same_rec["files"], **files} if same_rec is not None and not everything else files
+    with contextlib.suppress(OSError):  # installed either way; the record only tells "new" from "changed"
+        old_all = bool(same_rec is not None and same_rec.get("all_storeys"))
+        record.put(building.id, catalogue.url, kept, all_storeys=everything or old_all)
+    emit(progress, "done", 1.0, f"installed {building.id}")
+    return InstallResult(building.id, [s.storey or s.id for s in chosen], list(files), sum(a.size for a in assets))
+
+
+def _install_files(
+    catalogue: Catalogue,
+    building: Building,
+    chosen: list[Storey],
+    assets: list[Asset],
+    folder: MapsFolder,
+    reader: Reader,
+    rec: dict[str, object] | None,
+    stage: Path,
+    progress: ProgressCallback | None,
+) -> None:
+    """Download every file into ``stage``, check them, swap them into the folder in one step."""
     try:
         total = sum(a.size for a in assets) or 1
         done = 0
@@ -96,19 +132,6 @@ def install(
             url=catalogue.url,
             name=building.id,
         ) from err
-    finally:
-        shutil.rmtree(stage, ignore_errors=True)
-    files = {a.file_name: a.sha256 for a in assets}
-    everything = len(chosen) == len(building.storeys)
-    same = rec is not None and rec.get("catalogue") == catalogue.url and isinstance(rec.get("files"), dict)
-    same_rec = rec if same else None
-    # --storey adds to what is there
-    kept = {**same_rec["files"], **files} if same_rec is not None and not everything else files
-    with contextlib.suppress(OSError):  # installed either way; the record only tells "new" from "changed"
-        old_all = bool(same_rec is not None and same_rec.get("all_storeys"))
-        record.put(building.id, catalogue.url, kept, all_storeys=everything or old_all)
-    emit(progress, "done", 1.0, f"installed {building.id}")
-    return InstallResult(building.id, [s.storey or s.id for s in chosen], list(files), sum(a.size for a in assets))
 
 
 def _remove_dropped(folder: MapsFolder, name: str, rec: dict[str, object], kept: set[str]) -> None:

@@ -40,6 +40,25 @@ class PublishResult:
     removed: list[Path] = field(default_factory=list)
 
 
+class PlanMissing(CatalogueError):
+    """Maps are in the folder but no building plan they belong to (`pmk convert --out MAPS` writes no plan):
+    a catalogue publishes a building with its plan, so the plan is to be imported, not the maps converted.
+
+    Attributes:
+        maps: the map YAMLs without a plan (file names).
+    """
+
+    def __init__(self, root: Path, maps: Sequence[str], *, url: str) -> None:
+        names = ", ".join(maps[:5]) + (f" and {len(maps) - 5} more" if len(maps) > 5 else "")
+        super().__init__(
+            f"nothing to publish: the maps in {root} ({names}) have no building plan there",
+            url=url,
+            hint="Import the plan they were converted from (pmk maps import PLAN.gml --name NAME, NAME being "
+            "the maps' name before _<storey>), then publish again.",
+        )
+        self.maps = list(maps)
+
+
 def publish(
     folder: MapsFolder,
     out: str | Path,
@@ -51,12 +70,16 @@ def publish(
     """Publish the converted maps ``names`` (default: every converted map) into the folder ``out``.
 
     Raises:
+        PlanMissing: nothing to publish but maps without their plan (``pmk convert --out``).
         CatalogueError: a named map is not converted, has a broken map, or ``out`` cannot be written.
         LibraryError: an unknown map name.
     """
     site = Path(out).expanduser()
     entries = [folder.entry(n) for n in names] if names else [e for e in folder.list() if e.generated]
     if not entries:
+        orphans = [g.yaml.name for g in folder.orphans()]
+        if orphans:
+            raise PlanMissing(folder.root, orphans, url=str(site))
         raise CatalogueError(f"nothing to publish: no converted map in {folder.root}", url=str(site))
     stamp = (now or dt.datetime.now(dt.UTC)).strftime("%Y-%m-%dT%H:%M:%SZ")
     old_catalog = read_json_object(site / "catalog.json")

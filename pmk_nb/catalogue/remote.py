@@ -18,7 +18,14 @@ from typing import Any
 from urllib.parse import unquote, urljoin, urlsplit
 
 from pmk_nb.catalogue.hashes import sha256_of_multihash
-from pmk_nb.errors import AssetOutsideCatalogue, CatalogueError, DownloadTooLarge, RedirectRefused
+from pmk_nb.errors import (
+    AssetOutsideCatalogue,
+    CatalogueError,
+    DownloadError,
+    DownloadTooLarge,
+    LibraryError,
+    RedirectRefused,
+)
 from pmk_nb.library import check_url, fetch
 
 MAX_DOC_BYTES = 4 * 1024 * 1024  # one STAC JSON document
@@ -80,15 +87,36 @@ class Building:
 
 
 @dataclass(frozen=True)
+class RefusedBuilding:
+    """A building of the catalogue that could not be read or checked; the others are still listed (issue 40).
+
+    ``error`` is the typed refusal (AssetOutsideCatalogue, RedirectRefused, CatalogueError, DownloadError);
+    ``id`` is the folder its collection sits in, the building's id in a catalogue ``pmk maps publish`` wrote.
+    """
+
+    url: str
+    error: LibraryError
+
+    @property
+    def id(self) -> str:
+        return unquote(posixpath.basename(posixpath.dirname(urlsplit(self.url).path)))
+
+
+@dataclass(frozen=True)
 class Catalogue:
     url: str
     title: str
     buildings: list[Building]
+    refused: list[RefusedBuilding] = field(default_factory=list)
 
     def building(self, name: str) -> Building:
+        """The building ``name``; a refused one raises its own refusal (nothing of it can be installed)."""
         for b in self.buildings:
             if b.id == name:
                 return b
+        for r in self.refused:
+            if r.id == name:
+                raise r.error
         known = ", ".join(b.id for b in self.buildings) or "none"
         raise CatalogueError(f"{self.url}: no building {name!r} (buildings: {known})", url=self.url, name=name)
 
@@ -189,16 +217,26 @@ def read_catalogue(
 ) -> Catalogue:
     """The buildings and storeys of the catalogue at ``url`` (``.../catalog.json`` or its folder).
 
+    A building whose documents fail (missing, malformed, a link out of the catalogue) is left out of
+    ``buildings`` and kept in ``refused`` with its error; the rest are listed.
+
     Raises:
-        CatalogueError: a document is missing, malformed or unverifiable; AssetOutsideCatalogue,
-            RedirectRefused: a link leaves the catalogue; DownloadError: the network said no.
+        CatalogueError: the catalogue's own document is missing, malformed or unverifiable; AssetOutsideCatalogue,
+            RedirectRefused: a link of it leaves the catalogue; DownloadError: the network said no.
     """
     reader = Reader(url, allow_local=allow_local, allow_hosts=allow_hosts, timeout=timeout)
     root = reader.document(reader.url)
     if root.get("type") not in ("Catalog", "Collection"):
         raise CatalogueError(f"{reader.url} is not a STAC catalogue (type {root.get('type')!r})", url=reader.url)
-    buildings = [_building(reader, u) for u in reader.links(root, reader.url, "child")]
-    return Catalogue(url=reader.url, title=str(root.get("title") or root.get("id") or ""), buildings=buildings)
+    buildings: list[Building] = []
+    refused: list[RefusedBuilding] = []
+    for child in reader.links(root, reader.url, "child"):
+        try:
+            buildings.append(_building(reader, child))
+        except (CatalogueError, DownloadError) as err:  # one bad building never hides the clean ones
+            refused.append(RefusedBuilding(child, err))
+    title = str(root.get("title") or root.get("id") or "")
+    return Catalogue(url=reader.url, title=title, buildings=buildings, refused=refused)
 
 
 def _building(reader: Reader, url: str) -> Building:

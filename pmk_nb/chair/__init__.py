@@ -15,7 +15,16 @@ from pmk_nb.lazyface import lazy_face
 if TYPE_CHECKING:
     from pmk_nb.chair.confirm import grid_sha256
     from pmk_nb.chair.deploy import STEP_SPANS, close_links, link_for
-    from pmk_nb.chair.fleet import ChairStatus, Fleet, FleetError, FleetMember, NotInFleet, row_words
+    from pmk_nb.chair.fleet import (
+        ChairStatus,
+        Fleet,
+        FleetError,
+        FleetMember,
+        NoChairChosen,
+        NotInFleet,
+        SameAddress,
+        row_words,
+    )
     from pmk_nb.chair.keysetup import make_key_pair, setup_key
     from pmk_nb.chair.messages import Odometry, Pose2D, Scan
     from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, PROFILES_FILE, ChairProfile, ProfileStore, config_dir
@@ -34,6 +43,8 @@ _WHERE = {
     "FleetError": "fleet",
     "FleetMember": "fleet",
     "NotInFleet": "fleet",
+    "NoChairChosen": "fleet",
+    "SameAddress": "fleet",
     "row_words": "fleet",
     "make_key_pair": "keysetup",
     "setup_key": "keysetup",
@@ -68,10 +79,12 @@ __all__ = [
     "Fleet",
     "FleetError",
     "FleetMember",
+    "NoChairChosen",
     "NotInFleet",
     "Odometry",
     "Pose2D",
     "ProfileStore",
+    "SameAddress",
     "Scan",
     "SshAccount",
     "blind_ahead",

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 from pmk_nb.errors import DeployError, PmkError
 
 if TYPE_CHECKING:
-    from pmk_nb.rosmap import MapFiles
+    from pmk_nb.rosmap import ImageReader, MapFiles
 
 DATA_CHECK_MAX_CELLS = 1_000_000
 SAMPLED_ROWS = 16  # rows compared when a grid is too big to compare whole
@@ -130,6 +130,20 @@ def _by_map_info(
     return None
 
 
+def chair_readers(link: Any) -> tuple[ImageReader, ...]:
+    """The image readers the chair's map server may be: ROS 1's on a ROS 1 chair, Nav2's (Jazzy, then Humble:
+    the link cannot tell which) on a ROS 2 chair, all three when the version is unknown. A scale-mode map
+    reads differently under ROS 1's rules and Nav2's (issue 40: a map that loaded was 'different cells')."""
+    from pmk_nb.rosmap import READERS
+
+    version = getattr(link, "ros_version", None)
+    if version == 1:
+        return ("ros1",)
+    if version == 2:
+        return ("nav2_jazzy", "nav2_humble")
+    return READERS
+
+
 def _cells_match(ours: Any, theirs: Any) -> bool:
     if theirs.data.shape != ours.data.shape:
         return False
@@ -159,11 +173,13 @@ def confirm_map(
         return info, "metadata"
     from pmk_nb.rosmap import read_map
 
-    ours = read_map(files.yaml)
     theirs = link.fetch_map(timeout=max(2.0, deadline - time.monotonic()))
-    if not _cells_match(ours, theirs):
-        raise _still_publishes(info, expected, timeout, cells=True)
-    return info, "cells" if ours.data.size <= DATA_CHECK_MAX_CELLS else f"metadata and {SAMPLED_ROWS} sampled rows"
+    for reader in chair_readers(link):  # our file read as the chair's map server reads it
+        ours = read_map(files.yaml, reader=reader)
+        if _cells_match(ours, theirs):
+            how = "cells" if ours.data.size <= DATA_CHECK_MAX_CELLS else f"metadata and {SAMPLED_ROWS} sampled rows"
+            return info, how
+    raise _still_publishes(info, expected, timeout, cells=True)
 
 
 def in_background(fn: Callable[[MapFiles], str], files: MapFiles) -> Callable[[], str]:

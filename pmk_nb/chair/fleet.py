@@ -51,6 +51,29 @@ class FleetFull(FleetError):
         self.max_chairs = max_chairs
 
 
+class SameAddress(FleetError):
+    """Another chair of the fleet has this profile's address: one chair, one link (issue 40: it was left
+    out without a word).
+
+    Attributes:
+        name: the profile not added; ``other``: the fleet's chair at that address; ``host``, ``port``.
+    """
+
+    def __init__(self, name: str, other: str, host: str, port: int) -> None:
+        super().__init__(
+            f"{name!r} is not added: {other!r} in the fleet is the same chair ({host}:{port}).",
+            hint="Give each chair its own address in Settings.",
+        )
+        self.name, self.other, self.host, self.port = name, other, host, port
+
+
+class NoChairChosen(FleetError):
+    """Add was pressed with no chair picked in the list."""
+
+    def __init__(self) -> None:
+        super().__init__("Pick a saved chair in the list first.")
+
+
 @dataclass(frozen=True)
 class FleetMember:
     """One chair of the fleet: its profile (where it is, its topics and limits) and its colour."""
@@ -116,16 +139,19 @@ class Fleet:
         return member
 
     def add(self, profile: ChairProfile, source: str = "profile") -> FleetMember:
-        """Add a chair (the one already there when its name or address is in the fleet).
+        """Add a chair (the one already there when its name is in the fleet).
 
         Raises:
+            SameAddress: another chair of the fleet has its host and port.
             FleetFull: ``max_chairs`` are in the fleet already.
         """
         key = (profile.host, int(profile.port))
         with self._lock:
             for member in self._members.values():
-                if member.name == profile.name or member.key == key:
+                if member.name == profile.name:
                     return member
+                if member.key == key:
+                    raise SameAddress(profile.name, member.name, *key)
             if len(self._members) >= self.max_chairs:
                 raise FleetFull(self.max_chairs)
             member = FleetMember(profile, pick_colour(profile.name, {m.colour for m in self._members.values()}), source)

@@ -33,9 +33,15 @@ COMMANDS: dict[str, tuple[str, str]] = {
 BROKEN_PIPE = 128 + 13  # the exit status of a process ended by SIGPIPE
 
 
-def build_parser(command: str | None = None) -> argparse.ArgumentParser:
-    """The full parser for ``command``; without one, a parser that only lists the commands."""
-    parser = argparse.ArgumentParser(prog="pmk", description="PMK Notebook: building plans to wheelchair maps.")
+def build_parser(command: str | None = None, *, json_errors: bool = False) -> argparse.ArgumentParser:
+    """The full parser for ``command``; without one, a parser that only lists the commands.
+
+    ``json_errors``: a refused command line raises ``UsageError`` instead of exiting (``main`` with ``--json``).
+    """
+    from pmk_nb.cli.options import JsonErrorParser
+
+    parser_class = JsonErrorParser if json_errors else argparse.ArgumentParser
+    parser = parser_class(prog="pmk", description="PMK Notebook: building plans to wheelchair maps.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (module_name, help_text) in COMMANDS.items():
         if name == command:
@@ -48,14 +54,20 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     command = next((a for a in argv if not a.startswith("-")), None)
-    parser = build_parser(command if command in COMMANDS else None)
-    args = parser.parse_args(argv)
+    from pmk_nb.cli.options import UsageError, error_json, print_json, wants_json
+
+    as_json = wants_json(argv)
+    parser = build_parser(command if command in COMMANDS else None, json_errors=as_json)
+    try:
+        args = parser.parse_args(argv)
+    except UsageError as err:  # only with --json: the refusal on stdout as JSON, argparse's words on stderr
+        print_json(error_json(err, command if command in COMMANDS else "pmk"))
+        print(f"{err.usage}\n{err.prog}: error: {err.message}", file=sys.stderr)
+        return err.exit_code
     try:
         return int(args.run(args) or 0)
     except PmkError as err:
         if getattr(args, "json", False):  # a script reads stdout: the error as JSON there too
-            from pmk_nb.cli.options import error_json, print_json
-
             print_json(error_json(err, args.command))
         print(f"pmk {args.command}: error: {err}", file=sys.stderr)
         return err.exit_code  # 2, or what the error's type says (pmk sim: a port taken)

@@ -34,9 +34,10 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     # --maps-dir is accepted after the action too (`pmk maps list --maps-dir D`); SUPPRESS keeps the outer value
     common = argparse.ArgumentParser(add_help=False)
     add_maps_dir(common, aliases=("--dir",), default=argparse.SUPPRESS)
+    add_json(common)  # every action: its result, or its error, as one JSON document
     sub = p.add_subparsers(dest="maps_command", metavar="ACTION", required=True)
 
-    add_json(sub.add_parser("list", parents=[common], help="list the IndoorGML maps and their generated files"))
+    sub.add_parser("list", parents=[common], help="list the IndoorGML maps and their generated files")
 
     imp = sub.add_parser("import", parents=[common], help="copy an IndoorGML file into the maps folder")
     imp.add_argument("path", help="IndoorGML file (.gml / .xml)")
@@ -89,12 +90,13 @@ def _run(args: argparse.Namespace) -> int:
 
     folder = MapsFolder(args.maps_dir, allow_local=getattr(args, "allow_local", None) or None)
     action = args.maps_command
+    if action not in FOLDER_MAY_BE_NEW:
+        folder.require_root()  # a mistyped --maps-dir is an error, never an empty folder
     if action == "list":
         return _list(folder, as_json=args.json)
     if action == "import":
         entry = folder.import_file(args.path, args.name, overwrite=args.overwrite)
-        print(f"imported {args.path} as map {entry.name!r} ({entry.source})")
-        return 0
+        return _done(args, f"imported {args.path} as map {entry.name!r} ({entry.source})", _entry_json(entry))
     if action == "download":
         return _download(folder, args)
     if action == "convert":
@@ -104,9 +106,33 @@ def _run(args: argparse.Namespace) -> int:
     if action == "delete":
         entry = folder.entry(args.name)
         folder.delete(entry.name)
-        print(f"deleted map {entry.name!r}: {entry.source.name} and {len(entry.generated)} generated map(s)")
-        return 0
+        said = f"deleted map {entry.name!r}: {entry.source.name} and {len(entry.generated)} generated map(s)"
+        return _done(args, said, _entry_json(entry))
     raise AssertionError(action)  # argparse restricts the choices
+
+
+#: actions that create the maps folder or do not read it; the others refuse a folder that does not exist
+FOLDER_MAY_BE_NEW = ("import", "download", "get", "catalogue")
+
+
+def _done(args: argparse.Namespace, said: str, doc: dict[str, object]) -> int:
+    """The one line an action prints, or with ``--json`` its result ``{"ok": true, "action", ...}``."""
+    if args.json:
+        print_json({"ok": True, "action": args.maps_command, **doc})
+    else:
+        print(said)
+    return 0
+
+
+def _entry_json(e: MapEntry) -> dict[str, object]:
+    """One building of the maps folder as `pmk maps list --json` shows it."""
+    return {
+        "name": e.name,
+        "source": str(e.source),
+        "size": e.size,
+        "status": e.status,
+        "generated": [_map_json(g) for g in e.generated],
+    }
 
 
 def _describe(gm: GeneratedMap) -> str:
@@ -137,16 +163,7 @@ def _list(folder: MapsFolder, *, as_json: bool = False) -> int:
         print_json(
             {
                 "maps_dir": str(folder.root),
-                "maps": [
-                    {
-                        "name": e.name,
-                        "source": str(e.source),
-                        "size": e.size,
-                        "status": e.status,
-                        "generated": [_map_json(g) for g in e.generated],
-                    }
-                    for e in entries
-                ],
+                "maps": [_entry_json(e) for e in entries],
                 "orphans": [_map_json(g) for g in folder.orphans()],
             }
         )
@@ -169,7 +186,7 @@ def _list(folder: MapsFolder, *, as_json: bool = False) -> int:
 @contextlib.contextmanager
 def _status_line() -> Iterator[Callable[[str], None]]:
     """``show(text)`` rewrites one progress line on stderr when it is a terminal (a log gets none)."""
-    interactive = sys.stderr.isatty()
+    interactive = sys.stderr.isatty()  # never on stdout: with --json that is the one JSON document
 
     def show(text: str) -> None:
         if interactive:
@@ -197,8 +214,8 @@ def _download(folder: MapsFolder, args: argparse.Namespace) -> int:
             max_bytes=int(args.max_mb * 1024 * 1024),
             progress=progress,
         )
-    print(f"downloaded {args.url} as map {entry.name!r} ({entry.size} bytes, {entry.source})")
-    return 0
+    said = f"downloaded {args.url} as map {entry.name!r} ({entry.size} bytes, {entry.source})"
+    return _done(args, said, _entry_json(entry))
 
 
 def accessibility_line(yaml_path: Path) -> str:
@@ -239,6 +256,10 @@ def _convert(folder: MapsFolder, args: argparse.Namespace) -> int:
             layers=tuple(args.layers),
         )
         maps = folder.convert_with(args.name, options, progress=progress)
+    if args.json:
+        converted = [{**_map_json(gm), "accessibility": accessibility_line(gm.yaml) or None} for gm in maps]
+        print_json({"ok": True, "action": "convert", "name": args.name, "maps": converted})
+        return 0
     print(f"converted map {args.name!r} at {args.resolution:g} m per cell:")
     for gm in maps:
         files = ", ".join(p.name for p in (gm.yaml, gm.image, gm.preview) if p is not None)

@@ -8,9 +8,10 @@ typed errors (:mod:`pmk_nb.errors`): ``pmk_nb.cli`` prints them and exits with s
 from __future__ import annotations
 
 import argparse
-import json
 from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
+
+from pmk_nb.cli.options import error_json, print_json
 
 if TYPE_CHECKING:
     from pmk_nb.library import MapsFolder
@@ -35,7 +36,6 @@ def add_parsers(sub: argparse._SubParsersAction, common: argparse.ArgumentParser
     )
     cat = sub.add_parser("catalogue", parents=[common, net], help="list the buildings and storeys of a catalogue")
     cat.add_argument("url", help="http(s) address of catalog.json (or of its folder)")
-    cat.add_argument("--json", action="store_true", help="print JSON")
 
     get = sub.add_parser("get", parents=[common, net], help="install a building from a catalogue, every file checked")
     get.add_argument("url", help="http(s) address of catalog.json (or of its folder)")
@@ -60,6 +60,9 @@ def _publish(folder: MapsFolder, args: argparse.Namespace) -> int:
     from pmk_nb.catalogue.publish import publish
 
     result = publish(folder, args.out, args.names, title=args.title)
+    if args.json:
+        print_json({"ok": True, "action": "publish", **asdict(result)})
+        return 0
     counts = f"{len(result.written)} file(s) written, {result.unchanged} unchanged, {len(result.removed)} removed"
     print(f"published {', '.join(result.buildings)} to {result.site / 'catalog.json'}: {counts}")
     for path in result.written:
@@ -83,8 +86,9 @@ def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
             "buildings": [
                 {**asdict(b), "size": b.size, "updated": b.updated, "status": status[b.id]} for b in catalogue.buildings
             ],
+            "refused": [{**error_json(r.error, "maps"), "id": r.id, "url": r.url} for r in catalogue.refused],
         }
-        print(json.dumps(doc, indent=2))
+        print_json(doc)
         return 0
     print(f"catalogue {catalogue.title!r}: {catalogue.url}")
     if not catalogue.buildings:
@@ -94,6 +98,8 @@ def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
         for s in b.storeys:
             where = f"storey {s.storey}: " if s.storey else ""
             print(f"    {where}{s.id} {s.width}x{s.height} cells at {s.resolution:g} m, {_size(s.size)}, {s.updated}")
+    for r in catalogue.refused:  # listed apart: nothing of it can be installed
+        print(f"{r.id}  REFUSED: {r.error}")
     return 0
 
 
@@ -109,6 +115,9 @@ def _get(folder: MapsFolder, catalogue: Any, args: argparse.Namespace) -> int:
         max_bytes=int(args.max_mb * 1024 * 1024),
         allow_hosts=args.allow_host,
     )
+    if args.json:
+        print_json({"ok": True, "action": "get", **asdict(result)})
+        return 0
     print(
         f"installed {result.name!r} ({', '.join(result.storeys)}): {len(result.files)} files, "
         f"{result.bytes} bytes, every size and SHA-256 checked"

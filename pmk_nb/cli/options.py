@@ -13,7 +13,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from pmk_nb.defaults import DEFAULT_RESOLUTION as DEFAULT_RESOLUTION  # declared once there, re-exported here
 from pmk_nb.errors import PmkError
@@ -63,6 +63,33 @@ def add_resolution(p: argparse.ArgumentParser, *, what: str = "metres per cell")
         default=DEFAULT_RESOLUTION,
         help=f"{what} (default {DEFAULT_RESOLUTION:g})",
     )
+
+
+class UsageError(PmkError):
+    """The command line itself is wrong (an unknown option, a missing argument): argparse's refusal as a type.
+
+    Attributes:
+        prog: the (sub-)command whose parser refused, e.g. ``pmk maps convert``.
+        usage: that parser's usage line, as argparse prints it.
+    """
+
+    def __init__(self, message: str, *, prog: str, usage: str) -> None:
+        super().__init__(message, hint=f"See `{prog} --help`.")
+        self.prog = prog
+        self.usage = usage
+
+
+class JsonErrorParser(argparse.ArgumentParser):
+    """A parser for a `--json` run: a refused command line raises :class:`UsageError`, which ``main`` prints as
+    JSON on stdout (argparse would print usage on stderr and leave stdout empty); sub-parsers inherit it."""
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(message, prog=self.prog, usage=self.format_usage().strip())
+
+
+def wants_json(argv: list[str]) -> bool:
+    """``--json`` among the arguments (before a ``--``): errors, the command line's own included, go out as JSON."""
+    return "--json" in argv[: argv.index("--")] if "--" in argv else "--json" in argv
 
 
 def add_json(p: argparse.ArgumentParser, what: str = "the result") -> None:

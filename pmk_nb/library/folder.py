@@ -21,7 +21,14 @@ from typing import IO
 
 from pmk_nb.access import sidecar_path
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH, DEFAULT_DOOR_WIDTH, DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
-from pmk_nb.errors import AlreadyExists, IndoorGMLError, LibraryError, MapFormatError, OccupancyError
+from pmk_nb.errors import (
+    AlreadyExists,
+    IndoorGMLError,
+    LibraryError,
+    MapFormatError,
+    MapsFolderMissing,
+    OccupancyError,
+)
 from pmk_nb.fileio import atomic_write
 from pmk_nb.indoorgml import check_indoorgml
 from pmk_nb.library.convert import ConvertOptions, convert_plan
@@ -167,6 +174,11 @@ class MapsFolder:
     def storey_reads(self) -> int:
         """How many source files :meth:`storeys` has parsed (cache misses)."""
         return self._storey_cache.reads
+
+    def require_root(self) -> None:
+        """Raise :class:`MapsFolderMissing` when the folder is not there (reading it would find nothing)."""
+        if not self.root.is_dir():
+            raise MapsFolderMissing(str(self.root))
 
     # ----------------------------------------------------------------- adding sources
     def _ensure_root(self) -> None:

@@ -70,10 +70,14 @@ class MapYaml:
 
     @property
     def image_is_beside(self) -> bool:
-        """True when the image is a plain file in the YAML's own folder (no ``..``, no symlink out of it)."""
-        folder = Path(os.path.abspath(self.path)).parent
-        lexically = ".." not in self.image.parts and Path(os.path.abspath(self.image)).parent == folder
-        return lexically and self.image.resolve().parent == folder.resolve()
+        """True when the image is a plain file in the YAML's own folder (no ``..``, no symlink out of it).
+
+        The ``..`` rule reads the YAML's own ``image`` text: a ``..`` in the path the YAML was opened by
+        (``maps/../maps/clinic.yaml``) says nothing about where its image is (issue 40).
+        """
+        written = Path(self.image_text) if self.image_text else self.image
+        lexically = Path(os.path.abspath(self.image)).parent == Path(os.path.abspath(self.path)).parent
+        return ".." not in written.parts and lexically and self.image.resolve().parent == self.path.resolve().parent
 
     def fields(self, *, image: str | None = None) -> dict[str, Any]:
         """The YAML as a mapping (standard keys first, then the extras), ``image`` replaced if given."""

@@ -240,3 +240,15 @@ def test_absolute_and_relative_remote_folders(
     result = upload_map(make_map(tmp_path, "m"), profile_for(sshd_server, tmp_path, remote))
     assert result == str(sshd_server.home / below_home / "m.yaml")
     assert Path(result).is_file()
+
+
+def test_a_dot_dot_in_the_yamls_own_path_is_sent(tmp_path: Path) -> None:
+    """Issue 40, item 8: `pmk send maps/../maps/m.yaml` was refused, 'image not in the YAML's folder'."""
+    from pmk_nb.chair.transfer import image_beside
+    from pmk_nb.rosmap import write_map
+    from tests.fixtures_sim import room_grid
+
+    files = write_map(room_grid(), tmp_path / "maps", "m", preview=False)
+    (tmp_path / "other").mkdir()
+    _doc, image = image_beside(tmp_path / "other" / ".." / "maps" / "m.yaml")
+    assert image.resolve() == files.image.resolve()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import json
 import subprocess
 import sys
 import threading
@@ -58,10 +59,48 @@ def pmk(capsys: pytest.CaptureFixture[str], maps: Path, *argv: str) -> tuple[int
 
 
 def test_list_empty_folder(capsys: pytest.CaptureFixture[str], maps: Path) -> None:
+    maps.mkdir()
     code, out, _ = pmk(capsys, maps, "list")
     assert code == 0
     assert f"maps folder: {maps}" in out
     assert "no maps yet" in out
+
+
+@pytest.mark.parametrize("action", [["list"], ["delete", "ward"], ["convert", "ward"], ["publish", "--out", "site"]])
+def test_a_missing_maps_folder_is_an_error(capsys: pytest.CaptureFixture[str], maps: Path, action: list[str]) -> None:
+    """Issue 40, item 3: a mistyped --maps-dir was listed as an empty folder, exit 0."""
+    code, out, _ = pmk(capsys, maps, *action, "--json")
+    doc = json.loads(out)
+    assert code == 2 and doc["ok"] is False and doc["error"] == "MapsFolderMissing"
+    assert doc["fields"]["path"] == str(maps)
+    assert not maps.exists()  # nothing created on the way
+
+
+def test_import_creates_a_missing_maps_folder(capsys: pytest.CaptureFixture[str], maps: Path, gml: Path) -> None:
+    code, out, _ = pmk(capsys, maps, "import", str(gml), "--json")
+    assert code == 0 and json.loads(out)["name"] == "clinic"
+    assert (maps / "clinic.gml").is_file()
+
+
+def test_every_maps_action_answers_json(capsys: pytest.CaptureFixture[str], maps: Path, gml: Path) -> None:
+    """Issue 40, item 2: `pmk maps import` and `convert` took no --json (an error, and nothing on stdout)."""
+    code, out, _ = pmk(capsys, maps, "import", str(gml), "--name", "ward", "--json")
+    imported = json.loads(out)
+    assert code == 0 and imported["ok"] is True and imported["action"] == "import"
+    assert imported["name"] == "ward" and imported["status"] == "not converted"
+
+    code, out, _ = pmk(capsys, maps, "convert", "ward", "--storey", "F1", "--json")
+    converted = json.loads(out)  # stdout is the one document: no progress there
+    assert code == 0 and converted["ok"] is True and converted["name"] == "ward"
+    assert [m["storey"] for m in converted["maps"]] == ["F1"]
+    assert read_map(converted["maps"][0]["yaml"]).width == converted["maps"][0]["width"]
+
+    code, out, _ = pmk(capsys, maps, "import", str(gml), "--name", "ward", "--json")
+    refused = json.loads(out)
+    assert code == 2 and refused["ok"] is False and refused["command"] == "maps"
+
+    code, out, _ = pmk(capsys, maps, "delete", "ward", "--json")
+    assert code == 0 and json.loads(out)["action"] == "delete"
 
 
 def test_import_list_delete(capsys: pytest.CaptureFixture[str], maps: Path, gml: Path) -> None:

@@ -26,6 +26,12 @@ PRINTS_RESULTS = {
     "send",
     "maps list",
     "maps catalogue",
+    "maps import",  # issue 40: every maps action answers --json
+    "maps download",
+    "maps convert",
+    "maps delete",
+    "maps publish",
+    "maps get",
     "chair list",
     "chair show",
     "chair test",
@@ -39,12 +45,6 @@ NO_RESULT = {  # servers, long-running nodes and actions whose outcome is the ex
     "robot map-server",
     "robot sim-node",
     "robot goal-watchdog",
-    "maps import",
-    "maps download",
-    "maps convert",
-    "maps delete",
-    "maps publish",
-    "maps get",
     "chair add",
     "chair delete",
 }
@@ -202,3 +202,32 @@ def test_robot_without_ros_says_what_to_install(
     with pytest.raises(RosNotInstalled) as caught:
         run_ros2("sim-node", lambda: __import__("rclpy"))
     assert (caught.value.module, caught.value.command) == ("rclpy", "sim-node")
+
+
+@pytest.mark.parametrize(
+    ("argv", "command"),
+    [
+        (["check", "plan.gml", "--bogus", "--json"], "check"),
+        (["info", "--json"], "info"),  # its FILE missing
+        (["maps", "convert", "--json"], "maps"),
+        (["maps", "list", "--json", "--storey", "F1"], "maps"),
+        (["--json"], "pmk"),
+    ],
+)
+def test_a_refused_command_line_is_json_with_json(
+    argv: list[str], command: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 40, item 2: argparse printed its usage on stderr and nothing on stdout, even with --json."""
+    code = main(argv)
+    out, err = capsys.readouterr()
+    doc = json.loads(out)
+    assert code == 2 and doc["ok"] is False and doc["error"] == "UsageError" and doc["command"] == command
+    assert doc["fields"]["usage"].startswith("usage: pmk") and doc["message"]
+    assert "usage: pmk" in err  # a person still reads argparse's words
+
+
+def test_a_refused_command_line_without_json_exits_as_argparse_does(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exited:
+        main(["check", "plan.gml", "--bogus"])
+    out, err = capsys.readouterr()
+    assert exited.value.code == 2 and out == "" and "unrecognized arguments: --bogus" in err

@@ -259,6 +259,18 @@ def test_map_yaml_gives_the_image_as_written_and_resolved(tmp_path: Path) -> Non
     assert doc.fields()["image"] == "link.png"
 
 
+def test_a_dot_dot_in_the_yamls_own_path_keeps_its_image_beside(tmp_path: Path) -> None:
+    """Issue 40, item 8: `pmk send maps/../maps/m.yaml` was refused, 'image not in the YAML's folder'."""
+    (tmp_path / "maps").mkdir()
+    (tmp_path / "other").mkdir()
+    shutil.copy(NAV2 / "testmap.png", tmp_path / "maps" / "img.png")
+    rest = "resolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    (tmp_path / "maps" / "m.yaml").write_text(f"image: img.png\n{rest}")
+    assert read_map_yaml(tmp_path / "other" / ".." / "maps" / "m.yaml").image_is_beside
+    (tmp_path / "maps" / "m.yaml").write_text(f"image: ../maps/img.png\n{rest}")  # the YAML's own '..' still is not
+    assert not read_map_yaml(tmp_path / "other" / ".." / "maps" / "m.yaml").image_is_beside
+
+
 def test_image_path_relative_and_absolute(tmp_path: Path) -> None:
     info = read_map_yaml(NAV2 / "testmap.yaml")
     assert info.image == NAV2 / "testmap.png"

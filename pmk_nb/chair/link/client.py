@@ -312,7 +312,8 @@ class ChairLink:
         self, path: str | os.PathLike[str], topics: Topics = None, seconds: float = 5.0, flow_timeout: float = 10.0
     ) -> RecordStats:
         """Record ``seconds`` of messages (blocks) and return the finished file's stats: the clock
-        starts once every topic delivers (or after ``flow_timeout`` s: a silent topic records nothing)."""
+        starts with the first message from any topic (at most ``flow_timeout`` s on); it never waits for
+        a silent topic, and ``stats.silent`` names the topics that sent nothing."""
         recording = self.start_recording(path, topics)
         try:
             recording.wait_flowing(flow_timeout)

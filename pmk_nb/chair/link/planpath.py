@@ -3,8 +3,11 @@
 Nav2's planner server publishes the global plan on ``/plan`` (and again each time its navigator
 replans, 1 Hz by default); move_base publishes it on its global planner's private topic,
 ``/move_base/NavfnROS/plan`` (navfn, the default) or ``/move_base/GlobalPlanner/plan``. With the
-profile's ``plan_topic`` "auto" all three are subscribed (a topic nobody publishes costs nothing);
-a named topic is subscribed alone. A path is a few hundred poses: the subscription is throttled
+profile's ``plan_topic`` "auto" the chair's topics are looked up (rosapi, off the caller's thread,
+again every few seconds until one is there) and only those of the three it has are subscribed: a
+subscription names its type, so on a ROS 2 chair a guessed ROS 1 topic would appear in its topic list
+(issue 40). Without rosapi nothing is guessed: name the topic in the profile. A named topic is
+subscribed alone. A path is a few hundred poses: the subscription is throttled
 (``throttle_rate`` 500 ms, ``queue_length`` 1) and the I/O thread only parses and stores the latest.
 """
 
@@ -14,10 +17,13 @@ import functools
 import math
 import threading
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from pmk_nb.errors import PmkError
 
 if TYPE_CHECKING:
     import roslibpy
@@ -31,6 +37,7 @@ AUTO = "auto"
 PLAN_TOPICS = ("/plan", "/move_base/NavfnROS/plan", "/move_base/GlobalPlanner/plan")
 PATH_TYPE = "nav_msgs/Path"
 THROTTLE_MS = 500
+RELOOK_S = 5.0  # "auto": seconds between lookups while the chair lists no plan topic
 
 
 @dataclass(frozen=True)
@@ -65,8 +72,17 @@ class PlanWatch:
     new Ros (a reconnect) is subscribed afresh. ``latest`` is safe from any thread.
     """
 
-    def __init__(self, topic: str = AUTO) -> None:
-        self.topics = PLAN_TOPICS if topic in ("", AUTO) else (topic,)
+    def __init__(
+        self, topic: str = AUTO, lookup: Callable[[], Iterable[str]] | None = None, relook_s: float = RELOOK_S
+    ) -> None:
+        """``lookup``: the chair's topic names (``link.discovery.topics``), for "auto"; ``relook_s``: how often
+        it is asked again while none of :data:`PLAN_TOPICS` is there (the planner may start later)."""
+        self.auto = topic in ("", AUTO)
+        self.topics = PLAN_TOPICS if self.auto else (topic,)
+        self._lookup = lookup
+        self._relook_s = relook_s
+        self._looked: float | None = None  # monotonic time of the last lookup started on this Ros
+        self._looking = False
         self._lock = threading.Lock()
         self._ros: roslibpy.Ros | None = None
         self._subs: list[OwnSubscription] = []
@@ -79,20 +95,60 @@ class PlanWatch:
             return self._latest
 
     def follow(self, ros: roslibpy.Ros | None) -> None:
-        """Subscribe on ``ros`` unless already subscribed there; unsubscribe when it is None."""
-        if ros is self._ros:
+        """Subscribe on ``ros`` unless already subscribed there; unsubscribe when it is None.
+
+        "auto" subscribes only the plan topics the chair has: looked up on a thread of its own (the
+        caller is a screen's timer), again every ``relook_s`` while none is there.
+        """
+        if ros is not self._ros:
+            self.stop()
+            if ros is None:
+                return
+            with self._lock:
+                self._ros, self._looked = ros, None
+            if not self.auto:
+                self._subscribe(ros, self.topics)
+                return
+        if ros is None or not self.auto:
             return
-        self.stop()
-        if ros is None:
-            return
+        now = time.monotonic()
+        with self._lock:
+            stale = self._looked is None or now - self._looked >= self._relook_s
+            due = not self._subs and not self._looking and stale
+            if due:
+                self._looking, self._looked = True, now
+        if due:
+            threading.Thread(target=self._look_up, args=(ros,), name="pmk-plan-lookup", daemon=True).start()
+
+    def _look_up(self, ros: roslibpy.Ros) -> None:
+        """The plan topics the chair lists, subscribed if ``ros`` is still the one followed."""
+        try:
+            listed = set(self._lookup()) if self._lookup is not None else set()
+        except PmkError:  # no rosapi, busy, reconnecting: nothing is guessed; asked again later
+            listed = set()
+        finally:
+            with self._lock:
+                self._looking = False
+        found = tuple(t for t in PLAN_TOPICS if t in listed)
+        if found:
+            self._subscribe(ros, found)
+
+    def _subscribe(self, ros: roslibpy.Ros, topics: tuple[str, ...]) -> None:
         from pmk_nb.chair.link.inspect import OwnSubscription  # ends alone, see there
 
-        subs = [
-            OwnSubscription(ros, name, PATH_TYPE, functools.partial(self._on_path, name), THROTTLE_MS)
-            for name in self.topics
-        ]
         with self._lock:
-            self._ros, self._subs = ros, subs
+            if ros is not self._ros or self._subs:
+                return  # followed another Ros meanwhile, or already subscribed
+            self._subs = [
+                OwnSubscription(ros, name, PATH_TYPE, functools.partial(self._on_path, name), THROTTLE_MS)
+                for name in topics
+            ]
+
+    @property
+    def subscribed(self) -> tuple[str, ...]:
+        """The plan topics subscribed now."""
+        with self._lock:
+            return tuple(sub.topic for sub in self._subs)
 
     def stop(self) -> None:
         """Unsubscribe (the latest path is forgotten: a new preview starts clean)."""

@@ -104,6 +104,11 @@ class RecordStats:
     def total(self) -> int:
         return sum(self.messages.values())
 
+    @property
+    def silent(self) -> list[str]:
+        """The topics that delivered no message (e.g. ``/cmd_vel`` on a parked chair), sorted."""
+        return sorted(t for t, n in self.messages.items() if not n)
+
 
 def ros2_type(type_name: str) -> str:
     """Any spelling -> ``pkg/msg/Type``."""
@@ -190,7 +195,7 @@ class Recording:
         if self._error is not None:
             raise self._error
         self._heard: set[str] = set()  # topics that delivered a message (I/O thread adds)
-        self._flowing = threading.Event()  # every topic has delivered one
+        self._flowing = threading.Event()  # a topic has delivered one: the connection's subscriptions are live
         self._ros = self._connect(link)
         self._ros_version = link.ros_version
         self._topics = {topic: self._subscribe(topic, type_name) for topic, type_name in types.items()}
@@ -219,20 +224,21 @@ class Recording:
         self.inbox.push(topic, msg)
         if topic not in self._heard:
             self._heard.add(topic)
-            if len(self._heard) == len(self.types):
-                self._flowing.set()
+            self._flowing.set()
 
     def wait_flowing(self, timeout: float = 10.0) -> bool:
-        """Wait until every topic has delivered a message; True when they all have.
+        """Wait until the recording's connection delivers its first message, from any topic; True when it has.
 
         A ROS 2 bridge's subscription is live only once DDS has matched it with the publisher
         (a second or more on a loaded machine): a short recording started blind would hold
-        little or nothing. Topics still silent halfway are subscribed once more (a bridge may
-        have dropped a subscription made while the topic was being set up).
+        little or nothing. It never waits for one topic in particular: a topic may be silent for
+        the whole recording (``/cmd_vel`` on a parked chair; issue 40: 'seconds=2.0' took 12 s), and
+        ``stats.silent`` names those. When nothing came halfway, every topic is subscribed once more
+        (a bridge may have dropped subscriptions made while the topics were being set up).
         """
         if self._flowing.wait(timeout / 2) or not self.running:
             return self._flowing.is_set()
-        for topic in sorted(set(self.types) - self._heard):
+        for topic in sorted(self.types):
             self._topics.pop(topic).unsubscribe()
             self._topics[topic] = self._subscribe(topic, self.types[topic])
         return self._flowing.wait(timeout / 2)

@@ -22,7 +22,16 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.chair import ChairStatus, Fleet, FleetError, FleetMember, NotInFleet, row_words
+from pmk_nb.chair import (
+    ChairStatus,
+    Fleet,
+    FleetError,
+    FleetMember,
+    NoChairChosen,
+    NotInFleet,
+    SameAddress,
+    row_words,
+)
 from pmk_nb.chair.link import FleetLinks
 from pmk_nb.errors import SettingsError
 from pmk_nb.ui.common.context import needs_pin
@@ -40,8 +49,8 @@ log = logging.getLogger(__name__)
 
 ROWS_HZ = 4.0  # rows and markers: text needs no more, a watched chair's odometry comes at 5 Hz
 FLEET_CSS = """<style>
-.pmk-app .pmk-fleet-card { position: absolute; top: 6px; left: 6px; z-index: 9; box-sizing: border-box;
-   width: min(560px, calc(100% - 12px)); max-height: calc(100% - 70px); overflow: auto; gap: 6px;
+.pmk-app .pmk-home-toolbar > .pmk-fleet-card { position: static; flex: 1 1 100%; box-sizing: border-box;
+   max-width: 560px; max-height: 60vh; overflow: auto; gap: 6px;
    background: rgba(255, 255, 255, 0.97); border-radius: 12px; padding: 8px 12px;
    box-shadow: 0 2px 10px rgba(0, 0, 0, .3); }
 .pmk-app .pmk-fleet-row { gap: 8px; align-items: center; border-top: 1px solid #ddd; padding-top: 4px; }
@@ -49,7 +58,11 @@ FLEET_CSS = """<style>
 .pmk-app .pmk-fleet-swatch { display: inline-block; width: 1.1em; height: 1.1em; border-radius: 50%;
    vertical-align: middle; margin-right: 6px; border: 2px solid #fff; box-shadow: 0 0 0 1px #555; }
 .pmk-app .pmk-fleet-row.pmk-fleet-in-control { background: #eef6ff; }
+.pmk-app .pmk-fleet-head { justify-content: space-between; align-items: center; }
 </style>"""
+#: The card is the last item of Home's floating bar, on a row of its own: it opens below the bar's buttons
+#: however many rows they wrap to, never over its own Fleet button (issue 40: at 1280x800 the bar took two
+#: rows and the card, placed over the map's corner, covered it; it had no close button either).
 
 
 class _Row:
@@ -119,7 +132,11 @@ class FleetPanel:
         self.rows_box.add_class("pmk-fleet-rows")
         tools = w.HBox([self.choice, self.add_button, self.add_all_button, self.class_button])
         tools.layout.flex_flow = "row wrap"
-        self.card = w.VBox([w.HTML(FLEET_CSS), w.HTML("<b>Fleet</b>"), tools, self.rows_box, self.note])
+        self.close_button = button("Close", "pmk-fleet-close", icon="times", tooltip="Close the Fleet card")
+        self.close_button.on_click(lambda _b: setattr(self.toggle, "value", False))
+        head = w.HBox([w.HTML("<b>Fleet</b>"), self.close_button])
+        head.add_class("pmk-fleet-head")
+        self.card = w.VBox([w.HTML(FLEET_CSS), head, tools, self.rows_box, self.note])
         self.card.add_class("pmk-fleet-card")
         self.card.layout.display = "none"
         self.toggle.observe(self._on_toggle, names="value")
@@ -128,7 +145,7 @@ class FleetPanel:
         self.class_button.on_click(self._act("Opening the class's fleet", lambda _b: self.open_class()))
         self._loop = RenderLoop(self.tick, ROWS_HZ, on_error=lambda err: self._say(error_text(err), "error"))
         home.ui.add_tool(self.toggle)
-        home.ui.map_stack.children = (*home.ui.map_stack.children, self.card)
+        home.ui.toolbar.children = (*home.ui.toolbar.children, self.card)
 
     # -- sources -------------------------------------------------------------------------------------
     def _on_toggle(self, change: dict[str, Any]) -> None:
@@ -151,7 +168,14 @@ class FleetPanel:
 
     @needs_pin("Fleet")
     def add(self, name: object) -> FleetMember:
-        """Add the saved chair ``name`` (checked: a page can send any value)."""
+        """Add the saved chair ``name`` (checked: a page can send any value).
+
+        Raises:
+            NoChairChosen: none picked (the list's blank choice); SettingsError: no saved chair of that name;
+            SameAddress: another chair of the fleet has its address.
+        """
+        if name is None or name == "":
+            raise NoChairChosen()
         if not isinstance(name, str) or name not in self.ctx.profiles.names():
             raise SettingsError(f"There is no saved chair called {str(name)[:80]!r}.")
         member = self._join(self.ctx.profiles.get(name), "profile")
@@ -160,9 +184,16 @@ class FleetPanel:
 
     @needs_pin("Fleet")
     def add_all(self) -> list[FleetMember]:
-        """Add every saved chair (up to the fleet's cap)."""
-        members = [self._join(p, "profile") for p in self.ctx.profiles.list()]
+        """Add every saved chair (up to the fleet's cap); a chair at an address already in is named, not added."""
+        members, skipped = [], []
+        for profile in self.ctx.profiles.list():
+            try:
+                members.append(self._join(profile, "profile"))
+            except SameAddress as err:
+                skipped.append(err)
         self._refresh_choices()
+        if skipped:
+            self._say(" ".join(err.message for err in skipped), "error")
         return members
 
     @needs_pin("Fleet")

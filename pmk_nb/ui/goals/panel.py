@@ -178,7 +178,18 @@ class GoalPanel:
         x, y = getattr(pose, "x", None), getattr(pose, "y", None)
         self._chair = (float(x), float(y)) if isinstance(x, float) and isinstance(y, float) else None
         self._elsewhere = elsewhere
+        if elsewhere:  # a Go to… replaced a finished tapped goal: once it ends, that goal is not shown again
+            self.forget_finished()
         self.refresh()
+
+    def forget_finished(self) -> None:
+        """Drop a tapped goal that has ended (or failed to send), so the panel never shows it as the
+        destination again after a later Go to… or a new map (issue 40); a running one is kept."""
+        handle = self.handle
+        progress = handle.progress() if handle is not None else None
+        if self._note or (progress is not None and progress.done):
+            self.goal, self.handle, self._note = None, None, ""
+            self.overlay.set_goal(None)
 
     def refresh(self) -> None:
         handle = self.handle

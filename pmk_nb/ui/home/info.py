@@ -205,6 +205,16 @@ def _greyed(html: str, grey: bool) -> str:
     return f"<span class='pmk-stale'>{html}</span>" if grey else html
 
 
+#: Home before Preview when no map was sent from here: the chair's map comes with the preview (issue 40:
+#: the page was blank, with no word of what to do).
+PRESS_PREVIEW_TEXT = "No map was sent from this dashboard: press Preview to see the map the chair uses."
+
+
+def hint_html(message: str) -> str:
+    """A hint line for the page ("" for none)."""
+    return f"<div class='pmk-msg-info pmk-home-hint'>{escape(message)}</div>" if message else ""
+
+
 def warning_html(message: str) -> str:
     """A warning line for the page ("" for no warning)."""
     return f"<div class='pmk-msg-warning'>⚠ {escape(message)}</div>" if message else ""

@@ -86,7 +86,11 @@ class HomeLayout:
         self.controls.add_class("pmk-home-controls")
         self.toolbar = w.HBox([self.controls, self.zoom_bar])
         self.toolbar.add_class("pmk-home-toolbar")
-        self.details = w.VBox([w.HBox([heading("Home"), self.map_label]), self.info.widget])
+        title = heading("Home")
+        title.add_class("pmk-home-details-title")
+        head = w.HBox([title, self.map_label])
+        head.add_class("pmk-home-details-head")
+        self.details = w.VBox([head, self.info.widget])
         self.details.add_class("pmk-home-details")
         self.details.layout.display = "none"
         # the canvas in a box of its own, everything over the map placed in it (the joystick too)

@@ -43,8 +43,10 @@ from pmk_nb.ui.home.checks import ChairProbe, preview_image_problem
 from pmk_nb.ui.home.fit import FitChannel
 from pmk_nb.ui.home.info import (
     NO_PROFILE_TEXT,
+    PRESS_PREVIEW_TEXT,
     chair_silent_text,
     connection_state,
+    hint_html,
     info_texts,
     warning_html,
 )
@@ -260,6 +262,8 @@ class HomeScreen:
         self.probe.cancel()  # the preview's own connection reports on the chair from now on
         self._warn("")
         self.ui.chair_note.value = ""
+        if self.ctx.current_map is None:
+            self.ui.map_note.value = ""  # the hint to press Preview
         self._show_running(True)
         self.live.start(link)
         self.goal.attach(link)
@@ -343,7 +347,7 @@ class HomeScreen:
 
     def _chair_map_only(self) -> OccupancyGrid | None:
         """No map sent from this dashboard, but a chair: Preview shows the chair's own map."""
-        self.ui.map_note.value = ""
+        self.ui.map_note.value = "" if self.running else hint_html(PRESS_PREVIEW_TEXT)
         self.own.set_local(None, None)
         shown = self.own.current
         if shown is not None:
@@ -361,6 +365,8 @@ class HomeScreen:
     def _show_chair_map(self, chair_map: ChairMap) -> None:
         """Show the map the chair publishes (the sent map's grid, already loaded, when it is that map)."""
         current, local = self.ctx.current_map, self.maps.grid
+        if current is None:
+            self.ui.map_note.value = ""  # the chair's map is shown: no need to press Preview for it
         sent = chair_map.is_sent_map and current is not None and local is not None
         self.live.set_map(local if sent and local is not None else chair_map.grid)
         self.rooms.set_map(current.yaml if sent and current is not None else None)
@@ -375,6 +381,7 @@ class HomeScreen:
         self._warn(message)
 
     def _on_current_map(self, _current: CurrentMap | None) -> None:
+        self.goal.forget_finished()  # a destination on the old map is not this map's
         grid = self.refresh_map()
         if self.running and grid is not None:
             self.live.set_map(grid)

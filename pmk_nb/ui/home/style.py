@@ -20,9 +20,19 @@ PANEL_BG = "rgba(255, 255, 255, 0.6)"
 #: The map and its canvas have square corners: rounded ones clipped the live canvas's layer with a mask,
 #: an extra render pass at every frame (software compositing, a classroom page at 12 fps: the GPU
 #: process's draw 53 -> 14 ms a second, 9 -> 4 % of a core).
+#: Details' first row: the heading keeps its width (a heading may break anywhere: beside a long map name it
+#: was squeezed to one letter a line, issue 40); the map's name takes the rest of the row, or the next row.
+DETAILS_HEAD_CSS = """
+.pmk-app .pmk-home-details-head { flex-wrap: wrap; align-items: baseline; column-gap: 12px; }
+.pmk-app .pmk-home-details-head > .pmk-home-details-title { flex: 0 0 auto; }
+.pmk-app .pmk-home-details-head > .pmk-home-map { flex: 1 1 12em; min-width: 0; }
+"""
+
+
 def home_css(phone_px: int) -> str:
     """The rules; ``phone_px`` is the app width at or below which the phone layout applies."""
-    return f"""
+    return (
+        f"""
 .pmk-home {{ width: 100%; min-width: 0; }}
 .pmk-home .pmk-heading {{ margin: 0 12px 4px 0; font-size: 22px; }}
 .pmk-home-preview-box {{ width: 100%; max-width: 100%; gap: 8px; }}
@@ -96,3 +106,5 @@ def home_css(phone_px: int) -> str:
   .pmk-app .pmk-home-map-stack .pmk-drive-status {{ max-width: 144px; font-size: 14px; }}
 }}
 """
+        + DETAILS_HEAD_CSS
+    )

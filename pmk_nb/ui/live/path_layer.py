@@ -49,7 +49,7 @@ class LivePathLayer:
         if self._watch is not None:
             self._watch.stop()
         self._link = link
-        self._watch = PlanWatch(topic) if link is not None else None
+        self._watch = PlanWatch(topic, lookup=lambda: link.discovery.topics(timeout=3.0)) if link is not None else None
         self._set(np.empty((0, 2)))
         self._seen = None
 

@@ -133,7 +133,10 @@ def _draw_points(layer: Canvas, view: Viewport, points: list[Point], mode: str) 
 
 def _draw_scale_bar(layer: Canvas, view: Viewport) -> str:
     bar = scale_bar(view.px_per_m, min(SCALE_MAX_PX, 0.4 * view.canvas_width))
-    x0, y0 = 12.0, float(view.canvas_height) - 14.0
+    # the bottom-left corner of the part no panel covers: above Home's status pill, beside a left-hand
+    # Drive panel (issue 40: the pill covered the bar, drawn at the canvas's own corner)
+    ux, uy, _uw, uh = view.insets.uncovered(view.canvas_width, view.canvas_height)
+    x0, y0 = float(ux) + 12.0, float(uy + uh) - 14.0
     layer.line_width = 6
     layer.stroke_style = "rgba(255, 255, 255, 0.85)"
     layer.stroke_line(x0, y0, x0 + bar.pixels, y0)

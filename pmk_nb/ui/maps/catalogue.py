@@ -161,7 +161,13 @@ class CataloguePanel:
         def done(result: tuple[Catalogue, dict[str, bytes]]) -> None:
             self.catalogue, self.thumbnails = result
             n = len(self.catalogue.buildings)
-            self.status.value = f"{escape(self.catalogue.title)}: {n} building{'s' if n != 1 else ''}."
+            said = f"{escape(self.catalogue.title)}: {n} building{'s' if n != 1 else ''}."
+            refused = self.catalogue.refused
+            if refused:  # the clean ones are listed; the bad ones named, each with why
+                said += " Left out, they fail the checks: " + "; ".join(
+                    f"{escape(r.id)} ({escape(str(r.error))})" for r in refused
+                )
+            self.status.value = said
             self.render()
 
         return run_in_thread(

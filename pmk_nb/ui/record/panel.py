@@ -130,7 +130,10 @@ class RecordPanel:
 
     def _stopped(self, stats: RecordStats) -> None:
         path = stats.path
-        self.status.value = f"Recorded {stats.total} messages in {stats.duration:.0f} s: recordings/{escape(path.name)}"
+        said = f"Recorded {stats.total} messages in {stats.duration:.0f} s: recordings/{escape(path.name)}"
+        if stats.silent:  # a parked chair sends no /cmd_vel: say so rather than let the file look short
+            said += f" · no message on {escape(', '.join(stats.silent))}"
+        self.status.value = said
         self.downloads.value = file_link_html(path, f"Download {path.name}", "pmk-record-link")
 
     def offer_map(self) -> None:

@@ -9,7 +9,8 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link.planpath import PlanWatch, parse_path
+from pmk_nb.chair.link.discovery import RosapiMissing
+from pmk_nb.chair.link.planpath import PLAN_TOPICS, PlanWatch, parse_path
 from tests.fixtures_sim import wait_until
 
 
@@ -35,8 +36,9 @@ def test_the_simulator_publishes_its_plan_and_the_link_follows_it(
 ) -> None:
     sim = sim_factory(ros=ros, start_pose=(1.0, 6.0, 0.0), patrol=False)
     link = link_factory(sim)
-    watch = PlanWatch()  # "auto": every known plan topic
-    watch.follow(link.ros)
+    watch = PlanWatch(lookup=link.discovery.topics, relook_s=0.2)  # "auto": the plan topics the chair lists
+    # looked up before the goal: a ROS 2 bridge answers no call on the goal's connection while it runs
+    assert wait_until(lambda: watch.follow(link.ros) or watch.subscribed, 15.0), "no plan topic listed"
     handle = link.navigate_to(12.0, 6.0, 0.0)
     assert wait_until(lambda: watch.latest is not None, 15.0), "no nav_msgs/Path from the simulator"
     path = watch.latest
@@ -78,3 +80,38 @@ def test_the_plan_subscription_comes_back_after_the_chair_restarts(sim_factory: 
         watch.stop()
     finally:
         link.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("ros", "theirs"), [("ros2", "/plan"), ("ros1", "/move_base/NavfnROS/plan")])
+def test_auto_subscribes_only_the_plan_topics_the_chair_lists(
+    sim_factory: Any, link_factory: Any, ros: str, theirs: str
+) -> None:
+    """Issue 40, item 6: on a ROS 2 chair the lookup made /move_base/GlobalPlanner/plan and
+    /move_base/NavfnROS/plan appear (a subscription names its type, so the bridge creates the topic)."""
+    sim = sim_factory(ros=ros, start_pose=(1.0, 6.0, 0.0), patrol=False)
+    link = link_factory(sim)
+    watch = PlanWatch(lookup=link.discovery.topics, relook_s=0.2)
+    assert wait_until(lambda: watch.follow(link.ros) or watch.subscribed, 15.0), "no plan topic listed"
+    assert watch.subscribed == (theirs,)
+    handle = link.navigate_to(12.0, 6.0, 0.0)
+    assert wait_until(lambda: watch.latest is not None, 15.0), "no plan followed"
+    handle.cancel()
+    assert handle.wait(15.0) is not None
+    listed = set(link.discovery.topics(timeout=10.0))
+    assert not {t for t in PLAN_TOPICS if t != theirs} & listed, f"guessed topics appeared: {sorted(listed)}"
+    watch.stop()
+
+
+def test_without_rosapi_auto_guesses_nothing() -> None:
+    calls: list[float] = []
+
+    def no_rosapi() -> list[str]:
+        calls.append(time.monotonic())
+        raise RosapiMissing("127.0.0.1:9090", "/rosapi/topics", "no such service")
+
+    ros = object()
+    watch = PlanWatch(lookup=no_rosapi, relook_s=0.0)
+    # a second lookup starts only once the first has finished: then its answer has been taken
+    assert wait_until(lambda: watch.follow(ros) or len(calls) >= 2, 5.0)  # type: ignore[arg-type]
+    assert watch.subscribed == ()

@@ -194,3 +194,16 @@ def test_a_folder_removed_while_recording_is_a_disk_error_at_stop(sim_chair, lin
         recording.stop()
     assert err.value.errno == errno.ENOENT and recording.error is err.value
     assert not recording.stats.finished and not folder.exists()
+
+
+@pytest.mark.slow
+def test_a_silent_topic_is_never_waited_for_and_is_named(sim_factory, link_factory, tmp_path: Path) -> None:
+    """Issue 40, item 1: README's `seconds=2.0` took 12 s: /cmd_vel says nothing on a parked chair."""
+    sim = sim_factory(ros="ros2")
+    link = link_factory(sim)
+    (folder := tmp_path / "recordings").mkdir()
+    started = time.monotonic()
+    stats = link.record(folder / "parked.mcap", seconds=0.5, flow_timeout=120.0)
+    took = time.monotonic() - started
+    assert stats.silent == ["/cmd_vel"] and stats.messages["/odom"] > 0 and stats.finished
+    assert took < 60.0, f"waited {took:.0f} s for a silent topic (flow_timeout 120 s)"  # the old wait: 120 s

@@ -23,7 +23,9 @@ from pmk_nb.chair.fleet import (
     ChairStatus,
     Fleet,
     FleetFull,
+    NoChairChosen,
     NotInFleet,
+    SameAddress,
     pick_colour,
     row_words,
 )
@@ -50,7 +52,10 @@ def test_colours_are_stable_distinct_and_kept_when_another_chair_leaves() -> Non
     fleet.remove("lab-2")
     assert [m.colour for m in fleet.members] == [a.colour, c.colour]  # nobody recoloured
     assert fleet.add(_profile("lab-1", 9000)) is a  # already in: the same member
-    assert fleet.add(_profile("other name", 9000)) is a  # the same chair (address) under another name
+    with pytest.raises(SameAddress) as same:  # the same chair (address) under another name: said, not hidden
+        fleet.add(_profile("other name", 9000))
+    assert (same.value.name, same.value.other, same.value.port) == ("other name", "lab-1", 9000)
+    assert [m.name for m in fleet.members] == ["lab-1", "lab-3"]
 
 
 def test_control_and_typed_refusals() -> None:
@@ -264,3 +269,31 @@ def test_an_instructor_opens_the_class_fleet(
     assert wait_ticking(lambda: _rows_live(panel), 20.0, panel.tick), panel.statuses()
     seat = next(s for s in panel.statuses() if s.name == "Seat of ada")
     assert seat.pose is not None and abs(seat.pose[0] - 7.5) < 0.2
+
+
+def test_add_with_no_choice_a_second_profile_at_one_address_and_the_close_button(
+    lab: tuple[Any, list[Any], AppContext],
+) -> None:
+    """Issue 40, item 4: 'no saved chair called None'; a profile at chair A's address left out silently;
+    the open card had no close button."""
+    screen, sims, ctx = lab
+    panel = screen.fleet
+    with pytest.raises(NoChairChosen):
+        panel.add(None)
+    panel.choice.options = []
+    panel.add_button.click()  # the button's path: the page's words, not 'None'
+    assert "Pick a saved chair" in panel.note.value and "None" not in panel.note.value
+
+    panel.add("chair A")
+    ctx.profiles.save(ChairProfile(name="chair A again", host="127.0.0.1", port=sims[0].port))
+    with pytest.raises(SameAddress) as same:
+        panel.add("chair A again")
+    assert same.value.other == "chair A" and same.value.port == sims[0].port
+    panel.add_all()
+    assert "chair A again" not in panel.rows and "&#x27;chair A again&#x27; is not added" in panel.note.value
+    assert sorted(panel.rows) == ["chair A", "chair B", "chair C"]
+
+    panel.toggle.value = True
+    assert panel.card.layout.display == "flex"
+    panel.close_button.click()
+    assert panel.toggle.value is False and panel.card.layout.display == "none"

@@ -205,3 +205,35 @@ def test_a_go_to_is_named_instead_of_no_destination() -> None:
     assert "No destination" not in text and "Going to <b>Kitchen &lt;2&gt;</b>" in text
     done = GoalProgress(GoalStatus.ARRIVED, (1.0, 2.0, 0.0), 0.0, "arrived")
     assert "Kitchen" in status_html((1.0, 2.0, 0.0), done, elsewhere="Kitchen")  # a finished tap gives way
+
+
+class _Done:
+    """A goal handle whose goal has arrived."""
+
+    cancel_requested = False
+    cancel_honoured = None
+
+    def progress(self) -> GoalProgress:
+        return GoalProgress(GoalStatus.ARRIVED, (1.0, 2.0, 0.0), 0.0, "arrived")
+
+
+def test_a_finished_destination_is_not_shown_again_after_a_go_to_or_a_new_map() -> None:
+    """Issue 40, item 5: after a tapped goal arrived, a Go to… arrived too, and the panel showed the old
+    destination again."""
+    from types import SimpleNamespace
+
+    panel = GoalPanel(LiveView(600, 400))
+    panel.speak = lambda _said: None
+    here = SimpleNamespace(x=1.0, y=2.0)
+    panel.goal, panel.handle = (1.0, 2.0, 0.0), _Done()  # type: ignore[assignment]
+    panel.tick(here)
+    assert "Destination (1.00, 2.00)" in panel.status.value  # how it ended stays shown meanwhile
+    panel.tick(here, "Kitchen")
+    assert "Going to <b>Kitchen</b>" in panel.status.value
+    panel.tick(here, None)  # the Go to… arrived
+    assert "Destination (1.00, 2.00)" not in panel.status.value and "No destination" in panel.status.value
+
+    panel.goal, panel.handle = (1.0, 2.0, 0.0), _Done()  # type: ignore[assignment]
+    panel.forget_finished()  # Home, when a new map is current
+    panel.refresh()
+    assert "Destination (1.00, 2.00)" not in panel.status.value

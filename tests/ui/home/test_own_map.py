@@ -15,6 +15,7 @@ import pytest
 from pmk_nb.chair.link.mapwatch import MapWatch
 from pmk_nb.grid import GRAY_UNKNOWN, OccupancyGrid
 from pmk_nb.ui.common.widgets import escape
+from pmk_nb.ui.home.info import PRESS_PREVIEW_TEXT
 from pmk_nb.ui.home.own_map import CHAIRS_MAP, same_map
 from pmk_nb.viewport import clean_occupancy, window_image
 
@@ -98,7 +99,9 @@ def test_home_shows_the_chairs_own_map_when_nothing_was_sent(chair_only: Any, tm
         assert ctx.current_map is None
         assert "No current map" not in home.ui.warning.value
         assert CHAIRS in home.ui.map_label.value and home.preview_button.layout.display != "none"
+        assert PRESS_PREVIEW_TEXT in home.ui.map_note.value  # issue 40: a blank page said nothing before Preview
         assert home.start_preview() and home.running
+        assert PRESS_PREVIEW_TEXT not in home.ui.map_note.value
         chair_grid = sim.grid
         assert wait_for(lambda: home.live.grid is not None, 15.0), home.ui.warning.value
         shown = home.live.grid

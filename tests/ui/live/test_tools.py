@@ -152,3 +152,23 @@ def test_the_scale_bar_is_sent_with_the_map_not_in_every_frame_of_a_turning_chai
     source.move(5.0, 2.5, 2.2)
     live.render_frame()
     assert len(texts) == 3, "so does a change of the tools (Grid on)"
+
+
+def test_the_scale_bar_stays_clear_of_the_panels_over_the_canvas(monkeypatch: Any) -> None:
+    """Issue 40, item 7: Home's status pill (bottom left, 46 px high here) covered the scale bar."""
+    from pmk_nb.viewport import Insets, insets_from_boxes
+
+    live, _tools = tools_on_map()
+    layer = live.map_layer
+    lines: list[tuple[float, float, float, float]] = []
+    real = layer.stroke_line
+    monkeypatch.setattr(layer, "stroke_line", lambda *a: (lines.append(a), real(*a)))
+    pill = (6.0, 148.0, 250.0, 46.0)  # x, y, width, height in canvas pixels: the status line's box
+    live.set_insets(insets_from_boxes(400, 200, [pill]))
+    assert live.viewport is not None and live.viewport.insets.bottom >= 46.0
+    live.request_redraw()
+    _x0, y0, _x1, y1 = lines[-1]  # the bar's white underlay: one line
+    assert y0 == y1 and y0 < pill[1] - 3, f"the bar at y {y0} is under the pill (from y {pill[1]})"
+    live.set_insets(Insets())
+    live.request_redraw()
+    assert lines[-1][1] == 200 - 14  # nothing over the canvas: the corner
