@@ -7,11 +7,11 @@ Three tables, each row a fresh process (interpreter start and imports included):
   quadratic, n x the plan in at most 1.2 n x the time (4x <= 4.8x).
 * **small plans**: the sample maps (sample_maps/*.gml) at 0.05 m, run as `python -m pmk_nb.cli convert`.
   Goal: a plan writing < 1 MB converts in <= 0.5 s and <= 150 MB.
-* **100 M cells**: the 4x storey at the resolution that makes about 100 M cells. Goals: the process in
-  <= 3 x the time spent writing its files (the map_server set: PGM, preview PNG and YAML, encoded,
-  written and fsynced; moving the staged set into place), peak memory <= 3 x (grid + input file).
-  Beside it, the floor under that goal: a fresh process that only imports what the convert run
-  imported, plus that run's own reading and writing (:func:`floor`).
+* **100 M cells**: the 4x storey at the resolution that makes about 100 M cells. Goals (issue 37, which
+  replaced issue 31's "3 x writing", a goal below its own floor): the process in <= 3 x its floor, the
+  floor being a fresh process that only imports what the convert run imported (:func:`floor`) plus
+  that run's own reading and writing (the map_server set: PGM, preview PNG and YAML, encoded, written
+  and fsynced; moving the staged set into place); peak memory <= 3 x (grid + input file).
 
 Time is given twice: wall (what the user waits) and CPU (user + system of the process, which other jobs
 on a shared machine disturb far less); goals are judged on both. Peak = the process's maximum RSS.
@@ -46,7 +46,7 @@ RES = 0.1
 SCALES = ((1, 16, 16), (2, 32, 16), (4, 32, 32), (8, 64, 32))  # (factor, nx, ny)
 SLACK = 1.2  # n x the plan may take 1.2 n x the time
 SMALL_S, SMALL_MB, SMALL_OUT_MB = 0.5, 150.0, 1.0
-WRITE_RATIO, MEMORY_RATIO, BIG_CELLS = 3.0, 3.0, 100e6
+FLOOR_RATIO, MEMORY_RATIO, BIG_CELLS = 3.0, 3.0, 100e6
 REPEAT = 3  # every row runs this many times; the least wall and the least CPU are shown (a shared machine
 # only ever adds time to a run, so the least is the closest to the machine's own figure)
 
@@ -338,11 +338,12 @@ def big_storey(folder: Path) -> list[str]:
     low_cpu = start["cpu"] + r["read_cpu"] + r["write_cpu"]
     print(f"100 M cells: {r['wall']:.2f} s wall, write {r['write_s']:.2f} s", file=sys.stderr, flush=True)
     wall_x, cpu_x, mem_x = r["wall"] / r["write_s"], r["cpu"] / max(r["write_cpu"], 1e-9), r["peak_mb"] / held_mb
+    floor_wall, floor_cpu = r["wall"] / low_wall, r["cpu"] / max(low_cpu, 1e-9)
     _goal(
-        f"100 M cells: process <= {WRITE_RATIO:g} x writing its files (wall; CPU)",
-        f"{wall_x:.1f}x; {cpu_x:.1f}x",
-        wall_x <= WRITE_RATIO,
-        cpu_x <= WRITE_RATIO,
+        f"100 M cells: process <= {FLOOR_RATIO:g} x its floor: start + imports + reading + writing (wall; CPU)",
+        f"{floor_wall:.1f}x; {floor_cpu:.1f}x",
+        floor_wall <= FLOOR_RATIO,
+        floor_cpu <= FLOOR_RATIO,
     )
     _goal(
         f"above 10 M cells: peak <= {MEMORY_RATIO:g} x (grid + input)",
@@ -355,7 +356,7 @@ def big_storey(folder: Path) -> list[str]:
         "",
         "write = time in writing the files (PGM, preview PNG, YAML: encode, disk, fsync; moving the staged set "
         f"into place), measured inside the process; least of {REPEAT} runs, each ratio within one run; goals: "
-        f"process / write <= {WRITE_RATIO:g}, peak <= "
+        f"process / floor <= {FLOOR_RATIO:g} (the floor: below), peak <= "
         f"{MEMORY_RATIO:g} x (grid + input).",
         "",
         "| cells | input MB | output MB | wall s | write s | wall / write | CPU s | write CPU s | CPU / write CPU "
@@ -365,14 +366,15 @@ def big_storey(folder: Path) -> list[str]:
         f"{r['write_s']:.2f} | {wall_x:.1f} | {r['cpu']:.2f} | {r['write_cpu']:.2f} | {cpu_x:.1f} | "
         f"{r['peak_mb']:.0f} | {mem_x:.2f} |",
         "",
-        f"- process / write <= {WRITE_RATIO:g}: wall {_verdict(wall_x <= WRITE_RATIO)}, CPU "
-        f"{_verdict(cpu_x <= WRITE_RATIO)}",
+        f"- process / floor <= {FLOOR_RATIO:g}: wall {floor_wall:.1f}x {_verdict(floor_wall <= FLOOR_RATIO)}, "
+        f"CPU {floor_cpu:.1f}x {_verdict(floor_cpu <= FLOOR_RATIO)}",
         f"- peak <= {MEMORY_RATIO:g} x (grid + input): {_verdict(mem_x <= MEMORY_RATIO)}",
         "",
         "The floor under this goal: what the same process spends before and around the conversion itself. "
         "start = a fresh process importing every module the convert run imported, and nothing else; read = "
         "the convert run's own reading of the file (parse, geometry, graph); write = as above. What is left "
-        "is the conversion: openings, rasterising, the accessibility check, the rooms file.",
+        "is the conversion: openings, rasterising, the accessibility check, the witness (the written files "
+        "read back and judged against the plan), the rooms file.",
         "",
         "| | start + imports s | read s | write s | floor s | floor / write | conversion s | process / write |",
         "|---|---:|---:|---:|---:|---:|---:|---:|",
@@ -381,10 +383,9 @@ def big_storey(folder: Path) -> list[str]:
         f"| CPU | {start['cpu']:.2f} | {r['read_cpu']:.2f} | {r['write_cpu']:.2f} | {low_cpu:.2f} | "
         f"{low_cpu / max(r['write_cpu'], 1e-9):.1f} | {r['cpu'] - low_cpu:.2f} | {cpu_x:.1f} |",
         "",
-        f"- a convert that spent no time at all on the conversion would take {low_wall / r['write_s']:.1f}x (wall) "
-        f"and {low_cpu / max(r['write_cpu'], 1e-9):.1f}x (CPU) the time of writing its files; the goal of "
-        f"{WRITE_RATIO:g}x leaves the conversion {max(0.0, WRITE_RATIO * r['write_s'] - low_wall):.2f} s of wall "
-        f"and {max(0.0, WRITE_RATIO * r['write_cpu'] - low_cpu):.2f} s of CPU for 100 M cells",
+        f"- the floor is {low_wall / r['write_s']:.1f}x (wall) and {low_cpu / max(r['write_cpu'], 1e-9):.1f}x "
+        f"(CPU) the time of writing its files; the goal of {FLOOR_RATIO:g}x the floor leaves the conversion "
+        f"{(FLOOR_RATIO - 1) * low_wall:.2f} s of wall and {(FLOOR_RATIO - 1) * low_cpu:.2f} s of CPU for 100 M cells",
     ]
 
 

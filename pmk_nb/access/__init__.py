@@ -12,10 +12,10 @@ from pmk_nb.access.check import (
     check_plan_file,
     profile_chair_width,
 )
-from pmk_nb.access.pixels import disc_radius_px, erode
 from pmk_nb.access.report import DEFAULT_CHAIR_WIDTH, SKIP_OUTSIDE, LinkCheck, NotChecked, StoreyReport, check_storey
 from pmk_nb.access.sidecar import NoRoomsFile, StoreyPlanFile, read_sidecar, sidecar_doc, sidecar_json, sidecar_path
 from pmk_nb.access.widths import free_width
+from pmk_nb.pixels import disc_radius_px, erode  # re-exported: the guide erodes with them
 
 __all__ = [
     "DEFAULT_CHAIR_WIDTH",

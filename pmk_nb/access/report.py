@@ -6,7 +6,7 @@ For each storey, on the grid actually written, for a chair of a given width:
   two cells while staying inside them and the wall between them, for a point (r = 0) and for the
   chair: for the chair the path runs in its configuration space (the free pixels farther than its
   half-width r from every pixel that is not free, occupied and unknown alike, see
-  :mod:`pmk_nb.access.pixels`) and goes from the *core* of one cell to the core of the other. A
+  :mod:`pmk_nb.pixels`) and goes from the *core* of one cell to the core of the other. A
   cell's core is where the chair fits wholly inside it: its pixels at least r inside its outline,
   or all its pixels for a cell no chair fits in (a doorway, a porch; for one thinner than a pixel,
   the pixels within half a cell of it). So a chair that only noses past a door cut into a corner
@@ -33,12 +33,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import shapely
 
-from pmk_nb.access.pixels import disc_radius_px, erode_rows, join_strip_runs, strip_runs
 from pmk_nb.access.widths import free_widths
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH as DEFAULT_CHAIR_WIDTH  # declared once there, re-exported here
 from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.grid import FREE, UNKNOWN
 from pmk_nb.openings import SKIP_WINDOW
+from pmk_nb.pixels import disc_radius_px, erode_rows, join_strip_runs, strip_runs
 from pmk_nb.raster import Frame, polygon_rects, polygon_rects_each, write_rects
 
 if TYPE_CHECKING:

@@ -9,7 +9,7 @@ decision of the converter is not repeated here. Its rules follow what the plan s
 * two touching cells that no transition (nor a door boundary they share) joins are not connected in
   the map through the wall between them (a *leak*), any other cell being excluded from the way;
 * a transition joins its two cells for the chair: its centre stays farther than half its width from
-  every pixel that is not free (SciPy's exact distance transform), from one cell to the other,
+  every pixel that is not free (an exact disc erosion), from one cell to the other,
   within the two cells and the wall between them;
 * a cell no chair fits in (a door slab) is crossed: the chair goes from each of its rooms to every
   other through it, so openings on its two faces must line up.
@@ -22,11 +22,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-from scipy import ndimage
 from shapely.ops import nearest_points
 
 from pmk_nb.defaults import DEFAULT_MAX_WALL_GAP, DEFAULT_WALL_THICKNESS
 from pmk_nb.grid import FREE
+from pmk_nb.pixels import disc_radius_px, erode, label
 from pmk_nb.witness.findings import Finding, FindingKind, WitnessReport
 from pmk_nb.witness.frame import MapFrame, Window
 from pmk_nb.witness.plausible import implausible, overlaps
@@ -40,8 +40,7 @@ if TYPE_CHECKING:
 #: a cell's interior may have this share of its pixels wrong before it is a finding (pixel rounding)
 TOLERANCE = 0.01
 MIN_PIXELS = 3
-_EIGHT = np.ones((3, 3), dtype=bool)
-WHOLE_MAP_PIXELS = 40_000_000  # one distance transform for the map up to this size (8 bytes a pixel)
+WHOLE_MAP_PIXELS = 40_000_000  # one erosion of the whole map up to this size (one byte a pixel)
 
 
 @dataclass
@@ -230,7 +229,7 @@ def _leaks(st: _Storey, pairs: list[tuple[str, str]]) -> list[Finding]:
         band = st.band(a, b)
         win, region = _region(st, [a, b], [band], 1)
         ways = st.free[win.r0 : win.r1, win.c0 : win.c1] & region
-        labels, _ = ndimage.label(ways, structure=_EIGHT)
+        labels = label(ways)
         common = np.intersect1d(labels[_core(st, win, a)], labels[_core(st, win, b)])
         common = common[common > 0]
         if common.size:
@@ -241,17 +240,18 @@ def _leaks(st: _Storey, pairs: list[tuple[str, str]]) -> list[Finding]:
 
 
 def _chair_room(st: _Storey, win: Window) -> np.ndarray:
-    """Where the chair's centre may stand in ``win``: farther than its half-width from anything not free.
+    """Where the chair's centre may stand in ``win``: farther than its half-width from anything not free
+    (the exact disc erosion of :mod:`pmk_nb.pixels`, the same pixels as SciPy's distance transform).
 
-    One exact distance transform of the whole map when it is of a size to hold (then sliced), else one
-    per window (padded by the chair's radius, so a window's edge hides no wall).
+    One erosion of the whole map when it is of a size to hold (then sliced), else one per window (padded
+    by the chair's radius, so a window's edge hides no wall).
     """
+    radius = disc_radius_px(st.radius, st.frame.resolution)
     if st.chair_room is None and st.free.size <= WHOLE_MAP_PIXELS:
-        st.chair_room = np.asarray(ndimage.distance_transform_edt(st.free) * st.frame.resolution > st.radius)
+        st.chair_room = erode(st.free, radius)
     if st.chair_room is not None:
         return st.chair_room[win.r0 : win.r1, win.c0 : win.c1]
-    free = st.free[win.r0 : win.r1, win.c0 : win.c1]
-    return np.asarray(ndimage.distance_transform_edt(free) * st.frame.resolution > st.radius)
+    return erode(st.free[win.r0 : win.r1, win.c0 : win.c1], radius)
 
 
 def _connected(st: _Storey, members: list[str], bands: list[BaseGeometry], ends: list[str], *, chair: bool) -> bool:
@@ -259,7 +259,7 @@ def _connected(st: _Storey, members: list[str], bands: list[BaseGeometry], ends:
     pad = int(np.ceil(st.radius / st.frame.resolution)) + 2
     win, region = _region(st, members, bands, pad)
     room = _chair_room(st, win) if chair else st.free[win.r0 : win.r1, win.c0 : win.c1]
-    labels, _ = ndimage.label(room & region, structure=_EIGHT)
+    labels = label(room & region)
     seen = [set(np.unique(labels[_core(st, win, c)]).tolist()) - {0} for c in ends]
     return bool(set.intersection(*seen)) if seen else False
 

@@ -101,8 +101,8 @@ def test_owners_painted_strip_by_strip_match_the_whole_grid_paint(name: str) -> 
     import numpy as np
     import shapely
 
-    from pmk_nb.access.pixels import strip_rows
     from pmk_nb.access.report import _Owners
+    from pmk_nb.pixels import strip_rows
     from pmk_nb.raster import Frame, rasterise_storey
     from pmk_nb.raster.spans import fill_polygons
 

@@ -20,6 +20,7 @@ TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (s
 TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
 TOP_LEVEL |= {"geometry.py"}  # shapely helpers shared by the openings plan and the rasteriser (issue 25)
 TOP_LEVEL |= {"lazyface.py"}  # the one lazy package face (issue 25)
+TOP_LEVEL |= {"pixels.py"}  # erode by a disc, label regions: the access check, the guide and the witness (issue 37)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
@@ -120,6 +121,7 @@ SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the
 SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
 SHARED |= {"geometry"}  # shapely helpers (polygon parts, boxes): a leaf over shapely and numpy
 SHARED |= {"lazyface"}  # the one lazy package face: a name loads only its own module
+SHARED |= {"pixels"}  # numpy pixel maths (erosion, labelling), property-tested against scipy
 ALLOWED_IMPORTS: dict[str, set[str]] = {
     "viewport": {"grid"},  # the shared grid type and its greys, nothing else
     "grid": set(),

@@ -128,7 +128,7 @@ def test_new_cells_is_filled_writable_and_c_contiguous() -> None:
 
 
 def test_strip_erosion_and_run_labels_match_the_whole_grid_ones() -> None:
-    from pmk_nb.access.pixels import erode, erode_rows, regions, run_regions
+    from pmk_nb.pixels import erode, erode_rows, regions, run_regions
 
     rng = np.random.default_rng(5)
     mask = rng.random((203, 157)) < 0.8
@@ -152,7 +152,7 @@ def test_run_labels_and_erosion_match_a_pixel_by_pixel_reference() -> None:
     import math
     from collections import deque
 
-    from pmk_nb.access.pixels import erode, regions
+    from pmk_nb.pixels import erode, regions
 
     rng = np.random.default_rng(11)
     h, w = 41, 37

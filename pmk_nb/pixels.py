@@ -1,4 +1,5 @@
-"""Pixel tools for the accessibility check, in numpy alone: erode by a disc, label connected regions.
+"""Pixel tools, in numpy alone: erode by a disc, label connected regions (the accessibility check, the guide
+and the witness use them; a leaf, so the witness shares no decision of the converter by using them).
 
 The erosion is the chair's configuration space, as Nav2's inflation sees it: the free pixels whose
 distance to the nearest pixel that is not free (occupied or unknown; outside the grid counts as not

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from pmk_nb.access.pixels import erode, erode_rows, regions, sorted_unique
+from pmk_nb.pixels import erode, erode_rows, regions, sorted_unique
 
 
 @pytest.mark.parametrize("radius", [1.0, 2.5, 7.000000001, 27.34, 127.5, 130.2])
