@@ -25,7 +25,8 @@ OK_STATES = (VerdictState.AGREES,)
 
 
 def _label(gm: GeneratedMap, several: bool) -> str:
-    return f"Storey {gm.storey}" if several and gm.storey else "The map"
+    """Which storey, when the map has several ('' for one: the headline says "The map ...")."""
+    return f"Storey {gm.storey}" if several and gm.storey else ""
 
 
 def verdict_html(label: str, verdict: Verdict) -> str:
@@ -33,7 +34,8 @@ def verdict_html(label: str, verdict: Verdict) -> str:
     ok = verdict.state in OK_STATES
     cls = "pmk-ok" if ok else "pmk-warn"
     mark = "✓" if ok else "⚠"
-    head = f"<p class='{cls} pmk-witness-verdict'><b>{mark} {escape(label)}</b>: {escape(verdict.headline)}</p>"
+    who = f"{escape(label)}: " if label else ""
+    head = f"<p class='{cls} pmk-witness-verdict'><b>{mark} {who}</b>{escape(verdict.headline)}</p>"
     items = "".join(f"<li>{escape(line)}</li>" for line in verdict.lines)
     listing = f"<ol class='pmk-witness-list'>{items}</ol>" if items else ""
     more = f"<p>and {verdict.more} more (<code>pmk check MAP.yaml</code> lists them all)</p>" if verdict.more else ""
@@ -45,8 +47,7 @@ def _draw(gm: GeneratedMap, verdict: Verdict) -> bytes:
     from pmk_nb.rosmap import read_map
     from pmk_nb.witness import findings_png
 
-    assert verdict.report is not None
-    return findings_png(read_map(gm.yaml), verdict.report.findings)
+    return findings_png(read_map(gm.yaml), verdict.report.findings if verdict.report is not None else [])
 
 
 class WitnessPanel:
@@ -118,11 +119,10 @@ class WitnessPanel:
         return run_in_thread(self.ctx, "Drawing the witness's findings", work, on_done=done, on_error=failed)
 
     def _pictures(self, entry: MapEntry, verdicts: list[Verdict], pngs: list[bytes | None]) -> None:
-        several = len(entry.generated) > 1
         replace_children(
             self.images,
             [
-                _picture(gm, v, several, png=png)
+                _picture(gm, v, png)
                 for gm, v, png in zip(entry.generated, verdicts, pngs, strict=True)
                 if png is not None
             ],
@@ -175,7 +175,7 @@ class WitnessPanel:
         )
 
 
-def _picture(gm: GeneratedMap, verdict: Verdict, several: bool, *, png: bytes) -> w.Widget:
+def _picture(gm: GeneratedMap, verdict: Verdict, png: bytes) -> w.Widget:
     n = len(verdict.report.findings) if verdict.report is not None else 0
-    alt = f"{_label(gm, several)}: the map {gm.yaml.stem} with its {n} witness finding(s) ringed and numbered"
+    alt = f"The map {gm.yaml.stem} with the witness's {n} finding(s) ringed and numbered"
     return picture(png, alt, "pmk-witness-picture", on_img=True)
