@@ -35,7 +35,7 @@ from pmk_nb.library.naming import storey_map_names
 from pmk_nb.openings import plan_openings
 from pmk_nb.progress import ProgressCallback, emit, sub_range
 from pmk_nb.raster import RasterOptions, plan_storey, rasterise_storey
-from pmk_nb.witness import WitnessReport, witness_grid
+from pmk_nb.witness import WITNESS_KEY, WitnessReport, witness_grid
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml import Building
@@ -44,7 +44,6 @@ if TYPE_CHECKING:
 __all__ = ["ConvertOptions", "ConvertResult", "StoreyMap", "convert_plan"]
 
 _READ_END = 0.3  # share of the progress bar for reading the plan
-WITNESS_KEY = "witness"  # where a rooms file keeps the witness's verdict on the map beside it
 _RASTER_END = 0.9  # ... and for rasterising every storey; the rest is writing
 
 

@@ -43,6 +43,7 @@ from pmk_nb.ui.maps.choices import ChoicesPanel
 from pmk_nb.ui.maps.download import DownloadPanel
 from pmk_nb.ui.maps.importer import ImportPanel
 from pmk_nb.ui.maps.storeys import StoreysPanel
+from pmk_nb.ui.maps.witness import WitnessPanel
 from pmk_nb.ui.settings.host_key_prompt import HostKeyPrompt, strict
 
 if TYPE_CHECKING:
@@ -98,6 +99,7 @@ class MapsScreen:
         self.host_key = HostKeyPrompt(ctx, self.send_progress, self.status)  # first SSH host key (issue 30)
         self.storeys_panel = StoreysPanel(ctx, on_loaded=self._storeys_loaded)
         self.access_panel = AccessPanel()  # wheelchair access of the converted storeys
+        self.witness_panel = WitnessPanel(ctx)  # the written map judged against the plan (issue 37)
         self.choices = ChoicesPanel(ctx, on_unit=self.storeys_panel.set_unit)  # the plan's unit, not-windows
         self.convert_row = w.VBox(
             [
@@ -117,6 +119,7 @@ class MapsScreen:
                 self.convert_row,
                 self.generated_box,
                 self.access_panel.widget,
+                self.witness_panel.widget,
                 self.password_box,
                 self.host_key.widget,
                 self.send_progress,
@@ -223,6 +226,7 @@ class MapsScreen:
             replace_children(self.generated_box, ())
             self.storeys_panel.show(None)
             self.access_panel.show(None, [])
+            self.witness_panel.show(None, [])
             self.choices.show(None, [])
             return
         self.title.value = f"<div class='pmk-heading'>{escape(entry.name)}</div>"
@@ -238,8 +242,9 @@ class MapsScreen:
         known = self.ctx.maps.cached_storeys(entry)  # one storey of several converted: still say which
         several = len(entry.generated) > 1 or (known is not None and len(known) > 1)
         replace_children(self.generated_box, [self._generated_card(g, several) for g in entry.generated])
-        docs = [sidecar_doc(g.yaml) for g in entry.generated]  # the rooms files, read once for both panels
+        docs = [sidecar_doc(g.yaml) for g in entry.generated]  # the rooms files, read once for the panels
         self.access_panel.show(entry, docs)
+        self.witness_panel.show(entry, docs)
         self.choices.show(entry, docs)
         self.choices.set_layers(self.storeys_panel.layers())  # when the storeys are known at once
 
