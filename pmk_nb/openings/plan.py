@@ -439,9 +439,19 @@ def _shut(doors: list[Boundary], graph: _Graph, max_gap: float) -> list[Boundary
     for door in doors:
         if door.geometry is None or door.geometry.geom_type not in ("LineString", "MultiLineString"):
             continue
-        near = [free[i].id for i in tree.query(door.geometry, predicate="dwithin", distance=max_gap)]
-        if len(near) < 2 or not all(n in graph.known for n in near):
+        near = [free[i] for i in tree.query(door.geometry, predicate="dwithin", distance=max_gap)]
+        sides = [c.id for c in near if _along(door.geometry, c)]
+        if len(sides) < 2 or not all(n in graph.known for n in sides):
             continue  # an outside door, or a cell the graph is silent about
-        if not any(frozenset((x, y)) in graph.joined for x in near for y in near if x != y):
+        if not any(frozenset((x, y)) in graph.joined for x in sides for y in sides if x != y):
             shut.append(door)
     return shut
+
+
+def _along(line: BaseGeometry, cell: Cell) -> bool:
+    """Whether ``cell`` lies along ``line`` (over at least half its length, at its own distance from it),
+    not merely at one end: a cell round the corner of a door's wall is not a side the door joins, and a
+    transition to it must not keep the door between two other cells open."""
+    d = float(cell.footprint.distance(line))
+    cover = shapely.intersection(line, shapely.buffer(cell.footprint, d + _TOUCH)).length
+    return cover >= _ALONG * line.length
