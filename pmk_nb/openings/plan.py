@@ -45,6 +45,7 @@ from pmk_nb.openings.doorface import door_face
 from pmk_nb.openings.doorslide import DEFAULT_INSET, place
 from pmk_nb.openings.nearby import Nearby
 from pmk_nb.openings.outside import outer_guesses
+from pmk_nb.openings.slab import align_slabs
 from pmk_nb.openings.thickness import MIN_WALL
 
 if TYPE_CHECKING:
@@ -283,6 +284,12 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context, gap: float, outl
     return _made(link, "middle", [place(runs, ctx.door_width, ctx.inset)], a, b, gap, ctx)
 
 
+def _slab_face(o: Opening, cells: dict[str, Cell], ctx: _Context) -> Sequence[BaseGeometry]:
+    """The runs of ``o``'s shared boundary, where :func:`~pmk_nb.openings.slab.align_slabs` re-places it."""
+    a, b = cells[o.link.a], cells[o.link.b]
+    return _runs(_shared(a, b, o.gap, ctx.tol))
+
+
 def _bridge(link: Link, a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening | None:
     """A door-wide passage across the gap between two linked cells, or None: too far, or another cell
     lies in the way. Its segment is the passage's cross-section at the middle (where it is measured)."""
@@ -351,6 +358,7 @@ def plan_openings(
     ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, near, inset)
     outlines = _near_outlines(ends[0], ends[1], gaps, tol, max_gap) if links else []
     openings = [_opening(k, cells, ctx, g, o) for k, g, o in zip(links, gaps.tolist(), outlines, strict=True)]
+    openings = align_slabs(openings, cells, lambda o: _slab_face(o, cells, ctx), door_width, inset)
     graph = _Graph.of(cells, links)
     shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
