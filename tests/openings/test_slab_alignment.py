@@ -44,3 +44,17 @@ def test_a_thin_cell_joining_three_rooms_keeps_each_door_on_its_face(tmp_path: P
     b = read_building(_plan(tmp_path, cells, _graph([("A", "S"), ("S", "B"), ("S", "C")], v2=v2), v2=v2), unit="m")
     plan = plan_openings(b, b.storeys[0].name)
     assert sorted(round(o.segments[0].centroid.x, 1) for o in plan.openings) == [3.0, 5.0, 11.0]
+
+
+@pytest.mark.parametrize("v2", [False, True], ids=["1.0", "2.0"])
+def test_the_witness_finds_no_way_through_when_each_face_is_placed_alone(
+    tmp_path: Path, v2: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The old placement (each face's own middle), kept here as the second judge's proof: it blocks."""
+    monkeypatch.setattr("pmk_nb.openings.plan.align_slabs", lambda openings, *_: openings)
+    b = read_building(_plan(tmp_path, CELLS, _graph([("A", "S"), ("S", "B")], v2=v2), v2=v2), unit="m")
+    storey = b.storeys[0].name
+    centres = sorted(o.segments[0].centroid.x for o in plan_openings(b, storey).openings)
+    assert centres[1] - centres[0] > 5.0
+    report = witness_grid(b, rasterise_storey(b, storey, 0.05), chair_width=0.7)
+    assert FindingKind.NO_WAY_THROUGH in {f.kind for f in report.findings}
