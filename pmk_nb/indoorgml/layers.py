@@ -15,7 +15,7 @@ from __future__ import annotations
 import re
 from collections import defaultdict
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import shapely
@@ -193,7 +193,7 @@ def select_layers(
         for lid in order:
             if lid not in kept:
                 _note(lid, by_layer[lid], f"not asked for (--layer {', '.join(wanted)})", doc, notes, warnings)
-        return [c for c in cells if c.layer in kept], notes
+        return _with_obstacles([c for c in cells if c.layer in kept], by_layer, notes, warnings)
     if len(order) <= 1:
         return cells, notes
     info = {layer.id: layer for layer in doc.layers}
@@ -241,7 +241,34 @@ def select_layers(
                 base = base + by_layer[lid]
                 continue
         _note(lid, by_layer[lid], reason, doc, notes, warnings)
-    return [c for c in cells if c.layer in kept], notes
+    return _with_obstacles([c for c in cells if c.layer in kept], by_layer, notes, warnings)
+
+
+def _with_obstacles(
+    drawn: list[KeptCell], by_layer: dict[str, list[KeptCell]], notes: list[LayerNote], warnings: list[str]
+) -> tuple[list[KeptCell], list[LayerNote]]:
+    """``drawn`` plus the non-navigable cells (NonNavigableSpace: columns, fixed furniture, voids) of the
+    layers not drawn that lie inside the drawn floor at its height: non-navigable space is an obstacle
+    whichever layer holds it, and left out it came out free inside rooms (issue 37). Each such layer's
+    note counts them."""
+    out, tree = list(drawn), shapely.STRtree([c.geometry for c in drawn]) if drawn else None
+    for i, note in enumerate(notes):
+        blocked = [c for c in by_layer.get(note.id, []) if c.raw.kind_name in OBSTACLE_NAMES]
+        inside = [c for c in blocked if tree is not None and _on_floor(c, drawn, tree)]
+        if inside:
+            out += inside
+            notes[i] = replace(note, obstacles=len(inside))
+            warnings.append(f"layer {note.id!r}: {len(inside)} non-navigable cells inside the floor drawn as obstacles")
+    return out, notes
+
+
+def _on_floor(cell: KeptCell, drawn: list[KeptCell], tree: shapely.STRtree) -> bool:
+    """Whether ``cell`` overlaps a drawn cell at the same height (by area, not a touch at an edge)."""
+    return any(
+        _same_level(cell.fp, drawn[j].fp)
+        and cell.geometry.intersection(drawn[j].geometry).area > 1e-9 * (1 + cell.geometry.area)
+        for j in tree.query(cell.geometry).tolist()
+    )
 
 
 def usable_cells(doc: RawDocument, warnings: list[str]) -> list[KeptCell]:

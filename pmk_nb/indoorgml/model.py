@@ -131,6 +131,7 @@ class LayerNote:
     cells: int  # its cells with a footprint
     reason: str
     name: str = ""
+    obstacles: int = 0  # its non-navigable cells inside the drawn floor, drawn as obstacles all the same
 
 
 LOST_SHARE = 0.9  # a graph whose transitions are this share dangling (or none resolved) is lost

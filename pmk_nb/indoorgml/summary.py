@@ -112,6 +112,8 @@ def layer_lines(skipped: list[dict[str, Any]]) -> list[str]:
     for note in skipped:
         label = f"{note['id']} ({note['name']})" if note["name"] and note["name"] != note["id"] else note["id"]
         lines.append(f"    - {label}, {note['cells']} cells: {note['reason']}")
+        if note.get("obstacles"):
+            lines.append(f"      drawn as obstacles: {note['obstacles']} cells from layer {note['id']}")
     return lines
 
 

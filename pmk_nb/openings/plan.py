@@ -45,6 +45,7 @@ from pmk_nb.openings.doorface import door_face
 from pmk_nb.openings.doorslide import DEFAULT_INSET, place
 from pmk_nb.openings.nearby import Nearby
 from pmk_nb.openings.outside import outer_guesses
+from pmk_nb.openings.slab import align_slabs
 from pmk_nb.openings.thickness import MIN_WALL
 
 if TYPE_CHECKING:
@@ -283,6 +284,12 @@ def _opening(link: Link, cells: dict[str, Cell], ctx: _Context, gap: float, outl
     return _made(link, "middle", [place(runs, ctx.door_width, ctx.inset)], a, b, gap, ctx)
 
 
+def _slab_face(o: Opening, cells: dict[str, Cell], ctx: _Context) -> Sequence[BaseGeometry]:
+    """The runs of ``o``'s shared boundary, where :func:`~pmk_nb.openings.slab.align_slabs` re-places it."""
+    a, b = cells[o.link.a], cells[o.link.b]
+    return _runs(_shared(a, b, o.gap, ctx.tol))
+
+
 def _bridge(link: Link, a: Cell, b: Cell, gap: float, ctx: _Context) -> Opening | None:
     """A door-wide passage across the gap between two linked cells, or None: too far, or another cell
     lies in the way. Its segment is the passage's cross-section at the middle (where it is measured)."""
@@ -351,6 +358,7 @@ def plan_openings(
     ctx = _Context(doors, virtual, door_width, max_gap, tol, walls_as_gaps, near, inset)
     outlines = _near_outlines(ends[0], ends[1], gaps, tol, max_gap) if links else []
     openings = [_opening(k, cells, ctx, g, o) for k, g, o in zip(links, gaps.tolist(), outlines, strict=True)]
+    openings = align_slabs(openings, cells, lambda o: _slab_face(o, cells, ctx), door_width, inset)
     graph = _Graph.of(cells, links)
     shut = _shut(doors, graph, max_gap)
     if links:  # a transition's dual face is not door geometry of its own: the openings place the door
@@ -439,9 +447,19 @@ def _shut(doors: list[Boundary], graph: _Graph, max_gap: float) -> list[Boundary
     for door in doors:
         if door.geometry is None or door.geometry.geom_type not in ("LineString", "MultiLineString"):
             continue
-        near = [free[i].id for i in tree.query(door.geometry, predicate="dwithin", distance=max_gap)]
-        if len(near) < 2 or not all(n in graph.known for n in near):
+        near = [free[i] for i in tree.query(door.geometry, predicate="dwithin", distance=max_gap)]
+        sides = [c.id for c in near if _along(door.geometry, c)]
+        if len(sides) < 2 or not all(n in graph.known for n in sides):
             continue  # an outside door, or a cell the graph is silent about
-        if not any(frozenset((x, y)) in graph.joined for x in near for y in near if x != y):
+        if not any(frozenset((x, y)) in graph.joined for x in sides for y in sides if x != y):
             shut.append(door)
     return shut
+
+
+def _along(line: BaseGeometry, cell: Cell) -> bool:
+    """Whether ``cell`` lies along ``line`` (over at least half its length, at its own distance from it),
+    not merely at one end: a cell round the corner of a door's wall is not a side the door joins, and a
+    transition to it must not keep the door between two other cells open."""
+    d = float(cell.footprint.distance(line))
+    cover = shapely.intersection(line, shapely.buffer(cell.footprint, d + _TOUCH)).length
+    return cover >= _ALONG * line.length
