@@ -1,11 +1,14 @@
 """A generator that knows the truth (issue 37): random buildings written as IndoorGML, converted, and the
 written map compared with what was drawn; the witness must agree with that truth on every building.
 
-Each building is a row of rooms south of a corridor: doors as thin door cells, as thick door slabs or
-as bare shared walls; some neighbouring rooms joined by a transition of their own; an obstacle in a
-room; 1.0 (State/Transition) or 2.0-draft (Node/Edge) encoding; plain or projected coordinates. The
-truth is judged here with SciPy on the written image, from the boxes the generator drew, with no code
-of the converter or of the witness.
+Each building is a row of rooms south of a corridor: doors as thin door cells, as thick door slabs, or
+bare shared walls with or without a door line (ConnectionBoundary); some neighbouring rooms joined by a
+transition of their own; an obstacle in a room, in the floor's layer or in a layer of its own that the
+graph does not link; an extra thematic layer (a zone); 2D polygons or 3D solids, one or two storeys;
+metres, centimetres or millimetres (read by the converter's own unit vote, not given); plain or
+projected coordinates; 1.0 (State/Transition) or 2.0-draft (Node/Edge) encoding; sometimes no graph at
+all (then never "ok"). The truth is judged here on the written image, from the boxes the generator
+drew, with no code of the converter or of the witness (SciPy's distance transform and labelling).
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ from pmk_nb.grid import FREE
 from pmk_nb.library.convert import ConvertOptions, convert_plan
 from pmk_nb.rosmap import read_map
 from pmk_nb.witness import WitnessReport
-from tests.access.test_access_rules import _cell, _graph, _plan
+from tests.access.test_access_rules import NS
 
 pytestmark = pytest.mark.slow  # each example converts a building
 
@@ -34,14 +37,22 @@ Box = tuple[float, float, float, float]
 
 @dataclass(frozen=True)
 class Drawn:
-    """What the generator drew: boxes by cell id, the graph's pairs, the obstacle, the offset."""
+    """What the generator drew (metres, before the unit's scale): boxes by cell id, the graph's pairs,
+    door lines, obstacles and the layer they are kept in, storeys, unit, encoding, offset."""
 
     boxes: dict[str, Box]
     rooms: list[str]
     pairs: list[tuple[str, str]]
+    doors: dict[str, Box]  # door boundaries (lines, as degenerate boxes) in a bare shared wall, by room
     obstacle: str | None
+    obstacle_layer: bool  # the obstacle kept in a layer of its own that the graph does not link
+    zone: bool  # an extra thematic layer: a zone over the rooms, neither floor nor obstacle
     door_depth: float
     offset: tuple[float, float]
+    storeys: int  # > 1: 3D solids one above the other
+    solid: bool
+    scale: float  # file units per metre: 1 (m), 100 (cm), 1000 (mm)
+    graph: bool  # False: the file has no navigation graph at all
 
 
 @st.composite
@@ -54,6 +65,7 @@ def buildings(draw: st.DrawFn) -> Drawn:
     offset = draw(st.sampled_from([(0.0, 0.0), (500_000.0, 5_400_000.0)]))
     ox, oy = offset
     boxes: dict[str, Box] = {}
+    doors: dict[str, Box] = {}
     pairs: list[tuple[str, str]] = []
     rooms = []
     x = 0.0
@@ -61,12 +73,14 @@ def buildings(draw: st.DrawFn) -> Drawn:
         room = f"R{i}"
         rooms.append(room)
         boxes[room] = (ox + x, oy, ox + x + w, oy + depth)
+        at = x + draw(st.sampled_from([0.5, 1.0, w / 2 - 0.5, w - 1.7]))
         if door_depth:
-            at = x + draw(st.sampled_from([0.5, 1.0, w / 2 - 0.5, w - 1.7]))
             boxes[f"D{i}"] = (ox + at, oy + depth, ox + at + 1.2, oy + depth + door_depth)
             pairs += [(room, f"D{i}"), (f"D{i}", "COR")]
         else:
             pairs.append((room, "COR"))
+            if draw(st.booleans()):
+                doors[room] = (ox + at, oy + depth, ox + at + 1.0, oy + depth)
         if i and draw(st.booleans()):
             pairs.append((rooms[i - 1], room))
         x += w
@@ -77,23 +91,144 @@ def buildings(draw: st.DrawFn) -> Drawn:
         x0, y0 = boxes["R0"][0], boxes["R0"][1]
         boxes["OBS"] = (x0 + 0.4, y0 + 0.4, x0 + 1.0, y0 + 1.0)
         obstacle = "OBS"
-    return Drawn(boxes, rooms, pairs, obstacle, door_depth, offset)
+    storeys = draw(st.sampled_from([1, 1, 2]))
+    return Drawn(
+        boxes,
+        rooms,
+        pairs,
+        doors,
+        obstacle,
+        obstacle_layer=obstacle is not None and draw(st.booleans()),
+        zone=draw(st.booleans()),
+        door_depth=door_depth,
+        offset=offset,
+        storeys=storeys,
+        solid=storeys > 1 or draw(st.booleans()),
+        scale=draw(st.sampled_from([1.0, 1.0, 100.0, 1000.0])),
+        graph=draw(st.sampled_from([True, True, True, False])),
+    )
 
 
-def _write(tmp_path: Path, drawn: Drawn, v2: bool) -> Path:
-    cells = ""
-    for cid, box in drawn.boxes.items():
-        tag = "CellSpace"
-        if cid.startswith("D"):
-            tag = "navi:ConnectionSpace"
-        elif cid == "OBS":
-            tag = "navi:NonNavigableSpace"
-        elif cid.startswith("R"):
-            tag = "navi:GeneralSpace"
-        elif cid == "COR":
-            tag = "navi:TransitionSpace"
-        cells += _cell(cid, box, tag, name=cid)
-    return _plan(tmp_path, cells, _graph(drawn.pairs, v2=v2), v2=v2)
+TAGS = {
+    "D": "navi:ConnectionSpace",
+    "R": "navi:GeneralSpace",
+    "C": "navi:TransitionSpace",
+    "O": "navi:NonNavigableSpace",
+}
+STOREY_H = 3.5  # metres from floor to floor; cells 3 m high
+
+
+def _num(v: float, scale: float) -> str:
+    return f"{v * scale:.4f}"
+
+
+def _geometry(box: Box, z0: float, drawn: Drawn) -> str:
+    s = drawn.scale
+    pts = [(box[0], box[1]), (box[2], box[1]), (box[2], box[3]), (box[0], box[3]), (box[0], box[1])]
+    if not drawn.solid:
+        ring = " ".join(f"{_num(x, s)} {_num(y, s)}" for x, y in pts)
+        return (
+            f"<Geometry2D><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList>{ring}</gml:posList>"
+            f"</gml:LinearRing></gml:exterior></gml:Polygon></Geometry2D>"
+        )
+    faces = ""
+    for z in (z0, z0 + 3.0):
+        ring = " ".join(f"{_num(x, s)} {_num(y, s)} {_num(z, s)}" for x, y in pts)
+        faces += (
+            f"<gml:surfaceMember><gml:Polygon><gml:exterior><gml:LinearRing><gml:posList srsDimension='3'>"
+            f"{ring}</gml:posList></gml:LinearRing></gml:exterior></gml:Polygon></gml:surfaceMember>"
+        )
+    return (
+        f"<Geometry3D><gml:Solid><gml:exterior><gml:Shell>{faces}</gml:Shell></gml:exterior></gml:Solid></Geometry3D>"
+    )
+
+
+def _cells(drawn: Drawn, ids: list[str], k: int) -> str:
+    out = ""
+    for cid in ids:
+        tag = "CellSpace" if cid == "ZONE" else TAGS[cid[0]]
+        box = drawn.boxes[cid] if cid != "ZONE" else _zone(drawn)
+        desc = "" if drawn.solid else f'<gml:description>storey="F{k}":</gml:description>'
+        out += (
+            f'<cellSpaceMember><{tag} gml:id="{cid}_{k}">{desc}<gml:name>{cid}_{k}</gml:name><cellSpaceGeometry>'
+            f"{_geometry(box, k * STOREY_H, drawn)}</cellSpaceGeometry></{tag}></cellSpaceMember>"
+        )
+    return out
+
+
+def _zone(drawn: Drawn) -> Box:
+    r = drawn.boxes[drawn.rooms[-1]]
+    return (r[0] + 0.5, r[1] + 0.5, r[2] - 0.5, r[3] - 0.5)
+
+
+def _door_lines(drawn: Drawn, k: int) -> str:
+    out = ""
+    for room, b in drawn.doors.items():
+        pts = f"{_num(b[0], drawn.scale)} {_num(b[1], drawn.scale)} {_num(b[2], drawn.scale)} {_num(b[3], drawn.scale)}"
+        out += (
+            f'<cellSpaceBoundaryMember><navi:ConnectionBoundary gml:id="B{room}_{k}"><cellSpaceBoundaryGeometry>'
+            f"<geometry2D><gml:LineString><gml:posList>{pts}</gml:posList></gml:LineString></geometry2D>"
+            f"</cellSpaceBoundaryGeometry></navi:ConnectionBoundary></cellSpaceBoundaryMember>"
+        )
+    return out
+
+
+def _layer_xml(layer: str, cells: list[str], pairs: list[tuple[str, str]], v2: bool) -> str:
+    state, trans = ("Node", "Edge") if v2 else ("State", "Transition")
+    nodes = "".join(
+        f'<{state.lower()}Member><{state} gml:id="S{c}"><duality xlink:href="#{c}"/></{state}></{state.lower()}Member>'
+        for c in cells
+    )
+    edges = "".join(
+        f'<{trans.lower()}Member><{trans} gml:id="T{layer}{i}"><connects xlink:href="#S{a}"/>'
+        f'<connects xlink:href="#S{b}"/></{trans}></{trans.lower()}Member>'
+        for i, (a, b) in enumerate(pairs)
+    )
+    if v2:
+        return f'<dualSpaceLayer><DualSpaceLayer gml:id="D{layer}">{nodes}{edges}</DualSpaceLayer></dualSpaceLayer>'
+    return (
+        f'<spaceLayerMember><SpaceLayer gml:id="{layer}"><nodes gml:id="N{layer}">{nodes}</nodes>'
+        f'<edges gml:id="E{layer}">{edges}</edges></SpaceLayer></spaceLayerMember>'
+    )
+
+
+def _write(folder: Path, drawn: Drawn, v2: bool) -> Path:
+    """The building as IndoorGML: the floor in one layer with its graph; the obstacle (when kept apart)
+    and the zone in a second layer the graph does not link; one copy of the layout per storey."""
+    floor_ids = [c for c in drawn.boxes if c != "OBS" or not drawn.obstacle_layer]
+    other_ids = (["OBS"] if drawn.obstacle_layer else []) + (["ZONE"] if drawn.zone else [])
+    floor = other = lines = ""
+    floor_states: list[str] = []
+    other_states: list[str] = []
+    pairs: list[tuple[str, str]] = []
+    for k in range(drawn.storeys):
+        floor += _cells(drawn, floor_ids, k)
+        other += _cells(drawn, other_ids, k)
+        lines += _door_lines(drawn, k)
+        floor_states += [f"{c}_{k}" for c in floor_ids]
+        other_states += [f"{c}_{k}" for c in other_ids]
+        pairs += [(f"{a}_{k}", f"{b}_{k}") for a, b in drawn.pairs]
+    if not drawn.graph:
+        pairs = []
+    layers = _layer_xml("P", floor_states, pairs, v2) + (_layer_xml("X", other_states, [], v2) if other_ids else "")
+    if v2:
+        body = (
+            f'<primalSpaceFeatures><PrimalSpaceLayer gml:id="P">{floor}{lines}</PrimalSpaceLayer></primalSpaceFeatures>'
+        )
+        if other_ids:
+            body += (
+                f'<primalSpaceFeatures><PrimalSpaceLayer gml:id="X">{other}</PrimalSpaceLayer></primalSpaceFeatures>'
+            )
+        body += layers
+    else:
+        body = (
+            f'<primalSpaceFeatures><PrimalSpaceFeatures gml:id="F1">{floor}{other}{lines}</PrimalSpaceFeatures>'
+            f'</primalSpaceFeatures><multiLayeredGraph><MultiLayeredGraph gml:id="G"><spaceLayers gml:id="L">'
+            f"{layers}</spaceLayers></MultiLayeredGraph></multiLayeredGraph>"
+        )
+    path = folder / ("v2.gml" if v2 else "v1.gml")
+    path.write_text(f'<?xml version="1.0"?><IndoorFeatures {NS} gml:id="F">{body}</IndoorFeatures>')
+    return path
 
 
 class _Map:
@@ -104,11 +239,9 @@ class _Map:
         self.free = grid.data == FREE
         self.res = grid.resolution
         self.origin = grid.origin
-        # the converter may read projected coordinates from a local origin: find the shift from a room
-        self.shift = (0.0, 0.0)
-        if drawn.offset != (0.0, 0.0):
-            shift = grid.meta.get("crs_origin") or (0.0, 0.0)
-            self.shift = (float(shift[0]), float(shift[1]))
+        # projected coordinates are read from a local origin, kept in the YAML (metres of the CRS)
+        shift = grid.meta.get("crs_origin") or (0.0, 0.0)
+        self.shift = (float(shift[0]), float(shift[1]))
 
     def box(self, b: Box, grow: float = 0.0) -> np.ndarray:
         h, w = self.free.shape
@@ -171,16 +304,21 @@ def truth(m: _Map, drawn: Drawn) -> list[str]:
     return wrong
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(drawn=buildings(), v2=st.booleans())
 def test_the_witness_agrees_with_the_truth_on_generated_buildings(tmp_path: Path, drawn: Drawn, v2: bool) -> None:
     folder = Path(tempfile.mkdtemp(dir=tmp_path))  # hypothesis runs every example in one tmp_path
     plan = _write(folder, drawn, v2)
-    result = convert_plan(plan, folder / "maps", "b", options=ConvertOptions(unit="m", chair_width=CHAIR))
-    [written] = result.maps
-    report: WitnessReport | None = written.witness
-    assert report is not None
-    wrong = truth(_Map(written.files.yaml, drawn), drawn)
-    found = [f.describe() for f in report.findings]
-    assert report.ok == (not wrong), f"truth: {wrong}; witness: {found}"
-    assert not wrong, f"the converter drew a wrong map of a generated building: {wrong}"
+    result = convert_plan(plan, folder / "maps", "b", options=ConvertOptions(chair_width=CHAIR))
+    assert result.building.unit == {1.0: "m", 100.0: "cm", 1000.0: "mm"}[drawn.scale], result.building.unit_reason
+    assert len(result.maps) == drawn.storeys
+    for written in result.maps:
+        report: WitnessReport | None = written.witness
+        assert report is not None
+        found = [f.describe() for f in report.findings]
+        wrong = truth(_Map(written.files.yaml, drawn), drawn)
+        if not drawn.graph:  # nothing to judge the map against: never "ok", and no alarm about the floor
+            assert (report.ok, report.graph, found) == (False, False, []), found
+            continue
+        assert report.ok == (not wrong), f"storey {written.storey}: truth: {wrong}; witness: {found}"
+        assert not wrong, f"the converter drew a wrong map of a generated building: {wrong}"
