@@ -22,6 +22,7 @@ from pmk_nb.chair.link import ChairLink
 from pmk_nb.chair.link.bridge_auth import BridgeAuth, BridgeAuthError
 from pmk_nb.chair.link.transport import LinkRos
 from pmk_nb.rosauth import granted
+from pmk_nb.sim import SimChair
 from tests.fixtures_sim import sim_factory, wait_until  # noqa: F401
 
 SECRET = "s3cret-of-student-a"
@@ -49,12 +50,12 @@ def _closed_after(port: int, first: dict[str, Any]) -> bool:
 
 
 def test_ops_without_auth_are_refused_and_the_socket_closed(sim_factory: Any) -> None:  # noqa: F811
-    sim = sim_factory(auth_secret=SECRET)
+    sim: SimChair = sim_factory(auth_secret=SECRET)
     assert _closed_after(sim.port, {"op": "subscribe", "topic": "/odom", "type": "nav_msgs/Odometry"})
 
 
 def test_a_wrong_mac_is_refused(sim_factory: Any) -> None:  # noqa: F811
-    sim = sim_factory(auth_secret=SECRET)
+    sim: SimChair = sim_factory(auth_secret=SECRET)
     t = int(time.time())
     op = {"op": "auth", "client": "127.0.0.1", "dest": "127.0.0.1", "rand": "r", "t": t, "level": "user"}
     op |= {"end": t + 60, "mac": _mac("another student's secret", "r", t, t + 60)}
@@ -72,7 +73,7 @@ def test_a_stale_time_is_refused_even_with_the_right_secret() -> None:
 def test_roslibpy_authenticate_with_the_right_mac_is_served(sim_factory: Any) -> None:  # noqa: F811
     import roslibpy
 
-    sim = sim_factory(auth_secret=SECRET)
+    sim: SimChair = sim_factory(auth_secret=SECRET)
     ros = LinkRos("127.0.0.1", sim.port, thread_name="pmk-test-auth")
     t = int(time.time())
     ros.authenticate(_mac(SECRET, "xyz", t, t + 600), "127.0.0.1", "127.0.0.1", "xyz", t, "user", t + 600)
@@ -87,7 +88,7 @@ def test_roslibpy_authenticate_with_the_right_mac_is_served(sim_factory: Any) ->
 
 
 def test_the_link_authenticates_with_its_secret_file(sim_factory: Any, tmp_path: Path) -> None:  # noqa: F811
-    sim = sim_factory(auth_secret=SECRET)
+    sim: SimChair = sim_factory(auth_secret=SECRET)
     good, bad = tmp_path / "good", tmp_path / "bad"
     good.write_text(SECRET + "\n")
     bad.write_text("not this chair's secret\n")
