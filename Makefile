@@ -20,7 +20,7 @@ demo: $(STAMP)  ## convert the sample, start the simulated chair and the Voilà 
 	$(BIN)/pmk demo
 
 hub: $(STAMP) $(PROXY_STAMP)  ## JupyterHub for a class on this machine: make hub USERS=ana,ben PASSWORD=...
-	PMK_HUB_PASSWORD="$(PASSWORD)" $(BIN)/pmk hub --users "$(USERS)"
+	PMK_HUB_PASSWORD="$(PASSWORD)" $(BIN)/pmk hub --users "$(USERS)" $(HUB_ARGS)
 
 test: $(STAMP) system-deps $(JS_STAMP) $(PROXY_STAMP) ros2 lint  ## install everything the tests need and run the whole suite
 	$(BIN)/python -m pytest $(XDIST) $(PYTEST_ARGS)

@@ -97,6 +97,9 @@ class ChairProfile:
     # else its fingerprint pinned on first use in known_certs (beside known_hosts)
     tls: bool = False
     tls_ca_file: str | None = None
+    # rosbridge authentication (rosauth's auth op, pmk_nb.chair.link.bridge_auth): the file holding the
+    # chair's secret, read at each connect; a classroom seat's chair in ``pmk hub`` requires it
+    bridge_secret_file: str | None = None
     # goals (pmk_nb.chair.link.navigate.GoalPolicy): when the dashboard loses the chair, "finish"
     # (let goals finish) or "cancel" (cancel them once the link is back); deadlines in seconds
     goals_on_link_loss: str = "finish"
@@ -122,6 +125,7 @@ class ChairProfile:
 
     def link_options(self) -> dict[str, Any]:
         """What a ChairLink to this chair takes (topics, pose source, TLS trust), as keywords."""
+        from pmk_nb.chair.link.bridge_auth import BridgeAuth
         from pmk_nb.chair.link.tls import ChairTls  # ssl only; the link package loads on use
 
         return {
@@ -130,6 +134,7 @@ class ChairProfile:
             "pose_source": self.pose_source,
             "pose_topic": self.pose_topic,
             "tls": ChairTls(self.known_certs_path, self.tls_ca_file or None) if self.tls else None,
+            "auth": BridgeAuth(Path(self.bridge_secret_file).expanduser()) if self.bridge_secret_file else None,
         }
 
     def goal_policy(self) -> Any:

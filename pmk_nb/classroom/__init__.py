@@ -16,15 +16,29 @@ points at that chair; pages never share a chair.
 from pmk_nb.classroom.cap import ChairCap, ClassroomFull, default_max_chairs
 from pmk_nb.classroom.fleet import class_chairs
 from pmk_nb.classroom.seat import Seat, take_seat
-from pmk_nb.classroom.settings import CLASSROOM_ENV, SETTINGS_FILE, ClassroomSettings
+from pmk_nb.classroom.settings import (
+    BRIDGE_SECRET_ENV,
+    CLASSROOM_ENV,
+    SEAT_DIR_ENV,
+    SEAT_KEY_ENV,
+    SETTINGS_FILE,
+    SHARED_USER_ENV,
+    ClassroomSettings,
+    StudentFiles,
+)
 
 __all__ = [
+    "BRIDGE_SECRET_ENV",
     "CLASSROOM_ENV",
+    "SEAT_DIR_ENV",
+    "SEAT_KEY_ENV",
     "SETTINGS_FILE",
+    "SHARED_USER_ENV",
     "ChairCap",
     "ClassroomFull",
     "ClassroomSettings",
     "Seat",
+    "StudentFiles",
     "class_chairs",
     "default_max_chairs",
     "settings",

@@ -5,8 +5,11 @@ ports, rosbridge and SFTP with the class's key), parked at the map's start spot 
 moves only when its student drives it or sends it somewhere.  Because it is in the kernel's
 process, it ends with the kernel however the kernel ends (page closed, Voilà's culling, a crash);
 a kernel that ends normally also gives its seat back and removes its settings folder (``atexit``).
-The page's settings folder (``pages/<pid>/`` in the class's state folder) holds one profile, for
-this chair only, so two pages never share a chair.
+The page's settings folder (``pages/<pid>/`` in the class's state folder, or in the student's home in
+``pmk hub``) holds one profile, for this chair only, so two pages never share a chair. In ``pmk hub``
+the student's own files (:class:`~pmk_nb.classroom.settings.StudentFiles`) make the chair theirs alone:
+it accepts only their SFTP key and serves rosbridge only to a client holding their secret
+(:mod:`pmk_nb.rosauth`), which the profile names for the dashboard's link.
 """
 
 from __future__ import annotations
@@ -19,7 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from pmk_nb.classroom.cap import ChairCap
-from pmk_nb.classroom.settings import ODOM_RATE, RAYS, SCAN_RATE, ClassroomSettings
+from pmk_nb.classroom.settings import ODOM_RATE, RAYS, SCAN_RATE, ClassroomSettings, StudentFiles
+from pmk_nb.rosauth import read_secret
 
 PROFILE_NAME = "My classroom chair"
 SFTP_USER = "pmk"
@@ -68,19 +72,24 @@ def take_seat(settings: ClassroomSettings) -> Seat:
     from pmk_nb.sim import SimChair
 
     pid = os.getpid()
+    own = StudentFiles.from_env()
+    secret = read_secret(own.secret_file) if own.secret_file else None  # OSError: not this student's
+    public_key = f"{own.private_key}.pub" if own.private_key else settings.public_key
     cap = ChairCap(Path(settings.state_dir), settings.max_chairs)
     cap.take(pid)
-    config_dir = Path(settings.state_dir) / PAGES_DIR / str(pid)
+    config_dir = (own.pages_dir or Path(settings.state_dir) / PAGES_DIR) / str(pid)
     _remove_dead_pages(config_dir.parent, cap)
     try:
         shutil.rmtree(config_dir, ignore_errors=True)  # a previous kernel with the same pid
+        config_dir.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
         (config_dir / "chair_maps").mkdir(parents=True, mode=0o700)
         chair = SimChair(
             settings.map_yaml,
             port=0,
             sftp_port=0,
             sftp_user=SFTP_USER,
-            sftp_authorized_key=settings.public_key,
+            sftp_authorized_key=public_key,
+            auth_secret=secret,
             sftp_password_login=False,
             maps_dir=config_dir / "chair_maps",
             patrol=False,
@@ -95,7 +104,7 @@ def take_seat(settings: ClassroomSettings) -> Seat:
     seat = Seat(config_dir, chair, cap, pid)
     atexit.register(seat.close)
     try:
-        _write_profile(seat, settings)
+        _write_profile(seat, str(own.private_key or settings.private_key), own.secret_file)
         cap.note(pid, ros_port=seat.ros_port, sftp_port=seat.sftp_port, user=os.environ.get("JUPYTERHUB_USER", ""))
     except BaseException:
         seat.close()
@@ -103,7 +112,7 @@ def take_seat(settings: ClassroomSettings) -> Seat:
     return seat
 
 
-def _write_profile(seat: Seat, settings: ClassroomSettings) -> None:
+def _write_profile(seat: Seat, private_key: str, secret_file: Path | None) -> None:
     from pmk_nb.chair import PROFILES_FILE, ChairProfile, ProfileStore
 
     store = ProfileStore(seat.config_dir / PROFILES_FILE, secrets=False)
@@ -115,8 +124,9 @@ def _write_profile(seat: Seat, settings: ClassroomSettings) -> None:
             ssh_user=SFTP_USER,
             ssh_port=seat.sftp_port,
             auth="key",
-            key_file=settings.private_key,
+            key_file=private_key,
             known_hosts=str(seat.config_dir / "known_hosts"),
+            bridge_secret_file=str(secret_file) if secret_file else None,
         )
     )
 

@@ -16,6 +16,12 @@ from pmk_nb.errors import SettingsError
 from pmk_nb.fileio import atomic_write
 
 CLASSROOM_ENV = "PMK_CLASSROOM"
+#: a student's own files, set by ``pmk hub`` for each student's server (:class:`StudentFiles`)
+SEAT_DIR_ENV = "PMK_SEAT_DIR"
+SEAT_KEY_ENV = "PMK_SEAT_KEY"
+BRIDGE_SECRET_ENV = "PMK_BRIDGE_SECRET_FILE"
+#: set by ``pmk hub --shared-user``: every student runs as one user, and the page says so
+SHARED_USER_ENV = "PMK_HUB_SHARED_USER"
 SETTINGS_FILE = "classroom.json"
 #: the simulator's rates on a classroom page (the standalone simulator's defaults: 50 Hz, 20 Hz, 720
 #: rays): many chairs share a few cores, and the page says so.  15 Hz odometry still gives the live
@@ -71,3 +77,33 @@ def from_env(env: dict[str, str] | None = None) -> ClassroomSettings | None:
     """The class's settings when this kernel serves a classroom page (:data:`CLASSROOM_ENV` set), else None."""
     value = (os.environ if env is None else env).get(CLASSROOM_ENV, "").strip()
     return ClassroomSettings.read(Path(value)) if value else None
+
+
+@dataclass(frozen=True)
+class StudentFiles:
+    """One student's own files in a hub (their home, readable only by them when the hub isolates):
+
+    Attributes:
+        pages_dir: where their pages' settings folders go (else the class's state folder).
+        private_key: their SFTP key (the public one beside it, ``.pub``): their chair accepts only it.
+        secret_file: their chair's rosbridge secret (:mod:`pmk_nb.rosauth`): their chair serves only it.
+    """
+
+    pages_dir: Path | None = None
+    private_key: Path | None = None
+    secret_file: Path | None = None
+
+    @classmethod
+    def from_env(cls, env: dict[str, str] | None = None) -> StudentFiles:
+        values = os.environ if env is None else env
+
+        def path(name: str) -> Path | None:
+            text = values.get(name, "").strip()
+            return Path(text) if text else None
+
+        return cls(path(SEAT_DIR_ENV), path(SEAT_KEY_ENV), path(BRIDGE_SECRET_ENV))
+
+
+def shared_user(env: dict[str, str] | None = None) -> bool:
+    """Whether this class runs every student as one user (``pmk hub --shared-user``): no isolation."""
+    return (os.environ if env is None else env).get(SHARED_USER_ENV, "") == "1"

@@ -14,16 +14,27 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import os
 import signal
 import subprocess
 import sys
 import time
 import webbrowser
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pmk_nb.cli import serving, tablet_tls
+from pmk_nb.cli.hub_users import (
+    SEATS_DIR,
+    Isolation,
+    check_reachable,
+    check_students_can_run,
+    create_users,
+    lock_class_folders,
+    remove_users,
+)
 from pmk_nb.cli.procs import (
     ProcessStartError,
     check_port_number,
@@ -32,6 +43,9 @@ from pmk_nb.cli.procs import (
     stop_process,
     wait_for_port,
 )
+
+if TYPE_CHECKING:
+    from pmk_nb.cli.demo_classroom import Classroom
 
 DEFAULT_HUB_PORT = 8000
 HUB_START_TIMEOUT = 120.0
@@ -66,16 +80,26 @@ def add_parser(subparsers: Any) -> None:
     p.add_argument("--certfile", metavar="FILE", help="serve HTTPS with this PEM certificate; needs --keyfile")
     p.add_argument("--keyfile", metavar="FILE", help="the PEM private key of --certfile")
     p.add_argument("--insecure", action="store_true", help="allow plain HTTP beyond loopback")
+    p.add_argument(
+        "--shared-user",
+        action="store_true",
+        help="run every student as the hub's own user: no isolation (a student's code can read the others' files "
+        "and drive their chairs; each page says so). Without it pmk hub needs root, and gives each student a "
+        "system user of their own",
+    )
+    p.add_argument("--user-prefix", metavar="P", help="the students' system users are P<name> (default: pmk-<class>-)")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from pmk_nb.cli.hub_config import PASSWORD_ENV, check_jupyterhub, check_password, find_proxy, parse_users
+    from pmk_nb.cli.hub_users import choose_isolation
 
     check_port_number(args.port)
     check_jupyterhub()
     env = dict(os.environ)
     users = parse_users(args.users)
+    isolation = choose_isolation(args.shared_user, args.user_prefix, args.dir.expanduser().resolve(), users)
     password = check_password(args.password or env.get(PASSWORD_ENV), args.ip)
     serving.check_transport(args.ip, tls=tablet_tls.wants_tls(args), insecure=args.insecure)
     serving.check_port_free(args.ip, args.port)
@@ -86,25 +110,31 @@ def run(args: argparse.Namespace) -> int:
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         with sigterm_as_interrupt():
-            return _serve(args, users, password, proxy, tls, env)
+            return _serve(args, _Class(users, password, isolation), proxy, tls, env)
     finally:
         signal.signal(signal.SIGINT, previous)
 
 
+@dataclass(frozen=True)
+class _Class:
+    users: tuple[str, ...]
+    password: str
+    isolation: Isolation
+
+
 def _serve(
     args: argparse.Namespace,
-    users: tuple[str, ...],
-    password: str,
+    klass: _Class,
     proxy: tuple[str, ...],
     tls: tablet_tls.TlsFiles | None,
     env: dict[str, str],
 ) -> int:
-    from pmk_nb.cli.demo_classroom import prepare_classroom
-    from pmk_nb.cli.hub_config import HubPlan, write_hub_config
+    from pmk_nb.cli.hub_config import HubPlan, hub_environment, write_hub_config
 
+    users, password = klass.users, klass.password
     print("Preparing the class: converting the sample map...", flush=True)
     root = args.dir.expanduser().resolve()
-    room = prepare_classroom(root, max_chairs=args.max_chairs)
+    room = _prepare_class(root, args.max_chairs, klass)
     plan = HubPlan(
         users=users,
         password=password,
@@ -119,11 +149,22 @@ def _serve(
         proxy_command=proxy,
         tls=tls,
         cull_idle=args.cull_idle,
+        user_prefix=klass.isolation.prefix,
     )
     config = write_hub_config(plan)
+    created = create_users(klass.isolation, users, plan.users_dir)
+    try:
+        check_students_can_run(klass.isolation, users[0], env)
+    except serving.ServingRefused:
+        remove_users(created)
+        raise
     log = (plan.state_dir / "jupyterhub.log").open("ab")
     hub = subprocess.Popen(
-        [sys.executable, "-m", "jupyterhub", "-f", str(config)], cwd=plan.state_dir, env=env, stdout=log, stderr=log
+        [sys.executable, "-m", "jupyterhub", "-f", str(config)],
+        cwd=plan.state_dir,
+        env=hub_environment(plan, env),
+        stdout=log,
+        stderr=log,
     )
     try:
         wait_for_port(serving.local_host(args.ip), args.port, hub, "JupyterHub", HUB_START_TIMEOUT)
@@ -146,6 +187,23 @@ def _serve(
         left = end_class_processes(room.settings_file, plan.state_dir)
         if left:
             print(f"pmk: ended {left} process(es) of the class JupyterHub left behind", file=sys.stderr)
+        remove_users(created)
+
+
+def _prepare_class(root: Path, max_chairs: int | None, klass: _Class) -> Classroom:
+    """The class (sample map, key, cap); isolated: its folders locked down and the cap in a folder every
+    student's user may write (:func:`pmk_nb.cli.hub_users.lock_class_folders`)."""
+    from pmk_nb.cli.demo_classroom import prepare_classroom
+
+    if klass.isolation.isolated:  # refuse an unreachable class folder before converting anything
+        check_reachable(root)
+    room = prepare_classroom(root, max_chairs=max_chairs)
+    if not klass.isolation.isolated:
+        return room
+    lock_class_folders(root, root / "hub", root / "users", root / "config", root / "classroom" / SEATS_DIR)
+    settings = dataclasses.replace(room.settings, state_dir=str(root / "classroom" / SEATS_DIR))
+    settings.write(room.settings_file)
+    return dataclasses.replace(room, settings=settings)
 
 
 def wait_until_healthy(url: str, hub: subprocess.Popen[Any], timeout: float) -> None:

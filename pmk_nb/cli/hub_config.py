@@ -7,8 +7,9 @@ the hub's database in the hub's state folder.  Nothing home-made where JupyterHu
 
 * login: JupyterHub's ``SharedPasswordAuthenticator`` (one class password, ``allowed_users`` = the list);
 * one single-user server per student: :class:`pmk_nb.cli.hub_spawner.ClassSpawner`, JupyterHub's
-  ``SimpleLocalProcessSpawner`` (runs as the current user, a home folder per student under
-  ``--hub-dir``/users) that first puts the dashboard and the tutorial notebooks in the home folder;
+  local process spawner (a home folder per student under ``--hub-dir``/users; as root each student's
+  own system user, else with ``--shared-user`` the hub's user: :mod:`pmk_nb.cli.hub_users`) that first
+  puts the dashboard, the tutorial notebooks and the student's chair secret in the home folder;
   it opens on the dashboard rendered by Voilà's server extension;
 * a simulated chair per page: the kernels find the class (``PMK_CLASSROOM``, :mod:`pmk_nb.classroom`);
 * idle servers: ``jupyterhub-idle-culler`` as a hub-managed service, with only the scopes it needs;
@@ -65,6 +66,7 @@ class HubPlan:
     proxy_command: tuple[str, ...]
     tls: TlsFiles | None = None
     cull_idle: int = CULL_IDLE
+    user_prefix: str = ""  # the students' system users: <prefix><name> (pmk_nb.cli.hub_users); empty: shared
 
 
 def parse_users(text: str) -> tuple[str, ...]:
@@ -196,7 +198,7 @@ def hub_config(plan: HubPlan) -> dict[str, dict[str, object]]:
         "--MappingKernelManager.cull_interval=30",
         "--MappingKernelManager.cull_connected=False",
     ]
-    if os.geteuid() == 0:  # a lab server's or CI's root: the students' servers run as this user, as the hub
+    if os.geteuid() == 0 and not plan.user_prefix:  # root, --shared-user: the students' servers run as root
         single_user_args.append("--ServerApp.allow_root=True")
     return {
         "JupyterHub": hub,
@@ -220,6 +222,13 @@ def hub_config(plan: HubPlan) -> dict[str, dict[str, object]]:
         },
         "SimpleLocalProcessSpawner": {"home_dir_template": str(plan.users_dir / "{username}")},
     }
+
+
+def hub_environment(plan: HubPlan, env: dict[str, str]) -> dict[str, str]:
+    """JupyterHub's environment: ``env`` and the students' users' prefix for its spawner (empty: shared)."""
+    from pmk_nb.cli.hub_users import USER_PREFIX_ENV
+
+    return {**env, USER_PREFIX_ENV: plan.user_prefix}
 
 
 def write_hub_config(plan: HubPlan) -> Path:

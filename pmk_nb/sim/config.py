@@ -54,6 +54,7 @@ class SimConfig:
     tls: tuple[Path | str, Path | str] | None = None  # (certfile, keyfile): serve wss://
     bridge: BridgeMode = DEFAULT_BRIDGE
     state_dir: Path | str | None = None  # where the SSH host key is kept across processes
+    auth_secret: str | None = None  # rosauth's secret: every client's first op must be a granted ``auth``
 
 
 class SimOptions(TypedDict, total=False):
@@ -86,6 +87,7 @@ class SimOptions(TypedDict, total=False):
     tls: tuple[Path | str, Path | str] | None
     bridge: BridgeMode
     state_dir: Path | str | None
+    auth_secret: str | None
 
 
 def field_names() -> tuple[str, ...]:

@@ -4,7 +4,8 @@ The simulator registers its own topics/services here (``advertise_internal``, ``
 ``listen``) and publishes with :meth:`Bridge.publish`; clients speak the rosbridge v2 protocol
 (advertise, unadvertise, publish, subscribe, unsubscribe, call_service, advertise_service,
 unadvertise_service, service_response, fragment, set_level, and the ROS 2 action ops in
-:mod:`pmk_nb.sim.actions`). Bad requests get a ``status`` op with
+:mod:`pmk_nb.sim.actions`); with an ``auth_secret`` a client must first send a granted ``auth`` op
+(:mod:`pmk_nb.rosauth`), else its socket is closed. Bad requests get a ``status`` op with
 level ``error`` (rosbridge's behaviour), never a dropped connection. Topic ops live here, service
 ops in :mod:`pmk_nb.sim.services`, per-client send queues in :mod:`pmk_nb.sim.session`.
 Everything runs on one asyncio loop; nothing here blocks it.
@@ -21,6 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.rosauth import granted
 from pmk_nb.sim.actions import ActionEntry, ActionOps
 from pmk_nb.sim.bridge_modes import DEFAULT_BRIDGE, BridgeMode, facts
 from pmk_nb.sim.jsonfast import dumps
@@ -79,8 +81,15 @@ class TopicEntry:
 class Bridge(ServiceOps, ActionOps):
     """Registry + protocol handler. Create on the loop that will run it."""
 
-    def __init__(self, client_queue: int = 200, mode: BridgeMode = DEFAULT_BRIDGE, action_ops: bool = True) -> None:
+    def __init__(
+        self,
+        client_queue: int = 200,
+        mode: BridgeMode = DEFAULT_BRIDGE,
+        action_ops: bool = True,
+        auth_secret: str | None = None,
+    ) -> None:
         self.mode: BridgeMode = mode
+        self.auth_secret = auth_secret  # rosbridge's authenticate:=true with rosauth's secret
         self.action_ops = action_ops  # False: ROS 1 rosbridge (0.11) has no action ops at all
         self.bridge_facts = facts(mode)
         self.topics: dict[str, TopicEntry] = {}
@@ -120,17 +129,41 @@ class Bridge(ServiceOps, ActionOps):
 
     async def handle(self, ws: ServerConnection) -> None:
         client = ClientSession(next(self._ids), ws, self._client_queue)
+        client.authenticated = self.auth_secret is None
         self.clients[client.cid] = client
         writer = asyncio.create_task(client.run_writer())
         try:
             async for raw in ws:
-                self.receive(client, raw if isinstance(raw, str) else raw.decode("utf-8", "replace"))
+                text = raw if isinstance(raw, str) else raw.decode("utf-8", "replace")
+                if client.authenticated:
+                    self.receive(client, text)
+                elif not self._admit(client, text):
+                    await self._refuse(client)
+                    break
         except Exception:
             pass
         finally:
             self._drop_client(client)
             client.close()
             writer.cancel()
+
+    def _admit(self, client: ClientSession, raw: str) -> bool:
+        """An unauthenticated client's op: only a granted ``auth`` is accepted (rosbridge with rosauth)."""
+        try:
+            msg = json.loads(raw)
+        except ValueError:
+            return False
+        if not isinstance(msg, dict) or msg.get("op") != "auth" or self.auth_secret is None:
+            return False
+        client.authenticated = granted(self.auth_secret, msg)
+        if client.authenticated:
+            LOG.info("client %d has authenticated", client.cid)
+        return client.authenticated
+
+    async def _refuse(self, client: ClientSession) -> None:
+        """rosbridge's answer to a client that did not authenticate: the socket is closed, nothing served."""
+        LOG.warning("client %d did not authenticate: closing its connection", client.cid)
+        await client.ws.close(code=1008, reason="not authenticated")
 
     async def close_all(self) -> None:
         for client in list(self.clients.values()):

@@ -76,7 +76,9 @@ class SimChair:
         chair without a navigation action server); ``tls``: ``(certfile, keyfile)`` to serve ``wss://`` as
         rosbridge does with its certfile/keyfile; ``bridge``: which real rosbridge's action-goal behaviour to
         reproduce (:mod:`pmk_nb.sim.bridge_modes`); ``state_dir``: where the SSH host key is kept across
-        processes (:mod:`pmk_nb.sim.hostkey`; None: a new key per object)."""
+        processes (:mod:`pmk_nb.sim.hostkey`; None: a new key per object); ``auth_secret``: rosbridge with
+        ``authenticate:=true``: a client whose first op is not an ``auth`` granted for this secret
+        (:mod:`pmk_nb.rosauth`) is refused and its socket closed."""
         cfg = replace(config or SimConfig(), **options)
         if map_yaml is not None:
             cfg = replace(cfg, map_yaml=map_yaml)
@@ -325,7 +327,9 @@ class SimChair:
 
     async def _main(self, grid: OccupancyGrid, ready: threading.Event) -> None:
         self._stop_event = asyncio.Event()
-        bridge = Bridge(self.client_queue, self.bridge_mode, action_ops=self.ros == "ros2")
+        bridge = Bridge(
+            self.client_queue, self.bridge_mode, action_ops=self.ros == "ros2", auth_secret=self.config.auth_secret
+        )
         self.bridge = bridge
         source = self.mapserver.source if self.mapserver else self.map_yaml
         self.mapserver = MapServer(bridge, self.names, self.fs, self.engine.install, self.reload_services)

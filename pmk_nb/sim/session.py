@@ -84,6 +84,7 @@ class ClientSession:
         self.dropped = 0
         self.advertised: dict[str, str] = {}  # topic -> type this client advertised
         self.services: set[str] = set()  # services this client provides
+        self.authenticated = True  # False until a granted ``auth`` op when the bridge requires one
         self.held: deque[str] | None = None  # ops waiting behind a running goal (official bridge mode)
         self._control: deque[str] = deque()
         self._data: deque[str] = deque(maxlen=max_queue)

@@ -14,11 +14,19 @@ from pmk_nb.classroom import Seat, take_seat
 from pmk_nb.classroom import settings as classroom_settings
 from pmk_nb.ui.common.context import AppContext
 
-CLASSROOM_NOTE = (
-    "Classroom: this chair is yours alone. It waits, parked, until you drive it or send it somewhere. "
+_RATES = (
+    "It waits, parked, until you drive it or send it somewhere. "
     f"Simulated at lower rates (odometry {classroom_settings.ODOM_RATE:g} Hz, laser "
     f"{classroom_settings.SCAN_RATE:g} Hz, map redrawn at most {classroom_settings.LIVE_FPS:g} times a second, "
     "only when something moved) so the whole class fits on one machine."
+)
+CLASSROOM_NOTE = f"Classroom: this chair is yours alone. {_RATES}"
+
+#: ``pmk hub --shared-user``: said on every page, so no student believes their work private
+SHARED_USER_NOTE = (
+    "No isolation in this class: every student's notebooks run as one user, so code in any notebook can read "
+    "the other students' files and drive their chairs. Do not keep anything private here. "
+    f"This chair is your own simulated chair. {_RATES}"
 )
 
 
@@ -55,5 +63,8 @@ def classroom_context(maps_dir: str | Path | None) -> AppContext | None:
     ctx.seat = seat
     ctx.live_fps = classroom_settings.LIVE_FPS
     ctx.set_current_map(settings.map_name, settings.map_yaml, settings.map_preview)
-    ctx.notify(CLASSROOM_NOTE)
+    if classroom_settings.shared_user():
+        ctx.notify(SHARED_USER_NOTE, "warning")
+    else:
+        ctx.notify(CLASSROOM_NOTE)
     return ctx

@@ -35,7 +35,8 @@ def _ana_in_chromium(base: str) -> None:
         page.click("#login_submit")
         expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=180_000)
         assert page.url.endswith("/user/ana/voila/render/dashboard.ipynb")
-        expect(page.locator(".pmk-app")).to_contain_text("this chair is yours alone")
+        # --shared-user: the page says the class has no isolation (tests/cli/test_hub_isolation.py: with it)
+        expect(page.locator(".pmk-app")).to_contain_text("No isolation in this class")
         ARTIFACTS.mkdir(exist_ok=True)
         page.screenshot(path=str(ARTIFACTS / "hub-student.png"))
 

@@ -184,9 +184,12 @@ def _class_processes(hub: subprocess.Popen[Any]) -> list[psutil.Process]:
 
 
 @contextlib.contextmanager
-def running_hub(tmp_path: Path, users: str = "ana,ben") -> Iterator[tuple[str, subprocess.Popen[str], list[str]]]:
+def running_hub(
+    tmp_path: Path, users: str = "ana,ben", extra: tuple[str, ...] = ("--shared-user",)
+) -> Iterator[tuple[str, subprocess.Popen[str], list[str]]]:
     """``pmk hub`` on a free loopback port until its URL is printed; SIGINT at the end (its exit code checked
-    by the caller through the process).  Yields (base URL, the process, its output lines)."""
+    by the caller through the process).  Yields (base URL, the process, its output lines). ``extra``: more
+    options (default ``--shared-user``: one user, as the browser test needs no system users)."""
     port = free_port()
     hub = subprocess.Popen(
         [
@@ -203,6 +206,7 @@ def running_hub(tmp_path: Path, users: str = "ana,ben") -> Iterator[tuple[str, s
             "--no-browser",
             "--port",
             str(port),
+            *extra,
         ],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
@@ -228,3 +232,38 @@ def running_hub(tmp_path: Path, users: str = "ana,ben") -> Iterator[tuple[str, s
         except subprocess.TimeoutExpired:
             hub.kill()
             hub.wait()
+
+
+def test_without_root_the_hub_refuses_unless_the_class_accepts_a_shared_user(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from pmk_nb.cli.hub_users import choose_isolation
+
+    monkeypatch.setattr(os, "geteuid", lambda: 1000)
+    with pytest.raises(serving.ServingRefused) as err:
+        choose_isolation(False, None, tmp_path / "class1", ("ana",))
+    assert err.value.reason == "no-isolation"
+    assert not choose_isolation(True, None, tmp_path, ("ana",)).isolated
+    monkeypatch.setattr(os, "geteuid", lambda: 0)
+    isolation = choose_isolation(False, None, tmp_path / "Class-1", ("ana",))
+    assert isolation.system_user("ana") == "pmk-class1-ana"
+    with pytest.raises(serving.ServingRefused) as err:
+        choose_isolation(False, "p" * 30 + "-", tmp_path, ("ana",))
+    assert err.value.reason == "bad-users"
+
+
+def test_the_spawner_is_told_the_students_users_and_their_files(tmp_path: Path) -> None:
+    from pmk_nb.classroom.settings import StudentFiles, shared_user
+    from pmk_nb.cli.hub_config import hub_environment
+    from pmk_nb.cli.hub_users import USER_PREFIX_ENV, Isolation, prepare_student, student_env
+
+    assert hub_environment(_plan(tmp_path, user_prefix="pmk-c-"), {"A": "1"}) == {"A": "1", USER_PREFIX_ENV: "pmk-c-"}
+    home = tmp_path / "users" / "ana"
+    prepare_student(home, None, None)
+    files = StudentFiles.from_env(student_env(home, Isolation("pmk-c-")))
+    assert files.secret_file is not None and files.private_key is not None
+    assert stat.S_IMODE(files.secret_file.stat().st_mode) == 0o600 and len(files.secret_file.read_text().strip()) == 64
+    assert stat.S_IMODE(files.private_key.stat().st_mode) == 0o600
+    assert files.pages_dir is not None and files.pages_dir.parent == files.secret_file.parent
+    assert not shared_user(student_env(home, Isolation("pmk-c-")))
+    assert shared_user(student_env(home, Isolation()))

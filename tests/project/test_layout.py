@@ -16,6 +16,7 @@ MAX_FUNCTION_LINES = 80
 # Modules allowed at the top of pmk_nb: value types and helpers shared by several packages.
 TOP_LEVEL = {"__init__.py", "errors.py", "fileio.py", "grid.py", "progress.py"}
 TOP_LEVEL |= {"goalbeat.py"}  # the goal heartbeat's wire format: the link (chair/) and the watchdog (robot/)
+TOP_LEVEL |= {"rosauth.py"}  # rosbridge's auth op (rosauth's MAC): the link speaks it, the simulator checks it
 TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (sim, link, dashboard)
 TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
 TOP_LEVEL |= {"geometry.py"}  # shapely helpers shared by the openings plan and the rasteriser (issue 25)
@@ -117,6 +118,7 @@ def test_one_atomic_write_helper() -> None:
 
 # Which packages each package may import: the data flow of ARCHITECTURE.md, one direction only.
 SHARED = {"errors", "progress", "fileio", "grid"}
+SHARED |= {"rosauth"}  # a leaf: the auth op's MAC for the link and the simulator
 SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the link and the dashboard
 SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
 SHARED |= {"geometry"}  # shapely helpers (polygon parts, boxes): a leaf over shapely and numpy

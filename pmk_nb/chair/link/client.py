@@ -69,6 +69,7 @@ class ChairLink:
         cfg = (config or LinkConfig()).with_options(**options)
         self.link_config = cfg  # as created: reconfigure() changes the streams' settings, not this
         self.host, self.port, self.tls = host, int(port), cfg.tls  # tls: wss, trusted as pmk_nb.chair.link.tls says
+        self.auth = cfg.auth  # rosbridge authentication (pmk_nb.chair.link.bridge_auth)
         self.stale_after = float(cfg.stale_after)
         self._publish = Publishers(cfg.cmd_vel_topic, cfg.goal_topic)
         self.reconnect_initial, self.reconnect_max = cfg.reconnect_initial, cfg.reconnect_max
@@ -163,7 +164,9 @@ class ChairLink:
                 return None
             if self._ros is not None:  # half-way (reconnecting): start over cleanly
                 self._teardown_ros()
-            probe = probe_rosbridge(self.host, self.port, max(0.05, deadline - time.monotonic()), self.tls)
+            probe = probe_rosbridge(
+                self.host, self.port, max(0.05, deadline - time.monotonic()), self.tls, auth=self.auth
+            )
             if not probe.ok:
                 return ConnectFailure(probe.reason, probe.timeout, probe.error)
             self._ros_version = probe.ros_version
@@ -176,6 +179,7 @@ class ChairLink:
                 ping_interval=self.ping_interval,
                 ping_timeout=self.ping_timeout,
                 tls=self.tls,
+                auth=self.auth,
             )
             ros.on("ready", self._on_ready)
             ros.connect()

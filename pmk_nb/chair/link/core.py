@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Protocol
 
 if TYPE_CHECKING:
+    from pmk_nb.chair.link.bridge_auth import BridgeAuth
     from pmk_nb.chair.link.discovery import Discovery
     from pmk_nb.chair.link.goal import GoalPolicy
     from pmk_nb.chair.link.state import LinkState
@@ -26,6 +27,7 @@ class LinkCore(Protocol):
     host: str
     port: int
     tls: ChairTls | None
+    auth: BridgeAuth | None
     rosapi_timeout: float
     discovery: Discovery
     goal_policy: GoalPolicy

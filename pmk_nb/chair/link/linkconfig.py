@@ -1,5 +1,5 @@
 """A chair link's settings in one value: topics, pose source, staleness, reconnect and ping timing,
-TLS. Every default is declared here once; :class:`~pmk_nb.chair.link.client.ChairLink` takes a
+TLS, rosbridge authentication. Every default is declared here once; :class:`~pmk_nb.chair.link.client.ChairLink` takes a
 ``LinkConfig`` whole (``ChairLink(host, port, config)``) and still accepts the same names as
 keywords (``ChairLink(host, pose_source="tf")``), the path the notebooks, profiles and tests use.
 """
@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from pmk_nb.chair.link.bridge_auth import BridgeAuth
     from pmk_nb.chair.link.streams import PoseSource
     from pmk_nb.chair.link.tls import ChairTls
 
@@ -35,6 +36,7 @@ class LinkConfig:
     ping_interval: float | None = None  # None: max(2 s, 2 x stale_after)
     ping_timeout: float | None = None  # None: max(5 s, 2 x stale_after)
     tls: ChairTls | None = None  # wss, trusted as pmk_nb.chair.link.tls says
+    auth: BridgeAuth | None = None  # rosbridge's auth op first on every socket (pmk_nb.chair.link.bridge_auth)
 
     def __post_init__(self) -> None:
         if self.stale_after <= 0:

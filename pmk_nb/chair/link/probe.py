@@ -29,6 +29,7 @@ from websockets.exceptions import (
 )
 from websockets.sync.client import connect as ws_connect
 
+from pmk_nb.chair.link.bridge_auth import BridgeAuth, BridgeAuthError
 from pmk_nb.chair.link.tls import check_peer, handshake_failure
 from pmk_nb.errors import ChairCertificateError
 
@@ -41,6 +42,7 @@ TIMED_OUT = "timed out"
 HOST_UNKNOWN = "host unknown"
 NOT_ROSBRIDGE = "not a rosbridge server"
 TLS_FAILED = "TLS failed"
+AUTH_FAILED = "authentication failed"
 #: Added to a failed plain handshake: a wss-only bridge answers a ws client with TLS bytes.
 TLS_HINT = "; if the chair's rosbridge serves TLS (wss), turn TLS on in the chair profile"
 
@@ -104,8 +106,14 @@ def _tcp_connect(infos: list[tuple], host: str, port: int, deadline: float) -> s
     return last or f"{TIMED_OUT}: no TCP answer from {host}:{port}"
 
 
-def _rosbridge_check(ws, deadline: float, host: str, port: int) -> ProbeResult:  # type: ignore[no-untyped-def]
-    """Send one rosapi call; any rosbridge answers ``call_service`` (even for a missing service)."""
+def _rosbridge_check(ws, deadline: float, host: str, port: int, auth: BridgeAuth | None) -> ProbeResult:  # type: ignore[no-untyped-def]
+    """Send one rosapi call (after the ``auth`` op, with ``auth``); any rosbridge answers ``call_service``
+    (even for a missing service)."""
+    if auth is not None:
+        try:
+            ws.send(json.dumps(auth.op(host, port)))
+        except BridgeAuthError as err:
+            return ProbeResult(False, f"{AUTH_FAILED}: {err}", error=err)
     ws.send(json.dumps({"op": "call_service", "id": "pmk-probe:get_time", "service": "/rosapi/get_time"}))
     start = time.monotonic()
     while True:
@@ -123,6 +131,9 @@ def _rosbridge_check(ws, deadline: float, host: str, port: int) -> ProbeResult: 
         except TimeoutError:
             continue
         except ConnectionClosed as err:
+            if auth is not None:  # rosbridge with authenticate:=true closes on a refused auth op
+                refused = auth.refused(host, port)
+                return ProbeResult(False, f"{AUTH_FAILED}: {refused}", error=refused)
             return ProbeResult(False, f"{NOT_ROSBRIDGE}: {host}:{port} closed the websocket ({err})")
         try:
             msg = json.loads(raw)
@@ -171,9 +182,12 @@ def _tls_wrap(
         return ProbeResult(False, f"{TLS_FAILED}: {err}", error=err)
 
 
-def probe_rosbridge(host: str, port: int, timeout: float = 5.0, tls: ChairTls | None = None) -> ProbeResult:
+def probe_rosbridge(
+    host: str, port: int, timeout: float = 5.0, tls: ChairTls | None = None, *, auth: BridgeAuth | None = None
+) -> ProbeResult:
     """Check step by step that ``ws://host:port`` (``wss://`` with ``tls``: the certificate checked
-    first, see :mod:`.tls`) is a rosbridge server; never exceeds ``timeout``."""
+    first, see :mod:`.tls`) is a rosbridge server; never exceeds ``timeout``. ``auth``: rosbridge's
+    ``auth`` op goes first (:mod:`.bridge_auth`); a chair that closes after it refused it."""
     deadline = time.monotonic() + timeout
     infos = _resolve(host, port, timeout)
     if isinstance(infos, str):
@@ -198,7 +212,7 @@ def probe_rosbridge(host: str, port: int, timeout: float = 5.0, tls: ChairTls | 
             ping_interval=None,
             compression=None,
         ) as ws:
-            return dataclasses.replace(_rosbridge_check(ws, deadline, host, port), fingerprint=trusted)
+            return dataclasses.replace(_rosbridge_check(ws, deadline, host, port, auth), fingerprint=trusted)
     except TimeoutError:
         return ProbeResult(
             False, f"{TIMED_OUT}: {host}:{port} accepted TCP but never completed the websocket handshake"

@@ -202,7 +202,9 @@ class Recording:
 
     # -- the connection (I/O thread: push only) ---------------------------------------------------
     def _connect(self, link: LinkCore, timeout: float = 5.0) -> LinkRos:
-        ros = LinkRos(link.host, link.port, thread_name=f"pmk-record-io-{link.host}:{link.port}", tls=link.tls)
+        ros = LinkRos(
+            link.host, link.port, thread_name=f"pmk-record-io-{link.host}:{link.port}", tls=link.tls, auth=link.auth
+        )
         ros.connect()
         if not ros.settled.wait(timeout) or ros.refusal is not None:
             ros.shutdown(1.0)

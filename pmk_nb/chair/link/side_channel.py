@@ -56,6 +56,12 @@ def side_connect(link: LinkCore, timeout: float = 2.0) -> ClientConnection:
         except ChairLinkError:
             ws.close()
             raise
+    if link.auth is not None:  # a chair with rosbridge authentication hears nothing before it
+        try:
+            ws.send(json.dumps(link.auth.op(link.host, link.port)))
+        except ChairLinkError:
+            ws.close()
+            raise
     return ws
 
 

@@ -37,10 +37,12 @@ from typing import TYPE_CHECKING, Any
 
 import roslibpy
 
+from pmk_nb.chair.link.bridge_auth import BridgeAuthError
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.seams import init_id_counter, install_status_handler
 
 if TYPE_CHECKING:
+    from pmk_nb.chair.link.bridge_auth import BridgeAuth
     from pmk_nb.chair.link.factory import LinkFactory
     from pmk_nb.chair.link.tls import ChairTls
 
@@ -110,8 +112,11 @@ class LinkRos(roslibpy.Ros):
         ping_interval: float = 5.0,
         ping_timeout: float = 5.0,
         tls: ChairTls | None = None,
+        auth: BridgeAuth | None = None,
     ) -> None:
         module = _factory_module()
+        self.factory_chair = (host, port)
+        self.auth_failure: BridgeAuthError | None = None
         init_id_counter(self)  # what Ros.__init__ would set (see the module docstring)
         extra: dict[str, Any] = {}
         if module.__name__.endswith("twisted"):
@@ -132,6 +137,9 @@ class LinkRos(roslibpy.Ros):
             ping_timeout=ping_timeout,
             **extra,
         )
+        self.auth = auth
+        if auth is not None:  # first of all "ready" listeners: the auth op goes before any other op
+            self.factory.on("ready", self._send_auth)
         # set once the websocket opened or the chair's TLS certificate was refused (``refusal``)
         self.settled = threading.Event()
         self.factory.on("ready", lambda _proto: self.settled.set())
@@ -146,6 +154,15 @@ class LinkRos(roslibpy.Ros):
     def refusal(self) -> ChairLinkError | None:
         """Why the chair's TLS certificate was refused on this link's own socket, if it was."""
         return getattr(self.factory, "refusal", None)
+
+    def _send_auth(self, proto: Any) -> None:
+        """rosbridge's ``auth`` op on every (re)connect, fresh each time (rosauth checks its time)."""
+        assert self.auth is not None
+        host, port = self.factory_chair
+        try:
+            proto.send_ros_message(roslibpy.Message(self.auth.op(host, port)))
+        except BridgeAuthError as err:  # unreadable secret: the chair will close the socket on our first op
+            self.auth_failure = err
 
     def _track_protocol(self, proto: Any) -> None:
         self.protocol = proto

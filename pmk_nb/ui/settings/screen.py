@@ -334,6 +334,7 @@ class SettingsScreen:
                     "goal_accept_s",
                     "goal_quiet_s",
                     "plan_topic",
+                    "bridge_secret_file",  # a classroom seat's chair secret (pmk hub): never on the form
                 )
             }
             profile = dataclasses.replace(profile, **keep)

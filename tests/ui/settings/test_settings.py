@@ -166,3 +166,17 @@ def test_settings_says_connected_while_the_page_holds_a_live_link(tmp_path: Path
         finally:
             app.close()
             close_all_links()
+
+
+def test_saving_a_classroom_seats_profile_keeps_its_chair_secret(ctx: AppContext, tmp_path: Path) -> None:
+    """Issue 38: the seat's profile names its chair's rosbridge secret, which the form does not show; a
+    student who saves the profile in Settings keeps it (else their own chair would refuse the link)."""
+    from pmk_nb.chair import ChairProfile
+
+    screen = SettingsScreen(ctx)
+    screen.load(ChairProfile(name="My chair", host="127.0.0.1", bridge_secret_file=str(tmp_path / "secret")))
+    screen.fields["cmd_vel_topic"].value = "/other_cmd_vel"
+    profile = screen.form_profile()
+    assert profile.cmd_vel_topic == "/other_cmd_vel" and profile.bridge_secret_file == str(tmp_path / "secret")
+    assert profile.link_options()["auth"].secret_file == tmp_path / "secret"
+    screen.close()
