@@ -12,7 +12,8 @@ class FindingKind(str, Enum):
     ROOM_NOT_FREE = "room-not-free"  # a navigable cell's interior is not free in the map
     OBSTACLE_FREE = "obstacle-free"  # a non-navigable cell's interior is free in the map
     LEAK = "leak"  # two cells the graph does not join are joined in the map
-    BLOCKED = "blocked"  # a transition the chair cannot pass in the map
+    BLOCKED = "blocked"  # a transition with no way through in the map, not even for a point
+    NARROW = "narrow"  # a transition a point passes but the chair does not (a narrow door, or drawn narrow)
     NO_WAY_THROUGH = "no-way-through"  # a passage cell (a door slab) the chair cannot cross between its rooms
     OUTSIDE_MAP = "outside-map"  # a cell the map does not cover
     OVERLAP = "overlap"  # two navigable cells overlap in the plan
@@ -28,6 +29,7 @@ _WORDS = {
     FindingKind.OBSTACLE_FREE: "obstacle drawn as floor",
     FindingKind.LEAK: "leak",
     FindingKind.BLOCKED: "blocked",
+    FindingKind.NARROW: "narrower than the chair",
     FindingKind.NO_WAY_THROUGH: "no way through",
     FindingKind.OUTSIDE_MAP: "outside the map",
     FindingKind.OVERLAP: "overlapping cells",
@@ -78,9 +80,17 @@ class WitnessReport:
     def ok(self) -> bool:
         return self.graph and not self.findings
 
+    @property
+    def only_narrow(self) -> bool:
+        """Every finding is a way a point passes and the chair does not: the map may well be right and the
+        door narrow in the building too, so it is not called a disagreement (still not "ok")."""
+        return bool(self.findings) and all(f.kind is FindingKind.NARROW for f in self.findings)
+
     def summary(self) -> str:
         looked = ", ".join(f"{n} {what}" for what, n in self.counts.items())
         head = f"witness, storey {self.storey}"
+        if self.only_narrow:
+            return f"{head}: {len(self.findings)} transition(s) narrower than the chair in the map ({looked})"
         if self.findings:
             return f"{head}: the map DISAGREES with the plan: {len(self.findings)} finding(s) ({looked})"
         if not self.graph:

@@ -26,6 +26,7 @@ MAX_SIDE = 2400
 COLOURS = {
     FindingKind.LEAK: (220, 20, 60),
     FindingKind.BLOCKED: (255, 140, 0),
+    FindingKind.NARROW: (255, 140, 0),
     FindingKind.NO_WAY_THROUGH: (255, 140, 0),
     FindingKind.ROOM_NOT_FREE: (160, 32, 240),
     FindingKind.OBSTACLE_FREE: (160, 32, 240),

@@ -73,14 +73,14 @@ def implausible(storey: str, cells: dict[str, Cell], doors: list[BaseGeometry | 
 
     flag("the storey's longer side", max(x1 - x0, y1 - y0), STOREY_M, "m")
     flag("the median room", median(f.area for f in walk), ROOM_M2, "m²")
-    widths = [_door_width(g) for g in doors if g is not None and not g.is_empty]
+    widths = [door_width(g) for g in doors if g is not None and not g.is_empty]
     if widths:
         flag("the median door", median(widths), DOOR_M, "m")
     return out
 
 
-def _door_width(geometry: BaseGeometry) -> float:
-    """A door line's length, or a door polygon's longer side."""
+def door_width(geometry: BaseGeometry) -> float:
+    """A door line's length, or a door polygon's (a doorway cell's) longer side."""
     if geometry.geom_type in ("LineString", "MultiLineString"):
         return float(geometry.length)
     rect = geometry.minimum_rotated_rectangle

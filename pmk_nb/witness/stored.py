@@ -133,9 +133,12 @@ def verdict_of(report: WitnessReport) -> Verdict:
     """A report in plain words."""
     if report.findings:
         lines = tuple(f.describe() for f in report.findings[:MAX_LINES])
+        head = f"The map DISAGREES with the plan: {_plural(len(report.findings))}"
+        if report.only_narrow:
+            head = f"The chair does not fit through {len(report.findings)} door(s) of the map (a point does)"
         return Verdict(
             VerdictState.DISAGREES,
-            f"The map DISAGREES with the plan: {_plural(len(report.findings))}",
+            head,
             lines,
             len(report.findings) - len(lines),
             report,

@@ -29,7 +29,7 @@ from pmk_nb.grid import FREE
 from pmk_nb.pixels import disc_radius_px, erode, label
 from pmk_nb.witness.findings import Finding, FindingKind, WitnessReport
 from pmk_nb.witness.frame import MapFrame, Window
-from pmk_nb.witness.plausible import implausible, overlaps
+from pmk_nb.witness.plausible import door_width, implausible, overlaps
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -54,6 +54,7 @@ class _Storey:
     tree: shapely.STRtree
     order: list[str]  # cell ids in the tree's order
     joined: set[frozenset[str]]
+    door_widths: dict[frozenset[str], float]  # the plan's door lines between two cells, metres
     links: list[tuple[str, str]]
     erode: float  # metres a cell's outline is drawn into it (half a wall and a pixel)
     gap: float  # cells this far apart share a wall
@@ -126,6 +127,11 @@ def _prepare(
             if bid in doors:
                 owners.setdefault(bid, []).append(c.id)
     joined |= {frozenset(o[:2]) for o in owners.values() if len(o) >= 2}
+    door_widths: dict[frozenset[str], float] = {}
+    for b in building.doors_of(storey):
+        pair = frozenset(owners.get(b.id, [])[:2])
+        if len(pair) == 2 and b.geometry is not None and not b.geometry.is_empty:
+            door_widths[pair] = max(door_widths.get(pair, 0.0), door_width(b.geometry))
     thick = DEFAULT_WALL_THICKNESS if wall_thickness is None else wall_thickness
     return _Storey(
         name=storey,
@@ -135,6 +141,7 @@ def _prepare(
         tree=tree,
         order=order,
         joined=joined,
+        door_widths=door_widths,
         links=sorted(set(links)),
         erode=thick / 2 + grid.resolution,
         gap=max(DEFAULT_MAX_WALL_GAP, thick + 2 * grid.resolution),
@@ -283,11 +290,32 @@ def _transitions(st: _Storey) -> list[Finding]:
         point = _connected(st, members, bands, [a, b], chair=False)
         if exit_ and point:
             continue
-        why = "narrower than the chair" if point else "no way through at all"
+        kind, why = _narrow_or_blocked(st, point, _plan_width(st, a, b, via))
         p, q = nearest_points(fa, fb)
         place = shapely.Point((p.x + q.x) / 2, (p.y + q.y) / 2)
-        out.append(_finding(st, FindingKind.BLOCKED, (a, b), place, f"a transition joins them: {why}"))
+        out.append(_finding(st, kind, (a, b), place, f"a transition joins them: {why}"))
     return out
+
+
+def _plan_width(st: _Storey, a: str, b: str, via: list[str]) -> float | None:
+    """How wide the plan makes the way from ``a`` to ``b``: its door line between them, or the doorway
+    cells among them and between them (their longer side); None when the plan gives no width."""
+    widths = [door_width(st.cells[c].footprint) for c in (a, b, *via) if _thin(st, c)]
+    if frozenset((a, b)) in st.door_widths:
+        widths.append(st.door_widths[frozenset((a, b))])
+    return max(widths) if widths else None
+
+
+def _narrow_or_blocked(st: _Storey, point: bool, width: float | None) -> tuple[FindingKind, str]:
+    """A way the chair cannot take: BLOCKED when the map is to blame (no way at all, or a door the plan
+    makes wide enough with two pixels to spare drawn too narrow), else NARROW (the plan's own door is
+    that narrow, or the plan gives no width)."""
+    if not point:
+        return FindingKind.BLOCKED, "no way through at all"
+    if width is not None and width >= 2 * st.radius + 2 * st.frame.resolution:
+        return FindingKind.BLOCKED, f"the plan's door is {width:.2f} m wide, the map lets only a point through"
+    said = "" if width is None else f" (the plan's door is {width:.2f} m wide)"
+    return FindingKind.NARROW, f"a point passes, the chair does not{said}"
 
 
 def _degrees(st: _Storey) -> dict[str, int]:
@@ -311,11 +339,22 @@ def _passages(st: _Storey) -> list[Finding]:
                 if frozenset((a, b)) in st.joined:
                     continue
                 bands = [st.band(a, cell_id), st.band(cell_id, b)]
-                if not _connected(st, [a, cell_id, b], bands, [a, b], chair=True):
-                    detail = f"the chair cannot cross {st.name_of(cell_id)!r} between them (openings not in line?)"
-                    out.append(
-                        _finding(st, FindingKind.NO_WAY_THROUGH, (a, cell_id, b), cell.footprint.centroid, detail)
+                if _connected(st, [a, cell_id, b], bands, [a, b], chair=True):
+                    continue
+                width = door_width(cell.footprint)
+                kind, detail = (
+                    FindingKind.NO_WAY_THROUGH,
+                    (
+                        f"the chair cannot cross {st.name_of(cell_id)!r} ({width:.2f} m wide) between them "
+                        "(openings not in line?)"
+                    ),
+                )
+                if width < 2 * st.radius + 2 * st.frame.resolution:
+                    kind, detail = (
+                        FindingKind.NARROW,
+                        f"{st.name_of(cell_id)!r} is {width:.2f} m wide: the chair does not fit",
                     )
+                out.append(_finding(st, kind, (a, cell_id, b), cell.footprint.centroid, detail))
     return out
 
 

@@ -88,8 +88,20 @@ def test_a_door_narrower_than_the_chair_is_blocked_but_passable_for_a_point(
     building, grid, _ = clinic
     wrong = _paint(grid, (4.3, 5.7, 4.8, 6.3), OCCUPIED)
     wrong = _paint(wrong, (5.2, 5.7, 5.6, 6.3), OCCUPIED)  # 0.4 m left open
-    blocked = [f for f in witness_grid(building, wrong, chair_width=CHAIR).findings if f.kind is FindingKind.BLOCKED]
-    assert blocked and all("narrower than the chair" in f.detail for f in blocked)
+    report = witness_grid(building, wrong, chair_width=CHAIR)
+    blocked = [f for f in report.findings if f.kind is FindingKind.BLOCKED]  # the plan's door is 0.90 m
+    assert blocked and all(
+        "the plan's door is 0.90 m wide, the map lets only a point through" in f.detail for f in blocked
+    )
+    assert "DISAGREES" in report.summary()
+    assert not report.ok and "DISAGREES" in report.summary()
+
+
+def test_a_door_the_plan_itself_makes_too_narrow_is_narrow_not_a_disagreement() -> None:
+    building, grid = _slab_building(offset=0.0, span=(1.1, 1.8))  # the plan's doorway: 0.7 m
+    report = witness_grid(building, grid, chair_width=CHAIR)
+    assert {f.kind for f in report.findings} == {FindingKind.NARROW}
+    assert not report.ok and "narrower than the chair in the map" in report.summary()
 
 
 def test_an_obstacle_drawn_as_floor_is_found(clinic: tuple[Building, OccupancyGrid, Path]) -> None:
@@ -115,11 +127,11 @@ def test_an_unknown_map_area_is_not_free_either(clinic: tuple[Building, Occupanc
     assert FindingKind.ROOM_NOT_FREE in _kinds(witness_grid(building, wrong, chair_width=CHAIR))
 
 
-def _slab_building(offset: float) -> tuple[Building, OccupancyGrid]:
-    """Two 6 x 4 m rooms either side of a door slab 0.6 m deep and 6 m long, its two faces opened by
-    0.9 m openings ``offset`` metres apart, drawn straight into a grid (walls 0.1 m)."""
+def _slab_building(offset: float, span: tuple[float, float] = (0.0, 6.0)) -> tuple[Building, OccupancyGrid]:
+    """Two 6 x 4 m rooms either side of a door slab 0.6 m deep along ``span`` (x), its two faces opened
+    by 0.9 m openings ``offset`` metres apart, drawn straight into a grid (walls 0.1 m)."""
     south = shapely.box(0.0, 0.0, 6.0, 4.0)
-    slab = shapely.box(0.0, 4.0, 6.0, 4.6)
+    slab = shapely.box(span[0], 4.0, span[1], 4.6)
     north = shapely.box(0.0, 4.6, 6.0, 8.6)
     cells = {
         "S": Cell("S", CellKind.GENERAL, south, "0", name="south room"),
@@ -147,10 +159,11 @@ def _slab_building(offset: float) -> tuple[Building, OccupancyGrid]:
         r0, r1 = round((box[1] - origin[1]) / res), round((box[3] - origin[1]) / res)
         data[r0:r1, c0:c1] = value
 
-    for box in ((0.05, 0.05, 5.95, 3.95), (0.05, 4.05, 5.95, 4.55), (0.05, 4.65, 5.95, 8.55)):
+    for box in ((0.05, 0.05, 5.95, 3.95), (span[0] + 0.05, 4.05, span[1] - 0.05, 4.55), (0.05, 4.65, 5.95, 8.55)):
         paint(box, FREE)
-    paint((1.0, 3.9, 1.9, 4.1), FREE)  # the south face's opening
-    paint((1.0 + offset, 4.5, 1.9 + offset, 4.7), FREE)  # the north face's
+    x0, x1 = max(1.0, span[0]), min(1.9, span[1])
+    paint((x0, 3.9, x1, 4.1), FREE)  # the south face's opening
+    paint((x0 + offset, 4.5, x1 + offset, 4.7), FREE)  # the north face's
     return building, OccupancyGrid(data, res, origin, meta={"storey": "0", "wall_thickness": 0.1})
 
 
