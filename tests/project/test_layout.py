@@ -20,6 +20,7 @@ TOP_LEVEL |= {"tlscert.py"}  # certificate fingerprints and a self-signed one (s
 TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, declared once (issue 25)
 TOP_LEVEL |= {"geometry.py"}  # shapely helpers shared by the openings plan and the rasteriser (issue 25)
 TOP_LEVEL |= {"lazyface.py"}  # the one lazy package face (issue 25)
+TOP_LEVEL |= {"clock.py"}  # time as an input: the real and the virtual clock (issue 39)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
@@ -120,6 +121,7 @@ SHARED |= {"tlscert"}  # a leaf like fileio: certificates for the simulator, the
 SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter default
 SHARED |= {"geometry"}  # shapely helpers (polygon parts, boxes): a leaf over shapely and numpy
 SHARED |= {"lazyface"}  # the one lazy package face: a name loads only its own module
+SHARED |= {"clock"}  # a stdlib-only leaf: everything that decides by time takes a Clock
 ALLOWED_IMPORTS: dict[str, set[str]] = {
     "viewport": {"grid"},  # the shared grid type and its greys, nothing else
     "grid": set(),
@@ -161,6 +163,7 @@ ALLOWED_IMPORTS["classroom"] = SHARED | {"sim", "chair"}
 ALLOWED_IMPORTS["ui"] |= {"classroom"}
 ALLOWED_IMPORTS["cli"] |= {"classroom"}
 # Library seams (issue 25): leaves over their library, used by the link, the screens and the commands.
+ALLOWED_IMPORTS["clock"] = set()  # a leaf: the standard library only
 ALLOWED_IMPORTS["seams"] = {"lazyface"}  # its face is lazy: one seam never loads another library
 for _user in ("chair", "ui", "cli"):
     ALLOWED_IMPORTS[_user] |= {"seams"}
