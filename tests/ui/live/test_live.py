@@ -23,6 +23,7 @@ import pytest
 from ipycanvas.canvas import _CMD_LIST
 
 from pmk_nb.chair import Odometry, Scan
+from pmk_nb.clock import VirtualClock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.frame_metrics import measured_hold
 from pmk_nb.ui.live.render_loop import RenderLoop
@@ -450,18 +451,18 @@ def test_measured_hold_counts_real_payload_with_one_send_wrapper_installed_once(
 
 
 # -- render loop ---------------------------------------------------------------------------------------
-@pytest.mark.slow
 def test_render_loop_thread_mode_caps_the_rate_and_stops() -> None:
+    clock = VirtualClock(start=0.0)
     calls: list[float] = []
-    loop = RenderLoop(lambda: calls.append(time.monotonic()), fps=20)
+    loop = RenderLoop(lambda: calls.append(clock.now()), fps=16, clock=clock)  # 1/16 s: exact in binary
     assert loop.start() == "thread"  # no asyncio loop in this thread
-    time.sleep(0.5)
+    assert clock.wait_for_waiters(1)
+    clock.advance(1.0)
+    assert calls == [i / 16 for i in range(17)], "the first frame at once, then one per 1/16 s"
     loop.stop()
     assert not loop.running
-    n = len(calls)
-    assert 3 <= n <= 12  # 20 fps for 0.5 s = 10 frames, never more than the cap allows
-    time.sleep(0.15)
-    assert len(calls) == n  # really stopped
+    clock.advance(1.0)
+    assert len(calls) == 17  # really stopped
 
 
 def test_render_loop_asyncio_mode_runs_on_the_calling_loop() -> None:
@@ -495,22 +496,28 @@ def test_render_loop_survives_and_reports_failing_steps() -> None:
     assert len(errors) == 5 and str(errors[0]) == "boom"
 
 
-@pytest.mark.slow
 def test_live_view_loop_draws_at_most_fps(tmp_path: Path) -> None:
-    view = LiveView(200, 150, fps=10)
+    """Odometry at 256 Hz, a view capped at 8 fps: half a second draws four new frames (1/8 .. 4/8 s;
+    the frame at 0 s has nothing new: the pose was drawn when the source was attached)."""
+    clock = VirtualClock(start=0.0)
+    view = LiveView(200, 150, fps=8, clock=clock)
     view.set_map(sample_grid())
     src = Source()
+    src.move(3.5, 2.0)
     view.attach(src)
     view.start()
     try:
-        end = time.monotonic() + 0.6
-        while time.monotonic() < end:  # "odometry" at ~200 Hz
-            src.move(3.0 + (end - time.monotonic()), 2.0)
-            time.sleep(0.005)
+        assert clock.wait_for_waiters(1)
+        before = view.metrics.frames
+        assert view.metrics.skipped == 1, "the first tick, with nothing new"
+        for i in range(128):
+            src.move(3.0 + i / 256, 2.0)
+            clock.advance(1 / 256)
     finally:
         view.stop()
-    assert 2 <= view.metrics.frames <= 9
-    assert view.metrics.odom_delay_ms and max(view.metrics.odom_delay_ms) < 1000
+    assert view.metrics.frames - before == 4 and view.metrics.skipped == 1
+    clock.advance(1.0)
+    assert view.metrics.frames - before == 4, "stopped: no frame after"
 
 
 # -- Home screen against a simulated chair and the real ChairLink ----------------------------------------
