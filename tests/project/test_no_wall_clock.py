@@ -29,10 +29,6 @@ ALLOWED: dict[str, str] = {
     "tests/chair/link/test_link_failures.py::_check": "real sockets that refuse or stay silent: the report's time "
     "against the link's real timeout (its tests belong in the realtime tier)",
     "tests/cli/test_hub.py::_open_dashboard": "polls a real JupyterHub's spawn; used by tests/browser (realtime) only",
-    "tests/ui/home/test_preview_ready.py::test_a_preview_stopped_before_its_page_came_never_connects": "the "
-    "PreviewController polls its page on the real clock (no Clock parameter yet)",
-    "tests/ui/home/test_preview_ready.py::test_the_chair_is_connected_only_after_the_page_is_ready": "the same "
-    "PreviewController poll on the real clock",
     "tests/ui/live/test_live.py::test_rays_start_from_the_pose_the_chair_had_when_the_scan_arrived": "the live "
     "view keeps its pose history by time.monotonic arrival stamps (no Clock parameter yet)",
     "tests/ui/live/test_live.py::test_wheel_and_pinch_zoom_and_garbage_events": "the zoom gestures' debounce "
