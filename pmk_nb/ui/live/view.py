@@ -176,7 +176,9 @@ class LiveView:
         self.metrics = FrameMetrics()
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error, clock=clock)
         self.canvas.on_client_ready(self._on_client_ready)
-        self.gestures = ZoomGestures(self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan)
+        self.gestures = ZoomGestures(
+            self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan, clock=clock
+        )
         self.toolbar = LiveToolbar()
         self.toolbar.follow.observe(self._on_follow_toggle, names="value")
         self.toolbar.centre.on_click(lambda _b: self.centre())

@@ -26,6 +26,7 @@ from pmk_nb.chair import Odometry, Scan
 from pmk_nb.clock import VirtualClock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.frame_metrics import measured_hold
+from pmk_nb.ui.live.gestures import WHEEL_INTERVAL
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.view import LiveView
 
@@ -325,20 +326,18 @@ def test_every_frame_names_its_layer_for_late_joining_pages() -> None:
 
 
 def test_wheel_and_pinch_zoom_and_garbage_events() -> None:
-    view = LiveView(320, 240, max_zoom=6)
+    clock = VirtualClock()
+    view = LiveView(320, 240, max_zoom=6, clock=clock)
     view.set_map(sample_grid())
     zooms: list[int] = []
     view.on_zoom_change(zooms.append)
     frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": -120})  # wheel up: zoom in
     assert view.zoom == 2
-    # too soon: ignored (the last step stamped as just now plus a margin: a loaded machine can take
-    # longer than WHEEL_INTERVAL between two lines of this test; CI, stop 34)
-    view.gestures.last_wheel = time.monotonic() + 1.0
-    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": -120})
+    clock.advance(WHEEL_INTERVAL / 2)
+    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": -120})  # the same burst: ignored
     assert view.zoom == 2
-    view.gestures.last_wheel = time.monotonic()
-    view.gestures.last_wheel -= 1.0
-    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": 100})
+    clock.advance(WHEEL_INTERVAL)
+    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": 100})  # a new burst: wheel down
     assert view.zoom == 1
     # two fingers 100 px apart spreading to 240 px: 1.5^2 = 2.25 -> two levels up
     frontend_event(view, {"event": "touch_start", "touches": [{"x": 100, "y": 100}, {"x": 200, "y": 100}]})
