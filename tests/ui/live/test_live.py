@@ -489,10 +489,17 @@ def test_render_loop_survives_and_reports_failing_steps() -> None:
     def bad() -> None:
         raise RuntimeError("boom")
 
-    loop = RenderLoop(bad, fps=60, on_error=errors.append, max_errors=5)
+    clock = VirtualClock(start=0.0)
+    loop = RenderLoop(bad, fps=16, on_error=errors.append, max_errors=5, clock=clock)
     loop.start()
-    assert wait_for(lambda: not loop.running, 3.0)  # stopped itself after 5 failures
+    assert clock.wait_for_waiters(1)
+    clock.advance(3 / 16)
+    assert loop.running and len(errors) == 4, "frames at 0, 1/16, 2/16, 3/16 failed: still going"
+    clock.advance(1 / 16)
     assert len(errors) == 5 and str(errors[0]) == "boom"
+    assert not loop.running, "stopped itself after 5 failures"
+    clock.advance(1.0)
+    assert len(errors) == 5
 
 
 def test_live_view_loop_draws_at_most_fps(tmp_path: Path) -> None:
