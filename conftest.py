@@ -15,6 +15,14 @@ one worker's queue, an idle worker steals the light tests from its tail instead.
 still run one at a time (a lock per run, taken before the test's timeout starts): their timing
 goals (a stop within 0.5 s) are measured as they were, one browser and one Voilà at a time.
 
+The ``realtime`` tier (issue 39): what must run in real time (real browsers, real bridges, the
+simulated chair on its own clock, SSH servers, soaks). conftest marks it: every heavy test, and every
+test that uses one of :data:`REALTIME_FIXTURES` (directly or through another fixture); a test may also
+be marked ``@pytest.mark.realtime`` by hand. Its assertions keep margins a busy 2-core machine meets
+and it waits on events, not on sleeps. Every other test is a unit test: time is an input there
+(``pmk_nb.clock.VirtualClock``), and ``tests/project/test_no_wall_clock.py`` fails when one sleeps
+or asserts on the wall clock.
+
 ``make check`` is the fast loop: it also leaves out tests marked ``slow`` (more than half a second on an
 idle machine: a simulated chair driving somewhere, a subprocess, a real-file sweep). So that the tier
 stays fast as tests are added, every run lists the unmarked tests that took more than a second.
@@ -35,6 +43,10 @@ TESTS = Path(__file__).resolve().parent / "tests"
 UNMARKED_SLOW_S = 1.0
 unmarked_slow: dict[str, float] = {}
 HEAVY_FOLDERS = ("browser", "real", "kernels")
+#: fixtures that run something on its own real clock: a test using one is in the realtime tier
+REALTIME_FIXTURES = frozenset(
+    {"sim_factory", "sim_chair", "link_factory", "ros_factory", "sshd_server", "remote_maps_dir"}
+)
 
 
 def is_heavy_path(path: Path) -> bool:
@@ -49,6 +61,8 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.heavy)
         if item.get_closest_marker("browser"):
             browser_modules.add(item.path)
+        if item.get_closest_marker("heavy") or REALTIME_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.realtime)
     # stable: modules stay whole (module fixtures set up once) and keep their order within a tier
     items.sort(key=lambda item: item.path not in browser_modules)
 

@@ -23,10 +23,10 @@ from __future__ import annotations
 
 import logging
 import threading
-import time
 from collections.abc import Callable
 from typing import Protocol
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.drive.claim import ClaimView, DriveClaim, Hold
 from pmk_nb.drive.gate import DriveGate, GateTiming, StopReason
 from pmk_nb.drive.limits import SpeedLimits
@@ -69,7 +69,8 @@ class DriveSession:
         rate: publisher ticks per second (10 to 50).
         on_stop: called with the reason when the gate stops the chair; runs on the publisher
             thread, so it must be quick.
-        clock: monotonic seconds, the same clock as the odometry's ``received``.
+        clock: the session's time and waits (:mod:`pmk_nb.clock`; a ``VirtualClock`` in tests), the
+            same seconds as the odometry's ``received``.
         claim: this page's handle on the chair's shared drive state (one driver per chair, the
             chair-wide Stop); None for a script that is the only driver it knows of.
         stop_goals: what Stop calls to end navigation goals (issue 38: zero velocity does not stop
@@ -86,7 +87,7 @@ class DriveSession:
         rate: float = DEFAULT_RATE,
         timing: GateTiming | None = None,
         on_stop: Callable[[StopReason], None] | None = None,
-        clock: Callable[[], float] = time.monotonic,
+        clock: Clock = MONOTONIC,
         claim: DriveClaim | None = None,
         stop_goals: Callable[[str | None], object] | None = None,
     ) -> None:
@@ -123,7 +124,7 @@ class DriveSession:
         with self._lock:
             if self.gate.driving:
                 self.gate.stop(StopReason.CLOSED)
-            pending = self.gate.tick(self._clock(), True)  # the zero still owed, sent right here
+            pending = self.gate.tick(self._clock.now(), True)  # the zero still owed, sent right here
         self._stop.set()
         self._kick.set()
         thread, self._thread = self._thread, None
@@ -163,7 +164,7 @@ class DriveSession:
 
     def feed(self, text: object) -> StickEvent | None:
         """One message from the page; an invalid one is counted and ignored (never raises)."""
-        now = self._clock()
+        now = self._clock.now()
         try:
             event = parse_stick_message(text)
         except StickMessageError as err:
@@ -186,7 +187,7 @@ class DriveSession:
         """
         with self._lock:
             was = self.gate.driving
-            ok = self.gate.on_twist(v, w, self._clock(), self._admit if self.claim is not None else None)
+            ok = self.gate.on_twist(v, w, self._clock.now(), self._admit if self.claim is not None else None)
             changed = self.gate.driving != was
         if changed:  # the first command goes now, not at the next (idle, slower) tick
             self._kick.set()
@@ -283,9 +284,9 @@ class DriveSession:
         return odom is not None and now - odom.received <= self.gate.timing.odom_fresh
 
     def _run(self, stop: threading.Event) -> None:
-        next_t = self._clock()
+        next_t = self._clock.now()
         while not stop.is_set():
-            now = self._clock()
+            now = self._clock.now()
             ok = self.link_ok(now)
             blocked = self._blocked()
             with self._lock:
@@ -297,10 +298,10 @@ class DriveSession:
                     self.gate.stop(StopReason.LINK)
             self._report_stop()
             period = max(self.period, IDLE_PERIOD_S) if self.gate.idle else self.period
-            next_t = max(next_t + period, self._clock())
-            if self._kick.wait(max(0.0, next_t - self._clock())):
+            next_t = max(next_t + period, self._clock.now())
+            if self._clock.wait(self._kick, max(0.0, next_t - self._clock.now())):
                 self._kick.clear()
-                next_t = self._clock()  # the kicked tick starts the schedule anew
+                next_t = self._clock.now()  # the kicked tick starts the schedule anew
 
     def _report_stop(self) -> None:
         count, cause = self.gate.stop_count, self.gate.last_stop
@@ -330,6 +331,7 @@ def drive_for(
     limits: SpeedLimits | None = None,
     topic: str | None = None,
     claim: DriveClaim | None = None,
+    clock: Clock = MONOTONIC,
 ) -> StopReason | None:
     """Drive at (v, w) for ``seconds`` (blocking), then stop; returns why it stopped early, or None.
 
@@ -337,13 +339,13 @@ def drive_for(
     ``claim`` (e.g. ``DriveClaim(config_dir() / "drive", host, port)``) it drives only when no
     dashboard page does, and a Stop on any page stops it.
     """
-    with DriveSession(link, limits, topic=topic, claim=claim) as session:
-        deadline = time.monotonic() + max(0.0, seconds)
+    with DriveSession(link, limits, topic=topic, claim=claim, clock=clock) as session:
+        deadline = clock.now() + max(0.0, seconds)
         session.push(v, w)
-        while time.monotonic() < deadline:
-            time.sleep(min(0.05, max(0.0, deadline - time.monotonic())))
+        while clock.now() < deadline:
+            clock.sleep(min(0.05, max(0.0, deadline - clock.now())))
             if not session.driving or not session.push(v, w):
                 return session.gate.last_stop
         session.release()
-        time.sleep(2 * session.period)  # the zero goes out from the thread
+        clock.sleep(2 * session.period)  # the zero goes out from the thread
     return None

@@ -133,6 +133,7 @@ def _yaw(link: Any) -> float:
 
 
 @pytest.mark.slow
+@pytest.mark.realtime  # two real page processes, each with its own simulated chair
 def test_two_classroom_pages_have_their_own_chairs(classroom: Any) -> None:
     """Driving one page's chair leaves the other's still; the third page is refused; all end with their kernels."""
     from pmk_nb.chair.link import ChairLink

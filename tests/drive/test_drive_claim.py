@@ -10,22 +10,29 @@ from __future__ import annotations
 import json
 import os
 import stat
-import time
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from pmk_nb.clock import VirtualClock
 from pmk_nb.drive import DriveClaim, DriveGate, DriveSession, Hold, SpeedLimits, StopReason, parse_stick_message
 from pmk_nb.drive.stick import StickEvent, StickMessageError
 
 
-class Clock:
-    def __init__(self, t: float = 1_000_000.0) -> None:
-        self.t = t
+class Clock(VirtualClock):
+    """The virtual clock, with ``t`` to read and move it (``clock.t += 0.05`` advances 50 ms)."""
 
-    def __call__(self) -> float:
-        return self.t
+    def __init__(self, t: float = 1_000_000.0) -> None:
+        super().__init__(t)
+
+    @property
+    def t(self) -> float:
+        return self.now()
+
+    @t.setter
+    def t(self, value: float) -> None:
+        self.advance(value - self.now())
 
 
 def claims(tmp_path: Path, clock: Clock, n: int = 2) -> list[DriveClaim]:
@@ -134,7 +141,7 @@ def tick(session: DriveSession) -> tuple[float, float] | None:
     with session._lock:
         if blocked is not None and session.gate.driving:
             session.gate.stop(blocked)
-        return session.gate.tick(session._clock(), True)
+        return session.gate.tick(session._clock.now(), True)
 
 
 def test_stop_on_page_b_stops_page_a_at_its_next_tick_and_a_drives_only_after_b_releases(tmp_path: Path) -> None:
@@ -221,29 +228,21 @@ def test_an_unusable_shared_folder_drives_nothing(tmp_path: Path) -> None:
 def test_a_press_is_published_at_once_not_at_the_next_tick() -> None:
     """The first command of a press leaves when the page's message is in, not at the publisher's next
     tick (here a minute away, standing for the up to 50 ms a press waited at 20 Hz)."""
-
-    class CountingLink(FakeLink):
-        ticks = 0
-
-        def latest_odom(self) -> Any:
-            self.ticks += 1  # read once per tick
-            return super().latest_odom()
-
     clock = Clock()
-    link = CountingLink(clock)
+    link = TickCounting(clock)
     session = DriveSession(link, clock=clock)
     session.period = 60.0
     session.start()
     try:
-        deadline = time.monotonic() + 30.0
-        while link.ticks == 0 and time.monotonic() < deadline:
-            time.sleep(0.02)
+        assert clock.wait_for_waiters(1), "the publisher thread waits for its next tick"
         assert link.ticks == 1 and link.sent == [], "the first tick ran, with nothing to send"
         session.feed(msg("p", 1, 1, 5.0))
-        while not link.sent and time.monotonic() < deadline:
-            time.sleep(0.02)
-        assert link.sent and link.sent[0][0] > 0.0, "published at once, long before the next tick"
-        assert link.ticks == 2
+        clock.advance(0.0)  # no time passes: only the kicked tick runs
+        assert link.ticks == 2 and len(link.sent) == 1 and link.sent[0][0] > 0.0, "published at once"
+        clock.advance(59.9)
+        assert link.ticks == 2 and len(link.sent) == 1, "nothing until the next tick"
+        clock.advance(0.1)
+        assert link.sent[1:] == [(0.0, 0.0)] and session.gate.last_stop is StopReason.KEEPALIVE
     finally:
         session.close()
 
@@ -258,42 +257,85 @@ class TickCounting(FakeLink):
         return super().latest_odom()
 
 
-def _wait(cond: Any, seconds: float = 10.0) -> bool:
-    deadline = time.monotonic() + seconds
-    while not cond() and time.monotonic() < deadline:
-        time.sleep(0.01)
-    return bool(cond())
+RATE = 16.0  # Hz: a period of 1/16 s, exact in binary, so tick times never round past a deadline
+GO = (0.3, 0.0)
 
 
-@pytest.mark.slow
-def test_an_idle_session_ticks_slowly_and_any_input_wakes_it(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Nothing to send: the publisher ticks every IDLE_PERIOD_S, not 20 times a second (ten classroom
-    pages read their claim files 200 times a second for nothing); a push, a release and the Stop
-    button each reach the chair at once, not at the next idle tick (here a minute away)."""
-    import pmk_nb.drive.session as session_module
+def started(link: FakeLink, clock: Clock) -> DriveSession:
+    session = DriveSession(link, clock=clock, rate=RATE).start()
+    assert clock.wait_for_waiters(1), "the publisher thread waits for its next tick"
+    return session
 
-    link = TickCounting(time.monotonic)
-    session = DriveSession(link)  # 20 Hz while driving
-    monkeypatch.setattr(session_module, "IDLE_PERIOD_S", 0.25, raising=False)
-    session.start()
+
+def test_an_idle_session_ticks_slowly_and_any_input_wakes_it() -> None:
+    """Nothing to send: the publisher ticks every IDLE_PERIOD_S (0.25 s), not at its driving rate (ten
+    classroom pages read their claim files 200 times a second for nothing); a push, a release and
+    the Stop button each reach the chair at once, not at the next idle tick."""
+    clock = Clock()
+    link = TickCounting(clock)
+    session = started(link, clock)
     try:
-        assert _wait(lambda: link.ticks >= 1)
-        time.sleep(1.0)
-        assert link.ticks <= 6, f"{link.ticks} ticks in 1 s while idle (20 Hz would be about 20)"
-        monkeypatch.setattr(session_module, "IDLE_PERIOD_S", 60.0)
-        seen = link.ticks
-        assert _wait(lambda: link.ticks > seen, 3.0), "one more idle tick: the next one is a minute away"
-        before = link.ticks
-        assert session.push(0.3, 0.0)
-        assert _wait(lambda: bool(link.sent)), "a push is published at once"
-        assert link.sent[0] == pytest.approx((0.3, 0.0))
-        assert _wait(lambda: link.ticks >= before + 5), "driving ticks at the full rate"
-        session.push(0.3, 0.0)
+        clock.advance(1.0)
+        assert link.ticks == 5 and link.sent == [], "the first tick and one every 0.25 s while idle"
+        assert session.push(*GO)
+        clock.advance(0.0)
+        assert link.sent == [GO] and link.ticks == 6, "a push is published at once"
+        clock.advance(0.125)
+        assert link.sent == [GO] * 3 and link.ticks == 8, "driving ticks at the full rate"
         session.release()
-        assert _wait(lambda: link.sent[-1] == (0.0, 0.0)), "the release's zero goes at once"
-        sent = len(link.sent)
+        clock.advance(0.0)
+        assert link.sent == [GO] * 3 + [(0.0, 0.0)], "the release's zero goes at once"
+        clock.advance(10.0)
+        assert link.ticks == 9 + 40 and len(link.sent) == 4, "idle again: silence, four ticks a second"
         session.stop()
-        assert _wait(lambda: len(link.sent) == sent + 1), "the Stop button's zero goes at once, though idle"
-        assert link.sent[-1] == (0.0, 0.0)
+        clock.advance(0.0)
+        assert link.sent[4:] == [(0.0, 0.0)], "the Stop button's zero goes at once, though idle"
+    finally:
+        session.close()
+
+
+def test_after_300_ms_of_silence_one_zero_and_nothing_after() -> None:
+    """The keepalive: a push 0.3 s old stops the chair at the next tick with one zero; commands older
+    than 0.2 s are not sent meanwhile; nothing follows the zero."""
+    clock = Clock()
+    link = FakeLink(clock)
+    session = started(link, clock)
+    try:
+        session.push(*GO)
+        clock.advance(0.25)  # ticks at 0, 1/16, 2/16, 3/16 send; 4/16 (0.25 s old) is skipped
+        assert link.sent == [GO] * 4 and session.gate.stats.skipped_ticks == 1
+        clock.advance(0.0625)  # 5/16 s: more than 0.3 s without news
+        assert link.sent == [GO] * 4 + [(0.0, 0.0)] and session.gate.last_stop is StopReason.KEEPALIVE
+        clock.advance(5.0)
+        assert len(link.sent) == 5, "one zero, then silence"
+        assert not session.push(*GO), "the stopped press drives no more"
+    finally:
+        session.close()
+
+
+def test_odometry_older_than_350_ms_stops_the_chair_though_the_pushes_go_on() -> None:
+    """A stale link (odometry frozen) stops the chair at the first tick past ``odom_fresh``."""
+
+    class FrozenOdometry(FakeLink):
+        def __init__(self, clock: Clock) -> None:
+            super().__init__(clock)
+            self.at = clock.now()
+
+        def latest_odom(self) -> Any:
+            return type("Odom", (), {"received": self.at})()
+
+    clock = Clock()
+    link = FrozenOdometry(clock)
+    session = started(link, clock)
+    try:
+        for step in (0.125, 0.125, 0.0625):  # a push every 1/8 s: the page's keepalive holds
+            assert session.push(*GO)
+            clock.advance(step)
+        assert link.sent == [GO] * 6, "0 to 5/16 s: odometry at most 0.3125 s old"
+        clock.advance(0.0625)  # 6/16 s = 0.375 s > 0.35 s
+        assert link.sent == [GO] * 6 + [(0.0, 0.0)] and session.gate.last_stop is StopReason.LINK
+        assert not session.push(*GO)
+        clock.advance(5.0)
+        assert len(link.sent) == 7, "one zero, then silence"
     finally:
         session.close()

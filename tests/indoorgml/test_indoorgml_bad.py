@@ -49,6 +49,7 @@ def _error(path: Path, *needles: str) -> str:
     return msg
 
 
+@pytest.mark.realtime  # a time bound is the point: an expanded entity bomb takes minutes
 def test_billion_laughs_is_refused_quickly(tmp_path: Path) -> None:
     path = _write(tmp_path, "lol.gml", BILLION_LAUGHS)
     start = time.monotonic()

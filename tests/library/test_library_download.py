@@ -200,6 +200,7 @@ def test_download_failures_leave_folder_untouched(
 
 
 @pytest.mark.slow
+@pytest.mark.realtime  # a real trickling server against the download's real deadline
 def test_overall_deadline_cuts_off_a_trickling_server(server: str, folder: MapsFolder) -> None:
     before = snapshot(folder.root)
     url = f"{server}/trickle.gml"

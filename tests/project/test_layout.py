@@ -22,6 +22,7 @@ TOP_LEVEL |= {"defaults.py"}  # the converter's and access check's defaults, dec
 TOP_LEVEL |= {"geometry.py"}  # shapely helpers shared by the openings plan and the rasteriser (issue 25)
 TOP_LEVEL |= {"lazyface.py"}  # the one lazy package face (issue 25)
 TOP_LEVEL |= {"pixels.py"}  # erode by a disc, label regions: the access check, the guide and the witness (issue 37)
+TOP_LEVEL |= {"clock.py"}  # time as an input: the real and the virtual clock (issue 39)
 PACKAGES = {"access", "chair", "cli", "indoorgml", "library", "raster", "robot", "rosmap", "sim", "ui", "viewport"}
 PACKAGES |= {"guide", "speech"}  # rooms and routes by name; spoken feedback
 PACKAGES |= {"drive"}  # the joystick's deadman, pure
@@ -124,6 +125,7 @@ SHARED |= {"defaults"}  # plain numbers: the one declaration of each converter d
 SHARED |= {"geometry"}  # shapely helpers (polygon parts, boxes): a leaf over shapely and numpy
 SHARED |= {"lazyface"}  # the one lazy package face: a name loads only its own module
 SHARED |= {"pixels"}  # numpy pixel maths (erosion, labelling), property-tested against scipy
+SHARED |= {"clock"}  # a stdlib-only leaf: everything that decides by time takes a Clock
 ALLOWED_IMPORTS: dict[str, set[str]] = {
     "viewport": {"grid"},  # the shared grid type and its greys, nothing else
     "grid": set(),
@@ -165,6 +167,7 @@ ALLOWED_IMPORTS["classroom"] = SHARED | {"sim", "chair"}
 ALLOWED_IMPORTS["ui"] |= {"classroom"}
 ALLOWED_IMPORTS["cli"] |= {"classroom"}
 # Library seams (issue 25): leaves over their library, used by the link, the screens and the commands.
+ALLOWED_IMPORTS["clock"] = set()  # a leaf: the standard library only
 ALLOWED_IMPORTS["seams"] = {"lazyface"}  # its face is lazy: one seam never loads another library
 for _user in ("chair", "ui", "cli"):
     ALLOWED_IMPORTS[_user] |= {"seams"}

@@ -277,6 +277,7 @@ def test_leaving_home_stops_the_preview(ctx: AppContext, sim_factory: Any, tmp_p
 
 
 @pytest.mark.slow
+@pytest.mark.realtime  # a real pmk dashboard process and its Voila child
 def test_pmk_dashboard_serves_and_stops(tmp_path: Path) -> None:
     from pmk_nb.cli.procs import free_port, wait_for_port
 

@@ -34,6 +34,7 @@ from websockets.exceptions import WebSocketException
 
 from pmk_nb.chair.link.side_channel import SIDE_ERRORS, side_connect
 from pmk_nb.chair.messages import spell_type
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.goalbeat import RATE_HZ, TOPIC, Beat
 
 if TYPE_CHECKING:
@@ -57,10 +58,22 @@ def client_id() -> str:
 
 
 class GoalHeartbeat:
-    """The beats of one link: active while any goal it tracks is not done, then "idle", then silence."""
+    """The beats of one link: active while any goal it tracks is not done, then "idle", then silence.
 
-    def __init__(self, link: LinkCore, topic: str = TOPIC, rate_hz: float = RATE_HZ, client: str | None = None):
+    ``clock`` paces the beats (a ``VirtualClock`` in tests: the beats of a span are exactly counted).
+    """
+
+    def __init__(
+        self,
+        link: LinkCore,
+        topic: str = TOPIC,
+        rate_hz: float = RATE_HZ,
+        client: str | None = None,
+        *,
+        clock: Clock = MONOTONIC,
+    ):
         self._link = weakref.ref(link)
+        self._clock = clock
         self.topic, self.period = topic, 1.0 / rate_hz
         self.client = client or client_id()
         self._lock = threading.Lock()
@@ -85,7 +98,7 @@ class GoalHeartbeat:
             self._goals.add(key)
             self._idle_left = 0
             self._ensure_thread()
-        self._wake.set()  # the first beat now, not half a period later
+            self._wake.set()  # the first beat now, not half a period later (once: the loop clears it)
 
         def on_update(progress: GoalProgress) -> None:  # roslibpy's I/O thread: store and wake only
             if progress.done:
@@ -102,7 +115,7 @@ class GoalHeartbeat:
             self._goals.discard(key)
             if not self._goals:
                 self._idle_left = IDLE_BEATS
-        self._wake.set()
+            self._wake.set()
 
     def _ensure_thread(self) -> None:  # under self._lock
         if self._thread is None or not self._thread.is_alive():
@@ -118,6 +131,7 @@ class GoalHeartbeat:
     def _beat_loop(self) -> None:
         while True:
             with self._lock:
+                self._wake.clear()  # a wake before this beat is answered by it, not by a second one
                 link = self._link()
                 if link is None or link.ros is None:  # the link is gone or closed: nobody watches any more
                     self._goals.clear()
@@ -131,8 +145,7 @@ class GoalHeartbeat:
             if link is not None:
                 self._send(link, beat)
             del link  # no strong reference while waiting: a dropped link can be collected
-            self._wake.wait(self.period)
-            self._wake.clear()
+            self._clock.wait(self._wake, self.period)
 
     def _send(self, link: LinkCore, beat: Beat) -> None:
         ros = link.ros

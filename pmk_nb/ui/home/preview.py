@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import logging
 import threading
-import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.common.page_lifecycle import page_seen
 from pmk_nb.ui.home.info import CONNECT_TIMEOUT, STOPPED, PreviewSnapshot, unreachable_text
@@ -33,6 +33,7 @@ class PreviewController:
             failed for the link still in use.
         ready: the chair is connected only once this says True: on a Voilà page, its first
             heartbeat (a kernel whose page closed while loading never opens a chair connection).
+        clock: the start time and the wait between looks at ``ready`` (a ``VirtualClock`` in tests).
     """
 
     def __init__(
@@ -40,8 +41,10 @@ class PreviewController:
         on_state: Callable[[], None],
         on_unreachable: Callable[[str], None],
         ready: Callable[[], bool] = page_seen,
+        clock: Clock = MONOTONIC,
     ) -> None:
         self._on_state = on_state
+        self._clock = clock
         self._on_unreachable = on_unreachable
         self._ready = ready
         self._lock = threading.RLock()
@@ -61,7 +64,7 @@ class PreviewController:
         with self._lock:
             self._link = link
             self._connect_error = None
-            self._started = time.monotonic()
+            self._started = self._clock.now()
             self._unsubscribe = link.on_state_change(self._state_changed)
         thread = threading.Thread(target=self._connect, args=(link,), name="pmk-home-connect", daemon=True)
         thread.start()
@@ -99,7 +102,7 @@ class PreviewController:
             with self._lock:
                 if self._link is not link:  # stopped (or the app closed) before the page came
                     return
-            time.sleep(READY_POLL_S)
+            self._clock.sleep(READY_POLL_S)
         try:
             link.connect(timeout=CONNECT_TIMEOUT)
             link.start_streams()

@@ -10,13 +10,13 @@ destination"), press, drag and release go to it instead of the pan; pinch zoom s
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from typing import Protocol
 
 import ipywidgets as w
 from ipycanvas import MultiCanvas
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.ui.common.page_numbers import page_number
 from pmk_nb.ui.common.widgets import TOUCH_PX, button
 
@@ -68,6 +68,7 @@ class ZoomGestures:
         set_zoom: sets a zoom level (clamped by the viewport).
         pinch_zoom: ``(zoom at pinch start, finger distance ratio) -> level``, or None without a map.
         pan: moves the map by (dx, dy) canvas pixels; None: no drag to pan.
+        clock: the wheel bursts' time (a ``VirtualClock`` in tests).
     """
 
     def __init__(
@@ -77,7 +78,10 @@ class ZoomGestures:
         set_zoom: Callable[[int], object],
         pinch_zoom: Callable[[int, float], int | None],
         pan: Callable[[float, float], object] | None = None,
+        *,
+        clock: Clock = MONOTONIC,
     ) -> None:
+        self._clock = clock
         self._zoom = zoom
         self._set_zoom = set_zoom
         self._pinch_zoom = pinch_zoom
@@ -104,7 +108,7 @@ class ZoomGestures:
     def on_wheel(self, dx: object, dy: object) -> None:
         """One zoom step per wheel burst: wheel up (negative delta) zooms in."""
         delta = page_number(dy)
-        now = time.monotonic()
+        now = self._clock.now()
         if delta is None or delta == 0 or now - self.last_wheel < WHEEL_INTERVAL:
             return
         self.last_wheel = now

@@ -13,9 +13,9 @@ import asyncio
 import contextlib
 import logging
 import threading
-import time
 from collections.abc import Callable
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.ui.common.page_lifecycle import page_can_draw
 
 log = logging.getLogger(__name__)
@@ -44,6 +44,8 @@ class RenderLoop:
         ready: a tick draws only while this says True; default :func:`page_lifecycle.page_can_draw`
             (on a Voilà page: not before the page's first heartbeat, or Voilà would buffer every
             frame drawn before the page's websocket exists).
+        clock: the pacing's time and, in the thread mode, its waits (a ``VirtualClock`` in tests:
+            the frames in a span of virtual time are exactly counted).
     """
 
     def __init__(
@@ -54,8 +56,10 @@ class RenderLoop:
         on_error: Callable[[BaseException], None] | None = None,
         max_errors: int = 20,
         ready: Callable[[], bool] = page_can_draw,
+        clock: Clock = MONOTONIC,
     ) -> None:
         self._step = step
+        self._clock = clock
         self._ready = ready
         self.fps = fps
         self._on_error = on_error
@@ -156,13 +160,13 @@ class RenderLoop:
         """
         period = 1.0 / self._fps
         next_t += period
-        now = time.monotonic()
+        now = self._clock.now()
         if next_t < now - period:
             next_t = now
         return max(next_t - now, 0.0), next_t
 
     async def _run_async(self, stop: threading.Event) -> None:
-        next_t = time.monotonic()
+        next_t = self._clock.now()
         while not stop.is_set():
             self._tick(stop)
             delay, next_t = self._next(next_t)
@@ -170,8 +174,8 @@ class RenderLoop:
             await asyncio.sleep(max(delay, 0.002))
 
     def _run_thread(self, stop: threading.Event) -> None:
-        next_t = time.monotonic()
+        next_t = self._clock.now()
         while not stop.is_set():
             self._tick(stop)
             delay, next_t = self._next(next_t)
-            stop.wait(max(delay, 0.001))
+            self._clock.wait(stop, max(delay, 0.001))

@@ -24,6 +24,7 @@ import numpy as np
 from ipycanvas import MultiCanvas
 
 from pmk_nb.chair import Odometry, Pose2D, Scan
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.canvas_fix import make_messages_name_their_layer
 from pmk_nb.ui.live.chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer
@@ -113,6 +114,7 @@ class LiveView:
         map_mode: "tile" (the grid at screen resolution, every wall kept) or "nearest" (one cell
             per pixel, re-sent on every pan: the earlier look, kept for comparisons).
         tile_margin: spare map around the view in the tile, in canvas sizes.
+        clock: the render loop's pacing (a ``VirtualClock`` in tests).
     """
 
     def __init__(
@@ -129,6 +131,7 @@ class LiveView:
         laser_style: str = "points",
         map_mode: str = "tile",
         tile_margin: float = TILE_MARGIN,
+        clock: Clock = MONOTONIC,
     ) -> None:
         if laser_style not in LASER_STYLES:
             raise ValueError(f"laser_style must be one of {LASER_STYLES}, got {laser_style!r}")
@@ -171,9 +174,11 @@ class LiveView:
         self.map_overlays: list[MapOverlay] = []
         self._map_overlay_key: tuple[object, ...] | None = None
         self.metrics = FrameMetrics()
-        self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error)
+        self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error, clock=clock)
         self.canvas.on_client_ready(self._on_client_ready)
-        self.gestures = ZoomGestures(self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan)
+        self.gestures = ZoomGestures(
+            self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan, clock=clock
+        )
         self.toolbar = LiveToolbar()
         self.toolbar.follow.observe(self._on_follow_toggle, names="value")
         self.toolbar.centre.on_click(lambda _b: self.centre())

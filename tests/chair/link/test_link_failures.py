@@ -107,29 +107,35 @@ def _check(host: str, port: int, timeout: float, starts: str) -> None:
     assert set(_link_threads()) <= before  # a failed connect leaves no thread behind
 
 
+@pytest.mark.realtime  # a real socket: the connect's real timeout is the subject
 def test_connection_refused() -> None:
     _check("127.0.0.1", _free_port(), 3.0, "connection refused")
 
 
+@pytest.mark.realtime  # a real socket: the connect's real timeout is the subject
 def test_host_unknown() -> None:
     _check("no-such-host.invalid", 9090, 3.0, "host unknown")
 
 
 @pytest.mark.slow
+@pytest.mark.realtime  # a real socket: the connect's real timeout is the subject
 def test_timed_out_when_the_server_never_answers_the_handshake(silent_tcp: int) -> None:
     _check("127.0.0.1", silent_tcp, 1.5, "timed out")
 
 
 @pytest.mark.slow
+@pytest.mark.realtime  # a real socket: the connect's real timeout is the subject
 def test_plain_http_server_is_not_rosbridge(http_port: int) -> None:
     _check("127.0.0.1", http_port, 3.0, "not a rosbridge server")
 
 
+@pytest.mark.realtime  # a real socket: the connect's real timeout is the subject
 def test_websocket_echo_server_is_not_rosbridge(echo_ws: int) -> None:
     _check("127.0.0.1", echo_ws, 3.0, "not a rosbridge server")
 
 
 @pytest.mark.slow
+@pytest.mark.realtime  # a real socket: the connect's real timeout is the subject
 def test_silent_websocket_server_times_out(silent_ws: int) -> None:
     """Silence cannot be told from a busy rosbridge (issue 9, fault 6): "timed out", both causes named."""
     _check("127.0.0.1", silent_ws, 1.5, "timed out")

@@ -105,9 +105,7 @@ def test_tf_message_time_is_its_first_transform_stamp() -> None:
 
 def test_the_inbox_drops_and_counts_when_full_and_never_waits() -> None:
     inbox = Inbox(limit=3)
-    started = time.monotonic()
-    pushed = [inbox.push("/odom", {"i": i}) for i in range(5)]
-    assert time.monotonic() - started < 5.0  # a blocking put would hang here forever
+    pushed = [inbox.push("/odom", {"i": i}) for i in range(5)]  # a blocking put would hang here forever
     assert pushed == [True, True, True, False, False]
     assert inbox.dropped == 2
     got = [inbox.get(0.01) for _ in range(4)]

@@ -10,6 +10,7 @@ import time
 
 import pytest
 
+from pmk_nb.clock import VirtualClock
 from pmk_nb.ui.home.preview import PreviewController
 
 
@@ -34,23 +35,28 @@ class _Link:
 
 
 def test_the_chair_is_connected_only_after_the_page_is_ready() -> None:
-    ready = threading.Event()
-    ctl = PreviewController(lambda: None, lambda _m: None, ready=ready.is_set)
+    ready, clock = threading.Event(), VirtualClock()
+    ctl = PreviewController(lambda: None, lambda _m: None, ready=ready.is_set, clock=clock)
     link = _Link()
     thread = ctl.start(link)  # type: ignore[arg-type]
-    time.sleep(0.4)
+    assert clock.wait_for_waiters(1)
+    clock.advance(60.0)  # a minute of looks at the page
     assert not link.connected.is_set()  # no page yet: no chair connection
     ready.set()
+    clock.advance(0.1)  # the next look
     thread.join(5.0)
     assert link.connected.is_set() and link.streams == 1
 
 
 def test_a_preview_stopped_before_its_page_came_never_connects() -> None:
-    ctl = PreviewController(lambda: None, lambda _m: None, ready=lambda: False)
+    clock = VirtualClock()
+    ctl = PreviewController(lambda: None, lambda _m: None, ready=lambda: False, clock=clock)
     link = _Link()
     thread = ctl.start(link)  # type: ignore[arg-type]
-    time.sleep(0.2)
+    assert clock.wait_for_waiters(1)
+    clock.advance(0.2)
     ctl.stop()
+    clock.advance(0.1)  # the next look sees the preview stopped
     thread.join(5.0)
     assert not thread.is_alive() and not link.connected.is_set()
 

@@ -23,8 +23,10 @@ import pytest
 from ipycanvas.canvas import _CMD_LIST
 
 from pmk_nb.chair import Odometry, Scan
+from pmk_nb.clock import VirtualClock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.frame_metrics import measured_hold
+from pmk_nb.ui.live.gestures import WHEEL_INTERVAL
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.view import LiveView
 
@@ -160,7 +162,7 @@ def test_blind_rays_are_ticks_at_the_chair_never_free_rays() -> None:
             "range_min": 0.1,
             "range_max": 30.0,
         },
-        received=time.monotonic(),
+        received=100.0,  # drawn as given: the time of arrival plays no part here
     )
     strokes: list[tuple[str, np.ndarray]] = []
 
@@ -324,20 +326,18 @@ def test_every_frame_names_its_layer_for_late_joining_pages() -> None:
 
 
 def test_wheel_and_pinch_zoom_and_garbage_events() -> None:
-    view = LiveView(320, 240, max_zoom=6)
+    clock = VirtualClock()
+    view = LiveView(320, 240, max_zoom=6, clock=clock)
     view.set_map(sample_grid())
     zooms: list[int] = []
     view.on_zoom_change(zooms.append)
     frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": -120})  # wheel up: zoom in
     assert view.zoom == 2
-    # too soon: ignored (the last step stamped as just now plus a margin: a loaded machine can take
-    # longer than WHEEL_INTERVAL between two lines of this test; CI, stop 34)
-    view.gestures.last_wheel = time.monotonic() + 1.0
-    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": -120})
+    clock.advance(WHEEL_INTERVAL / 2)
+    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": -120})  # the same burst: ignored
     assert view.zoom == 2
-    view.gestures.last_wheel = time.monotonic()
-    view.gestures.last_wheel -= 1.0
-    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": 100})
+    clock.advance(WHEEL_INTERVAL)
+    frontend_event(view, {"event": "mouse_wheel", "x": 0, "y": 100})  # a new burst: wheel down
     assert view.zoom == 1
     # two fingers 100 px apart spreading to 240 px: 1.5^2 = 2.25 -> two levels up
     frontend_event(view, {"event": "touch_start", "touches": [{"x": 100, "y": 100}, {"x": 200, "y": 100}]})
@@ -450,18 +450,18 @@ def test_measured_hold_counts_real_payload_with_one_send_wrapper_installed_once(
 
 
 # -- render loop ---------------------------------------------------------------------------------------
-@pytest.mark.slow
 def test_render_loop_thread_mode_caps_the_rate_and_stops() -> None:
+    clock = VirtualClock(start=0.0)
     calls: list[float] = []
-    loop = RenderLoop(lambda: calls.append(time.monotonic()), fps=20)
+    loop = RenderLoop(lambda: calls.append(clock.now()), fps=16, clock=clock)  # 1/16 s: exact in binary
     assert loop.start() == "thread"  # no asyncio loop in this thread
-    time.sleep(0.5)
+    assert clock.wait_for_waiters(1)
+    clock.advance(1.0)
+    assert calls == [i / 16 for i in range(17)], "the first frame at once, then one per 1/16 s"
     loop.stop()
     assert not loop.running
-    n = len(calls)
-    assert 3 <= n <= 12  # 20 fps for 0.5 s = 10 frames, never more than the cap allows
-    time.sleep(0.15)
-    assert len(calls) == n  # really stopped
+    clock.advance(1.0)
+    assert len(calls) == 17  # really stopped
 
 
 def test_render_loop_asyncio_mode_runs_on_the_calling_loop() -> None:
@@ -489,28 +489,41 @@ def test_render_loop_survives_and_reports_failing_steps() -> None:
     def bad() -> None:
         raise RuntimeError("boom")
 
-    loop = RenderLoop(bad, fps=60, on_error=errors.append, max_errors=5)
+    clock = VirtualClock(start=0.0)
+    loop = RenderLoop(bad, fps=16, on_error=errors.append, max_errors=5, clock=clock)
     loop.start()
-    assert wait_for(lambda: not loop.running, 3.0)  # stopped itself after 5 failures
+    assert clock.wait_for_waiters(1)
+    clock.advance(3 / 16)
+    assert loop.running and len(errors) == 4, "frames at 0, 1/16, 2/16, 3/16 failed: still going"
+    clock.advance(1 / 16)
     assert len(errors) == 5 and str(errors[0]) == "boom"
+    assert not loop.running, "stopped itself after 5 failures"
+    clock.advance(1.0)
+    assert len(errors) == 5
 
 
-@pytest.mark.slow
 def test_live_view_loop_draws_at_most_fps(tmp_path: Path) -> None:
-    view = LiveView(200, 150, fps=10)
+    """Odometry at 256 Hz, a view capped at 8 fps: half a second draws four new frames (1/8 .. 4/8 s;
+    the frame at 0 s has nothing new: the pose was drawn when the source was attached)."""
+    clock = VirtualClock(start=0.0)
+    view = LiveView(200, 150, fps=8, clock=clock)
     view.set_map(sample_grid())
     src = Source()
+    src.move(3.5, 2.0)
     view.attach(src)
     view.start()
     try:
-        end = time.monotonic() + 0.6
-        while time.monotonic() < end:  # "odometry" at ~200 Hz
-            src.move(3.0 + (end - time.monotonic()), 2.0)
-            time.sleep(0.005)
+        assert clock.wait_for_waiters(1)
+        before = view.metrics.frames
+        assert view.metrics.skipped == 1, "the first tick, with nothing new"
+        for i in range(128):
+            src.move(3.0 + i / 256, 2.0)
+            clock.advance(1 / 256)
     finally:
         view.stop()
-    assert 2 <= view.metrics.frames <= 9
-    assert view.metrics.odom_delay_ms and max(view.metrics.odom_delay_ms) < 1000
+    assert view.metrics.frames - before == 4 and view.metrics.skipped == 1
+    clock.advance(1.0)
+    assert view.metrics.frames - before == 4, "stopped: no frame after"
 
 
 # -- Home screen against a simulated chair and the real ChairLink ----------------------------------------
@@ -776,6 +789,7 @@ print(view.start(Moving()))
 
 
 @pytest.mark.slow
+@pytest.mark.realtime  # a real kernel's own event loop draws between cells
 def test_render_loop_runs_on_the_kernels_event_loop_between_cells() -> None:
     """In ipykernel (JupyterLab, Voilà) the loop is an asyncio task that keeps drawing while idle."""
     from jupyter_client.manager import start_new_kernel
