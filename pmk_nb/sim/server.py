@@ -337,22 +337,30 @@ class SimChair:
         register_rosapi(bridge, self.names, time.time)
         self.engine.attach(bridge)
         await self.mapserver.set_grid(grid, source)
-        server = await serve(
-            bridge.handle,
-            self.host,
-            self._port,
-            compression=None,
-            max_size=16 * 2**20,
-            reuse_address=True,
-            ssl=self._server_tls(),
-        )
+        # SFTP listens before rosbridge does: whoever finds rosbridge listening (pmk demo waits on it, then
+        # on SFTP) finds our SFTP server too, never another program that took its port meanwhile
         sftp = None
+        if self.sftp_port_wanted is not None:
+            from pmk_nb.sim.sftp import start_sftp
+
+            sftp = await start_sftp(self)
+        try:
+            server = await serve(
+                bridge.handle,
+                self.host,
+                self._port,
+                compression=None,
+                max_size=16 * 2**20,
+                reuse_address=True,
+                ssl=self._server_tls(),
+            )
+        except BaseException:
+            if sftp is not None:
+                sftp.close()
+                await sftp.wait_closed()
+            raise
         try:
             self._port = int(next(iter(server.sockets)).getsockname()[1])
-            if self.sftp_port_wanted is not None:
-                from pmk_nb.sim.sftp import start_sftp
-
-                sftp = await start_sftp(self)
             tasks = self.engine.tasks()
             ready.set()
             await self._stop_event.wait()
