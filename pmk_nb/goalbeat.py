@@ -54,6 +54,10 @@ class Beat:
 #: goal now": the watchdog cancels them natively (Nav2's CancelGoal with a zero id, move_base's empty
 #: GoalID), because a bridge may hold a client's own cancel behind the goal it cancels.
 STOP_TOPIC = "/pmk/stop"
+#: A dashboard repeats its Stop for this long at this rate on a socket of its own (a bridge's new
+#: publisher meets the watchdog's subscription only after discovery); the watchdog takes the repeats
+#: of one dashboard within that window as one press
+STOP_REPEAT_S, STOP_REPEAT_HZ = 3.0, 10.0
 
 
 def stop_message(client: str) -> str:

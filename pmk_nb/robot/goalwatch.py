@@ -14,7 +14,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from pmk_nb.goalbeat import SILENCE_S, Beat
+from pmk_nb.goalbeat import SILENCE_S, STOP_REPEAT_S, Beat
 
 READY_LINE = "pmk robot goal-watchdog: ready"
 
@@ -34,6 +34,23 @@ class Change:
 
     client: str
     armed: bool
+
+
+class StopDebounce:
+    """One cancel-all per Stop: a dashboard repeats its Stop for a while (:data:`STOP_REPEAT_S`), so the
+    repeats of one client within that window are the same press."""
+
+    def __init__(self, window_s: float = STOP_REPEAT_S + 0.5, clock: Callable[[], float] = time.monotonic) -> None:
+        self.window_s = window_s
+        self._clock = clock
+        self._last: dict[str, float] = {}
+
+    def admit(self, client: str) -> bool:
+        """True for a new press of ``client``'s Stop, False for a repeat of the last one."""
+        now = self._clock()
+        last = self._last.get(client)
+        self._last[client] = now
+        return last is None or now - last > self.window_s
 
 
 class GoalWatch:

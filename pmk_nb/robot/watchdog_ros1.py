@@ -20,7 +20,7 @@ import threading
 from typing import Any
 
 from pmk_nb.goalbeat import SILENCE_S, STOP_TOPIC, TOPIC, Beat, stop_client
-from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch
+from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch, StopDebounce
 
 CANCEL_TOPIC = "/move_base/cancel"
 TICK_S = 0.1
@@ -44,6 +44,7 @@ class Ros1Watchdog:
         self.stop_subscriber = rospy.Subscriber(stop_topic, String, self.on_stop, queue_size=10)
         self.timer = rospy.Timer(rospy.Duration(TICK_S), self.on_tick)
         self.cancels_sent = 0
+        self.stops = StopDebounce()
 
     def on_beat(self, msg: Any) -> None:
         beat = Beat.decode(msg.data)
@@ -61,10 +62,12 @@ class Ros1Watchdog:
         self.cancel_pub.publish(self.goal_id())
         with self.lock:
             self.cancels_sent += 1
-        self.rospy.logwarn(
-            f"{stop_client(msg.data)}: Stop pressed: "
-            f"published an empty GoalID on {self.cancel_topic} (cancel all goals)"
-        )
+            new = self.stops.admit(stop_client(msg.data))
+        if new:  # the dashboard repeats a Stop for a while: each repeat cancels again, one line per press
+            self.rospy.logwarn(
+                f"{stop_client(msg.data)}: Stop pressed: "
+                f"published an empty GoalID on {self.cancel_topic} (cancel all goals)"
+            )
 
     def on_tick(self, _event: Any) -> None:
         with self.lock:

@@ -21,7 +21,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from pmk_nb.goalbeat import SILENCE_S, STOP_TOPIC, TOPIC, Beat, stop_client
-from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch, Trip
+from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch, StopDebounce, Trip
 
 ACTIONS = ("/navigate_to_pose", "/navigate_through_poses")
 TICK_S = 0.1
@@ -53,6 +53,7 @@ class Ros2Watchdog:
         self.stop_subscription = node.create_subscription(String, stop_topic, self.on_stop, qos)
         self.timer = node.create_timer(TICK_S, self.on_tick)
         self.cancels_sent = 0
+        self.stops = StopDebounce()
 
     def on_beat(self, msg: Any) -> None:
         beat = Beat.decode(msg.data)
@@ -65,28 +66,35 @@ class Ros2Watchdog:
             self.log.info(f"{change.client}: {what}")
 
     def on_stop(self, msg: Any) -> None:
-        """The dashboard's Stop: every goal ends now (any message counts: a Stop errs on stopping)."""
-        self.cancel_all(f"{stop_client(msg.data)}: Stop pressed")
+        """The dashboard's Stop: every goal ends now (any message counts: a Stop errs on stopping). The
+        dashboard repeats a Stop for a while: each repeat cancels again, only a new press is logged."""
+        client = stop_client(msg.data)
+        self.cancel_all(f"{client}: Stop pressed", quiet=not self.stops.admit(client))
 
     def on_tick(self) -> None:
         for trip in self.watch.tick():
             self.cancel_all(silent_text(trip))
 
-    def cancel_all(self, why: str) -> None:
-        """Cancel every goal of every watched action (zero id + zero stamp = all goals)."""
-        self.log.warning(f"{why}: cancelling all goals of {', '.join(self.clients)}")
+    def cancel_all(self, why: str, *, quiet: bool = False) -> None:
+        """Cancel every goal of every watched action (zero id + zero stamp = all goals); ``quiet``: a repeat
+        of the last Stop, sent but not logged."""
+        if not quiet:
+            self.log.warning(f"{why}: cancelling all goals of {', '.join(self.clients)}")
         for name, client in self.clients.items():
             if not client.service_is_ready():
-                self.log.info(f"{name}: no action server offers cancel_goal here; nothing to cancel")
+                if not quiet:
+                    self.log.info(f"{name}: no action server offers cancel_goal here; nothing to cancel")
                 continue
             future = client.call_async(self.cancel_type.Request())  # all fields zero: cancel all
-            future.add_done_callback(lambda f, name=name: self._cancelled(name, f))
+            future.add_done_callback(lambda f, name=name, quiet=quiet: self._cancelled(name, f, quiet))
             self.cancels_sent += 1
 
-    def _cancelled(self, name: str, future: Any) -> None:
+    def _cancelled(self, name: str, future: Any, quiet: bool = False) -> None:
         reply = future.result()
         if reply is None:
             self.log.error(f"{name}: the cancel request failed: {future.exception()}")
+            return
+        if quiet:
             return
         code = CANCEL_CODES.get(reply.return_code, str(reply.return_code))
         self.log.warning(f"{name}: cancel {code}; {len(reply.goals_canceling)} goal(s) cancelling")

@@ -34,7 +34,7 @@ from pmk_nb.chair.link.goal import MOVE_BASE, NAV2_ACTION, NAV2_THROUGH, GoalHan
 from pmk_nb.chair.link.heartbeat import client_id
 from pmk_nb.chair.link.side_channel import SIDE_ERRORS, ZERO, side_connect
 from pmk_nb.chair.messages import spell_type
-from pmk_nb.goalbeat import STOP_TOPIC, stop_message
+from pmk_nb.goalbeat import STOP_REPEAT_HZ, STOP_REPEAT_S, STOP_TOPIC, stop_message
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore
@@ -127,10 +127,13 @@ def native_stop(link: LinkCore, cmd_vel_topic: str) -> bool:
             for message in _stop_messages(version, cmd_vel_topic):
                 ws.send(json.dumps(message))
             publish = json.dumps({"op": "publish", "topic": cmd_vel_topic, "msg": ZERO})
+            stop = json.dumps({"op": "publish", "topic": STOP_TOPIC, "msg": {"data": stop_message(client_id())}})
             for _ in range(round(BURST_HZ * BURST_S)):
                 ws.send(publish)
+                ws.send(stop)
                 time.sleep(1.0 / BURST_HZ)
             ws.send(json.dumps({"op": "unadvertise", "topic": cmd_vel_topic}))
+        threading.Thread(target=_repeat_stop, args=(link, stop), daemon=True, name="pmk-stop-repeat").start()
     except STOP_ERRORS as err:
         LOG.warning(
             "stop over a second connection to %s:%s failed (%s): zero velocity on the link", link.host, link.port, err
@@ -140,6 +143,25 @@ def native_stop(link: LinkCore, cmd_vel_topic: str) -> bool:
             time.sleep(1.0 / BURST_HZ)
         return False
     return True
+
+
+def _repeat_stop(link: LinkCore, stop: str) -> None:
+    """The Stop again for :data:`STOP_REPEAT_S` on a socket of its own: the publisher a bridge creates on
+    an advertise meets the watchdog's subscription only after discovery (rosbridge-server-rs: a Stop
+    sent on a socket that lives a quarter of a second never reached it), and the cancels and the zero
+    burst above must not wait for that."""
+    try:
+        with side_connect(link) as ws:
+            ws.send(
+                json.dumps(
+                    {"op": "advertise", "topic": STOP_TOPIC, "type": spell_type("std_msgs/String", link.ros_version)}
+                )
+            )
+            for _ in range(round(STOP_REPEAT_S * STOP_REPEAT_HZ)):
+                ws.send(stop)
+                time.sleep(1.0 / STOP_REPEAT_HZ)
+    except STOP_ERRORS as err:
+        LOG.warning("repeating the Stop to %s:%s failed (%s)", link.host, link.port, err)
 
 
 def _stop_messages(version: int | None, cmd_vel_topic: str) -> list[dict[str, object]]:

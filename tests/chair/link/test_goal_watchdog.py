@@ -216,3 +216,18 @@ def test_closing_the_link_mid_goal_stops_the_beats_without_idle(sim_factory, lin
     time.sleep(1.5)
     assert [b for b in listener.since(closed) if not b.active] == []
     assert listener.since(closed + 0.3) == []
+
+
+def test_the_watchdog_takes_a_dashboards_repeated_stop_as_one_press() -> None:
+    """A dashboard repeats its Stop for STOP_REPEAT_S (a bridge's new publisher meets the watchdog only
+    after discovery); each repeat still cancels, but the log says one press per dashboard and window."""
+    from pmk_nb.goalbeat import STOP_REPEAT_S
+    from pmk_nb.robot.goalwatch import StopDebounce
+
+    now = [100.0]
+    stops = StopDebounce(clock=lambda: now[0])
+    assert stops.admit("page-a")
+    now[0] += STOP_REPEAT_S / 2
+    assert not stops.admit("page-a") and stops.admit("page-b")  # a repeat; another dashboard's own press
+    now[0] += STOP_REPEAT_S + 0.6
+    assert stops.admit("page-a")  # a new press after the window
