@@ -36,10 +36,11 @@ def _mac(secret: str, rand: str, t: int, end: int) -> str:
 def _closed_after(port: int, first: dict[str, Any]) -> bool:
     """Send ``first`` then subscribe to /odom: True when the chair closes the socket without serving it."""
     with connect(f"ws://127.0.0.1:{port}", open_timeout=5) as ws:
-        ws.send(json.dumps(first))
-        ws.send(json.dumps({"op": "subscribe", "topic": "/odom", "type": "nav_msgs/Odometry"}))
         deadline = time.monotonic() + 10
         try:
+            ws.send(json.dumps(first))
+            # The chair may close the socket before the second frame goes out: that is a refusal too.
+            ws.send(json.dumps({"op": "subscribe", "topic": "/odom", "type": "nav_msgs/Odometry"}))
             while time.monotonic() < deadline:
                 msg = json.loads(ws.recv(timeout=deadline - time.monotonic()))
                 if msg.get("op") == "publish":
