@@ -212,7 +212,7 @@ def read_map(
     except Exception as err:  # Pillow raises many types for corrupt files
         msg = f"{info.path}: cannot read image {info.image}: {err}"
         raise MapLoadError(msg, INVALID_MAP_DATA, path=str(info.image)) from err
-    height, width = img.rgba.shape[:2]
+    height, width = img.size
     if reader == "nav2_jazzy" and max(width, height) > NAV2_MAX_CELLS_PER_SIDE:
         raise MapLoadError(
             f"{info.image}: {width}x{height} pixels; Nav2 Jazzy+ rejects maps wider or taller than "
@@ -227,9 +227,10 @@ def read_map(
         negate=info.negate,
         occupied_thresh=info.occupied_thresh,
         free_thresh=info.free_thresh,
+        bottom_up=True,
     )
     return OccupancyGrid(
-        data=np.ascontiguousarray(data[::-1]),
+        data=data,
         resolution=info.resolution,
         origin=info.origin,
         frame_id="map",

@@ -48,8 +48,28 @@ def header_size(path: Path) -> tuple[int, int] | None:
     return values[0], values[1]
 
 
+def gray_pgm_layout(path: Path) -> tuple[int, int, int] | None:
+    """(width, height, offset of the first pixel byte) of a binary PGM of one byte a sample (maxval 255),
+    else None: the one layout whose pixels are the file's bytes as they stand.
+
+    Raises:
+        MalformedImageHeader: a Netpbm header that breaks the grammar. OSError: the file cannot be read.
+    """
+    with open(path, "rb") as fh:
+        head = fh.read(MAX_HEADER_BYTES)
+    if head[:2] != b"P5":
+        return None
+    values, end = _netpbm_header(head, 3, path)
+    return (values[0], values[1], end) if values[2] == 255 else None
+
+
 def netpbm_tokens(head: bytes, count: int, path: Path) -> list[int]:
     """The ``count`` decimal tokens after a Netpbm magic number, by the grammar (see the module)."""
+    return _netpbm_header(head, count, path)[0]
+
+
+def _netpbm_header(head: bytes, count: int, path: Path) -> tuple[list[int], int]:
+    """:func:`netpbm_tokens` and the offset just past the whitespace byte that ends the header."""
 
     def bad(reason: str) -> MalformedImageHeader:
         return MalformedImageHeader(
@@ -85,7 +105,7 @@ def netpbm_tokens(head: bytes, count: int, path: Path) -> list[int]:
         raise bad(f"a side of 0 pixels ({values[0]}x{values[1]})")
     if count == 3 and not 0 < values[2] <= MAX_MAXVAL:
         raise bad(f"maxval {values[2]} outside 1..{MAX_MAXVAL}")
-    return values
+    return values, pos
 
 
 def _comment_end(head: bytes, pos: int) -> int:

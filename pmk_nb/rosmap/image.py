@@ -19,7 +19,6 @@ Our writer only ever emits gray 0 / 254 / 205 without alpha, the one encoding al
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO, Literal
 
@@ -29,7 +28,7 @@ from pmk_nb.grid import GRAY_LUT as _GRAY_LUT
 from pmk_nb.grid import GRAY_UNKNOWN as GRAY_UNKNOWN  # the greys are the grid's
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.rosmap.guard import check_agrees, check_decode, refused_by_decoder
-from pmk_nb.rosmap.header import header_size
+from pmk_nb.rosmap.header import gray_pgm_layout, header_size
 
 #: The map server image readers copied here; ``read_map(..., reader=...)`` picks one.
 ImageReader = Literal["ros1", "nav2_humble", "nav2_jazzy"]
@@ -39,21 +38,36 @@ GRAY_OCCUPIED = 0
 GRAY_FREE = 254
 
 
-@dataclass
 class DecodedImage:
     """What each loader sees of one image file.
 
     Attributes:
-        rgba: (H, W, 4) uint8, palette resolved, gray expanded (what GraphicsMagick reports).
+        rgba: (H, W, 4) uint8, palette resolved, gray expanded (what GraphicsMagick reports); for an
+            opaque 8-bit gray file (``rgba=None`` given) expanded from ``sdl`` only when a reader asks:
+            four bytes a pixel cost a 100 M-cell map 400 MB that the gray lookup never reads.
         has_alpha: the file carries transparency (GraphicsMagick ``matte()``).
         sdl: (H, W, C) uint8, the SDL_image surface bytes ROS 1 averages (C = 1, 3 or 4).
         sdl_alpha_mask: the SDL surface has an alpha mask (changes ROS 1's averaging in scale mode).
     """
 
-    rgba: np.ndarray
-    has_alpha: bool
-    sdl: np.ndarray
-    sdl_alpha_mask: bool
+    def __init__(self, *, rgba: np.ndarray | None, has_alpha: bool, sdl: np.ndarray, sdl_alpha_mask: bool) -> None:
+        self._rgba = rgba
+        self.gray_only = rgba is None  # an opaque 8-bit gray image: sdl holds every reader's view
+        self.has_alpha = has_alpha
+        self.sdl = sdl
+        self.sdl_alpha_mask = sdl_alpha_mask
+
+    @property
+    def rgba(self) -> np.ndarray:
+        if self._rgba is None:
+            gray = self.sdl[..., 0]
+            self._rgba = np.stack([gray, gray, gray, np.full_like(gray, 255)], axis=2)
+        return self._rgba
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(height, width) in pixels."""
+        return int(self.sdl.shape[0]), int(self.sdl.shape[1])
 
 
 def decode_image(path: Path, *, max_pixels: int | None = None) -> DecodedImage:
@@ -67,6 +81,9 @@ def decode_image(path: Path, *, max_pixels: int | None = None) -> DecodedImage:
         MapImageTooLarge: over the cap. MalformedImageHeader: a header that breaks its grammar.
         OSError / ValueError: the file is missing or not a readable image (callers wrap these).
     """
+    raw = _raw_gray_pgm(path, max_pixels)
+    if raw is not None:
+        return raw
     from PIL import Image
 
     declared = header_size(path)
@@ -84,6 +101,10 @@ def decode_image(path: Path, *, max_pixels: int | None = None) -> DecodedImage:
         fmt = (im.format or "").upper()
         mode = im.mode
         has_alpha = mode in ("RGBA", "LA", "PA") or "transparency" in im.info
+        if mode == "L" and not has_alpha:  # the common map: one gray byte a pixel, nothing else to see
+            return DecodedImage(
+                rgba=None, has_alpha=False, sdl=np.asarray(im, dtype=np.uint8)[..., None], sdl_alpha_mask=False
+            )
         rgba = np.asarray(im.convert("RGBA"), dtype=np.uint8)
         if mode == "P":
             sdl = np.asarray(im, dtype=np.uint8)[..., None]  # SDL: 8-bit surface of palette indices
@@ -109,6 +130,35 @@ def decode_image(path: Path, *, max_pixels: int | None = None) -> DecodedImage:
     return DecodedImage(rgba=rgba, has_alpha=has_alpha, sdl=sdl, sdl_alpha_mask=sdl_amask)
 
 
+def _raw_gray_pgm(path: Path, max_pixels: int | None) -> DecodedImage | None:
+    """A binary 8-bit PGM (what map_saver and we write) read straight from its bytes, as Pillow decodes
+    it: the pixels are the bytes after the header. Pillow's decode held three copies of a 100 M-cell
+    map at once (its image, the chunks it joins, the joined bytes). None for any other file, and for
+    one too short for its header's size (Pillow says how it is truncated)."""
+    from PIL import Image
+
+    layout = gray_pgm_layout(path)
+    if layout is None:
+        return None
+    width, height, offset = layout
+    if max_pixels is not None:
+        check_decode(path, (width, height), "L", False, max_pixels)
+    with open(path, "rb") as fh:
+        plain = b"#" not in fh.read(offset)  # a comment-free header: one reading of it, ours and Pillow's
+    if not plain or path.stat().st_size < offset + width * height:
+        return None
+    try:
+        opened = Image.open(path)  # the header only: Pillow must read the size the grammar read
+    except Image.DecompressionBombError:
+        return None  # the general way says why
+    with opened as im:
+        check_agrees(path, header_size(path), im.size)
+        if im.mode != "L":
+            return None
+    pixels = np.fromfile(path, dtype=np.uint8, count=width * height, offset=offset)
+    return DecodedImage(rgba=None, has_alpha=False, sdl=pixels.reshape(height, width, 1), sdl_alpha_mask=False)
+
+
 def image_to_data(
     img: DecodedImage,
     *,
@@ -117,12 +167,22 @@ def image_to_data(
     negate: bool,
     occupied_thresh: float,
     free_thresh: float,
+    bottom_up: bool = False,
 ) -> np.ndarray:
-    """Occupancy values (int8, image row order: row 0 = top) exactly as ``reader`` computes them."""
+    """Occupancy values (int8) exactly as ``reader`` computes them, in image row order (row 0 = top), or
+    the grid's (row 0 = bottom) with ``bottom_up``: a big gray map is looked up in that order, not
+    flipped after (a second copy of a 100 M-cell grid)."""
     gray = _plain_gray(img)
     if gray is not None:  # one value per pixel: the reader's answer for each of the 256 grays, looked up
         table = _by_value(reader, mode, negate, occupied_thresh, free_thresh)
-        return np.asarray(table[gray])
+        return np.asarray(table[gray[::-1] if bottom_up else gray])
+    out = _read(img, reader=reader, mode=mode, negate=negate, occupied_thresh=occupied_thresh, free_thresh=free_thresh)
+    return np.ascontiguousarray(out[::-1]) if bottom_up else out
+
+
+def _read(
+    img: DecodedImage, *, reader: str, mode: str, negate: bool, occupied_thresh: float, free_thresh: float
+) -> np.ndarray:
     if reader == "ros1":
         return _ros1(img, mode, negate, occupied_thresh, free_thresh)
     if reader == "nav2_humble":
@@ -139,6 +199,8 @@ WRITE_CHUNK_CELLS = 65536  # cells turned into image bytes at once while writing
 def _plain_gray(img: DecodedImage) -> np.ndarray | None:
     """The (H, W) gray values when every reader sees one opaque gray per pixel (8-bit gray files,
     by far the most common maps), else None. Big maps only."""
+    if img.gray_only and img.sdl[..., 0].size >= LOOKUP_MIN_PIXELS:
+        return img.sdl[..., 0]
     if img.has_alpha or img.sdl_alpha_mask or img.sdl.shape[2] != 1 or img.sdl[..., 0].size < LOOKUP_MIN_PIXELS:
         return None
     gray = img.sdl[..., 0]

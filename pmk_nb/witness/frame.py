@@ -68,33 +68,40 @@ class MapFrame:
         ys = self.y0 + (np.arange(win.r0, win.r1) + 0.5) * self.resolution
         return np.meshgrid(xs, ys)
 
-    def mask(self, win: Window, geometry: BaseGeometry) -> np.ndarray:
+    def mask(self, win: Window, geometry: BaseGeometry, outline: Outline | None = None) -> np.ndarray:
         """True where a pixel centre of ``win`` lies inside ``geometry`` (even-odd rule over every ring).
 
         The witness's own fill: each ring's edges cross the rows of pixel centres, crossings are paired
         along each row and the spans between them are set, so a shape costs its pixels plus its edges.
+        ``outline``: the shape's :func:`outline`, for a shape drawn many times (once per strip).
         """
-        out = np.zeros(win.shape, dtype=bool)
-        edges = _edges(geometry)
+        edges, bounds = outline if outline is not None else (_edges(geometry), geometry.bounds)
         if win.empty or not len(edges):
-            return out
-        box = self.window(geometry.bounds, 1)
+            return np.zeros(win.shape, dtype=bool)
+        box = self.window(bounds, 1)
         sub = Window(max(box.r0, win.r0), min(box.r1, win.r1), max(box.c0, win.c0), min(box.c1, win.c1))
-        if sub.empty:
-            return out
-        out[sub.r0 - win.r0 : sub.r1 - win.r0, sub.c0 - win.c0 : sub.c1 - win.c0] = self._fill(sub, edges)
+        if sub == win:
+            return self._fill(win, edges)
+        out = np.zeros(win.shape, dtype=bool)
+        if not sub.empty:
+            out[sub.r0 - win.r0 : sub.r1 - win.r0, sub.c0 - win.c0 : sub.c1 - win.c0] = self._fill(sub, edges)
         return out
 
     def _fill(self, win: Window, edges: np.ndarray) -> np.ndarray:
         """The even-odd fill of ``edges`` over the pixel centres of ``win``."""
-        out = np.zeros(win.shape, dtype=bool)
         r = self.resolution
         ya, yb = edges[:, 1], edges[:, 3]
         lo = np.maximum(np.ceil((np.minimum(ya, yb) - self.y0) / r - 0.5), win.r0).astype(np.int64)
         hi = np.minimum(np.ceil((np.maximum(ya, yb) - self.y0) / r - 0.5), win.r1).astype(np.int64)
+        if len(edges) == 2 and lo[0] == lo[1] and hi[0] == hi[1] and (edges[:, 0] == edges[:, 2]).all():
+            # an upright rectangle (most rooms): the same rows and columns as the general fill, as a slice
+            out = np.zeros(win.shape, dtype=bool)
+            cols = np.clip(np.ceil((np.sort(edges[:, 0]) - self.x0) / r - 0.5).astype(np.int64), win.c0, win.c1)
+            out[lo[0] - win.r0 : hi[0] - win.r0, cols[0] - win.c0 : cols[1] - win.c0] = True
+            return out
         spans = np.maximum(hi - lo, 0)
         if not spans.sum():
-            return out
+            return np.zeros(win.shape, dtype=bool)
         which = np.repeat(np.arange(len(edges)), spans)
         rows = lo[which] + (np.arange(spans.sum()) - np.repeat(np.cumsum(spans) - spans, spans))
         y = self.y0 + (rows + 0.5) * r
@@ -106,8 +113,8 @@ class MapFrame:
         diff = np.zeros((win.shape[0], win.shape[1] + 1), dtype=np.int8)  # spans are disjoint: 0 or 1
         np.add.at(diff, (rows[0::2] - win.r0, cols[0::2]), 1)
         np.add.at(diff, (rows[1::2] - win.r0, cols[1::2]), -1)
-        out[:] = np.cumsum(diff, axis=1, dtype=np.int8)[:, :-1] > 0
-        return out
+        np.cumsum(diff, axis=1, dtype=np.int8, out=diff)
+        return diff[:, :-1] > 0
 
     def paste(self, win: Window, part: Window, mask: np.ndarray) -> np.ndarray:
         """``mask`` (over ``part``) placed in ``win``: False outside ``part``."""
@@ -125,6 +132,15 @@ class MapFrame:
             self.x0 + (win.c0 + col + 0.5) * self.resolution,
             self.y0 + (win.r0 + row + 0.5) * self.resolution,
         )
+
+
+#: a shape's edges (see :func:`_edges`) and its bounds: all :meth:`MapFrame.mask` reads of it
+Outline = tuple[np.ndarray, tuple[float, float, float, float]]
+
+
+def outline(geometry: BaseGeometry) -> Outline:
+    """What :meth:`MapFrame.mask` reads of ``geometry``, taken once."""
+    return _edges(geometry), tuple(geometry.bounds)
 
 
 def _edges(geometry: BaseGeometry) -> np.ndarray:

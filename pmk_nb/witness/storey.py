@@ -30,6 +30,7 @@ from pmk_nb.pixels import disc_radius_px, erode, label
 from pmk_nb.witness.findings import Finding, FindingKind, WitnessReport
 from pmk_nb.witness.frame import MapFrame, Window
 from pmk_nb.witness.plausible import door_width, implausible, overlaps
+from pmk_nb.witness.regions import StoreyRegions, region_gate, storey_regions
 
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
@@ -48,7 +49,7 @@ class _Storey:
 
     name: str
     frame: MapFrame
-    free: np.ndarray  # bool, the grid's free pixels (row 0 = bottom)
+    data: np.ndarray  # the grid's values (row 0 = bottom)
     cells: dict[str, Cell]
     tree: shapely.STRtree
     order: list[str]  # cell ids in the tree's order
@@ -58,11 +59,13 @@ class _Storey:
     erode: float  # metres a cell's outline is drawn into it (half a wall and a pixel)
     gap: float  # cells this far apart share a wall
     radius: float  # the chair's half-width
-    chair_room: np.ndarray | None = None  # where the chair's centre may stand, for the whole map
+    regions: StoreyRegions | None = None  # the storey's regions, labelled once (:mod:`.regions`)
     # per cell and grow, drawn once and kept a bit a pixel (a 100 M-cell storey's cells held as bytes
     # cost over a gigabyte)
     masks: dict[tuple[str, float], tuple[Window, np.ndarray]] = field(default_factory=dict)
     adjacent: dict[str, set[str]] = field(default_factory=dict)  # the cells a transition joins to each
+    thin: dict[str, bool] = field(default_factory=dict)  # cells no chair fits in, decided once
+    grown_by_gap: dict[str, BaseGeometry] = field(default_factory=dict)
 
     def cell_mask(self, win: Window, cell_id: str, grow: float = 0.0) -> np.ndarray:
         """A cell's pixels in ``win``, its outline moved out by ``grow`` metres (in, when negative);
@@ -77,6 +80,36 @@ class _Storey:
         mask = np.unpackbits(packed, axis=1, count=own.shape[1]).view(bool)
         return self.frame.paste(win, own, mask)
 
+    def free_in(self, win: Window) -> np.ndarray:
+        """The free pixels of ``win`` (drawn when asked: the whole map's as bools cost 100 MB at 100 M cells)."""
+        return np.asarray(self.data[win.r0 : win.r1, win.c0 : win.c1] == FREE)
+
+    def graphs(self) -> StoreyRegions:
+        """The free pixels and the chair's room, labelled once for the storey, each pixel owned by its cell."""
+        if self.regions is None:
+            cores = {c: None if _thin(self, c) else self.cells[c].footprint.buffer(-self.erode) for c in self.order}
+            radius = disc_radius_px(self.radius, self.frame.resolution)
+            self.regions = storey_regions(self.frame, self.data, self.cells, self.order, self.tree, cores, radius)
+        return self.regions
+
+    def proven(self, members: list[str], bands: list[BaseGeometry], ends: tuple[str, str], *, chair: bool) -> bool:
+        """Whether the labelled storey shows a way from one end's core to the other's inside the per-pair
+        check's region (False: not shown, the per-pair check decides)."""
+        g = self.graphs()
+        graph = g.chair if chair else g.free
+        through = {code for c in members for code in g.codes(c)}
+        margin = self.erode + self.frame.resolution
+        gate = region_gate(self.frame, graph, bands, self.tree, self.order, set(members), margin)
+        return graph.joins([g.core(ends[0])], {g.core(ends[1])}, through, gate)
+
+    def may_leak(self, a: str, b: str) -> bool:
+        """Whether the labelled storey leaves any way between the cores of ``a`` and ``b`` through their
+        own pixels and pixels outside every cell (False proves no leak)."""
+        g = self.graphs()
+        if a in g.shared or b in g.shared:
+            return True
+        return g.free.joins([g.core(a)], {g.core(b)}, g.codes(a) | g.codes(b), None)
+
     def neighbours(self, cell_id: str) -> set[str]:
         """The cells a transition joins to ``cell_id``."""
         return self.adjacent.get(cell_id, set())
@@ -86,7 +119,13 @@ class _Storey:
 
     def band(self, a: str, b: str) -> BaseGeometry:
         """Where the wall between ``a`` and ``b`` may be drawn."""
-        return self.cells[a].footprint.buffer(self.gap).intersection(self.cells[b].footprint.buffer(self.gap))
+        return self.grown(a).intersection(self.grown(b))
+
+    def grown(self, cell_id: str) -> BaseGeometry:
+        """A cell's outline moved out by the wall gap, drawn once."""
+        if cell_id not in self.grown_by_gap:
+            self.grown_by_gap[cell_id] = self.cells[cell_id].footprint.buffer(self.gap)
+        return self.grown_by_gap[cell_id]
 
 
 def witness_storey(
@@ -139,7 +178,7 @@ def _prepare(
     return _Storey(
         name=storey,
         frame=MapFrame.of(grid),
-        free=grid.data == FREE,
+        data=grid.data,
         cells=cells,
         tree=tree,
         order=order,
@@ -192,7 +231,7 @@ def _interiors(st: _Storey) -> list[Finding]:
         if mask.sum() < 0.5 * expected - MIN_PIXELS:
             out.append(_finding(st, FindingKind.OUTSIDE_MAP, (cell.id,), inner.centroid, "the map does not cover it"))
             continue
-        sub = st.free[win.r0 : win.r1, win.c0 : win.c1]
+        sub = st.free_in(win)
         wrong = mask & (~sub if cell.kind.is_free else sub)
         share = wrong.sum() / max(mask.sum(), 1)
         if wrong.sum() >= MIN_PIXELS and share > TOLERANCE:
@@ -245,17 +284,19 @@ def _core(st: _Storey, win: Window, cell_id: str) -> np.ndarray:
 
 def _thin(st: _Storey, cell_id: str) -> bool:
     """A cell no chair fits in wholly."""
-    return bool(st.cells[cell_id].footprint.buffer(-st.radius).is_empty)
+    if cell_id not in st.thin:
+        st.thin[cell_id] = bool(st.cells[cell_id].footprint.buffer(-st.radius).is_empty)
+    return st.thin[cell_id]
 
 
 def _leaks(st: _Storey, pairs: list[tuple[str, str]]) -> list[Finding]:
     out = []
     for a, b in pairs:
-        if frozenset((a, b)) in st.joined:
+        if frozenset((a, b)) in st.joined or not st.may_leak(a, b):
             continue
         band = st.band(a, b)
         win, region = _region(st, [a, b], [band], 1)
-        ways = st.free[win.r0 : win.r1, win.c0 : win.c1] & region
+        ways = st.free_in(win) & region
         labels = label(ways)
         common = _labels_in(labels, _core(st, win, a)) & _labels_in(labels, _core(st, win, b))
         if common.any():
@@ -267,19 +308,22 @@ def _leaks(st: _Storey, pairs: list[tuple[str, str]]) -> list[Finding]:
 
 def _chair_room(st: _Storey, win: Window) -> np.ndarray:
     """Where the chair's centre may stand in ``win``: farther than its half-width from anything not free
-    (the exact disc erosion of :mod:`pmk_nb.pixels`, the same pixels as SciPy's distance transform).
-    The whole map is eroded once, strip by strip (a byte a pixel), and sliced: eroding each region's
-    window again cost a 100 M-cell storey 8 s of repeated work."""
-    if st.chair_room is None:
-        st.chair_room = erode(st.free, disc_radius_px(st.radius, st.frame.resolution))
-    return st.chair_room[win.r0 : win.r1, win.c0 : win.c1]
+    (the exact disc erosion of :mod:`pmk_nb.pixels`, the same pixels as SciPy's distance transform),
+    from ``win`` grown by the disc (outside the grid is not free, as for the whole map). Only the ways
+    the labelled storey cannot show come here."""
+    radius = disc_radius_px(st.radius, st.frame.resolution)
+    pad = int(np.ceil(radius)) + 1
+    h, w = st.data.shape
+    big = Window(max(0, win.r0 - pad), min(h, win.r1 + pad), max(0, win.c0 - pad), min(w, win.c1 + pad))
+    room = erode(st.free_in(big), radius)
+    return room[win.r0 - big.r0 : win.r1 - big.r0, win.c0 - big.c0 : win.c1 - big.c0]
 
 
 def _connected(st: _Storey, members: list[str], bands: list[BaseGeometry], ends: list[str], *, chair: bool) -> bool:
     """Whether the free pixels of the region of ``members`` and ``bands`` join the cores of all ``ends``."""
     pad = int(np.ceil(st.radius / st.frame.resolution)) + 2
     win, region = _region(st, members, bands, pad)
-    room = _chair_room(st, win) if chair else st.free[win.r0 : win.r1, win.c0 : win.c1]
+    room = _chair_room(st, win) if chair else st.free_in(win)
     labels = label(room & region)
     if not ends:
         return False
@@ -303,6 +347,8 @@ def _transitions(st: _Storey) -> list[Finding]:
         # a way out (a doorway no chair fits in, with nothing beyond it in the graph): nothing is drawn
         # past it, so a chair cannot be shown through; the map must still leave a way for a point
         exit_ = any(ends.get(c, 0) == 1 and _thin(st, c) for c in (a, b))
+        if st.proven(members, bands, (a, b), chair=not exit_):
+            continue
         if not exit_ and _connected(st, members, bands, [a, b], chair=True):
             continue
         point = _connected(st, members, bands, [a, b], chair=False)
@@ -357,6 +403,8 @@ def _passages(st: _Storey) -> list[Finding]:
                 if frozenset((a, b)) in st.joined:
                     continue
                 bands = [st.band(a, cell_id), st.band(cell_id, b)]
+                if st.proven([a, cell_id, b], bands, (a, b), chair=True):
+                    continue
                 if _connected(st, [a, cell_id, b], bands, [a, b], chair=True):
                     continue
                 width = door_width(cell.footprint)

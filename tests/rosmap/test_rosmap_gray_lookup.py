@@ -45,3 +45,19 @@ def test_not_plain_gray_keeps_the_readers_maths() -> None:
     alpha = _gray(values)
     alpha.has_alpha = True
     assert im._plain_gray(alpha) is None
+
+
+@pytest.mark.parametrize("reader", sorted(DIRECT))
+@pytest.mark.parametrize("mode", ["trinary", "scale", "raw"])
+def test_a_gray_only_image_reads_as_its_expanded_self(reader: str, mode: str) -> None:
+    """An opaque 8-bit gray file keeps no RGBA copy (``rgba=None``): every reader sees the same grid,
+    looked up or by its own maths, as from the RGBA Pillow would have made, in either row order."""
+    values = np.random.default_rng(9).integers(0, 256, size=(300, 300), dtype=np.uint8)
+    lean = im.DecodedImage(rgba=None, has_alpha=False, sdl=values[..., None].copy(), sdl_alpha_mask=False)
+    kw = dict(mode=mode, negate=False, occupied_thresh=0.65, free_thresh=0.196)
+    want = DIRECT[reader](_gray(values), mode, False, 0.65, 0.196)
+    assert np.array_equal(im.image_to_data(lean, reader=reader, **kw), want)
+    assert np.array_equal(im.image_to_data(lean, reader=reader, bottom_up=True, **kw), want[::-1])
+    small = im.DecodedImage(rgba=None, has_alpha=False, sdl=values[:50, :50, None].copy(), sdl_alpha_mask=False)
+    assert np.array_equal(im.image_to_data(small, reader=reader, **kw), want[:50, :50])  # by the maths
+    assert np.array_equal(lean.rgba, _gray(values).rgba)

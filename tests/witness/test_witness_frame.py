@@ -50,3 +50,28 @@ def test_the_frame_of_a_grid_is_its_origin_resolution_and_size() -> None:
     assert (frame.x0, frame.y0, frame.resolution, frame.width, frame.height) == (1.5, -2.0, 0.05, 40, 30)
     win = frame.window((1.5, -2.0, 1.6, -1.9))
     assert frame.point(win, 0, 0) == (1.525, -1.975)
+
+
+@pytest.mark.slow
+@settings(max_examples=200, deadline=None)
+@given(
+    corners=st.tuples(coord, coord, coord, coord),
+    res=st.sampled_from([0.05, 0.1, 0.137]),
+    window=st.tuples(st.integers(0, 40), st.integers(41, 120), st.integers(0, 40), st.integers(41, 120)),
+)
+def test_an_upright_rectangle_fills_as_any_polygon(
+    corners: tuple[float, ...], res: float, window: tuple[int, ...]
+) -> None:
+    """The rectangle's shortcut (a slice) sets the pixels the general fill sets: the same box with one more
+    vertex on its left side takes the general way."""
+    x0, x1 = sorted(corners[:2])
+    y0, y1 = sorted(corners[2:])
+    assume(x1 - x0 > 1e-3 and y1 - y0 > 1e-3)
+    frame = MapFrame(-1.0, -2.0, res, 120, 120)
+    win = Window(*window)
+    box = shapely.box(x0, y0, x1, y1)
+    same = shapely.Polygon([(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, (y0 + y1) / 2)])
+    np.testing.assert_array_equal(frame.mask(win, box), frame.mask(win, same))
+    xs, ys = frame.centres(win)
+    on_edge = shapely.dwithin(box.boundary, shapely.points(xs, ys), 1e-9)
+    assert not np.any((frame.mask(win, box) != shapely.contains_xy(box, xs, ys)) & ~on_edge)
