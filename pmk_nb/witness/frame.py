@@ -140,7 +140,8 @@ Outline = tuple[np.ndarray, tuple[float, float, float, float]]
 
 def outline(geometry: BaseGeometry) -> Outline:
     """What :meth:`MapFrame.mask` reads of ``geometry``, taken once."""
-    return _edges(geometry), tuple(geometry.bounds)
+    x0, y0, x1, y1 = geometry.bounds
+    return _edges(geometry), (float(x0), float(y0), float(x1), float(y1))
 
 
 def _edges(geometry: BaseGeometry) -> np.ndarray:

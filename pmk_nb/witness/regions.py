@@ -18,7 +18,7 @@ Everything else, and any cell that shares pixels with another, goes to the per-p
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -131,7 +131,7 @@ def storey_regions(
     cells: dict[str, Cell],
     order: list[str],
     tree: shapely.STRtree,
-    cores: dict[str, BaseGeometry | None],
+    cores: Mapping[str, BaseGeometry | None],
     radius_px: float,
 ) -> StoreyRegions:
     """Label the storey's free pixels and the chair's room, strip by strip, each pixel owned by its cell.
@@ -161,7 +161,7 @@ def _owners(
     cells: dict[str, Cell],
     order: list[str],
     tree: shapely.STRtree,
-    cores: dict[str, BaseGeometry | None],
+    cores: Mapping[str, BaseGeometry | None],
     painted: np.ndarray,
     shared: set[str],
     outlines: dict[object, Outline],
