@@ -10,23 +10,20 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from pmk_nb.chair import reload
-from pmk_nb.chair.messages import (
+from pmk_nb.chair.messages import parse_map_metadata, parse_odometry, parse_pose, parse_scan, parse_tf_message
+from pmk_nb.viewport import Transform2D
+from pmk_nb.wire import (
     make_stamp,
     normalise_type,
-    parse_map_metadata,
-    parse_odometry,
-    parse_pose,
-    parse_scan,
-    parse_tf_message,
     quaternion_from_yaw,
     spell_type,
     stamp_ros_version,
     stamp_to_sec,
     type_ros_version,
     type_spellings,
+    wrap_angle,
     yaw_from_quaternion,
 )
-from pmk_nb.viewport import Transform2D, wrap_angle
 
 
 def _odom_msg(stamp: dict, yaw: float = 0.3) -> dict:
