@@ -7,8 +7,8 @@ status and cancel codes), ``loadmap`` (a map server's reload answer: the LoadMap
 failed load becomes one), ``gridhash`` (the grid SHA-256 that confirms a deploy) and ``raycast`` (the one
 ray caster: the simulator's laser and the live view's map cast are thin adapters on it).
 
-A leaf: it imports nothing of pmk_nb but ``errors`` and ``grid``, so both ends of the wire can use it
-without one depending on the other.
+A leaf: it imports nothing of pmk_nb but ``errors``, ``grid`` (for types) and ``lazyface``, so both ends of the
+wire can use it without one depending on the other.
 """
 
 from __future__ import annotations
