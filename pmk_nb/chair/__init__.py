@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from pmk_nb.lazyface import lazy_face
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.confirm import grid_sha256
+    from pmk_nb.chair.confirm import map_sha256
     from pmk_nb.chair.deploy import STEP_SPANS, close_links, link_for
     from pmk_nb.chair.fleet import (
         ChairStatus,
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from pmk_nb.chair.transfer import check_ssh
 
 _WHERE = {
-    "grid_sha256": "confirm",
+    "map_sha256": "confirm",
     "STEP_SPANS": "deploy",
     "close_links": "deploy",
     "link_for": "deploy",
@@ -91,9 +91,9 @@ __all__ = [
     "check_ssh",
     "close_links",
     "config_dir",
-    "grid_sha256",
     "link_for",
     "make_key_pair",
+    "map_sha256",
     "row_words",
     "setup_key",
     "trust_host_key",

@@ -9,7 +9,6 @@ reconnecting: it is given a moment first.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import threading
 import time
@@ -18,6 +17,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.errors import DeployError, PmkError
+from pmk_nb.wire import grid_sha256
 
 if TYPE_CHECKING:
     from pmk_nb.rosmap import ImageReader, MapFiles
@@ -76,13 +76,11 @@ def _still_publishes(info: Any, expected: ExpectedMap, timeout: float, cells: bo
     )
 
 
-def grid_sha256(files: MapFiles) -> str:
-    """SHA-256 of our cells as the PMK map server publishes them (its reader, int8, row 0 = bottom)."""
+def map_sha256(files: MapFiles) -> str:
+    """SHA-256 of our cells as the PMK map server publishes them: read by its reader, hashed as it hashes."""
     from pmk_nb.rosmap import read_map
 
-    return hashlib.sha256(
-        read_map(files.yaml, reader="nav2_jazzy").data.astype("int8", copy=False).tobytes()
-    ).hexdigest()
+    return grid_sha256(read_map(files.yaml, reader="nav2_jazzy"))
 
 
 def _wait_connected(link: Any, deadline: float) -> None:
@@ -165,7 +163,7 @@ def confirm_map(
     """MapInfo's SHA-256 when the chair has it; else the metadata, then the cells (all, or sampled rows)."""
     deadline = time.monotonic() + timeout
     _wait_connected(link, deadline)
-    by_info = _by_map_info(link, expected, ours_of or (lambda: grid_sha256(files)), remote_yaml, deadline, timeout)
+    by_info = _by_map_info(link, expected, ours_of or (lambda: map_sha256(files)), remote_yaml, deadline, timeout)
     if by_info is not None:
         return by_info
     info = _wait_for_map(link, expected, deadline, timeout)

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from PIL import Image
 
 from pmk_nb.chair import reload
-from pmk_nb.chair.confirm import ExpectedMap, confirm_map, grid_sha256, in_background
+from pmk_nb.chair.confirm import ExpectedMap, confirm_map, in_background, map_sha256
 from pmk_nb.chair.transfer import HostKeyInfo, UploadResult, image_beside, upload
 from pmk_nb.errors import DeployError, PmkError
 from pmk_nb.progress import ProgressCallback, emit, sub_range
@@ -256,7 +256,7 @@ def deploy(
     """
     run = _Steps(progress)
     expected = expected_map(files)
-    ours = in_background(grid_sha256, files)  # ready by the confirm step: the map travels meanwhile
+    ours = in_background(map_sha256, files)  # ready by the confirm step: the map travels meanwhile
     sent = upload_step(run, files, profile, password, timeout)
     notes = []
     if sent.host_key.newly_trusted:

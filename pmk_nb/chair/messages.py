@@ -16,6 +16,7 @@ import numpy as np
 
 from pmk_nb.chair import ranges as ranges_mod
 from pmk_nb.viewport import normalise_frame
+from pmk_nb.wire import stamp_to_sec, yaw_from_quaternion
 
 
 @dataclass(frozen=True)
@@ -114,82 +115,6 @@ class TransformStamped2D:
     y: float
     theta: float
     stamp: float | None = None
-
-
-def stamp_to_sec(stamp: Any) -> float | None:
-    """Seconds from a ROS 1 (``secs/nsecs``) or ROS 2 (``sec/nanosec``) stamp dict, else None."""
-    if not isinstance(stamp, dict):
-        return None
-    if "sec" in stamp:
-        return float(stamp["sec"]) + float(stamp.get("nanosec", 0)) * 1e-9
-    if "secs" in stamp:
-        return float(stamp["secs"]) + float(stamp.get("nsecs", 0)) * 1e-9
-    return None
-
-
-def stamp_ros_version(stamp: Any) -> int | None:
-    """1 for ``secs/nsecs`` stamps, 2 for ``sec/nanosec``, None when it cannot tell."""
-    if isinstance(stamp, dict):
-        if "sec" in stamp or "nanosec" in stamp:
-            return 2
-        if "secs" in stamp or "nsecs" in stamp:
-            return 1
-    return None
-
-
-def make_stamp(t: float, ros_version: int | None) -> dict[str, int]:
-    """A header stamp for time ``t`` (seconds) in the spelling of the given ROS version."""
-    sec = math.floor(t)
-    nsec = min(round((t - sec) * 1e9), 999_999_999)
-    if ros_version == 2:
-        return {"sec": sec, "nanosec": nsec}
-    return {"secs": sec, "nsecs": nsec}
-
-
-def type_ros_version(type_name: str) -> int:
-    """2 for ``pkg/msg/Type`` / ``pkg/srv/Type`` spellings, 1 for ``pkg/Type``."""
-    parts = type_name.strip("/").split("/")
-    return 2 if len(parts) == 3 and parts[1] in ("msg", "srv", "action") else 1
-
-
-def type_spellings(type_name: str, kind: str = "msg") -> list[str]:
-    """Both spellings of a type, the given one first: ``nav_msgs/Odometry`` <-> ``nav_msgs/msg/Odometry``."""
-    parts = type_name.strip("/").split("/")
-    if len(parts) == 3:
-        other = f"{parts[0]}/{parts[2]}"
-    elif len(parts) == 2:
-        other = f"{parts[0]}/{kind}/{parts[1]}"
-    else:
-        return [type_name]
-    return [type_name, other]
-
-
-def spell_type(type_name: str, ros_version: int | None, kind: str = "msg") -> str:
-    """The spelling a server of ``ros_version`` expects (ROS 1 spelling when unknown: ROS 2
-    rosbridge accepts it too, ROS 1 rosbridge accepts nothing else).
-    """
-    if ros_version == 2:
-        return type_name if type_ros_version(type_name) == 2 else type_spellings(type_name, kind)[1]
-    return normalise_type(type_name)
-
-
-def normalise_type(type_name: str) -> str:
-    """The ROS 1 spelling (``pkg/Type``), for comparing types across ROS versions."""
-    parts = type_name.strip("/").split("/")
-    return f"{parts[0]}/{parts[-1]}" if len(parts) == 3 else type_name.strip("/")
-
-
-def yaw_from_quaternion(q: dict[str, Any] | None) -> float:
-    """Heading (rotation about z) of a ``geometry_msgs/Quaternion`` dict, in (-pi, pi]."""
-    if not q:
-        return 0.0
-    x, y = float(q.get("x") or 0.0), float(q.get("y") or 0.0)
-    z, w = float(q.get("z") or 0.0), float(q.get("w", 1.0) if q.get("w") is not None else 1.0)
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def quaternion_from_yaw(theta: float) -> dict[str, float]:
-    return {"x": 0.0, "y": 0.0, "z": math.sin(theta / 2.0), "w": math.cos(theta / 2.0)}
 
 
 def _f(value: Any) -> float:

@@ -12,8 +12,15 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from pmk_nb.chair.messages import normalise_type
 from pmk_nb.errors import ChairLinkError
+from pmk_nb.wire import (
+    INVALID_MAP_DATA,
+    INVALID_MAP_METADATA,
+    LOAD_SUCCESS,
+    MAP_DOES_NOT_EXIST,
+    UNDEFINED_FAILURE,
+    normalise_type,
+)
 
 # Which reload protocol a service speaks (the simulator's ROS 1/ROS 2 choice is its RosVersion).
 ReloadKind = Literal["ros1", "nav2", "mapupdate"]
@@ -33,12 +40,12 @@ SERVICE_TYPES: dict[str, str] = {
 }
 
 LOADMAP_RESULTS: dict[int, str] = {
-    0: "success",
-    1: "no map given (MAP_DOES_NOT_EXIST): check the path sent to the chair",
-    2: "the map image is invalid (INVALID_MAP_DATA)",
+    LOAD_SUCCESS: "success",
+    MAP_DOES_NOT_EXIST: "no map given (MAP_DOES_NOT_EXIST): check the path sent to the chair",
+    INVALID_MAP_DATA: "the map image is invalid (INVALID_MAP_DATA)",
     # Nav2 also answers 3 when the YAML file does not exist (yaml-cpp cannot open it).
-    3: "the map YAML is missing or invalid (INVALID_MAP_METADATA): check the path and the file",
-    255: "the map server failed to load the map (UNDEFINED_FAILURE)",
+    INVALID_MAP_METADATA: "the map YAML is missing or invalid (INVALID_MAP_METADATA): check the path and the file",
+    UNDEFINED_FAILURE: "the map server failed to load the map (UNDEFINED_FAILURE)",
 }
 
 KEEPS_OLD_MAP = "The chair keeps its previous map."
@@ -264,7 +271,7 @@ def check_response(service: ReloadService, remote_yaml_path: str, response: dict
     if code == 0:
         return
     meaning = LOADMAP_RESULTS.get(code, "unknown result code")
-    if service.kind == "ros1" and code == 255:
+    if service.kind == "ros1" and code == UNDEFINED_FAILURE:
         meaning = "map_server could not load it (missing file, bad YAML or image?)"
     raise MapReloadError(
         f"{where} failed to load {remote_yaml_path}: code {code}, {meaning}.",

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 import paramiko
 from paramiko.sftp import SFTP_OP_UNSUPPORTED
 
-from pmk_nb.errors import TransferError, UnknownHostKey
+from pmk_nb.errors import PmkError, TransferError, UnknownHostKey
 from pmk_nb.fileio import append_line
 from pmk_nb.seams import StatusHookSFTPClient
 
@@ -93,8 +93,15 @@ def trust_host_key(unknown: UnknownHostKey) -> None:
     append_line(Path(unknown.known_hosts), f"{unknown.host} {unknown.key_type} {unknown.key_base64}")
 
 
-class SftpUnsupported(OSError):
-    """The SFTP server answered SSH_FX_OP_UNSUPPORTED (e.g. no posix-rename extension)."""
+class SftpUnsupported(PmkError, OSError):
+    """The SFTP server answered SSH_FX_OP_UNSUPPORTED (e.g. no posix-rename extension).
+
+    An OSError too (``errno``, ``strerror``), as paramiko's other status errors are.
+    """
+
+    def __init__(self, code: int, text: str) -> None:
+        super().__init__(text)
+        self.errno, self.strerror = code, text
 
 
 class StatusSFTPClient(StatusHookSFTPClient):

@@ -19,6 +19,8 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
+from pmk_nb.errors import PmkError
+
 GML_FAMILY = "opengis.net/gml"
 
 Coord = tuple[float, ...]  # (x, y) or (x, y, z), file units
@@ -78,7 +80,7 @@ class GmlTags:
             self.solids += (tag,)
 
 
-class CoordError(ValueError):
+class CoordError(PmkError, ValueError):
     """A coordinate cannot be decoded; the caller adds file/cell context."""
 
     def __init__(self, msg: str, line: int | None) -> None:

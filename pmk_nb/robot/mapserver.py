@@ -25,7 +25,8 @@ import math
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.robot.mapstore import UNDEFINED_FAILURE, LoadedMap, MapStore
+from pmk_nb.robot.mapstore import LoadedMap, MapStore
+from pmk_nb.wire import ros1_result
 
 READY_LINE = "pmk robot map-server: ready"
 RELOAD_SERVICES = ("load_map", "map_update", "change_map")
@@ -131,7 +132,7 @@ def _build(
 
     def ros1_load(request: Any, response: Any) -> Any:
         code = load(request.map_url)
-        response.result = 0 if code == 0 else UNDEFINED_FAILURE
+        response.result = ros1_result(code)
         reply_map(response, code)
         return response
 

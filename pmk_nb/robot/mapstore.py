@@ -9,7 +9,6 @@ confirms with: header facts, metadata and the SHA-256 of the grid as published.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import threading
 import time
@@ -17,15 +16,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.rosmap import MAP_DOES_NOT_EXIST, ImageReader, MapLoadError, read_map
+from pmk_nb.rosmap import ImageReader, read_map
+from pmk_nb.wire import MAP_DOES_NOT_EXIST, LoadAnswer, empty_request, grid_sha256, load_failure
 
-UNDEFINED_FAILURE = 255
 DEFAULT_MAPS = Path.home() / "ALMA_MAPS"
-
-
-def grid_sha256(grid: OccupancyGrid) -> str:
-    """Hex SHA-256 of the int8 cells in ROS order (row 0 = bottom), as ``/map`` carries them."""
-    return hashlib.sha256(grid.data.astype("int8", copy=False).tobytes()).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -57,19 +51,18 @@ class MapStore:
         real = Path(os.path.realpath(path))  # symlinks followed: a link out of the folder is outside
         return path if real.is_relative_to(self.maps_dir) else None
 
-    def load(self, request: str) -> tuple[int, str]:
+    def load(self, request: str) -> LoadAnswer:
         """Load the map a request names; returns (Nav2 LoadMap result code, message for the log)."""
-        if not request or not request.strip():
-            return MAP_DOES_NOT_EXIST, "empty map url"
+        empty = empty_request(request)
+        if empty is not None:
+            return empty
         path = self.resolve(request)
         if path is None:
             return MAP_DOES_NOT_EXIST, f"refused {request!r}: outside the maps folder {self.maps_dir}"
         try:
             grid = read_map(path, reader=self.reader, within=self.maps_dir)  # the image confined too
-        except MapLoadError as err:
-            return err.code, str(err)
-        except Exception as err:  # an unexpected reader failure is Nav2's "undefined"
-            return UNDEFINED_FAILURE, f"{type(err).__name__}: {err}"
+        except Exception as err:  # a MapLoadError carries its code; anything else is Nav2's "undefined"
+            return load_failure(err)
         loaded = LoadedMap(grid, path, time.time(), grid_sha256(grid))
         with self._lock:
             self.current = loaded

@@ -30,7 +30,8 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.robot.mapserver import fill_info  # rclpy is imported there only when the ROS 2 node runs
-from pmk_nb.robot.mapstore import DEFAULT_MAPS, UNDEFINED_FAILURE, LoadedMap, MapStore
+from pmk_nb.robot.mapstore import DEFAULT_MAPS, LoadedMap, MapStore
+from pmk_nb.wire import ros1_result
 
 READY_LINE = "pmk robot map-server --ros1: ready"
 SYSTEM_PYTHON = "/usr/bin/python3"
@@ -140,7 +141,7 @@ class Ros1MapServer:
         from nav_msgs.srv import LoadMapResponse
 
         code = self.load(request.map_url)
-        response = LoadMapResponse(result=0 if code == 0 else UNDEFINED_FAILURE)
+        response = LoadMapResponse(result=ros1_result(code))
         loaded = self.cache.get("loaded")
         if code == 0 and loaded is not None and loaded.grid.data.size <= self.reply_map_cells:
             response.map = self.reply_map()

@@ -21,8 +21,9 @@ from typing import Any
 
 from pmk_nb.goalbeat import SILENCE_S, STOP_TOPIC, TOPIC, Beat, stop_client
 from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch, StopDebounce
+from pmk_nb.wire import MOVE_BASE_CANCEL
 
-CANCEL_TOPIC = "/move_base/cancel"
+CANCEL_TOPIC = MOVE_BASE_CANCEL
 TICK_S = 0.1
 
 

@@ -22,11 +22,23 @@ from typing import Any
 
 from pmk_nb.goalbeat import SILENCE_S, STOP_TOPIC, TOPIC, Beat, stop_client
 from pmk_nb.robot.goalwatch import READY_LINE, GoalWatch, StopDebounce, Trip
+from pmk_nb.wire import (
+    CANCEL_ERROR_GOAL_TERMINATED,
+    CANCEL_ERROR_NONE,
+    CANCEL_ERROR_REJECTED,
+    CANCEL_ERROR_UNKNOWN_GOAL_ID,
+    NAV2_ACTIONS,
+)
 
-ACTIONS = ("/navigate_to_pose", "/navigate_through_poses")
+ACTIONS = NAV2_ACTIONS
 TICK_S = 0.1
 # action_msgs/srv/CancelGoal return codes
-CANCEL_CODES = {0: "accepted", 1: "rejected", 2: "unknown goal id", 3: "goal already terminated"}
+CANCEL_CODES = {
+    CANCEL_ERROR_NONE: "accepted",
+    CANCEL_ERROR_REJECTED: "rejected",
+    CANCEL_ERROR_UNKNOWN_GOAL_ID: "unknown goal id",
+    CANCEL_ERROR_GOAL_TERMINATED: "goal already terminated",
+}
 
 
 class Ros2Watchdog:

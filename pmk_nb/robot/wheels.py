@@ -27,6 +27,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from pmk_nb.errors import PmkError
 from pmk_nb.fileio import atomic_write
 
 # Built in this order (none depends on another). rosapi_msgs lets the server run with rosapi on.
@@ -39,7 +40,7 @@ INTERFACES_DIR = CHECKOUT / "ros" / "interfaces"
 LOCK = CHECKOUT / "requirements" / "ros2.txt"
 
 
-class StackMissing(RuntimeError):
+class StackMissing(PmkError, RuntimeError):
     """The ROS 2 wheels stack is not set up here; the message says what to run."""
 
 

@@ -22,10 +22,15 @@ from typing import Any, Protocol
 
 from pmk_nb.sim.bridge_modes import BridgeFacts, facts
 from pmk_nb.sim.session import ClientSession, resolve_name
+from pmk_nb.wire import STATUS_ABORTED as STATUS_ABORTED  # navigation reads the codes here, as a2.STATUS_*
+from pmk_nb.wire import STATUS_ACCEPTED as STATUS_ACCEPTED
+from pmk_nb.wire import STATUS_CANCELED as STATUS_CANCELED
+from pmk_nb.wire import STATUS_CANCELING as STATUS_CANCELING
+from pmk_nb.wire import STATUS_EXECUTING as STATUS_EXECUTING
+from pmk_nb.wire import STATUS_SUCCEEDED as STATUS_SUCCEEDED
+from pmk_nb.wire import STATUS_UNKNOWN as STATUS_UNKNOWN
 
 # action_msgs/msg/GoalStatus
-STATUS_UNKNOWN, STATUS_ACCEPTED, STATUS_EXECUTING, STATUS_CANCELING = 0, 1, 2, 3
-STATUS_SUCCEEDED, STATUS_CANCELED, STATUS_ABORTED = 4, 5, 6
 
 
 @dataclass(frozen=True)

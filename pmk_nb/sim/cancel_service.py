@@ -13,12 +13,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.session import resolve_name
+from pmk_nb.wire import CANCEL_ERROR_NONE as ERROR_NONE
+from pmk_nb.wire import CANCEL_ERROR_UNKNOWN_GOAL_ID as ERROR_UNKNOWN_GOAL_ID
+from pmk_nb.wire import NAV2_ACTION
 
 if TYPE_CHECKING:
     from pmk_nb.sim.navigation import Navigator
 
-ERROR_NONE, ERROR_REJECTED, ERROR_UNKNOWN_GOAL_ID, ERROR_GOAL_TERMINATED = 0, 1, 2, 3
-TOPIC_ACTION = "/navigate_to_pose"  # what Nav2's /goal_pose becomes (bt_navigator's own goal)
+TOPIC_ACTION = NAV2_ACTION[0]  # what Nav2's /goal_pose becomes (bt_navigator's own goal)
 
 
 def add_cancel_services(nav: Navigator, actions: tuple[str, ...]) -> None:

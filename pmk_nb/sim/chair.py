@@ -18,6 +18,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from pmk_nb.wire import wrap_angle as _wrap  # (-pi, pi]
+
 if TYPE_CHECKING:
     from pmk_nb.sim.world import World
 
@@ -31,10 +33,6 @@ class DriveLimits:
     goal_tolerance: float = 0.12  # m
     yaw_tolerance: float = 0.1  # rad
     stuck_timeout: float = 2.0  # s of refused moves (turning on the spot not counted) before a goal is given up
-
-
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
 class Chair:

@@ -24,7 +24,8 @@ import time
 from collections.abc import Awaitable, Callable, Iterable
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.rosmap import MAP_DOES_NOT_EXIST, MapLoadError, read_map
+from pmk_nb.rosmap import read_map
+from pmk_nb.wire import LOAD_SUCCESS, LoadAnswer, empty_request, load_failure, ros1_result
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -41,7 +42,6 @@ DEFAULT_RELOAD: dict[str, tuple[str, ...]] = {
     "ros2": ("load_map", "map_update"),
 }
 SERVICE_NAMES = {"change_map": "/change_map", "load_map": "/map_server/load_map", "map_update": "/map_update"}
-UNDEFINED_FAILURE = 255
 
 
 def image_reader(ros: RosVersion) -> ImageReader:
@@ -112,20 +112,19 @@ class MapServer:
         self.bridge.publish("/map", msg)
         self.bridge.publish("/map_metadata", self.names.map_metadata(grid, now))
 
-    async def load(self, path: str) -> tuple[int, str]:
+    async def load(self, path: str) -> LoadAnswer:
         """Load a YAML path as a chair would see it; returns (Nav2 result code, message)."""
-        if not path or not path.strip():
-            return MAP_DOES_NOT_EXIST, "empty map url"
+        empty = empty_request(path)
+        if empty is not None:
+            return empty
         host_path = self.fs.map_server_path(path)
         async with self._lock:
             try:
                 grid = await asyncio.to_thread(read_map, host_path, reader=self.image_reader, within=self.fs.maps_dir)
                 await self.set_grid(grid, host_path)
-            except MapLoadError as err:
-                return err.code, str(err)
-            except Exception as err:
-                return UNDEFINED_FAILURE, f"{type(err).__name__}: {err}"
-        return 0, f"loaded {host_path}"
+            except Exception as err:  # a MapLoadError carries its code; anything else is Nav2's "undefined"
+                return load_failure(err)
+        return LOAD_SUCCESS, f"loaded {host_path}"
 
     # -- service handlers -------------------------------------------------------------------------
 
@@ -134,7 +133,7 @@ class MapServer:
 
     async def _change_map(self, args: dict[str, Any]) -> tuple[dict[str, Any], bool]:
         code, _ = await self.load(str(args.get("map_url", "")))
-        result = 0 if code == 0 else UNDEFINED_FAILURE  # ROS 1 only knows success / undefined failure
+        result = ros1_result(code)  # ROS 1 only knows success / undefined failure
         return {"map": self._reply_map(code), "result": result}, True
 
     async def _load_map(self, args: dict[str, Any]) -> tuple[dict[str, Any], bool]:

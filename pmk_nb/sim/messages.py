@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from pmk_nb.sim.jsonfast import RawJSON, int8_array_json
+from pmk_nb.wire import make_stamp, normalise_type, pose_msg, quaternion_from_yaw, vec3
 
 if TYPE_CHECKING:
     from pmk_nb.grid import OccupancyGrid
@@ -23,19 +24,6 @@ RosVersion = Literal["ros1", "ros2"]
 ROS_VERSIONS: tuple[str, ...] = ("ros1", "ros2")
 
 _ZERO36 = [0.0] * 36
-
-
-def canonical_type(type_name: str) -> str:
-    """``pkg/msg/Name`` and ``pkg/srv/Name`` -> ``pkg/Name``: ROS 2 rosbridge accepts both spellings."""
-    parts = type_name.strip().split("/")
-    if len(parts) == 3 and parts[1] in ("msg", "srv", "action"):
-        return f"{parts[0]}/{parts[2]}"
-    return type_name.strip()
-
-
-def is_type_name(type_name: str) -> bool:
-    parts = type_name.split("/")
-    return len(parts) in (2, 3) and all(p and p.replace("_", "").isalnum() for p in parts)
 
 
 @dataclass(frozen=True)
@@ -55,11 +43,7 @@ class Names:
         return f"{pkg}/{name}" if self.ros == "ros1" else f"{pkg}/srv/{name}"
 
     def stamp(self, t: float) -> dict[str, int]:
-        secs = math.floor(t)
-        nsecs = min(round((t - secs) * 1e9), 999_999_999)
-        if self.ros == "ros1":
-            return {"secs": secs, "nsecs": nsecs}
-        return {"sec": secs, "nanosec": nsecs}
+        return make_stamp(t, self.ros_version)
 
     def header(self, frame_id: str, t: float, seq: int = 0) -> dict[str, Any]:
         h: dict[str, Any] = {"stamp": self.stamp(t), "frame_id": frame_id}
@@ -130,7 +114,7 @@ class Names:
         return {
             "header": self.header(parent, t),
             "child_frame_id": child,
-            "transform": {"translation": vec3(x, y, 0.0), "rotation": quat(th)},
+            "transform": {"translation": vec3(x, y, 0.0), "rotation": quaternion_from_yaw(th)},
         }
 
     def tf_message(self, transforms: list[dict[str, Any]]) -> dict[str, Any]:
@@ -171,25 +155,6 @@ class Names:
         }
 
 
-def vec3(x: float, y: float, z: float) -> dict[str, float]:
-    return {"x": x, "y": y, "z": z}
-
-
-def quat(yaw: float) -> dict[str, float]:
-    return {"x": 0.0, "y": 0.0, "z": math.sin(yaw / 2.0), "w": math.cos(yaw / 2.0)}
-
-
-def yaw_of(q: dict[str, Any]) -> float:
-    """Yaw of a (possibly partial) quaternion dict; planar robots only care about z/w."""
-    x, y = float(q.get("x", 0.0)), float(q.get("y", 0.0))
-    z, w = float(q.get("z", 0.0)), float(q.get("w", 1.0))
-    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-
-
-def pose_msg(x: float, y: float, yaw: float) -> dict[str, Any]:
-    return {"position": vec3(x, y, 0.0), "orientation": quat(yaw)}
-
-
 # Field names of the message types clients may publish to the simulator. A published message with a
 # field not listed here does not conform to the topic's type and is refused (rosbridge does the same).
 _VEC3 = {"x": None, "y": None, "z": None}
@@ -210,7 +175,7 @@ SCHEMAS: dict[str, dict[str, Any]] = {
 
 def conformance_error(type_name: str, msg: Any) -> str | None:
     """Why ``msg`` does not fit ``type_name``, or None (unknown types are accepted as they are)."""
-    schema = SCHEMAS.get(canonical_type(type_name))
+    schema = SCHEMAS.get(normalise_type(type_name))
     if schema is None:
         return None if isinstance(msg, dict) else "msg must be a JSON object"
     return _check(schema, msg, "msg")

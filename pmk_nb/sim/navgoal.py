@@ -8,7 +8,7 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.sim.messages import yaw_of
+from pmk_nb.wire import yaw_from_quaternion
 
 if TYPE_CHECKING:
     from pmk_nb.sim.actions import GoalRef
@@ -36,7 +36,7 @@ def parse_pose(pose_stamped: Any) -> tuple[tuple[float, float, float | None], st
     pos = pose.get("position") or {}
     try:
         x, y = float(pos.get("x", math.nan)), float(pos.get("y", math.nan))
-        yaw = yaw_of(pose["orientation"]) if pose.get("orientation") else None
+        yaw = yaw_from_quaternion(pose["orientation"], strict=True) if pose.get("orientation") else None
     except (TypeError, ValueError):
         return "pose has non-numeric fields"
     if not (math.isfinite(x) and math.isfinite(y)):

@@ -24,9 +24,9 @@ from pmk_nb.sim import actions as a2
 from pmk_nb.sim.action_status import ActionStatus
 from pmk_nb.sim.actions import GoalRef
 from pmk_nb.sim.cancel_service import add_cancel_services
-from pmk_nb.sim.messages import pose_msg
 from pmk_nb.sim.navgoal import NavGoal, parse_pose
 from pmk_nb.sim.navigation_ros1 import Ros1Actionlib
+from pmk_nb.wire import NAV2_ACTION, NAV2_ACTIONS, NAV2_THROUGH, make_stamp, pose_msg
 
 if TYPE_CHECKING:
     from pmk_nb.sim.engine import Engine
@@ -56,10 +56,10 @@ class Navigator:
         self.bridge = bridge
         n = self.engine.names
         if self.offer_actions and n.ros == "ros2":
-            bridge.add_action("/navigate_to_pose", "nav2_msgs/action/NavigateToPose", _ToPose(self))
-            bridge.add_action("/navigate_through_poses", "nav2_msgs/action/NavigateThroughPoses", _ThroughPoses(self))
-            self.status = ActionStatus(bridge, n, ("/navigate_to_pose", "/navigate_through_poses"))
-            add_cancel_services(self, ("/navigate_to_pose", "/navigate_through_poses"))
+            bridge.add_action(*NAV2_ACTION, _ToPose(self))
+            bridge.add_action(*NAV2_THROUGH, _ThroughPoses(self))
+            self.status = ActionStatus(bridge, n, NAV2_ACTIONS)
+            add_cancel_services(self, NAV2_ACTIONS)
         elif self.offer_actions:
             self.ros1 = Ros1Actionlib(self, bridge, n)
         if n.ros == "ros2":
@@ -243,6 +243,5 @@ class _ThroughPoses(_ToPose):
 
 
 def _duration(seconds: float) -> dict[str, int]:
-    seconds = max(0.0, min(seconds, 2.0**31 - 1))
-    sec = math.floor(seconds)
-    return {"sec": sec, "nanosec": min(round((seconds - sec) * 1e9), 999_999_999)}
+    """A ``builtin_interfaces/Duration``: a ROS 2 stamp's shape, clamped to what its int32 seconds hold."""
+    return make_stamp(max(0.0, min(seconds, 2.0**31 - 1)), 2)

@@ -12,8 +12,13 @@ from __future__ import annotations
 import time
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.sim.messages import pose_msg
 from pmk_nb.sim.navgoal import NavGoal, parse_pose
+from pmk_nb.wire import ACTIONLIB_ABORTED as ABORTED
+from pmk_nb.wire import ACTIONLIB_ACTIVE as ACTIVE
+from pmk_nb.wire import ACTIONLIB_PREEMPTED as PREEMPTED
+from pmk_nb.wire import ACTIONLIB_REJECTED as REJECTED
+from pmk_nb.wire import ACTIONLIB_SUCCEEDED as SUCCEEDED
+from pmk_nb.wire import MOVE_BASE, pose_msg
 
 if TYPE_CHECKING:
     from pmk_nb.sim.messages import Names
@@ -21,10 +26,9 @@ if TYPE_CHECKING:
     from pmk_nb.sim.protocol import Bridge
 
 # actionlib_msgs/GoalStatus
-PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = 0, 1, 2, 3, 4, 5
 CODES = {"succeeded": SUCCEEDED, "aborted": ABORTED, "canceled": PREEMPTED}
 KEEP_DONE_S = 5.0  # how long a finished goal stays in the status list
-SERVER = "/move_base"
+SERVER = MOVE_BASE[0]
 
 
 class Ros1Actionlib:

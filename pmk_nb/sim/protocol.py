@@ -26,7 +26,7 @@ from pmk_nb.rosauth import granted
 from pmk_nb.sim.actions import ActionEntry, ActionOps
 from pmk_nb.sim.bridge_modes import DEFAULT_BRIDGE, BridgeMode, facts
 from pmk_nb.sim.jsonfast import dumps
-from pmk_nb.sim.messages import canonical_type, conformance_error, is_type_name
+from pmk_nb.sim.messages import conformance_error
 from pmk_nb.sim.services import ServiceEntry, ServiceOps
 from pmk_nb.sim.session import (
     STATUS_LEVELS,
@@ -37,6 +37,8 @@ from pmk_nb.sim.session import (
     png_encode,
     resolve_name,
 )
+from pmk_nb.wire import is_type_name
+from pmk_nb.wire import normalise_type as canonical_type
 
 if TYPE_CHECKING:
     from websockets.asyncio.server import ServerConnection

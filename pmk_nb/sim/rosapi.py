@@ -16,7 +16,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.bridge_modes import NEW_THREAD_PARAM, OFFICIAL_NODE
-from pmk_nb.sim.messages import Names, canonical_type
+from pmk_nb.sim.messages import Names
+from pmk_nb.wire import normalise_type as canonical_type
 
 if TYPE_CHECKING:
     from pmk_nb.sim.protocol import Bridge

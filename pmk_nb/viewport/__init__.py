@@ -37,7 +37,7 @@ from pmk_nb.viewport.maptools import (
 from pmk_nb.viewport.occlusion import Insets, insets_from_boxes
 from pmk_nb.viewport.outline import LaserOutline, laser_outline, tick_segments
 from pmk_nb.viewport.path import ARRIVED_M, ahead_of
-from pmk_nb.viewport.pose import Transform2D, mounted, wrap_angle
+from pmk_nb.viewport.pose import Transform2D, mounted
 from pmk_nb.viewport.tftree import FramedTransform, TfTree, normalise_frame
 from pmk_nb.viewport.view import (
     MIN_CHAIR_RADIUS_PX,
@@ -88,5 +88,4 @@ __all__ = [
     "tile_covers",
     "tile_size_for",
     "window_image",
-    "wrap_angle",
 ]

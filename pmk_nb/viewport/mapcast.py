@@ -8,8 +8,8 @@ the expected no-return; where the map has a wall within range, the sensor should
 null there is a blind (or blocked) sensor.
 
 Unknown cells and the space outside the grid are not walls: the map cannot say anything was there,
-so a null ray over them is not counted as blind.  All rays are cast at once (NumPy), in chunks so a
-1 000-ray scan over a 30 m range stays a few megabytes.
+so a null ray over them is not counted as blind. The rays are cast by the one ray caster
+(:func:`pmk_nb.wire.first_hits`, the simulator's laser uses it too), all at once in blocks of steps.
 """
 
 from __future__ import annotations
@@ -19,13 +19,12 @@ import math
 import numpy as np
 
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.wire import first_hits
 
 __all__ = ["OCCUPIED_AT", "expected_no_return", "explain_nulls", "first_obstacle"]
 
 #: Occupancy at or above which a cell is a wall (map_server's default ``occupied_thresh`` 0.65).
 OCCUPIED_AT = 65
-#: Rays cast per NumPy pass: bounds memory to chunk * samples booleans.
-_CHUNK = 256
 
 
 def first_obstacle(
@@ -65,17 +64,15 @@ def first_obstacle(
     if t.size == 0:
         return out
     heads = a + origin[2] - gyaw
-    wall = grid.data >= OCCUPIED_AT  # int8: unknown (-1) is never a wall
-    for lo in range(0, a.size, _CHUNK):
-        h = heads[lo : lo + _CHUNK, None]
-        col = np.floor((ox + np.cos(h) * t) / res).astype(np.int64)
-        row = np.floor((oy + np.sin(h) * t) / res).astype(np.int64)
-        inside = (col >= 0) & (col < grid.width) & (row >= 0) & (row < grid.height)
-        hit = np.zeros(col.shape, dtype=bool)
-        hit[inside] = wall[row[inside], col[inside]]
-        any_hit = hit.any(axis=1)
-        first = np.argmax(hit, axis=1)
-        out[lo : lo + _CHUNK] = np.where(any_hit, t[first], np.inf)
+    cos, sin = np.cos(heads)[:, None], np.sin(heads)[:, None]
+
+    def cells(rays: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        tk = t[k.astype(np.intp)]  # the samples' distances (m), as arange spaced them
+        return (ox + cos[rays] * tk) / res, (oy + sin[rays] * tk) / res
+
+    first = first_hits(grid.data >= OCCUPIED_AT, cells, a.size, t.size)  # int8: unknown (-1) is never a wall
+    found = first >= 0
+    out[found] = t[first[found]]
     return out
 
 

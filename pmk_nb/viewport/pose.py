@@ -10,13 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-
-def wrap_angle(a: float) -> float:
-    """Angle in (-pi, pi]."""
-    a = math.fmod(a + math.pi, 2.0 * math.pi)
-    if a <= 0.0:
-        a += 2.0 * math.pi
-    return a - math.pi
+from pmk_nb.wire import wrap_angle
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,7 @@ PACKAGES |= {"classroom"}  # a simulated chair per page, the class's chair cap (
 PACKAGES |= {"seams"}  # the only modules touching a library's private members, one per library (issue 25)
 PACKAGES |= {"openings"}  # where the navigation graph opens walls: raster draws it, access and guide read it (issue 25)
 PACKAGES |= {"witness"}  # the written map judged against its plan, sharing no decision with the converter (issue 37)
+PACKAGES |= {"wire"}  # what crosses the wire to the chair, written once for chair, sim, robot and viewport (issue 42)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -127,7 +128,7 @@ SHARED |= {"lazyface"}  # the one lazy package face: a name loads only its own m
 SHARED |= {"pixels"}  # numpy pixel maths (erosion, labelling), property-tested against scipy
 SHARED |= {"clock"}  # a stdlib-only leaf: everything that decides by time takes a Clock
 ALLOWED_IMPORTS: dict[str, set[str]] = {
-    "viewport": {"grid"},  # the shared grid type and its greys, nothing else
+    "viewport": {"grid", "wire"},  # the shared grid type and its greys; angles and the ray caster
     "grid": set(),
     "indoorgml": SHARED,
     "openings": SHARED | {"indoorgml"},  # the plan of openings: from the building, before any grid
@@ -171,6 +172,10 @@ ALLOWED_IMPORTS["clock"] = set()  # a leaf: the standard library only
 ALLOWED_IMPORTS["seams"] = {"lazyface"}  # its face is lazy: one seam never loads another library
 for _user in ("chair", "ui", "cli"):
     ALLOWED_IMPORTS[_user] |= {"seams"}
+# The wire (issue 42): a leaf under both ends of the wire, so neither end imports the other for it.
+ALLOWED_IMPORTS["wire"] = {"errors", "grid", "lazyface"}
+for _user in ("chair", "sim", "robot", "viewport", "ui", "cli"):
+    ALLOWED_IMPORTS[_user] |= {"wire"}
 
 
 def _package_of(path: Path) -> str:

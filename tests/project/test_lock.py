@@ -81,3 +81,33 @@ def test_housekeeping_a_newcomer_expects() -> None:
     make = (ROOT / "Makefile").read_text()
     for target in ("format:", "lock:", "test-latest:"):
         assert f"\n{target}" in make
+
+
+#: runtime dependencies that pmk_nb never imports by name, each with its reason
+NOT_IMPORTED = {
+    "jupyterlab": "the notebook app the notebooks and the dashboard run in",
+    "matplotlib": "the notebooks plot with it (notebooks/0*.ipynb)",
+    "mcap": "the MCAP container under mcap-ros2-support's writer (recordings)",
+    "keyrings-alt": "keyring loads its plain-file backend by name (chair/secrets.PLAIN_FILE_BACKEND)",
+}
+
+
+@pytest.mark.slow
+def test_every_runtime_dependency_is_used() -> None:
+    """A runtime dependency is imported by pmk_nb, or says why not; one used only by tests belongs in the dev extra
+    (issue 42: scipy was a runtime dependency that only tests import)."""
+    import ast
+    import importlib.metadata
+
+    imported: set[str] = set()
+    for path in (ROOT / "pmk_nb").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                imported |= {alias.name.split(".")[0] for alias in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                imported.add(node.module.split(".")[0])
+    providers = importlib.metadata.packages_distributions()
+    used = {canonicalize_name(dist) for module in imported for dist in providers.get(module, [])}
+    unused = [canonicalize_name(r.name) for r in _declared() if canonicalize_name(r.name) not in used]
+    assert sorted(set(unused) - set(NOT_IMPORTED)) == [], "runtime dependencies pmk_nb does not import"
+    assert sorted(set(NOT_IMPORTED) - set(unused)) == [], "NOT_IMPORTED names a dependency that is imported now"

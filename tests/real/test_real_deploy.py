@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pmk_nb.chair import grid_sha256
+from pmk_nb.chair import map_sha256
 from pmk_nb.chair.deploy import deploy
 from pmk_nb.chair.link import ChairLink
 from pmk_nb.grid import OccupancyGrid
@@ -91,7 +91,7 @@ def test_deploy_every_reload_flavour_confirmed(
     assert report.remote_yaml == str(chair.maps / f"floor{cells}.yaml")
     assert "confirmed by SHA-256 of the cells (map_info)" in report.notes, report.notes
     facts = link.map_facts(10)
-    assert facts is not None and facts.sha256 == grid_sha256(files) and facts.path == report.remote_yaml
+    assert facts is not None and facts.sha256 == map_sha256(files) and facts.path == report.remote_yaml
     assert (report.map_info.width, report.map_info.height) == (cells, cells)
 
 
@@ -109,7 +109,7 @@ def test_lost_loadmap_reply_is_rechecked_not_reported(
     report = deploy(files, profile, link=link, confirm_timeout=20)
     assert any("answer was lost" in note for note in report.notes), report.notes
     assert "confirmed by SHA-256 of the cells (map_info)" in report.notes
-    assert link.map_facts(10).sha256 == grid_sha256(files)
+    assert link.map_facts(10).sha256 == map_sha256(files)
 
 
 @pytest.mark.slow

@@ -8,7 +8,8 @@ import threading
 import numpy as np
 import roslibpy
 
-from pmk_nb.robot.mapstore import MapStore, grid_sha256
+from pmk_nb.robot.mapstore import MapStore
+from pmk_nb.wire import grid_sha256
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair, close_client
 from tests.fixtures_sim import room_grid, write_test_map

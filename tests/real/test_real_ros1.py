@@ -20,8 +20,8 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.robot import ros1_mapserver
-from pmk_nb.robot.mapstore import grid_sha256
 from pmk_nb.rosmap import read_map
+from pmk_nb.wire import grid_sha256
 from tests.fixtures_ros2 import free_port
 from tests.fixtures_sim import room_grid, write_test_map
 

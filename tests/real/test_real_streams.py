@@ -19,9 +19,10 @@ import roslibpy
 
 from pmk_nb.chair.link import ChairLink
 from pmk_nb.chair.link.throttle import AUTO, SCREEN_HZ
-from pmk_nb.chair.messages import Odometry, Scan, stamp_to_sec
+from pmk_nb.chair.messages import Odometry, Scan
 from pmk_nb.rosmap import read_map
 from pmk_nb.ui.live.chair_layer import PoseHistory
+from pmk_nb.wire import stamp_to_sec
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair, close_client
 from tests.fixtures_sim import room_grid, write_test_map

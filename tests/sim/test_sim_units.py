@@ -18,9 +18,10 @@ from pmk_nb.sim.demo import sample_floor
 from pmk_nb.sim.gridops import clearance, dilate_disk, wavefront
 from pmk_nb.sim.jsonfast import RawJSON, dumps, int8_array_json
 from pmk_nb.sim.laser import Laser
-from pmk_nb.sim.messages import Names, canonical_type, conformance_error
+from pmk_nb.sim.messages import Names, conformance_error
 from pmk_nb.sim.paths import ChairFS
 from pmk_nb.sim.world import World
+from pmk_nb.wire import normalise_type
 from tests.fixtures_sim import room_grid
 
 
@@ -157,7 +158,7 @@ def test_names_per_ros_version():
     assert ros2.srv("nav2_msgs", "LoadMap") == "nav2_msgs/srv/LoadMap"
     assert ros1.stamp(12.5) == {"secs": 12, "nsecs": 500_000_000}
     assert ros2.stamp(12.5) == {"sec": 12, "nanosec": 500_000_000}
-    assert canonical_type("geometry_msgs/msg/Twist") == "geometry_msgs/Twist"
+    assert normalise_type("geometry_msgs/msg/Twist") == "geometry_msgs/Twist"
     assert conformance_error("geometry_msgs/Twist", {"linear": {"x": 1.0}}) is None
     assert "no field" in conformance_error("geometry_msgs/msg/Twist", {"linear": {"q": 1}})
     assert "number" in conformance_error("geometry_msgs/Twist", {"angular": {"z": "fast"}})

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from pmk_nb.chair.link.initialpose import VARIANCE_XY, VARIANCE_YAW, initial_pose_message
-from pmk_nb.chair.messages import yaw_from_quaternion
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.viewport import Viewport
 from pmk_nb.viewport.maptools import (
@@ -23,6 +22,7 @@ from pmk_nb.viewport.maptools import (
     pixel_to_map,
     scale_bar,
 )
+from pmk_nb.wire import yaw_from_quaternion
 
 
 @pytest.mark.parametrize(

@@ -16,9 +16,9 @@ from typing import Any
 
 from pmk_nb.chair import reload
 from pmk_nb.chair.link.services import AnswerLost, ServiceFailed
-from pmk_nb.chair.messages import normalise_type, type_ros_version, type_spellings
 from pmk_nb.chair.reload import MapReloadError, ReloadService, build_request, check_response
 from pmk_nb.errors import ChairLinkError, ChairTimeout
+from pmk_nb.wire import normalise_type, type_ros_version, type_spellings
 
 CORE = ("/rosapi/topics", "/rosapi/services")  # every rosapi has these: failing, rosapi is missing
 Caller = Callable[[str, str, dict[str, Any], "float | None"], dict[str, Any]]

@@ -16,9 +16,6 @@ from pmk_nb.errors import ChairLinkError
 
 LOG = logging.getLogger(__name__)
 ARRIVE_TOLERANCE = 0.25  # m: goal-topic route, no action server to say "arrived"
-NAV2_ACTION = ("/navigate_to_pose", "nav2_msgs/action/NavigateToPose")
-NAV2_THROUGH = ("/navigate_through_poses", "nav2_msgs/action/NavigateThroughPoses")
-MOVE_BASE = ("/move_base", "move_base_msgs/MoveBaseAction")
 
 
 class GoalStatus(str, Enum):

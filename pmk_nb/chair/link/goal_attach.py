@@ -17,8 +17,9 @@ from typing import Any
 
 import roslibpy
 
-ACTIVE = (1, 2, 3)  # action_msgs/GoalStatus accepted, executing, canceling
-STATUS_TYPE = "action_msgs/msg/GoalStatusArray"
+from pmk_nb.wire import GOAL_STATUS_ARRAY, STATUS_ACCEPTED, STATUS_CANCELING, STATUS_EXECUTING
+
+ACTIVE = (STATUS_ACCEPTED, STATUS_EXECUTING, STATUS_CANCELING)
 
 
 class ActionStatusFollower:
@@ -32,7 +33,7 @@ class ActionStatusFollower:
         self.code: int | None = None
         self.listed = False  # our goal is in the latest status message
         self.heard_at = 0.0  # monotonic time of the latest status message
-        self._topic = roslibpy.Topic(ros, f"{action}/_action/status", STATUS_TYPE)
+        self._topic = roslibpy.Topic(ros, f"{action}/_action/status", GOAL_STATUS_ARRAY)
         self._topic.subscribe(self._on_status)
 
     def mark_sent(self) -> None:

@@ -17,30 +17,52 @@ import roslibpy
 from roslibpy.core import RosTimeoutError
 from roslibpy.ros1 import actionlib
 
-from pmk_nb.chair.link.goal import MOVE_BASE, NAV2_ACTION, GoalHandle, GoalRoute, GoalStatus, NavigationError
+from pmk_nb.chair.link.goal import GoalHandle, GoalRoute, GoalStatus, NavigationError
 from pmk_nb.chair.link.goal_attach import ActionStatusFollower
 from pmk_nb.chair.link.goal_topic import start_topic
-from pmk_nb.chair.messages import make_stamp, quaternion_from_yaw
 from pmk_nb.errors import ChairLinkError
+from pmk_nb.wire import (
+    ACTIONLIB_ABORTED,
+    ACTIONLIB_ACTIVE,
+    ACTIONLIB_LOST,
+    ACTIONLIB_PENDING,
+    ACTIONLIB_PREEMPTED,
+    ACTIONLIB_PREEMPTING,
+    ACTIONLIB_RECALLED,
+    ACTIONLIB_RECALLING,
+    ACTIONLIB_REJECTED,
+    ACTIONLIB_SUCCEEDED,
+    MOVE_BASE,
+    NAV2_ACTION,
+    STATUS_ABORTED,
+    STATUS_CANCELED,
+    STATUS_SUCCEEDED,
+    make_stamp,
+    quaternion_from_yaw,
+)
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore
 
 Goal3 = tuple[float, float, float]
-# action_msgs/GoalStatus -> ours (4 succeeded, 5 canceled, 6 aborted)
-NAV2_RESULTS = {4: GoalStatus.ARRIVED, 5: GoalStatus.CANCELLED, 6: GoalStatus.ABORTED}
+# action_msgs/GoalStatus -> ours
+NAV2_RESULTS = {
+    STATUS_SUCCEEDED: GoalStatus.ARRIVED,
+    STATUS_CANCELED: GoalStatus.CANCELLED,
+    STATUS_ABORTED: GoalStatus.ABORTED,
+}
 # actionlib_msgs/GoalStatus -> ours
 ACTIONLIB = {
-    0: GoalStatus.ACCEPTED,
-    1: GoalStatus.MOVING,
-    2: GoalStatus.CANCELLED,
-    3: GoalStatus.ARRIVED,
-    4: GoalStatus.ABORTED,
-    5: GoalStatus.REJECTED,
-    6: GoalStatus.MOVING,  # preempting: still moving until the server confirms
-    7: GoalStatus.ACCEPTED,  # recalling
-    8: GoalStatus.CANCELLED,  # recalled
-    9: GoalStatus.ABORTED,  # lost
+    ACTIONLIB_PENDING: GoalStatus.ACCEPTED,
+    ACTIONLIB_ACTIVE: GoalStatus.MOVING,
+    ACTIONLIB_PREEMPTED: GoalStatus.CANCELLED,
+    ACTIONLIB_SUCCEEDED: GoalStatus.ARRIVED,
+    ACTIONLIB_ABORTED: GoalStatus.ABORTED,
+    ACTIONLIB_REJECTED: GoalStatus.REJECTED,
+    ACTIONLIB_PREEMPTING: GoalStatus.MOVING,  # still moving until the server confirms
+    ACTIONLIB_RECALLING: GoalStatus.ACCEPTED,
+    ACTIONLIB_RECALLED: GoalStatus.CANCELLED,
+    ACTIONLIB_LOST: GoalStatus.ABORTED,
 }
 _ACTIONLIB_CLIENTS: weakref.WeakKeyDictionary[Any, actionlib.ActionClient] = weakref.WeakKeyDictionary()
 _CLIENTS_LOCK = threading.Lock()

@@ -30,11 +30,12 @@ from typing import TYPE_CHECKING
 
 from websockets.exceptions import WebSocketException
 
-from pmk_nb.chair.link.goal import MOVE_BASE, NAV2_ACTION, NAV2_THROUGH, GoalHandle, NavigationError
+from pmk_nb.chair.link.goal import GoalHandle, NavigationError
 from pmk_nb.chair.link.heartbeat import client_id
 from pmk_nb.chair.link.side_channel import SIDE_ERRORS, ZERO, side_connect
-from pmk_nb.chair.messages import spell_type
 from pmk_nb.goalbeat import STOP_REPEAT_HZ, STOP_REPEAT_S, STOP_TOPIC, stop_message
+from pmk_nb.wire import CANCEL_GOAL_TYPE as CANCEL_SERVICE
+from pmk_nb.wire import MOVE_BASE_CANCEL, NAV2_ACTION, NAV2_THROUGH, spell_type
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore
@@ -43,7 +44,6 @@ LOG = logging.getLogger(__name__)
 #: zero velocity after the cancels: short, since a chair released after a Stop must not meet stale
 #: zeros from it (the cancels stop the goals; the zeros stop what has no goal and what a held link sent)
 BURST_HZ, BURST_S = 20.0, 0.25
-CANCEL_SERVICE = "action_msgs/srv/CancelGoal"
 _RUNNING: weakref.WeakKeyDictionary[LinkCore, set[GoalHandle]] = weakref.WeakKeyDictionary()
 _LOCK = threading.Lock()
 STOP_ERRORS: tuple[type[BaseException], ...] = (*SIDE_ERRORS, WebSocketException)
@@ -176,7 +176,7 @@ def _stop_messages(version: int | None, cmd_vel_topic: str) -> list[dict[str, ob
             service = f"{action}/_action/cancel_goal"
             out.append({"op": "call_service", "id": f"pmk-stop-{n}", "service": service, "type": CANCEL_SERVICE})
     if version != 2:  # actionlib: an empty GoalID cancels every goal
-        cancel = f"{MOVE_BASE[0]}/cancel"
+        cancel = MOVE_BASE_CANCEL
         out.append({"op": "advertise", "topic": cancel, "type": "actionlib_msgs/GoalID"})
         out.append({"op": "publish", "topic": cancel, "msg": {"stamp": {"secs": 0, "nsecs": 0}, "id": ""}})
     out.append({"op": "advertise", "topic": cmd_vel_topic, "type": spell_type("geometry_msgs/Twist", version)})

@@ -30,6 +30,14 @@ from typing import TYPE_CHECKING
 from pmk_nb.chair.link import goal_words as words
 from pmk_nb.chair.link.goal import ARRIVE_TOLERANCE, GoalHandle, GoalPolicy, GoalStatus
 from pmk_nb.chair.link.side_channel import side_stop
+from pmk_nb.wire import (
+    STATUS_ABORTED,
+    STATUS_ACCEPTED,
+    STATUS_CANCELED,
+    STATUS_CANCELING,
+    STATUS_EXECUTING,
+    STATUS_SUCCEEDED,
+)
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore
@@ -43,12 +51,12 @@ STILL_HOLD_S = 0.5  # s: a cancel is honoured only after this long without motio
 LINGER_S = 3.0  # keep watching a finished goal this long while a cancel is being verified
 # action_msgs/GoalStatus (the action's status topic) -> ours
 STATUS_CODES = {
-    1: GoalStatus.MOVING,
-    2: GoalStatus.MOVING,
-    3: GoalStatus.MOVING,
-    4: GoalStatus.ARRIVED,
-    5: GoalStatus.CANCELLED,
-    6: GoalStatus.ABORTED,
+    STATUS_ACCEPTED: GoalStatus.MOVING,
+    STATUS_EXECUTING: GoalStatus.MOVING,
+    STATUS_CANCELING: GoalStatus.MOVING,
+    STATUS_SUCCEEDED: GoalStatus.ARRIVED,
+    STATUS_CANCELED: GoalStatus.CANCELLED,
+    STATUS_ABORTED: GoalStatus.ABORTED,
 }
 
 

@@ -33,9 +33,9 @@ from typing import TYPE_CHECKING
 from websockets.exceptions import WebSocketException
 
 from pmk_nb.chair.link.side_channel import SIDE_ERRORS, side_connect
-from pmk_nb.chair.messages import spell_type
 from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.goalbeat import RATE_HZ, TOPIC, Beat
+from pmk_nb.wire import spell_type
 
 if TYPE_CHECKING:
     from websockets.sync.client import ClientConnection

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import roslibpy
 
-from pmk_nb.chair.messages import make_stamp, quaternion_from_yaw
+from pmk_nb.wire import make_stamp, quaternion_from_yaw
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.publish import Publishers

@@ -21,9 +21,10 @@ import roslibpy
 
 from pmk_nb.chair.link.mapwatch import MapWatch
 from pmk_nb.chair.link.services import ServiceFailed
-from pmk_nb.chair.messages import MapInfo, parse_map_metadata, spell_type
+from pmk_nb.chair.messages import MapInfo, parse_map_metadata
 from pmk_nb.errors import ChairLinkError, ChairTimeout
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.wire import spell_type
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore

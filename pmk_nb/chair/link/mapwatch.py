@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING, Any
 
 import roslibpy
 
-from pmk_nb.chair.messages import spell_type
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.wire import spell_type
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.transport import LinkRos

@@ -29,9 +29,6 @@ from pmk_nb.chair.link import goal_routes, goal_stop, heartbeat
 from pmk_nb.chair.link.goal import (
     ARRIVE_TOLERANCE,
     LINK_LOSS_POLICIES,
-    MOVE_BASE,
-    NAV2_ACTION,
-    NAV2_THROUGH,
     TERMINAL,
     GoalHandle,
     GoalPolicy,
@@ -43,6 +40,7 @@ from pmk_nb.chair.link.goal import (
 )
 from pmk_nb.chair.link.goal_watch import GoalWatch
 from pmk_nb.errors import ChairLinkError
+from pmk_nb.wire import MOVE_BASE, NAV2_ACTION, NAV2_THROUGH
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore

@@ -11,7 +11,7 @@ from typing import Any
 
 import roslibpy
 
-from pmk_nb.chair.messages import make_stamp, quaternion_from_yaw, spell_type
+from pmk_nb.wire import make_stamp, quaternion_from_yaw, spell_type
 
 # Where a goal goes when no topic is configured: ROS 1 move_base, Nav2's goal topic.
 DEFAULT_GOAL_TOPICS: dict[int, str] = {1: "/move_base_simple/goal", 2: "/goal_pose"}

@@ -30,9 +30,9 @@ from pmk_nb.chair.link.discovery import RosapiMissing
 from pmk_nb.chair.link.msgdefs import DEFINITIONS
 from pmk_nb.chair.link.record_convert import stamp_ns, to_ros2
 from pmk_nb.chair.link.transport import LinkRos
-from pmk_nb.chair.messages import spell_type, type_spellings
 from pmk_nb.errors import ChairLinkError, PmkError
 from pmk_nb.fileio import atomic_open
+from pmk_nb.wire import spell_type, type_spellings
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link.core import LinkCore

@@ -21,8 +21,8 @@ import time
 from typing import TYPE_CHECKING
 
 from pmk_nb.chair.link.tls import check_peer
-from pmk_nb.chair.messages import spell_type
 from pmk_nb.errors import ChairLinkError
+from pmk_nb.wire import spell_type
 
 if TYPE_CHECKING:
     from websockets.sync.client import ClientConnection

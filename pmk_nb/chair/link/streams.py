@@ -25,10 +25,9 @@ from pmk_nb.chair.messages import (
     parse_pose,
     parse_scan,
     parse_tf_message,
-    spell_type,
-    stamp_ros_version,
 )
 from pmk_nb.viewport import TfTree
+from pmk_nb.wire import spell_type, stamp_ros_version
 
 LOG = logging.getLogger(__name__)
 

@@ -185,10 +185,10 @@ class _FactsCheck:
 
 def _file_sha256(yaml: Path) -> str:
     """SHA-256 of a map file's cells as the PMK map server computes it (the deploy check's helper)."""
-    from pmk_nb.chair import grid_sha256
+    from pmk_nb.chair import map_sha256
     from pmk_nb.rosmap import MapFiles, read_map_yaml
 
-    return grid_sha256(MapFiles(yaml, Path(read_map_yaml(yaml).image), None))
+    return map_sha256(MapFiles(yaml, Path(read_map_yaml(yaml).image), None))
 
 
 def _unwatch(link: Any) -> None:
