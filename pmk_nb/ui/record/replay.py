@@ -22,6 +22,7 @@ from pmk_nb.recordings import ReplayFrame, Tables, Timeline, read_recording
 from pmk_nb.ui.common.widgets import escape, html_slot, picture_html
 
 MARGIN_M = 2.0
+STEP_S = 0.1  # the slider's step
 SIZE_IN = (6.0, 4.5)
 
 
@@ -89,12 +90,13 @@ class ReplayView:
     def __init__(self, path: str | Path, tables: Tables | None = None) -> None:
         self.path = Path(path)
         self.timeline = Timeline.from_tables(tables if tables is not None else read_recording(self.path))
-        start = self.timeline.first_pose
+        # the first pose, on the slider's steps (the page snaps a value to them: down would be before it)
+        start = min(math.ceil(self.timeline.first_pose / STEP_S) * STEP_S, self.timeline.duration)
         self.slider = w.FloatSlider(
             value=start,
             min=0.0,
-            max=max(self.timeline.duration, 0.1),
-            step=0.1,
+            max=max(self.timeline.duration, STEP_S),
+            step=STEP_S,
             description="Time [s]",
             readout_format=".1f",
             continuous_update=True,
