@@ -109,9 +109,10 @@ class Timeline:
 
     def poses(self, until: float | None = None) -> np.ndarray:
         """(N, 2) positions of the pose topic, those received up to ``until`` seconds (default: all)."""
-        rows = self._rows.get(self.pose_topic, []) if self.pose_topic else []
-        if until is not None:
-            rows = rows[: int(np.searchsorted(self._times[self.pose_topic], until, side="right"))]
+        topic = self.pose_topic or ""
+        rows = self._rows.get(topic, [])
+        if until is not None and rows:
+            rows = rows[: int(np.searchsorted(self._times[topic], until, side="right"))]
         prefix = _pose_prefix(rows[0]) if rows else ""
         points = [(r[f"{prefix}position.x"], r[f"{prefix}position.y"]) for r in rows]
         return np.array(points, dtype=float).reshape(-1, 2)
