@@ -38,7 +38,8 @@ ROS2_FORM = ("std_msgs/Header", "builtin_interfaces/Time", "builtin_interfaces/D
 def _field_type(kind: str) -> str:
     kind = kind.strip()
     if kind.startswith("sequence<"):  # rosapi unwraps these; an older one may not
-        kind = kind[len("sequence<") :].split(",", 1)[0].rstrip(">").strip()
+        kind = kind[len("sequence<") :].rstrip(">")
+    kind = kind.split(",", 1)[0].strip()  # a bounded sequence unwrapped by rosapi: "int32, 5"
     if kind.startswith("string<=") or kind.startswith("wstring<="):
         kind = kind.split("<=", 1)[0]
     if kind in SPECIALS:

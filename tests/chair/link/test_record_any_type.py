@@ -61,6 +61,30 @@ def test_typedefs_become_the_concatenated_definition_rosbags_parses(ros: str) ->
     assert "MSG: builtin_interfaces/Duration" in text and "\nduration " not in text and "double" not in text
 
 
+def test_rosapi_2_idl_spellings_become_msg_primitives() -> None:
+    """rosapi 2.x reports IDL names, bounded sequences unwrapped as "int32, 5", bounded strings."""
+    typedef = {
+        "type": "pmk_test/Odd",
+        "fieldnames": ["a", "b", "c", "d", "e", "f", "g"],
+        "fieldtypes": [
+            "double",
+            "float",
+            "boolean",
+            "octet",
+            "int32, 5",
+            "string<=10",
+            "sequence<geometry_msgs/Point>",
+        ],
+        "fieldarraylen": [-1, 3, 0, 0, 0, -1, -1],
+    }
+    point = {"type": "geometry_msgs/Point", "fieldnames": ["x"], "fieldtypes": ["double"], "fieldarraylen": [-1]}
+    text = definition_from_typedefs("pmk_test/msg/Odd", [typedef, point])
+    assert text is not None
+    own = text.split("=" * 80)[0]
+    assert own == ("float64 a\nfloat32[3] b\nbool[] c\nbyte[] d\nint32[] e\nstring f\ngeometry_msgs/Point g\n")
+    assert get_types_from_msg(text, "pmk_test/msg/Odd")  # a definition rosbags parses
+
+
 def test_a_type_described_incompletely_is_none_not_a_broken_schema() -> None:
     described = typedefs(MARKERS, "ros2")
     assert described is not None
