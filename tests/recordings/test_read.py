@@ -171,3 +171,26 @@ def test_frames_are_dataframes_or_a_typed_error_naming_pandas(tmp_path: Path) ->
     frame = frames["/t"]
     assert list(frame.columns)[:2] == ["received", "stamp"] and frame["v"].tolist() == [2.5]
     assert frame["stamp"].tolist() == [1.0] and frame["received"].tolist() == [1.0]
+
+
+def test_a_ros2_bag_written_by_rosbags_opens_as_tables(tmp_path: Path) -> None:
+    """A rosbag2 MCAP storage file, as ``ros2 bag record -s mcap`` writes it (here by rosbags' writer)."""
+    from rosbags.rosbag2 import StoragePlugin
+    from rosbags.rosbag2 import Writer as BagWriter
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    t = store.types
+    stamp = t["builtin_interfaces/msg/Time"](sec=42, nanosec=0)
+    pose = t["geometry_msgs/msg/Pose"](
+        t["geometry_msgs/msg/Point"](3.0, 4.0, 0.0), t["geometry_msgs/msg/Quaternion"](0, 0, 0, 1)
+    )
+    msg = t["geometry_msgs/msg/PoseStamped"](t["std_msgs/msg/Header"](stamp, "map"), pose)
+    with BagWriter(tmp_path / "bag", version=9, storage_plugin=StoragePlugin.MCAP) as bag:
+        conn = bag.add_connection("/goal_pose", "geometry_msgs/msg/PoseStamped", typestore=store)
+        bag.write(conn, 42 * 10**9, store.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped"))
+    (file,) = (tmp_path / "bag").glob("*.mcap")
+    tables = read_recording(file)
+    assert tables.types == {"/goal_pose": "geometry_msgs/msg/PoseStamped"}
+    (goal,) = tables.rows["/goal_pose"]
+    assert (goal["pose.position.x"], goal["pose.position.y"], goal["header.frame_id"]) == (3.0, 4.0, "map")
+    assert goal["stamp"] == 42.0 and goal["received"] == 42.0
