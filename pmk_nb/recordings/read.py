@@ -62,6 +62,13 @@ class _Channels:
         self.tables, self.wanted = tables, wanted
         self._decoders: dict[int, Decoder | None] = {}
 
+    def register_all(self, reader: Any) -> None:
+        """Every channel the file's summary lists, messages or not: a silent topic is an empty table."""
+        summary = reader.get_summary()
+        for channel in (summary.channels if summary is not None else {}).values():
+            if self.wanted is None or channel.topic in self.wanted:
+                self.decoder(summary.schemas.get(channel.schema_id), channel)
+
     def decoder(self, schema: Any, channel: Any) -> Decoder | None:
         if channel.id not in self._decoders:
             topic = channel.topic
@@ -95,6 +102,7 @@ def read_recording(path: str | os.PathLike[str], topics: Iterable[str] | None = 
     try:
         with file.open("rb") as fh:
             reader = _open_reader(file, fh)
+            channels.register_all(reader)
             for schema, channel, message in reader.iter_messages(topics=sorted(wanted) if wanted else None):
                 decode = channels.decoder(schema, channel)
                 if decode is None:

@@ -194,3 +194,32 @@ def test_a_ros2_bag_written_by_rosbags_opens_as_tables(tmp_path: Path) -> None:
     (goal,) = tables.rows["/goal_pose"]
     assert (goal["pose.position.x"], goal["pose.position.y"], goal["header.frame_id"]) == (3.0, 4.0, "map")
     assert goal["stamp"] == 42.0 and goal["received"] == 42.0
+
+
+def test_frames_are_built_with_pandas_documented_from_records(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Without pandas here, the call itself is checked against a stand-in: one
+    ``DataFrame.from_records(rows, columns=...)`` per topic, time columns first, every field once."""
+    import types
+
+    calls: list[tuple[list[dict], list[str]]] = []
+
+    class DataFrame:
+        @classmethod
+        def from_records(cls, data: list[dict], columns: list[str]) -> tuple[str, int]:
+            calls.append((data, columns))
+            return ("frame", len(data))
+
+    stand_in = types.ModuleType("pandas")
+    stand_in.DataFrame = DataFrame  # type: ignore[attr-defined]
+    monkeypatch.setitem(__import__("sys").modules, "pandas", stand_in)
+    path = _write(
+        tmp_path / "two.mcap",
+        [
+            ("/a", "", "", b"", "json", [(1, b'{"x": 1}'), (2, b'{"x": 2, "y": {"z": 3}}')]),
+            ("/empty", "", "", b"", "json", []),
+        ],
+    )
+    frames = read_frames(path)
+    assert frames["/a"] == ("frame", 2)
+    assert calls[0][1] == ["received", "stamp", "x", "y.z"]  # a field only later messages have still gets a column
+    assert any(data == [] and columns == ["received", "stamp"] for data, columns in calls)  # a registered silent topic
