@@ -5,7 +5,9 @@ Shapes follow rosapi: ``/rosapi/topics`` -> ``{topics, types}``, ``/rosapi/servi
 ``{time: {secs, nsecs}}`` (ROS 2: ``{sec, nanosec}``), ``/rosapi/topics_for_type`` -> ``{topics}``,
 ``/rosapi/service_type`` -> ``{type}``, ``/rosapi/services_for_type`` -> ``{services}``,
 ``/rosapi/nodes`` -> ``{nodes}``, (ROS 2) ``/rosapi/action_servers`` -> ``{action_servers}``,
-``/rosapi/get_ros_version`` -> ``{version, distro}``, ``/rosapi/get_param`` (name ``node:param``)
+``/rosapi/get_ros_version`` -> ``{version, distro}``, ``/rosapi/message_details`` (``type``) ->
+``{typedefs}`` (:mod:`pmk_nb.sim.msgtypes`; an unknown type fails the call on ROS 1, answers no
+typedefs on ROS 2, as rosapi does), ``/rosapi/get_param`` (name ``node:param``)
 -> ``{value}`` (JSON text; the default when not set). The nodes and the bridge's own parameter
 follow the bridge mode (:mod:`pmk_nb.sim.bridge_modes`).
 """
@@ -17,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.bridge_modes import NEW_THREAD_PARAM, OFFICIAL_NODE
 from pmk_nb.sim.messages import Names
+from pmk_nb.sim.msgtypes import typedefs
 from pmk_nb.wire import normalise_type as canonical_type
 
 if TYPE_CHECKING:
@@ -69,6 +72,14 @@ def register_rosapi(bridge: Bridge, names: Names, clock: Callable[[], float]) ->
     add("get_param", "GetParam", lambda a: {"value": params.get(str(a.get("name")), str(a.get("default_value", "")))})
     if names.ros == "ros2":  # rosapi 2.x: the action servers (Nav2's navigate_to_pose, ...)
         add("action_servers", "GetActionServers", lambda _: {"action_servers": sorted(bridge.actions)})
+
+    async def message_details(args: dict[str, Any]) -> tuple[dict[str, Any], bool]:
+        found = typedefs(str(args.get("type", "")), names.ros)
+        if found is None and names.ros == "ros1":  # rosapi 1.x: the message class does not load
+            raise LookupError(f"Cannot load message type {args.get('type')!r}")
+        return {"typedefs": found or []}, True
+
+    bridge.add_service("/rosapi/message_details", names.srv(pkg, "MessageDetails"), message_details)
     add(
         "get_ros_version",
         "GetROSVersion",

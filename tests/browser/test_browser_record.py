@@ -1,5 +1,6 @@
 """Record on Home in a real browser (issue 29): the demo page records the simulated chair, Stop
-finishes the file, and the download links give the MCAP file and the current map's zip."""
+finishes the file, and the download links give the MCAP file and the current map's zip; Replay
+(issue 40) shows the recording, and moving its slider changes what the picture shows."""
 
 from __future__ import annotations
 
@@ -45,3 +46,13 @@ def test_record_stop_and_download_on_home(tmp_path: Path) -> None:
         assert any(n.endswith(".yaml") for n in names) and len(names) == 2, names
         ARTIFACTS.mkdir(exist_ok=True)
         page.screenshot(path=str(ARTIFACTS / "record-home.png"))
+
+        page.locator(".pmk-record-replay").click()
+        picture = page.locator(".pmk-replay-picture img")
+        expect(picture).to_be_visible(timeout=30_000)
+        caption = page.locator(".pmk-replay-caption")
+        expect(caption).to_contain_text("chair at x")
+        expect(caption).not_to_contain_text(re.compile(r"^(\d+\.\d) s of \1 s"))  # it opens on the first pose
+        page.locator(".pmk-replay-slider .noUi-handle").press("End")  # to the recording's end, by keyboard
+        expect(caption).to_contain_text(re.compile(r"^(\d+\.\d) s of \1 s · chair at x"), timeout=30_000)
+        page.screenshot(path=str(ARTIFACTS / "record-replay.png"))

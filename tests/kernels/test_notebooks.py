@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import re
 import sys
@@ -46,7 +47,8 @@ def test_kernel_is_this_venv() -> None:
 def test_notebooks_are_clean_json() -> None:
     """Committed notebooks carry no outputs (they are run by this test, not stored run)."""
     found = sorted(p.name for p in NOTEBOOKS.glob("*.ipynb"))
-    assert {"dashboard.ipynb", "01-indoorgml-to-ros-map.ipynb", "02-chair-data.ipynb"} <= set(found)
+    expected = {"dashboard.ipynb", "01-indoorgml-to-ros-map.ipynb", "02-chair-data.ipynb", "04-recording-tables.ipynb"}
+    assert expected <= set(found)
     for name in found:
         nb = json.loads((NOTEBOOKS / name).read_text())
         assert nb["metadata"]["kernelspec"]["name"] == "python3"
@@ -86,3 +88,24 @@ def test_chair_data_notebook_records_the_simulator(tmp_path: Path, monkeypatch: 
     read_back = [line for line in text.splitlines() if "odometry messages from" in line]  # the MCAP file read back
     assert read_back and int(read_back[0].split()[0]) == int(recorded[0].split()[1]), read_back
     assert len([o for o in outs if "image/png" in o.get("data", {})]) >= 3  # speed over time, trajectory, scan
+
+
+@pytest.mark.slow
+def test_recording_tables_notebook_records_opens_and_plots(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 40: record the simulated chair, open the file as tables (DataFrames with pandas, rows
+    without, saying why), draw the drive."""
+    monkeypatch.setenv("PMK_RECORD_SECONDS", "4")
+    nb = run_notebook(NOTEBOOKS / "04-recording-tables.ipynb", tmp_path, monkeypatch)
+    outs = outputs(nb)
+    assert not [o for o in outs if o.get("output_type") == "error"]
+    text = "".join(o.get("text", "") for o in outs)
+    recorded = re.search(r"recorded (\d+) messages .* (\d+) dropped", text)
+    assert recorded and int(recorded.group(1)) > 50 and recorded.group(2) == "0", text
+    rows = re.search(r"/odom\s+(\d+) rows,\s+(\d+) columns", text)
+    assert rows and int(rows.group(1)) > 20 and int(rows.group(2)) > 10, text  # flattened odometry
+    assert "no message on: /cmd_vel" in text or "no message on: none" in text, text
+    has_pandas = importlib.util.find_spec("pandas") is not None
+    assert ("/odom as a DataFrame" in text) if has_pandas else ("'pandas'" in text and "not installed" in text), text
+    odometry = re.search(r"(\d+) odometry rows over ([\d.]+) s", text)
+    assert odometry and int(odometry.group(1)) == int(rows.group(1)) and float(odometry.group(2)) > 2.0, text
+    assert len([o for o in outs if "image/png" in o.get("data", {})]) >= 1  # the drive figure

@@ -32,6 +32,7 @@ PACKAGES |= {"seams"}  # the only modules touching a library's private members, 
 PACKAGES |= {"openings"}  # where the navigation graph opens walls: raster draws it, access and guide read it (issue 25)
 PACKAGES |= {"witness"}  # the written map judged against its plan, sharing no decision with the converter (issue 37)
 PACKAGES |= {"wire"}  # what crosses the wire to the chair, written once for chair, sim, robot and viewport (issue 42)
+PACKAGES |= {"recordings"}  # recordings (MCAP) opened as tables, for researchers (issue 40)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -165,6 +166,10 @@ for _user in ("library", "cli", "ui", "catalogue"):
 ALLOWED_IMPORTS["cli"] |= {"catalogue"}
 # A chair per classroom page (issue 26): a simulator and a profile for it, for the ui and the cli.
 ALLOWED_IMPORTS["classroom"] = SHARED | {"sim", "chair"}
+# Recordings read back as tables (issue 40): files only, no link; the screens and notebooks use it.
+ALLOWED_IMPORTS["recordings"] = set(SHARED)
+ALLOWED_IMPORTS["ui"] |= {"recordings"}
+ALLOWED_IMPORTS["cli"] |= {"recordings"}
 ALLOWED_IMPORTS["ui"] |= {"classroom"}
 ALLOWED_IMPORTS["cli"] |= {"classroom"}
 # Library seams (issue 25): leaves over their library, used by the link, the screens and the commands.

@@ -86,8 +86,6 @@ def test_housekeeping_a_newcomer_expects() -> None:
 #: runtime dependencies that pmk_nb never imports by name, each with its reason
 NOT_IMPORTED = {
     "jupyterlab": "the notebook app the notebooks and the dashboard run in",
-    "matplotlib": "the notebooks plot with it (notebooks/0*.ipynb)",
-    "mcap": "the MCAP container under mcap-ros2-support's writer (recordings)",
     "keyrings-alt": "keyring loads its plain-file backend by name (chair/secrets.PLAIN_FILE_BACKEND)",
 }
 

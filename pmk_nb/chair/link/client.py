@@ -41,7 +41,7 @@ from pmk_nb.chair.link.mapread import MapFacts, MapReader
 from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.probe import probe_rosbridge
 from pmk_nb.chair.link.publish import Publishers
-from pmk_nb.chair.link.record import Recording, RecordStats, Topics, resolve_topics
+from pmk_nb.chair.link.record import Recording, RecordStats, Topics, resolve_definitions, resolve_topics
 from pmk_nb.chair.link.services import call_service
 from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
 from pmk_nb.chair.link.streams import StreamConfig, StreamHub
@@ -304,13 +304,15 @@ class ChairLink:
     # -- recording (pmk_nb.chair.link.record) ---------------------------------------------------------
     def start_recording(self, path: str | os.PathLike[str], topics: Topics = None) -> Recording:
         """Start recording ``topics`` (default: odometry, scan, pose, tf, cmd_vel, map) to the MCAP file
-        ``path``; ``.stop()`` finishes the file, ``.stats`` counts. Topics may map to their types.
+        ``path``; ``.stop()`` finishes the file, ``.stats`` counts. Topics may map to their types. Any
+        type the bridge describes (rosapi ``message_details``) is recorded with its schema.
 
         Raises:
             UnknownTopic, UnsupportedType, RecordDiskError (see :mod:`.record`); ChairLinkError.
         """
         self.require_ros()
-        return Recording(self, path, resolve_topics(self, topics, str(path)))
+        types = resolve_topics(self, topics, str(path))
+        return Recording(self, path, types, definitions=resolve_definitions(self, types, str(path)))
 
     def record(
         self, path: str | os.PathLike[str], topics: Topics = None, seconds: float = 5.0, flow_timeout: float = 10.0

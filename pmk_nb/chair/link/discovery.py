@@ -73,6 +73,16 @@ class Discovery:
             types = [""] * len(names)
         return dict(zip(names, types, strict=True))
 
+    def message_details(self, msg_type: str, timeout: float | None = None) -> list[dict[str, Any]]:
+        """rosapi's typedefs of ``msg_type`` (the type first, then each type it uses); [] when the
+        bridge cannot describe it (rosapi 1.x fails the call for an unknown type, 2.x answers none)."""
+        try:
+            args = {"type": normalise_type(msg_type)}
+            r = self._rosapi("/rosapi/message_details", "rosapi/MessageDetails", args, timeout)
+        except ServiceFailed:
+            return []
+        return [t for t in r.get("typedefs") or () if isinstance(t, dict)]
+
     def topics_of_type(self, msg_type: str) -> list[str]:
         """Topics of ``msg_type``; asks /rosapi/topics_for_type with both spellings and merges.
 

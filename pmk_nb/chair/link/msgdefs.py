@@ -10,6 +10,7 @@ type store, ROS 2 Humble) and :func:`concatenated` adds its dependencies depth-f
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 
 SEPARATOR = "=" * 80 + "\n"
 
@@ -73,20 +74,25 @@ def _dependencies(fields: str) -> list[str]:
     return found
 
 
-def concatenated(short: str) -> str:
-    """``short``'s full definition: its own fields, then each dependency once, depth-first."""
+def concatenated(short: str, fields: Mapping[str, str] = FIELDS) -> str:
+    """``short``'s full definition: its own fields, then each dependency once, depth-first.
+    ``fields``: each type's own fields (default: the bundled ones; a bridge's, :mod:`.msgdetails`).
+
+    Raises:
+        KeyError: a type ``short`` uses has no entry in ``fields``.
+    """
     seen: set[str] = set()
     order: list[str] = []
 
     def walk(name: str) -> None:
-        for dep in _dependencies(FIELDS[name]):
+        for dep in _dependencies(fields[name]):
             if dep not in seen:
                 seen.add(dep)
                 order.append(dep)
                 walk(dep)
 
     walk(short)
-    return FIELDS[short] + "".join(f"{SEPARATOR}MSG: {dep}\n{FIELDS[dep]}" for dep in order)
+    return fields[short] + "".join(f"{SEPARATOR}MSG: {dep}\n{fields[dep]}" for dep in order)
 
 
 #: the types a recording can write, by their ROS 2 name, with their concatenated definitions

@@ -1,5 +1,8 @@
 """Record the chair's topics to MCAP (ROS 2 schemas, CDR messages): Foxglove, ``ros2 bag`` and rosbags open it.
 
+Any type the bridge can describe is recorded: the bundled definitions (:mod:`.msgdefs`) need no round
+trip; any other type's definition is asked once from rosapi's ``message_details`` (:mod:`.msgdetails`).
+
 A recording has its own rosbridge connection (a second ``LinkRos``): roslibpy keys topic callbacks
 by topic name and its ``unsubscribe`` drops every callback of that name, so sharing the link's
 connection would cut the live view off when a recording stops; the link's streams may also be
@@ -28,6 +31,7 @@ import roslibpy
 
 from pmk_nb.chair.link.discovery import RosapiMissing
 from pmk_nb.chair.link.msgdefs import DEFINITIONS
+from pmk_nb.chair.link.msgdetails import describe
 from pmk_nb.chair.link.record_convert import stamp_ns, to_ros2
 from pmk_nb.chair.link.transport import LinkRos
 from pmk_nb.errors import ChairLinkError, PmkError
@@ -72,11 +76,17 @@ class UnknownTopic(RecordError):
 
 
 class UnsupportedType(RecordError):
-    """The topic's type has no bundled message definition, so it cannot be written with a schema."""
+    """The topic's type has no bundled definition and the bridge cannot describe it (no rosapi, or
+    rosapi's ``message_details`` does not know it), so it cannot be written with a schema.
+    ``supported``: the bundled types; ``rosapi``: False when the bridge has no rosapi to ask."""
 
-    def __init__(self, *, path: str, topic: str, type_name: str) -> None:
-        super().__init__(f"cannot record {topic}: no message definition for {type_name}", path=path)
-        self.topic, self.type_name, self.supported = topic, type_name, SUPPORTED
+    def __init__(self, *, path: str, topic: str, type_name: str, rosapi: bool = True) -> None:
+        super().__init__(
+            f"cannot record {topic}: the chair's bridge cannot describe {type_name}",
+            path=path,
+            hint="" if rosapi else "Start rosapi with the bridge: it describes the message types.",
+        )
+        self.topic, self.type_name, self.supported, self.rosapi = topic, type_name, SUPPORTED, rosapi
 
 
 class RecordDiskError(RecordError):
@@ -121,7 +131,7 @@ def resolve_topics(link: LinkCore, topics: Topics, path: str) -> dict[str, str]:
     /tf_static, /cmd_vel and /map, those the chair has. Types come from rosapi, else ``KNOWN_TYPES``.
 
     Raises:
-        UnknownTopic, UnsupportedType; ChairLinkError when the link is not connected.
+        UnknownTopic; ChairLinkError when the link is not connected.
     """
     cfg = link.config
     given = dict(topics) if isinstance(topics, Mapping) else dict.fromkeys(topics or (), "")
@@ -139,9 +149,30 @@ def resolve_topics(link: LinkCore, topics: Topics, path: str) -> dict[str, str]:
         type_name = type_name or (listed or {}).get(topic) or KNOWN_TYPES.get(topic) or defaults.get(topic, "")
         if not type_name:
             raise UnknownTopic(path=path, topic=topic, known=sorted(listed or ()))
-        if ros2_type(type_name) not in DEFINITIONS:
-            raise UnsupportedType(path=path, topic=topic, type_name=type_name)
         found[topic] = ros2_type(type_name)
+    return found
+
+
+def resolve_definitions(link: LinkCore, types: Mapping[str, str], path: str) -> dict[str, str]:
+    """{ROS 2 type: concatenated definition} for ``types`` ({topic: type}): the bundled one without a
+    round trip, else the bridge's (rosapi ``message_details``, one call per type).
+
+    Raises:
+        UnsupportedType: the bridge cannot describe a type; ChairTimeout: rosapi did not answer.
+    """
+    found: dict[str, str] = {}
+    for topic, type_name in sorted(types.items()):
+        if type_name in found:
+            continue
+        definition = DEFINITIONS.get(type_name)
+        if definition is None:
+            try:
+                definition = describe(link.discovery, type_name)
+            except RosapiMissing:
+                raise UnsupportedType(path=path, topic=topic, type_name=type_name, rosapi=False) from None
+        if definition is None:
+            raise UnsupportedType(path=path, topic=topic, type_name=type_name)
+        found[type_name] = definition
     return found
 
 
@@ -179,10 +210,17 @@ class Recording:
     """A running recording; :meth:`stop` finishes the file. Create with :meth:`ChairLink.start_recording`."""
 
     def __init__(
-        self, link: LinkCore, path: str | os.PathLike[str], types: dict[str, str], queue_limit: int = QUEUE_LIMIT
+        self,
+        link: LinkCore,
+        path: str | os.PathLike[str],
+        types: dict[str, str],
+        queue_limit: int = QUEUE_LIMIT,
+        definitions: Mapping[str, str] | None = None,
     ):
         self.path = Path(path)
         self.types = types
+        #: {ROS 2 type: concatenated definition} written as schemas (default: the bundled ones)
+        self.definitions = dict(definitions) if definitions is not None else {t: DEFINITIONS[t] for t in types.values()}
         self.stats = RecordStats(self.path, time.time(), messages=dict.fromkeys(types, 0))
         self.inbox = Inbox(queue_limit)
         self._abandoned = False
@@ -252,7 +290,7 @@ class Recording:
         try:
             with atomic_open(self.path) as fh:
                 writer = Writer(fh)
-                schemas = {t: writer.register_msgdef(t, DEFINITIONS[t]) for t in sorted(set(self.types.values()))}
+                schemas = {t: writer.register_msgdef(t, self.definitions[t]) for t in sorted(set(self.types.values()))}
                 self._ready.set()
                 while not (self._stopping.is_set() and self.inbox.empty()):
                     item = self.inbox.get(0.1)
@@ -271,7 +309,8 @@ class Recording:
 
     def _write_one(self, writer: Any, schema: Any, received: int, topic: str, msg: dict[str, Any]) -> None:
         try:
-            message = to_ros2(msg, self.types[topic])
+            type_name = self.types[topic]
+            message = to_ros2(msg, type_name, self.definitions[type_name])
             writer.write_message(topic, schema, message, log_time=received, publish_time=stamp_ns(message) or received)
         except (ValueError, TypeError, KeyError, OverflowError) as err:  # one odd message must not end the file
             self.stats.invalid += 1

@@ -1,4 +1,5 @@
-"""rosbridge JSON -> the ROS 2 message a recording writes, field by field from the bundled definitions.
+"""rosbridge JSON -> the ROS 2 message a recording writes, field by field from its definition (bundled or
+described by the bridge, :mod:`.msgdetails`).
 
 Pure functions, no I/O (the recording's writer thread calls them). What differs on the wire from
 the ROS 2 message a ``ros2 bag`` holds:
@@ -74,9 +75,10 @@ def parse_definition(type_name: str, text: str) -> dict[str, tuple[Field, ...]]:
 
 
 @cache
-def fields_of(type_name: str) -> dict[str, tuple[Field, ...]]:
-    """The parsed bundled definition of ``type_name`` (ROS 2 spelling, ``pkg/msg/Type``)."""
-    return parse_definition(type_name, DEFINITIONS[type_name])
+def fields_of(type_name: str, definition: str | None = None) -> dict[str, tuple[Field, ...]]:
+    """The parsed definition of ``type_name`` (ROS 2 spelling, ``pkg/msg/Type``): ``definition`` (the
+    concatenated text a bridge described), else the bundled one."""
+    return parse_definition(type_name, DEFINITIONS[type_name] if definition is None else definition)
 
 
 def _float(value: Any) -> float:
@@ -110,13 +112,14 @@ def _message(msg: Any, type_key: str, types: dict[str, tuple[Field, ...]]) -> di
     return {f.name: _value(f, msg.get(f.name), types) for f in types[type_key]}
 
 
-def to_ros2(msg: dict[str, Any], type_name: str) -> dict[str, Any]:
-    """``msg`` as rosbridge sent it (ROS 1 or 2) -> the ROS 2 message of ``type_name`` (``pkg/msg/Type``).
+def to_ros2(msg: dict[str, Any], type_name: str, definition: str | None = None) -> dict[str, Any]:
+    """``msg`` as rosbridge sent it (ROS 1 or 2) -> the ROS 2 message of ``type_name`` (``pkg/msg/Type``),
+    field by field from ``definition`` (default: the bundled one).
 
     Raises:
-        KeyError: ``type_name`` has no bundled definition.
+        KeyError: no ``definition`` given and ``type_name`` has no bundled one.
     """
-    types = fields_of(type_name)
+    types = fields_of(type_name, definition)
     return _message(msg, type_name.replace("/msg/", "/"), types)
 
 

@@ -104,13 +104,18 @@ def picture(
     ``css_class`` goes on the widget, or with ``on_img`` on the ``<img>`` itself (where a page
     script reads the picture, e.g. its ``naturalWidth``).
     """
-    data = base64.b64encode(png).decode("ascii")
-    cls = f' class="{css_class}"' if on_img else ""
-    alt_attr = html.escape(alt, quote=True)
-    item = w.HTML(f'<img{cls} src="data:image/png;base64,{data}" alt="{alt_attr}" style="{style}">')
+    item = w.HTML(picture_html(png, alt, style=style, css_class=css_class if on_img else ""))
     if not on_img:
         item.add_class(css_class)
     return item
+
+
+def picture_html(png: bytes, alt: str, *, style: str = "max-width: 100%; height: auto", css_class: str = "") -> str:
+    """The ``<img alt>`` of :func:`picture`, for a slot that shows a picture that changes (a replay)."""
+    data = base64.b64encode(png).decode("ascii")
+    cls = f' class="{css_class}"' if css_class else ""
+    alt_attr = html.escape(alt, quote=True)
+    return f'<img{cls} src="data:image/png;base64,{data}" alt="{alt_attr}" style="{style}">'
 
 
 def html_slot(css_class: str) -> w.HTML:

@@ -1,5 +1,6 @@
 """Home's Record panel: Record / Stop recording, the running recording's time, messages and file,
-and download links for the finished recording and for the current map (YAML + image, zipped).
+download links for the finished recording and for the current map (YAML + image, zipped), and
+**Replay** of the finished recording (:mod:`.replay`: pose, laser and path following a time slider).
 
 Recordings go in ``recordings/`` beside the maps folder (``MapsFolder.root``'s parent), one MCAP
 file per recording named by its start time. Starting writes files on the tablet, so on a locked
@@ -21,6 +22,7 @@ from pmk_nb.ui.common.context import needs_pin
 from pmk_nb.ui.common.widgets import button, escape, guard, html_slot, run_in_thread
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.record.downloads import file_link_html, link_html, map_zip
+from pmk_nb.ui.record.replay import ReplayView
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link import Recording, RecordStats
@@ -50,19 +52,24 @@ class RecordPanel:
         self.record_button = button("Record", "pmk-record-start", icon="circle", tooltip="Record the chair's topics")
         self.stop_button = button("Stop recording", "pmk-record-stop", icon="stop")
         self.map_button = button("Download map", "pmk-record-map", icon="download", tooltip="The current map as a zip")
+        self.replay_button = button("Replay", "pmk-record-replay", icon="play", tooltip="Replay the finished recording")
+        self.finished: Path | None = None  # the last recording this panel finished
+        self.replay_view: ReplayView | None = None
+        self.replay_slot = w.VBox([])
         self.status = html_slot("pmk-record-status")
         self.downloads = html_slot("pmk-record-downloads")
         self.map_link = html_slot("pmk-record-map-link")
         self.record_button.on_click(guard(ctx, "Recording")(lambda _b: self.start()))
         self.stop_button.on_click(guard(ctx, "Stopping the recording")(lambda _b: self.stop()))
         self.map_button.on_click(guard(ctx, "Downloading the map")(lambda _b: self.offer_map()))
+        self.replay_button.on_click(guard(ctx, "Opening the replay")(lambda _b: self.replay()))
         # wraps on a narrow screen (a phone) instead of making the page scroll sideways
         row = w.HBox(
-            [self.record_button, self.stop_button, self.map_button, self.status],
+            [self.record_button, self.stop_button, self.replay_button, self.map_button, self.status],
             layout=w.Layout(flex_flow="row wrap", align_items="center", max_width="100%"),
         )
         row.add_class("pmk-record-row")
-        self.widget = w.VBox([row, self.downloads, self.map_link])
+        self.widget = w.VBox([row, self.downloads, self.map_link, self.replay_slot])
         self.widget.add_class("pmk-record")
         self._loop = RenderLoop(self.refresh, STATUS_HZ)
         self._show(False)
@@ -70,6 +77,7 @@ class RecordPanel:
     def _show(self, running: bool) -> None:
         self.record_button.layout.display = "none" if running else ""
         self.stop_button.layout.display = "" if running else "none"
+        self.replay_button.layout.display = "" if self.finished is not None and not running else "none"
 
     @needs_pin("Recording")
     def start(self) -> threading.Thread | None:
@@ -135,6 +143,20 @@ class RecordPanel:
             said += f" · no message on {escape(', '.join(stats.silent))}"
         self.status.value = said
         self.downloads.value = file_link_html(path, f"Download {path.name}", "pmk-record-link")
+        self.finished = path
+        self._show(False)
+
+    def replay(self) -> threading.Thread | None:
+        """Open the finished recording's replay under the panel (the file is read in a thread)."""
+        path = self.finished
+        if path is None:
+            return None
+
+        def opened(view: ReplayView) -> None:
+            self.replay_view = view
+            self.replay_slot.children = [view.widget]
+
+        return run_in_thread(self.ctx, "Opening the replay", lambda: ReplayView(path), on_done=opened)
 
     def offer_map(self) -> None:
         """A download link for the current map's YAML and image, zipped."""

@@ -169,8 +169,8 @@ def test_unknown_topic_and_unsupported_type_are_typed(sim_chair, link_factory, t
         link.start_recording(folder / "a.mcap", ["/no_such_topic"])
     assert unknown.value.topic == "/no_such_topic" and "/odom" in unknown.value.known
     with pytest.raises(UnsupportedType) as unsupported:
-        link.start_recording(folder / "b.mcap", {"/odom": "std_msgs/msg/Int32"})
-    assert unsupported.value.type_name == "std_msgs/msg/Int32"
+        link.start_recording(folder / "b.mcap", {"/odom": "pmk_test/msg/Undescribed"})  # rosapi knows it not
+    assert unsupported.value.type_name == "pmk_test/msg/Undescribed"
     assert "nav_msgs/msg/Odometry" in unsupported.value.supported
     assert list(folder.iterdir()) == []
 
