@@ -67,6 +67,9 @@ class Engine:
         self._patrol_next = 0.0
         self._plan_msg: dict[str, Any] | None = None  # the path being followed, as nav_msgs/Path
         self._plan_sent = -math.inf
+        #: the header stamp (wall clock) of the chair's pose: odometry and tf carry it, and a scan cast
+        #: from that pose carries it too (a laser stamps the instant it measured, not when it sends)
+        self.pose_stamp: float | None = None
         self.navigator = Navigator(self)
 
     def attach(self, bridge: Bridge) -> None:
@@ -239,7 +242,7 @@ class Engine:
             if self.patrol:
                 self._patrol_tick(chair, now)
             seq += 1
-            t = time.time()
+            t = self.pose_stamp = time.time()
             if bridge.has_subscribers("/odom"):
                 bridge.publish("/odom", n.odometry(chair.pose, chair.v, chair.w, t, seq))
             if bridge.has_subscribers("/tf"):
@@ -271,7 +274,8 @@ class Engine:
                 cast = seen
             assert ranges is not None
             seq += 1
+            stamp = self.pose_stamp if self.pose_stamp is not None else time.time()  # the pose it was cast from
             msg = self.names.laser_scan(
-                ranges, lz.angle_min, lz.angle_increment, lz.range_min, lz.range_max, period, time.time(), seq
+                ranges, lz.angle_min, lz.angle_increment, lz.range_min, lz.range_max, period, stamp, seq
             )
             bridge.publish("/scan", msg)
