@@ -57,6 +57,7 @@ from pmk_nb.ui.home.own_map import CHAIRS_MAP, ChairMap, OwnMap, map_label_html
 from pmk_nb.ui.home.preview import PreviewController
 from pmk_nb.ui.home.statusline import status_line
 from pmk_nb.ui.home.stop_latch import StopLatch
+from pmk_nb.ui.live.nav_layers import NavLayers
 from pmk_nb.ui.live.path_layer import LivePathLayer
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.tools import MapTools
@@ -164,6 +165,9 @@ class HomeScreen:
         )
         self.path = LivePathLayer()  # pmk_nb/ui/live/path_layer.py: Nav2's /plan, move_base's plan
         self.live.overlays.append(self.path)
+        # issue 40: costmaps, footprint, local plan, markers, a toggle each (pmk_nb/ui/live/nav_layers.py)
+        self.layers = NavLayers(self.live)
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.layers.widget)
         self.fleet = FleetPanel(ctx, self)  # issue 26: several chairs, one in control (pmk_nb/ui/fleet/panel.py)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
@@ -270,6 +274,7 @@ class HomeScreen:
         self.tools.attach(link)
         self.plots.attach(link)
         self.path.attach(link, profile.plan_topic if profile is not None else "auto")
+        self.layers.attach(link)
         self.drive.offer(link, profile)
         self.stop_latch.attach(link, profile.cmd_vel_topic if profile is not None else None)
         # routes use the accessibility check's chair width (Settings), else the footprint's diameter
@@ -294,6 +299,7 @@ class HomeScreen:
         self.tools.attach(None)
         self.plots.attach(None)
         self.path.attach(None)
+        self.layers.attach(None)
         self.drive.offer(None, None)
         self.stop_latch.attach(None)
         self.rooms.attach(None)
@@ -306,6 +312,7 @@ class HomeScreen:
         self.recorder.close()
         self._unsub_map()
         self.plots.close()
+        self.layers.close()
         self.live.close()
 
     # -- map -----------------------------------------------------------------------------------------
@@ -432,6 +439,7 @@ class HomeScreen:
         self.rooms.tick(snap.pose or snap.odom, state)
         self.plots.tick(snap.odom if state == "live" else None)
         self.path.tick(snap.pose or snap.odom)
+        self.layers.tick()
         self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
         self.announcer.tick(state, alerts=reading.alerts)  # the same reading the panel shows
 

@@ -366,6 +366,10 @@ class LiveView:
         # a new page (reload, second view) starts with empty canvases: send both layers again
         with self._lock:
             self.map.invalidate()
+            for overlay in self.map_overlays:  # hidden canvases (a costmap's image) are empty there too
+                invalidate = getattr(overlay, "invalidate", None)
+                if callable(invalidate):
+                    invalidate()
         self.request_redraw()
 
     def _report_error(self, err: BaseException) -> None:
