@@ -5,7 +5,8 @@ Shapes follow rosapi: ``/rosapi/topics`` -> ``{topics, types}``, ``/rosapi/servi
 ``{time: {secs, nsecs}}`` (ROS 2: ``{sec, nanosec}``), ``/rosapi/topics_for_type`` -> ``{topics}``,
 ``/rosapi/service_type`` -> ``{type}``, ``/rosapi/services_for_type`` -> ``{services}``,
 ``/rosapi/nodes`` -> ``{nodes}``, (ROS 2) ``/rosapi/action_servers`` -> ``{action_servers}``,
-``/rosapi/get_ros_version`` -> ``{version, distro}``, ``/rosapi/get_param`` (name ``node:param``)
+``/rosapi/get_ros_version`` -> ``{version, distro}``, ``/rosapi/message_details`` -> ``{typedefs}``
+(:mod:`pmk_nb.sim.typedefs`), ``/rosapi/get_param`` (name ``node:param``)
 -> ``{value}`` (JSON text; the default when not set). The nodes and the bridge's own parameter
 follow the bridge mode (:mod:`pmk_nb.sim.bridge_modes`).
 """
@@ -17,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.bridge_modes import NEW_THREAD_PARAM, OFFICIAL_NODE
 from pmk_nb.sim.messages import Names, canonical_type
+from pmk_nb.sim.typedefs import typedefs
 
 if TYPE_CHECKING:
     from pmk_nb.sim.protocol import Bridge
@@ -61,6 +63,7 @@ def register_rosapi(bridge: Bridge, names: Names, clock: Callable[[], float]) ->
     add("services_for_type", "ServicesForType", services_for_type)
     add("service_type", "ServiceType", service_type)
     add("get_time", "GetTime", lambda _: {"time": names.stamp(clock())})
+    add("message_details", "MessageDetails", lambda a: {"typedefs": typedefs(names, str(a.get("type", "")))})
     nodes = NODES if names.ros == "ros1" else (*bridge.bridge_facts.nodes, *CHAIR_NODES)
     add("nodes", "Nodes", lambda _: {"nodes": list(nodes)})
     # rosbridge_suite's launch default; the rs bridge has no such parameter

@@ -95,6 +95,20 @@ class Discovery:
         want = normalise_type(msg_type)
         return [t for t, ty in self.topics().items() if ty and normalise_type(ty) == want]
 
+    def message_details(self, msg_type: str, timeout: float | None = None) -> list[dict[str, Any]]:
+        """The type's definition and its nested types' from /rosapi/message_details (empty when rosapi
+        does not know the type in either spelling).
+
+        Raises:
+            RosapiMissing: the bridge has no rosapi; ChairLinkError: the call failed.
+        """
+        for spelling in type_spellings(msg_type):
+            r = self._rosapi("/rosapi/message_details", "rosapi/MessageDetails", {"type": spelling}, timeout)
+            typedefs = [d for d in r.get("typedefs") or [] if isinstance(d, dict)]
+            if typedefs:
+                return typedefs
+        return []
+
     def services(self) -> list[str]:
         r = self._rosapi("/rosapi/services", "rosapi/Services", {}, None)
         return list(r.get("services") or [])
