@@ -27,8 +27,7 @@ import numpy as np
 from pmk_nb.chair.link.planpath import PlannedPath, parse_path
 from pmk_nb.chair.messages import yaw_from_quaternion
 from pmk_nb.errors import PmkError
-from pmk_nb.viewport import normalise_frame
-from pmk_nb.viewport.markers import PlanarMarker
+from pmk_nb.viewport import PlanarMarker, normalise_frame
 
 if TYPE_CHECKING:
     import roslibpy

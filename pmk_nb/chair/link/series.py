@@ -12,7 +12,7 @@ import time
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.chair.link.fields import field_value
-from pmk_nb.viewport.seriesplot import SeriesRing
+from pmk_nb.viewport import SeriesRing
 
 if TYPE_CHECKING:
     import roslibpy

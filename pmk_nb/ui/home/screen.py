@@ -163,11 +163,7 @@ class HomeScreen:
             self.tools.widget,
             self.recorder.widget,
         )
-        self.path = LivePathLayer()  # pmk_nb/ui/live/path_layer.py: Nav2's /plan, move_base's plan
-        self.live.overlays.append(self.path)
-        # issue 40: costmaps, footprint, local plan, markers, a toggle each (pmk_nb/ui/live/nav_layers.py)
-        self.layers = NavLayers(self.live)
-        self.ui.preview_box.children = (*self.ui.preview_box.children, self.layers.widget)
+        self._map_layers()
         self.fleet = FleetPanel(ctx, self)  # issue 26: several chairs, one in control (pmk_nb/ui/fleet/panel.py)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
@@ -181,6 +177,14 @@ class HomeScreen:
         self._unsub_map = ctx.observe_current_map(self._on_current_map)
         self._show_running(False)
         self.refresh_map()
+
+    def _map_layers(self) -> None:
+        """What the navigation stack shows on the live map: its plan, and (issue 40) the costmaps,
+        footprint, local plan and markers, a toggle each under the map."""
+        self.path = LivePathLayer()  # pmk_nb/ui/live/path_layer.py: Nav2's /plan, move_base's plan
+        self.live.overlays.append(self.path)
+        self.layers = NavLayers(self.live)  # pmk_nb/ui/live/nav_layers.py
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.layers.widget)
 
     def _floating_tools(self) -> None:
         """The map's floating bar (issue 28): Drive, Go to (two taps to a room), Set destination

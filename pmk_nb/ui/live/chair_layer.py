@@ -17,8 +17,17 @@ import numpy as np
 from ipycanvas import Canvas
 
 from pmk_nb.chair import Odometry, Pose2D, Scan
-from pmk_nb.viewport import Viewport, heading_point, laser_outline, laser_segments, mounted, tick_segments
-from pmk_nb.viewport.posetrail import TRAIL_SIZE, PoseTrail, pose_at_stamp
+from pmk_nb.viewport import (
+    TRAIL_SIZE,
+    PoseTrail,
+    Viewport,
+    heading_point,
+    laser_outline,
+    laser_segments,
+    mounted,
+    pose_at_stamp,
+    tick_segments,
+)
 
 CHAIR_RGB = (31, 111, 235)  # blue
 HEADING_RGB = (245, 196, 0)  # yellow

@@ -19,19 +19,16 @@ import ipywidgets as w
 import numpy as np
 from ipycanvas import Canvas
 
-from pmk_nb.chair.link.navlayers import FOOTPRINT, GLOBAL, LAYERS, LOCAL, LOCAL_PLAN, MARKERS, NavLayerWatch
+from pmk_nb.chair.link import LAYERS, NavLayerWatch
 from pmk_nb.ui.common.widgets import TOUCH_PX, escape
-from pmk_nb.viewport import Transform2D
-from pmk_nb.viewport.costmap import costmap_placement, costmap_rgba
-from pmk_nb.viewport.markers import framed_pixels, marker_draws
+from pmk_nb.viewport import Transform2D, costmap_placement, costmap_rgba, framed_pixels, marker_draws
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.navlayers import Costmap, Footprint
-    from pmk_nb.chair.link.planpath import PlannedPath
+    from pmk_nb.chair.link import Costmap, Footprint, PlannedPath
     from pmk_nb.ui.live.view import LiveView
-    from pmk_nb.viewport import Viewport
-    from pmk_nb.viewport.markers import PlanarMarker
+    from pmk_nb.viewport import PlanarMarker, Viewport
 
+GLOBAL, LOCAL, FOOTPRINT, LOCAL_PLAN, MARKERS = LAYERS  # the link's layer names, in its order
 LABELS = {
     GLOBAL: "Global costmap",
     LOCAL: "Local costmap",

@@ -21,11 +21,10 @@ import ipywidgets as w
 import numpy as np
 from ipycanvas import Canvas, hold_canvas
 
-from pmk_nb.chair.link.fields import numeric_fields
-from pmk_nb.chair.link.series import TopicSeries
+from pmk_nb.chair.link import TopicSeries, numeric_fields
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.common.widgets import TOUCH_PX, button, escape
-from pmk_nb.viewport.seriesplot import series_lines
+from pmk_nb.viewport import series_lines
 
 log = logging.getLogger(__name__)
 

@@ -282,11 +282,11 @@ def test_rays_start_from_the_pose_the_chair_had_at_the_scans_header_stamp() -> N
     view.render_frame()
     assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.0, 2.0, 0.2))
     # the drawn pose in the map frame (tf: map -> odom shifted by 1 m): moved back by the same motion
-    src.pose = Pose2D(4.1, 2.0, 1.2, "map", time.monotonic())
+    src.pose = Pose2D(4.1, 2.0, 1.2, "map", 100.0)
     assert view.scan_pose(src.pose, src.scan) == pytest.approx((4.0, 2.0, 0.2))
-    later = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), time.monotonic(), 15.0)
+    later = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), 100.0, 15.0)
     assert view.scan_pose(src.odom, later) == pytest.approx((3.1, 2.0, 1.2))  # newer than any odometry: newest
-    unstamped = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), time.monotonic())
+    unstamped = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), 100.0)
     assert view.scan_pose(src.odom, unstamped) == pytest.approx((3.1, 2.0, 1.2))
     view.attach(src)  # a new source forgets the old trail
     assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.1, 2.0, 1.2))
