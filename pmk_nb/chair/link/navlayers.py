@@ -19,7 +19,7 @@ import math
 import threading
 import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -155,6 +155,13 @@ def parse_costmap(msg: dict[str, Any], topic: str) -> Costmap:
     yaw = yaw_from_quaternion(origin.get("orientation"))
     grid = np.clip(cells, -1, 100).astype(np.int8).reshape(height, width)
     return Costmap(grid, resolution, (*pose, yaw), _frame(msg, "map"), topic)
+
+
+def same_costmap(a: Costmap, b: Costmap) -> bool:
+    """Whether two costmaps draw the same picture (cells, place, frame, topic)."""
+    return (a.resolution, a.origin, a.frame, a.topic) == (b.resolution, b.origin, b.frame, b.topic) and (
+        a.data.shape == b.data.shape and bool(np.array_equal(a.data, b.data))
+    )
 
 
 def apply_update(costmap: Costmap, msg: dict[str, Any]) -> Costmap:
@@ -435,14 +442,11 @@ class NavLayerWatch:
                 costmap = parse_costmap(msg, topic)
                 with self._lock:
                     old = self._costmaps.get(layer)
-                    self._costmaps[layer] = Costmap(
-                        costmap.data,
-                        costmap.resolution,
-                        costmap.origin,
-                        costmap.frame,
-                        topic,
-                        (old.version + 1) if old else 1,
-                    )
+                if old is not None and same_costmap(old, costmap):
+                    pass  # republished unchanged (a global costmap every few seconds): nothing to draw again
+                else:
+                    with self._lock:
+                        self._costmaps[layer] = replace(costmap, version=old.version + 1 if old else 1)
             elif layer == FOOTPRINT:
                 footprint = parse_footprint(msg, topic)
                 with self._lock:

@@ -153,6 +153,10 @@ def test_the_simulated_chair_publishes_every_layer_and_the_watch_follows_it(
     assert "map_msgs/OccupancyGridUpdate" in looked  # the updates topics are looked up, never guessed
     assert wait_until(lambda: bool(watch.follow(link.ros) or (watch.costmap(GLOBAL) and watch.footprint())), 15, 0.1)
     global_map = watch.costmap(GLOBAL)
+    # republished unchanged every 5 s: the same costmap, not a new version to draw (and send) again
+    seen = watch.counts[GLOBAL]
+    assert wait_until(lambda: bool(watch.follow(link.ros) or watch.counts[GLOBAL] > seen), 15, 0.1)
+    assert watch.costmap(GLOBAL) is global_map
     assert global_map is not None and global_map.data.shape == grid.data.shape and global_map.frame == "map"
     assert (global_map.data[np.asarray(grid.data) == 100] == LETHAL).all() and (global_map.data == INSCRIBED).any()
     assert wait_until(lambda: watch.costmap(LOCAL) is not None, 10, 0.1)

@@ -66,6 +66,38 @@ def test_a_costmap_is_put_once_as_rgba_and_moved_by_a_transform(put_shapes: list
     view.close()
 
 
+def test_footprint_local_plan_and_every_marker_kind_become_canvas_calls() -> None:
+    from pmk_nb.chair.link import Footprint, PlannedPath
+    from pmk_nb.ui.live.nav_layers import VectorOverlay
+    from pmk_nb.viewport import PlanarMarker
+
+    view = LiveView(300, 200)
+    view.set_map(sample_grid())
+    overlay = VectorOverlay()
+    view.overlays.append(overlay)
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    markers = [
+        PlanarMarker(kind, (2.0, 2.0, 0.0), (0.1, 0.1, 0.3), (1, 0, 0, 1), square, "label")
+        for kind in (0, 1, 2, 4, 5, 8, 9)  # ARROW, CUBE, SPHERE, LINE_STRIP, LINE_LIST, POINTS, TEXT
+    ]
+    overlay.set(
+        ("k",),
+        footprint=(Footprint(square, "odom", "/fp"), Transform2D()),
+        plan=(PlannedPath(square, "odom", "/local_plan", 0.0), Transform2D(1.0, 0.0, 0.0)),
+        markers=[(m, Transform2D()) for m in markers],
+    )
+    with captured_commands(view.canvas) as cmds:
+        view.request_redraw()
+    got = names(cmds)
+    assert got.count("strokePolygon") == 1  # the footprint
+    assert got.count("fillPolygon") >= 3  # arrow, cube, sphere (and the laser's free space, if any)
+    assert {"strokeLines", "strokeLineSegments", "fillRects", "fillText"} <= set(got)
+    before = overlay.version
+    overlay.set(("k",), footprint=None, plan=None, markers=[])  # the same key: nothing new to draw
+    assert overlay.version == before and overlay.footprint is not None
+    view.close()
+
+
 @pytest.mark.slow
 def test_the_toggles_follow_the_simulated_chairs_layers(
     sim_factory: Callable[..., Any], link_factory: Callable[[Any], Any]
