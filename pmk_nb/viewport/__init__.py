@@ -14,7 +14,14 @@ canvas steps) for the navigation layers, ``seriesplot`` any field's samples over
 
 from __future__ import annotations
 
-from pmk_nb.viewport.costmap import COSTMAP_LUT, CostmapPlacement, costmap_palette, costmap_placement, costmap_rgba
+from pmk_nb.viewport.costmap import (
+    COSTMAP_LUT,
+    CostmapPlacement,
+    costmap_palette,
+    costmap_placement,
+    costmap_rgba,
+    pooled_costs,
+)
 from pmk_nb.viewport.history import OdomHistory, plot_lines
 from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
 from pmk_nb.viewport.mapcast import explain_nulls
@@ -101,6 +108,7 @@ __all__ = [
     "plan_tile",
     "plot_lines",
     "pool_window",
+    "pooled_costs",
     "pose_at_stamp",
     "ray_stride",
     "scale_bar",

@@ -55,6 +55,25 @@ def costmap_rgba(data: npt.ArrayLike, lut: npt.NDArray[np.uint8] = COSTMAP_LUT) 
     return np.ascontiguousarray(lut[cells[::-1].view(np.uint8)])
 
 
+#: The largest costmap image side sent to the page (cells): a bigger one is pooled first.
+MAX_IMAGE_SIDE = 2048
+
+
+def pooled_costs(data: npt.ArrayLike, max_side: int = MAX_IMAGE_SIDE) -> tuple[npt.NDArray[np.int8], int]:
+    """``data`` reduced by a whole factor until neither side exceeds ``max_side``, each block showing its
+    highest cost (a lethal cell is never pooled away; unknown, -1, only where a block knows nothing);
+    returns (cells, factor): one image pixel then covers ``factor`` x ``factor`` cells."""
+    cells = np.asarray(data, dtype=np.int8)
+    rows, cols = cells.shape
+    factor = max(1, -(-max(rows, cols) // max(int(max_side), 1)))
+    if factor == 1:
+        return cells, 1
+    pad_r, pad_c = -rows % factor, -cols % factor
+    padded = np.pad(cells, ((0, pad_r), (0, pad_c)), constant_values=-1)
+    blocks = padded.reshape(padded.shape[0] // factor, factor, padded.shape[1] // factor, factor)
+    return blocks.max(axis=(1, 3)).astype(np.int8), factor
+
+
 @dataclass(frozen=True)
 class CostmapPlacement:
     """How a costmap image goes on the canvas: translate to (``x``, ``y``) (the grid's origin corner,

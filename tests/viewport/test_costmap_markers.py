@@ -9,7 +9,7 @@ import pytest
 
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.viewport import Transform2D, Viewport
-from pmk_nb.viewport.costmap import COSTMAP_LUT, costmap_palette, costmap_placement, costmap_rgba
+from pmk_nb.viewport.costmap import COSTMAP_LUT, costmap_palette, costmap_placement, costmap_rgba, pooled_costs
 from pmk_nb.viewport.markers import (
     ARROW,
     CUBE,
@@ -49,6 +49,19 @@ def test_costmap_image_is_rgba_top_row_first() -> None:
     assert tuple(img[0, 3]) == tuple(COSTMAP_LUT[255])
     with pytest.raises(ValueError):
         costmap_rgba(np.zeros(5, np.int8))
+
+
+def test_a_big_costmap_is_pooled_and_no_lethal_cell_is_lost() -> None:
+    data = np.zeros((5000, 3001), np.int8)
+    data[4999, 3000] = 100  # the far corner: in a block of its own plus padding
+    data[10, 10] = 99
+    data[0:3, 2001:2004] = -1  # a block all unknown stays unknown
+    data[0:2, 1998:2001] = -1  # one partly known shows what is known
+    cells, factor = pooled_costs(data, max_side=2048)
+    assert factor == 3 and cells.shape == (1667, 1001) and cells.dtype == np.int8
+    assert cells[1666, 1000] == 100 and cells[3, 3] == 99 and cells[0, 667] == -1 and cells[0, 666] == 0
+    small = np.zeros((10, 10), np.int8)
+    assert pooled_costs(small)[0] is not None and pooled_costs(small)[1] == 1
 
 
 def test_a_costmap_is_placed_at_its_origin_and_turned_by_its_yaw() -> None:

@@ -21,7 +21,7 @@ from ipycanvas import Canvas
 
 from pmk_nb.chair.link import LAYERS, NavLayerWatch
 from pmk_nb.ui.common.widgets import TOUCH_PX, escape
-from pmk_nb.viewport import Transform2D, costmap_placement, costmap_rgba, framed_pixels, marker_draws
+from pmk_nb.viewport import Transform2D, costmap_placement, costmap_rgba, framed_pixels, marker_draws, pooled_costs
 
 if TYPE_CHECKING:
     from pmk_nb.chair.link import Costmap, Footprint, PlannedPath
@@ -58,6 +58,7 @@ class CostmapOverlay:
         self.map_from_frame: Transform2D | None = None
         self.image: Canvas | None = None
         self._put: tuple[int, str] | None = None  # (costmap version, topic) on the hidden canvas
+        self._pooled: tuple[tuple[int, str], np.ndarray, int] | None = None
         self.puts = 0  # images sent: once per costmap change
 
     def set(self, costmap: Costmap | None, map_from_frame: Transform2D | None) -> None:
@@ -80,18 +81,22 @@ class CostmapOverlay:
         costmap, tf = self.costmap, self.map_from_frame
         if costmap is None or tf is None or costmap.data.size == 0:
             return
-        height, width = costmap.data.shape
+        key = (costmap.version, costmap.topic)
+        if self._pooled is None or self._pooled[0] != key:  # once per costmap, not per repaint
+            self._pooled = (key, *pooled_costs(costmap.data))  # a building-sized one is pooled, never sent whole
+        _key, cells, factor = self._pooled
+        height, width = cells.shape
         if self.image is None or (self.image.width, self.image.height) != (width, height):
             if self.image is not None:
                 self.image.close()
             self.image = Canvas(width=width, height=height)  # a new size is a new canvas: never resized
             self._put = None
-        if self._put != (costmap.version, costmap.topic):
+        if self._put != key:
             self.image.clear()
-            self.image.put_image_data(costmap_rgba(costmap.data), 0, 0)  # RGBA, never RGB
-            self._put = (costmap.version, costmap.topic)
+            self.image.put_image_data(costmap_rgba(cells), 0, 0)  # RGBA, never RGB
+            self._put = key
             self.puts += 1
-        place = costmap_placement(view, costmap.origin, costmap.resolution, (width, height), tf)
+        place = costmap_placement(view, costmap.origin, costmap.resolution * factor, (width, height), tf)
         layer.save()
         layer.translate(place.x, place.y)
         if place.angle:
