@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import re
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -58,10 +59,11 @@ def test_costmap_and_footprint_from_the_simulated_chair(demo_page: tuple[str, De
         # Nav2's names on a ROS 2 chair, move_base's (/move_base/...) on a ROS 1 one
         costmap = re.compile(r"\d+x\d+ cells, .*global_costmap/costmap$")
         footprint = re.compile(r"points, .*footprint$")
-        expect(state).to_have_attribute("data-global-costmap", costmap, timeout=30_000)
-        expect(state).to_have_attribute("data-footprint", footprint, timeout=30_000)
-        after = before
-        for _ in range(40):  # the next frames: costmap on the map layer, footprint on the chair's
+        expect(state).to_have_attribute("data-global-costmap", costmap, timeout=60_000)
+        expect(state).to_have_attribute("data-footprint", footprint, timeout=60_000)
+        # the next frames: the costmap on the map layer, the footprint on the chair's
+        after, deadline = before, time.monotonic() + 60.0
+        while time.monotonic() < deadline:
             after = _counts(page)
             if after["cyan"] > 500 and after["magenta"] > 200 and after["green"] > 20:
                 break
