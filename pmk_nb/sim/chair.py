@@ -95,6 +95,21 @@ class Chair:
     def driving_goal(self) -> bool:
         return bool(self._path)
 
+    def path_ahead(self, length: float) -> list[tuple[float, float]]:
+        """The next ``length`` metres of the followed path from the chair (empty without a goal): what a
+        local planner would publish as its local plan."""
+        path = self._path
+        if not path:
+            return []
+        out = [(float(self.pose[0]), float(self.pose[1]))]
+        gone = 0.0
+        for point in path[min(self._k, len(path) - 1) :]:
+            gone += math.dist(out[-1], point)
+            out.append(point)
+            if gone >= length:
+                break
+        return out
+
     def teleport(self, pose: tuple[float, float, float]) -> None:
         self.pose = pose
         self.v = self.w = 0.0

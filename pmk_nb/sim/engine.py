@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.chair import Chair, DriveLimits
 from pmk_nb.sim.navigation import Navigator
+from pmk_nb.sim.navlayers import SimNavLayers
 from pmk_nb.sim.world import World
 
 if TYPE_CHECKING:
@@ -67,7 +68,12 @@ class Engine:
         self._patrol_next = 0.0
         self._plan_msg: dict[str, Any] | None = None  # the path being followed, as nav_msgs/Path
         self._plan_sent = -math.inf
+        #: the header stamp (wall clock) of the chair's pose: odometry and tf carry it, and a scan cast
+        #: from that pose carries it too (a laser stamps the instant it measured, not when it sends)
+        self.pose_stamp: float | None = None
         self.navigator = Navigator(self)
+        self.layers = SimNavLayers(names, footprint_radius)  # costmaps, footprint, local plan, markers
+        self._layers_task: asyncio.Task[None] | None = None
 
     def attach(self, bridge: Bridge) -> None:
         """Register the chair's topics on a (new) bridge."""
@@ -79,6 +85,7 @@ class Engine:
         bridge.advertise_internal(n.plan_topic, n.msg("nav_msgs", "Path"))  # the global plan, as Nav2 does
         bridge.listen("/cmd_vel", n.msg("geometry_msgs", "Twist"), self.on_cmd_vel)
         self.navigator.attach(bridge)  # goal topics and actions
+        self.layers.attach(bridge)
 
     def tasks(self) -> list[asyncio.Task[None]]:
         return [asyncio.create_task(self._odom_loop()), asyncio.create_task(self._scan_loop()), self.navigator.task()]
@@ -118,6 +125,9 @@ class Engine:
             self.chair.world = world
             self.chair.teleport(self.chair.pose)  # a new map cancels any goal
         self.world = world
+        if self._layers_task is not None:
+            self._layers_task.cancel()
+        self._layers_task = asyncio.get_running_loop().create_task(self._build_layers(world))
         x, y, _ = self.chair.pose
         if world.blocked_at(x, y):  # stuck: every move into blocked space is refused meanwhile
             spot = await asyncio.to_thread(world.nearest_free, x, y)
@@ -125,6 +135,12 @@ class Engine:
                 self.chair.teleport((spot[0], spot[1], self.chair.pose[2]))
                 moved = f"moved to ({spot[0]:.2f}, {spot[1]:.2f})"
                 self.note(f"pose ({x:.2f}, {y:.2f}) is not free on the new map: {moved}")
+
+    async def _build_layers(self, world: World) -> None:
+        """The costmaps of a new map, built off the loop; the map is installed without waiting for them."""
+        costs, msg = await asyncio.to_thread(self.layers.build, world.grid, time.time())
+        if world is self.world:
+            self.layers.use(world.grid, costs, msg)
 
     def teleport(self, pose: tuple[float, float, float]) -> None:
         self.cancel_plan()
@@ -239,12 +255,13 @@ class Engine:
             if self.patrol:
                 self._patrol_tick(chair, now)
             seq += 1
-            t = time.time()
+            t = self.pose_stamp = time.time()
             if bridge.has_subscribers("/odom"):
                 bridge.publish("/odom", n.odometry(chair.pose, chair.v, chair.w, t, seq))
             if bridge.has_subscribers("/tf"):
                 identity = n.transform("map", "odom", (0.0, 0.0, 0.0), t)
                 bridge.publish("/tf", n.tf_message([identity, n.transform("odom", "base_link", chair.pose, t)]))
+            self.layers.tick(bridge, chair, now, t)
 
     async def _scan_loop(self) -> None:
         """Ray cast and publish /scan at ``scan_rate``, only while someone listens."""
@@ -271,7 +288,8 @@ class Engine:
                 cast = seen
             assert ranges is not None
             seq += 1
+            stamp = self.pose_stamp if self.pose_stamp is not None else time.time()  # the pose it was cast from
             msg = self.names.laser_scan(
-                ranges, lz.angle_min, lz.angle_increment, lz.range_min, lz.range_max, period, time.time(), seq
+                ranges, lz.angle_min, lz.angle_increment, lz.range_min, lz.range_max, period, stamp, seq
             )
             bridge.publish("/scan", msg)

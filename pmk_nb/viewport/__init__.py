@@ -7,11 +7,21 @@ and a free-space polygon, ``laser`` into rays (the optional look), ``pose`` comp
 (x, y, yaw) transforms (a sensor's pose on the chair; the link's tf tree), ``occlusion`` the parts of
 the canvas panels cover (the follow target sits in the centre of the rest), ``tftree`` the latest
 transform per frame (the link's tf tree: map -> odom -> base_link), ``path`` the planned path still
-ahead of the chair.
+ahead of the chair, ``posetrail`` the odometry by header stamp (a scan drawn where it was cast),
+``costmap`` (RViz's costmap colours, a costmap's place on the canvas) and ``markers`` (marker shapes ->
+canvas steps) for the navigation layers, ``seriesplot`` any field's samples over a time window.
 """
 
 from __future__ import annotations
 
+from pmk_nb.viewport.costmap import (
+    COSTMAP_LUT,
+    CostmapPlacement,
+    costmap_palette,
+    costmap_placement,
+    costmap_rgba,
+    pooled_costs,
+)
 from pmk_nb.viewport.history import OdomHistory, plot_lines
 from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
 from pmk_nb.viewport.mapcast import explain_nulls
@@ -34,10 +44,13 @@ from pmk_nb.viewport.maptools import (
     pixel_to_map,
     scale_bar,
 )
+from pmk_nb.viewport.markers import MarkerDraw, PlanarMarker, framed_pixels, marker_draws
 from pmk_nb.viewport.occlusion import Insets, insets_from_boxes
 from pmk_nb.viewport.outline import LaserOutline, laser_outline, tick_segments
 from pmk_nb.viewport.path import ARRIVED_M, ahead_of
 from pmk_nb.viewport.pose import Transform2D, mounted
+from pmk_nb.viewport.posetrail import TRAIL_SIZE, PoseTrail, pose_at_stamp
+from pmk_nb.viewport.seriesplot import SeriesLines, SeriesRing, series_lines
 from pmk_nb.viewport.tftree import FramedTransform, TfTree, normalise_frame
 from pmk_nb.viewport.view import (
     MIN_CHAIR_RADIUS_PX,
@@ -50,25 +63,37 @@ from pmk_nb.viewport.view import (
 
 __all__ = [
     "ARRIVED_M",
+    "COSTMAP_LUT",
     "GRAY_LUT",
     "MIN_CHAIR_RADIUS_PX",
     "MIN_DOT_RADIUS_PX",
     "STILL_SPEED",
+    "TRAIL_SIZE",
+    "CostmapPlacement",
     "FramedTransform",
     "Insets",
     "LaserOutline",
     "LaserSegments",
     "MapTile",
+    "MarkerDraw",
     "OdomHistory",
+    "PlanarMarker",
+    "PoseTrail",
+    "SeriesLines",
+    "SeriesRing",
     "TfTree",
     "Transform2D",
     "Viewport",
     "ahead_of",
     "clean_occupancy",
     "coordinates_text",
+    "costmap_palette",
+    "costmap_placement",
+    "costmap_rgba",
     "distance",
     "explain_nulls",
     "fit_canvas",
+    "framed_pixels",
     "grid_lines",
     "grid_spacing",
     "heading",
@@ -76,14 +101,18 @@ __all__ = [
     "insets_from_boxes",
     "laser_outline",
     "laser_segments",
+    "marker_draws",
     "mounted",
     "normalise_frame",
     "pixel_to_map",
     "plan_tile",
     "plot_lines",
     "pool_window",
+    "pooled_costs",
+    "pose_at_stamp",
     "ray_stride",
     "scale_bar",
+    "series_lines",
     "tick_segments",
     "tile_covers",
     "tile_size_for",

@@ -55,6 +55,7 @@ from pmk_nb.chair.reload import (
 )
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.viewport import Transform2D
 
 __all__ = ["ChairLink", "ConnectionReport", "LinkConfig", "LinkState", "MapInfo", "MapReloadError", "Odometry"]
 __all__ += ["Pose2D", "ReloadService", "Scan"]  # get_link, close_all_links: pmk_nb.chair.link (registry)
@@ -289,6 +290,12 @@ class ChairLink:
 
     def latest_pose(self) -> Pose2D | None:
         return self._hub.latest_pose()
+
+    def frame_transform(self, target: str, source: str) -> Transform2D | None:
+        """``target`` <- ``source`` from the tf tree the streams fill (None while they are not connected):
+        where a layer in ``odom`` (a local costmap, a marker) goes on the map."""
+        found = self._hub.tf.lookup(target, source)
+        return None if found is None else found[0]
 
     def add_listener(self, stream: str, fn: Callable[[Any], None]) -> Callable[[], None]:
         """Call ``fn(parsed)`` for every message of ``stream`` ("odom", "scan", "pose", "tf").

@@ -73,16 +73,6 @@ class Discovery:
             types = [""] * len(names)
         return dict(zip(names, types, strict=True))
 
-    def message_details(self, msg_type: str, timeout: float | None = None) -> list[dict[str, Any]]:
-        """rosapi's typedefs of ``msg_type`` (the type first, then each type it uses); [] when the
-        bridge cannot describe it (rosapi 1.x fails the call for an unknown type, 2.x answers none)."""
-        try:
-            args = {"type": normalise_type(msg_type)}
-            r = self._rosapi("/rosapi/message_details", "rosapi/MessageDetails", args, timeout)
-        except ServiceFailed:
-            return []
-        return [t for t in r.get("typedefs") or () if isinstance(t, dict)]
-
     def topics_of_type(self, msg_type: str) -> list[str]:
         """Topics of ``msg_type``; asks /rosapi/topics_for_type with both spellings and merges.
 
@@ -104,6 +94,24 @@ class Discovery:
             return found
         want = normalise_type(msg_type)
         return [t for t, ty in self.topics().items() if ty and normalise_type(ty) == want]
+
+    def message_details(self, msg_type: str, timeout: float | None = None) -> list[dict[str, Any]]:
+        """rosapi's typedefs of ``msg_type`` (the type first, then each type it uses), asked in each
+        spelling; [] when the bridge cannot describe it (rosapi 1.x fails the call for an unknown type,
+        2.x answers none).
+
+        Raises:
+            RosapiMissing: the bridge has no rosapi; ChairLinkError: the call failed otherwise.
+        """
+        for spelling in type_spellings(msg_type):
+            try:
+                r = self._rosapi("/rosapi/message_details", "rosapi/MessageDetails", {"type": spelling}, timeout)
+            except ServiceFailed:
+                continue
+            typedefs = [d for d in r.get("typedefs") or [] if isinstance(d, dict)]
+            if typedefs:
+                return typedefs
+        return []
 
     def services(self) -> list[str]:
         r = self._rosapi("/rosapi/services", "rosapi/Services", {}, None)

@@ -57,6 +57,7 @@ from pmk_nb.ui.home.own_map import CHAIRS_MAP, ChairMap, OwnMap, map_label_html
 from pmk_nb.ui.home.preview import PreviewController
 from pmk_nb.ui.home.statusline import status_line
 from pmk_nb.ui.home.stop_latch import StopLatch
+from pmk_nb.ui.live.nav_layers import NavLayers
 from pmk_nb.ui.live.path_layer import LivePathLayer
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.tools import MapTools
@@ -162,8 +163,7 @@ class HomeScreen:
             self.tools.widget,
             self.recorder.widget,
         )
-        self.path = LivePathLayer()  # pmk_nb/ui/live/path_layer.py: Nav2's /plan, move_base's plan
-        self.live.overlays.append(self.path)
+        self._map_layers()
         self.fleet = FleetPanel(ctx, self)  # issue 26: several chairs, one in control (pmk_nb/ui/fleet/panel.py)
         self.preview = PreviewController(on_state=self.refresh_info, on_unreachable=self._on_unreachable)
         self.probe = ChairProbe(self._on_probe)
@@ -177,6 +177,14 @@ class HomeScreen:
         self._unsub_map = ctx.observe_current_map(self._on_current_map)
         self._show_running(False)
         self.refresh_map()
+
+    def _map_layers(self) -> None:
+        """What the navigation stack shows on the live map: its plan, and (issue 40) the costmaps,
+        footprint, local plan and markers, a toggle each under the map."""
+        self.path = LivePathLayer()  # pmk_nb/ui/live/path_layer.py: Nav2's /plan, move_base's plan
+        self.live.overlays.append(self.path)
+        self.layers = NavLayers(self.live)  # pmk_nb/ui/live/nav_layers.py
+        self.ui.preview_box.children = (*self.ui.preview_box.children, self.layers.widget)
 
     def _floating_tools(self) -> None:
         """The map's floating bar (issue 28): Drive, Go to (two taps to a room), Set destination
@@ -270,6 +278,7 @@ class HomeScreen:
         self.tools.attach(link)
         self.plots.attach(link)
         self.path.attach(link, profile.plan_topic if profile is not None else "auto")
+        self.layers.attach(link)
         self.drive.offer(link, profile)
         self.stop_latch.attach(link, profile.cmd_vel_topic if profile is not None else None)
         # routes use the accessibility check's chair width (Settings), else the footprint's diameter
@@ -294,6 +303,7 @@ class HomeScreen:
         self.tools.attach(None)
         self.plots.attach(None)
         self.path.attach(None)
+        self.layers.attach(None)
         self.drive.offer(None, None)
         self.stop_latch.attach(None)
         self.rooms.attach(None)
@@ -306,6 +316,7 @@ class HomeScreen:
         self.recorder.close()
         self._unsub_map()
         self.plots.close()
+        self.layers.close()
         self.live.close()
 
     # -- map -----------------------------------------------------------------------------------------
@@ -432,6 +443,7 @@ class HomeScreen:
         self.rooms.tick(snap.pose or snap.odom, state)
         self.plots.tick(snap.odom if state == "live" else None)
         self.path.tick(snap.pose or snap.odom)
+        self.layers.tick()
         self.goal.tick(snap.pose or snap.odom, self.rooms.going_to)  # not "No destination" during a Go to
         self.announcer.tick(state, alerts=reading.alerts)  # the same reading the panel shows
 

@@ -5,21 +5,29 @@ Cleared and redrawn every frame with batched calls; the geometry comes from the 
 free-space polygon (one ``fill_polygon``) under the hit points (one ``fill_rects``, at most one
 per screen pixel), with blind rays as grey ticks at the chair.  ``"rays"`` draws every ray as a
 line instead (one ``stroke_line_segments`` per ray kind), the earlier look.  The scan is drawn
-from the pose the chair had when it arrived (:class:`PoseHistory`), so a turning chair's scan does
-not cut through walls.
+from the pose the chair had at the scan's header stamp (:class:`PoseHistory`, odometry by stamp), so a
+turning chair's scan does not cut through walls.
 """
 
 from __future__ import annotations
 
-import math
-from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
 from ipycanvas import Canvas
 
 from pmk_nb.chair import Odometry, Pose2D, Scan
-from pmk_nb.viewport import Viewport, heading_point, laser_outline, laser_segments, mounted, tick_segments
+from pmk_nb.viewport import (
+    TRAIL_SIZE,
+    PoseTrail,
+    Viewport,
+    heading_point,
+    laser_outline,
+    laser_segments,
+    mounted,
+    pose_at_stamp,
+    tick_segments,
+)
 
 CHAIR_RGB = (31, 111, 235)  # blue
 HEADING_RGB = (245, 196, 0)  # yellow
@@ -38,47 +46,30 @@ LASER_STYLES = ("points", "rays")
 #: TICK_MIN_PX on screen so they stay visible on a whole-building view.
 TICK_M = 0.25
 TICK_MIN_PX = 6.0
-#: Rays are drawn from the pose the chair had when the scan arrived, if one seen is this close in
-#: time; the newest pose otherwise.  A turning chair's scan drawn from the newer heading would
-#: show rays going through walls (38 deg/s x 0.1 s = 4 deg, half a metre at 8 m).
-SCAN_POSE_MATCH_S = 0.25
 
 Pose = Pose2D | Odometry
 
 
-def pose_tuple(pose: Pose | None) -> tuple[float, ...] | None:
-    """``(x, y, theta, received)``: a pose compared by value (the link may rebuild it per call)."""
-    if pose is None:
-        return None
-    return (float(pose.x), float(pose.y), float(pose.theta), float(pose.received))
-
-
 class PoseHistory:
-    """The last poses seen, to find where the chair was when a scan arrived."""
+    """The chair's odometry by header stamp (:class:`~pmk_nb.viewport.posetrail.PoseTrail`), to find
+    where it was when a scan was cast: at the scan's header stamp, not when the scan arrived."""
 
-    def __init__(self, size: int = 32) -> None:
-        self._poses: deque[tuple[float, ...]] = deque(maxlen=size)  # (x, y, theta, received)
+    def __init__(self, size: int = TRAIL_SIZE) -> None:
+        self.trail = PoseTrail(size)
 
     def clear(self) -> None:
-        self._poses.clear()
+        self.trail.clear()
 
-    def remember(self, pose: Pose) -> None:
-        tup = pose_tuple(pose)
-        if tup is not None and (not self._poses or self._poses[-1] != tup):
-            self._poses.append(tup)
+    def remember(self, odom: Pose) -> None:
+        """Add an odometry sample (a pose without a header stamp adds nothing)."""
+        self.trail.add(odom.stamp, (float(odom.x), float(odom.y), float(odom.theta)))
 
     def scan_pose(self, pose: Pose, scan: Scan) -> tuple[float, float, float]:
-        """Where the rays start: the scanner on the chair (its /tf_static mount) at the remembered pose
-        nearest the scan's arrival, else at ``pose``."""
-        received = float(scan.received)
-        best: tuple[float, ...] | None = None
-        if math.isfinite(received) and self._poses:
-            best = min(self._poses, key=lambda p: abs(p[3] - received))
-            if abs(best[3] - received) > SCAN_POSE_MATCH_S:
-                best = None
-        if best is None:
-            return mounted((float(pose.x), float(pose.y), float(pose.theta)), scan.mount)
-        return mounted((best[0], best[1], best[2]), scan.mount)
+        """Where the rays start: the scanner on the chair (its /tf_static mount) at the pose the chair
+        had at the scan's stamp (``pose`` moved back by the odometry since), else at ``pose``."""
+        now = (float(pose.x), float(pose.y), float(pose.theta))
+        then = pose_at_stamp(now, self.trail, scan.stamp)
+        return mounted(now if then is None else then, scan.mount)
 
 
 @dataclass(frozen=True)

@@ -54,7 +54,8 @@ def drawn_same(
     last_scan: object,
 ) -> bool:
     """Whether pose, odometry and scan draw what the last frame's did: the pose's place, the velocity
-    dot's speeds, the scan's rays (its arrival time matters only through the pose it is drawn from)."""
+    dot's speeds, the scan's rays (a parked chair's new scans with the same rays draw nothing new: its
+    stamp moves the rays only while the chair moves, and then the pose differs anyway)."""
 
     def place(p: object) -> tuple[object, ...] | None:
         return None if p is None else (p.x, p.y, p.theta, getattr(p, "frame", None))  # type: ignore[attr-defined]
@@ -365,6 +366,10 @@ class LiveView:
         # a new page (reload, second view) starts with empty canvases: send both layers again
         with self._lock:
             self.map.invalidate()
+            for overlay in self.map_overlays:  # hidden canvases (a costmap's image) are empty there too
+                invalidate = getattr(overlay, "invalidate", None)
+                if callable(invalidate):
+                    invalidate()
         self.request_redraw()
 
     def _report_error(self, err: BaseException) -> None:
@@ -395,7 +400,8 @@ class LiveView:
             pose, odom, scan = self._read_source()
             if pose is not None:
                 view.see_chair(pose.x, pose.y)
-                self.poses.remember(pose)
+            if odom is not None:
+                self.poses.remember(odom)  # by header stamp: where each scan was cast
             key = view.state_key()
             inputs: tuple[object, ...] = (
                 key,
@@ -422,7 +428,8 @@ class LiveView:
             return True
 
     def scan_pose(self, pose: Pose2D | Odometry, scan: Scan) -> tuple[float, float, float]:
-        """Where the rays start: the remembered pose nearest the scan's arrival, else ``pose``."""
+        """Where the rays start: ``pose`` moved back to the scan's header stamp by the odometry since
+        (:class:`~pmk_nb.ui.live.chair_layer.PoseHistory`), else ``pose``."""
         return self.poses.scan_pose(pose, scan)
 
     def _same_inputs(self, inputs: tuple[object, ...]) -> bool:

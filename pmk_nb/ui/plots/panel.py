@@ -1,4 +1,5 @@
-"""Home's Plots panel (issue 29): speed and turn rate over the last minutes, and the topic inspector.
+"""Home's Plots panel (issue 29): speed and turn rate over the last minutes, any numeric field of any
+topic (issue 40, :mod:`pmk_nb.ui.plots.field_plot`) and the topic inspector.
 
 Details on demand: a "Plots" toggle beside Show sensors opens the panel under the map. The samples
 come from Home's info timer (:meth:`PlotsPanel.tick`, a few per second, into the bounded
@@ -19,6 +20,7 @@ from ipycanvas import Canvas, hold_canvas
 
 from pmk_nb.ui.common.widgets import TOUCH_PX
 from pmk_nb.ui.home.info import whole_degrees
+from pmk_nb.ui.plots.field_plot import FieldPlot
 from pmk_nb.ui.plots.topic_inspector import TopicInspector
 from pmk_nb.viewport import OdomHistory, plot_lines
 
@@ -52,11 +54,14 @@ class PlotsPanel:
         self.legend = w.HTML(_legend(None, None, span_s))
         self.legend.add_class("pmk-plots-legend")
         self.topics = TopicInspector()
+        self.fields = FieldPlot()  # any numeric field of any topic (issue 40)
         self.widget = w.VBox(
             [
                 w.HTML("<b>Speed and turn rate</b>"),
                 self.canvas,
                 self.legend,
+                w.HTML("<b>Plot any field</b>"),
+                self.fields.widget,
                 w.HTML("<b>Topics</b>"),
                 self.topics.widget,
             ]
@@ -72,6 +77,7 @@ class PlotsPanel:
     def attach(self, link: Any) -> None:
         """The preview's link (None: stopped). The history is kept across previews of the same page."""
         self.topics.attach(link if self.open else None)
+        self.fields.attach(link if self.open else None)
         self._link = link
 
     def _on_toggle(self, change: dict[str, Any]) -> None:
@@ -79,6 +85,7 @@ class PlotsPanel:
         self.widget.layout.display = "" if on else "none"
         self.toggle.icon = "check" if on else "line-chart"
         self.topics.attach(self._link if on else None)  # closing ends the inspected topic's subscription
+        self.fields.attach(self._link if on else None)  # ... and the plotted topics'
         if on:
             self._drawn_at = -math.inf
             self.redraw()
@@ -92,6 +99,8 @@ class PlotsPanel:
         if not self.open:
             return
         self.topics.tick()
+        self.fields.set_topics(self.topics.types)
+        self.fields.tick(now)
         if now - self._drawn_at >= 1.0 / PLOT_HZ:
             self._drawn_at = now
             self.redraw(now)
@@ -137,6 +146,7 @@ class PlotsPanel:
 
     def close(self) -> None:
         self.topics.attach(None)
+        self.fields.close()
         self.canvas.close()
 
 

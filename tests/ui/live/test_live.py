@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from ipycanvas.canvas import _CMD_LIST
 
-from pmk_nb.chair import Odometry, Scan
+from pmk_nb.chair import Odometry, Pose2D, Scan
 from pmk_nb.clock import VirtualClock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.frame_metrics import measured_hold
@@ -47,11 +47,14 @@ class Source:
     def __init__(self) -> None:
         self.odom: Odometry | None = None
         self.scan: Scan | None = None
+        self.pose: Pose2D | None = None
 
-    def move(self, x: float, y: float, theta: float = 0.0, v: float = 0.0) -> None:
-        self.odom = Odometry(x, y, theta, v, 0.0, None, time.monotonic())
+    def move(self, x: float, y: float, theta: float = 0.0, v: float = 0.0, stamp: float | None = None) -> None:
+        self.odom = Odometry(x, y, theta, v, 0.0, stamp, time.monotonic())
 
-    def set_scan(self, n: int = 360, rng: float = 2.0, nan_every: int = 0, max_every: int = 0) -> None:
+    def set_scan(
+        self, n: int = 360, rng: float = 2.0, nan_every: int = 0, max_every: int = 0, stamp: float | None = None
+    ) -> None:
         ranges = np.full(n, rng, dtype=np.float32)
         at_max = np.zeros(n, dtype=bool)
         if max_every:
@@ -59,13 +62,13 @@ class Source:
             ranges[::max_every] = 8.0
         if nan_every:
             ranges[1::nan_every] = np.nan
-        self.scan = Scan(-math.pi, 2 * math.pi / n, 0.1, 8.0, ranges, at_max, time.monotonic())
+        self.scan = Scan(-math.pi, 2 * math.pi / n, 0.1, 8.0, ranges, at_max, time.monotonic(), stamp)
 
     def latest_odom(self) -> Odometry | None:
         return self.odom
 
-    def latest_pose(self) -> None:
-        return None
+    def latest_pose(self) -> Pose2D | None:
+        return self.pose
 
     def latest_scan(self) -> Scan | None:
         return self.scan
@@ -264,21 +267,28 @@ def test_show_sensors_toggles_ray_drawing() -> None:
     assert view.metrics.last_hits == 0
 
 
-def test_rays_start_from_the_pose_the_chair_had_when_the_scan_arrived() -> None:
+def test_rays_start_from_the_pose_the_chair_had_at_the_scans_header_stamp() -> None:
+    """Odometry by header stamp, interpolated: the scan's stamp picks the pose, its arrival plays no part."""
     view = LiveView(300, 200)
     view.set_map(sample_grid())
     src = Source()
     view.attach(src)
-    src.move(3.0, 2.0, 0.0)
+    src.move(3.0, 2.0, 0.0, stamp=10.0)
     view.render_frame()
-    src.set_scan()  # cast from (3, 2, 0)
-    time.sleep(0.1)
-    src.move(3.1, 2.0, 1.2)  # the chair turned since
+    src.move(3.0, 2.0, 0.4, stamp=10.1)
     view.render_frame()
-    assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.0, 2.0, 0.0))
-    late = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), time.monotonic() + 5.0)
-    assert view.scan_pose(src.odom, late) == pytest.approx((3.1, 2.0, 1.2))  # nothing close: newest pose
-    view.attach(src)  # a new source forgets the old poses
+    src.set_scan(stamp=10.05)  # cast halfway between the two, arriving (received) only now
+    src.move(3.1, 2.0, 1.2, stamp=10.3)  # the chair turned since
+    view.render_frame()
+    assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.0, 2.0, 0.2))
+    # the drawn pose in the map frame (tf: map -> odom shifted by 1 m): moved back by the same motion
+    src.pose = Pose2D(4.1, 2.0, 1.2, "map", 100.0)
+    assert view.scan_pose(src.pose, src.scan) == pytest.approx((4.0, 2.0, 0.2))
+    later = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), 100.0, 15.0)
+    assert view.scan_pose(src.odom, later) == pytest.approx((3.1, 2.0, 1.2))  # newer than any odometry: newest
+    unstamped = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), 100.0)
+    assert view.scan_pose(src.odom, unstamped) == pytest.approx((3.1, 2.0, 1.2))
+    view.attach(src)  # a new source forgets the old trail
     assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.1, 2.0, 1.2))
     view.close()
 
