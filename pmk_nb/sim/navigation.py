@@ -17,9 +17,9 @@ from __future__ import annotations
 import asyncio
 import itertools
 import math
-import time
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.clock import AsyncPacer
 from pmk_nb.sim import actions as a2
 from pmk_nb.sim.action_status import ActionStatus
 from pmk_nb.sim.actions import GoalRef
@@ -58,7 +58,8 @@ class Navigator:
         if self.offer_actions and n.ros == "ros2":
             bridge.add_action("/navigate_to_pose", "nav2_msgs/action/NavigateToPose", _ToPose(self))
             bridge.add_action("/navigate_through_poses", "nav2_msgs/action/NavigateThroughPoses", _ThroughPoses(self))
-            self.status = ActionStatus(bridge, n, ("/navigate_to_pose", "/navigate_through_poses"))
+            actions = ("/navigate_to_pose", "/navigate_through_poses")
+            self.status = ActionStatus(bridge, n, actions, clock=self.engine.clock, wall=self.engine.wall)
             add_cancel_services(self, ("/navigate_to_pose", "/navigate_through_poses"))
         elif self.offer_actions:
             self.ros1 = Ros1Actionlib(self, bridge, n)
@@ -93,6 +94,7 @@ class Navigator:
         if self.current is not None:
             self.finish("canceled", "preempted by a new goal")
         self.current = goal
+        goal.started = self.engine.clock.now()
         if goal.ref is not None and self.status is not None:
             self.status.set(goal.ref, a2.STATUS_EXECUTING)
         self.engine.start_plan(goal.target[:2], goal.target[2], via=goal.via)
@@ -115,9 +117,9 @@ class Navigator:
     # -- progress ---------------------------------------------------------------------------------
 
     async def _loop(self) -> None:
-        period = 1.0 / FEEDBACK_HZ
+        period, pacer = 1.0 / FEEDBACK_HZ, AsyncPacer(self.engine.clock)
         while True:
-            await asyncio.sleep(period)
+            await pacer.sleep(period)
             if self.engine.paused:
                 continue
             try:
@@ -153,9 +155,9 @@ class Navigator:
         if chair is None:
             return
         if goal.kind == "ros2" and goal.ref is not None:
-            n, t = self.engine.names, time.time()
+            n, t = self.engine.names, self.engine.wall.now()
             left = self.remaining(goal)
-            elapsed = time.monotonic() - goal.started
+            elapsed = self.engine.clock.now() - goal.started
             speed = max(self.engine.limits.v_max * 0.6, 1e-3)
             goal.ref.feedback(
                 {
