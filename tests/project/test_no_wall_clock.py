@@ -27,10 +27,6 @@ WALL_CLOCK = {"time", "monotonic", "perf_counter", "monotonic_ns", "perf_counter
 #: "path::function": why it still reads the wall clock (one line each)
 ALLOWED: dict[str, str] = {
     "tests/cli/test_hub.py::_open_dashboard": "polls a real JupyterHub's spawn; used by tests/browser (realtime) only",
-    "tests/ui/live/test_live.py::test_rays_start_from_the_pose_the_chair_had_when_the_scan_arrived": "the live "
-    "view keeps its pose history by time.monotonic arrival stamps (no Clock parameter yet)",
-    "tests/ui/maps/test_maps.py::test_bad_resolution_blocks_convert": "checks that no conversion thread "
-    "writes a map after a refused click: an absence, given 0.2 s",
 }
 
 

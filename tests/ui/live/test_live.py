@@ -23,7 +23,7 @@ import pytest
 from ipycanvas.canvas import _CMD_LIST
 
 from pmk_nb.chair import Odometry, Scan
-from pmk_nb.clock import VirtualClock
+from pmk_nb.clock import MONOTONIC, Clock, VirtualClock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.frame_metrics import measured_hold
 from pmk_nb.ui.live.gestures import WHEEL_INTERVAL
@@ -42,14 +42,15 @@ def sample_grid(width: int = 300, height: int = 200, resolution: float = 0.05) -
 
 
 class Source:
-    """Holds the latest messages the way ChairLink does (new object per message)."""
+    """Holds the latest messages the way ChairLink does (new object per message), stamped on ``clock``."""
 
-    def __init__(self) -> None:
+    def __init__(self, clock: Clock = MONOTONIC) -> None:
+        self.clock = clock
         self.odom: Odometry | None = None
         self.scan: Scan | None = None
 
     def move(self, x: float, y: float, theta: float = 0.0, v: float = 0.0) -> None:
-        self.odom = Odometry(x, y, theta, v, 0.0, None, time.monotonic())
+        self.odom = Odometry(x, y, theta, v, 0.0, None, self.clock.now())
 
     def set_scan(self, n: int = 360, rng: float = 2.0, nan_every: int = 0, max_every: int = 0) -> None:
         ranges = np.full(n, rng, dtype=np.float32)
@@ -59,7 +60,7 @@ class Source:
             ranges[::max_every] = 8.0
         if nan_every:
             ranges[1::nan_every] = np.nan
-        self.scan = Scan(-math.pi, 2 * math.pi / n, 0.1, 8.0, ranges, at_max, time.monotonic())
+        self.scan = Scan(-math.pi, 2 * math.pi / n, 0.1, 8.0, ranges, at_max, self.clock.now())
 
     def latest_odom(self) -> Odometry | None:
         return self.odom
@@ -265,18 +266,19 @@ def test_show_sensors_toggles_ray_drawing() -> None:
 
 
 def test_rays_start_from_the_pose_the_chair_had_when_the_scan_arrived() -> None:
-    view = LiveView(300, 200)
+    clock = VirtualClock()
+    view = LiveView(300, 200, clock=clock)
     view.set_map(sample_grid())
-    src = Source()
+    src = Source(clock)
     view.attach(src)
     src.move(3.0, 2.0, 0.0)
     view.render_frame()
     src.set_scan()  # cast from (3, 2, 0)
-    time.sleep(0.1)
+    clock.advance(0.1)
     src.move(3.1, 2.0, 1.2)  # the chair turned since
     view.render_frame()
     assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.0, 2.0, 0.0))
-    late = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), time.monotonic() + 5.0)
+    late = Scan(-math.pi, 0.1, 0.1, 8.0, np.ones(4, np.float32), np.zeros(4, bool), clock.now() + 5.0)
     assert view.scan_pose(src.odom, late) == pytest.approx((3.1, 2.0, 1.2))  # nothing close: newest pose
     view.attach(src)  # a new source forgets the old poses
     assert view.scan_pose(src.odom, src.scan) == pytest.approx((3.1, 2.0, 1.2))
