@@ -22,6 +22,7 @@ CLOCKED: dict[str, str] = {
     "pmk_nb/chair/link/goal.py": "a goal's sent / last news / cancel times, GoalHandle.wait",
     "pmk_nb/chair/link/goal_watch.py": "acceptance, silence and cancel deadlines, its tick, the zero burst",
     "pmk_nb/chair/link/goal_stop.py": "the Stop's zero burst and its repeats",
+    "pmk_nb/chair/link/goal_attach.py": "when the chair's goal status was last heard (a re-attach)",
     "pmk_nb/chair/link/goal_topic.py": "the goal-topic poller and its no-progress deadline",
     "pmk_nb/chair/link/side_channel.py": "the side channel's zero burst",
     "pmk_nb/chair/link/navigate.py": "the goal's clock",

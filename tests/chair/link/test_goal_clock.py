@@ -169,6 +169,37 @@ def test_after_a_link_loss_the_pose_decides_only_after_reattach_s(clock: Virtual
     assert handle.progress().status is GoalStatus.ARRIVED, handle.progress()
 
 
+class FakeFollower:
+    """Nav2's ``_action/status`` as the goal watch reads it after a reconnect."""
+
+    def __init__(self) -> None:
+        self.uuid: tuple[int, ...] | None = (1, 2, 3)
+        self.code: int | None = None
+        self.listed = False
+        self.heard_at = 0.0
+
+    def close(self) -> None:
+        pass
+
+
+def test_after_a_link_loss_the_chairs_status_heard_after_the_reconnect_decides_at_once(
+    clock: VirtualClock, link: FakeLink
+) -> None:
+    handle = GoalHandle(GOAL, "Nav2", clock=clock)
+    handle.update(GoalStatus.MOVING, 5.0)
+    follower = handle.follower = FakeFollower()
+    _watch(link, handle, clock)
+    link.is_connected = False
+    clock.advance(1.0)
+    follower.code, follower.listed, follower.heard_at = 4, True, clock.now()  # heard while the link was down
+    link.is_connected = True
+    clock.advance(0.06)
+    assert handle.progress().status is GoalStatus.LINK_LOST, "a status from before the reconnect proves nothing"
+    follower.heard_at = clock.now()  # the chair's status after the reconnect: succeeded
+    clock.advance(0.06)
+    assert handle.progress().status is GoalStatus.ARRIVED and "link back" in handle.progress().message
+
+
 def test_a_goal_topic_goal_without_progress_is_aborted_after_no_progress_s(clock: VirtualClock, link: FakeLink) -> None:
     handle = GoalHandle((3.0, 0.0, 0.0), "goal topic", clock=clock)
     start_topic(link, handle, (3.0, 0.0, 0.0), "map")  # type: ignore[arg-type]
