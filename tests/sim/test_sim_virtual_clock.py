@@ -53,8 +53,33 @@ def test_a_command_moves_the_chair_exactly_as_far_as_the_advanced_time_allows(
 
 
 def test_a_parked_chair_stays_put_however_long_time_runs(chair: SimChair, clock: VirtualClock) -> None:
-    clock.advance(30.0)
+    clock.advance(5.0)
     assert chair.pose == (1.0, 1.0, 0.0) and chair.velocity == (0.0, 0.0)
     chair.drive(0.0, 1.0)  # a turn on the spot: 1 rad/s for 0.5 s
     clock.advance(0.5)
     assert chair.pose[:2] == (1.0, 1.0) and chair.pose[2] == pytest.approx(0.5, abs=1e-12)
+
+
+def _push_into_the_wall(clock: VirtualClock) -> tuple[tuple[float, float, float], bool, tuple[float, float]]:
+    """0.8 m/s at a wall 1.5 m ahead for 3 s of virtual time, the command renewed every 0.25 s."""
+    sim = SimChair(
+        grid=room_grid(6.0, 4.0, wall_x=3.0), start_pose=(1.5, 2.0, 0.0), odom_rate=ODOM_HZ, clock=clock
+    ).start()
+    try:
+        assert clock.wait_for_waiters(3)
+        for _ in range(12):
+            sim.drive(0.8, 0.0)
+            clock.advance(0.25)
+        return sim.pose, sim.bumped, sim.velocity
+    finally:
+        sim.stop()
+
+
+def test_the_same_drive_into_a_wall_ends_at_the_same_pose_bit_for_bit() -> None:
+    pose, bumped, velocity = _push_into_the_wall(VirtualClock(start=1000.0))
+    assert bumped and velocity == (0.0, 0.0) and pose[1:] == (2.0, 0.0)
+    # the footprint (0.35 m) meets the wall cells (x from 3.0) to within a cell
+    assert 3.0 - 0.35 - 0.15 < pose[0] < 3.0 - 0.35 + 0.05, pose
+    steps = (pose[0] - 1.5) / (0.8 / ODOM_HZ)
+    assert steps == pytest.approx(round(steps), abs=1e-9), "it stopped on a whole step: no move was cut short"
+    assert _push_into_the_wall(VirtualClock(start=1000.0)) == (pose, bumped, velocity), "deterministic"
