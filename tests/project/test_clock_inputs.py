@@ -30,6 +30,7 @@ CLOCKED: dict[str, str] = {
     "pmk_nb/chair/link/connectivity.py": "the connection test's deadline and elapsed time",
     "pmk_nb/chair/link/backoff.py": "the reconnect backoff (its delays run in the transport's factory)",
     "pmk_nb/robot/goalwatch.py": "the watchdog's silence and Stop debounce",
+    "pmk_nb/robot/simnode.py": "the simulator node's physics",
     "pmk_nb/robot/wheels.py": "the stack set-up's reported durations",
     "pmk_nb/sim/engine.py": "the simulator's physics and loop rates",
     "pmk_nb/sim/navigation.py": "the navigator's feedback rate, a goal's navigation time",
