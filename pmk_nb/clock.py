@@ -8,8 +8,10 @@ asserts exact outcomes ("after 300 ms of silence, one zero and nothing after") i
 
 from __future__ import annotations
 
+import asyncio
 import heapq
 import logging
+import queue
 import threading
 import time
 from dataclasses import dataclass, field
@@ -45,6 +47,77 @@ class MonotonicClock:
 
 #: the shared real clock (stateless: one is enough)
 MONOTONIC = MonotonicClock()
+
+
+class WallClock(MonotonicClock):
+    """Seconds since the epoch, for times other processes read (a seat's start in a shared file, the
+    drive claim's beats) and message stamps; waits as the real clock's."""
+
+    def now(self) -> float:
+        return time.time()
+
+
+#: the shared wall clock
+WALL = WallClock()
+
+
+class AsyncPacer:
+    """``await pacer.sleep(s)`` on a clock, for one asyncio task (the simulator's loops).
+
+    The real clocks sleep with ``asyncio.sleep``, as before. Any other clock (a ``VirtualClock``) is
+    waited on by one thread of the pacer's own, which wakes the task and then holds still until the
+    task asks for its next sleep: a ``VirtualClock.advance`` therefore returns only once the task has
+    run every step due in the span. One pacer per task; a task cancelled in its sleep closes it (a task
+    that ends otherwise calls :meth:`close`, else its thread holds each ``advance`` for its
+    ``settle_timeout``).
+    """
+
+    def __init__(self, clock: Clock) -> None:
+        self.clock = clock
+        self._requests: queue.SimpleQueue[tuple[float, asyncio.AbstractEventLoop, asyncio.Future[None]] | None]
+        self._requests = queue.SimpleQueue()
+        self._closed = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    async def sleep(self, seconds: float) -> None:
+        if isinstance(self.clock, MonotonicClock):
+            await asyncio.sleep(max(0.0, seconds))
+            return
+        loop = asyncio.get_running_loop()
+        woke: asyncio.Future[None] = loop.create_future()
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._run, name="pmk-pacer", daemon=True)
+            self._thread.start()
+        self._requests.put((seconds, loop, woke))
+        try:
+            await woke
+        except asyncio.CancelledError:  # the task ends (the simulator stops): so does the thread
+            self.close()
+            raise
+
+    def close(self) -> None:
+        """End the pacer's thread (the task is done): a sleep under way ends at once, unanswered."""
+        self._closed.set()
+        self._requests.put(None)
+
+    def _run(self) -> None:
+        while not self._closed.is_set():
+            request = self._requests.get()
+            if request is None:
+                return
+            seconds, loop, woke = request
+            if self.clock.wait(self._closed, seconds):
+                return
+            try:
+                loop.call_soon_threadsafe(_wake, woke)
+            except RuntimeError:  # the loop is closed: nobody to wake
+                return
+
+
+def _wake(woke: asyncio.Future[None]) -> None:
+    if not woke.done():  # the sleeping task may have been cancelled meanwhile
+        woke.set_result(None)
+
 
 #: real seconds between a virtual waiter's looks at its event (``Event.set`` notifies nobody else)
 _POLL_S = 0.002

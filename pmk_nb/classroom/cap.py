@@ -21,10 +21,10 @@ import contextlib
 import fcntl
 import json
 import os
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
+from pmk_nb.clock import WALL, Clock
 from pmk_nb.errors import PmkError
 from pmk_nb.fileio import atomic_write
 
@@ -88,14 +88,17 @@ class ChairCap:
     Args:
         state_dir: the class's state folder (``chairs.json`` and its lock).
         max_chairs: the cap.
+        clock: a seat's ``since`` (wall seconds: other kernels and ``pmk hub`` read it); a
+            ``VirtualClock`` in tests.
     """
 
-    def __init__(self, state_dir: Path, max_chairs: int) -> None:
+    def __init__(self, state_dir: Path, max_chairs: int, *, clock: Clock = WALL) -> None:
         if max_chairs < 1:
             raise ValueError(f"max_chairs must be at least 1, not {max_chairs}")
         self.folder = Path(state_dir)
         self.max_chairs = int(max_chairs)
         self.path = self.folder / CHAIRS_FILE
+        self.clock = clock
 
     @contextlib.contextmanager
     def _locked(self) -> Iterator[dict[str, dict[str, object]]]:
@@ -127,7 +130,7 @@ class ChairCap:
         with self._locked() as entries:
             if key not in entries and len(entries) >= self.max_chairs:
                 raise ClassroomFull(in_use=len(entries), max_chairs=self.max_chairs)
-            entries.setdefault(key, {"since": time.time()})
+            entries.setdefault(key, {"since": self.clock.now()})
 
     def note(self, pid: int | None = None, **facts: object) -> None:
         """Add facts (the chair's ports) to ``pid``'s seat: ``pmk hub`` and tests read them."""

@@ -29,7 +29,6 @@ from __future__ import annotations
 import contextlib
 import fcntl
 import json
-import time
 import uuid
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -37,6 +36,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.clock import WALL, Clock
 from pmk_nb.drive.chairkey import chair_key
 from pmk_nb.fileio import atomic_write
 
@@ -113,7 +113,7 @@ class DriveClaim:
         folder: the shared folder (created 0700).
         host, port: the chair.
         member: this page's id (default: a fresh random one, so a page cannot pick another's).
-        clock: wall seconds (all kernels on one machine share it); a fake one in tests.
+        clock: wall seconds (all kernels on one machine share it): ``WALL``; a ``VirtualClock`` in tests.
     """
 
     def __init__(
@@ -123,7 +123,7 @@ class DriveClaim:
         port: int,
         *,
         member: str | None = None,
-        clock: Callable[[], float] = time.time,
+        clock: Clock = WALL,
         stale: float = STALE_S,
         beat_every: float = BEAT_EVERY_S,
     ) -> None:
@@ -172,14 +172,14 @@ class DriveClaim:
 
     def view(self) -> ClaimView:
         """The shared state now; also this page's heartbeat, written at most once per ``beat_every``."""
-        now = self.clock()
+        now = self.clock.now()
         if self._beat_at is None or now - self._beat_at >= self.beat_every or now < self._beat_at:
             return self._change(lambda _s, _n: None)
         return self._view(self._read(), now)
 
     def peek(self) -> ClaimView:
         """The shared state now, without this page's heartbeat (a watcher is not a driving page)."""
-        return self._view(self._read(), self.clock())
+        return self._view(self._read(), self.clock.now())
 
     # -- writing --------------------------------------------------------------------------------------
     @contextlib.contextmanager
@@ -195,7 +195,7 @@ class DriveClaim:
     def _change(self, edit: Callable[[_State, float], None]) -> ClaimView:
         """Read, beat, ``edit``, drop gone pages, write; under the lock."""
         with self._locked():
-            now = self.clock()
+            now = self.clock.now()
             state = self._read()
             state.pages[self.member] = now
             edit(state, now)

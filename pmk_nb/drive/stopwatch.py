@@ -31,6 +31,7 @@ class StopWatch:
         claim: this page's handle on the chair's shared state (the Drive panel's member, so that
             its own latch is known as its own); only read here.
         on_stop: called on the watch's thread when another page latches a Stop; must not block long.
+        The polls wait on the claim's clock (``DriveClaim.clock``: a ``VirtualClock`` in tests).
     """
 
     def __init__(self, claim: DriveClaim, on_stop: Callable[[], object], poll: float = POLL_S) -> None:
@@ -60,7 +61,7 @@ class StopWatch:
             view = self.claim.peek()
         except OSError as err:
             log.warning("the Stop latch %s cannot be read: %s", self.claim.path, err)
-            return self.claim.clock()
+            return self.claim.clock.now()
         return view.stop_at
 
     @property
@@ -91,4 +92,4 @@ class StopWatch:
     def _run(self) -> None:
         while not self._stop.is_set():
             self.tick()
-            self._stop.wait(self.poll)
+            self.claim.clock.wait(self._stop, self.poll)

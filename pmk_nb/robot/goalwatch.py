@@ -4,16 +4,15 @@
 feeds every heartbeat to :meth:`GoalWatch.beat` and calls :meth:`GoalWatch.tick` from a timer; a
 :class:`Trip` means "cancel the navigation goals now". Each dashboard (``client``) is armed on its
 own: one tablet that finished does not disarm another that still drives. A trip cancels all goals
-(the cancel services have no notion of client), once per silence. The clock is injected so that
-the unit tests need no sleeping.
+(the cancel services have no notion of client), once per silence. The clock is injected (:mod:`pmk_nb.clock`) so that
+the unit tests advance a ``VirtualClock`` and need no sleeping.
 """
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable
 from dataclasses import dataclass
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.goalbeat import SILENCE_S, STOP_REPEAT_S, Beat
 
 READY_LINE = "pmk robot goal-watchdog: ready"
@@ -40,14 +39,14 @@ class StopDebounce:
     """One cancel-all per Stop: a dashboard repeats its Stop for a while (:data:`STOP_REPEAT_S`), so the
     repeats of one client within that window are the same press."""
 
-    def __init__(self, window_s: float = STOP_REPEAT_S + 0.5, clock: Callable[[], float] = time.monotonic) -> None:
+    def __init__(self, window_s: float = STOP_REPEAT_S + 0.5, clock: Clock = MONOTONIC) -> None:
         self.window_s = window_s
         self._clock = clock
         self._last: dict[str, float] = {}
 
     def admit(self, client: str) -> bool:
         """True for a new press of ``client``'s Stop, False for a repeat of the last one."""
-        now = self._clock()
+        now = self._clock.now()
         last = self._last.get(client)
         self._last[client] = now
         return last is None or now - last > self.window_s
@@ -57,7 +56,7 @@ class GoalWatch:
     """Armed clients and when each was last heard. Not thread-safe: call from one thread (the
     node's executor / rospy's timer and subscriber under the node's lock)."""
 
-    def __init__(self, silence_s: float = SILENCE_S, clock: Callable[[], float] = time.monotonic) -> None:
+    def __init__(self, silence_s: float = SILENCE_S, clock: Clock = MONOTONIC) -> None:
         if silence_s <= 0:
             raise ValueError(f"silence_s must be > 0, got {silence_s}")
         self.silence_s = silence_s
@@ -72,14 +71,14 @@ class GoalWatch:
         """Take one heartbeat; returns the change it made (None: nothing changed)."""
         was = beat.client in self._armed
         if beat.active:
-            self._armed[beat.client] = (self._clock(), beat.goals)
+            self._armed[beat.client] = (self._clock.now(), beat.goals)
             return None if was else Change(beat.client, True)
         self._armed.pop(beat.client, None)
         return Change(beat.client, False) if was else None
 
     def tick(self) -> list[Trip]:
         """The clients silent for ``silence_s`` or longer; each trips once and is disarmed."""
-        now = self._clock()
+        now = self._clock.now()
         trips = [
             Trip(client, now - heard, goals)
             for client, (heard, goals) in self._armed.items()

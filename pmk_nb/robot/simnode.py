@@ -12,12 +12,12 @@ from __future__ import annotations
 
 import math
 import threading
-import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.rosmap import read_map
 from pmk_nb.sim import Chair, Laser, World, demo_grid
@@ -51,20 +51,22 @@ def _fill_tf(t: Any, parent: str, child: str, pose: Pose, stamp: Any) -> Any:
 
 
 class SimState:
-    """The chair in its world; every method may be called from any rclpy callback (one lock)."""
+    """The chair in its world; every method may be called from any rclpy callback (one lock). ``clock``
+    times its physics (the node's timers call :meth:`step`; a ``VirtualClock`` in tests)."""
 
-    def __init__(self, grid: OccupancyGrid, laser_offset: Pose, rays: int = 720) -> None:
+    def __init__(self, grid: OccupancyGrid, laser_offset: Pose, rays: int = 720, *, clock: Clock = MONOTONIC) -> None:
+        self.clock = clock
         self.lock = threading.Lock()
         self.world = World(grid)
         x, y = self.world.open_spot()
         self.chair = Chair(self.world, (x, y, 0.0))
         self.laser = Laser(rays=rays)
         self.laser_offset = laser_offset
-        self.last = time.monotonic()
+        self.last = clock.now()
 
     def step(self) -> tuple[Pose, float, float]:
         with self.lock:
-            now = time.monotonic()
+            now = self.clock.now()
             self.chair.step(now - self.last, now)
             self.last = now
             return self.chair.pose, self.chair.v, self.chair.w
@@ -76,7 +78,7 @@ class SimState:
 
     def command(self, v: float, w: float) -> None:
         with self.lock:
-            self.chair.command(v, w, time.monotonic())
+            self.chair.command(v, w, self.clock.now())
 
     def goal(self, x: float, y: float, yaw: float | None) -> None:
         with self.lock:

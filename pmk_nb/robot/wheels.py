@@ -23,10 +23,10 @@ import re
 import shutil
 import subprocess
 import sys
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.errors import PmkError
 from pmk_nb.fileio import atomic_write
 
@@ -159,8 +159,8 @@ def _runtime_env(venv: Path, python: Path) -> dict[str, str]:
     }
 
 
-def _build_interface(name: str, venv: Path, build_root: Path, log: Path) -> float:
-    start = time.monotonic()
+def _build_interface(name: str, venv: Path, build_root: Path, log: Path, clock: Clock = MONOTONIC) -> float:
+    start = clock.now()
     build = build_root / name
     shutil.rmtree(build, ignore_errors=True)
     build.mkdir(parents=True)
@@ -182,17 +182,18 @@ def _build_interface(name: str, venv: Path, build_root: Path, log: Path) -> floa
     )
     _run(["cmake", "--build", ".", "-j", str(os.cpu_count() or 2)], log, cwd=build, env=env)
     _run(["cmake", "--install", "."], log, cwd=build, env=env)
-    return time.monotonic() - start
+    return clock.now() - start
 
 
-def setup(root: Path | None = None, *, say=print) -> Stack:  # type: ignore[no-untyped-def]
-    """Set the stack up (instant when the stamps match; only changed interfaces are rebuilt); returns it."""
+def setup(root: Path | None = None, *, say=print, clock: Clock = MONOTONIC) -> Stack:  # type: ignore[no-untyped-def]
+    """Set the stack up (instant when the stamps match; only changed interfaces are rebuilt); returns it.
+    ``clock`` times the steps it reports."""
     root = root or cache_dir()
     try:
         return load(root)
     except StackMissing:
         pass
-    start = time.monotonic()
+    start = clock.now()
     root.mkdir(parents=True, exist_ok=True)
     log = root / "setup.log"
     log.write_text("")
@@ -207,12 +208,12 @@ def setup(root: Path | None = None, *, say=print) -> Stack:  # type: ignore[no-u
         stamp = _interface_stamp(name)
         if manifest["interfaces"].get(name) == stamp:
             continue
-        seconds = _build_interface(name, venv, root / "build", log)
+        seconds = _build_interface(name, venv, root / "build", log, clock)
         say(f"ROS 2 stack: built {name} in {seconds:.1f} s")
         manifest["interfaces"][name] = stamp
         atomic_write(manifest_path, json.dumps(manifest, indent=1))  # kept: a later failure keeps this one
     atomic_write(manifest_path, json.dumps(manifest, indent=1))
-    say(f"ROS 2 stack: ready in {time.monotonic() - start:.0f} s")
+    say(f"ROS 2 stack: ready in {clock.now() - start:.0f} s")
     return load(root)
 
 

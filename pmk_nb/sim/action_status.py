@@ -9,9 +9,9 @@ deliver the ``action_result`` to a socket that closed (see :mod:`pmk_nb.sim.brid
 
 from __future__ import annotations
 
-import time
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.clock import MONOTONIC, WALL, Clock
 from pmk_nb.sim.session import resolve_name
 
 if TYPE_CHECKING:
@@ -24,10 +24,14 @@ TERMINAL = (4, 5, 6)  # action_msgs/GoalStatus succeeded, canceled, aborted
 
 
 class ActionStatus:
-    """The status topics of the actions a bridge serves; ``set(ref, code)`` on each change."""
+    """The status topics of the actions a bridge serves; ``set(ref, code)`` on each change. ``clock``
+    keeps finished goals :data:`KEEP_DONE_S`; ``wall`` stamps a goal first seen here."""
 
-    def __init__(self, bridge: Bridge, names: Names, actions: tuple[str, ...]) -> None:
+    def __init__(
+        self, bridge: Bridge, names: Names, actions: tuple[str, ...], *, clock: Clock = MONOTONIC, wall: Clock = WALL
+    ) -> None:
         self.bridge, self.names = bridge, names
+        self.clock, self.wall = clock, wall
         self._goals: dict[str, dict[tuple[int, ...], tuple[int, float, float]]] = {a: {} for a in actions}
         for action in actions:
             bridge.advertise_internal(
@@ -39,8 +43,8 @@ class ActionStatus:
         goals = self._goals.get(action)
         if goals is None:
             return
-        now = time.monotonic()
-        accepted = goals.get(ref.uuid, (0, time.time(), 0.0))[1]
+        now = self.clock.now()
+        accepted = goals.get(ref.uuid, (0, self.wall.now(), 0.0))[1]
         goals[ref.uuid] = (code, accepted, now if code in TERMINAL else 0.0)
         for key, (c, _, done) in list(goals.items()):
             if c in TERMINAL and now - done > KEEP_DONE_S:

@@ -13,6 +13,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, TypedDict
 
+from pmk_nb.clock import MONOTONIC, WALL, Clock
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.sim.bridge_modes import DEFAULT_BRIDGE, BridgeMode
 from pmk_nb.sim.session import DEFAULT_CLIENT_QUEUE
@@ -55,6 +56,8 @@ class SimConfig:
     bridge: BridgeMode = DEFAULT_BRIDGE
     state_dir: Path | str | None = None  # where the SSH host key is kept across processes
     auth_secret: str | None = None  # rosauth's secret: every client's first op must be a granted ``auth``
+    clock: Clock = MONOTONIC  # the physics and the loops' rates (a VirtualClock: steps only as it advances)
+    wall_clock: Clock = WALL  # the messages' stamps
 
 
 class SimOptions(TypedDict, total=False):
@@ -88,6 +91,8 @@ class SimOptions(TypedDict, total=False):
     bridge: BridgeMode
     state_dir: Path | str | None
     auth_secret: str | None
+    clock: Clock
+    wall_clock: Clock
 
 
 def field_names() -> tuple[str, ...]:

@@ -2,18 +2,20 @@
 
 The engine outlives a single server start: stopping and starting a SimChair attaches a fresh
 bridge to the same engine, so the chair keeps its pose and map across restarts.
+
+Time is an input (issue 39): ``clock`` runs the physics and the loops' rates (a ``VirtualClock`` in
+tests: the chair then steps exactly at the ticks of the advanced span), ``wall`` stamps the messages.
 """
 
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 import math
-import time
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.clock import MONOTONIC, WALL, AsyncPacer, Clock
 from pmk_nb.sim.chair import Chair, DriveLimits
 from pmk_nb.sim.navigation import Navigator
 from pmk_nb.sim.navlayers import SimNavLayers
@@ -48,8 +50,11 @@ class Engine:
         start_pose: tuple[float, float, float] | None,
         patrol: bool,
         rng: np.random.Generator,
+        clock: Clock = MONOTONIC,
+        wall: Clock = WALL,
     ) -> None:
         self.names = names
+        self.clock, self.wall = clock, wall
         self.laser = laser
         self.odom_rate = odom_rate
         self.scan_rate = scan_rate
@@ -97,8 +102,7 @@ class Engine:
 
     def goal_ended(self) -> None:
         """A client's goal ended: patrol waits as after a manual command (a cancel must stay stopped)."""
-        with contextlib.suppress(RuntimeError):
-            self._last_manual = asyncio.get_running_loop().time()
+        self._last_manual = self.clock.now()
 
     def note(self, text: str) -> None:
         LOG.info("sim: %s", text)
@@ -138,7 +142,7 @@ class Engine:
 
     async def _build_layers(self, world: World) -> None:
         """The costmaps of a new map, built off the loop; the map is installed without waiting for them."""
-        costs, msg = await asyncio.to_thread(self.layers.build, world.grid, time.time())
+        costs, msg = await asyncio.to_thread(self.layers.build, world.grid, self.wall.now())
         if world is self.world:
             self.layers.use(world.grid, costs, msg)
 
@@ -158,7 +162,7 @@ class Engine:
         if self.chair is None:
             return
         lin, ang = msg.get("linear") or {}, msg.get("angular") or {}
-        now = asyncio.get_running_loop().time()
+        now = self.clock.now()
         self._last_manual = now
         nav = self.navigator
         if nav.current is not None and nav.offer_actions:
@@ -198,10 +202,10 @@ class Engine:
             if not path:
                 self.note(f"no path to goal ({goal[0]:.2f}, {goal[1]:.2f})")
             self._plan_msg = (
-                self.names.path([(float(x), float(y)) for x, y in path], yaw, time.time()) if path else None
+                self.names.path([(float(x), float(y)) for x, y in path], yaw, self.wall.now()) if path else None
             )
             self._plan_sent = -math.inf
-            self._send_plan(asyncio.get_running_loop().time())
+            self._send_plan(self.clock.now())
 
     def _send_plan(self, now: float) -> None:
         """Publish the plan being followed, again every ``PLAN_REPEAT_S`` while the chair drives it
@@ -236,15 +240,15 @@ class Engine:
 
     async def _odom_loop(self) -> None:
         """Physics and /odom + /tf at ``odom_rate`` (absolute schedule, no drift, no catch-up bursts)."""
-        loop = asyncio.get_running_loop()
+        clock, pacer = self.clock, AsyncPacer(self.clock)
         period = 1.0 / self.odom_rate
-        last = next_t = loop.time()
+        last = next_t = clock.now()
         seq = 0
         n = self.names
         while True:
             next_t += period
-            await asyncio.sleep(max(0.0, next_t - loop.time()))
-            now = loop.time()
+            await pacer.sleep(max(0.0, next_t - clock.now()))
+            now = clock.now()
             next_t = max(next_t, now - period)
             dt, last = now - last, now
             chair, bridge = self.chair, self.bridge
@@ -255,7 +259,7 @@ class Engine:
             if self.patrol:
                 self._patrol_tick(chair, now)
             seq += 1
-            t = self.pose_stamp = time.time()
+            t = self.pose_stamp = self.wall.now()
             if bridge.has_subscribers("/odom"):
                 bridge.publish("/odom", n.odometry(chair.pose, chair.v, chair.w, t, seq))
             if bridge.has_subscribers("/tf"):
@@ -265,17 +269,17 @@ class Engine:
 
     async def _scan_loop(self) -> None:
         """Ray cast and publish /scan at ``scan_rate``, only while someone listens."""
-        loop = asyncio.get_running_loop()
+        clock, pacer = self.clock, AsyncPacer(self.clock)
         period = 1.0 / self.scan_rate
-        next_t = loop.time()
+        next_t = clock.now()
         seq = 0
         lz = self.laser
         cast: tuple[object, ...] | None = None  # what the last cast saw: a parked chair's scan is the same
         ranges: np.ndarray | None = None
         while True:
             next_t += period
-            await asyncio.sleep(max(0.0, next_t - loop.time()))
-            next_t = max(next_t, loop.time() - period)
+            await pacer.sleep(max(0.0, next_t - clock.now()))
+            next_t = max(next_t, clock.now() - period)
             chair, world, bridge = self.chair, self.world, self.bridge
             if self.paused or chair is None or world is None or bridge is None:
                 continue
@@ -288,7 +292,7 @@ class Engine:
                 cast = seen
             assert ranges is not None
             seq += 1
-            stamp = self.pose_stamp if self.pose_stamp is not None else time.time()  # the pose it was cast from
+            stamp = self.pose_stamp if self.pose_stamp is not None else self.wall.now()  # the pose it was cast from
             msg = self.names.laser_scan(
                 ranges, lz.angle_min, lz.angle_increment, lz.range_min, lz.range_max, period, stamp, seq
             )

@@ -4,7 +4,6 @@ Nav2 servers (``navigation``) and ROS 1 move_base (``navigation_ros1``) without 
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -23,7 +22,7 @@ class NavGoal:
     via: list[tuple[float, float]] = field(default_factory=list)
     ref: GoalRef | None = None  # ros2
     goal_id: str = ""  # ros1
-    started: float = field(default_factory=time.monotonic)
+    started: float = math.nan  # the engine's clock, set when the navigator starts it
     recoveries: int = 0
 
 

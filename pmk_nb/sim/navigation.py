@@ -17,9 +17,9 @@ from __future__ import annotations
 import asyncio
 import itertools
 import math
-import time
 from typing import TYPE_CHECKING, Any
 
+from pmk_nb.clock import AsyncPacer
 from pmk_nb.sim import actions as a2
 from pmk_nb.sim.action_status import ActionStatus
 from pmk_nb.sim.actions import GoalRef
@@ -58,7 +58,7 @@ class Navigator:
         if self.offer_actions and n.ros == "ros2":
             bridge.add_action(*NAV2_ACTION, _ToPose(self))
             bridge.add_action(*NAV2_THROUGH, _ThroughPoses(self))
-            self.status = ActionStatus(bridge, n, NAV2_ACTIONS)
+            self.status = ActionStatus(bridge, n, NAV2_ACTIONS, clock=self.engine.clock, wall=self.engine.wall)
             add_cancel_services(self, NAV2_ACTIONS)
         elif self.offer_actions:
             self.ros1 = Ros1Actionlib(self, bridge, n)
@@ -93,6 +93,7 @@ class Navigator:
         if self.current is not None:
             self.finish("canceled", "preempted by a new goal")
         self.current = goal
+        goal.started = self.engine.clock.now()
         if goal.ref is not None and self.status is not None:
             self.status.set(goal.ref, a2.STATUS_EXECUTING)
         self.engine.start_plan(goal.target[:2], goal.target[2], via=goal.via)
@@ -115,9 +116,9 @@ class Navigator:
     # -- progress ---------------------------------------------------------------------------------
 
     async def _loop(self) -> None:
-        period = 1.0 / FEEDBACK_HZ
+        period, pacer = 1.0 / FEEDBACK_HZ, AsyncPacer(self.engine.clock)
         while True:
-            await asyncio.sleep(period)
+            await pacer.sleep(period)
             if self.engine.paused:
                 continue
             try:
@@ -153,9 +154,9 @@ class Navigator:
         if chair is None:
             return
         if goal.kind == "ros2" and goal.ref is not None:
-            n, t = self.engine.names, time.time()
+            n, t = self.engine.names, self.engine.wall.now()
             left = self.remaining(goal)
-            elapsed = time.monotonic() - goal.started
+            elapsed = self.engine.clock.now() - goal.started
             speed = max(self.engine.limits.v_max * 0.6, 1e-3)
             goal.ref.feedback(
                 {

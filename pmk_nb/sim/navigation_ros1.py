@@ -9,7 +9,7 @@ roslibpy wait for it before sending), ``/move_base/feedback`` (``base_position``
 
 from __future__ import annotations
 
-import time
+import itertools
 from typing import TYPE_CHECKING, Any
 
 from pmk_nb.sim.navgoal import NavGoal, parse_pose
@@ -29,13 +29,15 @@ if TYPE_CHECKING:
 CODES = {"succeeded": SUCCEEDED, "aborted": ABORTED, "canceled": PREEMPTED}
 KEEP_DONE_S = 5.0  # how long a finished goal stays in the status list
 SERVER = MOVE_BASE[0]
+_IDS = itertools.count(1)  # a goal sent without an id gets one
 
 
 class Ros1Actionlib:
-    """The move_base action server's topics on one bridge."""
+    """The move_base action server's topics on one bridge, on the engine's clocks (``nav.engine``)."""
 
     def __init__(self, nav: Navigator, bridge: Bridge, names: Names) -> None:
         self.nav, self.bridge, self.names = nav, bridge, names
+        self.clock, self.wall = nav.engine.clock, nav.engine.wall
         self._done: list[tuple[float, dict[str, Any]]] = []  # (time finished, status entry)
         bridge.advertise_internal(f"{SERVER}/status", "actionlib_msgs/GoalStatusArray")
         bridge.advertise_internal(f"{SERVER}/feedback", "move_base_msgs/MoveBaseActionFeedback")
@@ -47,7 +49,7 @@ class Ros1Actionlib:
         return {"goal_id": {"stamp": self.names.stamp(0.0), "id": goal_id}, "status": status, "text": text}
 
     def on_goal(self, msg: dict[str, Any]) -> None:
-        goal_id = str((msg.get("goal_id") or {}).get("id") or f"sim-goal-{time.monotonic_ns()}")
+        goal_id = str((msg.get("goal_id") or {}).get("id") or f"sim-goal-{next(_IDS)}")
         parsed = parse_pose((msg.get("goal") or {}).get("target_pose"))
         why = parsed if isinstance(parsed, str) else self.nav.check(*parsed)
         if isinstance(parsed, str) or why is not None:
@@ -62,7 +64,7 @@ class Ros1Actionlib:
             self.nav.cancel_current("cancelled by the client")
 
     def feedback(self, goal: NavGoal, pose: tuple[float, float, float]) -> None:
-        t = time.time()
+        t = self.wall.now()
         msg = {
             "header": self.names.header("", t),
             "status": self._entry(goal.goal_id, ACTIVE),
@@ -74,16 +76,16 @@ class Ros1Actionlib:
         self._publish_result(self._entry(goal.goal_id, CODES[outcome], "" if outcome == "succeeded" else why))
 
     def _publish_result(self, entry: dict[str, Any]) -> None:
-        self._done.append((time.monotonic(), entry))
+        self._done.append((self.clock.now(), entry))
         self.publish_status(self.nav.current)  # the terminal status first, as actionlib does
-        msg = {"header": self.names.header("", time.time()), "status": entry, "result": {}}
+        msg = {"header": self.names.header("", self.wall.now()), "status": entry, "result": {}}
         self.bridge.publish(f"{SERVER}/result", msg)
 
     def publish_status(self, goal: NavGoal | None) -> None:
-        now = time.monotonic()
+        now = self.clock.now()
         self._done = [(t, e) for t, e in self._done if now - t < KEEP_DONE_S]
         entries = [e for _, e in self._done]
         if goal is not None and goal.kind == "ros1":
             entries.append(self._entry(goal.goal_id, ACTIVE))
-        msg = {"header": self.names.header("", time.time()), "status_list": entries}
+        msg = {"header": self.names.header("", self.wall.now()), "status_list": entries}
         self.bridge.publish(f"{SERVER}/status", msg)

@@ -15,7 +15,6 @@ import shutil
 import ssl
 import tempfile
 import threading
-import time
 import weakref
 from collections.abc import Iterable
 from dataclasses import replace
@@ -122,6 +121,8 @@ class SimChair:
             start_pose=cfg.start_pose,
             patrol=cfg.patrol,
             rng=np.random.default_rng(cfg.seed),
+            clock=cfg.clock,
+            wall=cfg.wall_clock,
         )
         self.engine.navigator.offer_actions = cfg.nav_actions
         self.tls = (Path(cfg.tls[0]), Path(cfg.tls[1])) if cfg.tls is not None else None
@@ -278,6 +279,15 @@ class SimChair:
     def set_pose(self, x: float, y: float, theta: float = 0.0) -> None:
         self._call(self.engine.teleport, (x, y, theta))
 
+    def drive(self, v: float, w: float, timeout: float = 10.0) -> None:
+        """A ``/cmd_vel`` (m/s, rad/s) as a client's, taken before this returns: a test on a virtual
+        clock (``SimConfig.clock``) then knows at which instant the command holds from."""
+
+        async def command() -> None:
+            self.engine.on_cmd_vel({"linear": {"x": v}, "angular": {"z": w}})
+
+        self._run_coro(command(), timeout)
+
     def load_map(self, path: str | Path, timeout: float = 30.0) -> int:
         """Reload like a service call would; returns the Nav2 result code (0 = success)."""
         assert self.mapserver is not None, "start() the simulator first"
@@ -334,7 +344,7 @@ class SimChair:
         source = self.mapserver.source if self.mapserver else self.map_yaml
         self.mapserver = MapServer(bridge, self.names, self.fs, self.engine.install, self.reload_services)
         self.mapserver.register()
-        register_rosapi(bridge, self.names, time.time)
+        register_rosapi(bridge, self.names, self.engine.wall.now)
         self.engine.attach(bridge)
         await self.mapserver.set_grid(grid, source)
         # SFTP listens before rosbridge does: whoever finds rosbridge listening (pmk demo waits on it, then

@@ -21,7 +21,8 @@ import psutil
 import pytest
 
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
-from tests.cli.test_hub import PASSWORD, _class_processes, _login, _open_dashboard, running_hub
+from tests.cli.hub_login import PASSWORD, login, open_dashboard
+from tests.cli.test_hub import _class_processes, running_hub
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
@@ -43,10 +44,10 @@ def _ana_in_chromium(base: str) -> None:
 
 def test_two_students_get_their_own_server_and_chair_and_ctrl_c_ends_all(tmp_path: Path) -> None:
     with running_hub(tmp_path) as (base, hub, seen):
-        _session, refused = _login(base, "ben", "not-the-password")  # wrong: 403 and the form again
+        _session, refused = login(base, "ben", "not-the-password")  # wrong: 403 and the form again
         assert refused.status_code == 403 and 'name="_xsrf"' in refused.text
         results: dict[str, Any] = {}
-        ben = threading.Thread(target=_open_dashboard, args=(base, "ben", results))
+        ben = threading.Thread(target=open_dashboard, args=(base, "ben", results))
         ben.start()
         _ana_in_chromium(base)
         ben.join(timeout=120)

@@ -22,6 +22,7 @@ import pytest
 
 from pmk_nb.classroom import CLASSROOM_ENV, ChairCap, ClassroomFull, default_max_chairs
 from pmk_nb.classroom.cap import MIB_PER_PAGE, PAGES_PER_CORE
+from pmk_nb.clock import VirtualClock
 from tests.fixtures_sim import wait_until
 
 REPO = Path(__file__).resolve().parents[2]
@@ -88,6 +89,15 @@ def test_the_cap_refuses_one_more_and_forgets_dead_kernels(
     cap.release(b)
     assert set(cap.live()) == {c}
     assert json.loads((tmp_path / "chairs.json").read_text()).keys() == {str(c)}
+
+
+def test_a_seat_is_dated_on_the_caps_clock(tmp_path: Path) -> None:
+    clock = VirtualClock(start=1.7e9)
+    cap = ChairCap(tmp_path, 2, clock=clock)
+    cap.take(os.getpid())
+    clock.advance(30.0)
+    cap.take(os.getpid())  # a seat kept keeps its date
+    assert cap.live()[os.getpid()]["since"] == 1.7e9
 
 
 class Page:

@@ -8,20 +8,17 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-import re
 import signal
 import stat
 import subprocess
 import sys
 import threading
-import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import psutil
 import pytest
-import requests
 
 from pmk_nb.cli import serving
 from pmk_nb.cli.hub_config import (
@@ -36,9 +33,9 @@ from pmk_nb.cli.hub_config import (
     write_hub_config,
 )
 from pmk_nb.cli.procs import free_port
+from tests.cli.hub_login import PASSWORD
 
 REPO = Path(__file__).resolve().parents[2]
-PASSWORD = "class-password-26"
 
 
 def _plan(tmp_path: Path, **kw: Any) -> HubPlan:
@@ -154,29 +151,6 @@ def _env() -> dict[str, str]:
     env = dict(os.environ)
     env["PYTHONPATH"] = str(REPO) + os.pathsep + env.get("PYTHONPATH", "")
     return env
-
-
-def _login(base: str, user: str, password: str) -> tuple[requests.Session, requests.Response]:
-    """The hub's login form as a browser fills it: its xsrf cookie and hidden field, then the POST."""
-    session = requests.Session()
-    page = session.get(f"{base}/hub/login", timeout=30)
-    field = re.search(r'name="_xsrf"[^>]*value="([^"]+)"', page.text)
-    assert page.status_code == 200 and field, page.text[:500]
-    form = {"username": user, "password": password, "_xsrf": field.group(1)}
-    return session, session.post(f"{base}/hub/login", data=form, timeout=60)
-
-
-def _open_dashboard(base: str, user: str, results: dict[str, Any]) -> None:
-    """Log in and open the dashboard (the spawn may take a while: poll, bounded)."""
-    session, answer = _login(base, user, PASSWORD)
-    results[f"{user}-login"] = answer.status_code
-    deadline = time.monotonic() + 90
-    while time.monotonic() < deadline:
-        page = session.get(f"{base}/user/{user}{DASHBOARD_URL}", timeout=90)
-        if page.status_code == 200 and f"/user/{user}/voila/" in page.url:
-            results[user] = page.text
-            return
-        time.sleep(1.0)
 
 
 def _class_processes(hub: subprocess.Popen[Any]) -> list[psutil.Process]:

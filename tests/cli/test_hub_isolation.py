@@ -29,7 +29,8 @@ import psutil
 import pytest
 
 from pmk_nb.cli.hub_users import KEY_NAME, SECRET_FILE, STUDENT_DIR
-from tests.cli.test_hub import REPO, _class_processes, _open_dashboard, running_hub
+from tests.cli.hub_login import open_dashboard
+from tests.cli.test_hub import REPO, _class_processes, running_hub
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(400)]
 
@@ -131,7 +132,7 @@ def test_students_cannot_read_each_other_nor_drive_each_others_chair() -> None:
     try:
         with _interpreter_reachable(), running_hub(root, extra=("--user-prefix", prefix)) as (base, hub, seen):
             results: dict[str, Any] = {}
-            threads = [threading.Thread(target=_open_dashboard, args=(base, u, results)) for u in ("ana", "ben")]
+            threads = [threading.Thread(target=open_dashboard, args=(base, u, results)) for u in ("ana", "ben")]
             for t in threads:
                 t.start()
             for t in threads:

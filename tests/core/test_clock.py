@@ -3,11 +3,13 @@ before advance returns, an event wakes a wait at once; the real clock waits on t
 
 from __future__ import annotations
 
+import asyncio
+import concurrent.futures
 import threading
 
 import pytest
 
-from pmk_nb.clock import MONOTONIC, Clock, MonotonicClock, VirtualClock
+from pmk_nb.clock import MONOTONIC, WALL, AsyncPacer, Clock, MonotonicClock, VirtualClock
 
 
 def _ticker(clock: Clock, period: float, stop: threading.Event, seen: list[float], name: str = "") -> threading.Thread:
@@ -109,3 +111,62 @@ def test_the_real_clock_waits_on_the_event() -> None:
     assert isinstance(MONOTONIC, MonotonicClock)
     assert MONOTONIC.wait(event, 60.0) is True  # at once: the event is set
     assert MONOTONIC.now() <= MONOTONIC.now()
+
+
+def test_the_wall_clock_reads_epoch_seconds_and_waits_on_the_event() -> None:
+    event = threading.Event()
+    event.set()
+    assert WALL.now() > 1.6e9 and MONOTONIC.now() < WALL.now()  # epoch seconds, not the monotonic count
+    assert WALL.wait(event, 60.0) is True
+
+
+def _loop_thread() -> tuple[asyncio.AbstractEventLoop, threading.Thread]:
+    loop = asyncio.new_event_loop()
+    thread = threading.Thread(target=loop.run_forever, name="test-loop", daemon=True)
+    thread.start()
+    return loop, thread
+
+
+def test_an_asyncio_task_paced_by_a_virtual_clock_runs_each_due_step_before_advance_returns() -> None:
+    clock, steps = VirtualClock(start=0.0), []
+    before = set(threading.enumerate())
+    loop, thread = _loop_thread()
+
+    async def ticker() -> None:
+        pacer = AsyncPacer(clock)
+        while True:
+            await pacer.sleep(0.25)
+            steps.append(clock.now())
+
+    task = asyncio.run_coroutine_threadsafe(ticker(), loop)
+    try:
+        assert clock.wait_for_waiters(1)
+        clock.advance(0.2)
+        assert steps == []
+        clock.advance(0.8)
+        assert steps == [0.25, 0.5, 0.75, 1.0], "every step due in the span ran, each at its own time"
+        clock.advance(0.25)
+        assert steps == [0.25, 0.5, 0.75, 1.0, 1.25]
+        pacers = [t for t in set(threading.enumerate()) - before if t.name == "pmk-pacer"]
+        assert len(pacers) == 1
+    finally:
+        task.cancel()
+        concurrent.futures.wait([task], timeout=10.0)
+        loop.call_soon_threadsafe(loop.stop)
+        thread.join(10.0)
+    pacers[0].join(10.0)
+    assert not pacers[0].is_alive(), "a cancelled task ends its pacer's thread"
+    assert clock.waiting == 0
+    loop.close()
+
+
+def test_a_pacer_on_the_real_clock_is_asyncio_sleep() -> None:
+    pacer, started = AsyncPacer(MONOTONIC), []
+
+    async def once() -> None:
+        await pacer.sleep(0.0)
+        started.append(True)
+
+    asyncio.run(once())
+    assert started == [True]
+    assert pacer._thread is None, "the real clock needs no thread"

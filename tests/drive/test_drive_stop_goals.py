@@ -15,8 +15,10 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.chair.link import GoalsStopped, GoalStatus
+from pmk_nb.clock import VirtualClock
 from pmk_nb.drive import DriveClaim, DriveSession, Hold, StopWatch
 from pmk_nb.drive.chairkey import LOOPBACK, chair_address, chair_key
+from pmk_nb.drive.stopwatch import POLL_S
 from tests.fixtures_sim import wait_until
 
 START = (1.0, 6.0, 0.0)
@@ -88,8 +90,27 @@ def test_stop_cancels_goals_and_the_watch_of_another_page_answers_once(tmp_path:
 def test_an_unreadable_latch_closes_the_gate(tmp_path: Path) -> None:
     folder = tmp_path / "file"
     folder.write_text("not a folder")
-    watch = StopWatch(DriveClaim(folder, "127.0.0.1", 9090), lambda: None)
-    assert watch.latched_at() is not None
+    clock = VirtualClock(start=1.7e9)
+    watch = StopWatch(DriveClaim(folder, "127.0.0.1", 9090, clock=clock), lambda: None)
+    assert watch.latched_at() == 1.7e9, "latched now, on the claim's clock"
+
+
+def test_the_watch_thread_reads_the_latch_once_a_poll_on_the_claims_clock(tmp_path: Path) -> None:
+    clock, fired = VirtualClock(start=1.7e9), []
+    session = DriveSession(FakeLink(), claim=DriveClaim(tmp_path, "127.0.0.1", 9090, member="b", clock=clock))
+    watch = StopWatch(DriveClaim(tmp_path, "127.0.0.1", 9090, member="a", clock=clock), lambda: fired.append(1))
+    watch.start()
+    try:
+        assert clock.wait_for_waiters(1), "the watch never waited on the claim's clock"
+        session.stop()  # page B latches a Stop between two polls of page A's watch
+        clock.advance(POLL_S / 2)
+        assert fired == [], "not read before the next poll"
+        clock.advance(POLL_S / 2)
+        assert fired == [1]
+        clock.advance(60 * POLL_S)
+        assert fired == [1], "one latch, answered once"
+    finally:
+        watch.close()
 
 
 @pytest.mark.slow

@@ -25,11 +25,7 @@ TESTS = Path(__file__).resolve().parents[1]
 WALL_CLOCK = {"time", "monotonic", "perf_counter", "monotonic_ns", "perf_counter_ns", "time_ns"}
 
 #: "path::function": why it still reads the wall clock (one line each)
-ALLOWED: dict[str, str] = {
-    "tests/cli/test_hub.py::_open_dashboard": "polls a real JupyterHub's spawn; used by tests/browser (realtime) only",
-    "tests/ui/maps/test_maps.py::test_bad_resolution_blocks_convert": "checks that no conversion thread "
-    "writes a map after a refused click: an absence, given 0.2 s",
-}
+ALLOWED: dict[str, str] = {}
 
 
 def _is_time_call(node: ast.AST, attrs: set[str]) -> bool:

@@ -11,7 +11,6 @@ service names), never the bridge's raw error.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -20,6 +19,7 @@ from pmk_nb.chair.link import goal_words
 from pmk_nb.chair.link.bridge_kind import BridgeKind, detect_bridge
 from pmk_nb.chair.messages import MapInfo
 from pmk_nb.chair.reload import PREFERRED
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.errors import ChairLinkError, ChairTimeout
 
 if TYPE_CHECKING:
@@ -79,10 +79,12 @@ class ConnectFailure:
         return ChairLinkError(message, host=host, port=port)
 
 
-def run_connection_test(link: LinkCore, timeout: float, map_listed: Callable[[], bool]) -> ConnectionReport:
-    """Connect ``link`` and read the map metadata within ``timeout`` s; leaves it connected on success.
-    ``map_listed``: did the map read find the map topic listed (the link's map reader says)."""
-    t0 = time.monotonic()
+def run_connection_test(
+    link: LinkCore, timeout: float, map_listed: Callable[[], bool], *, clock: Clock = MONOTONIC
+) -> ConnectionReport:
+    """Connect ``link`` and read the map metadata within ``timeout`` s of ``clock``; leaves it connected
+    on success. ``map_listed``: did the map read find the map topic listed (the link's map reader says)."""
+    t0 = clock.now()
     deadline = t0 + timeout
 
     def report(
@@ -96,7 +98,7 @@ def run_connection_test(link: LinkCore, timeout: float, map_listed: Callable[[],
         notes: tuple[str, ...] = (no_rosapi_note(),) if rosapi is False else ()
         if bridge is not None and bridge.keeps_lost_goals:
             notes += (goal_words.bridge_ignores_cancels(bridge.goals_in_new_thread),)
-        elapsed = time.monotonic() - t0
+        elapsed = clock.now() - t0
         return ConnectionReport(ok, reason, info, link.ros_version, elapsed, rosapi, notes, error, bridge)
 
     failure = link.try_connect(timeout)
@@ -104,17 +106,17 @@ def run_connection_test(link: LinkCore, timeout: float, map_listed: Callable[[],
         return report(False, failure.reason, error=failure.refusal)
     socket = getattr(link.ros, "protocol", None)
     try:
-        info = link.map_info(max(0.1, deadline - time.monotonic()))
+        info = link.map_info(max(0.1, deadline - clock.now()))
     except ChairLinkError:
         if getattr(link.ros, "protocol", None) is not socket or map_listed():  # closed us, or dropped it
             return report(False, big_map_stuck(timeout))
         return report(False, f"connected but no map published within {timeout:.1f} s")
     if link.discovery.rosapi is None:  # the map's facts came without rosapi: ask once
         try:
-            link.discovery.topics(max(0.1, min(link.rosapi_timeout, deadline - time.monotonic())))
+            link.discovery.topics(max(0.1, min(link.rosapi_timeout, deadline - clock.now())))
         except ChairLinkError:
             pass  # RosapiMissing is remembered; a busy bridge stays "unknown"
     bridge = None
     if link.ros_version == 2 and link.discovery.rosapi is not False:
-        bridge = detect_bridge(link, max(0.1, min(link.rosapi_timeout, deadline - time.monotonic())))
+        bridge = detect_bridge(link, max(0.1, min(link.rosapi_timeout, deadline - clock.now())))
     return report(True, "connected", info, bridge)

@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import logging
 import threading
-import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from enum import Enum
 from typing import Any
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.errors import ChairLinkError
 
 LOG = logging.getLogger(__name__)
@@ -75,9 +75,14 @@ UpdateCallback = Callable[[GoalProgress], None]
 
 
 class GoalHandle:
-    """One goal on its way. Thread-safe; a terminal status is final (later updates are ignored)."""
+    """One goal on its way. Thread-safe; a terminal status is final (later updates are ignored).
 
-    def __init__(self, goal: tuple[float, float, float], route: str) -> None:
+    ``clock``: the goal's time (sent, last news, cancels) and waits; its goal watch and route poller
+    read the same one (a ``VirtualClock`` in tests: deadlines then fall at exact instants).
+    """
+
+    def __init__(self, goal: tuple[float, float, float], route: str, *, clock: Clock = MONOTONIC) -> None:
+        self.clock = clock
         self.route = route  # which way the goal went; every message starts with it
         self._lock = threading.Lock()
         self._progress = GoalProgress(GoalStatus.PENDING, goal, None, route)
@@ -85,7 +90,7 @@ class GoalHandle:
         self._callbacks: list[UpdateCallback] = []
         self._cancel: Callable[[], None] | None = None
         self.cancel_requested = False
-        self.sent_at = self.last_news = time.monotonic()
+        self.sent_at = self.last_news = clock.now()
         self.cancel_at: float | None = None  # the latest cancel (the goal watch verifies it)
         self.cancel_honoured: bool | None = None  # None: not verified (yet)
         self.zero_bursts = 0  # zero-velocity bursts sent because a cancel was not honoured
@@ -100,14 +105,14 @@ class GoalHandle:
         """Ask the chair to stop this goal; the status turns ``cancelled`` when the chair confirms.
         Sent again on every call (a Stop pressed twice); the goal watch checks the chair stops."""
         self.cancel_requested = True
-        self.cancel_at, self.cancel_honoured = time.monotonic(), None
+        self.cancel_at, self.cancel_honoured = self.clock.now(), None
         cancel = self._cancel
         if cancel is not None and not self._done.is_set():
             cancel()
 
     def wait(self, timeout: float) -> GoalProgress:
         """Block until the goal is done or ``timeout`` s pass; returns the latest progress either way."""
-        self._done.wait(timeout)
+        self.clock.wait(self._done, timeout)
         return self.progress()
 
     def on_update(self, cb: UpdateCallback) -> None:
@@ -139,7 +144,7 @@ class GoalHandle:
             if old.done:
                 return
             if news:
-                self.last_news = time.monotonic()
+                self.last_news = self.clock.now()
             if old.status is GoalStatus.CANCEL_IGNORED and status in (GoalStatus.ACCEPTED, GoalStatus.MOVING):
                 status, text = None, None
             new = replace(

@@ -12,11 +12,11 @@ Callbacks run on roslibpy's I/O thread and only store.
 from __future__ import annotations
 
 import threading
-import time
 from typing import Any
 
 import roslibpy
 
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.wire import GOAL_STATUS_ARRAY, STATUS_ACCEPTED, STATUS_CANCELING, STATUS_EXECUTING
 
 ACTIVE = (STATUS_ACCEPTED, STATUS_EXECUTING, STATUS_CANCELING)
@@ -25,14 +25,15 @@ ACTIVE = (STATUS_ACCEPTED, STATUS_EXECUTING, STATUS_CANCELING)
 class ActionStatusFollower:
     """The latest status code of our goal on one action (None: not seen, or no longer listed)."""
 
-    def __init__(self, ros: roslibpy.Ros, action: str) -> None:
+    def __init__(self, ros: roslibpy.Ros, action: str, *, clock: Clock = MONOTONIC) -> None:
+        self._clock = clock  # the goal's: ``heard_at`` is compared with its watch's times
         self._lock = threading.Lock()
         self._known: set[tuple[int, ...]] = set()
         self._sent = False
         self.uuid: tuple[int, ...] | None = None
         self.code: int | None = None
         self.listed = False  # our goal is in the latest status message
-        self.heard_at = 0.0  # monotonic time of the latest status message
+        self.heard_at = 0.0  # the clock's time of the latest status message
         self._topic = roslibpy.Topic(ros, f"{action}/_action/status", GOAL_STATUS_ARRAY)
         self._topic.subscribe(self._on_status)
 
@@ -50,7 +51,7 @@ class ActionStatusFollower:
             except (KeyError, TypeError, ValueError):
                 continue
         with self._lock:
-            self.heard_at = time.monotonic()
+            self.heard_at = self._clock.now()
             if self.uuid is None:
                 if self._sent:
                     mine = [k for k, code in entries.items() if k not in self._known and code in ACTIVE]

@@ -85,7 +85,7 @@ def start_nav2(ros: roslibpy.Ros, handle: GoalHandle, action: tuple[str, str], a
     """Send a Nav2 goal with roslibpy's ROS 2 ActionClient; feedback gives ``distance_remaining``.
     The action's status topic is followed too, for the goal's fate after a link loss."""
     client = roslibpy.ActionClient(ros, action[0], action[1])
-    handle.follower = ActionStatusFollower(ros, action[0])
+    handle.follower = ActionStatusFollower(ros, action[0], clock=handle.clock)
     seen = [0]
 
     def feedback(values: Any) -> None:

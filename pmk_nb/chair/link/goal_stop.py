@@ -33,6 +33,7 @@ from websockets.exceptions import WebSocketException
 from pmk_nb.chair.link.goal import GoalHandle, NavigationError
 from pmk_nb.chair.link.heartbeat import client_id
 from pmk_nb.chair.link.side_channel import SIDE_ERRORS, ZERO, side_connect
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.goalbeat import STOP_REPEAT_HZ, STOP_REPEAT_S, STOP_TOPIC, stop_message
 from pmk_nb.wire import CANCEL_GOAL_TYPE as CANCEL_SERVICE
 from pmk_nb.wire import MOVE_BASE_CANCEL, NAV2_ACTION, NAV2_THROUGH, spell_type
@@ -103,14 +104,20 @@ def running(link: LinkCore) -> list[GoalHandle]:
         return [h for h in _RUNNING.get(link, set()) if not h.progress().done]
 
 
-def stop_goals(link: LinkCore, cmd_vel_topic: str | None = None, *, wait: bool = False) -> list[GoalHandle]:
+def stop_goals(
+    link: LinkCore, cmd_vel_topic: str | None = None, *, wait: bool = False, clock: Clock = MONOTONIC
+) -> list[GoalHandle]:
     """Cancel every goal (see the module docstring); returns this link's goals that were cancelled.
-    The native cancels and the zero burst go on a daemon thread (``wait``: block until sent)."""
+    The native cancels and the zero burst go on a daemon thread (``wait``: block until sent), paced
+    by ``clock`` (a ``VirtualClock`` in tests)."""
     handles = running(link)
     for handle in handles:
         handle.cancel()
     thread = threading.Thread(
-        target=native_stop, args=(link, cmd_vel_topic or link.cmd_vel_topic), daemon=True, name="pmk-stop-goals"
+        target=native_stop,
+        args=(link, cmd_vel_topic or link.cmd_vel_topic, clock),
+        daemon=True,
+        name="pmk-stop-goals",
     )
     thread.start()
     if wait:
@@ -118,7 +125,7 @@ def stop_goals(link: LinkCore, cmd_vel_topic: str | None = None, *, wait: bool =
     return handles
 
 
-def native_stop(link: LinkCore, cmd_vel_topic: str) -> bool:
+def native_stop(link: LinkCore, cmd_vel_topic: str, clock: Clock = MONOTONIC) -> bool:
     """The second-socket part of :func:`stop_goals`; False when the socket failed (zero velocity then
     went over the link's own connection)."""
     version = link.ros_version
@@ -131,21 +138,21 @@ def native_stop(link: LinkCore, cmd_vel_topic: str) -> bool:
             for _ in range(round(BURST_HZ * BURST_S)):
                 ws.send(publish)
                 ws.send(stop)
-                time.sleep(1.0 / BURST_HZ)
+                clock.sleep(1.0 / BURST_HZ)
             ws.send(json.dumps({"op": "unadvertise", "topic": cmd_vel_topic}))
-        threading.Thread(target=_repeat_stop, args=(link, stop), daemon=True, name="pmk-stop-repeat").start()
+        threading.Thread(target=_repeat_stop, args=(link, stop, clock), daemon=True, name="pmk-stop-repeat").start()
     except STOP_ERRORS as err:
         LOG.warning(
             "stop over a second connection to %s:%s failed (%s): zero velocity on the link", link.host, link.port, err
         )
         for _ in range(round(BURST_HZ * BURST_S)):
             link.publish_cmd_vel(0.0, 0.0, cmd_vel_topic)
-            time.sleep(1.0 / BURST_HZ)
+            clock.sleep(1.0 / BURST_HZ)
         return False
     return True
 
 
-def _repeat_stop(link: LinkCore, stop: str) -> None:
+def _repeat_stop(link: LinkCore, stop: str, clock: Clock = MONOTONIC) -> None:
     """The Stop again for :data:`STOP_REPEAT_S` on a socket of its own: the publisher a bridge creates on
     an advertise meets the watchdog's subscription only after discovery (rosbridge-server-rs: a Stop
     sent on a socket that lives a quarter of a second never reached it), and the cancels and the zero
@@ -159,7 +166,7 @@ def _repeat_stop(link: LinkCore, stop: str) -> None:
             )
             for _ in range(round(STOP_REPEAT_S * STOP_REPEAT_HZ)):
                 ws.send(stop)
-                time.sleep(1.0 / STOP_REPEAT_HZ)
+                clock.sleep(1.0 / STOP_REPEAT_HZ)
     except STOP_ERRORS as err:
         LOG.warning("repeating the Stop to %s:%s failed (%s)", link.host, link.port, err)
 

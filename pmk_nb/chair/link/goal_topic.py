@@ -4,14 +4,14 @@ action server is found, with progress read from the chair's own pose.
 No server says "accepted" or "arrived" here, so: sent = accepted; moving once the distance falls;
 arrived within :data:`pmk_nb.chair.link.navigate.ARRIVE_TOLERANCE`; aborted when the distance has
 not fallen by :data:`PROGRESS_STEP` for :data:`NO_PROGRESS_S`. Cancel sends a zero velocity command
-(the only stop a plain goal topic offers). A daemon poller thread reads the latest pose at 5 Hz.
+(the only stop a plain goal topic offers). A daemon poller thread reads the latest pose at 5 Hz, on the
+goal's clock (``GoalHandle.clock``).
 """
 
 from __future__ import annotations
 
 import math
 import threading
-import time
 from typing import TYPE_CHECKING
 
 from pmk_nb.chair.link.goal import ARRIVE_TOLERANCE, GoalHandle, GoalStatus, NavigationError
@@ -44,13 +44,13 @@ def start_topic(link: LinkCore, handle: GoalHandle, goal: tuple[float, float, fl
 
 
 def _poll(link: LinkCore, handle: GoalHandle, goal: tuple[float, float, float]) -> None:
-    best, best_at = math.inf, time.monotonic()
+    best, best_at = math.inf, handle.clock.now()
     while not handle.wait(POLL_S).done:
         pose = link.latest_pose()
         if pose is None:
             continue
         left = math.dist((pose.x, pose.y), goal[:2])
-        now = time.monotonic()
+        now = handle.clock.now()
         if left <= ARRIVE_TOLERANCE:
             handle.update(GoalStatus.ARRIVED, left)
             return

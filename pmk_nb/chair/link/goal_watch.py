@@ -16,6 +16,9 @@ Every :data:`TICK` it checks, in this order:
   or no odometry at all, gets the same burst before anything is called honoured.
 
 Hooks (``on_end``) run when the watch ends, for things that live as long as the goal.
+
+Time is the goal's clock (``GoalHandle.clock``): its ticks, deadlines and bursts; the link's stamps
+(``Odometry.received``, ``Pose2D.received``) are read on the same clock (a fake link's in tests).
 """
 
 from __future__ import annotations
@@ -23,7 +26,6 @@ from __future__ import annotations
 import logging
 import math
 import threading
-import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -65,6 +67,7 @@ class GoalWatch:
 
     def __init__(self, link: LinkCore, handle: GoalHandle, kind: str, policy: GoalPolicy) -> None:
         self.link, self.handle, self.kind, self.policy = link, handle, kind, policy
+        self.clock = handle.clock
         self._stoppers: list[Callable[[], None]] = []
         self.lost = False
         self.was_lost = False
@@ -86,7 +89,7 @@ class GoalWatch:
         ended: float | None = None
         try:
             while True:
-                now = time.monotonic()
+                now = self.clock.now()
                 self.tick(now)
                 if self.link.ros is None:  # the link was closed (not reconnecting): nothing more to learn
                     return
@@ -94,7 +97,7 @@ class GoalWatch:
                     ended = ended or now
                     if self._verifying is None or now - ended > LINGER_S:
                         return
-                time.sleep(TICK)
+                self.clock.sleep(TICK)
         except Exception:  # a bug must not leave the goal unwatched silently
             LOG.exception("goal watch failed")
         finally:
@@ -209,8 +212,8 @@ class GoalWatch:
         own connection when that fails. On this thread, never roslibpy's."""
         self.handle.zero_bursts += 1
         link, topic = self.link, self.link.cmd_vel_topic
-        if side_stop(link, topic, self.handle.cancel_ref, hz=BURST_HZ, seconds=BURST_S):
+        if side_stop(link, topic, self.handle.cancel_ref, hz=BURST_HZ, seconds=BURST_S, clock=self.clock):
             return
         for _ in range(round(BURST_HZ * BURST_S)):
             link.publish_cmd_vel(0.0, 0.0)
-            time.sleep(1.0 / BURST_HZ)
+            self.clock.sleep(1.0 / BURST_HZ)

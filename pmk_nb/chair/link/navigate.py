@@ -39,6 +39,7 @@ from pmk_nb.chair.link.goal import (
     UpdateCallback,
 )
 from pmk_nb.chair.link.goal_watch import GoalWatch
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.wire import MOVE_BASE, NAV2_ACTION, NAV2_THROUGH
 
@@ -75,8 +76,11 @@ def navigate(
     yaw: float,
     frame: str = "map",
     waypoints: Sequence[tuple[float, float]] = (),
+    *,
+    clock: Clock = MONOTONIC,
 ) -> GoalHandle:
     """Send the chair to (x, y, yaw) in ``frame``, through ``waypoints`` first; see the module docstring.
+    ``clock``: the goal's deadlines and its watch's ticks (``GoalHandle.clock``).
 
     Raises:
         GoalsStopped: a Stop is latched for this chair (``link.goal_gate``).
@@ -92,7 +96,7 @@ def navigate(
         )
     goal_stop.check_gate(link)  # a latched Stop refuses every goal (issue 38)
     route = detect_route(link)
-    handle = GoalHandle(goal, route.label)
+    handle = GoalHandle(goal, route.label, clock=clock)
     if route.kind == "nav2":  # odometry verifies a cancel; rosbridge_suite holds a subscribe behind a goal
         link.start_streams()
     if points and route.kind == "nav2" and route.through:

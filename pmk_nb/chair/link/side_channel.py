@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import json
 import logging
-import time
 from typing import TYPE_CHECKING
 
 from pmk_nb.chair.link.tls import check_peer
+from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.wire import spell_type
 
@@ -73,9 +73,10 @@ def side_stop(
     hz: float = 20.0,
     seconds: float = 1.0,
     timeout: float = 2.0,
+    clock: Clock = MONOTONIC,
 ) -> bool:
     """On a new connection to ``link``'s chair: cancel ``(action, goal id)`` when given, then zero
-    velocity on ``cmd_vel_topic`` at ``hz`` for ``seconds``. Blocks that long; False when the chair
+    velocity on ``cmd_vel_topic`` at ``hz`` for ``seconds`` of ``clock``. Blocks that long; False when the chair
     could not be reached (the caller falls back to the link's own connection)."""
     from websockets.exceptions import WebSocketException
 
@@ -89,7 +90,7 @@ def side_stop(
             publish = json.dumps({"op": "publish", "topic": cmd_vel_topic, "msg": ZERO})
             for _ in range(max(1, round(hz * seconds))):
                 ws.send(publish)
-                time.sleep(1.0 / hz)
+                clock.sleep(1.0 / hz)
             ws.send(json.dumps({"op": "unadvertise", "topic": cmd_vel_topic}))
     except errors as err:
         LOG.warning("side-channel stop to %s:%s failed: %s", link.host, link.port, err)

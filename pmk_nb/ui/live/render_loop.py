@@ -15,7 +15,7 @@ import logging
 import threading
 from collections.abc import Callable
 
-from pmk_nb.clock import MONOTONIC, Clock
+from pmk_nb.clock import MONOTONIC, AsyncPacer, Clock
 from pmk_nb.ui.common.page_lifecycle import page_can_draw
 
 log = logging.getLogger(__name__)
@@ -44,7 +44,7 @@ class RenderLoop:
         ready: a tick draws only while this says True; default :func:`page_lifecycle.page_can_draw`
             (on a Voilà page: not before the page's first heartbeat, or Voilà would buffer every
             frame drawn before the page's websocket exists).
-        clock: the pacing's time and, in the thread mode, its waits (a ``VirtualClock`` in tests:
+        clock: the pacing's time and its waits, in either mode (a ``VirtualClock`` in tests:
             the frames in a span of virtual time are exactly counted).
     """
 
@@ -166,12 +166,15 @@ class RenderLoop:
         return max(next_t - now, 0.0), next_t
 
     async def _run_async(self, stop: threading.Event) -> None:
-        next_t = self._clock.now()
-        while not stop.is_set():
-            self._tick(stop)
-            delay, next_t = self._next(next_t)
-            # always yield a little so widget messages get handled even when frames run late
-            await asyncio.sleep(max(delay, 0.002))
+        next_t, pacer = self._clock.now(), AsyncPacer(self._clock)
+        try:
+            while not stop.is_set():
+                self._tick(stop)
+                delay, next_t = self._next(next_t)
+                # always yield a little so widget messages get handled even when frames run late
+                await pacer.sleep(max(delay, 0.002))
+        finally:
+            pacer.close()
 
     def _run_thread(self, stop: threading.Event) -> None:
         next_t = self._clock.now()

@@ -115,7 +115,8 @@ class LiveView:
         map_mode: "tile" (the grid at screen resolution, every wall kept) or "nearest" (one cell
             per pixel, re-sent on every pan: the earlier look, kept for comparisons).
         tile_margin: spare map around the view in the tile, in canvas sizes.
-        clock: the render loop's pacing (a ``VirtualClock`` in tests).
+        clock: the render loop's pacing, the repaint after a resize, a frame's age (a ``VirtualClock``
+            in tests; the messages' ``received`` stamps are on the same clock).
     """
 
     def __init__(
@@ -175,6 +176,7 @@ class LiveView:
         self.map_overlays: list[MapOverlay] = []
         self._map_overlay_key: tuple[object, ...] | None = None
         self.metrics = FrameMetrics()
+        self._clock = clock
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error, clock=clock)
         self.canvas.on_client_ready(self._on_client_ready)
         self.gestures = ZoomGestures(
@@ -219,7 +221,7 @@ class LiveView:
         if (self.canvas.width, self.canvas.height) == (width, height):
             return
         self.canvas.width, self.canvas.height = width, height
-        self._resend_at = time.monotonic() + RESIZE_RESEND_S
+        self._resend_at = self._clock.now() + RESIZE_RESEND_S
 
     def fit_page(self, width: int, height: int) -> bool:
         """Give the canvas the page's room for the map (CSS px, clamped to 160 px .. PAGE_MAX),
@@ -393,7 +395,7 @@ class LiveView:
             view = self.viewport
             if view is None:
                 return False
-            if self._resend_at is not None and time.monotonic() >= self._resend_at:
+            if self._resend_at is not None and self._clock.now() >= self._resend_at:
                 self._resend_at = None
                 self._force = True
                 self.map.invalidate()
@@ -423,7 +425,7 @@ class LiveView:
                 self._draw_dynamic(view, pose, odom, scan)
             self._force = False
             self._last_inputs = inputs
-            self.metrics.record(started, time.monotonic(), sent[0], draw_map, pose, odom, scan)
+            self.metrics.record(started, self._clock.now(), sent[0], draw_map, pose, odom, scan)
             self.metrics.last_hits, self.metrics.last_max_rays = self._rays
             return True
 

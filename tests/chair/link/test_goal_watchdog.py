@@ -16,6 +16,7 @@ import pytest
 
 from pmk_nb.chair.link import heartbeat
 from pmk_nb.chair.link.navigate import GoalStatus
+from pmk_nb.clock import VirtualClock
 from pmk_nb.goalbeat import RATE_HZ, TOPIC, Beat
 from pmk_nb.robot.goalwatch import Change, GoalWatch, Trip
 from tests.fixtures_sim import wait_until
@@ -25,57 +26,49 @@ START = (1.0, 6.0, 0.0)  # the demo floor's corridor
 FAR = (12.0, 6.0, 0.0)  # a goal that takes a while
 
 
-class Clock:
-    def __init__(self) -> None:
-        self.now = 100.0
-
-    def __call__(self) -> float:
-        return self.now
-
-
 def active(client: str = "tab", goals: int = 1) -> Beat:
     return Beat(client, True, goals)
 
 
 def test_silence_while_armed_trips_once_after_the_timeout() -> None:
-    clock = Clock()
+    clock = VirtualClock(start=100.0)
     watch = GoalWatch(3.0, clock)
     assert watch.tick() == []  # nothing armed: silence means nothing
     assert watch.beat(active()) == Change("tab", True)
     assert watch.beat(active()) is None  # already armed
-    clock.now += 2.9
+    clock.advance(2.9)
     assert watch.tick() == []
     watch.beat(active(goals=2))  # a beat restarts the count
-    clock.now += 2.99
+    clock.advance(2.99)
     assert watch.tick() == []
-    clock.now += 0.02
+    clock.advance(0.02)
     assert watch.tick() == [Trip("tab", pytest.approx(3.01), 2)]
-    clock.now += 10
+    clock.advance(10)
     assert watch.tick() == []  # one trip per silence: disarmed after it
     assert watch.armed == ()
 
 
 def test_idle_disarms_so_a_finished_goal_is_not_cancelled() -> None:
-    clock = Clock()
+    clock = VirtualClock(start=100.0)
     watch = GoalWatch(3.0, clock)
     watch.beat(active())
     assert watch.beat(Beat("tab", False)) == Change("tab", False)
     assert watch.beat(Beat("tab", False)) is None  # the second idle beat changes nothing
-    clock.now += 60
+    clock.advance(60)
     assert watch.tick() == []
 
 
 def test_each_dashboard_is_armed_on_its_own() -> None:
-    clock = Clock()
+    clock = VirtualClock(start=100.0)
     watch = GoalWatch(3.0, clock)
     watch.beat(active("a"))
     watch.beat(active("b"))
     watch.beat(Beat("a", False))  # a finished: b still drives
-    clock.now += 2.0
+    clock.advance(2.0)
     watch.beat(active("b"))
-    clock.now += 2.0
+    clock.advance(2.0)
     assert watch.tick() == []
-    clock.now += 1.5
+    clock.advance(1.5)
     assert [t.client for t in watch.tick()] == ["b"]
 
 
@@ -224,10 +217,10 @@ def test_the_watchdog_takes_a_dashboards_repeated_stop_as_one_press() -> None:
     from pmk_nb.goalbeat import STOP_REPEAT_S
     from pmk_nb.robot.goalwatch import StopDebounce
 
-    now = [100.0]
-    stops = StopDebounce(clock=lambda: now[0])
+    clock = VirtualClock(start=100.0)
+    stops = StopDebounce(clock=clock)
     assert stops.admit("page-a")
-    now[0] += STOP_REPEAT_S / 2
+    clock.advance(STOP_REPEAT_S / 2)
     assert not stops.admit("page-a") and stops.admit("page-b")  # a repeat; another dashboard's own press
-    now[0] += STOP_REPEAT_S + 0.6
+    clock.advance(STOP_REPEAT_S + 0.6)
     assert stops.admit("page-a")  # a new press after the window

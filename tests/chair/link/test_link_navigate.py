@@ -10,7 +10,6 @@ re-attach are in tests/chair/link/test_link_goal_truth.py.
 from __future__ import annotations
 
 import math
-import time
 
 import pytest
 
@@ -108,24 +107,29 @@ def test_a_still_chair_right_after_a_cancel_is_not_taken_as_honoured() -> None:
     from pmk_nb.chair.link.goal_watch import GoalWatch
     from pmk_nb.chair.link.navigate import GoalHandle
     from pmk_nb.chair.messages import Odometry
+    from pmk_nb.clock import VirtualClock
+
+    clock = VirtualClock()
 
     class StillChair:  # the link as the watch sees it: odometry of a chair at rest, arriving now
         def start_streams(self) -> None:
             pass
 
         def latest_odom(self) -> Odometry:
-            return Odometry(0.0, 0.0, 0.0, 0.0, 0.0, None, time.monotonic())
+            return Odometry(0.0, 0.0, 0.0, 0.0, 0.0, None, clock.now())
 
-    handle = GoalHandle((6.0, 6.0, 0.0), "Nav2 NavigateToPose")
+    handle = GoalHandle((6.0, 6.0, 0.0), "Nav2 NavigateToPose", clock=clock)
     handle.update(GoalStatus.MOVING, 5.0)
     watch = GoalWatch(StillChair(), handle, "action", GoalPolicy(verify_s=0.5))  # type: ignore[arg-type]
     bursts: list[float] = []
-    watch.zero_burst = lambda: bursts.append(time.monotonic())  # type: ignore[method-assign]
+    watch.zero_burst = lambda: bursts.append(clock.now())  # type: ignore[method-assign]
     handle.cancel()
     since = handle.cancel_at
     assert since is not None
+    clock.advance(0.1)
     watch._verify_cancel(since + 0.1)  # before verify_s: not judged, whatever odometry says
     assert handle.cancel_honoured is None and not bursts
+    clock.advance(0.5)
     watch._verify_cancel(since + 0.6)  # after: still, but the goal runs on unanswered
     assert bursts and handle.cancel_honoured is True  # honoured only once the cancel went again
 

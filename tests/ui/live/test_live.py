@@ -23,7 +23,7 @@ import pytest
 from ipycanvas.canvas import _CMD_LIST
 
 from pmk_nb.chair import Odometry, Pose2D, Scan
-from pmk_nb.clock import VirtualClock
+from pmk_nb.clock import MONOTONIC, Clock, VirtualClock
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.frame_metrics import measured_hold
 from pmk_nb.ui.live.gestures import WHEEL_INTERVAL
@@ -42,15 +42,16 @@ def sample_grid(width: int = 300, height: int = 200, resolution: float = 0.05) -
 
 
 class Source:
-    """Holds the latest messages the way ChairLink does (new object per message)."""
+    """Holds the latest messages the way ChairLink does (new object per message), stamped on ``clock``."""
 
-    def __init__(self) -> None:
+    def __init__(self, clock: Clock = MONOTONIC) -> None:
+        self.clock = clock
         self.odom: Odometry | None = None
         self.scan: Scan | None = None
         self.pose: Pose2D | None = None
 
     def move(self, x: float, y: float, theta: float = 0.0, v: float = 0.0, stamp: float | None = None) -> None:
-        self.odom = Odometry(x, y, theta, v, 0.0, stamp, time.monotonic())
+        self.odom = Odometry(x, y, theta, v, 0.0, stamp, self.clock.now())
 
     def set_scan(
         self, n: int = 360, rng: float = 2.0, nan_every: int = 0, max_every: int = 0, stamp: float | None = None
@@ -62,7 +63,7 @@ class Source:
             ranges[::max_every] = 8.0
         if nan_every:
             ranges[1::nan_every] = np.nan
-        self.scan = Scan(-math.pi, 2 * math.pi / n, 0.1, 8.0, ranges, at_max, time.monotonic(), stamp)
+        self.scan = Scan(-math.pi, 2 * math.pi / n, 0.1, 8.0, ranges, at_max, self.clock.now(), stamp)
 
     def latest_odom(self) -> Odometry | None:
         return self.odom
@@ -269,9 +270,10 @@ def test_show_sensors_toggles_ray_drawing() -> None:
 
 def test_rays_start_from_the_pose_the_chair_had_at_the_scans_header_stamp() -> None:
     """Odometry by header stamp, interpolated: the scan's stamp picks the pose, its arrival plays no part."""
-    view = LiveView(300, 200)
+    clock = VirtualClock()  # arrival times on a clock that never moves here: they play no part
+    view = LiveView(300, 200, clock=clock)
     view.set_map(sample_grid())
-    src = Source()
+    src = Source(clock)
     view.attach(src)
     src.move(3.0, 2.0, 0.0, stamp=10.0)
     view.render_frame()

@@ -8,7 +8,6 @@ import http.server
 import re
 import socket
 import threading
-import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, ClassVar
@@ -111,7 +110,7 @@ def test_bad_resolution_blocks_convert(screen: MapsScreen, ctx: AppContext) -> N
     screen.resolution.value = "lots"
     screen.convert_button.click()
     assert "not a number" in screen.resolution_error.value
-    time.sleep(0.2)
+    assert screen.convert() is None, "refused before a conversion thread starts: nothing can write a map later"
     assert not list(ctx.maps.root.glob("*.yaml"))
 
 
