@@ -169,6 +169,8 @@ def _prepare(
             if bid in doors:
                 owners.setdefault(bid, []).append(c.id)
     joined |= {frozenset(o[:2]) for o in owners.values() if len(o) >= 2}
+    door_lines = [b.geometry for b in building.doors_of(storey) if b.geometry is not None and not b.geometry.is_empty]
+    joined |= _silent_doors(cells, door_lines, links_known={c for pair in joined for c in pair})
     door_widths: dict[frozenset[str], float] = {}
     for b in building.doors_of(storey):
         pair = frozenset(owners.get(b.id, [])[:2])
@@ -190,6 +192,31 @@ def _prepare(
         gap=max(DEFAULT_MAX_WALL_GAP, thick + 2 * grid.resolution),
         radius=chair_width / 2,
     )
+
+
+def _silent_doors(cells: dict[str, Cell], door_lines: list[BaseGeometry], links_known: set[str]) -> set[frozenset[str]]:
+    """A cell the graph is silent about (in no transition, while the storey has some) is read as in a
+    plan without a graph: a door cell touching it, or a door line between it and another cell, is a
+    door. The graph says nothing of it, so what its doors join is no leak; its walls must still hold."""
+    if not links_known:
+        return set()
+    silent = [c for c in cells.values() if c.id not in links_known and c.kind.is_free and not c.kind.is_door]
+    if not silent:
+        return set()
+    free = [c for c in cells.values() if c.kind.is_free]
+    tree = shapely.STRtree([c.footprint for c in free])
+    out: set[frozenset[str]] = set()
+    for cell in silent:
+        for i in tree.query(cell.footprint, predicate="dwithin", distance=DEFAULT_MAX_WALL_GAP):
+            if free[int(i)].kind.is_door and free[int(i)].id != cell.id:
+                out.add(frozenset((cell.id, free[int(i)].id)))
+        for line in door_lines:
+            if cell.footprint.distance(line) > DEFAULT_MAX_WALL_GAP:
+                continue
+            for i in tree.query(line, predicate="dwithin", distance=DEFAULT_MAX_WALL_GAP):
+                if free[int(i)].id != cell.id:
+                    out.add(frozenset((cell.id, free[int(i)].id)))
+    return out
 
 
 def _adjacency(links: list[tuple[str, str]]) -> dict[str, set[str]]:

@@ -7,8 +7,9 @@ transition of their own; an obstacle in a room, in the floor's layer or in a lay
 graph does not link; an extra thematic layer (a zone); 2D polygons or 3D solids, one or two storeys;
 metres, centimetres or millimetres (read by the converter's own unit vote, not given); plain or
 projected coordinates; 1.0 (State/Transition) or 2.0-draft (Node/Edge) encoding; sometimes no graph at
-all (then never "ok"). The truth is judged here on the written image, from the boxes the generator
-drew, with no code of the converter or of the witness (SciPy's distance transform and labelling).
+all (then never "ok"), or a partial one (a room left out of it: its doors are doors, its walls walls).
+The truth is judged here on the written image, from the boxes the generator drew, with no code of the
+converter or of the witness (SciPy's distance transform and labelling).
 """
 
 from __future__ import annotations
@@ -53,6 +54,7 @@ class Drawn:
     solid: bool
     scale: float  # file units per metre: 1 (m), 100 (cm), 1000 (mm)
     graph: bool  # False: the file has no navigation graph at all
+    unlinked: str | None = None  # a partial graph: this room has no state, so no transition
 
 
 @st.composite
@@ -92,6 +94,9 @@ def buildings(draw: st.DrawFn) -> Drawn:
         boxes["OBS"] = (x0 + 0.4, y0 + 0.4, x0 + 1.0, y0 + 1.0)
         obstacle = "OBS"
     storeys = draw(st.sampled_from([1, 1, 2]))
+    unlinked = draw(st.sampled_from([None, None, None, *rooms]))  # a partial graph: one room left out
+    if unlinked is not None:
+        pairs = [p for p in pairs if unlinked not in p]
     return Drawn(
         boxes,
         rooms,
@@ -106,6 +111,7 @@ def buildings(draw: st.DrawFn) -> Drawn:
         solid=storeys > 1 or draw(st.booleans()),
         scale=draw(st.sampled_from([1.0, 1.0, 100.0, 1000.0])),
         graph=draw(st.sampled_from([True, True, True, False])),
+        unlinked=unlinked,
     )
 
 
@@ -205,7 +211,7 @@ def _write(folder: Path, drawn: Drawn, v2: bool) -> Path:
         floor += _cells(drawn, floor_ids, k)
         other += _cells(drawn, other_ids, k)
         lines += _door_lines(drawn, k)
-        floor_states += [f"{c}_{k}" for c in floor_ids]
+        floor_states += [f"{c}_{k}" for c in floor_ids if c != drawn.unlinked]
         other_states += [f"{c}_{k}" for c in other_ids]
         pairs += [(f"{a}_{k}", f"{b}_{k}") for a, b in drawn.pairs]
     if not drawn.graph:
@@ -292,7 +298,13 @@ def truth(m: _Map, drawn: Drawn) -> list[str]:
             wrong.append(f"{a}-{b} blocked")
     for i, room in enumerate(drawn.rooms):
         door = f"D{i}"
-        if door in bx:
+        if room == drawn.unlinked:
+            # a room the graph is silent about: its doors (a door cell, a door line) are doors, as in a
+            # plan without a graph; with neither, its walls stay shut
+            region = m.box(bx[room]) | m.box(bx[room], 0.4) | m.box(bx["COR"])
+            if door not in bx and room not in drawn.doors and _joined(m, region, bx[room], bx["COR"], radius=0.0):
+                wrong.append(f"{room}, in no transition and with no door, leaks into the corridor")
+        elif door in bx:
             region = m.box(bx[room]) | m.box(bx[door], 0.4) | m.box(bx["COR"])
             if not _joined(m, region, bx[room], bx["COR"], radius=CHAIR / 2):
                 wrong.append(f"{room} cannot reach the corridor through {door}")
