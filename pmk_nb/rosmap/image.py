@@ -50,9 +50,20 @@ class DecodedImage:
         sdl_alpha_mask: the SDL surface has an alpha mask (changes ROS 1's averaging in scale mode).
     """
 
-    def __init__(self, *, rgba: np.ndarray | None, has_alpha: bool, sdl: np.ndarray, sdl_alpha_mask: bool) -> None:
+    def __init__(
+        self,
+        *,
+        rgba: np.ndarray | None,
+        has_alpha: bool,
+        sdl: np.ndarray,
+        sdl_alpha_mask: bool,
+        spent_by_reading: bool = False,
+    ) -> None:
         self._rgba = rgba
         self.gray_only = rgba is None  # an opaque 8-bit gray image: sdl holds every reader's view
+        # the pixels are this image's own (read from the file for it): reading may turn them into the
+        # grid in place, one copy of a 100 M-cell map instead of two; the image is spent after that
+        self.spent_by_reading = spent_by_reading
         self.has_alpha = has_alpha
         self.sdl = sdl
         self.sdl_alpha_mask = sdl_alpha_mask
@@ -156,7 +167,8 @@ def _raw_gray_pgm(path: Path, max_pixels: int | None) -> DecodedImage | None:
         if im.mode != "L":
             return None
     pixels = np.fromfile(path, dtype=np.uint8, count=width * height, offset=offset)
-    return DecodedImage(rgba=None, has_alpha=False, sdl=pixels.reshape(height, width, 1), sdl_alpha_mask=False)
+    sdl = pixels.reshape(height, width, 1)
+    return DecodedImage(rgba=None, has_alpha=False, sdl=sdl, sdl_alpha_mask=False, spent_by_reading=True)
 
 
 def image_to_data(
@@ -175,6 +187,8 @@ def image_to_data(
     gray = _plain_gray(img)
     if gray is not None:  # one value per pixel: the reader's answer for each of the 256 grays, looked up
         table = _by_value(reader, mode, negate, occupied_thresh, free_thresh)
+        if img.spent_by_reading and gray.flags.c_contiguous and gray.flags.writeable:
+            return _looked_up_in_place(table, gray, bottom_up)
         return np.asarray(table[gray[::-1] if bottom_up else gray])
     out = _read(img, reader=reader, mode=mode, negate=negate, occupied_thresh=occupied_thresh, free_thresh=free_thresh)
     return np.ascontiguousarray(out[::-1]) if bottom_up else out
@@ -194,6 +208,24 @@ def _read(
 
 LOOKUP_MIN_PIXELS = 65536  # below this the readers' own maths is as quick as a lookup
 WRITE_CHUNK_CELLS = 65536  # cells turned into image bytes at once while writing
+
+
+def _looked_up_in_place(table: np.ndarray, gray: np.ndarray, bottom_up: bool) -> np.ndarray:
+    """``table[gray]`` written over ``gray`` itself, a few rows at a time (an index array of the whole
+    map would be eight bytes a pixel), rows then swapped in place for ``bottom_up``."""
+    out = gray.view(np.int8)
+    table = table.astype(np.int8, copy=False)
+    step = max(1, WRITE_CHUNK_CELLS // max(1, gray.shape[1]))
+    for r in range(0, gray.shape[0], step):
+        out[r : r + step] = table[gray[r : r + step]]
+    if bottom_up:
+        spare = np.empty(out.shape[1], dtype=np.int8)
+        h = out.shape[0]
+        for r in range(h // 2):
+            spare[:] = out[r]
+            out[r] = out[h - 1 - r]
+            out[h - 1 - r] = spare
+    return out
 
 
 def _plain_gray(img: DecodedImage) -> np.ndarray | None:

@@ -35,8 +35,10 @@ if TYPE_CHECKING:
     from pmk_nb.indoorgml import Cell
 
 #: pixels per strip at least: a strip is padded by the chair's radius of rows for the erosion (27 at
-#: 0.0128 m), and each cell crossing a strip is drawn once more
-STRIP_CELLS = 1 << 21
+#: 0.0128 m) and each cell crossing a strip is drawn once more, but a strip's working arrays (its
+#: owners, four bytes a pixel; the erosion's levels) add to the peak: 1 Mi pixels keeps a 100 M-cell
+#: convert under three times its grid and file
+STRIP_CELLS = 1 << 20
 #: a region outside every cell may join two cells when this returns True for its label
 Gate = Callable[[int], bool]
 
@@ -149,10 +151,16 @@ def storey_regions(
     for a, chair in erode_rows(lambda lo, hi: data[lo:hi] == FREE, h, w, radius_px, step):
         b = a + len(chair)
         own = _owners(frame, Window(a, b, 0, w), cells, order, tree, cores, painted, shared, outlines)
-        free_parts.append(strip_runs(a, data[a:b] == FREE, own))
-        chair_parts.append(strip_runs(a, chair, own))
+        free_parts.append(_narrow(strip_runs(a, data[a:b] == FREE, own)))
+        chair_parts.append(_narrow(strip_runs(a, chair, own)))
     cored = {cid for cid in order if painted[index[cid]]}
     return StoreyRegions(RegionGraph.of(free_parts, w), RegionGraph.of(chair_parts, w), index, cored, shared)
+
+
+def _narrow(runs: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """A strip's runs kept in four bytes a number (rows and columns of a grid under 2**31 cells a side):
+    a 100 M-cell storey holds about a million runs until they are joined."""
+    return tuple(np.asarray(x, dtype=np.int32) for x in runs)
 
 
 def _owners(
