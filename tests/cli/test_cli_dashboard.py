@@ -172,7 +172,7 @@ def test_the_server_collects_page_garbage_after_pages_come_or_go(monkeypatch: py
     import gc
     import weakref
 
-    from pmk_nb.cli import voila_kernels
+    from pmk_nb.serve import voila_kernels
     from pmk_nb.serve.voila_kernels import COLLECT_EVERY, PageBoundKernelManager
 
     frozen: list[int] = []
