@@ -13,7 +13,6 @@ process of the class still alive after that (a server that did not stop) is ende
 from __future__ import annotations
 
 import argparse
-import contextlib
 import dataclasses
 import os
 import signal
@@ -33,7 +32,6 @@ from pmk_nb.serve import (
     SEATS_DIR,
     HubPlan,
     Isolation,
-    ProcessStartError,
     ServingRefused,
     TlsFiles,
     check_jupyterhub,
@@ -46,6 +44,7 @@ from pmk_nb.serve import (
     choose_isolation,
     create_users,
     dashboard_url,
+    end_class_processes,
     find_proxy,
     free_port,
     hub_environment,
@@ -55,8 +54,9 @@ from pmk_nb.serve import (
     remove_users,
     resolve_tls,
     sigterm_as_interrupt,
-    stop_process,
+    stop_hub,
     wait_for_port,
+    wait_until_healthy,
     wants_tls,
     write_hub_config,
 )
@@ -66,7 +66,6 @@ if TYPE_CHECKING:
 
 DEFAULT_HUB_PORT = 8000
 HUB_START_TIMEOUT = 120.0
-HUB_STOP_TIMEOUT = 30.0
 
 
 def add_parser(subparsers: Any) -> None:
@@ -192,7 +191,7 @@ def _serve(
     except KeyboardInterrupt:
         return 0
     finally:
-        _stop_hub(hub)
+        stop_hub(hub)
         log.close()
         left = end_class_processes(room.settings_file, plan.state_dir)
         if left:
@@ -214,69 +213,3 @@ def _prepare_class(root: Path, max_chairs: int | None, klass: _Class) -> Classro
     settings = dataclasses.replace(room.settings, state_dir=str(root / "classroom" / SEATS_DIR))
     settings.write(room.settings_file)
     return dataclasses.replace(room, settings=settings)
-
-
-def wait_until_healthy(url: str, hub: subprocess.Popen[Any], timeout: float) -> None:
-    """Until the hub answers through its proxy (``hub/health``): the proxy listens before its route exists.
-
-    Raises:
-        ProcessStartError: the hub exited or did not answer in time.
-    """
-    import ssl
-    import urllib.error
-    import urllib.parse
-    import urllib.request
-
-    context = ssl.create_default_context()  # our own loopback hub, maybe on a self-signed certificate:
-    context.check_hostname, context.verify_mode = False, ssl.CERT_NONE  # not verified (it is ours)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and hub.poll() is None:
-        with (
-            contextlib.suppress(OSError, urllib.error.URLError),
-            urllib.request.urlopen(f"{url}hub/health", timeout=5, context=context) as answer,
-        ):
-            if answer.status == 200:
-                return
-        time.sleep(0.3)
-    where = urllib.parse.urlsplit(url)
-    raise ProcessStartError("JupyterHub (its health page)", where.hostname or "", where.port or 0, hub.poll(), timeout)
-
-
-def _stop_hub(hub: subprocess.Popen[Any]) -> None:
-    """SIGINT (JupyterHub then stops the students' servers and the proxy), SIGTERM/SIGKILL if it hangs."""
-    if hub.poll() is None:
-        hub.send_signal(signal.SIGINT)
-        try:
-            hub.wait(timeout=HUB_STOP_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            stop_process(hub)
-
-
-def end_class_processes(classroom_file: Path, state_dir: Path) -> int:
-    """End what the hub left: processes with this class in their environment (students' servers,
-    their kernels) and the proxy of its pid file; returns how many were still alive."""
-    marker = f"PMK_CLASSROOM={classroom_file}".encode()
-    pids = []
-    for proc in Path("/proc").iterdir():
-        if proc.name.isdigit() and int(proc.name) != os.getpid():
-            with contextlib.suppress(OSError):
-                if marker in (proc / "environ").read_bytes().split(b"\0"):
-                    pids.append(int(proc.name))
-    with contextlib.suppress(OSError, ValueError):
-        pid = int((state_dir / "jupyterhub-proxy.pid").read_text().strip())
-        if b"configurable-http-proxy" in Path(f"/proc/{pid}/cmdline").read_bytes():
-            pids.append(pid)
-    for sig in (signal.SIGTERM, signal.SIGKILL):
-        alive = [p for p in pids if _signal(p, sig)]
-        deadline = time.monotonic() + 5.0
-        while alive and time.monotonic() < deadline and any(Path(f"/proc/{p}").exists() for p in alive):
-            time.sleep(0.1)
-    return len(pids)
-
-
-def _signal(pid: int, sig: int) -> bool:
-    try:
-        os.kill(pid, sig)
-    except (ProcessLookupError, PermissionError):
-        return False
-    return True

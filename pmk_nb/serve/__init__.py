@@ -4,7 +4,8 @@ Not command parsing (that is :mod:`pmk_nb.cli`): the rules for serving beyond lo
 (:mod:`.serving`), the tablet's certificate (:mod:`.tablet_tls`), Voilà started on the generated
 notebook (:mod:`.voila`) and, inside that server, its guards (:mod:`.voila_guard`, :mod:`.voila_frames`),
 page-bound kernels (:mod:`.voila_kernels`), HTTPS (:mod:`.voila_tls`) and masked tokens
-(:mod:`.tokenmask`); JupyterHub for a class (:mod:`.hub_config`, :mod:`.hub_spawner`, :mod:`.hub_users`);
+(:mod:`.tokenmask`); JupyterHub for a class (:mod:`.hub_config`, :mod:`.hub_spawner`, :mod:`.hub_users`,
+:mod:`.hub_process`);
 the child-process helpers every server start uses (:mod:`.procs`). Jupyter and JupyterHub load some
 classes by their dotted path (``voila.json``, ``jupyterhub_config.json``). The face is lazy: `pmk --help`
 imports none of the servers' libraries.
@@ -29,6 +30,7 @@ if TYPE_CHECKING:
         prepare_home,
         write_hub_config,
     )
+    from pmk_nb.serve.hub_process import end_class_processes, stop_hub, wait_until_healthy
     from pmk_nb.serve.hub_spawner import ClassSpawner
     from pmk_nb.serve.hub_users import (
         SEATS_DIR,
@@ -78,6 +80,7 @@ _WHERE = {
         "hub_config",
     ),
     "ClassSpawner": "hub_spawner",
+    **dict.fromkeys(("end_class_processes", "stop_hub", "wait_until_healthy"), "hub_process"),
     **dict.fromkeys(
         (
             "SEATS_DIR",
@@ -142,6 +145,7 @@ __all__ = [
     "choose_isolation",
     "create_users",
     "dashboard_url",
+    "end_class_processes",
     "find_proxy",
     "free_port",
     "hub_environment",
@@ -154,8 +158,10 @@ __all__ = [
     "resolve_tls",
     "serve_dashboard",
     "sigterm_as_interrupt",
+    "stop_hub",
     "stop_process",
     "wait_for_port",
+    "wait_until_healthy",
     "wants_tls",
     "write_hub_config",
 ]
