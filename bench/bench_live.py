@@ -320,7 +320,7 @@ def run_browser(sim_port: int, seconds: float, zoom: int, look: str) -> dict[str
 
     from playwright.sync_api import sync_playwright
 
-    from pmk_nb.cli.voila import voila_command
+    from pmk_nb.serve.voila import voila_command
 
     with tempfile.TemporaryDirectory(prefix="pmk-bench-live-") as tmp:
         nb = Path(tmp) / "live.ipynb"

@@ -28,8 +28,8 @@ import psutil  # noqa: E402
 
 from pmk_nb.classroom.settings import ODOM_RATE, RAYS, SCAN_RATE  # noqa: E402
 from pmk_nb.cli.demo_classroom import prepare_classroom  # noqa: E402
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port  # noqa: E402
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook  # noqa: E402
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port  # noqa: E402
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook  # noqa: E402
 from pmk_nb.ui import KIOSK_ENV  # noqa: E402
 from tests.browser.kiosk_page import CHROMIUM, CHROMIUM_ARGS, VIEWPORT  # noqa: E402
 

@@ -36,10 +36,10 @@ sys.path[:0] = [str(ROOT)]
 
 from pmk_nb.cli.bench import merge_results  # noqa: E402
 from pmk_nb.cli.demo_setup import prepare_demo  # noqa: E402
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port  # noqa: E402
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook  # noqa: E402
-from pmk_nb.cli.voila_kernels import RENDERED_PAGE_WITHIN, SLOW_CONNECT_FACTOR  # noqa: E402
 from pmk_nb.fileio import atomic_write  # noqa: E402
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port  # noqa: E402
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook  # noqa: E402
+from pmk_nb.serve.voila_kernels import RENDERED_PAGE_WITHIN, SLOW_CONNECT_FACTOR  # noqa: E402
 from pmk_nb.ui import KIOSK_ENV  # noqa: E402
 from tests.page_probes import chair_connections, kernels, open_fds, rss_mb, voila_process  # noqa: E402
 

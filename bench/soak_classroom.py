@@ -53,9 +53,9 @@ from bench.soak import CHROMIUM, CHROMIUM_ARGS, VIEWPORT  # noqa: E402
 from pmk_nb.classroom.settings import LIVE_FPS, ODOM_RATE, RAYS, SCAN_RATE  # noqa: E402
 from pmk_nb.cli.bench import merge_results  # noqa: E402
 from pmk_nb.cli.demo_classroom import Classroom, prepare_classroom  # noqa: E402
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port  # noqa: E402
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook  # noqa: E402
 from pmk_nb.fileio import atomic_write  # noqa: E402
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port  # noqa: E402
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook  # noqa: E402
 from pmk_nb.ui import KIOSK_ENV  # noqa: E402
 from tests.drive_world import ChairWatch  # noqa: E402
 from tests.page_probes import kernels  # noqa: E402

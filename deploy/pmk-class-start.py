@@ -17,7 +17,7 @@ from pathlib import Path
 
 def main(argv: list[str]) -> None:
     from pmk_nb.cli.demo_classroom import prepare_classroom
-    from pmk_nb.cli.hub_config import prepare_home
+    from pmk_nb.serve import prepare_home
 
     home = Path(os.environ.get("HOME") or Path.home())
     room = prepare_classroom(home / ".pmk-class", max_chairs=int(os.environ.get("PMK_MAX_CHAIRS", "2")))

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook
 from pmk_nb.ui import AUTOSTART_ENV
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,9 +1,9 @@
 """``pmk dashboard``: serve the app as a Voilà kiosk page.
 
-Voilà runs as a child process on a generated notebook (see :mod:`pmk_nb.cli.voila`); Ctrl-C or
-SIGTERM stops it, and no child is left behind (:mod:`pmk_nb.cli.procs`).  ``--kiosk`` locks the
+Voilà runs as a child process on a generated notebook (see :mod:`pmk_nb.serve.voila`); Ctrl-C or
+SIGTERM stops it, and no child is left behind (:mod:`pmk_nb.serve.procs`).  ``--kiosk`` locks the
 page down for a tablet on the chair (Home only, Maps and Settings behind a PIN, screen kept on).
-``--https`` or ``--certfile/--keyfile`` serve it over TLS (:mod:`pmk_nb.cli.tablet_tls`), which a
+``--https`` or ``--certfile/--keyfile`` serve it over TLS (:mod:`pmk_nb.serve.tablet_tls`), which a
 LAN tablet needs for the kiosk's Screen Wake Lock; beyond loopback, plain HTTP needs ``--insecure``.
 """
 
@@ -15,10 +15,9 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.cli import tablet_tls
 from pmk_nb.cli.options import add_maps_dir
-from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
-from pmk_nb.cli.voila import preflight, serve, server_options
+from pmk_nb.cli.server_options import server_options
+from pmk_nb.serve import check_port_number, preflight, resolve_tls, serve_dashboard, sigterm_as_interrupt
 from pmk_nb.ui import AUTOSTART_ENV, KIOSK_ENV
 
 
@@ -65,6 +64,6 @@ def run(args: argparse.Namespace) -> int:
 
     env[ALLOW_LOCAL_ENV] = "1" if getattr(args, "allow_local", False) else "0"
     token = preflight(args, env, kiosk=args.kiosk)
-    tls = tablet_tls.resolve(args, env)
+    tls = resolve_tls(args, env)
     with sigterm_as_interrupt(), tempfile.TemporaryDirectory(prefix="pmk-dashboard-") as tmp:
-        return serve(args, env, Path(tmp), token, tls)
+        return serve_dashboard(args, env, Path(tmp), token, tls)

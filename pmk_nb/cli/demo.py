@@ -14,9 +14,8 @@ import os
 from pathlib import Path
 from typing import Any
 
-from pmk_nb.cli import tablet_tls
-from pmk_nb.cli.procs import check_port_number, sigterm_as_interrupt
-from pmk_nb.cli.voila import preflight, serve, server_options
+from pmk_nb.cli.server_options import positive_int, server_options
+from pmk_nb.serve import check_port_number, preflight, resolve_tls, serve_dashboard, sigterm_as_interrupt
 from pmk_nb.ui import KIOSK_ENV
 
 
@@ -37,8 +36,6 @@ def add_parser(subparsers: Any) -> None:
         action="store_true",
         help="a simulated chair per page, parked until its student drives it (teaching); no shared patrolling chair",
     )
-    from pmk_nb.cli.hub_config import positive_int
-
     p.add_argument(
         "--max-chairs",
         type=positive_int,
@@ -54,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     check_port_number(args.port)
     # before the simulator starts: a refused --ip or a taken port fails fast
     token = preflight(args, dict(os.environ), kiosk=not args.no_kiosk)
-    tls = tablet_tls.resolve(args, dict(os.environ))  # --https: kept in the user's config folder, not the demo's
+    tls = resolve_tls(args, dict(os.environ))  # --https: kept in the user's config folder, not the demo's
     if args.classroom:
         return _run_classroom(args, token, tls)
     with sigterm_as_interrupt():
@@ -64,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
             demo.env[KIOSK_ENV] = "0" if args.no_kiosk else "1"
             print(f"Simulated chair: rosbridge ws://127.0.0.1:{demo.ros_port}, SFTP port {demo.sftp_port}", flush=True)
             print("Open the URL below: the Home screen shows the chair patrolling the clinic.", flush=True)
-            return serve(args, demo.env, demo.root, token, tls)
+            return serve_dashboard(args, demo.env, demo.root, token, tls)
         finally:
             demo.stop()
 
@@ -82,4 +79,4 @@ def _run_classroom(args: argparse.Namespace, token: str | None, tls: Any) -> int
             f"(at most {room.settings.max_chairs} at once; --max-chairs changes it).",
             flush=True,
         )
-        return serve(args, room.env, room.root, token, tls)
+        return serve_dashboard(args, room.env, room.root, token, tls)

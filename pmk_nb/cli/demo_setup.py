@@ -25,8 +25,8 @@ from typing import Any
 
 import pmk_nb
 from pmk_nb.cli.options import DEFAULT_RESOLUTION
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
 from pmk_nb.errors import PmkError
+from pmk_nb.serve import free_port, stop_process, wait_for_port
 from pmk_nb.ui import AUTOSTART_ENV
 
 DEMO_PROFILE = "Simulated chair"

@@ -1,7 +1,7 @@
 """``pmk hub``: the real JupyterHub for a class on one machine, each student with their own chair.
 
 JupyterHub (and its proxy, ``configurable-http-proxy``) runs as a child process on the
-configuration :mod:`pmk_nb.cli.hub_config` writes into ``--hub-dir``/hub; the class (sample map, SFTP
+configuration :mod:`pmk_nb.serve.hub_config` writes into ``--hub-dir``/hub; the class (sample map, SFTP
 key, chair cap) is :func:`pmk_nb.cli.demo_classroom.prepare_classroom`'s, so every dashboard page a
 student opens starts its own parked simulated chair in its kernel.  Loopback by default; ``--ip``
 beyond it follows ``pmk dashboard``'s rules (plain HTTP needs ``--insecure``, ``--https`` or
@@ -13,7 +13,6 @@ process of the class still alive after that (a server that did not stop) is ende
 from __future__ import annotations
 
 import argparse
-import contextlib
 import dataclasses
 import os
 import signal
@@ -25,23 +24,41 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.cli import serving, tablet_tls
-from pmk_nb.cli.hub_users import (
+from pmk_nb.cli.server_options import positive_int
+from pmk_nb.serve import (
+    CULL_IDLE,
+    DEFAULT_IP,
+    PASSWORD_ENV,
     SEATS_DIR,
+    HubPlan,
     Isolation,
+    ServingRefused,
+    TlsFiles,
+    check_jupyterhub,
+    check_password,
+    check_port_free,
+    check_port_number,
     check_reachable,
     check_students_can_run,
+    check_transport,
+    choose_isolation,
     create_users,
-    lock_class_folders,
-    remove_users,
-)
-from pmk_nb.cli.procs import (
-    ProcessStartError,
-    check_port_number,
+    dashboard_url,
+    end_class_processes,
+    find_proxy,
     free_port,
+    hub_environment,
+    local_host,
+    lock_class_folders,
+    parse_users,
+    remove_users,
+    resolve_tls,
     sigterm_as_interrupt,
-    stop_process,
+    stop_hub,
     wait_for_port,
+    wait_until_healthy,
+    wants_tls,
+    write_hub_config,
 )
 
 if TYPE_CHECKING:
@@ -49,13 +66,10 @@ if TYPE_CHECKING:
 
 DEFAULT_HUB_PORT = 8000
 HUB_START_TIMEOUT = 120.0
-HUB_STOP_TIMEOUT = 30.0
 
 
 def add_parser(subparsers: Any) -> None:
     """Register ``pmk hub``."""
-    from pmk_nb.cli.hub_config import CULL_IDLE, PASSWORD_ENV, positive_int
-
     p = subparsers.add_parser(
         "hub",
         help="run JupyterHub for a class: a dashboard and a simulated chair per student",
@@ -69,7 +83,7 @@ def add_parser(subparsers: Any) -> None:
         "to every local user)",
     )
     p.add_argument("--port", type=int, default=DEFAULT_HUB_PORT, help=f"HTTP port (default {DEFAULT_HUB_PORT})")
-    p.add_argument("--ip", default=serving.DEFAULT_IP, help="address to listen on (default 127.0.0.1)")
+    p.add_argument("--ip", default=DEFAULT_IP, help="address to listen on (default 127.0.0.1)")
     p.add_argument("--hub-dir", dest="dir", type=Path, default=Path(".hub"), help="the class folder (default: ./.hub)")
     p.add_argument("--dir", dest="dir", type=Path, default=argparse.SUPPRESS, help=argparse.SUPPRESS)  # deprecated
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
@@ -92,19 +106,16 @@ def add_parser(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pmk_nb.cli.hub_config import PASSWORD_ENV, check_jupyterhub, check_password, find_proxy, parse_users
-    from pmk_nb.cli.hub_users import choose_isolation
-
     check_port_number(args.port)
     check_jupyterhub()
     env = dict(os.environ)
     users = parse_users(args.users)
     isolation = choose_isolation(args.shared_user, args.user_prefix, args.dir.expanduser().resolve(), users)
     password = check_password(args.password or env.get(PASSWORD_ENV), args.ip)
-    serving.check_transport(args.ip, tls=tablet_tls.wants_tls(args), insecure=args.insecure)
-    serving.check_port_free(args.ip, args.port)
+    check_transport(args.ip, tls=wants_tls(args), insecure=args.insecure)
+    check_port_free(args.ip, args.port)
     proxy = find_proxy(args.proxy)
-    tls = tablet_tls.resolve(args, env)
+    tls = resolve_tls(args, env)
     # Ctrl-C as KeyboardInterrupt even when started with SIGINT ignored (a background job): JupyterHub
     # and its children then get the default disposition too, and stop on the SIGINT they are sent
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
@@ -126,11 +137,9 @@ def _serve(
     args: argparse.Namespace,
     klass: _Class,
     proxy: tuple[str, ...],
-    tls: tablet_tls.TlsFiles | None,
+    tls: TlsFiles | None,
     env: dict[str, str],
 ) -> int:
-    from pmk_nb.cli.hub_config import HubPlan, hub_environment, write_hub_config
-
     users, password = klass.users, klass.password
     print("Preparing the class: converting the sample map...", flush=True)
     root = args.dir.expanduser().resolve()
@@ -155,7 +164,7 @@ def _serve(
     created = create_users(klass.isolation, users, plan.users_dir)
     try:
         check_students_can_run(klass.isolation, users[0], env)
-    except serving.ServingRefused:
+    except ServingRefused:
         remove_users(created)
         raise
     log = (plan.state_dir / "jupyterhub.log").open("ab")
@@ -167,8 +176,8 @@ def _serve(
         stderr=log,
     )
     try:
-        wait_for_port(serving.local_host(args.ip), args.port, hub, "JupyterHub", HUB_START_TIMEOUT)
-        url = serving.dashboard_url(serving.local_host(args.ip), args.port, None, "https" if tls else "http")
+        wait_for_port(local_host(args.ip), args.port, hub, "JupyterHub", HUB_START_TIMEOUT)
+        url = dashboard_url(local_host(args.ip), args.port, None, "https" if tls else "http")
         wait_until_healthy(url, hub, HUB_START_TIMEOUT)
         print(f"PMK class hub: {url}  (users: {', '.join(users)}; log: {plan.state_dir / 'jupyterhub.log'})")
         print(f"Each student gets their own simulated chair, at most {room.settings.max_chairs} at once. Ctrl-C stops.")
@@ -182,7 +191,7 @@ def _serve(
     except KeyboardInterrupt:
         return 0
     finally:
-        _stop_hub(hub)
+        stop_hub(hub)
         log.close()
         left = end_class_processes(room.settings_file, plan.state_dir)
         if left:
@@ -192,7 +201,7 @@ def _serve(
 
 def _prepare_class(root: Path, max_chairs: int | None, klass: _Class) -> Classroom:
     """The class (sample map, key, cap); isolated: its folders locked down and the cap in a folder every
-    student's user may write (:func:`pmk_nb.cli.hub_users.lock_class_folders`)."""
+    student's user may write (:func:`pmk_nb.serve.hub_users.lock_class_folders`)."""
     from pmk_nb.cli.demo_classroom import prepare_classroom
 
     if klass.isolation.isolated:  # refuse an unreachable class folder before converting anything
@@ -204,69 +213,3 @@ def _prepare_class(root: Path, max_chairs: int | None, klass: _Class) -> Classro
     settings = dataclasses.replace(room.settings, state_dir=str(root / "classroom" / SEATS_DIR))
     settings.write(room.settings_file)
     return dataclasses.replace(room, settings=settings)
-
-
-def wait_until_healthy(url: str, hub: subprocess.Popen[Any], timeout: float) -> None:
-    """Until the hub answers through its proxy (``hub/health``): the proxy listens before its route exists.
-
-    Raises:
-        ProcessStartError: the hub exited or did not answer in time.
-    """
-    import ssl
-    import urllib.error
-    import urllib.parse
-    import urllib.request
-
-    context = ssl.create_default_context()  # our own loopback hub, maybe on a self-signed certificate:
-    context.check_hostname, context.verify_mode = False, ssl.CERT_NONE  # not verified (it is ours)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and hub.poll() is None:
-        with (
-            contextlib.suppress(OSError, urllib.error.URLError),
-            urllib.request.urlopen(f"{url}hub/health", timeout=5, context=context) as answer,
-        ):
-            if answer.status == 200:
-                return
-        time.sleep(0.3)
-    where = urllib.parse.urlsplit(url)
-    raise ProcessStartError("JupyterHub (its health page)", where.hostname or "", where.port or 0, hub.poll(), timeout)
-
-
-def _stop_hub(hub: subprocess.Popen[Any]) -> None:
-    """SIGINT (JupyterHub then stops the students' servers and the proxy), SIGTERM/SIGKILL if it hangs."""
-    if hub.poll() is None:
-        hub.send_signal(signal.SIGINT)
-        try:
-            hub.wait(timeout=HUB_STOP_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            stop_process(hub)
-
-
-def end_class_processes(classroom_file: Path, state_dir: Path) -> int:
-    """End what the hub left: processes with this class in their environment (students' servers,
-    their kernels) and the proxy of its pid file; returns how many were still alive."""
-    marker = f"PMK_CLASSROOM={classroom_file}".encode()
-    pids = []
-    for proc in Path("/proc").iterdir():
-        if proc.name.isdigit() and int(proc.name) != os.getpid():
-            with contextlib.suppress(OSError):
-                if marker in (proc / "environ").read_bytes().split(b"\0"):
-                    pids.append(int(proc.name))
-    with contextlib.suppress(OSError, ValueError):
-        pid = int((state_dir / "jupyterhub-proxy.pid").read_text().strip())
-        if b"configurable-http-proxy" in Path(f"/proc/{pid}/cmdline").read_bytes():
-            pids.append(pid)
-    for sig in (signal.SIGTERM, signal.SIGKILL):
-        alive = [p for p in pids if _signal(p, sig)]
-        deadline = time.monotonic() + 5.0
-        while alive and time.monotonic() < deadline and any(Path(f"/proc/{p}").exists() for p in alive):
-            time.sleep(0.1)
-    return len(pids)
-
-
-def _signal(pid: int, sig: int) -> bool:
-    try:
-        os.kill(pid, sig)
-    except (ProcessLookupError, PermissionError):
-        return False
-    return True

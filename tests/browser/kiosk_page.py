@@ -16,8 +16,8 @@ from typing import Any
 import pytest
 
 from pmk_nb.cli.demo_setup import DemoWorld, prepare_demo
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = [

@@ -17,8 +17,8 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook
 from pmk_nb.ui import KIOSK_ENV
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.browser.test_browser_drive import ready

@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from pmk_nb.chair import Fleet
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook
 from pmk_nb.ui import AUTOSTART_ENV
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
 from tests.browser.test_browser_kiosk import _pixels

@@ -21,8 +21,8 @@ import psutil
 import pytest
 
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page
-from tests.cli.hub_login import PASSWORD, login, open_dashboard
-from tests.cli.test_hub import _class_processes, running_hub
+from tests.serve.hub_login import PASSWORD, login, open_dashboard
+from tests.serve.test_hub import _class_processes, running_hub
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 
@@ -36,7 +36,7 @@ def _ana_in_chromium(base: str) -> None:
         page.click("#login_submit")
         expect(page.locator(".pmk-home-info-state")).to_contain_text("Live", timeout=180_000)
         assert page.url.endswith("/user/ana/voila/render/dashboard.ipynb")
-        # --shared-user: the page says the class has no isolation (tests/cli/test_hub_isolation.py: with it)
+        # --shared-user: the page says the class has no isolation (tests/serve/test_hub_isolation.py: with it)
         expect(page.locator(".pmk-app")).to_contain_text("No isolation in this class")
         ARTIFACTS.mkdir(exist_ok=True)
         page.screenshot(path=str(ARTIFACTS / "hub-student.png"))

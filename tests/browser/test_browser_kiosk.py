@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from pmk_nb.cli.demo_setup import DemoWorld
-from pmk_nb.cli.procs import free_port, stop_process
+from pmk_nb.serve.procs import free_port, stop_process
 from tests.browser.kiosk_page import (
     ARTIFACTS,
     SMALL_VIEWPORT,

@@ -26,9 +26,9 @@ import numpy as np
 import pytest
 
 from pmk_nb.cli.demo_setup import prepare_demo
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
-from pmk_nb.cli.voila import voila_command, write_dashboard_notebook
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port
+from pmk_nb.serve.voila import voila_command, write_dashboard_notebook
 from pmk_nb.ui import AUTOSTART_ENV
 from pmk_nb.viewport import Viewport
 from tests.browser.kiosk_page import ARTIFACTS, VIEWPORT, chromium_page

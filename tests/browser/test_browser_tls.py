@@ -18,8 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.cli import tablet_tls
-from pmk_nb.cli.procs import free_port, stop_process
+from pmk_nb.serve import tablet_tls
+from pmk_nb.serve.procs import free_port, stop_process
 from pmk_nb.ui.kiosk.mode import wake_lock_html
 from tests.browser.kiosk_page import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, VIEWPORT
 

@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.cli import main
-from pmk_nb.cli.serving import ServingRefused, check_port_free, check_serving, resolve_token, url_lines
-from pmk_nb.cli.voila import write_dashboard_notebook
 from pmk_nb.errors import SettingsError
+from pmk_nb.serve.serving import ServingRefused, check_port_free, check_serving, resolve_token, url_lines
+from pmk_nb.serve.voila import write_dashboard_notebook
 from pmk_nb.ui.kiosk.pin import LOCKOUT_S, MAX_TRIES, PinStore
 
 
@@ -158,7 +158,7 @@ def test_a_voila_page_gets_frames_only_after_its_first_heartbeat(monkeypatch: py
 
 def test_the_page_gone_message_reaches_the_servers_iopub_listener() -> None:
     """What the kernel sends when its page is gone is what the server's manager looks for."""
-    from pmk_nb.cli.voila_kernels import PageBoundKernelManager
+    from pmk_nb.serve.voila_kernels import PageBoundKernelManager
     from pmk_nb.ui.common.page_lifecycle import PAGE_GONE_MSG, reload_script
 
     assert PAGE_GONE_MSG == "pmk_page_gone" and hasattr(PageBoundKernelManager, "_listen_for_page_gone")
@@ -172,8 +172,8 @@ def test_the_server_collects_page_garbage_after_pages_come_or_go(monkeypatch: py
     import gc
     import weakref
 
-    from pmk_nb.cli import voila_kernels
-    from pmk_nb.cli.voila_kernels import COLLECT_EVERY, PageBoundKernelManager
+    from pmk_nb.serve import voila_kernels
+    from pmk_nb.serve.voila_kernels import COLLECT_EVERY, PageBoundKernelManager
 
     frozen: list[int] = []
     monkeypatch.setattr(voila_kernels.gc, "freeze", lambda: frozen.append(1))  # keep the test process unfrozen
@@ -224,6 +224,6 @@ def test_frames_wait_while_the_page_lags_behind_the_kernels_output() -> None:
 
 
 def test_trimming_the_heap_works_on_this_glibc_machine() -> None:
-    from pmk_nb.cli.voila_kernels import trim_heap
+    from pmk_nb.serve.voila_kernels import trim_heap
 
     assert trim_heap() is True

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from pmk_nb.cli.procs import ProcessStartError, free_port, sigterm_as_interrupt, stop_process, wait_for_port
 from pmk_nb.errors import PmkError
+from pmk_nb.serve.procs import ProcessStartError, free_port, sigterm_as_interrupt, stop_process, wait_for_port
 
 
 def test_wait_for_port_returns_once_the_child_listens() -> None:

@@ -1,4 +1,4 @@
-"""The dashboard server's guards (issue 30, findings 2 and 4): unit tests of pmk_nb.cli.voila_guard and
+"""The dashboard server's guards (issue 30, findings 2 and 4): unit tests of pmk_nb.serve.voila_guard and
 the served config, then a real Voilà started as ``pmk dashboard`` starts it, attacked over HTTP.
 
 Host and Origin: a page request for ``Host: evil.example`` was served, and a kernel websocket from a
@@ -28,10 +28,10 @@ import pytest
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
-from pmk_nb.cli.procs import free_port, stop_process, wait_for_port
-from pmk_nb.cli.serving import server_names
-from pmk_nb.cli.voila import preflight, server_config, voila_command, write_dashboard_notebook
-from pmk_nb.cli.voila_guard import (
+from pmk_nb.serve.procs import free_port, stop_process, wait_for_port
+from pmk_nb.serve.serving import server_names
+from pmk_nb.serve.voila import preflight, server_config, voila_command, write_dashboard_notebook
+from pmk_nb.serve.voila_guard import (
     POLICY_VIOLATION,
     V1_PROTOCOL,
     OutputBudget,

@@ -1,4 +1,4 @@
-"""The Voilà / jupyter_server internals pmk_nb.cli.voila_guard relies on are still there, in the installed versions.
+"""The Voilà / jupyter_server internals pmk_nb.serve.voila_guard relies on are still there, in the installed versions.
 
 Each test fails when a release moves one of them, before a guard silently stops guarding.
 """
@@ -15,7 +15,7 @@ from jupyter_server.services.kernels.connection import channels
 from tornado import websocket
 from voila import app as voila_app
 
-from pmk_nb.cli.voila_guard import V1_PROTOCOL, HostCheckingIdentityProvider, PageChannelConnection
+from pmk_nb.serve.voila_guard import V1_PROTOCOL, HostCheckingIdentityProvider, PageChannelConnection
 
 
 def test_voila_takes_both_classes_from_its_config() -> None:

@@ -7,7 +7,7 @@ import time
 from collections.abc import Awaitable, Callable
 from pathlib import Path
 
-from pmk_nb.cli.voila_kernels import FIRST_PAGE_WITHIN, RENDERED_PAGE_WITHIN, PageBoundKernelManager
+from pmk_nb.serve.voila_kernels import FIRST_PAGE_WITHIN, RENDERED_PAGE_WITHIN, PageBoundKernelManager
 
 
 async def _until(condition: Callable[[], bool], what: str, timeout: float = 30.0) -> None:
@@ -80,7 +80,7 @@ def test_the_kernel_that_says_its_page_is_gone_is_shut_down_by_the_server(tmp_pa
 
 def test_the_render_grace_grows_while_pages_load_slowly() -> None:
     """make soak: loaded pages connected up to 14 s after the render; a fixed 20 s ended some still loading."""
-    from pmk_nb.cli.voila_kernels import CONNECT_MEMORY, SLOW_CONNECT_FACTOR
+    from pmk_nb.serve.voila_kernels import CONNECT_MEMORY, SLOW_CONNECT_FACTOR
 
     manager = PageBoundKernelManager()
     t = time.monotonic()
@@ -103,7 +103,7 @@ def test_the_render_grace_grows_while_pages_load_slowly() -> None:
 def test_a_kernel_is_not_culled_while_voila_still_renders_its_page() -> None:
     """Classroom soak at load 26: a page's render (its kernel starts its own chair) ran past a fixed
     120 s from the kernel's start and its kernel was ended before the page could connect."""
-    from pmk_nb.cli.voila_kernels import RENDERING_LIMIT
+    from pmk_nb.serve.voila_kernels import RENDERING_LIMIT
 
     manager = PageBoundKernelManager()
     t = time.monotonic()
@@ -127,7 +127,7 @@ def test_a_page_rendered_slowly_gets_as_long_to_connect() -> None:
 def test_a_socket_closed_without_the_pages_goodbye_may_reconnect() -> None:
     """A live page on a starved machine answered the server's websocket ping late: the server closed its
     socket (no close code from the page), the page reconnected 3 s later to a kernel already ended."""
-    from pmk_nb.cli.voila_kernels import PAGE_GRACE, RECONNECT_GRACE
+    from pmk_nb.serve.voila_kernels import PAGE_GRACE, RECONNECT_GRACE
 
     manager = PageBoundKernelManager()
     t = time.monotonic()

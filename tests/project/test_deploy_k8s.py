@@ -130,7 +130,7 @@ def test_hub_config_names_real_jupyterhub_traits() -> None:
 
 
 def test_single_user_servers_open_the_dashboard_with_kubespawner_defaults() -> None:
-    from pmk_nb.cli.hub_config import DASHBOARD_URL, KERNEL_IDLE
+    from pmk_nb.serve.hub_config import DASHBOARD_URL, KERNEL_IDLE
 
     single = _values()["singleuser"]
     assert single["defaultUrl"] == DASHBOARD_URL

@@ -33,6 +33,7 @@ PACKAGES |= {"openings"}  # where the navigation graph opens walls: raster draws
 PACKAGES |= {"witness"}  # the written map judged against its plan, sharing no decision with the converter (issue 37)
 PACKAGES |= {"wire"}  # what crosses the wire to the chair, written once for chair, sim, robot and viewport (issue 42)
 PACKAGES |= {"recordings"}  # recordings (MCAP) opened as tables, for researchers (issue 40)
+PACKAGES |= {"serve"}  # the serving stack: Voilà, its guards and kernels, TLS, the class hub (issue 42)
 WIDGET_LIBRARIES = ("ipywidgets", "ipycanvas", "IPython.display", "traitlets")
 
 
@@ -181,6 +182,11 @@ for _user in ("chair", "ui", "cli"):
 ALLOWED_IMPORTS["wire"] = {"errors", "grid", "lazyface"}
 for _user in ("chair", "sim", "robot", "viewport", "ui", "cli"):
     ALLOWED_IMPORTS[_user] |= {"wire"}
+# The serving stack (issue 42): what `pmk dashboard`, `pmk demo` and `pmk hub` run, under cli/ (which only
+# parses). It serves ui/ (the page-gone message), guards with seams/, hands the hub's students a classroom/
+# chair and chair/'s config folder and keys.
+ALLOWED_IMPORTS["serve"] = SHARED | {"ui", "seams", "classroom", "chair", "rosauth", "tlscert"}
+ALLOWED_IMPORTS["cli"] |= {"serve"}
 
 
 def _package_of(path: Path) -> str:

@@ -6,8 +6,8 @@ import inspect
 
 from voila.app import Voila
 
-from pmk_nb.cli.voila_tls import TlsVoila
 from pmk_nb.seams.voila_seam import TOUCHED, UrlHookVoila
+from pmk_nb.serve.voila_tls import TlsVoila
 from tests.seam_pins import assert_pinned_and_installed
 
 

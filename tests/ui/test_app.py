@@ -18,10 +18,10 @@ import pytest
 
 from pmk_nb.chair import ChairProfile, ProfileStore
 from pmk_nb.chair.link import open_links
-from pmk_nb.cli.voila import DASHBOARD_SOURCE, dashboard_notebook, voila_command
 from pmk_nb.errors import LibraryError
 from pmk_nb.library import MapsFolder
 from pmk_nb.progress import Progress
+from pmk_nb.serve.voila import DASHBOARD_SOURCE, dashboard_notebook, voila_command
 from pmk_nb.ui import build_app
 from pmk_nb.ui.app import SCREENS, Dashboard
 from pmk_nb.ui.common.context import STATE_FILE, AppContext, CurrentMap
@@ -279,7 +279,7 @@ def test_leaving_home_stops_the_preview(ctx: AppContext, sim_factory: Any, tmp_p
 @pytest.mark.slow
 @pytest.mark.realtime  # a real pmk dashboard process and its Voila child
 def test_pmk_dashboard_serves_and_stops(tmp_path: Path) -> None:
-    from pmk_nb.cli.procs import free_port, wait_for_port
+    from pmk_nb.serve.procs import free_port, wait_for_port
 
     port = free_port()
     env = {**os.environ, "PMK_MAPS_DIR": str(tmp_path / "m"), "PMK_CONFIG_DIR": str(tmp_path / "c")}

@@ -15,7 +15,7 @@ their output).  Three parts:
     held up (the kernel starved of CPU, its pings still queued) does not count.  It then closes the
     app (the live view stops, the chair link closes) and sends the server a :data:`PAGE_GONE_MSG`
     message on IOPub, on which the server shuts the kernel down at once
-    (:mod:`pmk_nb.cli.voila_kernels`).  This catches the websocket that stays alive at TCP level
+    (:mod:`pmk_nb.serve.voila_kernels`).  This catches the websocket that stays alive at TCP level
     while the page sends nothing (tablet asleep, page frozen), which the server cannot tell from a
     quiet page; a page that closes is shut down by the server itself.
   * **flow control**: the page writes each pong it has seen into a hidden text widget (the ack).

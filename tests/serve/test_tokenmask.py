@@ -7,8 +7,8 @@ import logging
 import subprocess
 import sys
 
-from pmk_nb.cli.tokenmask import MASK, TokenMask, logging_config, mask_tokens
-from pmk_nb.cli.voila import server_config
+from pmk_nb.serve.tokenmask import MASK, TokenMask, logging_config, mask_tokens
+from pmk_nb.serve.voila import server_config
 
 SECRET = "Zq8sK2-secret_TOKEN"
 

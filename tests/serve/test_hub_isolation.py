@@ -28,9 +28,9 @@ from typing import Any
 import psutil
 import pytest
 
-from pmk_nb.cli.hub_users import KEY_NAME, SECRET_FILE, STUDENT_DIR
-from tests.cli.hub_login import open_dashboard
-from tests.cli.test_hub import REPO, _class_processes, running_hub
+from pmk_nb.serve.hub_users import KEY_NAME, SECRET_FILE, STUDENT_DIR
+from tests.serve.hub_login import open_dashboard
+from tests.serve.test_hub import REPO, _class_processes, running_hub
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(400)]
 

@@ -11,7 +11,7 @@ jupyter_server 2.21.1 trusts the count at the head of each frame (docs/upstream/
     ``deserialize_binary_message`` builds a ``struct`` format of ``count`` codes, which ``struct``
     keeps in its cache: a 68-byte frame grew Voilà from 99 to 371 MB for good.  jupyter_server uses it
     for a v1 socket the server has already closed (the subprotocol is then read as None); the guard
-    (:class:`pmk_nb.cli.voila_guard.PageChannelConnection`) drops such frames and serves v1 only,
+    (:class:`pmk_nb.serve.voila_guard.PageChannelConnection`) drops such frames and serves v1 only,
     so nothing reaches that deserializer.
 """
 

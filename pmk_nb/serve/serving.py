@@ -4,7 +4,7 @@ Rules (issue 10): serving beyond loopback without a token is refused (anyone on 
 could otherwise edit profiles and send maps); the printed URL carries the token; a taken port is a
 clear error, never a silent move to the next port.  Issue 24: beyond loopback, plain HTTP needs
 ``--insecure`` (the tablet gets no secure context, so no Screen Wake Lock, and the token crosses the
-Wi-Fi in clear); HTTPS is :mod:`pmk_nb.cli.tablet_tls`.
+Wi-Fi in clear); HTTPS is :mod:`pmk_nb.serve.tablet_tls`.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ class ServingRefused(PmkError):
     Attributes:
         ip, port: what was asked for.
         reason: ``"no-token"``, ``"weak-token"``, ``"port-taken"``, ``"plain-http"`` (beyond loopback
-            without TLS or ``--insecure``) or ``"bad-certificate"`` (:mod:`pmk_nb.cli.tablet_tls`).
+            without TLS or ``--insecure``) or ``"bad-certificate"`` (:mod:`pmk_nb.serve.tablet_tls`).
     """
 
     def __init__(self, message: str, *, ip: str, port: int | None, reason: str) -> None:

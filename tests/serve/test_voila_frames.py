@@ -11,7 +11,7 @@ import tracemalloc
 
 from jupyter_server.services.kernels.connection.base import deserialize_msg_from_ws_v1, serialize_msg_to_ws_v1
 
-from pmk_nb.cli.voila_frames import FrameFault, v1_frame_fault
+from pmk_nb.serve.voila_frames import FrameFault, v1_frame_fault
 
 
 def _frame(*parts: bytes, channel: str = "shell") -> bytes:

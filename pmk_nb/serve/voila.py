@@ -1,4 +1,4 @@
-"""How the dashboard is served as a Voilà kiosk page: the notebook it runs, the server options, serve().
+"""How the dashboard is served as a Voilà kiosk page: the notebook it runs, its configuration, serve_dashboard().
 
 The kiosk notebook is generated (a pip-installed package has no ``notebooks/`` folder) with the same
 two lines as ``notebooks/dashboard.ipynb``; a test keeps the two identical.  Beside it goes the
@@ -12,19 +12,19 @@ Server choices, and why:
     and then only with a token (:func:`check_serving`).
   * ``--Voila.port_retries=0``: Voilà would otherwise move to the next free port by itself while we
     print the one asked for; a taken port is a clear error instead (:func:`check_port_free`).
-  * Kernels end with their page (:mod:`pmk_nb.cli.voila_kernels`): the kernel manager shuts a kernel
+  * Kernels end with their page (:mod:`pmk_nb.serve.voila_kernels`): the kernel manager shuts a kernel
     down a few seconds after its page's websocket closed, and websocket pings every second close a
     connection whose tablet went to sleep.  Idle culling stays as a back-stop and now also culls
     connected kernels: a live page answers the page heartbeat every 2 s (see
     :mod:`pmk_nb.ui.common.page_lifecycle`), so only a kernel whose page stopped pinging ever looks idle.
-  * HTTPS (issue 24) when a certificate is given or made (:mod:`pmk_nb.cli.tablet_tls`): Voilà is
-    then started as :mod:`pmk_nb.cli.voila_tls` with ``ssl_options`` in ``voila.json``; beyond
-    loopback, plain HTTP needs ``--insecure`` (:func:`pmk_nb.cli.serving.check_transport`).
+  * HTTPS (issue 24) when a certificate is given or made (:mod:`pmk_nb.serve.tablet_tls`): Voilà is
+    then started as :mod:`pmk_nb.serve.voila_tls` with ``ssl_options`` in ``voila.json``; beyond
+    loopback, plain HTTP needs ``--insecure`` (:func:`pmk_nb.serve.serving.check_transport`).
   * ``show_tracebacks`` stays False: the app reports errors itself.
   * Tokens are masked in the server's log (``?token=***``): tornado logs each 4xx with its URL
-    (:mod:`pmk_nb.cli.tokenmask`).
+    (:mod:`pmk_nb.serve.tokenmask`).
   * Only this server's own names are served (Host and Origin checked, token or not), a kernel has
-    one websocket (its page's, binary protocol, bounded output), see :mod:`pmk_nb.cli.voila_guard`;
+    one websocket (its page's, binary protocol, bounded output), see :mod:`pmk_nb.serve.voila_guard`;
     a kiosk always requires a token, on loopback too (:func:`preflight`).
 """
 
@@ -38,13 +38,13 @@ import webbrowser
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pmk_nb.cli import serving, tokenmask
-from pmk_nb.cli.procs import stop_process, wait_children, wait_for_port
-from pmk_nb.cli.voila_kernels import WS_PING_INTERVAL_MS, WS_PING_TIMEOUT_MS
 from pmk_nb.fileio import atomic_write
+from pmk_nb.serve import serving, tokenmask
+from pmk_nb.serve.procs import stop_process, wait_children, wait_for_port
+from pmk_nb.serve.voila_kernels import WS_PING_INTERVAL_MS, WS_PING_TIMEOUT_MS
 
 if TYPE_CHECKING:
-    from pmk_nb.cli.tablet_tls import TlsFiles
+    from pmk_nb.serve.tablet_tls import TlsFiles
 
 DASHBOARD_SOURCE = "from pmk_nb.ui import build_app\n\nbuild_app()"
 DASHBOARD_TITLE = "PMK Wheelchair"
@@ -53,9 +53,9 @@ CULL_INTERVAL = 30
 DEFAULT_PORT = serving.DEFAULT_PORT
 DEFAULT_IP = serving.DEFAULT_IP
 VOILA_START_TIMEOUT = 120.0
-KERNEL_MANAGER = "pmk_nb.cli.voila_kernels.PageBoundKernelManager"
-IDENTITY_PROVIDER = "pmk_nb.cli.voila_guard.HostCheckingIdentityProvider"
-KERNEL_CONNECTION = "pmk_nb.cli.voila_guard.PageChannelConnection"
+KERNEL_MANAGER = "pmk_nb.serve.voila_kernels.PageBoundKernelManager"
+IDENTITY_PROVIDER = "pmk_nb.serve.voila_guard.HostCheckingIdentityProvider"
+KERNEL_CONNECTION = "pmk_nb.serve.voila_guard.PageChannelConnection"
 CONFIG_FILE = "voila.json"
 #: seconds Voilà waits for the notebook's output while rendering a page (nbclient's default, 4 s, on a
 #: loaded machine drops the app's output: "Timeout waiting for IOPub output" and a blank page)
@@ -87,9 +87,9 @@ def dashboard_notebook() -> dict[str, object]:
 
 def server_config(token: str | None = None, ip: str = DEFAULT_IP, tls: TlsFiles | None = None) -> dict[str, object]:
     """Voilà's config file: websocket pings (integers, which the command line would make strings), token,
-    the guards of :mod:`pmk_nb.cli.voila_guard` (Host/Origin for ``ip``, one bounded channel per kernel),
-    the certificate to serve HTTPS with (read by :mod:`pmk_nb.cli.voila_tls`), tokens masked in its log
-    (:mod:`pmk_nb.cli.tokenmask`)."""
+    the guards of :mod:`pmk_nb.serve.voila_guard` (Host/Origin for ``ip``, one bounded channel per kernel),
+    the certificate to serve HTTPS with (read by :mod:`pmk_nb.serve.voila_tls`), tokens masked in its log
+    (:mod:`pmk_nb.serve.tokenmask`)."""
     tornado: dict[str, object] = {"ws_ping_interval": WS_PING_INTERVAL_MS, "ws_ping_timeout": WS_PING_TIMEOUT_MS}
     if tls is not None:
         tornado["ssl_options"] = {"certfile": str(tls.certfile), "keyfile": str(tls.keyfile)}
@@ -130,11 +130,11 @@ def voila_command(
     tls: bool = False,
 ) -> list[str]:
     """The command line that serves ``notebook`` with this interpreter's Voilà (config: beside the notebook);
-    ``tls``: Voilà with HTTPS (:mod:`pmk_nb.cli.voila_tls`; the certificate is in the config)."""
+    ``tls``: Voilà with HTTPS (:mod:`pmk_nb.serve.voila_tls`; the certificate is in the config)."""
     cmd = [
         sys.executable,
         "-m",
-        "pmk_nb.cli.voila_tls" if tls else "voila",
+        "pmk_nb.serve.voila_tls" if tls else "voila",
         str(notebook),
         f"--port={int(port)}",
         "--Voila.port_retries=0",
@@ -154,37 +154,6 @@ def voila_command(
     return cmd
 
 
-def server_options(p: argparse.ArgumentParser) -> None:
-    """``--port``, ``--ip``, ``--token``, ``--no-browser``: the options of every command that serves the dashboard."""
-    p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"HTTP port (default {DEFAULT_PORT})")
-    p.add_argument(
-        "--ip",
-        default=DEFAULT_IP,
-        help=f"address to listen on (default {DEFAULT_IP}; 0.0.0.0 serves a tablet on the LAN and needs --token)",
-    )
-    p.add_argument(
-        "--token",
-        metavar="TOKEN",
-        help="access token the page's URL must carry; 'auto' makes a random one "
-        f"(required beyond loopback; also read from ${serving.TOKEN_ENV})",
-    )
-    p.add_argument("--no-browser", action="store_true", help="do not open a browser")
-    p.add_argument(
-        "--https",
-        action="store_true",
-        help="serve HTTPS with a certificate made once in the config folder (tls/); prints its fingerprint "
-        "and a QR code of the URL",
-    )
-    p.add_argument("--certfile", metavar="FILE", help="serve HTTPS with this PEM certificate (chain); needs --keyfile")
-    p.add_argument("--keyfile", metavar="FILE", help="the PEM private key of --certfile")
-    p.add_argument(
-        "--insecure",
-        action="store_true",
-        help="allow plain HTTP beyond loopback (the tablet then has no Screen Wake Lock and the token travels "
-        "in clear)",
-    )
-
-
 def preflight(args: argparse.Namespace, env: dict[str, str], *, kiosk: bool = False) -> str | None:
     """Check ``--ip``/``--token``/``--port`` before anything starts; return the token to require (or None).
 
@@ -195,7 +164,7 @@ def preflight(args: argparse.Namespace, env: dict[str, str], *, kiosk: bool = Fa
         ServingRefused: beyond loopback without a token, a short token, plain HTTP beyond loopback
             without ``--insecure``, or the port is taken.
     """
-    from pmk_nb.cli.tablet_tls import wants_tls
+    from pmk_nb.serve.tablet_tls import wants_tls
 
     token = serving.resolve_token(args.token, env)
     if kiosk and not token:
@@ -206,12 +175,12 @@ def preflight(args: argparse.Namespace, env: dict[str, str], *, kiosk: bool = Fa
     return token
 
 
-def serve(
+def serve_dashboard(
     args: argparse.Namespace, env: dict[str, str], workdir: Path, token: str | None, tls: TlsFiles | None = None
 ) -> int:
     """Start Voilà on the generated notebook, print the URL it really serves, wait until it ends or we are stopped.
 
-    ``token`` comes from :func:`preflight`, ``tls`` from :func:`pmk_nb.cli.tablet_tls.resolve`; the port
+    ``token`` comes from :func:`preflight`, ``tls`` from :func:`pmk_nb.serve.tablet_tls.resolve_tls`; the port
     is checked again (something may have taken it meanwhile).
     """
     serving.check_port_free(args.ip, args.port)

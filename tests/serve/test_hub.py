@@ -20,8 +20,8 @@ from typing import Any
 import psutil
 import pytest
 
-from pmk_nb.cli import serving
-from pmk_nb.cli.hub_config import (
+from pmk_nb.serve import serving
+from pmk_nb.serve.hub_config import (
     COOKIE_SECRET,
     DASHBOARD_URL,
     HubPlan,
@@ -32,8 +32,8 @@ from pmk_nb.cli.hub_config import (
     prepare_home,
     write_hub_config,
 )
-from pmk_nb.cli.procs import free_port
-from tests.cli.hub_login import PASSWORD
+from pmk_nb.serve.procs import free_port
+from tests.serve.hub_login import PASSWORD
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -63,7 +63,7 @@ def test_the_config_uses_jupyterhubs_own_parts(tmp_path: Path) -> None:
     assert config["SharedPasswordAuthenticator"] == {"user_password": PASSWORD}
     assert config["Authenticator"] == {"allowed_users": ["ana", "ben"]}
     assert (hub["ip"], hub["port"], hub["hub_ip"]) == ("127.0.0.1", 8000, "127.0.0.1")
-    assert hub["spawner_class"] == "pmk_nb.cli.hub_spawner.ClassSpawner"
+    assert hub["spawner_class"] == "pmk_nb.serve.hub_spawner.ClassSpawner"
     assert config["Spawner"]["default_url"] == DASHBOARD_URL
     assert config["Spawner"]["environment"]["PMK_CLASSROOM"] == str(tmp_path / "classroom" / "classroom.json")
     assert config["SimpleLocalProcessSpawner"]["home_dir_template"] == str(tmp_path / "users" / "{username}")
@@ -75,7 +75,7 @@ def test_the_config_uses_jupyterhubs_own_parts(tmp_path: Path) -> None:
 
 
 def test_the_config_and_cookie_secret_are_private(tmp_path: Path) -> None:
-    from pmk_nb.cli.tablet_tls import TlsFiles
+    from pmk_nb.serve.tablet_tls import TlsFiles
 
     tls = TlsFiles(tmp_path / "c.pem", tmp_path / "k.pem", "AA", ("x",))
     path = write_hub_config(_plan(tmp_path, tls=tls))
@@ -211,7 +211,7 @@ def running_hub(
 def test_without_root_the_hub_refuses_unless_the_class_accepts_a_shared_user(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from pmk_nb.cli.hub_users import choose_isolation
+    from pmk_nb.serve.hub_users import choose_isolation
 
     monkeypatch.setattr(os, "geteuid", lambda: 1000)
     with pytest.raises(serving.ServingRefused) as err:
@@ -228,8 +228,8 @@ def test_without_root_the_hub_refuses_unless_the_class_accepts_a_shared_user(
 
 def test_the_spawner_is_told_the_students_users_and_their_files(tmp_path: Path) -> None:
     from pmk_nb.classroom.settings import StudentFiles, shared_user
-    from pmk_nb.cli.hub_config import hub_environment
-    from pmk_nb.cli.hub_users import USER_PREFIX_ENV, Isolation, prepare_student, student_env
+    from pmk_nb.serve.hub_config import hub_environment
+    from pmk_nb.serve.hub_users import USER_PREFIX_ENV, Isolation, prepare_student, student_env
 
     assert hub_environment(_plan(tmp_path, user_prefix="pmk-c-"), {"A": "1"}) == {"A": "1", USER_PREFIX_ENV: "pmk-c-"}
     home = tmp_path / "users" / "ana"

@@ -6,7 +6,7 @@ dashboard), a token-carrying websocket skipped the Origin check, and a page scri
 websockets to its own kernel.  One such socket speaking the legacy JSON protocol and never reading
 grew the server from 102 MB to 1.7 GB in 30 s (every live-view frame re-serialized and queued for
 it), new pages got no answer, and its kernel outlived the page.  Both classes here are plugged in by
-configuration (``voila.json``, :func:`pmk_nb.cli.voila.server_config`):
+configuration (``voila.json``, :func:`pmk_nb.serve.voila.server_config`):
 
   * :class:`HostCheckingIdentityProvider` (``Voila.identity_provider_class``): a request whose Host
     is not one this server listens on (or, over HTTPS, one its certificate names) is refused (403),
@@ -18,7 +18,7 @@ configuration (``voila.json``, :func:`pmk_nb.cli.voila.server_config`):
     scripts always offer it); and a connection whose unsent output passes :data:`MAX_UNSENT_BYTES`
     is closed (nothing more is queued for it meanwhile).  Frames from the page reach the kernel only
     while its socket is admitted and open, and only when their header fits the frame
-    (:mod:`pmk_nb.cli.voila_frames`): jupyter_server parses a closed socket's frames with its legacy
+    (:mod:`pmk_nb.serve.voila_frames`): jupyter_server parses a closed socket's frames with its legacy
     deserializer, which trusts a buffer count (one 68-byte frame: +270 MB, kept).
 
 The refusals are what bound the server: with them switched off in an experiment, a silent legacy
@@ -44,9 +44,9 @@ from jupyter_server.auth.identity import PasswordIdentityProvider
 from jupyter_server.services.kernels.connection.channels import ZMQChannelsWebsocketConnection
 from tornado import web
 
-from pmk_nb.cli.serving import DEFAULT_IP, server_names
-from pmk_nb.cli.voila_frames import v1_frame_fault
 from pmk_nb.seams import forget_open_session
+from pmk_nb.serve.serving import DEFAULT_IP, server_names
+from pmk_nb.serve.voila_frames import v1_frame_fault
 
 V1_PROTOCOL = "v1.kernel.websocket.jupyter.org"
 #: unsent bytes after which a kernel websocket is closed.  The page itself stays within a second and
@@ -125,7 +125,7 @@ def certificate_hosts(certfile: str) -> tuple[str, ...]:
     server by them without a warning, so they are its own (a lab's certificate for ``pmk.ward.example``)."""
     from cryptography import x509
 
-    from pmk_nb.cli.tablet_tls import certificate_names
+    from pmk_nb.serve.tablet_tls import certificate_names
 
     with open(certfile, "rb") as fh:
         cert = x509.load_pem_x509_certificate(fh.read())
@@ -223,7 +223,7 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
 
     def handle_incoming_message(self, incoming_msg: Any) -> None:
         """Pass a frame from the page on to the kernel only while this socket is admitted and open, and
-        only a v1 frame whose header fits it (:func:`~pmk_nb.cli.voila_frames.v1_frame_fault`).
+        only a v1 frame whose header fits it (:func:`~pmk_nb.serve.voila_frames.v1_frame_fault`).
 
         Once the server closed the socket (a ping timeout, :meth:`_bounded_write`), jupyter_server reads
         the subprotocol as None and parses what still arrives with its legacy deserializer: one 68-byte

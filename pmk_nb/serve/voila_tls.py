@@ -1,11 +1,11 @@
-"""Voilà over HTTPS: ``python -m pmk_nb.cli.voila_tls`` is Voilà serving ``tornado_settings.ssl_options``.
+"""Voilà over HTTPS: ``python -m pmk_nb.serve.voila_tls`` is Voilà serving ``tornado_settings.ssl_options``.
 
 Voilà 0.5 has no TLS option of its own: its ``tornado_settings`` help promises "ssl", but its
 ``listen()`` calls tornado's ``Application.listen(port, ip)`` without the ``ssl_options`` tornado's
 HTTP server takes (its ``_url`` even carries "TODO: https / certfile").  This subclass hands
 ``Voila.tornado_settings["ssl_options"]`` (``{"certfile": ..., "keyfile": ...}``, tornado's own form)
 to the server and says ``https`` in Voilà's log; everything else is Voilà's.  The options come from
-``voila.json`` (:func:`pmk_nb.cli.voila.server_config`), never the command line.
+``voila.json`` (:func:`pmk_nb.serve.voila.server_config`), never the command line.
 Kernel websockets follow the page's scheme (``wss:``): the page builds their URL from its location.
 """
 

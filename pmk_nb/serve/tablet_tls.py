@@ -32,8 +32,8 @@ from cryptography.hazmat.primitives import hashes, serialization
 from cryptography.hazmat.primitives.asymmetric import ec
 from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
 
-from pmk_nb.cli.serving import ServingRefused, is_loopback, lan_addresses, server_names
 from pmk_nb.fileio import atomic_write, private_dir
+from pmk_nb.serve.serving import ServingRefused, is_loopback, lan_addresses, server_names
 from pmk_nb.tlscert import fingerprint as der_fingerprint
 
 TLS_DIR = "tls"
@@ -292,7 +292,7 @@ def wants_tls(args: argparse.Namespace) -> bool:
     return bool(getattr(args, "https", False) or getattr(args, "certfile", None))
 
 
-def resolve(args: argparse.Namespace, env: dict[str, str]) -> TlsFiles | None:
+def resolve_tls(args: argparse.Namespace, env: dict[str, str]) -> TlsFiles | None:
     """The certificate to serve for these options, or None for plain HTTP.
 
     Raises:

@@ -15,12 +15,13 @@ from pathlib import Path
 import pytest
 from cryptography import x509
 
-from pmk_nb.cli import main, tablet_tls
-from pmk_nb.cli.procs import free_port
-from pmk_nb.cli.serving import ServingRefused, check_transport, qr_lines, url_lines
-from pmk_nb.cli.voila import preflight, server_config, tls_lines, voila_command
-from pmk_nb.cli.voila_guard import certificate_hosts
-from pmk_nb.cli.voila_tls import server_context
+from pmk_nb.cli import main
+from pmk_nb.serve import tablet_tls
+from pmk_nb.serve.procs import free_port
+from pmk_nb.serve.serving import ServingRefused, check_transport, qr_lines, url_lines
+from pmk_nb.serve.voila import preflight, server_config, tls_lines, voila_command
+from pmk_nb.serve.voila_guard import certificate_hosts
+from pmk_nb.serve.voila_tls import server_context
 
 
 def _https_args(ip: str = "127.0.0.1", **more: object) -> argparse.Namespace:
@@ -56,7 +57,7 @@ def _handshake(tls: tablet_tls.TlsFiles, server_hostname: str) -> str:
 
 def test_https_makes_a_certificate_once_in_the_config_folder_and_reuses_it(tmp_path: Path) -> None:
     env = {"PMK_CONFIG_DIR": str(tmp_path / "config")}
-    made = tablet_tls.resolve(_https_args("0.0.0.0"), env)
+    made = tablet_tls.resolve_tls(_https_args("0.0.0.0"), env)
     assert made is not None and made.created and made.ca_file is not None
     folder = tmp_path / "config" / tablet_tls.TLS_DIR
     assert made.certfile.parent == folder and (folder.stat().st_mode & 0o777) == 0o700
@@ -70,7 +71,7 @@ def test_https_makes_a_certificate_once_in_the_config_folder_and_reuses_it(tmp_p
     assert _handshake(made, "localhost") == made.fingerprint  # the authority vouches for it, by name
     # a later run (loopback: names already covered) reuses it unchanged
     files = {p.name: p.read_bytes() for p in folder.iterdir()}
-    again = tablet_tls.resolve(_https_args(), env)
+    again = tablet_tls.resolve_tls(_https_args(), env)
     assert again is not None and not again.created and again.fingerprint == made.fingerprint
     assert {p.name: p.read_bytes() for p in folder.iterdir()} == files
     assert not again.replaced_authority
@@ -99,7 +100,7 @@ def test_a_given_certificate_is_checked_before_anything_starts(
     pem = serialization.PrivateFormat.PKCS8
     locked = key.private_bytes(serialization.Encoding.PEM, pem, serialization.BestAvailableEncryption(b"secret"))
     (tmp_path / "locked.key").write_bytes(locked)
-    given = tablet_tls.resolve(_https_args(https=False, certfile=str(made.certfile), keyfile=str(made.keyfile)), {})
+    given = tablet_tls.resolve_tls(_https_args(https=False, certfile=str(made.certfile), keyfile=str(made.keyfile)), {})
     assert given is not None and given.fingerprint == made.fingerprint and given.ca_file is None
     bad_cases = [
         {"https": False, "certfile": str(made.certfile), "keyfile": str(other.keyfile)},  # not its key
@@ -111,9 +112,9 @@ def test_a_given_certificate_is_checked_before_anything_starts(
     ]
     for case in bad_cases:
         with pytest.raises(ServingRefused) as caught:
-            tablet_tls.resolve(_https_args(**case), {})
+            tablet_tls.resolve_tls(_https_args(**case), {})
         assert caught.value.reason == "bad-certificate" and "\n" not in str(caught.value), case
-    assert tablet_tls.resolve(_https_args(https=False), {}) is None  # plain HTTP
+    assert tablet_tls.resolve_tls(_https_args(https=False), {}) is None  # plain HTTP
     # through the command line: one line, exit 2, before Voilà starts
     argv = ["dashboard", "--certfile", str(made.certfile), "--keyfile", str(other.keyfile), "--no-browser"]
     assert main([*argv, "--port", str(free_port())]) == 2
@@ -191,7 +192,7 @@ def test_voila_is_started_with_the_certificate_in_its_config_only_when_asked(tmp
     # jupyter_server's own Host check (loopback) lets the certificate's names through, addresses stay its own
     assert tornado["local_hostnames"] == ["localhost", "pmk.ward.example"]
     assert "ssl_options" not in json.dumps(server_config("t" * 20, "127.0.0.1"))
-    assert voila_command(tmp_path / "d.ipynb", tls=True)[1:3] == ["-m", "pmk_nb.cli.voila_tls"]
+    assert voila_command(tmp_path / "d.ipynb", tls=True)[1:3] == ["-m", "pmk_nb.serve.voila_tls"]
     assert voila_command(tmp_path / "d.ipynb")[1:3] == ["-m", "voila"]
 
 

@@ -6,9 +6,9 @@ Generated, not hand-written, so the class's choices are in one place and tested
 the hub's database in the hub's state folder.  Nothing home-made where JupyterHub already does it:
 
 * login: JupyterHub's ``SharedPasswordAuthenticator`` (one class password, ``allowed_users`` = the list);
-* one single-user server per student: :class:`pmk_nb.cli.hub_spawner.ClassSpawner`, JupyterHub's
+* one single-user server per student: :class:`pmk_nb.serve.hub_spawner.ClassSpawner`, JupyterHub's
   local process spawner (a home folder per student under ``--hub-dir``/users; as root each student's
-  own system user, else with ``--shared-user`` the hub's user: :mod:`pmk_nb.cli.hub_users`) that first
+  own system user, else with ``--shared-user`` the hub's user: :mod:`pmk_nb.serve.hub_users`) that first
   puts the dashboard, the tutorial notebooks and the student's chair secret in the home folder;
   it opens on the dashboard rendered by Voilà's server extension;
 * a simulated chair per page: the kernels find the class (``PMK_CLASSROOM``, :mod:`pmk_nb.classroom`);
@@ -30,11 +30,11 @@ from typing import TYPE_CHECKING
 
 import pmk_nb
 from pmk_nb.classroom import CLASSROOM_ENV
-from pmk_nb.cli import serving
 from pmk_nb.fileio import atomic_write
+from pmk_nb.serve import serving
 
 if TYPE_CHECKING:
-    from pmk_nb.cli.tablet_tls import TlsFiles
+    from pmk_nb.serve.tablet_tls import TlsFiles
 
 CONFIG_FILE = "jupyterhub_config.json"
 COOKIE_SECRET = "jupyterhub_cookie_secret"
@@ -66,7 +66,7 @@ class HubPlan:
     proxy_command: tuple[str, ...]
     tls: TlsFiles | None = None
     cull_idle: int = CULL_IDLE
-    user_prefix: str = ""  # the students' system users: <prefix><name> (pmk_nb.cli.hub_users); empty: shared
+    user_prefix: str = ""  # the students' system users: <prefix><name> (pmk_nb.serve.hub_users); empty: shared
 
 
 def parse_users(text: str) -> tuple[str, ...]:
@@ -93,7 +93,7 @@ def check_password(password: str | None, ip: str) -> str:
     """The class password, if strong enough: JupyterHub's minimum on loopback, a token's beyond it.
 
     Beyond loopback the password is what the dashboard's token is there (anyone on the network can
-    try it), so it follows the token's rule (:data:`pmk_nb.cli.serving.MIN_TOKEN_CHARS`).
+    try it), so it follows the token's rule (:data:`pmk_nb.serve.serving.MIN_TOKEN_CHARS`).
 
     Raises:
         ServingRefused: reason ``"no-password"`` or ``"weak-password"``.
@@ -131,19 +131,6 @@ def check_jupyterhub() -> None:
         )
 
 
-def positive_int(text: str) -> int:
-    """``--max-chairs``: a whole number of at least 1 (argparse type)."""
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, not {value}")
-    return value
-
-
 def find_proxy(explicit: str | None = None) -> tuple[str, ...]:
     """JupyterHub's proxy: ``--proxy``, else ``configurable-http-proxy`` on PATH, else the source tree's
     ``proxy/node_modules`` (``make hub`` installs it there).
@@ -177,7 +164,7 @@ def hub_config(plan: HubPlan) -> dict[str, dict[str, object]]:
         "hub_ip": "127.0.0.1",
         "hub_port": plan.hub_port,
         "authenticator_class": "jupyterhub.authenticators.shared.SharedPasswordAuthenticator",
-        "spawner_class": "pmk_nb.cli.hub_spawner.ClassSpawner",
+        "spawner_class": "pmk_nb.serve.hub_spawner.ClassSpawner",
         "cookie_secret_file": str(plan.state_dir / COOKIE_SECRET),
         "db_url": f"sqlite:///{plan.state_dir / 'jupyterhub.sqlite'}",
         "pid_file": str(plan.state_dir / "jupyterhub.pid"),
@@ -226,7 +213,7 @@ def hub_config(plan: HubPlan) -> dict[str, dict[str, object]]:
 
 def hub_environment(plan: HubPlan, env: dict[str, str]) -> dict[str, str]:
     """JupyterHub's environment: ``env`` and the students' users' prefix for its spawner (empty: shared)."""
-    from pmk_nb.cli.hub_users import USER_PREFIX_ENV
+    from pmk_nb.serve.hub_users import USER_PREFIX_ENV
 
     return {**env, USER_PREFIX_ENV: plan.user_prefix}
 
@@ -249,7 +236,7 @@ def tutorial_notebooks() -> list[Path]:
 def prepare_home(home: Path) -> None:
     """A student's home folder: the dashboard notebook (always the current one) and the tutorials (a
     student's edited copy is kept)."""
-    from pmk_nb.cli.voila import dashboard_notebook
+    from pmk_nb.serve.voila import dashboard_notebook
 
     home.mkdir(parents=True, exist_ok=True, mode=0o700)
     atomic_write(home / "dashboard.ipynb", json.dumps(dashboard_notebook(), indent=1) + "\n")

@@ -24,9 +24,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pmk_nb.classroom import BRIDGE_SECRET_ENV, SEAT_DIR_ENV, SEAT_KEY_ENV, SHARED_USER_ENV
-from pmk_nb.cli import serving
 from pmk_nb.fileio import atomic_write
 from pmk_nb.rosauth import new_secret
+from pmk_nb.serve import serving
 
 #: the hub's environment names the students' users' prefix to its spawner (empty: shared)
 USER_PREFIX_ENV = "PMK_HUB_USER_PREFIX"

@@ -9,7 +9,7 @@ from typing import Any
 
 import requests
 
-from pmk_nb.cli.hub_config import DASHBOARD_URL
+from pmk_nb.serve.hub_config import DASHBOARD_URL
 
 PASSWORD = "class-password-26"
 
