@@ -9,7 +9,8 @@ the canvas panels cover (the follow target sits in the centre of the rest), ``tf
 transform per frame (the link's tf tree: map -> odom -> base_link), ``path`` the planned path still
 ahead of the chair, ``posetrail`` the odometry by header stamp (a scan drawn where it was cast),
 ``costmap`` (RViz's costmap colours, a costmap's place on the canvas) and ``markers`` (marker shapes ->
-canvas steps) for the navigation layers, ``seriesplot`` any field's samples over a time window.
+canvas steps) for the navigation layers, ``seriesplot`` any field's samples over a time window,
+``tfframes`` the TF tree view's rows (per frame: parent, rate, age, children).
 """
 
 from __future__ import annotations
@@ -51,7 +52,8 @@ from pmk_nb.viewport.path import ARRIVED_M, ahead_of
 from pmk_nb.viewport.pose import Transform2D, mounted
 from pmk_nb.viewport.posetrail import TRAIL_SIZE, PoseTrail, pose_at_stamp
 from pmk_nb.viewport.seriesplot import SeriesLines, SeriesRing, series_lines
-from pmk_nb.viewport.tftree import FramedTransform, TfTree, normalise_frame
+from pmk_nb.viewport.tfframes import RATE_WINDOW_S, FrameRow, edge_rate, frame_rows, frame_text, tree_rows
+from pmk_nb.viewport.tftree import EdgeRecord, FramedTransform, TfTree, normalise_frame
 from pmk_nb.viewport.view import (
     MIN_CHAIR_RADIUS_PX,
     MIN_DOT_RADIUS_PX,
@@ -67,9 +69,12 @@ __all__ = [
     "GRAY_LUT",
     "MIN_CHAIR_RADIUS_PX",
     "MIN_DOT_RADIUS_PX",
+    "RATE_WINDOW_S",
     "STILL_SPEED",
     "TRAIL_SIZE",
     "CostmapPlacement",
+    "EdgeRecord",
+    "FrameRow",
     "FramedTransform",
     "Insets",
     "LaserOutline",
@@ -91,8 +96,11 @@ __all__ = [
     "costmap_placement",
     "costmap_rgba",
     "distance",
+    "edge_rate",
     "explain_nulls",
     "fit_canvas",
+    "frame_rows",
+    "frame_text",
     "framed_pixels",
     "grid_lines",
     "grid_spacing",
@@ -116,5 +124,6 @@ __all__ = [
     "tick_segments",
     "tile_covers",
     "tile_size_for",
+    "tree_rows",
     "window_image",
 ]

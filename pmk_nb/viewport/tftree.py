@@ -12,6 +12,7 @@ from __future__ import annotations
 import builtins
 import math
 import threading
+from collections import deque
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -46,6 +47,16 @@ class _Edge:
     static: bool
 
 
+@dataclass(frozen=True)
+class EdgeRecord:
+    """What the tree knows of one child frame: its parent, whether from ``/tf_static``, when its
+    recent transforms arrived (the times ``set`` was given, oldest first)."""
+
+    parent: str
+    static: bool
+    arrivals: tuple[float, ...]
+
+
 class TfTree:
     """Latest planar transform per child frame, from ``/tf`` and ``/tf_static``.
 
@@ -54,9 +65,11 @@ class TfTree:
     """
 
     MAX_DEPTH = 32  # guards against cycles from misconfigured publishers
+    ARRIVALS = 64  # receive times kept per child frame: its rate for the TF tree view (``tfframes``)
 
     def __init__(self) -> None:
         self._edges: dict[str, _Edge] = {}
+        self._arrivals: dict[str, deque[float]] = {}
         self._lock = threading.Lock()
 
     def set(self, t: FramedTransform, received: float, *, static: bool = False) -> None:
@@ -65,10 +78,23 @@ class TfTree:
         edge = _Edge(t.parent, Transform2D(t.x, t.y, t.theta), received, static)
         with self._lock:
             self._edges[t.child] = edge
+            arrivals = self._arrivals.get(t.child)
+            if arrivals is None:
+                arrivals = self._arrivals[t.child] = deque(maxlen=self.ARRIVALS)
+            arrivals.append(received)
 
     def clear(self) -> None:
         with self._lock:
             self._edges.clear()
+            self._arrivals.clear()
+
+    def edges(self) -> dict[str, EdgeRecord]:
+        """Every child frame's parent, static flag and recent receive times (oldest first): a copy."""
+        with self._lock:
+            return {
+                child: EdgeRecord(e.parent, e.static, tuple(self._arrivals.get(child, ())))
+                for child, e in self._edges.items()
+            }
 
     def frames(self) -> builtins.set[str]:  # builtins: ``set`` is the method above here
         with self._lock:

@@ -8,7 +8,8 @@ only store), ``publish`` (commands, goals), ``services`` (one blocking call), ``
 (rosapi), ``mapread`` (the published map), ``state`` and ``registry`` (the kernel's only set of
 links: one per chair); ``record`` (``ChairLink.record`` / ``start_recording``: topics to an MCAP
 file with ROS 2 schemas); ``navlayers`` (Nav2's costmaps, footprint, local plan and markers, found by
-type); ``fields`` + ``series`` (any numeric field of any topic, sampled for the Plots);
+type); ``fields`` + ``series`` (any numeric field of any topic, sampled for the Plots); ``tfwatch``
+(``/tf`` and ``/tf_static`` for the TF tree view);
 ``goal_stop`` (``ChairLink.stop_goals``: the Stop for navigation goals, and the goal gate a latched
 Stop closes).
 """
@@ -28,6 +29,7 @@ from pmk_nb.chair.link.record import Recording, RecordStats
 from pmk_nb.chair.link.registry import close_all_links, forget_link, get_link, open_links, use_only
 from pmk_nb.chair.link.series import TopicSeries
 from pmk_nb.chair.link.state import LinkState
+from pmk_nb.chair.link.tfwatch import TfWatch
 from pmk_nb.chair.link.tls import trust_certificate
 
 __all__ = [
@@ -49,6 +51,7 @@ __all__ = [
     "PlannedPath",
     "RecordStats",
     "Recording",
+    "TfWatch",
     "TopicProbe",
     "TopicSeries",
     "close_all_links",

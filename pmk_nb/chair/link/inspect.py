@@ -167,12 +167,19 @@ class OwnSubscription:
         type_name: str | None,
         callback: Callable[[Any], None],
         throttle_ms: int = THROTTLE_MS,
+        queue_length: int = 1,
     ) -> None:
         import roslibpy
 
         self.ros, self.topic, self.callback = ros, topic, callback
         self.id = f"subscribe:{topic}:pmk-{next(self._ids)}"
-        op = {"op": "subscribe", "id": self.id, "topic": topic, "throttle_rate": throttle_ms, "queue_length": 1}
+        op = {
+            "op": "subscribe",
+            "id": self.id,
+            "topic": topic,
+            "throttle_rate": throttle_ms,
+            "queue_length": queue_length,
+        }
         if type_name:
             op["type"] = type_name
         self._op = roslibpy.Message(op)

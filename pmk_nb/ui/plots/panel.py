@@ -1,5 +1,6 @@
 """Home's Plots panel (issue 29): speed and turn rate over the last minutes, any numeric field of any
-topic (issue 40, :mod:`pmk_nb.ui.plots.field_plot`) and the topic inspector.
+topic (issue 40, :mod:`pmk_nb.ui.plots.field_plot`), the topic inspector and the TF tree
+(:mod:`pmk_nb.ui.plots.tf_view`).
 
 Details on demand: a "Plots" toggle beside Show sensors opens the panel under the map. The samples
 come from Home's info timer (:meth:`PlotsPanel.tick`, a few per second, into the bounded
@@ -21,6 +22,7 @@ from ipycanvas import Canvas, hold_canvas
 from pmk_nb.ui.common.widgets import TOUCH_PX
 from pmk_nb.ui.home.info import whole_degrees
 from pmk_nb.ui.plots.field_plot import FieldPlot
+from pmk_nb.ui.plots.tf_view import TfTreeView
 from pmk_nb.ui.plots.topic_inspector import TopicInspector
 from pmk_nb.viewport import OdomHistory, plot_lines
 
@@ -55,6 +57,7 @@ class PlotsPanel:
         self.legend.add_class("pmk-plots-legend")
         self.topics = TopicInspector()
         self.fields = FieldPlot()  # any numeric field of any topic (issue 40)
+        self.tf = TfTreeView()  # frames, parents, rates and ages (issue 40)
         self.widget = w.VBox(
             [
                 w.HTML("<b>Speed and turn rate</b>"),
@@ -64,6 +67,8 @@ class PlotsPanel:
                 self.fields.widget,
                 w.HTML("<b>Topics</b>"),
                 self.topics.widget,
+                w.HTML("<b>TF tree</b>"),
+                self.tf.widget,
             ]
         )
         self.widget.add_class("pmk-plots-panel")
@@ -78,6 +83,7 @@ class PlotsPanel:
         """The preview's link (None: stopped). The history is kept across previews of the same page."""
         self.topics.attach(link if self.open else None)
         self.fields.attach(link if self.open else None)
+        self.tf.attach(link if self.open else None)
         self._link = link
 
     def _on_toggle(self, change: dict[str, Any]) -> None:
@@ -86,6 +92,7 @@ class PlotsPanel:
         self.toggle.icon = "check" if on else "line-chart"
         self.topics.attach(self._link if on else None)  # closing ends the inspected topic's subscription
         self.fields.attach(self._link if on else None)  # ... and the plotted topics'
+        self.tf.attach(self._link if on else None)  # ... and the TF tree's /tf, /tf_static
         if on:
             self._drawn_at = -math.inf
             self.redraw()
@@ -101,6 +108,7 @@ class PlotsPanel:
         self.topics.tick()
         self.fields.set_topics(self.topics.types)
         self.fields.tick(now)
+        self.tf.tick()
         if now - self._drawn_at >= 1.0 / PLOT_HZ:
             self._drawn_at = now
             self.redraw(now)
@@ -147,6 +155,7 @@ class PlotsPanel:
     def close(self) -> None:
         self.topics.attach(None)
         self.fields.close()
+        self.tf.close()
         self.canvas.close()
 
 

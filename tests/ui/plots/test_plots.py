@@ -62,6 +62,8 @@ def test_plots_topics_and_the_planned_path(home: tuple[Any, Any]) -> None:
     listed = lambda: "topics from" in plots.topics.source.value or "known" in plots.topics.source.value  # noqa: E731
     assert wait_ticking(listed, 15.0, screen.refresh_info), plots.topics.source.value
     assert "from rosapi" in plots.topics.source.value
+    # the TF tree on its own /tf subscription (this link's pose comes from odometry: it has none)
+    assert wait_ticking(lambda: "odom → <b>base_link</b>" in plots.tf.table.value, 15.0, screen.refresh_info)
     # the plan where this chair publishes it (ROS 1: move_base's planner topic); no /plan is guessed into being
     assert {"/odom", "/scan", sim.names.plan_topic} <= set(plots.topics.types), sorted(plots.topics.types)
     assert sim.names.plan_topic == "/plan" or "/plan" not in plots.topics.types
@@ -75,6 +77,7 @@ def test_plots_topics_and_the_planned_path(home: tuple[Any, Any]) -> None:
     plots.topics.list.value = "/odom"
     assert wait_ticking(lambda: "twist" in plots.topics.message.value, 10.0, screen.refresh_info)
     plots.toggle.value = False  # closing ends the inspector's subscriptions, and only those
+    assert plots.tf.watch is None
     assert wait_ticking(lambda: _subscribers(sim, "/scan") == before, 5.0, lambda: None)
     seen = link.latest_odom()
     assert wait_ticking(lambda: link.latest_odom() is not seen, 5.0, lambda: None), "the link's /odom stream died"
