@@ -31,9 +31,10 @@ def room_free_pixels(rooms: RoomsMap, room: Room) -> tuple[np.ndarray, int, int]
     r0, r1 = max(0, math.floor((y0 - oy) / res)), min(grid.height, math.ceil((y1 - oy) / res))
     if c1 <= c0 or r1 <= r0:
         return np.zeros((0, 0), dtype=bool), r0, c0
-    cols, rows = np.meshgrid(np.arange(c0, c1), np.arange(r0, r1))
-    inside = shapely.contains_xy(room.polygon, ox + (cols + 0.5) * res, oy + (rows + 0.5) * res)
-    return inside & (np.asarray(grid.data)[r0:r1, c0:c1] == FREE), r0, c0
+    mask = np.asarray(grid.data)[r0:r1, c0:c1] == FREE
+    rows, cols = np.nonzero(mask)  # only free pixels can count: the polygon test is the costly part
+    mask[rows, cols] = shapely.contains_xy(room.polygon, ox + (cols + c0 + 0.5) * res, oy + (rows + r0 + 0.5) * res)
+    return mask, r0, c0
 
 
 def goal_in_room(

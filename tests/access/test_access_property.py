@@ -56,33 +56,51 @@ class Clearance:
         self.labels = ndimage.label(self.space)[0]
         self._cache: dict[int, set[int]] = {}
 
-    def _centres(self, shape: shapely.Geometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(rows, cols, whether the pixel centre lies in ``shape``) over ``shape``'s bounding box."""
+    def _centres(self, shape: shapely.Geometry, space: bool | None = True) -> tuple[np.ndarray, ...]:
+        """(rows, cols, whether the pixel centre lies in ``shape``) over ``shape``'s bounding box, only
+        at pixels whose :attr:`space` is ``space`` (None: all). The point-in-polygon test is the costly
+        part and a pixel outside the space has label 0 wherever it lies, so most calls test space only."""
         g, res = self.grid, self.grid.resolution
         x0, y0, x1, y1 = shape.bounds
         c0, c1 = max(0, int((x0 - g.origin[0]) / res) - 1), min(g.width, int((x1 - g.origin[0]) / res) + 2)
         r0, r1 = max(0, int((y0 - g.origin[1]) / res) - 1), min(g.height, int((y1 - g.origin[1]) / res) + 2)
         cc, rr = np.meshgrid(np.arange(c0, c1), np.arange(r0, r1))
+        if space is not None:
+            keep = self.space[rr, cc] == space
+            rr, cc = rr[keep], cc[keep]
         inside = shapely.contains_xy(shape, g.origin[0] + (cc + 0.5) * res, g.origin[1] + (rr + 0.5) * res)
         return rr, cc, inside
 
+    def _holds_a_centre(self, shape: shapely.Geometry) -> bool:
+        """True when the shape surely holds a pixel centre of the grid, without testing each: a point of
+        the grid at least half a pixel's diagonal inside it has its own pixel's centre inside it too."""
+        g, res = self.grid, self.grid.resolution
+        box = shapely.box(g.origin[0], g.origin[1], g.origin[0] + g.width * res, g.origin[1] + g.height * res)
+        return not shapely.intersection(shapely.buffer(shape, -res * 0.7072), box).is_empty
+
     def core(self, cell: shapely.Geometry, other: shapely.Geometry) -> tuple[np.ndarray, np.ndarray]:
-        """(rows, cols) of ``cell``'s core pixels, less those of ``other`` when drawn inside it."""
+        """(rows, cols) of ``cell``'s core pixels in the space, less those of ``other`` when drawn inside
+        it. The core is that of the first shape holding any pixel centre: one whose centres all lie
+        outside the space yields no pixel (none of them could have a label)."""
         half = self.grid.resolution / 2
         shapes = [shapely.buffer(cell, -self.r), cell, shapely.buffer(cell, half, join_style="mitre")]
+        empty = np.zeros(0, dtype=int), np.zeros(0, dtype=int)
         for shape in shapes:
             if shape.is_empty:
                 continue
-            rr, cc, inside = self._centres(shape)
-            if _inside(other, cell, shape):
-                inside &= ~shapely.contains_xy(
-                    other,
-                    self.grid.origin[0] + (cc + 0.5) * self.grid.resolution,
-                    self.grid.origin[1] + (rr + 0.5) * self.grid.resolution,
-                )
-            if inside.any():
-                return rr[inside], cc[inside]
-        return np.zeros(0, dtype=int), np.zeros(0, dtype=int)
+            for space in (True, False):
+                if not space and not _inside(other, cell, shape) and self._holds_a_centre(shape):
+                    return empty  # some pixel centre lies in the shape, none of them in the space
+                rr, cc, inside = self._centres(shape, space)
+                if _inside(other, cell, shape):
+                    inside &= ~shapely.contains_xy(
+                        other,
+                        self.grid.origin[0] + (cc + 0.5) * self.grid.resolution,
+                        self.grid.origin[1] + (rr + 0.5) * self.grid.resolution,
+                    )
+                if inside.any():
+                    return (rr[inside], cc[inside]) if space else empty
+        return empty
 
     def joined(self, a: shapely.Geometry, b: shapely.Geometry, labels: np.ndarray | None = None) -> bool:
         """Whether a core pixel of ``a`` and one of ``b`` share a component of ``labels`` (default: all)."""
@@ -104,7 +122,7 @@ class Clearance:
     def joined_near(self, a: shapely.Geometry, b: shapely.Geometry, others: list[shapely.Geometry]) -> bool:
         """:meth:`joined` within the two cells and the band round them, every other cell taken out."""
         near = shapely.difference(shapely.union(a, b).buffer(NEAR, join_style="mitre"), shapely.union_all(others))
-        rr, cc, inside = self._centres(near)
+        rr, cc, inside = self._centres(near)  # only the space's pixels: the rest is masked out below
         mask = np.zeros_like(self.space)
         mask[rr[inside], cc[inside]] = True
         return self.joined(a, b, ndimage.label(self.space & mask)[0])
