@@ -121,6 +121,11 @@ class StoreyRegions:
         code = self.index[cell_id]
         return {code, code + len(self.index)}
 
+    @property
+    def both(self) -> int:
+        """The code of pixels two cells claim (overlapping cells): in neither cell's regions."""
+        return 2 * len(self.index) + 1
+
     def core(self, cell_id: str) -> int:
         """The code of a cell's core (its whole self when no core pixel was drawn)."""
         code = self.index[cell_id]
@@ -175,7 +180,8 @@ def _owners(
     outlines: dict[object, Outline],
 ) -> np.ndarray:
     """The owner code of each pixel of ``strip``: 0 outside every cell, i for the i-th cell, n + i in its
-    core; ``painted`` counts core pixels per cell, ``shared`` gains the cells that claim one pixel."""
+    core, 2n + 1 where two cells claim it; ``painted`` counts core pixels per cell, ``shared`` gains the
+    cells that claim a pixel with another."""
     n = len(order)
     own = np.zeros(strip.shape, dtype=np.int32)
     r = frame.resolution
@@ -188,11 +194,15 @@ def _owners(
             continue
         mask = frame.mask(win, cells[cid].footprint, foot)
         sub = own[win.r0 - strip.r0 : win.r1 - strip.r0, win.c0 : win.c1]
-        if (mask & (sub != 0)).any():
-            clash = sub[mask]
+        both = mask & (sub != 0)
+        if both.any():  # pixels two cells claim: owned by neither, but by the code of shared pixels
+            claimed = sorted_unique(sub[both])
             shared.add(cid)
-            shared.update(order[(int(c) - 1) % n] for c in sorted_unique(clash[clash != 0]))
-        np.copyto(sub, i + 1, where=mask)
+            shared.update(order[(int(c) - 1) % n] for c in claimed if c != 2 * n + 1)
+            np.copyto(sub, i + 1, where=mask & ~both)
+            sub[both] = 2 * n + 1
+        else:
+            np.copyto(sub, i + 1, where=mask)
         core = cores.get(cid)
         if core is None or core.is_empty:
             continue
@@ -200,8 +210,9 @@ def _owners(
         cwin = _clip(frame.window(inner[1], 1), strip)
         if cwin.empty:
             continue
-        cmask = frame.mask(cwin, core, inner)
-        np.copyto(own[cwin.r0 - strip.r0 : cwin.r1 - strip.r0, cwin.c0 : cwin.c1], n + i + 1, where=cmask)
+        cpart = own[cwin.r0 - strip.r0 : cwin.r1 - strip.r0, cwin.c0 : cwin.c1]
+        cmask = frame.mask(cwin, core, inner) & (cpart == i + 1)  # not where another cell claims it too
+        np.copyto(cpart, n + i + 1, where=cmask)
         painted[i + 1] += int(cmask.sum())
     return own
 

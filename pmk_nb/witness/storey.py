@@ -106,9 +106,13 @@ class _Storey:
         """Whether the labelled storey leaves any way between the cores of ``a`` and ``b`` through their
         own pixels and pixels outside every cell (False proves no leak)."""
         g = self.graphs()
-        if a in g.shared or b in g.shared:
+        if a in g.shared and b in g.shared:
             return True
-        return g.free.joins([g.core(a)], {g.core(b)}, g.codes(a) | g.codes(b), None)
+        # a cell overlapping another owns some of its pixels only as "claimed by two": any such region
+        # may be its own, so it may start (or end) the way and any may lie on it
+        starts = [g.core(a), g.both] if a in g.shared else [g.core(a)]
+        ends = {g.core(b), g.both} if b in g.shared else {g.core(b)}
+        return g.free.joins(starts, ends, g.codes(a) | g.codes(b) | {g.both}, None)
 
     def neighbours(self, cell_id: str) -> set[str]:
         """The cells a transition joins to ``cell_id``."""
