@@ -82,9 +82,11 @@ def test_the_stick_drives_the_chair_and_release_stops_it_within_half_a_second(ch
     # 20 Hz ticks, plus the command the press sends at once and one tick of rounding
     span = released - t0
     assert 10 * span <= len(rates) <= 20 * span + 2, f"{len(rates)} commands in {span:.2f} s"
-    # release: one zero, then silence (commands published just before the release are still in flight)
+    # release: one zero, then silence (commands published just before the release are still in flight:
+    # on a busy machine one may arrive a few hundred ms late, but never after the zero, and within the
+    # half second the release is allowed)
     assert sent[-1][1:] == (0.0, 0.0) and [m[1:] for m in sent].count((0.0, 0.0)) == 1
-    assert all(m[0] < released + 0.1 for m in sent[:-1])
+    assert all(m[0] < released + 0.5 for m in sent[:-1])
     assert session.gate.last_stop is StopReason.RELEASED
 
 
