@@ -173,7 +173,7 @@ def test_pmk_dashboard_allow_local_reaches_the_kernels_maps_folder(
 
     seen: list[dict[str, str]] = []
     monkeypatch.setattr(dashboard, "preflight", lambda args, env, kiosk=False: None)
-    monkeypatch.setattr(dashboard, "serve", lambda args, env, tmp, token, tls=None: seen.append(env) or 0)
+    monkeypatch.setattr(dashboard, "serve_dashboard", lambda args, env, tmp, token, tls=None: seen.append(env) or 0)
     for argv, expected in ((["--allow-local"], True), ([], False)):
         assert main(["dashboard", "--port", "8866", *argv]) == 0
         monkeypatch.setenv(netguard.ALLOW_LOCAL_ENV, seen[-1][netguard.ALLOW_LOCAL_ENV])
