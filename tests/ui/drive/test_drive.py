@@ -135,8 +135,13 @@ def test_the_drive_toggle_shows_the_stick_only_when_asked_and_stops_when_switche
     assert panel.widget.layout.display == "none"
     panel.toggle.value = True
     assert panel.session is not None and panel.widget.layout.display == "flex"
-    for seq in range(1, 6):
+    seq = 0
+    deadline = time.monotonic() + 10.0  # the page's keepalives every 100 ms until the chair moves (a busy
+    while time.monotonic() < deadline:  # machine may take a few hundred ms to carry the first command)
+        seq += 1
         panel.channel.value = page(seq, 1)
+        if sim.velocity[0] == pytest.approx(0.3, abs=0.01):
+            break
         time.sleep(0.1)
     assert sim.velocity[0] == pytest.approx(0.3, abs=0.01)
     panel.toggle.value = False  # switching Drive off while driving stops the chair
