@@ -49,8 +49,9 @@ def header_size(path: Path) -> tuple[int, int] | None:
 
 
 def gray_pgm_layout(path: Path) -> tuple[int, int, int] | None:
-    """(width, height, offset of the first pixel byte) of a binary PGM of one byte a sample (maxval 255),
-    else None: the one layout whose pixels are the file's bytes as they stand.
+    """(width, height, offset of the first pixel byte) of a binary PGM of one byte a sample (maxval 255)
+    whose header has no comment, else None: the one layout whose pixels are the file's bytes as they
+    stand, and whose header every reader reads alike.
 
     Raises:
         MalformedImageHeader: a Netpbm header that breaks the grammar. OSError: the file cannot be read.
@@ -60,7 +61,7 @@ def gray_pgm_layout(path: Path) -> tuple[int, int, int] | None:
     if head[:2] != b"P5":
         return None
     values, end = _netpbm_header(head, 3, path)
-    return (values[0], values[1], end) if values[2] == 255 else None
+    return (values[0], values[1], end) if values[2] == 255 and b"#" not in head[:end] else None
 
 
 def netpbm_tokens(head: bytes, count: int, path: Path) -> list[int]:
