@@ -207,12 +207,12 @@ class DriveSession:
         kernels cancel theirs when they see the latch: :mod:`pmk_nb.drive.stopwatch`)."""
         with self._lock:
             self.gate.stop(StopReason.STOP_BUTTON)
-        self._kick.set()  # the zero goes now, not at the next (idle, slower) tick
-        if self.claim is not None:
+        if self.claim is not None:  # the latch first: a page ticking after this zero sees it
             try:
                 self.claim_view = self.claim.stop()
             except OSError:
                 log.exception("latching the Stop for the other pages failed")
+        self._kick.set()  # the zero goes now, not at the next (idle, slower) tick
         if self.stop_goals is not None:
             try:
                 self.stop_goals(self.topic)
