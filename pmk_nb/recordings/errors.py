@@ -43,3 +43,12 @@ class MissingPackage(RecordingReadError):
             hint=f"Install {package} into the notebook's environment (pip install {package}).",
         )
         self.package, self.purpose = package, purpose
+
+
+class RecordingFileError(PmkError):
+    """A recording could not be chosen or stored in the recordings folder (``name``: the file as the user
+    named it, ``folder``: the recordings folder, ``reason``: why)."""
+
+    def __init__(self, *, name: str, folder: str, reason: str, hint: str = "") -> None:
+        super().__init__(f"{name}: {reason}", hint=hint)
+        self.name, self.folder, self.reason = name, folder, reason

@@ -89,6 +89,8 @@ class Timeline:
         self._times = {t: np.array([r["received"] - self.start for r in rs]) for t, rs in self._rows.items()}
         maps = list(rows.get(self.map_topic) or ()) if self.map_topic else []
         self.grid = _grid(maps[-1]) if maps else None
+        self._all: dict[str, list[Mapping[str, Any]]] = {t: list(rs) for t, rs in rows.items() if rs}
+        self._series_times: dict[str, np.ndarray] = {}
 
     @classmethod
     def from_tables(cls, tables: Any) -> Timeline:
@@ -117,6 +119,38 @@ class Timeline:
         points = [(r[f"{prefix}position.x"], r[f"{prefix}position.y"]) for r in rows]
         return np.array(points, dtype=float).reshape(-1, 2)
 
+    def numeric_fields(self) -> list[tuple[str, str]]:
+        """Every (topic, field) whose first message holds a number there: what the replay can plot."""
+        found: list[tuple[str, str]] = []
+        for topic in sorted(self._all):
+            found += [(topic, key) for key, value in self._all[topic][0].items() if _plottable(key, value)]
+        return found
+
+    def default_field(self) -> tuple[str, str] | None:
+        """The field a replay plots first: the chair's forward speed if recorded, else the first number."""
+        fields = self.numeric_fields()
+        for wanted in ("twist.twist.linear.x", "linear.x"):
+            hit = next((f for f in fields if f[1] == wanted and f[0] == self.pose_topic), None)
+            hit = hit or next((f for f in fields if f[1] == wanted), None)
+            if hit:
+                return hit
+        return fields[0] if fields else None
+
+    def series(self, topic: str, field: str) -> tuple[np.ndarray, np.ndarray]:
+        """(times since the recording began, values) of ``field`` on ``topic``; NaN where a message lacks it."""
+        rows = self._all.get(topic, [])
+        times = self._series_times.get(topic)
+        if times is None:
+            times = self._series_times[topic] = np.array([r["received"] - self.start for r in rows], dtype=float)
+        values = np.array([_number(r.get(field)) for r in rows], dtype=float)
+        return times, values
+
+    def value_at(self, topic: str, field: str, t: float) -> float | None:
+        """``field``'s latest value at or before ``t`` (None before its first message)."""
+        times, values = self.series(topic, field)
+        i = _latest(times, t)
+        return None if i is None else float(values[i])
+
     def at(self, t: float) -> ReplayFrame:
         """The layers at ``t`` seconds since the recording began (clamped to the recording)."""
         t = min(max(t, 0.0), self.duration)
@@ -131,6 +165,18 @@ class Timeline:
         plan = self._row(self.path_topic, t)
         path = _path(plan) if plan is not None else None
         return ReplayFrame(t, pose, laser, path)
+
+
+def _plottable(key: str, value: object) -> bool:
+    if key in ("received", "stamp") or isinstance(value, bool):
+        return False
+    return isinstance(value, int | float | np.integer | np.floating)
+
+
+def _number(value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        return math.nan
+    return float(value)
 
 
 def _hits(scan: Mapping[str, Any], pose: tuple[float, float, float]) -> np.ndarray:

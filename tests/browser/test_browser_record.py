@@ -56,3 +56,25 @@ def test_record_stop_and_download_on_home(tmp_path: Path) -> None:
         page.locator(".pmk-replay-slider .noUi-handle").press("End")  # to the recording's end, by keyboard
         expect(caption).to_contain_text(re.compile(r"^(\d+\.\d) s of \1 s · chair at x"), timeout=30_000)
         page.screenshot(path=str(ARTIFACTS / "record-replay.png"))
+
+        # another tool's recording (a ros2 bag's MCAP), uploaded from this device: kept and replayed
+        from tests.ros2_bags import SPEED, write_drive_bag
+
+        bag = write_drive_bag(tmp_path / "device", seconds=4.0, name="corridor")
+        with page.expect_file_chooser() as chooser:
+            page.locator(".pmk-record-upload").first.click()
+        chooser.value.set_files(str(bag))
+        opened = page.locator(".pmk-record-open-status")
+        expect(opened).to_contain_text("Replaying corridor.mcap: 4.0 s", timeout=30_000)
+        expect(caption).to_contain_text("chair at x 0.00 m, y 1.00 m")
+        value = page.locator(".pmk-replay-value")
+        expect(value).to_contain_text(f"/odom · twist.twist.linear.x = {SPEED:.4g} at 0.0 s")
+        cursor = page.locator(".pmk-replay-cursor")
+        start_left = cursor.evaluate("el => el.getBoundingClientRect().left")
+        page.locator(".pmk-replay-slider .noUi-handle").press("End")
+        expect(caption).to_contain_text("4.0 s of 4.0 s · chair at x 2.00 m, y 1.00 m", timeout=30_000)
+        expect(value).to_contain_text("at 4.0 s")
+        assert cursor.evaluate("el => el.getBoundingClientRect().left") > start_left + 100  # it crossed the plot
+        files = page.locator(".pmk-record-files select")
+        expect(files).to_have_value(re.compile(r"^corridor\.mcap \("))  # kept in the recordings folder, chosen in the list
+        page.screenshot(path=str(ARTIFACTS / "record-replay-bag.png"))

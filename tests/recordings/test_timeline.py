@@ -92,3 +92,23 @@ def test_amcl_pose_wins_over_odometry_and_an_empty_recording_has_no_layers() -> 
     assert late.first_pose == 1.0 and late.at(0.5).pose is None  # the scan came first
     empty = Timeline({}, {})
     assert empty.duration == 0.0 and empty.at(1.0).pose is None and empty.grid is None and empty.poses().shape == (0, 2)
+
+
+def test_any_numeric_field_is_a_series_and_its_value_holds_until_the_next_message() -> None:
+    timeline = _timeline()
+    fields = timeline.numeric_fields()
+    assert ("/odom", "pose.pose.position.x") in fields and ("/scan", "angle_increment") in fields
+    assert not any(f in ("received", "stamp", "ranges", "data", "poses") for _, f in fields)  # arrays, times
+    times, values = timeline.series("/odom", "pose.pose.position.x")
+    assert times.tolist() == [0.0, 1.0, 2.0] and values.tolist() == [0.0, 1.0, 2.0]
+    assert timeline.value_at("/odom", "pose.pose.position.x", 1.5) == 1.0
+    assert timeline.value_at("/scan", "angle_min", 1.0) is None  # before the first scan
+    _, missing = timeline.series("/odom", "no.such.field")
+    assert np.isnan(missing).all()
+    assert timeline.default_field() == fields[0]  # no speed recorded: the first number
+
+
+def test_the_default_plot_is_the_chairs_speed() -> None:
+    rows = {"/odom": [{**_odom(0.0, 0.0), "twist.twist.linear.x": 0.4}], "/other": [{"received": T0, "a": 1.0}]}
+    assert Timeline(rows, TYPES).default_field() == ("/odom", "twist.twist.linear.x")
+    assert Timeline({}, {}).default_field() is None

@@ -17,6 +17,7 @@ import ipywidgets as w
 
 from pmk_nb.errors import AlreadyExists, LibraryError
 from pmk_nb.ui.common.context import needs_pin
+from pmk_nb.ui.common.upload import uploaded_file
 from pmk_nb.ui.common.widgets import TOUCH_PX, ConfirmBox, escape, guard
 
 if TYPE_CHECKING:
@@ -72,13 +73,10 @@ class ImportPanel:
             self.ctx.notify(message, level, inline=True)  # type: ignore[arg-type]
 
     def _on_upload(self, change: dict[str, Any]) -> None:
-        files = change.get("new") or ()
-        if not files:
+        got = uploaded_file(change)
+        if got is None:
             return
-        item = files[0]
-        filename = Path(str(item.get("name", "upload.gml"))).name
-        content = item.get("content", b"")
-        data = content.tobytes() if isinstance(content, memoryview) else bytes(content)
+        filename, data = Path(got[0]).name or "upload.gml", got[1]
         self.upload.value = ()  # so the same file can be chosen again
         if len(data) > UPLOAD_MAX_BYTES:
             self._say(

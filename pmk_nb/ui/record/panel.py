@@ -1,6 +1,8 @@
 """Home's Record panel: Record / Stop recording, the running recording's time, messages and file,
-download links for the finished recording and for the current map (YAML + image, zipped), and
-**Replay** of the finished recording (:mod:`.replay`: pose, laser and path following a time slider).
+download links for the finished recording and for the current map (YAML + image, zipped),
+**Replay** of the finished recording (:mod:`.replay`: pose, laser, path and a plot following a time
+slider), and **Open**: any MCAP of the recordings folder (ours, ``ros2 bag``'s, Foxglove's), or one
+uploaded from this device into it, replayed the same way.
 
 Recordings go in ``recordings/`` beside the maps folder (``MapsFolder.root``'s parent), one MCAP
 file per recording named by its start time. Starting writes files on the tablet, so on a locked
@@ -14,12 +16,14 @@ from __future__ import annotations
 import threading
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
+from pmk_nb.recordings import RecordingFileError, list_recordings, recording_in, save_upload
 from pmk_nb.ui.common.context import needs_pin
-from pmk_nb.ui.common.widgets import button, escape, guard, html_slot, run_in_thread
+from pmk_nb.ui.common.upload import uploaded_file
+from pmk_nb.ui.common.widgets import TOUCH_PX, button, escape, guard, html_slot, run_in_thread
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.record.downloads import file_link_html, link_html, map_zip
 from pmk_nb.ui.record.replay import ReplayView
@@ -56,6 +60,16 @@ class RecordPanel:
         self.finished: Path | None = None  # the last recording this panel finished
         self.replay_view: ReplayView | None = None
         self.replay_slot = w.VBox([])
+        self.files = w.Dropdown(options=[], description="Recording", layout=w.Layout(width="auto", max_width="28em"))
+        self.files.add_class("pmk-record-files")
+        self.open_button = button("Open", "pmk-record-open", icon="folder-open", tooltip="Replay the chosen recording")
+        self.refresh_button = button("", "pmk-record-refresh", icon="refresh", tooltip="List the recordings again")
+        self.upload = w.FileUpload(
+            accept=".mcap", multiple=False, description="Upload MCAP", tooltip="Replay an MCAP file from this device"
+        )
+        self.upload.layout = w.Layout(height=f"{TOUCH_PX}px", width="auto")
+        self.upload.add_class("pmk-record-upload")
+        self.open_status = html_slot("pmk-record-open-status")
         self.status = html_slot("pmk-record-status")
         self.downloads = html_slot("pmk-record-downloads")
         self.map_link = html_slot("pmk-record-map-link")
@@ -63,16 +77,25 @@ class RecordPanel:
         self.stop_button.on_click(guard(ctx, "Stopping the recording")(lambda _b: self.stop()))
         self.map_button.on_click(guard(ctx, "Downloading the map")(lambda _b: self.offer_map()))
         self.replay_button.on_click(guard(ctx, "Opening the replay")(lambda _b: self.replay()))
+        self.open_button.on_click(guard(ctx, "Opening the recording")(lambda _b: self.open_chosen()))
+        self.refresh_button.on_click(guard(ctx, "Listing the recordings")(lambda _b: self.list_files()))
+        self.upload.observe(guard(ctx, "Uploading a recording")(self._on_upload), names="value")
         # wraps on a narrow screen (a phone) instead of making the page scroll sideways
         row = w.HBox(
             [self.record_button, self.stop_button, self.replay_button, self.map_button, self.status],
             layout=w.Layout(flex_flow="row wrap", align_items="center", max_width="100%"),
         )
         row.add_class("pmk-record-row")
-        self.widget = w.VBox([row, self.downloads, self.map_link, self.replay_slot])
+        open_row = w.HBox(
+            [self.files, self.open_button, self.refresh_button, self.upload],
+            layout=w.Layout(flex_flow="row wrap", align_items="center", max_width="100%"),
+        )
+        open_row.add_class("pmk-record-open-row")
+        self.widget = w.VBox([row, self.downloads, self.map_link, open_row, self.open_status, self.replay_slot])
         self.widget.add_class("pmk-record")
         self._loop = RenderLoop(self.refresh, STATUS_HZ)
         self._show(False)
+        self.list_files()
 
     def _show(self, running: bool) -> None:
         self.record_button.layout.display = "none" if running else ""
@@ -145,6 +168,7 @@ class RecordPanel:
         self.downloads.value = file_link_html(path, f"Download {path.name}", "pmk-record-link")
         self.finished = path
         self._show(False)
+        self.list_files(select=path.name)
 
     def replay(self) -> threading.Thread | None:
         """Open the finished recording's replay under the panel (the file is read in a thread)."""
@@ -152,11 +176,67 @@ class RecordPanel:
         if path is None:
             return None
 
+        return self._open(path, "Opening the replay")
+
+    def _open(self, path: Path, action: str) -> threading.Thread | None:
+        """Read ``path`` in a thread and show its replay under the panel (or say why it cannot be read)."""
+        self.open_status.value = f"Opening {escape(path.name)}…"
+
         def opened(view: ReplayView) -> None:
             self.replay_view = view
             self.replay_slot.children = [view.widget]
+            topics = len(view.timeline.numeric_fields())
+            self.open_status.value = (
+                f"Replaying {escape(path.name)}: {view.timeline.duration:.1f} s"
+                + ("" if view.timeline.pose_topic else " · no pose topic: nothing to show on the map")
+                + ("" if topics else " · no numeric field to plot")
+            )
 
-        return run_in_thread(self.ctx, "Opening the replay", lambda: ReplayView(path), on_done=opened)
+        def failed(err: BaseException) -> None:
+            self.open_status.value = f'<span class="pmk-record-error">{escape(err)}</span>'
+
+        return run_in_thread(self.ctx, action, lambda: ReplayView(path), on_done=opened, on_error=failed)
+
+    def list_files(self, select: str | None = None) -> None:
+        """List the recordings folder in the picker (newest first), keeping (or making) ``select`` the choice."""
+        found = list_recordings(recordings_dir(self.ctx))
+        keep = select if select is not None else self.files.value
+        self.files.options = [(r.label, r.name) for r in found]
+        names = [r.name for r in found]
+        self.files.value = keep if keep in names else (names[0] if names else None)
+        self.open_button.disabled = not names
+
+    def open_chosen(self) -> threading.Thread | None:
+        """Replay the recording chosen in the picker (looked up again: the page may send any name)."""
+        try:
+            path = recording_in(recordings_dir(self.ctx), self.files.value)
+        except RecordingFileError as err:
+            self._refused(err)
+            self.list_files()
+            return None
+        return self._open(path, "Opening the recording")
+
+    def _refused(self, err: RecordingFileError) -> None:
+        hint = f" {err.hint}" if err.hint else ""
+        self.open_status.value = f'<span class="pmk-record-error">{escape(err.message)}.{escape(hint)}</span>'
+
+    def _on_upload(self, change: dict[str, Any]) -> None:
+        got = uploaded_file(change)
+        if got is None:
+            return
+        self.upload.value = ()  # so the same file can be chosen again
+        self.store_upload(*got)
+
+    @needs_pin("Uploading a recording")
+    def store_upload(self, name: str, data: bytes) -> threading.Thread | None:
+        """Keep an uploaded MCAP in the recordings folder (replacing nothing) and replay it."""
+        try:
+            path = save_upload(recordings_dir(self.ctx), name, data)
+        except RecordingFileError as err:
+            self._refused(err)
+            return None
+        self.list_files(select=path.name)
+        return self._open(path, "Opening the recording")
 
     def offer_map(self) -> None:
         """A download link for the current map's YAML and image, zipped."""

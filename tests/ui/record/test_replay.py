@@ -3,10 +3,13 @@ text follow the time slider; Home's Record panel offers Replay for the recording
 
 from __future__ import annotations
 
+import datetime as dt
 import math
 import re
 import time
 from pathlib import Path
+
+import pytest
 
 from pmk_nb.chair import ChairProfile
 from pmk_nb.ui.record.panel import RecordPanel
@@ -76,5 +79,96 @@ def test_the_record_panel_replays_the_recording_it_finished(sim_factory, tmp_pat
             assert view is not None and list(panel.replay_slot.children) == [view.widget], panel.status.value
             view.slider.value = view.slider.max
             assert view.path == panel.finished and "chair at x" in view.caption.value
+        finally:
+            panel.close()
+
+
+def _panel_replay(panel: RecordPanel, opening: object) -> ReplayView:
+    assert opening is not None
+    opening.join(30)  # type: ignore[attr-defined]
+    view = panel.replay_view
+    assert view is not None and list(panel.replay_slot.children) == [view.widget], panel.open_status.value
+    return view
+
+
+def test_any_mcap_in_the_folder_replays_with_a_plot_that_follows_the_slider(tmp_path: Path) -> None:
+    """A ``ros2 bag`` MCAP copied into the recordings folder: listed, opened, the chair and the plot's
+    cursor follow the slider; a file gone since the list was made is said, not raised."""
+    from pmk_nb.ui.record.panel import recordings_dir
+    from tests.ros2_bags import SPEED, write_drive_bag
+
+    bag = write_drive_bag(tmp_path / "elsewhere", seconds=4.0)
+    with app_context(tmp_path) as ctx:
+        folder = recordings_dir(ctx)
+        folder.mkdir(parents=True)
+        (folder / "drive.mcap").write_bytes(bag.read_bytes())
+        panel = RecordPanel(ctx)
+        try:
+            assert panel.files.value == "drive.mcap" and not panel.open_button.disabled
+            view = _panel_replay(panel, panel.open_chosen())
+            assert "Replaying drive.mcap: 4.0 s" in panel.open_status.value
+            assert view.field.value == ("/odom", "twist.twist.linear.x")  # the chair's speed, plotted first
+            start_cursor, start_pose = view.plot.value, _pose_in(view.caption.value)
+            view.slider.value = view.slider.max
+            assert math_dist(start_pose, _pose_in(view.caption.value)) == pytest.approx(SPEED * 4.0, abs=0.06)
+            assert f"= {SPEED:.4g} at 4.0 s" in view.value.value and view.plot.value != start_cursor
+            left = [float(x) for x in re.findall(r"left: ([\d.]+)%", start_cursor + view.plot.value)]
+            assert left[0] < left[1]  # the cursor moved right with the slider
+            view.field.value = ("/odom", "pose.pose.position.x")  # another field: drawn at the same time
+            assert "pose.pose.position.x = 2 at 4.0 s" in view.value.value
+
+            (folder / "drive.mcap").unlink()  # gone since the list was made
+            assert panel.open_chosen() is None
+            assert "no such recording" in panel.open_status.value and panel.files.options == ()
+            assert panel.open_button.disabled
+        finally:
+            panel.close()
+
+
+def test_an_upload_is_kept_in_the_folder_and_replayed_and_a_bad_one_is_said(tmp_path: Path) -> None:
+    from pmk_nb.ui.record.panel import recordings_dir
+    from tests.ros2_bags import write_drive_bag
+
+    data = write_drive_bag(tmp_path / "device", seconds=2.0).read_bytes()
+    with app_context(tmp_path) as ctx:
+        panel = RecordPanel(ctx)
+        try:
+            assert panel.files.options == () and panel.open_button.disabled  # nothing recorded yet
+            rosbag1 = memoryview(b"#ROSBAG V2.0\n")  # as the page's FileUpload sends a file
+            when = dt.datetime.now(dt.UTC)
+            sent = {"name": "run.bag", "type": "", "size": 13, "content": rosbag1, "last_modified": when}
+            panel.upload.value = (sent,)
+            assert "does not end in .mcap" in panel.open_status.value and not recordings_dir(ctx).exists()
+            for junk in ("junk", ({"name": 3, "content": b"x"},), ({"name": "a.mcap", "content": "text"},)):
+                panel._on_upload({"new": junk})  # what a page may set the synced value to: nothing happens
+            assert not recordings_dir(ctx).exists()
+            opening = panel.store_upload("run.mcap", data)
+            view = _panel_replay(panel, opening)
+            assert (recordings_dir(ctx) / "run.mcap").read_bytes() == data
+            assert panel.files.value == "run.mcap" and view.path == recordings_dir(ctx) / "run.mcap"
+            assert "chair at x" in view.caption.value
+        finally:
+            panel.close()
+
+
+def test_a_locked_kiosk_refuses_an_upload_but_replays(tmp_path: Path) -> None:
+    from pmk_nb.errors import KioskLocked
+    from pmk_nb.ui.kiosk.pin import KioskLock, PinStore
+    from pmk_nb.ui.record.panel import recordings_dir
+    from tests.ros2_bags import write_drive_bag
+
+    bag = write_drive_bag(tmp_path / "device", seconds=1.0)
+    PinStore(tmp_path / "cfg").set_pin("4711", "4711")
+    with app_context(tmp_path) as ctx:
+        ctx.kiosk = KioskLock(PinStore(ctx.config_dir))
+        panel = RecordPanel(ctx)
+        try:
+            with pytest.raises(KioskLocked):
+                panel.store_upload("run.mcap", bag.read_bytes())
+            assert not recordings_dir(ctx).exists()
+            recordings_dir(ctx).mkdir(parents=True)
+            (recordings_dir(ctx) / "run.mcap").write_bytes(bag.read_bytes())
+            panel.list_files()
+            assert "chair at x" in _panel_replay(panel, panel.open_chosen()).caption.value  # reading needs no PIN
         finally:
             panel.close()
