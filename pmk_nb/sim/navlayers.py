@@ -6,6 +6,14 @@ the chair (in ``odom``), the chair's footprint, the local plan while a goal runs
 the goal: what a researcher sees in RViz, so the dashboard's layers can be tried without a robot.
 Each is sent only while someone subscribes; the costmaps' cell values use the OccupancyGrid scale
 (0 free .. 98, 99 inscribed, 100 lethal, -1 unknown).
+
+As Nav2's costmap publisher does (``always_send_full_costmap: false``), the global costmap goes whole
+to a new subscriber and when the map changes, and between those as ``map_msgs/OccupancyGridUpdate``
+patches on ``<costmap>_updates``: each second, the window its obstacle layer updates round the chair,
+grown to cover any cell marked since (:meth:`SimNavLayers.mark`: what a laser hit on a person makes).
+The whole costmap is also repeated every few seconds, standing in for the transient-local durability
+that lets a late subscriber of a real Nav2 get the last full costmap (rosbridge subscribes as one
+client for all pages).
 """
 
 from __future__ import annotations
@@ -18,6 +26,7 @@ import numpy as np
 
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.sim.gridops import dilate_disk
+from pmk_nb.sim.jsonfast import RawJSON, int8_array_json
 from pmk_nb.sim.messages import pose_msg, vec3
 
 if TYPE_CHECKING:
@@ -31,6 +40,7 @@ SCALING = 3.0  # Nav2's default cost_scaling_factor
 RINGS = 8  # cost steps between the inscribed and the inflation radius
 LOCAL_SIZE_M = 4.0  # a 4 m x 4 m rolling window, as a small Nav2 local costmap
 GLOBAL_REPEAT_S = 5.0
+GLOBAL_UPDATE_S = 1.0  # Nav2's global costmap publish_frequency
 LOCAL_PERIOD_S = 0.5
 FOOTPRINT_PERIOD_S = 0.2
 PLAN_PERIOD_S = 0.2
@@ -74,6 +84,10 @@ def window(costs: np.ndarray, grid: OccupancyGrid, centre: tuple[float, float], 
     return OccupancyGrid(out, res, origin, frame_id="odom")
 
 
+def _union(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
+    return min(a[0], b[0]), max(a[1], b[1]), min(a[2], b[2]), max(a[3], b[3])
+
+
 @dataclass(frozen=True)
 class LayerTopics:
     """Where the layers go: Nav2's names on ROS 2, move_base's on ROS 1."""
@@ -111,6 +125,7 @@ class SimNavLayers:
         self._due: dict[str, float] = {}
         self._had_global_subs = False
         self._markers_shown = False
+        self._dirty: tuple[int, int, int, int] | None = None  # rows r0:r1, cols c0:c1 marked since the last patch
 
     def attach(self, bridge: Bridge) -> None:
         n, t = self.names, self.topics
@@ -134,7 +149,61 @@ class SimNavLayers:
     def use(self, grid: OccupancyGrid, costs: np.ndarray, msg: dict[str, Any]) -> None:
         """Publish ``grid``'s costmaps from now on (the global one at once to its subscribers)."""
         self.grid, self.costs, self._global_msg = grid, costs, msg
+        self._dirty = None
         self._due.pop("global", None)
+
+    def mark(self, x: float, y: float, radius_m: float) -> int:
+        """Mark a lethal disc at (x, y) in the global costmap, as the obstacle layer marks a laser hit on
+        something the map does not have; the next patch carries it. Returns the cells marked.
+
+        Called from another thread: the arrays are replaced, never changed in place under the loop.
+        """
+        grid, costs = self.grid, self.costs
+        if grid is None or costs is None:
+            return 0
+        res = float(grid.resolution)
+        rows, cols = costs.shape
+        ys, xs = np.mgrid[0:rows, 0:cols]
+        cx, cy = (x - grid.origin[0]) / res - 0.5, (y - grid.origin[1]) / res - 0.5
+        disc = (xs - cx) ** 2 + (ys - cy) ** 2 <= (radius_m / res) ** 2
+        if not disc.any():
+            return 0
+        new = costs.copy()
+        new[disc] = LETHAL
+        hit_rows, hit_cols = np.nonzero(disc)
+        box = (int(hit_rows.min()), int(hit_rows.max()) + 1, int(hit_cols.min()), int(hit_cols.max()) + 1)
+        if self._global_msg is not None:  # the same header and info, the new cells
+            self._global_msg = {**self._global_msg, "data": RawJSON(int8_array_json(new))}
+        self.costs = new
+        self._dirty = box if self._dirty is None else _union(self._dirty, box)
+        return int(disc.sum())
+
+    def update_msg(self, centre: tuple[float, float], t: float) -> dict[str, Any] | None:
+        """The patch of the window round ``centre`` and of the cells marked since the last one."""
+        grid, costs = self.grid, self.costs
+        if grid is None or costs is None:
+            return None
+        res = float(grid.resolution)
+        n = max(1, round(LOCAL_SIZE_M / res))
+        col0 = math.floor((centre[0] - grid.origin[0]) / res) - n // 2
+        row0 = math.floor((centre[1] - grid.origin[1]) / res) - n // 2
+        box = (row0, row0 + n, col0, col0 + n)
+        dirty, self._dirty = self._dirty, None
+        if dirty is not None:
+            box = _union(box, dirty)
+        rows, cols = costs.shape
+        r0, r1, c0, c1 = max(box[0], 0), min(box[1], rows), max(box[2], 0), min(box[3], cols)
+        if r0 >= r1 or c0 >= c1:
+            return None
+        patch = costs[r0:r1, c0:c1]
+        return {
+            "header": self.names.header("map", t),
+            "x": c0,
+            "y": r0,
+            "width": c1 - c0,
+            "height": r1 - r0,
+            "data": patch.astype(int).ravel().tolist(),
+        }
 
     def _take(self, key: str, now: float, period: float) -> bool:
         if now < self._due.get(key, -math.inf):
@@ -151,6 +220,12 @@ class SimNavLayers:
         self._had_global_subs = subs
         if subs and self._global_msg is not None and self._take("global", now, GLOBAL_REPEAT_S):
             bridge.publish(t.global_costmap, self._global_msg)
+            self._due["global_update"] = now + GLOBAL_UPDATE_S  # the whole costmap holds every patch
+        updates = f"{t.global_costmap}_updates"
+        if bridge.has_subscribers(updates) and self._take("global_update", now, GLOBAL_UPDATE_S):
+            patch = self.update_msg(chair.pose[:2], wall)
+            if patch is not None:
+                bridge.publish(updates, patch)
         local_due = bridge.has_subscribers(t.local_costmap) and self._take("local", now, LOCAL_PERIOD_S)
         if local_due and self.costs is not None and self.grid is not None:
             local = window(self.costs, self.grid, chair.pose[:2], LOCAL_SIZE_M)

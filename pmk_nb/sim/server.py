@@ -276,6 +276,11 @@ class SimChair:
     def client_count(self) -> int:
         return len(self.bridge.clients) if self.bridge else 0
 
+    def mark_obstacle(self, x: float, y: float, radius: float = 0.25) -> int:
+        """Something the map does not have at (x, y), as the global costmap's obstacle layer marks it: the
+        next costmap patch (``<global costmap>_updates``) carries it. Returns the cells marked."""
+        return self.engine.layers.mark(x, y, radius)
+
     def set_pose(self, x: float, y: float, theta: float = 0.0) -> None:
         self._call(self.engine.teleport, (x, y, theta))
 

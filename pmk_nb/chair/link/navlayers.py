@@ -165,7 +165,8 @@ def same_costmap(a: Costmap, b: Costmap) -> bool:
 
 
 def apply_update(costmap: Costmap, msg: dict[str, Any]) -> Costmap:
-    """``costmap`` with a map_msgs/OccupancyGridUpdate patch applied (a new value; the old is untouched).
+    """``costmap`` with a map_msgs/OccupancyGridUpdate patch applied (a new value; the old is untouched;
+    ``costmap`` itself when the patch changes no cell).
 
     Raises:
         CostmapUpdateOutside: the patch does not fit; BadLayerMessage: it is malformed.
@@ -177,8 +178,11 @@ def apply_update(costmap: Costmap, msg: dict[str, Any]) -> Costmap:
     rows, cols = costmap.data.shape
     if min(x, y, w, h) < 0 or x + w > cols or y + h > rows or patch.size != w * h:
         raise CostmapUpdateOutside((x, y, w, h), (cols, rows))
+    cells = np.clip(patch, -1, 100).astype(np.int8).reshape(h, w)
+    if np.array_equal(costmap.data[y : y + h, x : x + w], cells):
+        return costmap  # Nav2 sends the window it updated, changed or not: nothing new to draw (or send)
     out = costmap.data.copy()
-    out[y : y + h, x : x + w] = np.clip(patch, -1, 100).astype(np.int8).reshape(h, w)
+    out[y : y + h, x : x + w] = cells
     return Costmap(out, costmap.resolution, costmap.origin, costmap.frame, costmap.topic, costmap.version + 1)
 
 
@@ -305,6 +309,8 @@ class NavLayerWatch:
         self._plan: PlannedPath | None = None
         self._board = MarkerBoard()
         self.counts = dict.fromkeys(LAYERS, 0)
+        #: patches applied per layer (``counts`` counts only those that changed a cell)
+        self.patches = dict.fromkeys(LAYERS, 0)
         self.errors = 0
 
     # -- readers -------------------------------------------------------------------------------------
@@ -478,6 +484,7 @@ class NavLayerWatch:
             log.info("%s", err)
             return
         with self._lock:
-            if self._costmaps.get(layer) is old:
+            self.patches[layer] += 1
+            if self._costmaps.get(layer) is old and new is not old:
                 self._costmaps[layer] = new
                 self.counts[layer] += 1

@@ -53,6 +53,7 @@ def test_a_costmap_and_its_update_patches() -> None:
     patched = apply_update(costmap, {"x": 1, "y": 1, "width": 2, "height": 1, "data": [7, 8]})
     assert patched.data.tolist() == [[0, 50, 100], [-1, 7, 8]] and patched.version == costmap.version + 1
     assert costmap.data.tolist()[1] == [-1, 99, 0]  # the old value is untouched
+    assert apply_update(patched, {"x": 1, "y": 1, "width": 2, "height": 1, "data": [7, 8]}) is patched  # no change
     with pytest.raises(CostmapUpdateOutside) as err:
         apply_update(costmap, {"x": 2, "y": 0, "width": 2, "height": 1, "data": [1, 2]})
     assert err.value.patch == (2, 0, 2, 1) and err.value.size == (3, 2)
@@ -178,3 +179,37 @@ def test_the_simulated_chair_publishes_every_layer_and_the_watch_follows_it(
     watch.follow(link.ros)
     assert GLOBAL not in watch.subscribed and watch.costmap(GLOBAL) is None  # off: unsubscribed, forgotten
     watch.stop()
+
+
+@pytest.mark.slow
+def test_between_whole_costmaps_the_simulator_sends_patches_as_nav2_does(
+    sim_factory: Callable[..., Any], link_factory: Callable[[Any], Any], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Something the map lacks, 1.5 m ahead of the chair, reaches the dashboard as a patch on the
+    updates topic (Nav2's ``always_send_full_costmap: false``): with the whole costmap never repeated,
+    the patch is the only way; the unchanged window's patches make no new version to draw."""
+    from pmk_nb.sim import navlayers as sim_layers
+
+    monkeypatch.setattr(sim_layers, "GLOBAL_REPEAT_S", 3600.0)  # the whole costmap once, to the new subscriber
+    grid = room_grid(8.0, 5.0, resolution=0.05)
+    sim = sim_factory(grid=grid, ros="ros2", start_pose=(1.5, 2.5, 0.0), footprint_radius=0.4)
+    link = link_factory(sim)
+    watch = NavLayerWatch(link.topics_of_type)
+    watch.want(GLOBAL, True)
+    try:
+        assert wait_until(lambda: bool(watch.follow(link.ros) or watch.patches[GLOBAL] >= 2), 20, 0.1)
+        whole = watch.costmap(GLOBAL)
+        assert whole is not None and watch.errors == 0 and watch.counts[GLOBAL] == 1  # the patches changed nothing
+        assert sim.mark_obstacle(3.0, 2.5, 0.2) > 30
+        expected = sim.engine.layers.costs
+
+        def arrived() -> bool:
+            got = watch.costmap(GLOBAL)
+            return got is not None and np.array_equal(got.data, expected)
+
+        assert wait_until(arrived, 15, 0.1)
+        patched = watch.costmap(GLOBAL)
+        assert patched is not None and patched.data[50, 60] == LETHAL and whole.data[50, 60] != LETHAL
+        assert patched.version == whole.version + 1 and watch.errors == 0
+    finally:
+        watch.stop()
