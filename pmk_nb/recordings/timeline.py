@@ -7,7 +7,9 @@ message at or before ``t``:
 
 * pose: the first pose topic recorded, in this order: ``/amcl_pose`` (map frame), ``/odom``, then any
   Odometry, PoseWithCovarianceStamped or PoseStamped topic;
-* laser: the scan's hits (finite ranges) placed round that pose (the laser taken at the chair's centre);
+* laser: the scan's hits (finite ranges) placed round the pose the chair had at the scan's header stamp
+  (the pose topic's messages interpolated by their own header stamps: a turning chair's hits stay on
+  the walls, as RViz places them), else round the latest pose; the laser taken at the chair's centre;
 * path: the latest ``nav_msgs/Path`` (``/plan`` first);
 * map: the latest ``OccupancyGrid`` (``/map``), for the background.
 """
@@ -23,6 +25,8 @@ import numpy as np
 
 POSE_TYPES = ("nav_msgs/msg/Odometry", "geometry_msgs/msg/PoseWithCovarianceStamped", "geometry_msgs/msg/PoseStamped")
 Rows = Sequence[Mapping[str, Any]]
+#: a scan stamped this far (s) outside the poses' stamps is placed at the latest pose instead
+STAMP_SLACK_S = 0.5
 
 
 @dataclass(frozen=True)
@@ -87,6 +91,7 @@ class Timeline:
         layers = [t for t in (self.pose_topic, self.scan_topic, self.path_topic) if t]
         self._rows: dict[str, list[Mapping[str, Any]]] = {t: list(rows.get(t) or ()) for t in layers}
         self._times = {t: np.array([r["received"] - self.start for r in rs]) for t, rs in self._rows.items()}
+        self._by_stamp = _poses_by_stamp(self._rows.get(self.pose_topic or "", []))
         maps = list(rows.get(self.map_topic) or ()) if self.map_topic else []
         self.grid = _grid(maps[-1]) if maps else None
         self._all: dict[str, list[Mapping[str, Any]]] = {t: list(rs) for t, rs in rows.items() if rs}
@@ -118,6 +123,18 @@ class Timeline:
         prefix = _pose_prefix(rows[0]) if rows else ""
         points = [(r[f"{prefix}position.x"], r[f"{prefix}position.y"]) for r in rows]
         return np.array(points, dtype=float).reshape(-1, 2)
+
+    def pose_at_stamp(self, stamp: object) -> tuple[float, float, float] | None:
+        """The chair's pose at a header stamp, interpolated between the pose messages' own stamps (None:
+        no stamp, no stamped poses, or a stamp more than :data:`STAMP_SLACK_S` outside them)."""
+        table = self._by_stamp
+        if table is None or not isinstance(stamp, int | float) or not math.isfinite(stamp):
+            return None
+        stamps, xs, ys, yaws = table
+        if not stamps[0] - STAMP_SLACK_S <= stamp <= stamps[-1] + STAMP_SLACK_S:
+            return None
+        yaw = float(np.interp(stamp, stamps, yaws))
+        return float(np.interp(stamp, stamps, xs)), float(np.interp(stamp, stamps, ys)), math.remainder(yaw, math.tau)
 
     def numeric_fields(self) -> list[tuple[str, str]]:
         """Every (topic, field) whose first message holds a number there: what the replay can plot."""
@@ -161,10 +178,27 @@ class Timeline:
             position = (float(row[f"{prefix}position.x"]), float(row[f"{prefix}position.y"]))
             pose = (*position, _yaw(row, f"{prefix}orientation."))
         scan = self._row(self.scan_topic, t)
-        laser = _hits(scan, pose) if scan is not None and pose is not None else None
+        laser = _hits(scan, self.pose_at_stamp(scan.get("stamp")) or pose) if scan is not None and pose else None
         plan = self._row(self.path_topic, t)
         path = _path(plan) if plan is not None else None
         return ReplayFrame(t, pose, laser, path)
+
+
+def _poses_by_stamp(rows: Rows) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+    """(stamps, x, y, unwrapped yaw) of the pose rows with a finite header stamp, in stamp order."""
+    if not rows:
+        return None
+    prefix = _pose_prefix(rows[0])
+    x, y, turn = f"{prefix}position.x", f"{prefix}position.y", f"{prefix}orientation."
+    table = [
+        (float(r["stamp"]), float(r[x]), float(r[y]), _yaw(r, turn))
+        for r in rows
+        if isinstance(r.get("stamp"), int | float) and math.isfinite(r["stamp"]) and x in r
+    ]
+    if not table:
+        return None
+    arr = np.array(sorted(table), dtype=float)
+    return arr[:, 0], arr[:, 1], arr[:, 2], np.unwrap(arr[:, 3])
 
 
 def _plottable(key: str, value: object) -> bool:

@@ -112,3 +112,21 @@ def test_the_default_plot_is_the_chairs_speed() -> None:
     rows = {"/odom": [{**_odom(0.0, 0.0), "twist.twist.linear.x": 0.4}], "/other": [{"received": T0, "a": 1.0}]}
     assert Timeline(rows, TYPES).default_field() == ("/odom", "twist.twist.linear.x")
     assert Timeline({}, {}).default_field() is None
+
+
+def test_a_scan_is_placed_at_the_pose_of_its_stamp_not_the_latest() -> None:
+    """The chair turns a quarter between two poses; a scan stamped half-way (it arrives late) is cast
+    from the pose half-way, as RViz places it; without a usable stamp, from the latest pose."""
+    rows = {
+        "/odom": [_odom(0.0, 0.0, 0.0), _odom(1.0, 1.0, math.pi / 2)],
+        "/scan": [{**_scan(1.5), "stamp": T0 + 0.5}, {**_scan(1.8), "stamp": T0 + 9.0}],
+    }
+    timeline = Timeline(rows, TYPES)
+    assert timeline.pose_at_stamp(T0 + 0.5) == pytest.approx((0.5, 1.0, math.pi / 4))
+    assert timeline.pose_at_stamp(T0 + 9.0) is None and timeline.pose_at_stamp(None) is None
+    frame = timeline.at(1.6)
+    assert frame.pose == pytest.approx((1.0, 1.0, math.pi / 2))  # the chair is drawn where it is now
+    right = (0.5 + 2.0 * math.cos(-math.pi / 4), 1.0 + 2.0 * math.sin(-math.pi / 4))  # 2 m to its right then
+    assert frame.laser is not None and frame.laser[0] == pytest.approx(right)
+    late = timeline.at(1.9).laser  # stamped far past every pose: the latest pose
+    assert late is not None and late[0] == pytest.approx((1.0 + 2.0, 1.0))
