@@ -32,8 +32,9 @@ from __future__ import annotations
 
 import fcntl
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -84,15 +85,36 @@ def pytest_runtest_protocol(item: pytest.Item, nextitem: pytest.Item | None) -> 
             fcntl.flock(f, fcntl.LOCK_UN)
 
 
+#: seconds spent per tier (setup + call + teardown, summed over workers): where `make test`'s time goes
+tier_seconds: dict[str, float] = {}
+
+
+def _tier(keywords: Mapping[str, Any]) -> str:
+    if "browser" in keywords:
+        return "browser (one at a time)"
+    if "heavy" in keywords:
+        return "heavy, not browser"
+    if "realtime" in keywords:
+        return "realtime (sim, ssh, bridges)"
+    return "unit"
+
+
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:
     """Adds up each unmarked test's setup, call and teardown (on the controller under xdist too)."""
+    tier = _tier(report.keywords)
+    tier_seconds[tier] = tier_seconds.get(tier, 0.0) + report.duration
     if "slow" in report.keywords or "heavy" in report.keywords:
         return
     unmarked_slow[report.nodeid] = unmarked_slow.get(report.nodeid, 0.0) + report.duration
 
 
 def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
-    """Names the tests that belong in the slow tier (a report, not a failure: a loaded machine is slow)."""
+    """Names the tests that belong in the slow tier (a report, not a failure: a loaded machine is slow),
+    and the time each tier took."""
+    if tier_seconds:
+        terminalreporter.write_sep("-", "test time per tier (s, summed over workers)")
+        for tier, seconds in sorted(tier_seconds.items(), key=lambda kv: -kv[1]):
+            terminalreporter.write_line(f"{seconds:8.1f}  {tier}")
     found = sorted((t, nodeid) for nodeid, t in unmarked_slow.items() if t > UNMARKED_SLOW_S)
     if found:
         terminalreporter.write_sep(
