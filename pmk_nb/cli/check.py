@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from pmk_nb.cli.options import (
+    Subparsers,
     add_crs_option,
     add_json,
     add_layer_option,
@@ -34,7 +35,7 @@ EXIT_CODES = (
 )
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "check",
         help="wheelchair accessibility of a building plan or a written map (exit 1: problems, 3: nothing checked)",

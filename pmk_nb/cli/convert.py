@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from pmk_nb.cli.options import (
+    Subparsers,
     add_crs_option,
     add_json,
     add_layer_option,
@@ -103,7 +104,7 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     add_layer_option(p)
 
 
-def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "convert",
         help="convert an IndoorGML file to ROS map_server maps (one set per storey)",

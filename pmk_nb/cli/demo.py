@@ -14,12 +14,13 @@ import os
 from pathlib import Path
 from typing import Any
 
+from pmk_nb.cli.options import Subparsers
 from pmk_nb.cli.server_options import positive_int, server_options
 from pmk_nb.serve import check_port_number, preflight, resolve_tls, serve_dashboard, sigterm_as_interrupt
 from pmk_nb.ui import KIOSK_ENV
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     """Register ``pmk demo``."""
     p = subparsers.add_parser(
         "demo",

@@ -8,10 +8,10 @@ import sys
 from dataclasses import asdict
 from typing import Any
 
-from pmk_nb.cli.options import add_crs_option, add_layer_option, add_not_window_option
+from pmk_nb.cli.options import Subparsers, add_crs_option, add_layer_option, add_not_window_option
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(subparsers: Subparsers) -> argparse.ArgumentParser:
     from pmk_nb.indoorgml import UNIT_CHOICES
 
     p = subparsers.add_parser(

@@ -11,7 +11,7 @@ import argparse
 from dataclasses import asdict
 from typing import TYPE_CHECKING, Any
 
-from pmk_nb.cli.options import error_json, print_json
+from pmk_nb.cli.options import Subparsers, error_json, print_json
 
 if TYPE_CHECKING:
     from pmk_nb.library import MapsFolder
@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 ACTIONS = ("publish", "catalogue", "get")
 
 
-def add_parsers(sub: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:  # type: ignore[type-arg]
+def add_parsers(sub: Subparsers, common: argparse.ArgumentParser) -> None:
     pub = sub.add_parser("publish", parents=[common], help="publish converted maps as a static STAC catalogue")
     pub.add_argument("names", nargs="*", metavar="NAME", help="maps to publish (default: every converted map)")
     pub.add_argument("--out", required=True, metavar="SITE", help="folder to write (serve it with any web server)")

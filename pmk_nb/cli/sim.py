@@ -9,15 +9,14 @@ import signal
 import tempfile
 import threading
 from pathlib import Path
-from typing import Any
 
-from pmk_nb.cli.options import add_maps_dir
+from pmk_nb.cli.options import Subparsers, add_maps_dir
 from pmk_nb.sim import BRIDGE_MODES, DEFAULT_BRIDGE, ROS_VERSIONS, SimChair, SimError, default_state_dir, sample_floor
 
 READY_LINE = "pmk sim: ready"
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "sim",
         help="run a simulated chair: rosbridge v2 on a WebSocket, map server with hot reload, SFTP",

@@ -39,7 +39,7 @@ if TYPE_CHECKING:
 class ChairSFTPServer(asyncssh.SFTPServer):
     """SFTP server whose file system is ChairFS: ALMA_MAPS -> maps_dir, the rest -> scratch; no symlinks."""
 
-    def __init__(self, chan: asyncssh.SSHServerChannel, fs: ChairFS, scratch: Path) -> None:
+    def __init__(self, chan: asyncssh.SSHServerChannel[bytes], fs: ChairFS, scratch: Path) -> None:
         super().__init__(chan)
         self._fs = fs
         self._scratch = scratch
@@ -170,7 +170,7 @@ async def start_sftp(sim: SimChair) -> SftpEndpoint:
     (scratch / sim.fs.home.lstrip("/") / "ALMA_MAPS").mkdir(parents=True)
     fs = sim.fs
 
-    def sftp_factory(chan: asyncssh.SSHServerChannel) -> ChairSFTPServer:
+    def sftp_factory(chan: asyncssh.SSHServerChannel[bytes]) -> ChairSFTPServer:
         return ChairSFTPServer(chan, fs, scratch)
 
     port = sim.sftp_port if sim.sftp_port is not None else int(sim.sftp_port_wanted or 0)
