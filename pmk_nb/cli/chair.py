@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypedDict
 
 from pmk_nb.cli.options import Subparsers, add_json, print_json
 from pmk_nb.errors import PmkError, SettingsError
@@ -226,7 +226,17 @@ def certificate_trusted(err: BaseException | None, expected: str | None) -> bool
     return True
 
 
-def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | None = None) -> dict[str, Any]:
+class PartResult(TypedDict):
+    """One part of `pmk chair test` (rosbridge or ssh), as printed and as ``--json`` lists it."""
+
+    part: str
+    target: str
+    ok: bool
+    detail: str
+    error: str | None  # the error's type name when not ok
+
+
+def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | None = None) -> PartResult:
     """One line of `pmk chair test`: what was tested, whether it worked, and the error's type when not."""
     return {
         "part": name,
@@ -237,7 +247,7 @@ def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | No
     }
 
 
-def _test_bridge(profile: ChairProfile, args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:
+def _test_bridge(profile: ChairProfile, args: argparse.Namespace) -> tuple[PartResult, list[str]]:
     from pmk_nb.chair import close_links, link_for
 
     url = profile.bridge_url
@@ -257,7 +267,7 @@ def _test_bridge(profile: ChairProfile, args: argparse.Namespace) -> tuple[dict[
         close_links()
 
 
-def _test_ssh(profile: ChairProfile, store: ProfileStore, args: argparse.Namespace) -> dict[str, Any]:
+def _test_ssh(profile: ChairProfile, store: ProfileStore, args: argparse.Namespace) -> PartResult:
     from pmk_nb.chair import check_ssh
     from pmk_nb.cli.send import ask_password
 

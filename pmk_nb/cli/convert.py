@@ -11,7 +11,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 from pmk_nb.cli.options import (
     Subparsers,
@@ -32,6 +32,9 @@ from pmk_nb.defaults import (
 )
 from pmk_nb.errors import GridTooLarge, PmkError
 from pmk_nb.progress import Progress
+
+if TYPE_CHECKING:
+    from pmk_nb.library import ConvertResult
 
 _BIG_FILE = 5 * 1024 * 1024  # show a progress bar for files above this size (or on a terminal)
 
@@ -131,7 +134,7 @@ def add_parser(subparsers: Subparsers) -> None:
 MAX_FINDINGS = 5  # the witness's findings printed per storey; `pmk check` lists them all
 
 
-def result_json(path: Path, result: Any) -> dict[str, Any]:
+def result_json(path: Path, result: ConvertResult) -> dict[str, Any]:
     """`pmk convert --json`: the files written per storey and each storey's access verdict."""
     from dataclasses import asdict
 
