@@ -21,7 +21,7 @@ import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import IO, TYPE_CHECKING, Any
+from typing import IO, TYPE_CHECKING
 
 import pmk_nb
 from pmk_nb.cli.options import DEFAULT_RESOLUTION
@@ -57,7 +57,7 @@ class DemoWorld:
     ros_port: int
     sftp_port: int
     env: dict[str, str]
-    sim: subprocess.Popen[Any] | None = None
+    sim: subprocess.Popen[bytes] | None = None
     log_path: Path | None = None
     _log: IO[bytes] | None = field(default=None, repr=False)
 
