@@ -33,7 +33,7 @@ from pmk_nb.chair.deploy import STEPS, deploy  # noqa: E402
 from pmk_nb.chair.link import ChairLink  # noqa: E402
 from pmk_nb.grid import OccupancyGrid  # noqa: E402
 from pmk_nb.rosmap import write_map  # noqa: E402
-from pmk_nb.sim import SimChair  # noqa: E402
+from pmk_nb.sim import SimChair, SimConfig  # noqa: E402
 
 
 def building_grid(size: int, seed: int) -> OccupancyGrid:
@@ -129,7 +129,7 @@ def sim_rows(sizes: tuple[int, ...], repeats: int, work: Path, notes: list[str])
     """The simulator's map server, reached over its own SFTP endpoint and over OpenSSH."""
     rows: list[tuple[str, dict[str, Any]]] = []
     sim = SimChair(
-        grid=building_grid(200, seed=0), sftp_port=0, maps_dir=work / "chair", scan_rate=5.0, odom_rate=10.0
+        SimConfig(grid=building_grid(200, seed=0), sftp_port=0, maps_dir=work / "chair", scan_rate=5.0, odom_rate=10.0)
     ).start()
     link = ChairLink("127.0.0.1", sim.port)
     try:
@@ -138,7 +138,7 @@ def sim_rows(sizes: tuple[int, ...], repeats: int, work: Path, notes: list[str])
             name="bench",
             host="127.0.0.1",
             port=sim.port,
-            ssh_user=sim.sftp_user,
+            ssh_user=sim.config.sftp_user,
             ssh_port=sim.sftp_port or 0,
             known_hosts=str(work / "kh"),
         )

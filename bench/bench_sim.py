@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
-from pmk_nb.sim import SimChair  # noqa: E402
+from pmk_nb.sim import SimChair, SimConfig  # noqa: E402
 from pmk_nb.sim.chair import DriveLimits  # noqa: E402
 
 CLIENT_CODE = """
@@ -49,7 +49,9 @@ ros.close()
 
 
 def measure(seconds: float, *, rays: int, scan_rate: float, subscriber: bool) -> dict[str, float]:
-    sim = SimChair(odom_rate=50.0, scan_rate=scan_rate, rays=rays, patrol=True, limits=DriveLimits(v_max=0.8)).start()
+    sim = SimChair(
+        SimConfig(odom_rate=50.0, scan_rate=scan_rate, rays=rays, patrol=True, limits=DriveLimits(v_max=0.8))
+    ).start()
     child = None
     try:
         if subscriber:
@@ -115,7 +117,9 @@ def reload_rows(sizes: tuple[int, ...], repeats: int) -> list[str]:
 
     rows = []
     with tempfile.TemporaryDirectory(prefix="pmk-bench-reload-") as tmp:
-        sim = SimChair(grid=building_grid(200, seed=0), maps_dir=Path(tmp), odom_rate=50.0, scan_rate=20.0).start()
+        sim = SimChair(
+            SimConfig(grid=building_grid(200, seed=0), maps_dir=Path(tmp), odom_rate=50.0, scan_rate=20.0)
+        ).start()
         child = subprocess.Popen(
             [sys.executable, "-c", GAP_CLIENT_CODE, str(sim.port)],
             stdin=subprocess.PIPE,

@@ -18,8 +18,8 @@ ROOT = Path(__file__).resolve().parent.parent
 SIM_CODE = """
 import sys, threading
 from pmk_nb.chair.link.client import ChairLink
-from pmk_nb.sim import SimChair
-sim = SimChair(odom_rate=50.0, scan_rate=40.0, rays=1080, start_pose=(7.5, 1.5, 0.0)).start()
+from pmk_nb.sim import SimChair, SimConfig
+sim = SimChair(SimConfig(odom_rate=50.0, scan_rate=40.0, rays=1080, start_pose=(7.5, 1.5, 0.0))).start()
 driver = ChairLink("127.0.0.1", sim.port)
 driver.connect(timeout=10.0)
 stop = threading.Event()

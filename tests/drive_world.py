@@ -26,10 +26,10 @@ from pmk_nb.ui import AUTOSTART_ENV
 ROOT = Path(__file__).resolve().parents[1]
 SIM_CODE = """
 import sys
-from pmk_nb.sim import SimChair
+from pmk_nb.sim import SimChair, SimConfig
 from pmk_nb.sim.demo import demo_grid
-sim = SimChair(grid=demo_grid(), port={port}, odom_rate=50.0, scan_rate=10.0, rays=360,
-               start_pose=(1.0, 6.0, 0.0)).start()
+sim = SimChair(SimConfig(grid=demo_grid(), port={port}, odom_rate=50.0, scan_rate=10.0, rays=360,
+               start_pose=(1.0, 6.0, 0.0))).start()
 print(sim.port, flush=True)
 sys.stdin.readline()
 sim.stop()

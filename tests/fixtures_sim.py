@@ -1,7 +1,8 @@
 """Shared pytest fixtures (sim): started simulated chairs, real roslibpy clients, small test maps.
 
-- ``sim_factory(**kwargs)`` -> a started :class:`pmk_nb.sim.SimChair` on an ephemeral port, with its
-  own maps folder under ``tmp_path`` unless ``maps_dir`` is given; stopped at teardown.
+- ``sim_factory(**fields)`` -> a started :class:`pmk_nb.sim.SimChair` whose :class:`~pmk_nb.sim.SimConfig`
+  has these fields, on an ephemeral port, with its own maps folder under ``tmp_path`` unless ``maps_dir`` is
+  given; stopped at teardown.
 - ``sim_chair`` -> ``sim_factory()``: the default ROS 1 chair on the built-in demo floor.
 - ``ros_factory(sim_or_port)`` -> a connected roslibpy client (asyncio transport), closed at teardown.
 - ``room_grid(...)`` / ``write_test_map(...)``: a tiny walled room (optionally with an inner wall)
@@ -21,7 +22,7 @@ import pytest
 
 from pmk_nb.chair import ChairProfile
 from pmk_nb.grid import FREE, OCCUPIED, OccupancyGrid
-from pmk_nb.sim import SimChair
+from pmk_nb.sim import SimChair, SimConfig
 
 ROSLIBPY_TRANSPORT = "asyncio"  # twisted and asyncio cannot both be used in one process
 
@@ -70,7 +71,13 @@ def paramiko_sftp(sim: SimChair, **auth: Any) -> tuple[Any, Any]:
     client.get_host_keys().add(f"[127.0.0.1]:{sim.sftp_port}", key_type, host_key)
     client.set_missing_host_key_policy(paramiko.RejectPolicy())
     client.connect(
-        "127.0.0.1", sim.sftp_port, username=sim.sftp_user, allow_agent=False, look_for_keys=False, timeout=10, **auth
+        "127.0.0.1",
+        sim.sftp_port,
+        username=sim.config.sftp_user,
+        allow_agent=False,
+        look_for_keys=False,
+        timeout=10,
+        **auth,
     )
     return client, client.open_sftp()
 
@@ -89,9 +96,10 @@ def wait_until(predicate: Callable[[], bool], timeout: float = 5.0, interval: fl
 def sim_factory(tmp_path: Path) -> Iterator[Callable[..., SimChair]]:
     made: list[SimChair] = []
 
-    def make(**kwargs: Any) -> SimChair:
-        kwargs.setdefault("maps_dir", tmp_path / f"chair{len(made)}_ALMA_MAPS")
-        sim = SimChair(**kwargs)
+    def make(**settings: Any) -> SimChair:
+        """A started chair whose SimConfig has these fields (its maps folder under tmp_path by default)."""
+        settings.setdefault("maps_dir", tmp_path / f"chair{len(made)}_ALMA_MAPS")
+        sim = SimChair(SimConfig(**settings))
         made.append(sim)
         return sim.start()
 
@@ -152,7 +160,7 @@ def sim_profile(sim: Any, tmp_path: Path, **kw: Any) -> ChairProfile:
         name="sim",
         host="127.0.0.1",
         port=sim.port,
-        ssh_user=sim.sftp_user,
+        ssh_user=sim.config.sftp_user,
         ssh_port=sim.sftp_port,
         auth="password",
         known_hosts=str(tmp_path / "known_hosts"),

@@ -14,7 +14,7 @@ import json
 import posixpath
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import IO, Any
 from urllib.parse import unquote, urljoin, urlsplit
 
 from pmk_nb.catalogue.hashes import sha256_of_multihash
@@ -27,6 +27,7 @@ from pmk_nb.errors import (
     RedirectRefused,
 )
 from pmk_nb.library import check_url, fetch
+from pmk_nb.progress import ProgressCallback
 
 MAX_DOC_BYTES = 4 * 1024 * 1024  # one STAC JSON document
 MAX_DOCS = 2000  # documents read for one catalogue (a bound on a hostile or looping one)
@@ -167,7 +168,7 @@ class Reader:
         if urlsplit(target).scheme.lower() != urlsplit(url).scheme.lower() or not self.inside(urljoin(url, target)):
             raise RedirectRefused(url=url, target=target)
 
-    def fetch_to(self, url: str, out: Any, *, max_bytes: int, progress: Any = None) -> int:
+    def fetch_to(self, url: str, out: IO[bytes], *, max_bytes: int, progress: ProgressCallback | None = None) -> int:
         return fetch(
             url,
             out,

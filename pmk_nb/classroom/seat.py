@@ -20,10 +20,14 @@ import shutil
 import threading
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pmk_nb.classroom.cap import ChairCap
 from pmk_nb.classroom.settings import ODOM_RATE, RAYS, SCAN_RATE, ClassroomSettings, StudentFiles
 from pmk_nb.rosauth import read_secret
+
+if TYPE_CHECKING:
+    from pmk_nb.sim import SimChair  # imported on use at run time: the simulator is heavy
 
 PROFILE_NAME = "My classroom chair"
 SFTP_USER = "pmk"
@@ -35,7 +39,7 @@ class Seat:
     """A page's chair: ``config_dir`` is the page's settings folder, ``chair`` its simulator."""
 
     config_dir: Path
-    chair: object  # SimChair (kept untyped here: the simulator is imported on use)
+    chair: SimChair
     cap: ChairCap
     pid: int
     _closed: bool = field(default=False, repr=False)
@@ -43,11 +47,13 @@ class Seat:
 
     @property
     def ros_port(self) -> int:
-        return int(self.chair.port)  # type: ignore[attr-defined]
+        return self.chair.port
 
     @property
     def sftp_port(self) -> int:
-        return int(self.chair.sftp_port)  # type: ignore[attr-defined]
+        port = self.chair.sftp_port
+        assert port is not None, "a seat's chair serves SFTP from its start"
+        return port
 
     def close(self) -> None:
         """Stop the chair, give the seat back, remove the settings folder; runs once."""
@@ -56,7 +62,7 @@ class Seat:
                 return
             self._closed = True
         try:
-            self.chair.stop()  # type: ignore[attr-defined]
+            self.chair.stop()
         finally:
             self.cap.release(self.pid)
             shutil.rmtree(self.config_dir, ignore_errors=True)
@@ -69,7 +75,7 @@ def take_seat(settings: ClassroomSettings) -> Seat:
         ClassroomFull: the class's cap is reached (nothing was started).
         SimError: the simulator could not start (the seat is given back).
     """
-    from pmk_nb.sim import SimChair
+    from pmk_nb.sim import SimChair, SimConfig
 
     pid = os.getpid()
     own = StudentFiles.from_env()
@@ -84,18 +90,20 @@ def take_seat(settings: ClassroomSettings) -> Seat:
         config_dir.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
         (config_dir / "chair_maps").mkdir(parents=True, mode=0o700)
         chair = SimChair(
-            settings.map_yaml,
-            port=0,
-            sftp_port=0,
-            sftp_user=SFTP_USER,
-            sftp_authorized_key=public_key,
-            auth_secret=secret,
-            sftp_password_login=False,
-            maps_dir=config_dir / "chair_maps",
-            patrol=False,
-            odom_rate=ODOM_RATE,
-            scan_rate=SCAN_RATE,
-            rays=RAYS,
+            SimConfig(
+                map_yaml=settings.map_yaml,
+                port=0,
+                sftp_port=0,
+                sftp_user=SFTP_USER,
+                sftp_authorized_key=public_key,
+                auth_secret=secret,
+                sftp_password_login=False,
+                maps_dir=config_dir / "chair_maps",
+                patrol=False,
+                odom_rate=ODOM_RATE,
+                scan_rate=SCAN_RATE,
+                rays=RAYS,
+            )
         ).start()
     except BaseException:
         cap.release(pid)

@@ -15,6 +15,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from pmk_nb.cli.options import Subparsers
 from pmk_nb.errors import PmkError
 from pmk_nb.fileio import atomic_write
 
@@ -28,7 +29,7 @@ def bench_dir() -> Path:
     return here
 
 
-def add_parser(sub: argparse._SubParsersAction) -> None:
+def add_parser(sub: Subparsers) -> None:
     p = sub.add_parser("bench", help="run benchmarks and write bench/results.md")
     p.add_argument("areas", nargs="*", default=["all"], help=f"all or some of: {', '.join(AREAS)}")
     p.add_argument("--quick", action="store_true", help="smaller cases, for a smoke run")

@@ -5,10 +5,13 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-from typing import Any
+from typing import TYPE_CHECKING, TypedDict
 
-from pmk_nb.cli.options import add_json, print_json
+from pmk_nb.cli.options import Subparsers, add_json, print_json
 from pmk_nb.errors import PmkError, SettingsError
+
+if TYPE_CHECKING:
+    from pmk_nb.chair import ChairProfile, ProfileStore
 
 # option -> (ChairProfile field, type, help); everything but name, which is positional
 _FIELDS: list[tuple[str, type, str]] = [
@@ -31,7 +34,7 @@ _FIELDS: list[tuple[str, type, str]] = [
 ]
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser("chair", help="manage chair profiles (connection settings)")
     sub = p.add_subparsers(dest="action", metavar="ACTION")  # bare `pmk chair` lists
     listing = sub.add_parser("list", help="list profiles (* = default)")
@@ -84,13 +87,13 @@ def add_parser(subparsers: Any) -> None:
     p.set_defaults(run=run_list, json=False)
 
 
-def _store() -> Any:
+def _store() -> ProfileStore:
     from pmk_nb.chair import ProfileStore
 
     return ProfileStore()
 
 
-def _profile(store: Any, name: str | None) -> Any:
+def _profile(store: ProfileStore, name: str | None) -> ChairProfile:
     if name:
         return store.get(name)
     last = store.last_used()
@@ -159,7 +162,7 @@ def run_add(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_with_key(store: Any, profile: Any, args: argparse.Namespace) -> int:
+def _add_with_key(store: ProfileStore, profile: ChairProfile, args: argparse.Namespace) -> int:
     """`pmk chair add --key auto`: one password login installs the key; the profile keeps the key only."""
     import getpass
     import sys
@@ -223,7 +226,17 @@ def certificate_trusted(err: BaseException | None, expected: str | None) -> bool
     return True
 
 
-def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | None = None) -> dict[str, Any]:
+class PartResult(TypedDict):
+    """One part of `pmk chair test` (rosbridge or ssh), as printed and as ``--json`` lists it."""
+
+    part: str
+    target: str
+    ok: bool
+    detail: str
+    error: str | None  # the error's type name when not ok
+
+
+def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | None = None) -> PartResult:
     """One line of `pmk chair test`: what was tested, whether it worked, and the error's type when not."""
     return {
         "part": name,
@@ -234,7 +247,7 @@ def _part(name: str, target: str, ok: bool, detail: str, err: BaseException | No
     }
 
 
-def _test_bridge(profile: Any, args: argparse.Namespace) -> tuple[dict[str, Any], list[str]]:
+def _test_bridge(profile: ChairProfile, args: argparse.Namespace) -> tuple[PartResult, list[str]]:
     from pmk_nb.chair import close_links, link_for
 
     url = profile.bridge_url
@@ -254,7 +267,7 @@ def _test_bridge(profile: Any, args: argparse.Namespace) -> tuple[dict[str, Any]
         close_links()
 
 
-def _test_ssh(profile: Any, store: Any, args: argparse.Namespace) -> dict[str, Any]:
+def _test_ssh(profile: ChairProfile, store: ProfileStore, args: argparse.Namespace) -> PartResult:
     from pmk_nb.chair import check_ssh
     from pmk_nb.cli.send import ask_password
 

@@ -13,9 +13,10 @@ import json
 import sys
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from pmk_nb.cli.options import (
+    Subparsers,
     add_crs_option,
     add_json,
     add_layer_option,
@@ -24,6 +25,12 @@ from pmk_nb.cli.options import (
     chair_width_arg,
 )
 from pmk_nb.errors import PmkError
+
+if TYPE_CHECKING:
+    from pmk_nb.access import StoreyReport
+    from pmk_nb.grid import OccupancyGrid
+    from pmk_nb.indoorgml import Building, UnitSuspect
+    from pmk_nb.witness import WitnessReport
 
 EXIT_OK, EXIT_PROBLEMS, EXIT_NOTHING_CHECKED = 0, 1, 3  # 2: bad input (every PmkError, cli/__init__)
 EXIT_CODES = (
@@ -34,7 +41,7 @@ EXIT_CODES = (
 )
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "check",
         help="wheelchair accessibility of a building plan or a written map (exit 1: problems, 3: nothing checked)",
@@ -86,8 +93,8 @@ def add_parser(subparsers: Any) -> None:
 class Witnessed:
     """The witness's reports (one per storey) with the grids they judged, or why it could not run."""
 
-    reports: list[Any] = field(default_factory=list)
-    grids: list[Any] = field(default_factory=list)
+    reports: list[WitnessReport] = field(default_factory=list)
+    grids: list[OccupancyGrid] = field(default_factory=list)
     missing: str = ""  # why the witness could not run ('' when it ran)
 
     @property
@@ -99,7 +106,7 @@ class Witnessed:
         return not self.missing and bool(self.reports) and all(r.graph for r in self.reports)
 
 
-def _reports(args: argparse.Namespace) -> tuple[list[Any], Any, Witnessed]:
+def _reports(args: argparse.Namespace) -> tuple[list[StoreyReport], Building | None, Witnessed]:
     """The storeys' reports, the plan's Building (None for a written map: its rooms file says the
     rest) and the witness's verdict on the same grids."""
     from pmk_nb.access import check_building, check_map
@@ -133,7 +140,7 @@ def _reports(args: argparse.Namespace) -> tuple[list[Any], Any, Witnessed]:
     building = read_building(target, unit=args.unit, not_windows=args.not_windows, layers=args.layers, crs=args.crs)
     options = RasterOptions() if args.door_width is None else RasterOptions(door_width=args.door_width)
 
-    def judge(storey: str, grid: Any) -> None:
+    def judge(storey: str, grid: OccupancyGrid) -> None:
         witnessed.reports.append(witness_grid(building, grid, chair_width=width))
         if args.picture is not None:
             witnessed.grids.append(grid)
@@ -150,7 +157,9 @@ WINDOW_HINT = [
 ]
 
 
-def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any = None) -> list[str]:
+def format_report(
+    reports: list[StoreyReport], unit_conflict: str = "", unit_suspect: UnitSuspect | None = None
+) -> list[str]:
     """The text report: the unit first when the doors are absurd in it (see units.unit_suspect: no door
     is to blame then), one summary line per storey, then each problem by name, then the transitions
     it could not check (windows: a misjudged one hides a door, so they are named, not only counted)."""
@@ -176,7 +185,7 @@ def format_report(reports: list[Any], unit_conflict: str = "", unit_suspect: Any
     return lines
 
 
-def exit_code(reports: list[Any], witnessed: Witnessed | None = None) -> int:
+def exit_code(reports: list[StoreyReport], witnessed: Witnessed | None = None) -> int:
     """1 when a checked storey has a problem or the witness finds the map disagrees with the plan; else 3
     when a storey (or the plan) could not be checked, or the witness could not judge it; else 0."""
     if any(r.checked and not r.ok for r in reports) or (witnessed is not None and witnessed.findings):
@@ -186,7 +195,7 @@ def exit_code(reports: list[Any], witnessed: Witnessed | None = None) -> int:
     return EXIT_OK if reports and all(r.checked for r in reports) else EXIT_NOTHING_CHECKED
 
 
-def verdict(reports: list[Any], code: int, witnessed: Witnessed | None = None) -> str:
+def verdict(reports: list[StoreyReport], code: int, witnessed: Witnessed | None = None) -> str:
     """The last line: what the exit code means for this plan."""
     if code == EXIT_PROBLEMS:
         return "problems found"

@@ -11,9 +11,10 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 from pmk_nb.cli.options import (
+    Subparsers,
     add_crs_option,
     add_json,
     add_layer_option,
@@ -31,6 +32,9 @@ from pmk_nb.defaults import (
 )
 from pmk_nb.errors import GridTooLarge, PmkError
 from pmk_nb.progress import Progress
+
+if TYPE_CHECKING:
+    from pmk_nb.library import ConvertResult
 
 _BIG_FILE = 5 * 1024 * 1024  # show a progress bar for files above this size (or on a terminal)
 
@@ -103,7 +107,7 @@ def add_raster_options(p: argparse.ArgumentParser) -> None:
     add_layer_option(p)
 
 
-def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "convert",
         help="convert an IndoorGML file to ROS map_server maps (one set per storey)",
@@ -130,7 +134,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
 MAX_FINDINGS = 5  # the witness's findings printed per storey; `pmk check` lists them all
 
 
-def result_json(path: Path, result: Any) -> dict[str, Any]:
+def result_json(path: Path, result: ConvertResult) -> dict[str, Any]:
     """`pmk convert --json`: the files written per storey and each storey's access verdict."""
     from dataclasses import asdict
 

@@ -13,15 +13,14 @@ import argparse
 import os
 import tempfile
 from pathlib import Path
-from typing import Any
 
-from pmk_nb.cli.options import add_maps_dir
+from pmk_nb.cli.options import Subparsers, add_maps_dir
 from pmk_nb.cli.server_options import server_options
 from pmk_nb.serve import check_port_number, preflight, resolve_tls, serve_dashboard, sigterm_as_interrupt
 from pmk_nb.ui import AUTOSTART_ENV, KIOSK_ENV
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     """Register ``pmk dashboard``."""
     p = subparsers.add_parser(
         "dashboard",

@@ -12,14 +12,18 @@ from __future__ import annotations
 import argparse
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
+from pmk_nb.cli.options import Subparsers
 from pmk_nb.cli.server_options import positive_int, server_options
 from pmk_nb.serve import check_port_number, preflight, resolve_tls, serve_dashboard, sigterm_as_interrupt
 from pmk_nb.ui import KIOSK_ENV
 
+if TYPE_CHECKING:
+    from pmk_nb.serve import TlsFiles
 
-def add_parser(subparsers: Any) -> None:
+
+def add_parser(subparsers: Subparsers) -> None:
     """Register ``pmk demo``."""
     p = subparsers.add_parser(
         "demo",
@@ -66,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
             demo.stop()
 
 
-def _run_classroom(args: argparse.Namespace, token: str | None, tls: Any) -> int:
+def _run_classroom(args: argparse.Namespace, token: str | None, tls: TlsFiles | None) -> int:
     """``pmk demo --classroom``: no shared chair; each page's kernel starts its own (issue 26)."""
     from pmk_nb.cli.demo_classroom import prepare_classroom
 

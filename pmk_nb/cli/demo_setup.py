@@ -21,13 +21,16 @@ import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import IO, TYPE_CHECKING
 
 import pmk_nb
 from pmk_nb.cli.options import DEFAULT_RESOLUTION
 from pmk_nb.errors import PmkError
 from pmk_nb.serve import free_port, stop_process, wait_for_port
 from pmk_nb.ui import AUTOSTART_ENV
+
+if TYPE_CHECKING:
+    from pmk_nb.library import GeneratedMap, MapsFolder
 
 DEMO_PROFILE = "Simulated chair"
 DEMO_RESOLUTION = DEFAULT_RESOLUTION
@@ -54,9 +57,9 @@ class DemoWorld:
     ros_port: int
     sftp_port: int
     env: dict[str, str]
-    sim: subprocess.Popen[Any] | None = None
+    sim: subprocess.Popen[bytes] | None = None
     log_path: Path | None = None
-    _log: Any = field(default=None, repr=False)
+    _log: IO[bytes] | None = field(default=None, repr=False)
 
     def stop(self) -> None:
         stop_process(self.sim)
@@ -106,7 +109,7 @@ def make_key_pair(directory: Path, name: str = KEY_NAME) -> tuple[Path, Path]:
     return make_pair(directory, name, comment="pmk-demo")
 
 
-def convert_sample(root: Path, gml: Path | None = None) -> tuple[Any, Any]:
+def convert_sample(root: Path, gml: Path | None = None) -> tuple[MapsFolder, GeneratedMap]:
     """Make the demo's folders (``maps``, ``config``, ``chair_maps``) and convert the sample (or ``gml``).
 
     Returns (the :class:`~pmk_nb.library.folder.MapsFolder`, its first generated map).
@@ -196,7 +199,7 @@ def _print_log_tail(log_path: Path) -> None:
 
 
 def _start_sim(
-    *, sim_command_for: Callable[[int, int], list[str]], env: dict[str, str], log: Any, cwd: Path
+    *, sim_command_for: Callable[[int, int], list[str]], env: dict[str, str], log: IO[bytes], cwd: Path
 ) -> tuple[subprocess.Popen[bytes], int, int]:
     """Start ``pmk sim`` on two free ports and wait until both listen; (process, rosbridge, SFTP port).
 

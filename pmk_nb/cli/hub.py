@@ -22,8 +22,9 @@ import time
 import webbrowser
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from pmk_nb.cli.options import Subparsers
 from pmk_nb.cli.server_options import positive_int
 from pmk_nb.serve import (
     CULL_IDLE,
@@ -68,7 +69,7 @@ DEFAULT_HUB_PORT = 8000
 HUB_START_TIMEOUT = 120.0
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     """Register ``pmk hub``."""
     p = subparsers.add_parser(
         "hub",

@@ -6,12 +6,15 @@ import argparse
 import json
 import sys
 from dataclasses import asdict
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from pmk_nb.cli.options import add_crs_option, add_layer_option, add_not_window_option
+from pmk_nb.cli.options import Subparsers, add_crs_option, add_layer_option, add_not_window_option
+
+if TYPE_CHECKING:
+    from pmk_nb.indoorgml import Building
 
 
-def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+def add_parser(subparsers: Subparsers) -> argparse.ArgumentParser:
     from pmk_nb.indoorgml import UNIT_CHOICES
 
     p = subparsers.add_parser(
@@ -34,7 +37,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     return p
 
 
-def connectivity(building: Any) -> dict[str, Any]:
+def connectivity(building: Building) -> dict[str, Any]:
     """How the navigation graph will open the walls: links, and the rule used per storey (see pmk_nb.openings)."""
     from pmk_nb.openings import plan_openings
 

@@ -17,14 +17,14 @@ from typing import TYPE_CHECKING
 
 from pmk_nb.cli import maps_catalogue
 from pmk_nb.cli.convert import add_raster_options
-from pmk_nb.cli.options import add_json, add_maps_dir, add_resolution, chair_width_arg, print_json
+from pmk_nb.cli.options import Subparsers, add_json, add_maps_dir, add_resolution, chair_width_arg, print_json
 from pmk_nb.progress import Progress
 
 if TYPE_CHECKING:
     from pmk_nb.library import GeneratedMap, MapEntry, MapsFolder
 
 
-def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "maps",
         help="list, import, download, convert and delete maps in the maps folder",

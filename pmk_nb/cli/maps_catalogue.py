@@ -9,17 +9,18 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import asdict
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from pmk_nb.cli.options import error_json, print_json
+from pmk_nb.cli.options import Subparsers, error_json, print_json
 
 if TYPE_CHECKING:
+    from pmk_nb.catalogue import Catalogue
     from pmk_nb.library import MapsFolder
 
 ACTIONS = ("publish", "catalogue", "get")
 
 
-def add_parsers(sub: argparse._SubParsersAction, common: argparse.ArgumentParser) -> None:  # type: ignore[type-arg]
+def add_parsers(sub: Subparsers, common: argparse.ArgumentParser) -> None:
     pub = sub.add_parser("publish", parents=[common], help="publish converted maps as a static STAC catalogue")
     pub.add_argument("names", nargs="*", metavar="NAME", help="maps to publish (default: every converted map)")
     pub.add_argument("--out", required=True, metavar="SITE", help="folder to write (serve it with any web server)")
@@ -74,7 +75,7 @@ def _size(n: int) -> str:
     return f"{n / 1048576:.1f} MiB" if n >= 1048576 else f"{n / 1024:.1f} KiB"
 
 
-def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
+def _list(folder: MapsFolder, catalogue: Catalogue, *, as_json: bool) -> int:
     from pmk_nb.catalogue import InstallRecord
 
     record = InstallRecord(folder.root)
@@ -103,7 +104,7 @@ def _list(folder: MapsFolder, catalogue: Any, *, as_json: bool) -> int:
     return 0
 
 
-def _get(folder: MapsFolder, catalogue: Any, args: argparse.Namespace) -> int:
+def _get(folder: MapsFolder, catalogue: Catalogue, args: argparse.Namespace) -> int:
     from pmk_nb.catalogue.install import install
 
     result = install(

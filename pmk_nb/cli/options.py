@@ -13,7 +13,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn, TypeAlias
 
 from pmk_nb.defaults import DEFAULT_RESOLUTION as DEFAULT_RESOLUTION  # declared once there, re-exported here
 from pmk_nb.errors import PmkError
@@ -36,6 +36,13 @@ ALIASES: dict[str, str] = {
 
 #: short forms allowed beside a canonical name
 SHORT: dict[str, str] = {"resolution": "-r"}
+
+#: what each command's ``add_parser`` receives: ``ArgumentParser.add_subparsers()``'s result (generic in the
+#: stubs only)
+if TYPE_CHECKING:
+    Subparsers: TypeAlias = argparse._SubParsersAction[argparse.ArgumentParser]
+else:
+    Subparsers = argparse._SubParsersAction
 
 MAPS_DIR_HELP = "maps folder (default: $PMK_MAPS_DIR or the user data folder)"
 

@@ -11,14 +11,14 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, overload
+from typing import overload
 
-from pmk_nb.cli.options import add_maps_dir
+from pmk_nb.cli.options import Subparsers, add_maps_dir
 from pmk_nb.errors import RosNotInstalled
 from pmk_nb.robot import DEFAULT_MAPS
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "robot", help="chair-side ROS nodes: the PMK map server, the simulated chair, the goal watchdog"
     )
@@ -78,7 +78,7 @@ def add_parser(subparsers: Any) -> None:
     _add_goal_watchdog(sub)
 
 
-def _add_goal_watchdog(sub: Any) -> None:
+def _add_goal_watchdog(sub: Subparsers) -> None:
     from pmk_nb.goalbeat import SILENCE_S, TOPIC
     from pmk_nb.robot import ACTIONS, CANCEL_TOPIC
 

@@ -7,14 +7,18 @@ import getpass
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
-from pmk_nb.cli.options import add_json, add_maps_dir, error_json, print_json
+from pmk_nb.cli.options import Subparsers, add_json, add_maps_dir, error_json, print_json
 from pmk_nb.errors import DeployError, LibraryError, SettingsError
 from pmk_nb.progress import Progress
 
+if TYPE_CHECKING:
+    from pmk_nb.chair import ChairProfile, ProfileStore
+    from pmk_nb.rosmap import MapFiles
 
-def add_parser(subparsers: Any) -> None:
+
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "send",
         help="send a converted map to the chair and make it the live map",
@@ -32,7 +36,7 @@ def add_parser(subparsers: Any) -> None:
     p.set_defaults(run=run)
 
 
-def pick_map(name: str, maps_dir: Path | None, storey: str | None) -> Any:
+def pick_map(name: str, maps_dir: Path | None, storey: str | None) -> MapFiles:
     """The MapFiles to send: a generated map of NAME (one storey), or NAME as a YAML path."""
     from pmk_nb.library import MapsFolder
     from pmk_nb.rosmap import MapFiles
@@ -65,7 +69,7 @@ def pick_map(name: str, maps_dir: Path | None, storey: str | None) -> Any:
     return MapFiles(yaml=chosen.yaml, image=chosen.image, preview=chosen.preview)
 
 
-def ask_password(profile: Any, store: Any, from_stdin: bool) -> str | None:
+def ask_password(profile: ChairProfile, store: ProfileStore, from_stdin: bool) -> str | None:
     """Password (or key passphrase) for this session: stdin, keyring/session, or prompt."""
     if from_stdin:
         line = sys.stdin.readline()

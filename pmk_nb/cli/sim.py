@@ -9,15 +9,23 @@ import signal
 import tempfile
 import threading
 from pathlib import Path
-from typing import Any
 
-from pmk_nb.cli.options import add_maps_dir
-from pmk_nb.sim import BRIDGE_MODES, DEFAULT_BRIDGE, ROS_VERSIONS, SimChair, SimError, default_state_dir, sample_floor
+from pmk_nb.cli.options import Subparsers, add_maps_dir
+from pmk_nb.sim import (
+    BRIDGE_MODES,
+    DEFAULT_BRIDGE,
+    ROS_VERSIONS,
+    SimChair,
+    SimConfig,
+    SimError,
+    default_state_dir,
+    sample_floor,
+)
 
 READY_LINE = "pmk sim: ready"
 
 
-def add_parser(subparsers: Any) -> None:
+def add_parser(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "sim",
         help="run a simulated chair: rosbridge v2 on a WebSocket, map server with hot reload, SFTP",
@@ -124,7 +132,7 @@ def describe(sim: SimChair) -> list[str]:
     assert bridge is not None and sim.grid is not None
     grid = sim.grid
     lines = [
-        f"pmk sim: rosbridge v2 ({sim.ros}, bridge {sim.bridge_mode}) at {sim.url}",
+        f"pmk sim: rosbridge v2 ({sim.config.ros}, bridge {sim.config.bridge}) at {sim.url}",
         f"  map: {_map_name(sim)} ({grid.width}x{grid.height} cells, {grid.resolution:.3f} m/cell)",
         "  chair at x={:.2f} y={:.2f} theta={:.2f}".format(*sim.pose),
         f"  maps dir (chair ~/ALMA_MAPS): {sim.maps_dir}",
@@ -135,10 +143,10 @@ def describe(sim: SimChair) -> list[str]:
     lines += [f"    {name} [{entry.type}]" for name, entry in sorted(bridge.services.items())]
     if sim.sftp_port is not None:
         login = f"password {sim.sftp_password}" if sim.sftp_password is not None else "key login only"
-        lines.append(f"  sftp: {sim.sftp_user}@{sim.host} port {sim.sftp_port} {login}")
-        if sim.sftp_authorized_key is not None:
+        lines.append(f"  sftp: {sim.config.sftp_user}@{sim.config.host} port {sim.sftp_port} {login}")
+        if sim.config.sftp_authorized_key is not None:
             prints = ", ".join(sim.sftp_authorized_fingerprints)
-            lines.append(f"  sftp authorized keys: {prints} (from {sim.sftp_authorized_key})")
+            lines.append(f"  sftp authorized keys: {prints} (from {sim.config.sftp_authorized_key})")
         lines.append(f"  sftp host key: {sim.sftp_host_key_fingerprint} ({sim.sftp_host_key})")
     if sim.tls is not None:
         from pmk_nb.tlscert import file_fingerprint
@@ -191,8 +199,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _serve(args: argparse.Namespace, tls: tuple[Path, Path] | None) -> int:
     grid = None if args.map is not None else sample_floor()
-    sim = SimChair(
-        args.map,
+    config = SimConfig(
+        map_yaml=args.map,
         grid=grid,
         host=args.host,
         port=args.port,
@@ -213,6 +221,7 @@ def _serve(args: argparse.Namespace, tls: tuple[Path, Path] | None) -> int:
         bridge=args.bridge,
         state_dir=args.state_dir if args.state_dir is not None else default_state_dir(),
     )
+    sim = SimChair(config)
     stop = threading.Event()
     previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:

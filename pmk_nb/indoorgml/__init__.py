@@ -15,7 +15,7 @@ from pmk_nb.indoorgml.overlaps import CellOverlap
 from pmk_nb.indoorgml.reader import read_building
 from pmk_nb.indoorgml.sniff import check_indoorgml
 from pmk_nb.indoorgml.summary import format_summary, graph_lines, layer_lines, overlap_lines, summarize
-from pmk_nb.indoorgml.units import UNIT_CHOICES, UNIT_SCALE
+from pmk_nb.indoorgml.units import UNIT_CHOICES, UNIT_SCALE, UnitSuspect
 
 __all__ = [
     "RAISED",
@@ -30,6 +30,7 @@ __all__ = [
     "IndoorGMLError",
     "Link",
     "Storey",
+    "UnitSuspect",
     "check_indoorgml",
     "format_summary",
     "graph_lines",

@@ -15,7 +15,7 @@ import time
 import urllib.error
 import urllib.request
 from collections.abc import Callable
-from typing import IO, Any
+from typing import IO
 from urllib.parse import urlsplit
 
 from pmk_nb import __version__
@@ -62,7 +62,15 @@ class _HttpOnlyRedirects(urllib.request.HTTPRedirectHandler):
         super().__init__()
         self.check = check
 
-    def redirect_request(self, req: Any, fp: Any, code: int, msg: str, headers: Any, newurl: str) -> Any:
+    def redirect_request(
+        self,
+        req: urllib.request.Request,
+        fp: IO[bytes],
+        code: int,
+        msg: str,
+        headers: http.client.HTTPMessage,
+        newurl: str,
+    ) -> urllib.request.Request | None:
         if urlsplit(newurl).scheme.lower() not in _SCHEMES:
             raise DownloadError(
                 f"download of {req.full_url} refused: the server redirects to {newurl!r}", url=req.full_url

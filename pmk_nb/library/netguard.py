@@ -59,7 +59,12 @@ def refusal(address: str) -> str | None:
 
 
 def open_checked(
-    address: tuple[str, int], timeout: Any, source_address: Any = None, *, url: str, allow_local: bool
+    address: tuple[str, int],
+    timeout: float | None,
+    source_address: tuple[str, int] | None = None,
+    *,
+    url: str,
+    allow_local: bool,
 ) -> socket.socket:
     """``socket.create_connection`` that connects only to addresses it checked (see the module doc)."""
     host, port = address
@@ -112,7 +117,7 @@ class _HTTPHandler(urllib.request.HTTPHandler):
         super().__init__()
         self.allow_local = allow_local
 
-    def http_open(self, req: Any) -> Any:
+    def http_open(self, req: urllib.request.Request) -> http.client.HTTPResponse:
         conn = functools.partial(_GuardedHTTP, url=req.full_url, allow_local=self.allow_local)
         return self.do_open(conn, req)
 
@@ -122,7 +127,7 @@ class _HTTPSHandler(urllib.request.HTTPSHandler):
         super().__init__()
         self.allow_local = allow_local
 
-    def https_open(self, req: Any) -> Any:
+    def https_open(self, req: urllib.request.Request) -> http.client.HTTPResponse:
         conn = functools.partial(_GuardedHTTPS, url=req.full_url, allow_local=self.allow_local)
         # urllib keeps the handler's TLS settings private (the stubs leave them out)
         return self.do_open(conn, req, context=self._context, check_hostname=self._check_hostname)  # type: ignore[attr-defined]

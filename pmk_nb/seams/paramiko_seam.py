@@ -15,7 +15,7 @@ import paramiko
 TOUCHED = ("_convert_status",)
 
 
-class StatusHookSFTPClient(paramiko.SFTPClient):
+class StatusHookSFTPClient(paramiko.SFTPClient):  # type: ignore[misc]  # paramiko ships no type hints
     """An SFTP client that calls :meth:`on_status` with each status reply's code and text before
     paramiko converts it; a subclass raises its own typed error there (or returns: paramiko's way)."""
 

@@ -189,7 +189,7 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         if refusal is not None:
             self.multi_kernel_manager.log.warning("Kernel %s: refused a websocket (%s)", self.kernel_id, refusal[1])
             raise web.HTTPError(*refusal)
-        await super().prepare()
+        await super().prepare()  # type: ignore[no-untyped-call]  # jupyter_server: unannotated
 
     def connect(self) -> asyncio.Future[None] | None:  # type: ignore[override]
         refusal = self._refusal()  # again: another socket may have been admitted while this one was prepared
@@ -219,7 +219,7 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         socket_closed = getattr(self.multi_kernel_manager, "socket_closed", None)  # the page-bound manager's
         if socket_closed is not None:
             socket_closed(self.kernel_id, self.websocket_handler.close_code)
-        super().disconnect()
+        super().disconnect()  # type: ignore[no-untyped-call]  # jupyter_server: unannotated
 
     def handle_incoming_message(self, incoming_msg: Any) -> None:
         """Pass a frame from the page on to the kernel only while this socket is admitted and open, and
@@ -245,7 +245,7 @@ class PageChannelConnection(ZMQChannelsWebsocketConnection):
         return ws is not None and not ws.is_closing() and self.subprotocol == V1_PROTOCOL
 
     @property
-    def write_message(self) -> Any:  # type: ignore[override]
+    def write_message(self) -> Any:
         """The handler's ``write_message``, counting what is not yet sent (see :meth:`_bounded_write`)."""
         return self._bounded_write
 

@@ -72,7 +72,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
     """``AsyncMappingKernelManager`` that shuts a kernel down once no page is connected to it."""
 
     def __init__(self, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
+        super().__init__(**kwargs)  # type: ignore[no-untyped-call]  # jupyter_server: unannotated
         self._alone_since: dict[str, float] = {}  # kernel id -> when it last had no page
         self._had_page: set[str] = set()
         self._rendered_at: dict[str, float] = {}  # kernel id -> when Voilà finished running it, until a page came
@@ -154,7 +154,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
             stream.close()
 
     def notify_connect(self, kernel_id: str) -> None:
-        super().notify_connect(kernel_id)
+        super().notify_connect(kernel_id)  # type: ignore[no-untyped-call]  # jupyter_server: unannotated
         if kernel_id not in self._had_page and kernel_id in self._rendered_at:
             now = time.monotonic()
             waited = now - self._rendered_at[kernel_id]
@@ -172,7 +172,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
         self.log.info("Kernel %s: its page's socket closed (code %s)", kernel_id, close_code)
 
     def notify_disconnect(self, kernel_id: str) -> None:
-        super().notify_disconnect(kernel_id)
+        super().notify_disconnect(kernel_id)  # type: ignore[no-untyped-call]  # jupyter_server: unannotated
         if kernel_connections(self, kernel_id) <= 0:
             self._alone_since[kernel_id] = time.monotonic()
         self._churned = True
@@ -242,7 +242,7 @@ class PageBoundKernelManager(AsyncMappingKernelManager):
             return
         self.log.info("Kernel %s: %s; shutting it down", kernel_id, why)
         try:
-            await self.shutdown_kernel(kernel_id, now=now)
+            await self.shutdown_kernel(kernel_id, now=now)  # type: ignore[no-untyped-call]  # jupyter_server: unannotated
         except Exception:  # a kernel that refuses to die must not stop the checker
             self.log.exception("shutting down kernel %s failed", kernel_id)
 

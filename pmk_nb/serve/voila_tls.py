@@ -37,7 +37,7 @@ class TlsVoila(UrlHookVoila):
     def listen(self) -> None:
         if self.tls:
             context = server_context(self.tls["certfile"], self.tls["keyfile"])
-            self.app.listen = functools.partial(self.app.listen, ssl_options=context)  # type: ignore[method-assign]
+            self.app.listen = functools.partial(self.app.listen, ssl_options=context)
         super().listen()
 
     def public_url(self, url: str) -> str:

@@ -13,6 +13,7 @@ from pmk_nb.lazyface import lazy_face
 if TYPE_CHECKING:
     from pmk_nb.sim.bridge_modes import BRIDGE_MODES, DEFAULT_BRIDGE
     from pmk_nb.sim.chair import Chair
+    from pmk_nb.sim.config import SimConfig
     from pmk_nb.sim.demo import demo_grid, sample_floor
     from pmk_nb.sim.hostkey import default_state_dir
     from pmk_nb.sim.laser import Laser
@@ -24,6 +25,7 @@ _WHERE = {
     "BRIDGE_MODES": "bridge_modes",
     "DEFAULT_BRIDGE": "bridge_modes",
     "Chair": "chair",
+    "SimConfig": "config",
     "demo_grid": "demo",
     "sample_floor": "demo",
     "default_state_dir": "hostkey",
@@ -44,6 +46,7 @@ __all__ = [
     "Chair",
     "Laser",
     "SimChair",
+    "SimConfig",
     "SimError",
     "SimPortInUse",
     "World",

@@ -1,17 +1,17 @@
 """SimConfig: everything a simulated chair is started with, as one value with every default declared once.
 
-``SimChair(config=SimConfig(...))`` passes it whole (the CLI, the classroom, tests that share a set-up);
-``SimChair(port=0, ros="ros2", ...)`` still works: the keywords (:class:`SimOptions`, type-checked) replace
-fields of the config. The checks (known ROS version and bridge, positive rates, SFTP login rules) stay in
-:class:`~pmk_nb.sim.server.SimChair`, which raises :class:`~pmk_nb.sim.server.SimError`.
+``SimChair(SimConfig(port=0, ros="ros2", ...))``: the chair keeps it whole (``SimChair.config``) and reads
+every setting from it; no keyword copy of these fields exists beside it (issue 42), so a setting is added
+here once. The checks (known ROS version and bridge, positive rates, SFTP login rules, reload services)
+are :class:`~pmk_nb.sim.server.SimChair`'s, which raises :class:`~pmk_nb.sim.server.SimError`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import TYPE_CHECKING, TypedDict
+from typing import TYPE_CHECKING
 
 from pmk_nb.clock import MONOTONIC, WALL, Clock
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
@@ -47,7 +47,7 @@ class SimConfig:
     maps_dir: Path | str | None = None  # None: a temporary folder, removed with the chair
     start_pose: tuple[float, float, float] | None = None  # None: an open spot of the map
     footprint_radius: float = DEFAULT_CHAIR_WIDTH / 2  # metres
-    reload_services: Iterable[str] | None = None
+    reload_services: Sequence[str] | None = None  # None: the ROS version's usual ones (sim.mapserver)
     limits: DriveLimits | None = None  # None: DriveLimits()
     seed: int = 0
     client_queue: int = DEFAULT_CLIENT_QUEUE  # topic messages buffered per client before the oldest drop
@@ -58,41 +58,6 @@ class SimConfig:
     auth_secret: str | None = None  # rosauth's secret: every client's first op must be a granted ``auth``
     clock: Clock = MONOTONIC  # the physics and the loops' rates (a VirtualClock: steps only as it advances)
     wall_clock: Clock = WALL  # the messages' stamps
-
-
-class SimOptions(TypedDict, total=False):
-    """The keyword form of :class:`SimConfig` for ``SimChair(**options)``: the same names and types, no
-    defaults (those are SimConfig's; tests/sim/test_sim_config.py keeps the two in step)."""
-
-    grid: OccupancyGrid | None
-    host: str
-    port: int
-    ros: RosVersion
-    odom_rate: float
-    scan_rate: float
-    rays: int
-    range_max: float
-    laser_blind: tuple[float, float] | None
-    patrol: bool
-    sftp_port: int | None
-    sftp_user: str
-    sftp_password: str | None
-    sftp_authorized_key: str | Path | None
-    sftp_password_login: bool
-    maps_dir: Path | str | None
-    start_pose: tuple[float, float, float] | None
-    footprint_radius: float
-    reload_services: Iterable[str] | None
-    limits: DriveLimits | None
-    seed: int
-    client_queue: int
-    nav_actions: bool
-    tls: tuple[Path | str, Path | str] | None
-    bridge: BridgeMode
-    state_dir: Path | str | None
-    auth_secret: str | None
-    clock: Clock
-    wall_clock: Clock
 
 
 def field_names() -> tuple[str, ...]:

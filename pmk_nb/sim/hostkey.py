@@ -11,7 +11,6 @@ from __future__ import annotations
 import fcntl
 import os
 from pathlib import Path
-from typing import Any
 
 import asyncssh
 
@@ -30,7 +29,7 @@ def default_state_dir() -> Path:
     return Path(platformdirs.user_state_dir("pmk_nb")) / "sim"
 
 
-def load_host_key(state_dir: Path | None) -> Any:
+def load_host_key(state_dir: Path | None) -> asyncssh.SSHKey:
     """The host key in ``state_dir`` (made there on first use); a throwaway key when ``state_dir`` is None."""
     if state_dir is None:
         return asyncssh.generate_private_key("ssh-ed25519", comment="pmk-sim")

@@ -45,7 +45,8 @@ def int8_array_json(data: np.ndarray) -> str:
         return "[]"
     codes = flat.view(np.uint8) ^ np.uint8(0x80)  # -128 -> 0 ... 127 -> 255: the word's table row
     words = _TABLE.view(np.uint64).reshape(256)[codes].view(np.uint8)
-    return "[" + words[words != 0].tobytes()[:-1].decode("ascii") + "]"
+    text: bytes = words[words != 0].tobytes()
+    return "[" + text[:-1].decode("ascii") + "]"
 
 
 def dumps(obj: Any) -> str:

@@ -26,7 +26,11 @@ class NavGoal:
     recoveries: int = 0
 
 
-def parse_pose(pose_stamped: Any) -> tuple[tuple[float, float, float | None], str] | str:
+#: a goal pose read from a PoseStamped: ((x, y, yaw or None), frame), or why it cannot be a goal
+ParsedPose = tuple[tuple[float, float, float | None], str] | str
+
+
+def parse_pose(pose_stamped: Any) -> ParsedPose:
     """(x, y, yaw) and frame of a PoseStamped, or why it cannot be a goal."""
     if not isinstance(pose_stamped, dict):
         return "pose must be a geometry_msgs/PoseStamped object"

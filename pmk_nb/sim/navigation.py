@@ -24,7 +24,7 @@ from pmk_nb.sim import actions as a2
 from pmk_nb.sim.action_status import ActionStatus
 from pmk_nb.sim.actions import GoalRef
 from pmk_nb.sim.cancel_service import add_cancel_services
-from pmk_nb.sim.navgoal import NavGoal, parse_pose
+from pmk_nb.sim.navgoal import NavGoal, ParsedPose, parse_pose
 from pmk_nb.sim.navigation_ros1 import Ros1Actionlib
 from pmk_nb.wire import NAV2_ACTION, NAV2_ACTIONS, NAV2_THROUGH, make_stamp, pose_msg
 
@@ -199,9 +199,9 @@ class _ToPose:
         parsed = parse_pose(args.get("pose"))
         self._start(ref, parsed, [])
 
-    def _start(self, ref: GoalRef, parsed: Any, via: list[tuple[float, float]]) -> None:
+    def _start(self, ref: GoalRef, parsed: ParsedPose, via: list[tuple[float, float]]) -> None:
         why = parsed if isinstance(parsed, str) else self.nav.check(*parsed)
-        if why is not None:
+        if why is not None or isinstance(parsed, str):
             self.nav.engine.note(f"goal rejected: {why}")  # the bridge does not pass the reason on
             ref.reject()
             return

@@ -10,7 +10,7 @@ roslibpy wait for it before sending), ``/move_base/feedback`` (``base_position``
 from __future__ import annotations
 
 import itertools
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 from pmk_nb.sim.navgoal import NavGoal, parse_pose
 from pmk_nb.wire import ACTIONLIB_ABORTED as ABORTED
@@ -32,20 +32,35 @@ SERVER = MOVE_BASE[0]
 _IDS = itertools.count(1)  # a goal sent without an id gets one
 
 
+class GoalID(TypedDict):
+    """actionlib_msgs/GoalID."""
+
+    stamp: dict[str, int]
+    id: str
+
+
+class GoalStatus(TypedDict):
+    """actionlib_msgs/GoalStatus: kept after the goal ends (KEEP_DONE_S) and published in each status array."""
+
+    goal_id: GoalID
+    status: int
+    text: str
+
+
 class Ros1Actionlib:
     """The move_base action server's topics on one bridge, on the engine's clocks (``nav.engine``)."""
 
     def __init__(self, nav: Navigator, bridge: Bridge, names: Names) -> None:
         self.nav, self.bridge, self.names = nav, bridge, names
         self.clock, self.wall = nav.engine.clock, nav.engine.wall
-        self._done: list[tuple[float, dict[str, Any]]] = []  # (time finished, status entry)
+        self._done: list[tuple[float, GoalStatus]] = []  # (time finished, status entry)
         bridge.advertise_internal(f"{SERVER}/status", "actionlib_msgs/GoalStatusArray")
         bridge.advertise_internal(f"{SERVER}/feedback", "move_base_msgs/MoveBaseActionFeedback")
         bridge.advertise_internal(f"{SERVER}/result", "move_base_msgs/MoveBaseActionResult")
         bridge.listen(f"{SERVER}/goal", "move_base_msgs/MoveBaseActionGoal", self.on_goal)
         bridge.listen(f"{SERVER}/cancel", "actionlib_msgs/GoalID", self.on_cancel)
 
-    def _entry(self, goal_id: str, status: int, text: str = "") -> dict[str, Any]:
+    def _entry(self, goal_id: str, status: int, text: str = "") -> GoalStatus:
         return {"goal_id": {"stamp": self.names.stamp(0.0), "id": goal_id}, "status": status, "text": text}
 
     def on_goal(self, msg: dict[str, Any]) -> None:
@@ -75,7 +90,7 @@ class Ros1Actionlib:
     def result(self, goal: NavGoal, outcome: str, why: str) -> None:
         self._publish_result(self._entry(goal.goal_id, CODES[outcome], "" if outcome == "succeeded" else why))
 
-    def _publish_result(self, entry: dict[str, Any]) -> None:
+    def _publish_result(self, entry: GoalStatus) -> None:
         self._done.append((self.clock.now(), entry))
         self.publish_status(self.nav.current)  # the terminal status first, as actionlib does
         msg = {"header": self.names.header("", self.wall.now()), "status": entry, "result": {}}

@@ -27,7 +27,7 @@ import numpy as np
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.sim.gridops import dilate_disk
 from pmk_nb.sim.jsonfast import RawJSON, int8_array_json
-from pmk_nb.sim.messages import pose_msg, vec3
+from pmk_nb.wire import pose_msg, vec3
 
 if TYPE_CHECKING:
     from pmk_nb.sim.chair import Chair

@@ -16,27 +16,33 @@ import ssl
 import tempfile
 import threading
 import weakref
-from collections.abc import Iterable
-from dataclasses import replace
+from collections.abc import Callable, Coroutine
 from pathlib import Path
-from typing import Any, Unpack
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 from websockets.asyncio.server import Server, serve
 
 from pmk_nb.errors import PmkError
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.sim.bridge_modes import BRIDGE_MODES, BridgeMode
+from pmk_nb.sim.bridge_modes import BRIDGE_MODES
 from pmk_nb.sim.chair import DriveLimits
-from pmk_nb.sim.config import SimConfig, SimOptions
+from pmk_nb.sim.config import SimConfig
 from pmk_nb.sim.demo import demo_grid
 from pmk_nb.sim.engine import Engine
 from pmk_nb.sim.laser import Laser
 from pmk_nb.sim.mapserver import RELOAD_SERVICES, MapServer, image_reader
-from pmk_nb.sim.messages import ROS_VERSIONS, Names, RosVersion
+from pmk_nb.sim.messages import ROS_VERSIONS, Names
 from pmk_nb.sim.paths import ChairFS
 from pmk_nb.sim.protocol import Bridge
 from pmk_nb.sim.rosapi import register_rosapi
+
+if TYPE_CHECKING:
+    import asyncssh  # loaded with the SFTP endpoint only
+
+    from pmk_nb.sim.sftp import SftpEndpoint
+
+T = TypeVar("T")
 
 
 class SimError(PmkError):
@@ -66,45 +72,19 @@ class SimPortInUse(SimError):
 class SimChair:
     """A simulated chair. All public methods are thread-safe and callable from any thread."""
 
-    def __init__(
-        self, map_yaml: Path | str | None = None, *, config: SimConfig | None = None, **options: Unpack[SimOptions]
-    ) -> None:
-        """``config``: every setting at once (:class:`~pmk_nb.sim.config.SimConfig`, defaults declared
-        there); keyword ``options`` and ``map_yaml`` replace fields of it. ``ros``: "ros1" or "ros2"
-        message spelling; ``nav_actions=False``: goal topics only, no move_base / Nav2 action servers (a
-        chair without a navigation action server); ``tls``: ``(certfile, keyfile)`` to serve ``wss://`` as
-        rosbridge does with its certfile/keyfile; ``bridge``: which real rosbridge's action-goal behaviour to
-        reproduce (:mod:`pmk_nb.sim.bridge_modes`); ``state_dir``: where the SSH host key is kept across
-        processes (:mod:`pmk_nb.sim.hostkey`; None: a new key per object); ``auth_secret``: rosbridge with
-        ``authenticate:=true``: a client whose first op is not an ``auth`` granted for this secret
-        (:mod:`pmk_nb.rosauth`) is refused and its socket closed."""
-        cfg = replace(config or SimConfig(), **options)
-        if map_yaml is not None:
-            cfg = replace(cfg, map_yaml=map_yaml)
+    def __init__(self, config: SimConfig | None = None) -> None:
+        """``config``: every setting (:class:`~pmk_nb.sim.config.SimConfig`, defaults and meanings declared
+        there), kept whole as :attr:`config` and read from it; checked here (:class:`SimError`)."""
+        cfg = SimConfig() if config is None else config
+        if not isinstance(cfg, SimConfig):
+            raise SimError(f"SimChair takes a SimConfig, not {type(cfg).__name__}: SimChair(SimConfig(map_yaml=...))")
+        _check(cfg)
         self.config = cfg
-        if cfg.ros not in ROS_VERSIONS:
-            raise SimError(f"unknown ROS version {cfg.ros!r}: use 'ros1' or 'ros2'")
-        if cfg.bridge not in BRIDGE_MODES:
-            raise SimError(f"unknown bridge {cfg.bridge!r}: use one of {', '.join(BRIDGE_MODES)}")
-        self.bridge_mode: BridgeMode = cfg.bridge
-        if cfg.odom_rate <= 0 or cfg.scan_rate <= 0:
-            raise SimError(f"rates must be positive (odom_rate={cfg.odom_rate}, scan_rate={cfg.scan_rate})")
-        self.map_yaml = Path(cfg.map_yaml) if cfg.map_yaml is not None else None
-        self._initial_grid = cfg.grid
-        self.host = cfg.host
-        self._port = cfg.port
-        self.ros: RosVersion = cfg.ros
+        self._port = cfg.port  # the port listened on: a free one once start() ran with port 0
         self.names = Names(cfg.ros)
-        self.odom_rate = cfg.odom_rate
-        self.scan_rate = cfg.scan_rate
         self.laser = Laser(rays=cfg.rays, range_max=cfg.range_max, blind=cfg.laser_blind)
-        self._init_sftp(
-            cfg.sftp_port, cfg.sftp_user, cfg.sftp_password, cfg.sftp_authorized_key, cfg.sftp_password_login
-        )
-        self._init_maps(cfg.maps_dir, cfg.reload_services)
-        self.footprint_radius = cfg.footprint_radius
-        self.limits = cfg.limits or DriveLimits()
-        self.client_queue = cfg.client_queue  # topic messages buffered per client before the oldest drop
+        self._init_sftp(cfg)
+        self._init_maps(cfg.maps_dir)
         self._thread: threading.Thread | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._stop_event: asyncio.Event | None = None
@@ -117,7 +97,7 @@ class SimChair:
             odom_rate=cfg.odom_rate,
             scan_rate=cfg.scan_rate,
             footprint_radius=cfg.footprint_radius,
-            limits=self.limits,
+            limits=cfg.limits or DriveLimits(),
             start_pose=cfg.start_pose,
             patrol=cfg.patrol,
             rng=np.random.default_rng(cfg.seed),
@@ -125,48 +105,35 @@ class SimChair:
             wall=cfg.wall_clock,
         )
         self.engine.navigator.offer_actions = cfg.nav_actions
+        # the certificate served from the next start (tests swap it between starts)
         self.tls = (Path(cfg.tls[0]), Path(cfg.tls[1])) if cfg.tls is not None else None
-        self.state_dir = Path(cfg.state_dir).expanduser() if cfg.state_dir is not None else None
 
-    def _init_sftp(
-        self, port: int | None, user: str, password: str | None, authorized_key: str | Path | None, password_login: bool
-    ) -> None:
-        """SFTP settings, checked now so a bad key or login combination fails before start()."""
-        self.sftp_user = user
-        if not password_login and (authorized_key is None or password):
-            raise SimError(
-                "SFTP password login off needs an authorized key and no password "
-                f"(sftp_authorized_key={authorized_key!r}, sftp_password given: {bool(password)})"
-            )
+    def _init_sftp(self, cfg: SimConfig) -> None:
+        """The SFTP login: the password (a random one when none is given) and the authorized keys, read now
+        so a bad key fails before start()."""
         # None = password login refused (key only)
-        self.sftp_password: str | None = (password or _random_password()) if password_login else None
-        self.sftp_authorized_key = authorized_key
-        self.sftp_keys: list[Any] = []
-        if authorized_key is not None:
+        self.sftp_password: str | None = (cfg.sftp_password or _random_password()) if cfg.sftp_password_login else None
+        self.sftp_keys: list[asyncssh.SSHKey] = []
+        if cfg.sftp_authorized_key is not None:
             from pmk_nb.sim.sftp import load_authorized_keys
 
             try:
-                self.sftp_keys = load_authorized_keys(authorized_key)
+                self.sftp_keys = load_authorized_keys(cfg.sftp_authorized_key)
             except ValueError as err:
                 raise SimError(str(err)) from err
-        self.sftp_port_wanted = port
-        self.sftp_port: int | None = None
+        self.sftp_port: int | None = None  # the port listened on, once started
         self.sftp_host_key_fingerprint: str | None = None  # "SHA256:..." as OpenSSH prints it
         self.sftp_host_key: str | None = None  # OpenSSH public key line, for known_hosts
-        self.sftp_server_key: Any = None
+        self.sftp_server_key: asyncssh.SSHKey | None = None
 
-    def _init_maps(self, maps_dir: Path | str | None, reload_services: Iterable[str] | None) -> None:
+    def _init_maps(self, maps_dir: Path | str | None) -> None:
         """The chair's ALMA_MAPS folder (a temporary one, removed with the object, if none given)."""
         if maps_dir is None:
             maps_dir = tempfile.mkdtemp(prefix="pmk-sim-maps-")
             self._cleanup = weakref.finalize(self, shutil.rmtree, maps_dir, True)
         self.maps_dir = Path(maps_dir)
         self.maps_dir.mkdir(parents=True, exist_ok=True)
-        self.fs = ChairFS(self.maps_dir, self.sftp_user)
-        self.reload_services = tuple(reload_services) if reload_services is not None else None
-        unknown = [s for s in self.reload_services or () if s not in RELOAD_SERVICES]
-        if unknown:
-            raise SimError(f"unknown reload service(s) {unknown}: choose from {', '.join(RELOAD_SERVICES)}")
+        self.fs = ChairFS(self.maps_dir, self.config.sftp_user)
 
     # -- lifecycle --------------------------------------------------------------------------------
 
@@ -176,7 +143,7 @@ class SimChair:
 
     @property
     def url(self) -> str:
-        return f"{'wss' if self.tls else 'ws'}://{self.host}:{self._port}"
+        return f"{'wss' if self.tls else 'ws'}://{self.config.host}:{self._port}"
 
     @property
     def sftp_authorized_fingerprints(self) -> list[str]:
@@ -202,9 +169,9 @@ class SimChair:
         if self._error is not None:
             self._thread.join(timeout)
             err = self._error
-            message = f"simulator could not start on {self.host}:{self._port}: {err}"
+            message = f"simulator could not start on {self.config.host}:{self._port}: {err}"
             if isinstance(err, OSError) and err.errno == errno.EADDRINUSE:
-                raise SimPortInUse(message, host=self.host, port=self._port) from err
+                raise SimPortInUse(message, host=self.config.host, port=self._port) from err
             raise SimError(message) from err
         return self
 
@@ -304,12 +271,12 @@ class SimChair:
         if self.bridge is not None:
             self._run_coro(self.bridge.close_all(), timeout)
 
-    def _call(self, fn: Any, *args: Any) -> None:
+    def _call(self, fn: Callable[..., object], *args: object) -> None:
         if self._loop is None or not self.running:
             raise SimError("the simulator is not running")
         self._loop.call_soon_threadsafe(fn, *args)
 
-    def _run_coro(self, coro: Any, timeout: float) -> Any:
+    def _run_coro(self, coro: Coroutine[Any, Any, T], timeout: float) -> T:
         if self._loop is None or not self.running:
             coro.close()
             raise SimError("the simulator is not running")
@@ -320,12 +287,12 @@ class SimChair:
     def _first_grid(self) -> OccupancyGrid:
         if self.mapserver is not None and self.mapserver.grid is not None:
             return self.mapserver.grid  # restart keeps the current map
-        if self._initial_grid is not None:
-            return self._initial_grid
-        if self.map_yaml is not None:
+        if self.config.grid is not None:
+            return self.config.grid
+        if self.config.map_yaml is not None:
             from pmk_nb.rosmap import read_map
 
-            return read_map(self.map_yaml, reader=image_reader(self.ros))
+            return read_map(Path(self.config.map_yaml), reader=image_reader(self.config.ros))
         return demo_grid()
 
     def _run(self, grid: OccupancyGrid, ready: threading.Event) -> None:
@@ -342,27 +309,27 @@ class SimChair:
 
     async def _main(self, grid: OccupancyGrid, ready: threading.Event) -> None:
         self._stop_event = asyncio.Event()
-        bridge = Bridge(
-            self.client_queue, self.bridge_mode, action_ops=self.ros == "ros2", auth_secret=self.config.auth_secret
-        )
+        cfg = self.config
+        bridge = Bridge(cfg.client_queue, cfg.bridge, action_ops=cfg.ros == "ros2", auth_secret=cfg.auth_secret)
         self.bridge = bridge
-        source = self.mapserver.source if self.mapserver else self.map_yaml
-        self.mapserver = MapServer(bridge, self.names, self.fs, self.engine.install, self.reload_services)
+        first = Path(cfg.map_yaml) if cfg.map_yaml is not None else None
+        source = self.mapserver.source if self.mapserver else first
+        self.mapserver = MapServer(bridge, self.names, self.fs, self.engine.install, cfg.reload_services)
         self.mapserver.register()
         register_rosapi(bridge, self.names, self.engine.wall.now)
         self.engine.attach(bridge)
         await self.mapserver.set_grid(grid, source)
         # SFTP listens before rosbridge does: whoever finds rosbridge listening (pmk demo waits on it, then
         # on SFTP) finds our SFTP server too, never another program that took its port meanwhile
-        sftp = None
-        if self.sftp_port_wanted is not None:
+        sftp: SftpEndpoint | None = None
+        if cfg.sftp_port is not None:
             from pmk_nb.sim.sftp import start_sftp
 
             sftp = await start_sftp(self)
         try:
             server = await serve(
                 bridge.handle,
-                self.host,
+                cfg.host,
                 self._port,
                 compression=None,
                 max_size=16 * 2**20,
@@ -392,7 +359,7 @@ class SimChair:
         ctx.load_cert_chain(str(self.tls[0]), str(self.tls[1]))
         return ctx
 
-    async def _shutdown(self, server: Server, bridge: Bridge, sftp: Any) -> None:
+    async def _shutdown(self, server: Server, bridge: Bridge, sftp: SftpEndpoint | None) -> None:
         server.close(close_connections=False)
         await bridge.close_all()
         await server.wait_closed()
@@ -400,6 +367,24 @@ class SimChair:
             sftp.close()
             await sftp.wait_closed()
         self.engine.cancel_plan()
+
+
+def _check(cfg: SimConfig) -> None:
+    """Refuse a setting the simulator cannot honour, before anything starts."""
+    if cfg.ros not in ROS_VERSIONS:
+        raise SimError(f"unknown ROS version {cfg.ros!r}: use 'ros1' or 'ros2'")
+    if cfg.bridge not in BRIDGE_MODES:
+        raise SimError(f"unknown bridge {cfg.bridge!r}: use one of {', '.join(BRIDGE_MODES)}")
+    if cfg.odom_rate <= 0 or cfg.scan_rate <= 0:
+        raise SimError(f"rates must be positive (odom_rate={cfg.odom_rate}, scan_rate={cfg.scan_rate})")
+    if not cfg.sftp_password_login and (cfg.sftp_authorized_key is None or cfg.sftp_password):
+        raise SimError(
+            "SFTP password login off needs an authorized key and no password "
+            f"(sftp_authorized_key={cfg.sftp_authorized_key!r}, sftp_password given: {bool(cfg.sftp_password)})"
+        )
+    unknown = [s for s in cfg.reload_services or () if s not in RELOAD_SERVICES]
+    if unknown:
+        raise SimError(f"unknown reload service(s) {unknown}: choose from {', '.join(RELOAD_SERVICES)}")
 
 
 def _random_password() -> str:

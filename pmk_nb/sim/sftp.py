@@ -24,7 +24,7 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import asyncssh
 
@@ -39,7 +39,7 @@ if TYPE_CHECKING:
 class ChairSFTPServer(asyncssh.SFTPServer):
     """SFTP server whose file system is ChairFS: ALMA_MAPS -> maps_dir, the rest -> scratch; no symlinks."""
 
-    def __init__(self, chan: asyncssh.SSHServerChannel, fs: ChairFS, scratch: Path) -> None:
+    def __init__(self, chan: asyncssh.SSHServerChannel[bytes], fs: ChairFS, scratch: Path) -> None:
         super().__init__(chan)
         self._fs = fs
         self._scratch = scratch
@@ -147,7 +147,7 @@ def load_authorized_keys(spec: str | Path | None) -> list[asyncssh.SSHKey]:
 class SftpEndpoint:
     """A running asyncssh listener plus its scratch folder."""
 
-    def __init__(self, acceptor: Any, scratch: Path) -> None:
+    def __init__(self, acceptor: asyncssh.SSHAcceptor, scratch: Path) -> None:
         self._acceptor = acceptor
         self._scratch = scratch
 
@@ -160,24 +160,25 @@ class SftpEndpoint:
 
 
 async def start_sftp(sim: SimChair) -> SftpEndpoint:
-    """Listen on ``sim.host``:``sim``'s SFTP port and fill in the sim's port and fingerprint."""
+    """Listen on the configured host and SFTP port; fill in the sim's port and fingerprint."""
+    cfg = sim.config
     host_key = sim.sftp_server_key
     if host_key is None:  # the state folder's key (issue 29), kept so a restarted sim presents the same key
-        host_key = load_host_key(sim.state_dir)
+        host_key = load_host_key(Path(cfg.state_dir).expanduser() if cfg.state_dir is not None else None)
         sim.sftp_server_key = host_key
     keys = sim.sftp_keys
     scratch = Path(tempfile.mkdtemp(prefix="pmk-sim-home-")).resolve()
     (scratch / sim.fs.home.lstrip("/") / "ALMA_MAPS").mkdir(parents=True)
     fs = sim.fs
 
-    def sftp_factory(chan: asyncssh.SSHServerChannel) -> ChairSFTPServer:
+    def sftp_factory(chan: asyncssh.SSHServerChannel[bytes]) -> ChairSFTPServer:
         return ChairSFTPServer(chan, fs, scratch)
 
-    port = sim.sftp_port if sim.sftp_port is not None else int(sim.sftp_port_wanted or 0)
+    port = sim.sftp_port if sim.sftp_port is not None else int(cfg.sftp_port or 0)
     acceptor = await asyncssh.listen(
-        sim.host,
+        cfg.host,
         port,
-        server_factory=lambda: _Auth(sim.sftp_user, sim.sftp_password, keys),
+        server_factory=lambda: _Auth(cfg.sftp_user, sim.sftp_password, keys),
         server_host_keys=[host_key],
         sftp_factory=sftp_factory,
         allow_scp=False,

@@ -76,5 +76,6 @@ def test_record_stop_and_download_on_home(tmp_path: Path) -> None:
         expect(value).to_contain_text("at 4.0 s")
         assert cursor.evaluate("el => el.getBoundingClientRect().left") > start_left + 100  # it crossed the plot
         files = page.locator(".pmk-record-files select")
-        expect(files).to_have_value(re.compile(r"^corridor\.mcap \("))  # kept in the recordings folder, chosen in the list
+        # kept in the recordings folder, chosen in the list
+        expect(files).to_have_value(re.compile(r"^corridor\.mcap \("))
         page.screenshot(path=str(ARTIFACTS / "record-replay-bag.png"))

@@ -72,7 +72,7 @@ def test_deploy_each_reload_kind_over_sim_sftp(
     report = deploy(files, sim_profile(sim, tmp_path), password=sim.sftp_password, link=link, progress=events.append)
 
     assert (report.service.name, report.service.kind) == expected
-    assert report.remote_yaml == f"/home/{sim.sftp_user}/ALMA_MAPS/hall.yaml"
+    assert report.remote_yaml == f"/home/{sim.config.sftp_user}/ALMA_MAPS/hall.yaml"
     assert (tmp_path / "chair_maps" / "hall.pgm").read_bytes() == files.image.read_bytes()
     assert (report.map_info.width, report.map_info.height) == (90, 70)
     assert report.map_info.origin[:2] == pytest.approx((-3.0, 1.25))

@@ -26,7 +26,7 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.sim import SimChair
+from pmk_nb.sim import SimChair, SimConfig
 from tests.fixtures_sim import wait_until
 
 pytestmark = pytest.mark.slow  # every test waits on a Node process running roslibjs
@@ -101,7 +101,7 @@ def run_client(script: Path, sim: SimChair, missing_map: Path) -> dict[str, Any]
         "--url",
         sim.url,
         "--flavour",
-        sim.ros,
+        sim.config.ros,
         "--seconds",
         str(WINDOW_S),
         "--missing-map",
@@ -122,7 +122,7 @@ def run(request: pytest.FixtureRequest, node_client: Path, tmp_path_factory: pyt
     """One roslibjs session against a fresh chair of each ROS version; the result plus the chair's view."""
     ros = request.param
     tmp = tmp_path_factory.mktemp(f"roslibjs-{ros}")
-    sim = SimChair(ros=ros, maps_dir=tmp / "ALMA_MAPS").start()
+    sim = SimChair(SimConfig(ros=ros, maps_dir=tmp / "ALMA_MAPS")).start()
     try:
         start = sim.pose
         result = run_client(node_client, sim, tmp / "ALMA_MAPS" / "no_such_map.yaml")  # in its folder: missing
@@ -131,7 +131,7 @@ def run(request: pytest.FixtureRequest, node_client: Path, tmp_path_factory: pyt
             "result": result,
             "start_pose": start,
             "end_pose": sim.pose,
-            "sim_odom_rate": sim.odom_rate,
+            "sim_odom_rate": sim.config.odom_rate,
             "sim_rays": sim.laser.rays,
             "grid": sim.grid,
             "clients_left": 0 if wait_until(lambda: sim.client_count == 0, 3.0) else sim.client_count,

@@ -87,7 +87,7 @@ def test_asyncssh_client_with_public_key(sim_factory, tmp_path):
             asyncssh.connect(
                 "127.0.0.1",
                 sim.sftp_port,
-                username=sim.sftp_user,
+                username=sim.config.sftp_user,
                 client_keys=[user_key],
                 known_hosts=known,
                 password=None,

@@ -38,7 +38,7 @@ def test_symlink_creation_refused_asyncssh(sim_factory):
         known = asyncssh.import_known_hosts(f"[127.0.0.1]:{sim.sftp_port} {sim.sftp_host_key}\n")
         async with (
             asyncssh.connect(
-                "127.0.0.1", sim.sftp_port, username=sim.sftp_user, password=sim.sftp_password, known_hosts=known
+                "127.0.0.1", sim.sftp_port, username=sim.config.sftp_user, password=sim.sftp_password, known_hosts=known
             ) as conn,
             conn.start_sftp_client() as sftp,
         ):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.sim import SimChair, SimError
+from pmk_nb.sim import SimChair, SimConfig, SimError
 from pmk_nb.sim.chair import Chair
 from pmk_nb.sim.demo import sample_floor
 from pmk_nb.sim.gridops import clearance, dilate_disk, wavefront
@@ -181,7 +181,7 @@ def test_port_in_use_is_a_clear_error():
     with socket.socket() as busy:
         busy.bind(("127.0.0.1", 0))
         busy.listen()
-        sim = SimChair(grid=room_grid(), port=busy.getsockname()[1])
+        sim = SimChair(SimConfig(grid=room_grid(), port=busy.getsockname()[1]))
         with pytest.raises(SimError, match="could not start"):
             sim.start()
         assert not sim.running
@@ -189,13 +189,13 @@ def test_port_in_use_is_a_clear_error():
 
 def test_bad_options_are_refused():
     with pytest.raises(SimError, match="unknown ROS version"):
-        SimChair(ros="ros3")  # type: ignore[arg-type]
-    ros2 = SimChair(grid=room_grid(), ros="ros2")
-    assert ros2.ros == "ros2" and ros2.names.srv("nav2_msgs", "LoadMap") == "nav2_msgs/srv/LoadMap"
+        SimChair(SimConfig(ros="ros3"))  # type: ignore[arg-type]
+    ros2 = SimChair(SimConfig(grid=room_grid(), ros="ros2"))
+    assert ros2.config.ros == "ros2" and ros2.names.srv("nav2_msgs", "LoadMap") == "nav2_msgs/srv/LoadMap"
     with pytest.raises(SimError, match="unknown reload service"):
-        SimChair(grid=room_grid(), reload_services=("reload_everything",))
+        SimChair(SimConfig(grid=room_grid(), reload_services=("reload_everything",)))
     with pytest.raises(SimError, match="rates must be positive"):
-        SimChair(grid=room_grid(), odom_rate=0)
+        SimChair(SimConfig(grid=room_grid(), odom_rate=0))
 
 
 def test_laser_range_option_is_checked_and_reaches_the_scan():
@@ -210,7 +210,7 @@ def test_laser_range_option_is_checked_and_reaches_the_scan():
     for bad in ("0", "-3", "inf", "far"):
         with pytest.raises(SystemExit):
             parser.parse_args(["sim", "--laser-range", bad])
-    assert SimChair(grid=room_grid(), range_max=25.0).laser.range_max == 25.0
+    assert SimChair(SimConfig(grid=room_grid(), range_max=25.0)).laser.range_max == 25.0
 
 
 def test_plan_through_the_sample_clinic_doors():

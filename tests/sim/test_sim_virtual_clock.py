@@ -12,6 +12,7 @@ from collections.abc import Iterator
 import pytest
 
 from pmk_nb.clock import VirtualClock
+from pmk_nb.sim.config import SimConfig
 from pmk_nb.sim.server import SimChair
 from tests.fixtures_sim import room_grid
 
@@ -27,7 +28,14 @@ def clock() -> VirtualClock:
 @pytest.fixture
 def chair(clock: VirtualClock) -> Iterator[SimChair]:
     sim = SimChair(
-        grid=room_grid(), start_pose=(1.0, 1.0, 0.0), odom_rate=ODOM_HZ, scan_rate=8.0, clock=clock, wall_clock=clock
+        SimConfig(
+            grid=room_grid(),
+            start_pose=(1.0, 1.0, 0.0),
+            odom_rate=ODOM_HZ,
+            scan_rate=8.0,
+            clock=clock,
+            wall_clock=clock,
+        )
     )
     sim.start()
     try:
@@ -63,7 +71,7 @@ def test_a_parked_chair_stays_put_however_long_time_runs(chair: SimChair, clock:
 def _push_into_the_wall(clock: VirtualClock) -> tuple[tuple[float, float, float], bool, tuple[float, float]]:
     """0.8 m/s at a wall 1.5 m ahead for 3 s of virtual time, the command renewed every 0.25 s."""
     sim = SimChair(
-        grid=room_grid(6.0, 4.0, wall_x=3.0), start_pose=(1.5, 2.0, 0.0), odom_rate=ODOM_HZ, clock=clock
+        SimConfig(grid=room_grid(6.0, 4.0, wall_x=3.0), start_pose=(1.5, 2.0, 0.0), odom_rate=ODOM_HZ, clock=clock)
     ).start()
     try:
         assert clock.wait_for_waiters(3)

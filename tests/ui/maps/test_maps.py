@@ -161,7 +161,7 @@ def test_convert_and_send_to_the_simulator(
             name="sim",
             host="127.0.0.1",
             port=sim.port,
-            ssh_user=sim.sftp_user,
+            ssh_user=sim.config.sftp_user,
             ssh_port=sim.sftp_port,
             known_hosts=str(tmp_path / "known_hosts"),
         )
