@@ -15,6 +15,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 # the pure core: no widgets, no network, no ROS (ARCHITECTURE.md); strict in pyproject.toml's [tool.mypy] too
 STRICT_PACKAGES = ("indoorgml", "openings", "raster", "rosmap", "access", "viewport", "drive", "guide", "speech")
+# and beyond the pure core, strict as well (issue 42): the chair and its rosbridge link
+STRICT_PACKAGES += ("chair",)
 # what --strict turns on per module (mypy 2.4); warn_unused_configs and warn_redundant_casts are global
 STRICT_FLAGS = (
     "disallow_any_generics",

@@ -5,7 +5,7 @@ heading (:mod:`pmk_nb.ui.goals.picker`); the mode turns itself off after one goa
 the map again. The goal goes to the chair through :meth:`ChairLink.navigate_to` (Nav2, move_base or
 the goal topic, detected) on a worker thread; the status words are the handle's (accepted, moving,
 arrived, aborted, cancelled, rejected, and what the link cannot know: link lost, no answer, cancel
-not honoured, outcome unknown), worded in :mod:`pmk_nb.chair.link.goal_words`, plus a line when the
+not honoured, outcome unknown), worded in :mod:`pmk_nb.chair.link.goals.goal_words`, plus a line when the
 chair has been silent or a cancel awaits its confirmation. The texts refresh with Home's info panel
 (:meth:`tick`).
 """

@@ -1,7 +1,7 @@
 """The navigation stack's layers on the live map (issue 40): a toggle each for the global and local
 costmaps, the footprint, the local plan and markers.
 
-The link side (:class:`~pmk_nb.chair.link.navlayers.NavLayerWatch`) finds each layer's topic by type and
+The link side (:class:`~pmk_nb.chair.link.streams.navlayers.NavLayerWatch`) finds each layer's topic by type and
 follows only the layers switched on; the geometry is :mod:`pmk_nb.viewport.costmap` and
 :mod:`pmk_nb.viewport.markers`. A costmap is a map overlay: its RGBA image is put on a hidden canvas of
 its own only when the costmap changes, and drawn scaled onto the map layer when the map is repainted

@@ -3,7 +3,7 @@
 An overlay of :class:`pmk_nb.ui.live.view.LiveView` (drawn after the chair, like the rooms route):
 a solid blue line from the chair along the part of the path still ahead of it
 (:func:`pmk_nb.viewport.path.ahead_of`), gone once the chair is at its end. The path comes
-from :class:`~pmk_nb.chair.link.planpath.PlanWatch` (its own throttled subscription); Home's info
+from :class:`~pmk_nb.chair.link.streams.planpath.PlanWatch` (its own throttled subscription); Home's info
 timer calls :meth:`LivePathLayer.tick`, which only bumps ``version`` when the path or the chair's
 place along it changed, so the render loop redraws then and skips otherwise.
 """

@@ -2,9 +2,9 @@
 and Pause, in Home's Plots panel (JupyterLab and the kiosk alike: plain ipywidgets and one ipycanvas).
 
 The topics come from the topic inspector's listing; a picked topic's numeric fields from the bridge's
-type definitions (rosapi ``message_details``, on a worker thread: :mod:`pmk_nb.chair.link.fields`); a
+type definitions (rosapi ``message_details``, on a worker thread: :mod:`pmk_nb.chair.link.streams.fields`); a
 path may also be typed (a bridge without definitions). Each topic plotted has one throttled
-subscription (:class:`~pmk_nb.chair.link.series.TopicSeries`) shared by its series, ended when its
+subscription (:class:`~pmk_nb.chair.link.streams.series.TopicSeries`) shared by its series, ended when its
 last series is removed, the panel closes or the preview stops. Pause freezes the chart (the samples
 keep coming); the chart is redrawn from Home's info timer at most :data:`PLOT_HZ` times a second.
 """

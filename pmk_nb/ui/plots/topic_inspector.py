@@ -2,7 +2,7 @@
 latest message.
 
 The list is asked of rosapi on a worker thread (a blocking service call), else it is the topics the
-link knows. Only the picked topic is subscribed, throttled (:mod:`pmk_nb.chair.link.inspect`), and
+link knows. Only the picked topic is subscribed, throttled (:mod:`pmk_nb.chair.link.streams.inspect`), and
 it is unsubscribed when another is picked, the panel closes or the preview stops. The texts are
 refreshed by :meth:`TopicInspector.tick` from Home's info timer, never per message.
 """
