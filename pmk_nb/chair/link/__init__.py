@@ -2,7 +2,8 @@
 
 ``client`` holds :class:`ChairLink`, the chair-level verbs, built from a :class:`LinkConfig`
 (``linkconfig``) around a small public core (``core.LinkCore``: the Protocol the helpers and the
-link's users take); ``registry`` keeps the kernel's only set of links (one per chair). Underneath:
+link's users take; ``roles``: the narrower Protocols some screens take); ``registry`` keeps the
+kernel's only set of links (one per chair). Underneath:
 
 * ``transport/``: the socket. ``ros`` (``LinkRos``: roslibpy on a private loop; ``framework`` is the one
   place that picks asyncio or Twisted), ``factory`` / ``factory_twisted``, ``backoff``, ``tls``,
@@ -30,6 +31,7 @@ from pmk_nb.chair.link.goals.navigate import GoalHandle, GoalProgress, GoalStatu
 from pmk_nb.chair.link.linkconfig import LinkConfig
 from pmk_nb.chair.link.record.recording import Recording, RecordStats
 from pmk_nb.chair.link.registry import close_all_links, forget_link, get_link, open_links, use_only
+from pmk_nb.chair.link.roles import GoalLink, LayerLink, MapWatchLink, PoseLink
 from pmk_nb.chair.link.streams.fields import field_value, numeric_fields
 from pmk_nb.chair.link.streams.inspect import TopicProbe, pretty_message, rate_text, topic_rows
 from pmk_nb.chair.link.streams.navlayers import LAYERS, Costmap, Footprint, NavLayerWatch
@@ -47,15 +49,19 @@ __all__ = [
     "Costmap",
     "Footprint",
     "GoalHandle",
+    "GoalLink",
     "GoalProgress",
     "GoalStatus",
     "GoalsStopped",
+    "LayerLink",
     "LinkConfig",
     "LinkCore",
     "LinkState",
+    "MapWatchLink",
     "NavLayerWatch",
     "PlanWatch",
     "PlannedPath",
+    "PoseLink",
     "RecordStats",
     "Recording",
     "TfWatch",

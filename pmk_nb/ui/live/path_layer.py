@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from pmk_nb.chair.link import AUTO, PlanWatch
+from pmk_nb.chair.link import AUTO, LinkCore, PlanWatch
 from pmk_nb.viewport import ahead_of
 
 if TYPE_CHECKING:
@@ -34,7 +34,7 @@ class LivePathLayer:
         self.version = 0
         self._lock = threading.Lock()
         self._points = np.empty((0, 2))
-        self._link: Any = None
+        self._link: LinkCore | None = None
         self._watch: PlanWatch | None = None
         self._seen: tuple[int, tuple[float, float] | None] | None = None
 
@@ -44,7 +44,7 @@ class LivePathLayer:
         with self._lock:
             return self._points
 
-    def attach(self, link: Any, topic: str = AUTO) -> None:
+    def attach(self, link: LinkCore | None, topic: str = AUTO) -> None:
         """Follow ``link``'s plan topic (None: stop and clear)."""
         if self._watch is not None:
             self._watch.stop()
