@@ -18,7 +18,8 @@ kernel's only set of links (one per chair). Underneath:
   ``goal_attach``, ``goal_watch``, ``goal_stop``, ``heartbeat``, ``goal_words``; ``initialpose``.
 * ``record/``: topics to MCAP. ``recording``, ``record_convert``, ``msgdefs``, ``msgdetails``.
 
-The rooms import downwards only: transport <- streams <- goals <- query <- record <- client.
+The rooms import downwards only: transport <- streams <- goals <- query <- record <- client (a helper's
+``LinkCore`` annotation, imported for type checking only, aside).
 """
 
 from __future__ import annotations
