@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT))
 from real_chair import real_sim_chair  # noqa: E402 - bench/ is sys.path[0] when run as a script
 
 from pmk_nb.chair.link import ChairLink  # noqa: E402
-from pmk_nb.chair.messages import parse_scan  # noqa: E402
+from pmk_nb.chair.link.streams.messages import parse_scan  # noqa: E402
 
 STREAMS = {"odom": ("/odom", "nav_msgs/msg/Odometry"), "scan": ("/scan", "sensor_msgs/msg/LaserScan")}
 CHAIR_RATES = ["--odom-rate", "50", "--scan-rate", "40", "--rays", "1080"]

@@ -312,7 +312,7 @@ class ChairCertificateError(ChairLinkError):
 
 class UnknownChairCertificate(ChairCertificateError):
     """First contact: no fingerprint is pinned for this chair yet. Only a person who compared
-    ``presented`` with the chair's may pin it (:func:`pmk_nb.chair.link.tls.trust_certificate`)."""
+    ``presented`` with the chair's may pin it (:func:`pmk_nb.chair.link.transport.tls.trust_certificate`)."""
 
 
 class ChairCertificateChanged(ChairCertificateError):

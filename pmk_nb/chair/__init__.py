@@ -25,10 +25,11 @@ if TYPE_CHECKING:
         SameAddress,
         row_words,
     )
+    from pmk_nb.chair.fleet_links import FleetLinks
     from pmk_nb.chair.keysetup import make_key_pair, setup_key
-    from pmk_nb.chair.messages import Odometry, Pose2D, Scan
+    from pmk_nb.chair.link.streams.messages import Odometry, Pose2D, Scan
+    from pmk_nb.chair.link.streams.ranges import BLIND_KINDS, NO_RETURN, UNKNOWN, blind_ahead
     from pmk_nb.chair.profiles import AUTH_METHODS, POSE_SOURCES, PROFILES_FILE, ChairProfile, ProfileStore, config_dir
-    from pmk_nb.chair.ranges import BLIND_KINDS, NO_RETURN, UNKNOWN, blind_ahead
     from pmk_nb.chair.secrets import SshAccount
     from pmk_nb.chair.ssh import trust_host_key
     from pmk_nb.chair.transfer import check_ssh
@@ -46,21 +47,22 @@ _WHERE = {
     "NoChairChosen": "fleet",
     "SameAddress": "fleet",
     "row_words": "fleet",
+    "FleetLinks": "fleet_links",
     "make_key_pair": "keysetup",
     "setup_key": "keysetup",
-    "Odometry": "messages",
-    "Pose2D": "messages",
-    "Scan": "messages",
+    "Odometry": "link.streams.messages",
+    "Pose2D": "link.streams.messages",
+    "Scan": "link.streams.messages",
     "AUTH_METHODS": "profiles",
     "ChairProfile": "profiles",
     "POSE_SOURCES": "profiles",
     "PROFILES_FILE": "profiles",
     "ProfileStore": "profiles",
     "config_dir": "profiles",
-    "BLIND_KINDS": "ranges",
-    "NO_RETURN": "ranges",
-    "UNKNOWN": "ranges",
-    "blind_ahead": "ranges",
+    "BLIND_KINDS": "link.streams.ranges",
+    "NO_RETURN": "link.streams.ranges",
+    "UNKNOWN": "link.streams.ranges",
+    "blind_ahead": "link.streams.ranges",
     "SshAccount": "secrets",
     "trust_host_key": "ssh",
     "check_ssh": "transfer",
@@ -78,6 +80,7 @@ __all__ = [
     "ChairStatus",
     "Fleet",
     "FleetError",
+    "FleetLinks",
     "FleetMember",
     "NoChairChosen",
     "NotInFleet",

@@ -14,16 +14,26 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from pmk_nb.errors import DeployError, PmkError
 from pmk_nb.wire import grid_sha256
 
 if TYPE_CHECKING:
+    from pmk_nb.chair.link.streams.messages import MapInfo
     from pmk_nb.rosmap import ImageReader, MapFiles
 
 DATA_CHECK_MAX_CELLS = 1_000_000
 SAMPLED_ROWS = 16  # rows compared when a grid is too big to compare whole
+
+
+class ConfirmLink(Protocol):
+    """What the confirmation needs of a chair link: the map's metadata, and a connect once it is known to
+    be closed. ``is_connected``, ``map_facts``, ``fetch_map`` and ``ros_version`` are used when the link
+    has them (tests' stand-ins may not)."""
+
+    def map_info(self, timeout: float = 5.0, without_grid: bool = False) -> MapInfo: ...
+    def connect(self, timeout: float = 5.0) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -50,7 +60,7 @@ class ExpectedMap:
         return f"{self.width}x{self.height} at {self.resolution:g} m, origin ({self.origin[0]:g}, {self.origin[1]:g})"
 
 
-def _wait_for_map(link: Any, expected: ExpectedMap, deadline: float, timeout: float) -> Any:
+def _wait_for_map(link: ConfirmLink, expected: ExpectedMap, deadline: float, timeout: float) -> Any:
     """Poll map_info until it matches ``expected`` or the deadline passes."""
     while True:
         remaining = deadline - time.monotonic()
@@ -83,7 +93,7 @@ def map_sha256(files: MapFiles) -> str:
     return grid_sha256(read_map(files.yaml, reader="nav2_jazzy"))
 
 
-def _wait_connected(link: Any, deadline: float) -> None:
+def _wait_connected(link: ConfirmLink, deadline: float) -> None:
     """After a lost answer the bridge may have closed the link: let it reconnect (or connect it)."""
     if not hasattr(link, "is_connected"):
         return
@@ -98,8 +108,13 @@ def _wait_connected(link: Any, deadline: float) -> None:
 
 
 def _by_map_info(
-    link: Any, expected: ExpectedMap, ours_of: Callable[[], str], remote_yaml: str, deadline: float, timeout: float
-):  # type: ignore[no-untyped-def]
+    link: ConfirmLink,
+    expected: ExpectedMap,
+    ours_of: Callable[[], str],
+    remote_yaml: str,
+    deadline: float,
+    timeout: float,
+) -> tuple[MapInfo, str] | None:
     """Confirm with the PMK map server's MapInfo (no grid moved); None when the chair has none."""
     facts_of = getattr(link, "map_facts", None)
     ours: str | None = None
@@ -128,7 +143,7 @@ def _by_map_info(
     return None
 
 
-def chair_readers(link: Any) -> tuple[ImageReader, ...]:
+def chair_readers(link: ConfirmLink) -> tuple[ImageReader, ...]:
     """The image readers the chair's map server may be: ROS 1's on a ROS 1 chair, Nav2's (Jazzy, then Humble:
     the link cannot tell which) on a ROS 2 chair, all three when the version is unknown. A scale-mode map
     reads differently under ROS 1's rules and Nav2's (issue 40: a map that loaded was 'different cells')."""
@@ -152,7 +167,7 @@ def _cells_match(ours: Any, theirs: Any) -> bool:
 
 
 def confirm_map(
-    link: Any,
+    link: ConfirmLink,
     expected: ExpectedMap,
     before: Any,
     files: MapFiles,

@@ -21,13 +21,18 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from PIL import Image
 
-from pmk_nb.chair import reload
-from pmk_nb.chair.confirm import ExpectedMap, confirm_map, in_background, map_sha256
+from pmk_nb.chair.confirm import ConfirmLink, ExpectedMap, confirm_map, in_background, map_sha256
+from pmk_nb.chair.link.query import reload
+from pmk_nb.chair.link.registry import close_all_links, get_link
 from pmk_nb.chair.transfer import HostKeyInfo, UploadResult, image_beside, upload
 from pmk_nb.errors import DeployError, PmkError
 from pmk_nb.progress import ProgressCallback, emit, sub_range
 
 if TYPE_CHECKING:
+    from pmk_nb.chair.link import ChairLink
+    from pmk_nb.chair.link.query.discovery import Discovery
+    from pmk_nb.chair.link.query.reload import ReloadKind, ReloadService
+    from pmk_nb.chair.link.streams.messages import MapInfo
     from pmk_nb.chair.profiles import ChairProfile
     from pmk_nb.rosmap import MapFiles
 
@@ -36,17 +41,22 @@ STEPS = ("upload", "detect", "reload", "confirm")
 STEP_SPANS = {"upload": (0.0, 0.70), "detect": (0.70, 0.75), "reload": (0.75, 0.90), "confirm": (0.90, 1.0)}
 
 
-class Link(Protocol):
+class Link(ConfirmLink, Protocol):
     """What deploy needs from ``pmk_nb.chair.link.client.ChairLink``.
 
     ``discovery`` answers ``services()`` and ``service_type(name)`` (rosapi); ``fetch_map``,
     ``is_connected`` and ``connect`` are used when the link has them.
     """
 
-    discovery: Any
+    discovery: Discovery
 
-    def reload_map(self, remote_yaml_path: str, *args: Any, **kwargs: Any) -> Any: ...
-    def map_info(self, timeout: float = ...) -> Any: ...
+    def reload_map(
+        self,
+        remote_yaml_path: str,
+        kind: ReloadKind | str | None = None,
+        service: str | None = None,
+        timeout: float = 30.0,
+    ) -> ReloadService: ...
 
 
 @dataclass
@@ -146,7 +156,7 @@ def detect_step(run: _Steps, link: Link | None, profile: ChairProfile, sent: Upl
             if link is None:
                 link = link_for(profile)
             if not getattr(link, "is_connected", True):
-                link.connect(timeout=timeout)  # type: ignore[union-attr]
+                link.connect(timeout=timeout)
             plan = _reload_plan(link, profile)
         except PmkError as err:
             raise step_failed(
@@ -161,7 +171,7 @@ def detect_step(run: _Steps, link: Link | None, profile: ChairProfile, sent: Upl
     return link, None, before
 
 
-def _map_before(link: Any) -> Any:
+def _map_before(link: Link) -> MapInfo | None:
     """The current map's metadata when it is cheap to read (MapInfo, /map_metadata), else None: a big
     /map is never pulled here (it cost every later send seconds)."""
     try:
@@ -172,7 +182,7 @@ def _map_before(link: Any) -> Any:
         return None
 
 
-def _reload_plan(link: Any, profile: ChairProfile) -> list[Any]:
+def _reload_plan(link: Link, profile: ChairProfile) -> list[ReloadService]:
     service = None if profile.reload_service == "auto" else profile.reload_service
     kind = None if profile.reload_kind == "auto" else profile.reload_kind
     if hasattr(link.discovery, "reload_plan"):
@@ -275,10 +285,8 @@ def deploy(
     return DeployReport(sent.remote_yaml, service, info, expected, sent.host_key, sent.bytes_sent, run.timings, notes)
 
 
-def link_for(profile: ChairProfile) -> Any:
+def link_for(profile: ChairProfile) -> ChairLink:
     """The kernel's shared ChairLink for this profile (not connected yet)."""
-    from pmk_nb.chair.link.registry import get_link
-
     link = get_link(profile.host, profile.port, **profile.link_options())
     link.goal_policy = profile.goal_policy()
     return link
@@ -286,6 +294,4 @@ def link_for(profile: ChairProfile) -> Any:
 
 def close_links() -> None:
     """Close the kernel's links (CLI processes, at exit)."""
-    from pmk_nb.chair.link.registry import close_all_links
-
     close_all_links()

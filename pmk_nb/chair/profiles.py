@@ -18,7 +18,7 @@ import shutil
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import platformdirs
 
@@ -26,6 +26,9 @@ from pmk_nb.chair.secrets import PasswordCache, SecretBackend, SshAccount
 from pmk_nb.defaults import DEFAULT_CHAIR_WIDTH
 from pmk_nb.errors import SettingsError
 from pmk_nb.fileio import atomic_write, private_dir
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link.goals.goal import GoalPolicy
 
 POSE_SOURCES = ("odometry", "pose_topic", "tf")
 AUTH_METHODS = ("password", "key")
@@ -69,7 +72,7 @@ class ChairProfile:
     pose_source: str = "odometry"
     pose_topic: str = "/amcl_pose"
     # the navigation stack's planned path (nav_msgs/Path) drawn on Home: "auto" follows Nav2's /plan
-    # and move_base's planners (pmk_nb.chair.link.planpath), or name one topic
+    # and move_base's planners (pmk_nb.chair.link.streams.planpath), or name one topic
     plan_topic: str = "auto"
     ssh_user: str = ""
     ssh_port: int = 22
@@ -93,14 +96,14 @@ class ChairProfile:
     speech_on: bool = True
     speech_voice: str = "en"
     speech_rate: float = 1.0
-    # TLS to rosbridge (wss://, pmk_nb.chair.link.tls): the CA file that signs the chair's certificate,
+    # TLS to rosbridge (wss://, pmk_nb.chair.link.transport.tls): the CA file that signs the chair's certificate,
     # else its fingerprint pinned on first use in known_certs (beside known_hosts)
     tls: bool = False
     tls_ca_file: str | None = None
-    # rosbridge authentication (rosauth's auth op, pmk_nb.chair.link.bridge_auth): the file holding the
+    # rosbridge authentication (rosauth's auth op, pmk_nb.chair.link.transport.bridge_auth): the file holding the
     # chair's secret, read at each connect; a classroom seat's chair in ``pmk hub`` requires it
     bridge_secret_file: str | None = None
-    # goals (pmk_nb.chair.link.navigate.GoalPolicy): when the dashboard loses the chair, "finish"
+    # goals (pmk_nb.chair.link.goals.navigate.GoalPolicy): when the dashboard loses the chair, "finish"
     # (let goals finish) or "cancel" (cancel them once the link is back); deadlines in seconds
     goals_on_link_loss: str = "finish"
     goal_accept_s: float = 5.0
@@ -124,9 +127,12 @@ class ChairProfile:
         return f"{'wss' if self.tls else 'ws'}://{self.host}:{self.port}"
 
     def link_options(self) -> dict[str, Any]:
-        """What a ChairLink to this chair takes (topics, pose source, TLS trust), as keywords."""
-        from pmk_nb.chair.link.bridge_auth import BridgeAuth
-        from pmk_nb.chair.link.tls import ChairTls  # ssl only; the link package loads on use
+        """What a ChairLink to this chair takes (topics, pose source, TLS trust), as keywords.
+
+        The link is imported here, on use, because its package loads roslibpy (``pmk info`` must not);
+        there is no cycle to dodge: the link never imports ``chair``."""
+        from pmk_nb.chair.link.transport.bridge_auth import BridgeAuth
+        from pmk_nb.chair.link.transport.tls import ChairTls
 
         return {
             "odom_topic": self.odom_topic,
@@ -137,9 +143,9 @@ class ChairProfile:
             "auth": BridgeAuth(Path(self.bridge_secret_file).expanduser()) if self.bridge_secret_file else None,
         }
 
-    def goal_policy(self) -> Any:
-        """The link's goal deadlines and link-loss setting, from this profile."""
-        from pmk_nb.chair.link.navigate import GoalPolicy
+    def goal_policy(self) -> GoalPolicy:
+        """The link's goal deadlines and link-loss setting, from this profile (the link imported on use)."""
+        from pmk_nb.chair.link.goals.goal import GoalPolicy
 
         return GoalPolicy(accept_s=self.goal_accept_s, quiet_s=self.goal_quiet_s, on_link_loss=self.goals_on_link_loss)
 

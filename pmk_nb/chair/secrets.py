@@ -60,8 +60,8 @@ class SshAccount:
 def detect_keyring() -> tuple[SecretBackend | None, str]:
     """The keyring module when it is installed and has a real backend; else (None, why not)."""
     try:
-        import keyring  # type: ignore[import-not-found]
-        import keyring.backends.fail  # type: ignore[import-not-found]
+        import keyring  # type: ignore[import-not-found, unused-ignore]  # optional: absent on most installs
+        import keyring.backends.fail  # type: ignore[import-not-found, unused-ignore]
     except Exception:
         return None, "the keyring package is not installed"
     try:

@@ -52,7 +52,7 @@ def known_hosts_name(host: str, port: int) -> str:
     return host if port == 22 else f"[{host}]:{port}"
 
 
-class VerifyingHostKeyPolicy(paramiko.MissingHostKeyPolicy):
+class VerifyingHostKeyPolicy(paramiko.MissingHostKeyPolicy):  # type: ignore[misc]  # paramiko has no type hints: subclassing it is the seam
     """Unknown keys: refused (strict) or recorded in our known_hosts (trust on first use).
 
     Changed keys never reach this policy: paramiko raises BadHostKeyException, which we turn into a
@@ -272,12 +272,12 @@ def open_sftp(profile: ChairProfile, *, password: str | None = None, timeout: fl
         raise _connect_error(cause, profile, timeout, greeted=greeted) from err
     where = f"{profile.ssh_user}@{profile.host}:{profile.ssh_port}"
     try:
-        server_key = client.get_transport().get_remote_server_key()  # type: ignore[union-attr]
+        server_key = client.get_transport().get_remote_server_key()
         host_key = policy.recorded or HostKeyInfo(name, server_key.get_name(), fingerprint(server_key), False, known)
         sftp = StatusSFTPClient.from_transport(client.get_transport())
         if sftp is None:
             raise paramiko.SSHException("the chair refused to open an SFTP channel")
-        sftp.get_channel().settimeout(timeout)  # type: ignore[union-attr]
+        sftp.get_channel().settimeout(timeout)
         home = sftp.normalize(".")
     except (OSError, EOFError, paramiko.SSHException) as err:
         client.close()

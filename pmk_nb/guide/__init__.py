@@ -14,9 +14,10 @@ from pmk_nb.guide.errors import NoAccessibleRoute, NoGraph, NotOnMap, RouteError
 from pmk_nb.guide.goal import goal_in_room
 from pmk_nb.guide.rooms import Room, RoomsMap, load_rooms
 from pmk_nb.guide.route import Route, plan_route
-from pmk_nb.guide.visit import chair_xy, go_to
+from pmk_nb.guide.visit import Navigator, chair_xy, go_to
 
 __all__ = [
+    "Navigator",
     "NoAccessibleRoute",
     "NoGraph",
     "NotOnMap",

@@ -1,9 +1,9 @@
 """roslibpy internals (pinned: roslibpy==2.1.0; tests/seams/test_roslibpy_seam.py).
 
 Imports no roslibpy transport: importing ``roslibpy.comm.comm_asyncio`` (or the Twisted one) binds
-Autobahn's txaio to that framework for the whole process, which :mod:`pmk_nb.chair.link.transport`
+Autobahn's txaio to that framework for the whole process, which :mod:`pmk_nb.chair.link.transport.framework`
 decides only when a link connects. So this module holds a mixin and functions; the link's
-factory (:mod:`pmk_nb.chair.link.factory`) mixes it into roslibpy's asyncio factory.
+factory (:mod:`pmk_nb.chair.link.transport.factory`) mixes it into roslibpy's asyncio factory.
 
 Touched:
 

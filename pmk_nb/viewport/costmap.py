@@ -6,7 +6,7 @@ map_msgs/OccupancyGridUpdate patches.  The picture is an RGBA image at one pixel
 RGB: ipycanvas puts only greyscale or RGBA image data), coloured like RViz's "costmap" colour scheme,
 and drawn scaled onto the map by a canvas transform: the grid's corner at its origin in the map frame,
 turned by the origin's yaw.  Pure maths: the live view's layer only sends what this computes (the
-link applies the update patches: ``pmk_nb.chair.link.navlayers``).
+link applies the update patches: ``pmk_nb.chair.link.streams.navlayers``).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 Hits become red rays, +inf (nothing within range) faint rays up to ``range_max``, and rays that
 say nothing (null, NaN, out of range) or "something closer than range_min" become short ticks at
-the chair, never free space (REP 117; see :mod:`pmk_nb.chair.ranges`).
+the chair, never free space (REP 117; see :mod:`pmk_nb.chair.link.streams.ranges`).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Laser rays cast over the map: which JSON ``null`` readings are the expected "nothing in range".
 
 Over JSON rosbridge a ray that saw nothing within ``range_max`` (+inf) and an invalid one (NaN) both
-arrive as ``null`` (:mod:`pmk_nb.chair.ranges`). Looking down a corridor longer than the laser's
+arrive as ``null`` (:mod:`pmk_nb.chair.link.streams.ranges`). Looking down a corridor longer than the laser's
 range gives a fan of nulls that is no blindness at all. The map tells the two apart: cast each ray
 over the grid from the scanner's pose; where no occupied cell lies within ``range_max`` the null is
 the expected no-return; where the map has a wall within range, the sensor should have seen it and a

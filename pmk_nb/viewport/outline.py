@@ -5,7 +5,7 @@ says is (a) where obstacles are, the hit points, and (b) which floor is seen fre
 rays swept.  So the live view draws the hits as small dots, at most one per screen pixel, over a
 light polygon through the rays' ends.  Readings that say nothing (JSON null, NaN, out of range,
 "closer than range_min") pull the polygon back to the scanner: unknown is never shown as free
-(REP 117, read in :mod:`pmk_nb.chair.ranges`).  The polygon keeps at most one vertex per pixel of
+(REP 117, read in :mod:`pmk_nb.chair.link.streams.ranges`).  The polygon keeps at most one vertex per pixel of
 its outline, then drops vertices that lie on a straight line with their neighbours (a wall seen by
 300 rays is a handful of vertices), so a frame stays a few kilobytes at any zoom.
 """

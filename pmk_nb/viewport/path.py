@@ -1,6 +1,6 @@
 """The planned path as the live view draws it: the part still ahead of the chair (issue 29).
 
-Pure (issue 25): the link (``pmk_nb.chair.link.planpath``) follows the navigation stack's plan; what of
+Pure (issue 25): the link (``pmk_nb.chair.link.streams.planpath``) follows the navigation stack's plan; what of
 it is still to drive is plain geometry, beside the live view's other maths.
 """
 

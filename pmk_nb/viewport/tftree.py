@@ -3,7 +3,7 @@
 A wheelchair moves in the plane, so (x, y, yaw) transforms are exact for it and far cheaper than
 a full tf2 buffer. The tree keeps only the latest transform per child frame (no interpolation):
 the live view wants "where is the chair now", not a pose at a past instant. Pure (issue 25): the
-link (``pmk_nb.chair.link.streams``) fills it from ``/tf`` with the transforms ``chair.messages``
+link (``pmk_nb.chair.link.streams.hub``) fills it from ``/tf`` with the transforms ``chair.link.streams.messages``
 parses; the maths lives here, with the live view's other maths, and knows no ROS message.
 """
 
@@ -25,7 +25,7 @@ def normalise_frame(frame: str) -> str:
 
 
 class FramedTransform(Protocol):
-    """One planar transform: ``child`` expressed in ``parent`` (``chair.messages.TransformStamped2D``)."""
+    """One planar transform: ``child`` expressed in ``parent`` (``chair.link.streams.messages.TransformStamped2D``)."""
 
     @property
     def parent(self) -> str: ...

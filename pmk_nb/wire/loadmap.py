@@ -1,6 +1,6 @@
 """What a map server answers to a reload (``nav_msgs/LoadMap``, ``nav2_msgs/srv/LoadMap``): the result
 codes and how a failed load becomes one. The simulator's map server and the chair's PMK map server
-(rclpy and rospy) answer alike; the link reads the codes back (``chair/reload``).
+(rclpy and rospy) answer alike; the link reads the codes back (``chair/link/query/reload``).
 
 Nav2 answers each failure with its own code; ROS 1's map_server knows only success and
 :data:`UNDEFINED_FAILURE` (:func:`ros1_result`).

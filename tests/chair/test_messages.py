@@ -9,8 +9,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from pmk_nb.chair import reload
-from pmk_nb.chair.messages import parse_map_metadata, parse_odometry, parse_pose, parse_scan, parse_tf_message
+from pmk_nb.chair.link.query import reload
+from pmk_nb.chair.link.streams.messages import (
+    parse_map_metadata,
+    parse_odometry,
+    parse_pose,
+    parse_scan,
+    parse_tf_message,
+)
 from pmk_nb.viewport import Transform2D
 from pmk_nb.wire import quaternion_from_yaw, wrap_angle
 

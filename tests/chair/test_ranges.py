@@ -1,4 +1,4 @@
-"""REP 117 reading of laser ranges, with JSON null as unknown (pmk_nb.chair.ranges)."""
+"""REP 117 reading of laser ranges, with JSON null as unknown (pmk_nb.chair.link.streams.ranges)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from pmk_nb.chair.ranges import HIT, INVALID, NO_RETURN, TOO_CLOSE, UNKNOWN, blind_ahead, classify_ranges
+from pmk_nb.chair.link.streams.ranges import HIT, INVALID, NO_RETURN, TOO_CLOSE, UNKNOWN, blind_ahead, classify_ranges
 
 
 def test_every_reading_gets_its_rep117_meaning_and_null_is_unknown() -> None:

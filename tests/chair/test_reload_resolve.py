@@ -1,11 +1,11 @@
-"""The one reload-service resolver (pmk_nb.chair.reload.resolve), as deploy and ChairLink use it."""
+"""The one reload-service resolver (pmk_nb.chair.link.query.reload.resolve), as deploy and ChairLink use it."""
 
 from __future__ import annotations
 
 import pytest
 
-from pmk_nb.chair import reload
-from pmk_nb.chair.reload import RELOAD_KINDS, MapReloadError, ReloadService, resolve
+from pmk_nb.chair.link.query import reload
+from pmk_nb.chair.link.query.reload import RELOAD_KINDS, MapReloadError, ReloadService, resolve
 
 TYPES = {
     "/change_map": "nav_msgs/LoadMap",

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from pmk_nb.chair import ProfileStore
-from pmk_nb.chair.link.tls import pinned
+from pmk_nb.chair.link.transport.tls import pinned
 from tests.cli.test_sim_cli import start_cli
 
 ROOT = Path(__file__).resolve().parents[2]

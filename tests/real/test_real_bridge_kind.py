@@ -4,7 +4,7 @@ warning), as the simulator's rs mode assumes: its rosapi lists no ``/rosapi_para
 from __future__ import annotations
 
 from pmk_nb.chair.link import ChairLink
-from pmk_nb.chair.link.bridge_kind import detect_bridge
+from pmk_nb.chair.link.query.bridge_kind import detect_bridge
 from pmk_nb.sim.bridge_modes import FACTS
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair

@@ -10,7 +10,7 @@ from collections.abc import Iterator
 import pytest
 
 from pmk_nb.chair.link import ChairLink, LinkState
-from pmk_nb.chair.link.discovery import RosapiMissing
+from pmk_nb.chair.link.query.discovery import RosapiMissing
 from tests import fixtures_ros2
 from tests.fixtures_ros2 import RealChair, free_port
 from tests.fixtures_sim import room_grid, write_test_map

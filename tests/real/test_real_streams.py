@@ -18,8 +18,8 @@ import pytest
 import roslibpy
 
 from pmk_nb.chair.link import ChairLink
-from pmk_nb.chair.link.throttle import AUTO, SCREEN_HZ
-from pmk_nb.chair.messages import Odometry, Scan
+from pmk_nb.chair.link.streams.messages import Odometry, Scan
+from pmk_nb.chair.link.streams.throttle import AUTO, SCREEN_HZ
 from pmk_nb.rosmap import read_map
 from pmk_nb.ui.live.chair_layer import PoseHistory
 from pmk_nb.wire import stamp_to_sec

@@ -20,7 +20,8 @@ from collections.abc import Iterator
 
 import pytest
 
-from pmk_nb.chair.link import ChairLink, GoalStatus, heartbeat
+from pmk_nb.chair.link import ChairLink, GoalStatus
+from pmk_nb.chair.link.goals import heartbeat
 from pmk_nb.robot import ros1_mapserver
 from pmk_nb.robot.goalwatch import READY_LINE
 from tests import fixtures_ros2

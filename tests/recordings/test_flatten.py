@@ -12,8 +12,8 @@ from mcap_ros2.decoder import DecoderFactory
 from mcap_ros2.writer import Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
-from pmk_nb.chair.link.msgdefs import DEFINITIONS
-from pmk_nb.chair.link.record_convert import to_ros2
+from pmk_nb.chair.link.record.msgdefs import DEFINITIONS
+from pmk_nb.chair.link.record.record_convert import to_ros2
 from pmk_nb.recordings.flatten import flatten, row, stamp_seconds
 
 ODOM = "nav_msgs/msg/Odometry"

@@ -18,8 +18,8 @@ from pathlib import Path
 import roslibpy
 from roslibpy.comm import comm_asyncio
 
-from pmk_nb.chair.link.factory import LinkFactory, start_private_loop
-from pmk_nb.chair.link.transport import LinkRos
+from pmk_nb.chair.link.transport.factory import LinkFactory, start_private_loop
+from pmk_nb.chair.link.transport.ros import LinkRos
 from pmk_nb.seams.roslibpy_seam import TOUCHED, FactorySeam
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -41,7 +41,7 @@ from pathlib import Path
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 from pmk_nb.chair.link import ChairLink
-from pmk_nb.chair.link.bridge_auth import BridgeAuth, BridgeAuthError
+from pmk_nb.chair.link.transport.bridge_auth import BridgeAuth, BridgeAuthError
 
 args = json.loads(sys.argv[1])
 out = {"uid": __import__("os").getuid(), "reads": {}}
@@ -112,7 +112,7 @@ def _interpreter_reachable() -> Iterator[None]:
 
 def _chair_answers(port: int, secret_file: Path) -> bool:
     from pmk_nb.chair.link import ChairLink
-    from pmk_nb.chair.link.bridge_auth import BridgeAuth
+    from pmk_nb.chair.link.transport.bridge_auth import BridgeAuth
 
     link = ChairLink("127.0.0.1", port, auth=BridgeAuth(secret_file))
     try:

@@ -19,8 +19,8 @@ from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
 from pmk_nb.chair.link import ChairLink
-from pmk_nb.chair.link.bridge_auth import BridgeAuth, BridgeAuthError
-from pmk_nb.chair.link.transport import LinkRos
+from pmk_nb.chair.link.transport.bridge_auth import BridgeAuth, BridgeAuthError
+from pmk_nb.chair.link.transport.ros import LinkRos
 from pmk_nb.rosauth import granted
 from pmk_nb.sim import SimChair
 from tests.fixtures_sim import sim_factory, wait_until  # noqa: F401

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from pmk_nb.chair.messages import Pose2D, parse_scan
-from pmk_nb.chair.ranges import INVALID, UNKNOWN
+from pmk_nb.chair.link.streams.messages import Pose2D, parse_scan
+from pmk_nb.chair.link.streams.ranges import INVALID, UNKNOWN
 from pmk_nb.grid import OCCUPIED, OccupancyGrid
 from pmk_nb.ui.home.info import laser_text
 from pmk_nb.viewport.mapcast import expected_no_return, explain_nulls, first_obstacle

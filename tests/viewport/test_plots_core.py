@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from pmk_nb.chair.link.inspect import Rate, RateMeter, pretty_message, rate_text, topic_rows
+from pmk_nb.chair.link.streams.inspect import Rate, RateMeter, pretty_message, rate_text, topic_rows
 from pmk_nb.viewport.history import OdomHistory, nice_limit, plot_lines
 
 

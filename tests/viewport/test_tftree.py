@@ -13,7 +13,7 @@ from pmk_nb.viewport import TfTree
 
 @dataclass(frozen=True)
 class _T:
-    """A planar transform as the link hands it over (``chair.messages.TransformStamped2D``'s shape)."""
+    """A planar transform as the link hands it over (``chair.link.streams.messages.TransformStamped2D``'s shape)."""
 
     parent: str
     child: str

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from pmk_nb.chair.link.initialpose import VARIANCE_XY, VARIANCE_YAW, initial_pose_message
+from pmk_nb.chair.link.goals.initialpose import VARIANCE_XY, VARIANCE_YAW, initial_pose_message
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.viewport import Viewport
 from pmk_nb.viewport.maptools import (

@@ -3,7 +3,7 @@
 Threads (all daemon, all ended by :meth:`ChairLink.close`):
 
 * the I/O thread ``pmk-link-io-HOST:PORT`` runs roslibpy's event loop; topic callbacks run there
-  and only parse + store the latest message (see :mod:`pmk_nb.chair.link.streams`);
+  and only parse + store the latest message (see :mod:`pmk_nb.chair.link.streams.hub`);
 * the watchdog thread ``pmk-link-watchdog-HOST:PORT`` derives the state every 0.1 s (rosbridge
   never reports half-open sockets, so "stale" means: connected but no message for
   ``stale_after`` s) and runs the ``on_state_change`` callbacks. Callbacks run on that thread:
@@ -32,27 +32,27 @@ from typing import Any
 
 import roslibpy
 
-from pmk_nb.chair.link.connectivity import ConnectFailure, ConnectionReport, run_connection_test
-from pmk_nb.chair.link.discovery import Discovery
-from pmk_nb.chair.link.goal_stop import running, stop_goals
-from pmk_nb.chair.link.initialpose import publish_initial_pose
+from pmk_nb.chair.link.goals.goal_stop import running, stop_goals
+from pmk_nb.chair.link.goals.initialpose import publish_initial_pose
+from pmk_nb.chair.link.goals.navigate import GoalHandle, GoalPolicy, navigate
 from pmk_nb.chair.link.linkconfig import LinkConfig
-from pmk_nb.chair.link.mapread import MapFacts, MapReader
-from pmk_nb.chair.link.navigate import GoalHandle, GoalPolicy, navigate
-from pmk_nb.chair.link.probe import probe_rosbridge
-from pmk_nb.chair.link.publish import Publishers
-from pmk_nb.chair.link.record import Recording, RecordStats, Topics, resolve_definitions, resolve_topics
-from pmk_nb.chair.link.services import call_service
-from pmk_nb.chair.link.state import LinkState, StateCallback, StateWatch
-from pmk_nb.chair.link.streams import StreamConfig, StreamHub
-from pmk_nb.chair.link.transport import LinkRos, ServerStatus
-from pmk_nb.chair.messages import MapInfo, Odometry, Pose2D, Scan
-from pmk_nb.chair.reload import (
+from pmk_nb.chair.link.query.connectivity import ConnectFailure, ConnectionReport, run_connection_test
+from pmk_nb.chair.link.query.discovery import Discovery
+from pmk_nb.chair.link.query.mapread import MapFacts, MapReader
+from pmk_nb.chair.link.query.reload import (
     MapReloadError,
     ReloadKind,
     ReloadService,
     check_remote_path,
 )
+from pmk_nb.chair.link.record.recording import Recording, RecordStats, Topics, resolve_definitions, resolve_topics
+from pmk_nb.chair.link.streams.hub import StreamConfig, StreamHub
+from pmk_nb.chair.link.streams.messages import MapInfo, Odometry, Pose2D, Scan
+from pmk_nb.chair.link.transport.probe import probe_rosbridge
+from pmk_nb.chair.link.transport.publish import Publishers
+from pmk_nb.chair.link.transport.ros import LinkRos, ServerStatus
+from pmk_nb.chair.link.transport.services import call_service
+from pmk_nb.chair.link.transport.state import LinkState, StateCallback, StateWatch
 from pmk_nb.errors import ChairLinkError
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.viewport import Transform2D
@@ -69,8 +69,12 @@ class ChairLink:
         settings by name (``pose_source="tf"``), applied on top (TypeError names an unknown one)."""
         cfg = (config or LinkConfig()).with_options(**options)
         self.link_config = cfg  # as created: reconfigure() changes the streams' settings, not this
-        self.host, self.port, self.tls = host, int(port), cfg.tls  # tls: wss, trusted as pmk_nb.chair.link.tls says
-        self.auth = cfg.auth  # rosbridge authentication (pmk_nb.chair.link.bridge_auth)
+        self.host, self.port, self.tls = (
+            host,
+            int(port),
+            cfg.tls,
+        )  # tls: wss, trusted as pmk_nb.chair.link.transport.tls says
+        self.auth = cfg.auth  # rosbridge authentication (pmk_nb.chair.link.transport.bridge_auth)
         self.stale_after = float(cfg.stale_after)
         self._publish = Publishers(cfg.cmd_vel_topic, cfg.goal_topic)
         self.reconnect_initial, self.reconnect_max = cfg.reconnect_initial, cfg.reconnect_max
@@ -308,7 +312,7 @@ class ChairLink:
     def message_counts(self) -> dict[str, int]:
         return dict(self._hub.counts)
 
-    # -- recording (pmk_nb.chair.link.record) ---------------------------------------------------------
+    # -- recording (pmk_nb.chair.link.record.recording) ---------------------------------------------------------
     def start_recording(self, path: str | os.PathLike[str], topics: Topics = None) -> Recording:
         """Start recording ``topics`` (default: odometry, scan, pose, tf, cmd_vel, map) to the MCAP file
         ``path``; ``.stop()`` finishes the file, ``.stats`` counts. Topics may map to their types. Any
@@ -350,7 +354,7 @@ class ChairLink:
     def set_initial_pose(self, x: float, y: float, yaw: float, frame: str = "map", topic: str = "/initialpose") -> bool:
         """Tell the chair's localisation (AMCL) where it is: ``/initialpose`` with RViz's covariance.
         False (nothing sent) when not connected or while the ROS version is unknown; ValueError if
-        not finite. See :mod:`pmk_nb.chair.link.initialpose`."""
+        not finite. See :mod:`pmk_nb.chair.link.goals.initialpose`."""
         return publish_initial_pose(self._publish, self._ros, self.ros_version, (x, y, yaw), frame, topic)
 
     @property

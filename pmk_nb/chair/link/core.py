@@ -12,13 +12,13 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any, Protocol
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.bridge_auth import BridgeAuth
-    from pmk_nb.chair.link.discovery import Discovery
-    from pmk_nb.chair.link.goal import GoalPolicy
-    from pmk_nb.chair.link.state import LinkState
-    from pmk_nb.chair.link.tls import ChairTls
-    from pmk_nb.chair.link.transport import LinkRos
-    from pmk_nb.chair.messages import MapInfo, Odometry, Pose2D
+    from pmk_nb.chair.link.goals.goal import GoalPolicy
+    from pmk_nb.chair.link.query.discovery import Discovery
+    from pmk_nb.chair.link.streams.messages import MapInfo, Odometry, Pose2D
+    from pmk_nb.chair.link.transport.bridge_auth import BridgeAuth
+    from pmk_nb.chair.link.transport.ros import LinkRos
+    from pmk_nb.chair.link.transport.state import LinkState
+    from pmk_nb.chair.link.transport.tls import ChairTls
 
 
 class LinkCore(Protocol):

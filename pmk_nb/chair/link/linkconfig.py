@@ -11,9 +11,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from pmk_nb.chair.link.bridge_auth import BridgeAuth
-    from pmk_nb.chair.link.streams import PoseSource
-    from pmk_nb.chair.link.tls import ChairTls
+    from pmk_nb.chair.link.streams.hub import PoseSource
+    from pmk_nb.chair.link.transport.bridge_auth import BridgeAuth
+    from pmk_nb.chair.link.transport.tls import ChairTls
 
 
 @dataclass(frozen=True)
@@ -35,8 +35,10 @@ class LinkConfig:
     map_metadata_topic: str = "/map_metadata"
     ping_interval: float | None = None  # None: max(2 s, 2 x stale_after)
     ping_timeout: float | None = None  # None: max(5 s, 2 x stale_after)
-    tls: ChairTls | None = None  # wss, trusted as pmk_nb.chair.link.tls says
-    auth: BridgeAuth | None = None  # rosbridge's auth op first on every socket (pmk_nb.chair.link.bridge_auth)
+    tls: ChairTls | None = None  # wss, trusted as pmk_nb.chair.link.transport.tls says
+    auth: BridgeAuth | None = (
+        None  # rosbridge's auth op first on every socket (pmk_nb.chair.link.transport.bridge_auth)
+    )
 
     def __post_init__(self) -> None:
         if self.stale_after <= 0:

@@ -4,7 +4,7 @@ A "Fleet" toggle in Home's floating bar opens a card over the map: add a saved c
 them; an instructor: the class's simulated chairs), and a row per chair with its colour,
 connection, map, pose and goal, and a Control button.  The page's own chair joins first and is in
 control; Control on another row re-points Home's live view, Drive, Set destination and Go to at
-that chair's link, which is already open (:class:`~pmk_nb.chair.link.fleet_links.FleetLinks`): no
+that chair's link, which is already open (:class:`~pmk_nb.chair.fleet_links.FleetLinks`): no
 reconnect, the switch takes a fraction of a second (``switch_s``).  The map shows every chair on
 it in its colour (:mod:`pmk_nb.ui.fleet.layer`).  A chair that does not answer says so in its
 row; the others go on.
@@ -26,13 +26,13 @@ from pmk_nb.chair import (
     ChairStatus,
     Fleet,
     FleetError,
+    FleetLinks,
     FleetMember,
     NoChairChosen,
     NotInFleet,
     SameAddress,
     row_words,
 )
-from pmk_nb.chair.link import FleetLinks
 from pmk_nb.errors import SettingsError
 from pmk_nb.ui.common.context import needs_pin
 from pmk_nb.ui.common.style import TOUCH_PX

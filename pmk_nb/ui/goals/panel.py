@@ -5,7 +5,7 @@ heading (:mod:`pmk_nb.ui.goals.picker`); the mode turns itself off after one goa
 the map again. The goal goes to the chair through :meth:`ChairLink.navigate_to` (Nav2, move_base or
 the goal topic, detected) on a worker thread; the status words are the handle's (accepted, moving,
 arrived, aborted, cancelled, rejected, and what the link cannot know: link lost, no answer, cancel
-not honoured, outcome unknown), worded in :mod:`pmk_nb.chair.link.goal_words`, plus a line when the
+not honoured, outcome unknown), worded in :mod:`pmk_nb.chair.link.goals.goal_words`, plus a line when the
 chair has been silent or a cancel awaits its confirmation. The texts refresh with Home's info panel
 (:meth:`tick`).
 """
@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 
-from pmk_nb.chair.link import GoalStatus
+from pmk_nb.chair.link import GoalLink, GoalStatus
 from pmk_nb.chair.link import goal_words as words
 from pmk_nb.errors import PmkError
 from pmk_nb.speech import phrases
@@ -85,7 +85,7 @@ class GoalPanel:
         # spoken feedback (Home wires it to the rooms guide's phrase queue): a (key, text) phrase
         self.speak: Callable[[tuple[str, str]], object] | None = None
         self._spoken: GoalHandle | None = None  # the handle whose ending was said
-        self.link: Any = None
+        self.link: GoalLink | None = None
         self.handle: GoalHandle | None = None
         self.goal: Goal | None = None
         self._chair: tuple[float, float] | None = None
@@ -109,7 +109,7 @@ class GoalPanel:
         self.cancel_button.on_click(lambda _b: self.cancel())
         self.attach(None)
 
-    def attach(self, link: Any) -> None:
+    def attach(self, link: GoalLink | None) -> None:
         """The chair link goals go to (None: no preview running, nothing can be sent)."""
         self.link = link
         self._enable()
@@ -153,7 +153,7 @@ class GoalPanel:
         threading.Thread(target=self._send, args=(link, goal), daemon=True, name="pmk-goal-send").start()
         self.refresh()
 
-    def _send(self, link: Any, goal: Goal) -> None:
+    def _send(self, link: GoalLink, goal: Goal) -> None:
         try:
             handle = link.navigate_to(*goal)
         except (PmkError, OSError) as err:

@@ -21,13 +21,14 @@ import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pmk_nb.errors import PmkError
 
 if TYPE_CHECKING:
+    from pmk_nb.chair.link import MapWatchLink
     from pmk_nb.grid import OccupancyGrid
 
 log = logging.getLogger(__name__)
@@ -63,7 +64,7 @@ class OwnMap:
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._link: Any = None
+        self._link: MapWatchLink | None = None
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._local: tuple[str, OccupancyGrid] | None = None
@@ -83,7 +84,7 @@ class OwnMap:
         if shown is not None:  # the record changed: the same grid may have a name now
             self._offer(shown.grid)
 
-    def attach(self, link: Any) -> None:
+    def attach(self, link: MapWatchLink | None) -> None:
         """Watch ``link``'s map (None: stop watching and forget the chair's map)."""
         with self._lock:
             old, self._link = self._link, link
@@ -109,7 +110,7 @@ class OwnMap:
             return pending
 
     # -- worker ----------------------------------------------------------------------------------
-    def _run(self, link: Any, stop: threading.Event) -> None:
+    def _run(self, link: MapWatchLink, stop: threading.Event) -> None:
         seen = 0
         facts = _FactsCheck()
         while not stop.wait(POLL_S):
@@ -132,7 +133,7 @@ class OwnMap:
             if not stop.is_set():
                 self._offer(grid)
 
-    def _sent_map_in_use(self, link: Any, check: _FactsCheck) -> bool:
+    def _sent_map_in_use(self, link: MapWatchLink, check: _FactsCheck) -> bool:
         """True while the PMK map server's MapInfo says the chair publishes the map sent from here
         (the same SHA-256): the local grid is shown and a (possibly huge) /map is not downloaded.
         Asked every :data:`FACTS_S` s; a chair without that service, or another map: False for good
@@ -191,7 +192,7 @@ def _file_sha256(yaml: Path) -> str:
     return map_sha256(MapFiles(yaml, Path(read_map_yaml(yaml).image), None))
 
 
-def _unwatch(link: Any) -> None:
+def _unwatch(link: MapWatchLink) -> None:
     try:
         link.watch_map(False)
     except Exception as err:  # the link may be closed already

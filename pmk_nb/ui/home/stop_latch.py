@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from pmk_nb.drive import DriveClaim, StopWatch
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link import GoalLink
 
 log = logging.getLogger(__name__)
 
@@ -24,9 +27,9 @@ class StopLatch:
     def __init__(self, folder: Path, member: str) -> None:
         self.folder, self.member = folder, member
         self.watch: StopWatch | None = None
-        self._link: Any = None
+        self._link: GoalLink | None = None
 
-    def attach(self, link: Any, topic: str | None = None) -> None:
+    def attach(self, link: GoalLink | None, topic: str | None = None) -> None:
         """Watch ``link``'s chair (None: nothing; the previous link's gate opens again here)."""
         old, self.watch = self.watch, None
         if old is not None:
@@ -50,7 +53,7 @@ class StopLatch:
         self.attach(None)
 
 
-def on_latch(link: Any, topic: str | None) -> None:
+def on_latch(link: GoalLink, topic: str | None) -> None:
     """Another page latched a Stop: this page's goals end the way its own Stop ends them. The page that
     pressed Stop has cancelled all goals natively already; this page adds its own goals' cancels (and,
     for them, a second native cancel-all), and stays quiet when it runs none (ten pages, one burst)."""

@@ -1,7 +1,7 @@
 """The navigation stack's layers on the live map (issue 40): a toggle each for the global and local
 costmaps, the footprint, the local plan and markers.
 
-The link side (:class:`~pmk_nb.chair.link.navlayers.NavLayerWatch`) finds each layer's topic by type and
+The link side (:class:`~pmk_nb.chair.link.streams.navlayers.NavLayerWatch`) finds each layer's topic by type and
 follows only the layers switched on; the geometry is :mod:`pmk_nb.viewport.costmap` and
 :mod:`pmk_nb.viewport.markers`. A costmap is a map overlay: its RGBA image is put on a hidden canvas of
 its own only when the costmap changes, and drawn scaled onto the map layer when the map is repainted
@@ -19,7 +19,7 @@ import ipywidgets as w
 import numpy as np
 from ipycanvas import Canvas
 
-from pmk_nb.chair.link import LAYERS, NavLayerWatch
+from pmk_nb.chair.link import LAYERS, LayerLink, NavLayerWatch
 from pmk_nb.ui.common.widgets import TOUCH_PX, escape
 from pmk_nb.viewport import Transform2D, costmap_placement, costmap_rgba, framed_pixels, marker_draws, pooled_costs
 
@@ -169,7 +169,7 @@ class NavLayers:
 
     def __init__(self, live: LiveView) -> None:
         self.live = live
-        self.link: Any = None
+        self.link: LayerLink | None = None
         self.watch: NavLayerWatch | None = None
         self.costmaps = {GLOBAL: CostmapOverlay(), LOCAL: CostmapOverlay()}
         self.vectors = VectorOverlay()
@@ -193,7 +193,7 @@ class NavLayers:
             self.watch.want(layer, on)
         self.tick()
 
-    def attach(self, link: Any) -> None:
+    def attach(self, link: LayerLink | None) -> None:
         """Follow ``link``'s layers (None: the preview stopped; every subscription ends)."""
         if self.watch is not None:
             self.watch.stop()

@@ -3,7 +3,7 @@
 An overlay of :class:`pmk_nb.ui.live.view.LiveView` (drawn after the chair, like the rooms route):
 a solid blue line from the chair along the part of the path still ahead of it
 (:func:`pmk_nb.viewport.path.ahead_of`), gone once the chair is at its end. The path comes
-from :class:`~pmk_nb.chair.link.planpath.PlanWatch` (its own throttled subscription); Home's info
+from :class:`~pmk_nb.chair.link.streams.planpath.PlanWatch` (its own throttled subscription); Home's info
 timer calls :meth:`LivePathLayer.tick`, which only bumps ``version`` when the path or the chair's
 place along it changed, so the render loop redraws then and skips otherwise.
 """
@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from pmk_nb.chair.link import AUTO, PlanWatch
+from pmk_nb.chair.link import AUTO, LinkCore, PlanWatch
 from pmk_nb.viewport import ahead_of
 
 if TYPE_CHECKING:
@@ -34,7 +34,7 @@ class LivePathLayer:
         self.version = 0
         self._lock = threading.Lock()
         self._points = np.empty((0, 2))
-        self._link: Any = None
+        self._link: LinkCore | None = None
         self._watch: PlanWatch | None = None
         self._seen: tuple[int, tuple[float, float] | None] | None = None
 
@@ -44,7 +44,7 @@ class LivePathLayer:
         with self._lock:
             return self._points
 
-    def attach(self, link: Any, topic: str = AUTO) -> None:
+    def attach(self, link: LinkCore | None, topic: str = AUTO) -> None:
         """Follow ``link``'s plan topic (None: stop and clear)."""
         if self._watch is not None:
             self._watch.stop()

@@ -31,6 +31,7 @@ from pmk_nb.viewport import coordinates_text, distance, grid_lines, grid_spacing
 if TYPE_CHECKING:
     from ipycanvas import Canvas
 
+    from pmk_nb.chair.link import PoseLink
     from pmk_nb.ui.common.context import AppContext
     from pmk_nb.ui.live.view import LiveView
     from pmk_nb.viewport import Viewport
@@ -170,7 +171,7 @@ class MapTools:
 
     def __init__(self, live: LiveView, ctx: AppContext | None = None) -> None:
         self.live, self.ctx = live, ctx
-        self.link: Any = None
+        self.link: PoseLink | None = None
         self.overlay = MapToolsOverlay()
         live.map_overlays.append(self.overlay)
         self.picker = TapPicker(lambda: live.viewport, self._on_tap)
@@ -202,7 +203,7 @@ class MapTools:
         live.on_zoom_change(lambda _z: self.refresh_scale())
         self.refresh_scale()
 
-    def attach(self, link: Any) -> None:
+    def attach(self, link: PoseLink | None) -> None:
         """The chair link Set pose publishes on (None: Set pose says it needs the preview)."""
         self.link = link
 

@@ -2,9 +2,9 @@
 and Pause, in Home's Plots panel (JupyterLab and the kiosk alike: plain ipywidgets and one ipycanvas).
 
 The topics come from the topic inspector's listing; a picked topic's numeric fields from the bridge's
-type definitions (rosapi ``message_details``, on a worker thread: :mod:`pmk_nb.chair.link.fields`); a
+type definitions (rosapi ``message_details``, on a worker thread: :mod:`pmk_nb.chair.link.streams.fields`); a
 path may also be typed (a bridge without definitions). Each topic plotted has one throttled
-subscription (:class:`~pmk_nb.chair.link.series.TopicSeries`) shared by its series, ended when its
+subscription (:class:`~pmk_nb.chair.link.streams.series.TopicSeries`) shared by its series, ended when its
 last series is removed, the panel closes or the preview stops. Pause freezes the chart (the samples
 keep coming); the chart is redrawn from Home's info timer at most :data:`PLOT_HZ` times a second.
 """
@@ -21,7 +21,7 @@ import ipywidgets as w
 import numpy as np
 from ipycanvas import Canvas, hold_canvas
 
-from pmk_nb.chair.link import TopicSeries, numeric_fields
+from pmk_nb.chair.link import LinkCore, TopicSeries, numeric_fields
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.common.widgets import TOUCH_PX, button, escape
 from pmk_nb.viewport import series_lines
@@ -42,7 +42,7 @@ class FieldPlot:
     """``widget``: topic, field, Add; the series with Remove; window and Pause; the chart and its legend."""
 
     def __init__(self) -> None:
-        self.link: Any = None
+        self.link: LinkCore | None = None
         self.types: dict[str, str] = {}
         self.series: list[tuple[str, str]] = []  # (topic, field) in the order added
         self.subs: dict[str, TopicSeries] = {}
@@ -90,7 +90,7 @@ class FieldPlot:
         self.pause.observe(self._on_pause, names="value")
 
     # -- link and topics ---------------------------------------------------------------------------------
-    def attach(self, link: Any) -> None:
+    def attach(self, link: LinkCore | None) -> None:
         """Plot from ``link`` (None: every subscription ends; the series' samples are dropped)."""
         for sub in self.subs.values():
             sub.stop()
@@ -118,7 +118,7 @@ class FieldPlot:
         args = (self.link, topic, self.types[topic])
         threading.Thread(target=self._list_fields, args=args, daemon=True, name="pmk-fieldplot-fields").start()
 
-    def _list_fields(self, link: Any, topic: str, type_name: str) -> None:
+    def _list_fields(self, link: LinkCore, topic: str, type_name: str) -> None:
         try:
             fields = numeric_fields(link.discovery.message_details(type_name, timeout=5.0), type_name)
             note = f"{len(fields)} numeric fields of {type_name}" if fields else "no type definition: type a field"

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import ipywidgets as w
 import numpy as np
@@ -25,6 +25,9 @@ from pmk_nb.ui.plots.field_plot import FieldPlot
 from pmk_nb.ui.plots.tf_view import TfTreeView
 from pmk_nb.ui.plots.topic_inspector import TopicInspector
 from pmk_nb.viewport import OdomHistory, plot_lines
+
+if TYPE_CHECKING:
+    from pmk_nb.chair.link import LinkCore
 
 PLOT_HZ = 2.0  # chart redraws per second while the panel is open
 SPAN_S = 300.0  # the chart shows the last five minutes
@@ -44,7 +47,7 @@ class PlotsPanel:
         self.history = OdomHistory(capacity=int(span_s * 4) + 8)  # Home's info timer runs at 4 Hz
         self._drawn_at = -math.inf
         self._last_odom: Any = None
-        self._link: Any = None
+        self._link: LinkCore | None = None
         self.draws = 0
         self.toggle = w.ToggleButton(value=False, description="Plots", icon="line-chart")
         self.toggle.tooltip = "Speed and turn rate over time; the chair's topics"
@@ -79,7 +82,7 @@ class PlotsPanel:
     def open(self) -> bool:
         return self.toggle.value is True
 
-    def attach(self, link: Any) -> None:
+    def attach(self, link: LinkCore | None) -> None:
         """The preview's link (None: stopped). The history is kept across previews of the same page."""
         self.topics.attach(link if self.open else None)
         self.fields.attach(link if self.open else None)

@@ -9,11 +9,9 @@ subscriptions, ended when the panel closes or the preview stops); the rows are t
 
 from __future__ import annotations
 
-from typing import Any
-
 import ipywidgets as w
 
-from pmk_nb.chair.link import TfWatch
+from pmk_nb.chair.link import LinkCore, TfWatch
 from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.ui.common.widgets import escape
 from pmk_nb.viewport import FrameRow, frame_text, tree_rows
@@ -38,7 +36,7 @@ class TfTreeView:
         self.widget = w.VBox([self.summary, self.table])
         self.widget.add_class("pmk-tftree")
 
-    def attach(self, link: Any) -> None:
+    def attach(self, link: LinkCore | None) -> None:
         """Watch ``link``'s tf (None: the panel closed or the preview stopped; the subscriptions end)."""
         watch, self.watch = self.watch, None
         if watch is not None:

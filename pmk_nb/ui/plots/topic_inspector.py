@@ -2,7 +2,7 @@
 latest message.
 
 The list is asked of rosapi on a worker thread (a blocking service call), else it is the topics the
-link knows. Only the picked topic is subscribed, throttled (:mod:`pmk_nb.chair.link.inspect`), and
+link knows. Only the picked topic is subscribed, throttled (:mod:`pmk_nb.chair.link.streams.inspect`), and
 it is unsubscribed when another is picked, the panel closes or the preview stops. The texts are
 refreshed by :meth:`TopicInspector.tick` from Home's info timer, never per message.
 """
@@ -16,7 +16,7 @@ from typing import Any
 
 import ipywidgets as w
 
-from pmk_nb.chair.link import TopicProbe, pretty_message, rate_text, topic_rows
+from pmk_nb.chair.link import LinkCore, TopicProbe, pretty_message, rate_text, topic_rows
 from pmk_nb.errors import PmkError
 from pmk_nb.ui.common.widgets import button, escape
 
@@ -27,7 +27,7 @@ NONE = ""  # the list's "no topic" entry
 JSON_STYLE = "max-height: 320px; overflow: auto; font-size: 12px; background: #f5f7f9; padding: 6px; margin: 0"
 
 
-def known_topics(link: Any) -> dict[str, str]:
+def known_topics(link: LinkCore) -> dict[str, str]:
     """The topics the link itself streams, with their types: the list when there is no rosapi."""
     cfg = getattr(link, "config", None) or {}
     known = {
@@ -46,7 +46,7 @@ class TopicInspector:
     """``widget``: Refresh, the topic list, the picked topic's type and rate, its latest message."""
 
     def __init__(self) -> None:
-        self.link: Any = None
+        self.link: LinkCore | None = None
         self.types: dict[str, str] = {}
         self.probe: TopicProbe | None = None
         self._lock = threading.Lock()
@@ -68,7 +68,7 @@ class TopicInspector:
         self.list.observe(self._on_pick, names="value")
 
     # -- link ---------------------------------------------------------------------------------------
-    def attach(self, link: Any) -> None:
+    def attach(self, link: LinkCore | None) -> None:
         """Inspect ``link``'s chair (None: the preview stopped; the subscription ends)."""
         self.close_probe()
         self.link = link
@@ -84,7 +84,7 @@ class TopicInspector:
         self._listing = threading.Thread(target=self._list, args=(link,), daemon=True, name="pmk-topics-list")
         self._listing.start()
 
-    def _list(self, link: Any) -> None:
+    def _list(self, link: LinkCore) -> None:
         known = known_topics(link)
         try:
             rows, where = topic_rows(link.discovery.topics(timeout=5.0), known), "from rosapi"

@@ -26,7 +26,7 @@ from pmk_nb.ui.rooms.layer import RoomsOverlay
 from pmk_nb.ui.rooms.panel import RoomsPanel
 
 if TYPE_CHECKING:
-    from pmk_nb.guide import Route
+    from pmk_nb.guide import Navigator, Route
     from pmk_nb.ui.live.view import LiveView
 
 log = logging.getLogger(__name__)
@@ -44,7 +44,7 @@ class RoomsGuide:
         self.overlay = RoomsOverlay()
         live.overlays.append(self.overlay)
         self.rooms: RoomsMap | None = None
-        self.link: Any = None
+        self.link: Navigator | None = None
         self.chair_width = DEFAULT_CHAIR_WIDTH  # until the profile says (attach)
         self.route: Route | None = None
         self.handle: Any = None
@@ -80,7 +80,7 @@ class RoomsGuide:
         self.panel.show_here(None)
         return rooms
 
-    def attach(self, link: Any, chair_width: float | None = None) -> None:
+    def attach(self, link: Navigator | None, chair_width: float | None = None) -> None:
         """Use ``link`` for the pose and goals (None: preview stopped)."""
         self.link = link
         if chair_width is not None and chair_width > 0:

@@ -10,7 +10,7 @@ stays refused (ssh.open_sftp).
 Issue 24: a ``wss://`` chair's TLS certificate gets the same step in Settings
 (:class:`CertificatePrompt`): the link refuses an unknown certificate (never trusts it alone), the
 page shows its SHA-256 fingerprint, and only "Trust and connect" pins THAT fingerprint
-(:func:`pmk_nb.chair.link.tls.trust_certificate`). A changed certificate stays refused.
+(:func:`pmk_nb.chair.link.transport.tls.trust_certificate`). A changed certificate stays refused.
 """
 
 from __future__ import annotations

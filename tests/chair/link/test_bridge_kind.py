@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from pmk_nb.chair.link.bridge_kind import detect_bridge
+from pmk_nb.chair.link.query.bridge_kind import detect_bridge
 from pmk_nb.sim import BRIDGE_MODES
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from pmk_nb.chair.link.connectivity import run_connection_test
+from pmk_nb.chair.link.query.connectivity import run_connection_test
 from pmk_nb.clock import VirtualClock
 from pmk_nb.errors import ChairLinkError
 

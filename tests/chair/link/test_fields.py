@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from pmk_nb.chair.link.fields import field_value, numeric_fields, sample_fields
+from pmk_nb.chair.link.streams.fields import field_value, numeric_fields, sample_fields
 from pmk_nb.sim.messages import Names
 from pmk_nb.sim.msgtypes import typedefs as sim_typedefs
 from pmk_nb.viewport.seriesplot import SeriesRing, series_lines

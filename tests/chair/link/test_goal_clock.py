@@ -16,11 +16,11 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link import goal_stop, goal_watch
-from pmk_nb.chair.link.goal import GoalHandle, GoalPolicy, GoalStatus
-from pmk_nb.chair.link.goal_topic import NO_PROGRESS_S, start_topic
-from pmk_nb.chair.link.goal_watch import BURST_HZ, BURST_S, REATTACH_S, GoalWatch
-from pmk_nb.chair.messages import Odometry, Pose2D
+from pmk_nb.chair.link.goals import goal_stop, goal_watch
+from pmk_nb.chair.link.goals.goal import GoalHandle, GoalPolicy, GoalStatus
+from pmk_nb.chair.link.goals.goal_topic import NO_PROGRESS_S, start_topic
+from pmk_nb.chair.link.goals.goal_watch import BURST_HZ, BURST_S, REATTACH_S, GoalWatch
+from pmk_nb.chair.link.streams.messages import Odometry, Pose2D
 from pmk_nb.clock import VirtualClock
 from pmk_nb.goalbeat import STOP_REPEAT_HZ, STOP_REPEAT_S, STOP_TOPIC
 

@@ -15,7 +15,7 @@ import math
 import pytest
 
 from pmk_nb.chair.link import GoalsStopped, GoalStatus
-from pmk_nb.chair.link.goal_stop import running
+from pmk_nb.chair.link.goals.goal_stop import running
 from pmk_nb.goalbeat import STOP_TOPIC
 from tests.fixtures_sim import wait_until
 

@@ -14,8 +14,8 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link import heartbeat
-from pmk_nb.chair.link.navigate import GoalStatus
+from pmk_nb.chair.link.goals import heartbeat
+from pmk_nb.chair.link.goals.navigate import GoalStatus
 from pmk_nb.clock import VirtualClock
 from pmk_nb.goalbeat import RATE_HZ, TOPIC, Beat
 from pmk_nb.robot.goalwatch import Change, GoalWatch, Trip

@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link import heartbeat
+from pmk_nb.chair.link.goals import heartbeat
 from pmk_nb.clock import VirtualClock
 from pmk_nb.goalbeat import Beat
 

@@ -7,9 +7,9 @@ from collections.abc import Iterator
 import pytest
 
 from pmk_nb.chair.link.client import ChairLink, MapReloadError
-from pmk_nb.chair.link.connectivity import OPEN_WEBSOCKET, ConnectFailure
+from pmk_nb.chair.link.query.connectivity import OPEN_WEBSOCKET, ConnectFailure
+from pmk_nb.chair.link.query.reload import KEEPS_OLD_MAP, ReloadService
 from pmk_nb.chair.link.registry import close_all_links, get_link, open_links, use_only
-from pmk_nb.chair.reload import KEEPS_OLD_MAP, ReloadService
 from pmk_nb.errors import ChairLinkError, ChairTimeout
 from pmk_nb.sim import SimChair
 from tests.chair.link.test_link_halfopen import FreezableProxy

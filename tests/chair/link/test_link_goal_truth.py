@@ -11,7 +11,7 @@ import math
 
 import pytest
 
-from pmk_nb.chair.link.navigate import GoalPolicy, GoalProgress, GoalStatus
+from pmk_nb.chair.link.goals.navigate import GoalPolicy, GoalProgress, GoalStatus
 from tests.fixtures_sim import wait_until
 
 START = (1.0, 6.0, 0.0)

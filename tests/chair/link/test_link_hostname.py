@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from pmk_nb.chair.link.client import ChairLink
-from pmk_nb.chair.link.probe import HOST_UNKNOWN
+from pmk_nb.chair.link.transport.probe import HOST_UNKNOWN
 
 
 @pytest.mark.parametrize("host", ["chair-" + "x" * 70 + ".local", "a..b", "y" * 300])

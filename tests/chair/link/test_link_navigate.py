@@ -13,7 +13,7 @@ import math
 
 import pytest
 
-from pmk_nb.chair.link.navigate import GoalPolicy, GoalProgress, GoalStatus, NavigationError, detect_route
+from pmk_nb.chair.link.goals.navigate import GoalPolicy, GoalProgress, GoalStatus, NavigationError, detect_route
 from tests.fixtures_sim import wait_until
 
 START = (1.0, 6.0, 0.0)  # the demo floor's corridor (y 5..7)
@@ -104,9 +104,9 @@ def test_a_still_chair_right_after_a_cancel_is_not_taken_as_honoured() -> None:
     still odometry was taken as "honoured" while rosbridge_suite held the cancel, and the chair then
     drove to the goal. Now the cancel is judged only after verify_s, and a goal still running
     unanswered then gets the cancel again on a second connection (a burst) before it counts as honoured."""
-    from pmk_nb.chair.link.goal_watch import GoalWatch
-    from pmk_nb.chair.link.navigate import GoalHandle
-    from pmk_nb.chair.messages import Odometry
+    from pmk_nb.chair.link.goals.goal_watch import GoalWatch
+    from pmk_nb.chair.link.goals.navigate import GoalHandle
+    from pmk_nb.chair.link.streams.messages import Odometry
     from pmk_nb.clock import VirtualClock
 
     clock = VirtualClock()

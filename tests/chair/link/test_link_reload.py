@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from pmk_nb.chair.link.client import ChairLink
-from pmk_nb.chair.reload import MapReloadError
+from pmk_nb.chair.link.query.reload import MapReloadError
 from tests.fixtures_sim import room_grid, write_test_map
 
 CASES = [

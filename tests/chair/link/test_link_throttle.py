@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from pmk_nb.chair.link.throttle import FRAME_MS, SCREEN_HZ, AutoThrottle
+from pmk_nb.chair.link.streams.throttle import FRAME_MS, SCREEN_HZ, AutoThrottle
 
 
 def feed(auto: AutoThrottle, hz: float, seconds: float, start: float = 0.0) -> list[int]:

@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 
 from pmk_nb.chair.link.client import ChairLink, LinkState
-from pmk_nb.chair.link.tls import ChairTls, pinned, trust_certificate
-from pmk_nb.chair.link.transport import LinkRos
+from pmk_nb.chair.link.transport.ros import LinkRos
+from pmk_nb.chair.link.transport.tls import ChairTls, pinned, trust_certificate
 from pmk_nb.errors import (
     ChairCertificateChanged,
     ChairCertificateUntrusted,
@@ -151,8 +151,8 @@ def test_wss_on_the_twisted_transport_is_refused_with_the_reason(tmp_path: Path)
     code = (
         "import roslibpy.comm.comm_autobahn\n"  # what a plain roslibpy.Ros imports: Twisted bound
         "from pathlib import Path\n"
-        "from pmk_nb.chair.link.tls import ChairTls\n"
-        "from pmk_nb.chair.link.transport import LinkRos\n"
+        "from pmk_nb.chair.link.transport.tls import ChairTls\n"
+        "from pmk_nb.chair.link.transport.ros import LinkRos\n"
         "from pmk_nb.errors import ChairLinkError\n"
         "try:\n"
         f"    LinkRos('127.0.0.1', 9, thread_name='t', tls=ChairTls(Path({str(tmp_path / 'k')!r})))\n"

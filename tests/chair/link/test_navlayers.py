@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pmk_nb.chair.link.navlayers import (
+from pmk_nb.chair.link.streams.navlayers import (
     FOOTPRINT,
     GLOBAL,
     LAYERS,

@@ -9,8 +9,8 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link.discovery import RosapiMissing
-from pmk_nb.chair.link.planpath import PLAN_TOPICS, PlanWatch, parse_path
+from pmk_nb.chair.link.query.discovery import RosapiMissing
+from pmk_nb.chair.link.streams.planpath import PLAN_TOPICS, PlanWatch, parse_path
 from tests.fixtures_sim import wait_until
 
 
@@ -58,7 +58,7 @@ def test_the_simulator_publishes_its_plan_and_the_link_follows_it(
 def test_the_plan_subscription_comes_back_after_the_chair_restarts(sim_factory: Any) -> None:
     """The link's Ros reconnects by itself; the plan's own subscription is sent again then."""
     from pmk_nb.chair.link.client import ChairLink
-    from pmk_nb.chair.link.state import LinkState
+    from pmk_nb.chair.link.transport.state import LinkState
 
     sim = sim_factory(ros="ros2", start_pose=(1.0, 6.0, 0.0), patrol=False)
     link = ChairLink("127.0.0.1", sim.port, reconnect_initial=0.2, reconnect_max=1.0)

@@ -19,9 +19,9 @@ from mcap_ros2.writer import Writer
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
-from pmk_nb.chair.link.msgdefs import DEFINITIONS
-from pmk_nb.chair.link.record import Inbox, RecordDiskError, UnknownTopic, UnsupportedType
-from pmk_nb.chair.link.record_convert import stamp_ns, to_ros2
+from pmk_nb.chair.link.record.msgdefs import DEFINITIONS
+from pmk_nb.chair.link.record.record_convert import stamp_ns, to_ros2
+from pmk_nb.chair.link.record.recording import Inbox, RecordDiskError, UnknownTopic, UnsupportedType
 
 REQUIRED = [
     "nav_msgs/msg/Odometry",

@@ -13,9 +13,9 @@ from mcap.reader import make_reader
 from rosbags.highlevel import AnyReader
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
-from pmk_nb.chair.link.msgdefs import DEFINITIONS
-from pmk_nb.chair.link.msgdetails import definition_from_typedefs
-from pmk_nb.chair.link.record import UnsupportedType
+from pmk_nb.chair.link.record.msgdefs import DEFINITIONS
+from pmk_nb.chair.link.record.msgdetails import definition_from_typedefs
+from pmk_nb.chair.link.record.recording import UnsupportedType
 from pmk_nb.sim.msgtypes import typedefs
 
 MARKERS = "visualization_msgs/msg/MarkerArray"

@@ -29,7 +29,7 @@ from pmk_nb.chair.fleet import (
     pick_colour,
     row_words,
 )
-from pmk_nb.chair.link.fleet_links import BACKGROUND_THROTTLE_MS
+from pmk_nb.chair.fleet_links import BACKGROUND_THROTTLE_MS
 from pmk_nb.errors import KioskLocked, SettingsError
 from pmk_nb.library import MapsFolder
 from pmk_nb.ui.common.context import AppContext

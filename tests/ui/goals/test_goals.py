@@ -127,7 +127,7 @@ def test_the_panel_sends_a_goal_and_cancels_it(sim_factory, link_factory, ros: s
 def test_the_panel_says_the_official_bridge_ignored_the_cancel(sim_factory, link_factory) -> None:
     """rosbridge_suite holds the cancel behind the goal: the panel says "cancel sent", then "cancel
     not honoured" (the chair still moves); the cancel sent again on a second connection stops it."""
-    from pmk_nb.chair.link.navigate import GoalPolicy
+    from pmk_nb.chair.link.goals.navigate import GoalPolicy
 
     sim = sim_factory(ros="ros2", start_pose=(1.0, 6.0, 0.0), bridge="official")
     link = link_factory(sim)

@@ -101,7 +101,7 @@ def test_laser_line_says_blind_ahead_and_touching() -> None:
     """A run of null rays across the heading is summarised as 'laser blind ahead, N°'."""
     import math
 
-    from pmk_nb.chair.messages import parse_scan
+    from pmk_nb.chair.link.streams.messages import parse_scan
     from pmk_nb.ui.home.info import laser_text
 
     def scan(raw: list) -> object:

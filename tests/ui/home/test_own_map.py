@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from pmk_nb.chair.link.mapwatch import MapWatch
+from pmk_nb.chair.link.streams.mapwatch import MapWatch
 from pmk_nb.grid import GRAY_UNKNOWN, OccupancyGrid
 from pmk_nb.ui.common.widgets import escape
 from pmk_nb.ui.home.info import PRESS_PREVIEW_TEXT

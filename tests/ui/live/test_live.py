@@ -151,7 +151,7 @@ def test_frame_is_one_batched_message_with_map_chair_and_rays() -> None:
 
 def test_blind_rays_are_ticks_at_the_chair_never_free_rays() -> None:
     """JSON null rays (unknown) are drawn as short grey ticks, not as rays across the floor."""
-    from pmk_nb.chair.messages import parse_scan
+    from pmk_nb.chair.link.streams.messages import parse_scan
     from pmk_nb.ui.live.chair_layer import BLIND_STYLE, TICK_M, draw_rays
 
     view = LiveView(320, 240)
@@ -774,7 +774,7 @@ def test_home_reports_an_unreachable_chair(home_env: Any, tmp_path: Path) -> Non
 
 KERNEL_SETUP = """
 import math, threading, time
-from pmk_nb.chair.messages import Odometry
+from pmk_nb.chair.link.streams.messages import Odometry
 from pmk_nb.grid import OccupancyGrid
 from pmk_nb.ui.live.view import LiveView
 import numpy as np

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from ipycanvas import Canvas
 
-from pmk_nb.chair.link.navlayers import FOOTPRINT, GLOBAL, LOCAL, LOCAL_PLAN, MARKERS, Costmap
+from pmk_nb.chair.link.streams.navlayers import FOOTPRINT, GLOBAL, LOCAL, LOCAL_PLAN, MARKERS, Costmap
 from pmk_nb.ui.live.nav_layers import CostmapOverlay, NavLayers
 from pmk_nb.ui.live.view import LiveView
 from pmk_nb.viewport import Transform2D

@@ -9,7 +9,7 @@ from typing import Any
 
 import pytest
 
-from pmk_nb.chair.link.tls import pinned
+from pmk_nb.chair.link.transport.tls import pinned
 from pmk_nb.errors import ChairCertificateChanged, KioskLocked, UnknownChairCertificate
 from pmk_nb.tlscert import file_fingerprint, write_self_signed
 from pmk_nb.ui.common.context import AppContext
