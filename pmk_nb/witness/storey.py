@@ -259,13 +259,15 @@ def _interiors(st: _Storey) -> list[Finding]:
         win = st.frame.window(inner.bounds)
         mask = st.frame.mask(win, inner)
         expected = inner.area / st.frame.resolution**2
-        if mask.sum() < 0.5 * expected - MIN_PIXELS:
+        drawn = int(np.count_nonzero(mask))  # not .sum(): a bool sum widens every pixel (0.7 s at 100 M cells)
+        if drawn < 0.5 * expected - MIN_PIXELS:
             out.append(_finding(st, FindingKind.OUTSIDE_MAP, (cell.id,), inner.centroid, "the map does not cover it"))
             continue
         sub = st.free_in(win)
         wrong = mask & (~sub if cell.kind.is_free else sub)
-        share = wrong.sum() / max(mask.sum(), 1)
-        if wrong.sum() >= MIN_PIXELS and share > TOLERANCE:
+        count = int(np.count_nonzero(wrong))
+        share = count / max(drawn, 1)
+        if count >= MIN_PIXELS and share > TOLERANCE:
             kind = FindingKind.ROOM_NOT_FREE if cell.kind.is_free else FindingKind.OBSTACLE_FREE
             what = "not free" if cell.kind.is_free else "free"
             place = _centroid(st, win, wrong)
