@@ -151,8 +151,34 @@ def regions(mask: np.ndarray, owner: np.ndarray | None = None) -> tuple[np.ndarr
     return labels, label_owner, edges
 
 
-def _union(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Root of each of ``n`` items joined by the pairs (a, b): min-label propagation, pointer jumping."""
+def least_roots(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Root of each of ``n`` items joined by the pairs (a, b): the least item of its component.
+
+    Chains first: a pair a < b where a has no other pair to a later item and b none from an earlier one
+    (a room's runs, row after row) joins b to a's chain, whose least item is its first; chains are
+    followed by pointer jumping, and only the other pairs, between chain heads, go through the
+    min-label propagation (a 100 M-cell storey's million pairs took ten rounds of it, 0.15 s a graph)."""
+    if len(a) == 0:
+        return np.arange(n, dtype=np.int64)
+    down = a < b
+    later = np.bincount(a[down], minlength=n)  # pairs from each item to a later one
+    earlier = np.bincount(b[down], minlength=n)  # pairs to each item from an earlier one
+    chain = down & (later[a] == 1) & (earlier[b] == 1)
+    head = np.arange(n, dtype=np.int64)
+    head[b[chain]] = a[chain]  # each b once: it has one pair from an earlier item
+    while True:
+        nxt = head[head]
+        if np.array_equal(nxt, head):
+            break
+        head = nxt
+    rest = ~chain
+    root = _propagate(n, head[a[rest]], head[b[rest]])
+    return root[head]
+
+
+def _propagate(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The least item of each component of ``n`` items joined by (a, b): min-label propagation, pointer
+    jumping."""
     parent = np.arange(n, dtype=np.int64)
     if len(a) == 0:
         return parent
@@ -171,17 +197,19 @@ def _union(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         parent = nxt
 
 
-def strip_runs(row0: int, mask: np.ndarray, own: np.ndarray) -> tuple[np.ndarray, ...]:
+def strip_runs(row0: int, mask: np.ndarray, own: np.ndarray, same: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
     """Runs of ``mask`` that keep one owner, per row: (row, first column, column after, owner).
 
-    Works on the strip as it is (bool masks of its size, the owners in their own narrow type)."""
+    Works on the strip as it is (bool masks of its size, the owners in their own narrow type).
+    ``same``: :func:`same_owner` of ``own``, when the caller runs several masks over the same owners."""
     w = mask.shape[1]
     go_on = mask[:, 1:] & mask[:, :-1]  # the run goes on from column c to c + 1 ...
-    go_on &= own[:, 1:] == own[:, :-1]  # ... when both are in the mask and share an owner
+    go_on &= same_owner(own) if same is None else same  # ... when both are in the mask and share an owner
+    stop = np.logical_not(go_on, out=go_on)
     start = mask.copy()
-    start[:, 1:] &= ~go_on
+    start[:, 1:] &= stop
     end = mask.copy()
-    end[:, :-1] &= ~go_on
+    end[:, :-1] &= stop
     first = np.flatnonzero(start)
     last = np.flatnonzero(end)
     sr, sc = np.divmod(first, w)
@@ -191,6 +219,11 @@ def strip_runs(row0: int, mask: np.ndarray, own: np.ndarray) -> tuple[np.ndarray
         (last % w + 1).astype(np.int64),
         own.reshape(-1)[first].astype(np.int32),
     )
+
+
+def same_owner(own: np.ndarray) -> np.ndarray:
+    """(h, w - 1) bools: pixel c of a row has the owner of pixel c + 1."""
+    return np.asarray(own[:, 1:] == own[:, :-1])
 
 
 def run_regions(
@@ -245,7 +278,7 @@ def _join_runs(
     jj = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts))
     del lo, counts
     same = run_owner[ii] == run_owner[jj]
-    parent = _union(n, ii[same], jj[same])
+    parent = least_roots(n, ii[same], jj[same])
     run_label = parent + 1
     label_owner = np.zeros(n + 1, dtype=np.int32)
     label_owner[run_label] = run_owner

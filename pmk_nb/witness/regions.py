@@ -26,7 +26,7 @@ import numpy as np
 import shapely
 
 from pmk_nb.grid import FREE
-from pmk_nb.pixels import erode_rows, sorted_unique, strip_rows, strip_run_labels, strip_runs
+from pmk_nb.pixels import erode_rows, same_owner, sorted_unique, strip_rows, strip_run_labels, strip_runs
 from pmk_nb.witness.frame import MapFrame, Outline, Window, outline
 
 if TYPE_CHECKING:
@@ -167,8 +167,9 @@ def storey_regions(
     for a, chair in erode_rows(lambda lo, hi: data[lo:hi] == FREE, h, w, radius_px, step):
         b = a + len(chair)
         own = _owners(frame, Window(a, b, 0, w), cells, order, tree, cores, painted, shared, outlines, rects)
-        free_parts.append(_narrow(strip_runs(a, data[a:b] == FREE, own)))
-        chair_parts.append(_narrow(strip_runs(a, chair, own)))
+        same = same_owner(own)  # one comparison of the four-byte owners for both masks
+        free_parts.append(_narrow(strip_runs(a, data[a:b] == FREE, own, same)))
+        chair_parts.append(_narrow(strip_runs(a, chair, own, same)))
     cored = {cid for cid in order if painted[index[cid]]}
     return StoreyRegions(RegionGraph.of(free_parts, w), RegionGraph.of(chair_parts, w), index, cored, shared)
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from pmk_nb.pixels import erode, erode_rows, regions, shift_bits, sorted_unique
+from pmk_nb.pixels import erode, erode_rows, least_roots, regions, shift_bits, sorted_unique
 
 
 @pytest.mark.parametrize("radius", [1.0, 2.5, 7.000000001, 27.34, 127.5, 130.2])
@@ -66,3 +66,21 @@ def test_shift_bits_moves_packed_columns(k: int) -> None:
     want = np.zeros_like(rows)
     want[:, : max(0, 200 - k)] = rows[:, k:]
     assert np.array_equal(got.view(bool), want)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_union_gives_each_item_the_least_item_of_its_component(seed: int) -> None:
+    """Chains (each item joined to one later item and it to no other earlier one), pairs in both orders,
+    repeated pairs and self pairs: every item's root is the least item of its component."""
+    rng = np.random.default_rng(seed)
+    n = 400
+    a = rng.integers(0, n, 300)
+    b = np.where(rng.random(300) < 0.7, np.minimum(a + rng.integers(1, 4, 300), n - 1), rng.integers(0, n, 300))
+    a, b = np.concatenate([a, a[:20]]), np.concatenate([b, b[:20]])  # some pairs twice
+    want = np.arange(n)
+    for _ in range(n):  # plain relaxation to the fixed point: the least item reachable
+        low = np.minimum(want[a], want[b])
+        np.minimum.at(want, a, low)
+        np.minimum.at(want, b, low)
+    assert np.array_equal(least_roots(n, a, b), want)
+    assert len(set(want.tolist())) > 10
