@@ -164,6 +164,7 @@ def least_roots(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     later = np.bincount(a[down], minlength=n)  # pairs from each item to a later one
     earlier = np.bincount(b[down], minlength=n)  # pairs to each item from an earlier one
     chain = down & (later[a] == 1) & (earlier[b] == 1)
+    del down, later, earlier  # the storey's runs are held meanwhile
     head = np.arange(n, dtype=np.int64)
     head[b[chain]] = a[chain]  # each b once: it has one pair from an earlier item
     while True:

@@ -107,10 +107,11 @@ def _extents(compact: np.ndarray, sr: np.ndarray, sc: np.ndarray, ec: np.ndarray
     if n == 0:
         return box
     order = np.argsort(compact, kind="stable")  # rows stay in order within a region
-    first = np.flatnonzero(np.diff(compact[order], prepend=-1))
+    keys = compact[order]
+    first = np.concatenate(([0], np.flatnonzero(keys[1:] != keys[:-1]) + 1))
+    del keys  # a storey's runs are held meanwhile: only one run-sized array beside them at a time
     last = np.append(first[1:], len(order)) - 1
-    rows = sr[order]
-    box[:, 0], box[:, 1] = rows[first], rows[last]
+    box[:, 0], box[:, 1] = sr[order[first]], sr[order[last]]
     box[:, 2] = np.minimum.reduceat(sc[order], first)
     box[:, 3] = np.maximum.reduceat(ec[order], first) - 1
     return box
