@@ -97,7 +97,8 @@ class MapFrame:
             # an upright rectangle (most rooms): the same rows and columns as the general fill, as a slice
             out = np.zeros(win.shape, dtype=bool)
             cols = np.clip(np.ceil((np.sort(edges[:, 0]) - self.x0) / r - 0.5).astype(np.int64), win.c0, win.c1)
-            out[lo[0] - win.r0 : hi[0] - win.r0, cols[0] - win.c0 : cols[1] - win.c0] = True
+            if hi[0] > lo[0]:  # a rectangle wholly below the window: nothing (a negative end would wrap)
+                out[lo[0] - win.r0 : hi[0] - win.r0, cols[0] - win.c0 : cols[1] - win.c0] = True
             return out
         spans = np.maximum(hi - lo, 0)
         if not spans.sum():
@@ -115,6 +116,24 @@ class MapFrame:
         np.add.at(diff, (rows[1::2] - win.r0, cols[1::2]), -1)
         np.cumsum(diff, axis=1, dtype=np.int8, out=diff)
         return diff[:, :-1] > 0
+
+    def rectangle(self, outline: Outline) -> Window | None:
+        """The pixels :meth:`mask` sets for an upright rectangle (its :func:`outline`), as a window of the
+        grid (maybe empty), so a caller can write them as a slice without drawing a mask; None for any
+        other shape."""
+        edges = outline[0]
+        if len(edges) != 2 or not (edges[:, 0] == edges[:, 2]).all():
+            return None
+        r = self.resolution
+        ya, yb = edges[:, 1], edges[:, 3]
+        lo = np.ceil((np.minimum(ya, yb) - self.y0) / r - 0.5).astype(np.int64)
+        hi = np.ceil((np.maximum(ya, yb) - self.y0) / r - 0.5).astype(np.int64)
+        if lo[0] != lo[1] or hi[0] != hi[1]:
+            return None
+        cols = np.ceil((np.sort(edges[:, 0]) - self.x0) / r - 0.5).astype(np.int64)
+        return Window(
+            max(int(lo[0]), 0), min(int(hi[0]), self.height), max(int(cols[0]), 0), min(int(cols[1]), self.width)
+        )
 
     def paste(self, win: Window, part: Window, mask: np.ndarray) -> np.ndarray:
         """``mask`` (over ``part``) placed in ``win``: False outside ``part``."""

@@ -26,7 +26,7 @@ import numpy as np
 import shapely
 
 from pmk_nb.grid import FREE
-from pmk_nb.pixels import erode_rows, sorted_unique, strip_rows, strip_run_labels, strip_runs
+from pmk_nb.pixels import erode_rows, same_owner, sorted_unique, strip_rows, strip_run_labels, strip_runs
 from pmk_nb.witness.frame import MapFrame, Outline, Window, outline
 
 if TYPE_CHECKING:
@@ -57,14 +57,7 @@ class RegionGraph:
         sr, sc, ec, run_label, label_owner, edges = strip_run_labels(parts, width)
         labels = sorted_unique(run_label)
         n = len(labels)
-        compact = np.searchsorted(labels, run_label)
-        box = np.empty((n, 4), dtype=np.int64)
-        box[:, 0], box[:, 1] = np.iinfo(np.int64).max, -1
-        box[:, 2], box[:, 3] = np.iinfo(np.int64).max, -1
-        np.minimum.at(box[:, 0], compact, sr)
-        np.maximum.at(box[:, 1], compact, sr)
-        np.minimum.at(box[:, 2], compact, sc)
-        np.maximum.at(box[:, 3], compact, ec - 1)
+        box = _extents(np.searchsorted(labels, run_label), sr, sc, ec, n)
         owner = label_owner[labels].tolist()
         neighbours: list[list[int]] = [[] for _ in range(n)]
         if len(edges):
@@ -104,6 +97,24 @@ class RegionGraph:
                 seen.add(nb)
                 frontier.append(nb)
         return False
+
+
+def _extents(compact: np.ndarray, sr: np.ndarray, sc: np.ndarray, ec: np.ndarray, n: int) -> np.ndarray:
+    """(n, 4): first row, last row, first column, last column of each region 0..n-1 (every one has runs),
+    from its runs (``sr`` in row order): the runs sorted by region once and reduced per region, where four
+    ``np.minimum.at`` / ``np.maximum.at`` calls took 0.35 s for a 100 M-cell storey's million runs."""
+    box = np.empty((n, 4), dtype=np.int64)
+    if n == 0:
+        return box
+    order = np.argsort(compact, kind="stable")  # rows stay in order within a region
+    keys = compact[order]
+    first = np.concatenate(([0], np.flatnonzero(keys[1:] != keys[:-1]) + 1))
+    del keys  # a storey's runs are held meanwhile: only one run-sized array beside them at a time
+    last = np.append(first[1:], len(order)) - 1
+    box[:, 0], box[:, 1] = sr[order[first]], sr[order[last]]
+    box[:, 2] = np.minimum.reduceat(sc[order], first)
+    box[:, 3] = np.maximum.reduceat(ec[order], first) - 1
+    return box
 
 
 @dataclass
@@ -153,11 +164,13 @@ def storey_regions(
     step = max(strip_rows(w, h), STRIP_CELLS // max(1, w))
     outlines: dict[object, Outline] = {cid: outline(cells[cid].footprint) for cid in order}
     outlines |= {(cid, "core"): outline(core) for cid, core in cores.items() if core is not None and not core.is_empty}
+    rects = {key: frame.rectangle(shape) for key, shape in outlines.items()}
     for a, chair in erode_rows(lambda lo, hi: data[lo:hi] == FREE, h, w, radius_px, step):
         b = a + len(chair)
-        own = _owners(frame, Window(a, b, 0, w), cells, order, tree, cores, painted, shared, outlines)
-        free_parts.append(_narrow(strip_runs(a, data[a:b] == FREE, own)))
-        chair_parts.append(_narrow(strip_runs(a, chair, own)))
+        own = _owners(frame, Window(a, b, 0, w), cells, order, tree, cores, painted, shared, outlines, rects)
+        same = same_owner(own)  # one comparison of the four-byte owners for both masks
+        free_parts.append(_narrow(strip_runs(a, data[a:b] == FREE, own, same)))
+        chair_parts.append(_narrow(strip_runs(a, chair, own, same)))
     cored = {cid for cid in order if painted[index[cid]]}
     return StoreyRegions(RegionGraph.of(free_parts, w), RegionGraph.of(chair_parts, w), index, cored, shared)
 
@@ -178,10 +191,12 @@ def _owners(
     painted: np.ndarray,
     shared: set[str],
     outlines: dict[object, Outline],
+    rects: dict[object, Window | None],
 ) -> np.ndarray:
     """The owner code of each pixel of ``strip``: 0 outside every cell, i for the i-th cell, n + i in its
     core, 2n + 1 where two cells claim it; ``painted`` counts core pixels per cell, ``shared`` gains the
-    cells that claim a pixel with another."""
+    cells that claim a pixel with another. ``rects``: the shapes that are upright rectangles, as the
+    windows their masks set (:meth:`MapFrame.rectangle`), written as slices."""
     n = len(order)
     own = np.zeros(strip.shape, dtype=np.int32)
     r = frame.resolution
@@ -189,31 +204,45 @@ def _owners(
     for i in sorted(tree.query(box).tolist()):
         cid = order[i]
         foot = outlines[cid]
-        win = _clip(frame.window(foot[1], 1), strip)
-        if win.empty:
-            continue
-        mask = frame.mask(win, cells[cid].footprint, foot)
-        sub = own[win.r0 - strip.r0 : win.r1 - strip.r0, win.c0 : win.c1]
-        both = mask & (sub != 0)
+        rect = rects.get(cid)
+        if rect is not None:  # an upright rectangle (most cells): its pixels are a slice, no mask drawn
+            win = _clip(rect, strip)
+            if win.empty:
+                continue
+            sub = own[win.r0 - strip.r0 : win.r1 - strip.r0, win.c0 : win.c1]
+            both = sub != 0
+            mask = None
+        else:
+            win = _clip(frame.window(foot[1], 1), strip)
+            if win.empty:
+                continue
+            mask = frame.mask(win, cells[cid].footprint, foot)
+            sub = own[win.r0 - strip.r0 : win.r1 - strip.r0, win.c0 : win.c1]
+            both = mask & (sub != 0)
         if both.any():  # pixels two cells claim: owned by neither, but by the code of shared pixels
             claimed = sorted_unique(sub[both])
             shared.add(cid)
             shared.update(order[(int(c) - 1) % n] for c in claimed if c != 2 * n + 1)
-            np.copyto(sub, i + 1, where=mask & ~both)
+            np.copyto(sub, i + 1, where=~both if mask is None else mask & ~both)
             sub[both] = 2 * n + 1
+        elif mask is None:
+            sub[...] = i + 1
         else:
             np.copyto(sub, i + 1, where=mask)
         core = cores.get(cid)
         if core is None or core.is_empty:
             continue
         inner = outlines[(cid, "core")]
-        cwin = _clip(frame.window(inner[1], 1), strip)
+        crect = rects.get((cid, "core"))
+        cwin = _clip(frame.window(inner[1], 1) if crect is None else crect, strip)
         if cwin.empty:
             continue
         cpart = own[cwin.r0 - strip.r0 : cwin.r1 - strip.r0, cwin.c0 : cwin.c1]
-        cmask = frame.mask(cwin, core, inner) & (cpart == i + 1)  # not where another cell claims it too
+        cmask = cpart == i + 1  # not where another cell claims it too
+        if crect is None:
+            cmask &= frame.mask(cwin, core, inner)
         np.copyto(cpart, n + i + 1, where=cmask)
-        painted[i + 1] += int(cmask.sum())
+        painted[i + 1] += int(np.count_nonzero(cmask))
     return own
 
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from pmk_nb.pixels import erode, erode_rows, regions, sorted_unique
+from pmk_nb.pixels import erode, erode_rows, least_roots, regions, shift_bits, sorted_unique
 
 
 @pytest.mark.parametrize("radius", [1.0, 2.5, 7.000000001, 27.34, 127.5, 130.2])
@@ -52,3 +52,35 @@ def test_region_edges_sorted_unique_pairs() -> None:
         a, b = labels == u, labels == v
         across = (a[:, :-1] & b[:, 1:]).any() or (a[:, 1:] & b[:, :-1]).any()
         assert across or (a[:-1] & b[1:]).any() or (a[1:] & b[:-1]).any()
+
+
+@pytest.mark.parametrize("k", [0, 1, 5, 63, 64, 65, 130, 200, 400])
+def test_shift_bits_moves_packed_columns(k: int) -> None:
+    """Packed rows moved k columns: bit x of the result is column x + k of the rows, zeros past the end
+    (across word boundaries and by more than a word)."""
+    rng = np.random.default_rng(k)
+    rows = rng.random((5, 200)) > 0.5
+    words = np.zeros((5, 4 * 8), dtype=np.uint8)
+    words[:, :25] = np.packbits(rows, axis=1, bitorder="little")
+    got = np.unpackbits(shift_bits(words.view("<u8"), k).view(np.uint8), axis=1, count=200, bitorder="little")
+    want = np.zeros_like(rows)
+    want[:, : max(0, 200 - k)] = rows[:, k:]
+    assert np.array_equal(got.view(bool), want)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_union_gives_each_item_the_least_item_of_its_component(seed: int) -> None:
+    """Chains (each item joined to one later item and it to no other earlier one), pairs in both orders,
+    repeated pairs and self pairs: every item's root is the least item of its component."""
+    rng = np.random.default_rng(seed)
+    n = 400
+    a = rng.integers(0, n, 300)
+    b = np.where(rng.random(300) < 0.7, np.minimum(a + rng.integers(1, 4, 300), n - 1), rng.integers(0, n, 300))
+    a, b = np.concatenate([a, a[:20]]), np.concatenate([b, b[:20]])  # some pairs twice
+    want = np.arange(n)
+    for _ in range(n):  # plain relaxation to the fixed point: the least item reachable
+        low = np.minimum(want[a], want[b])
+        np.minimum.at(want, a, low)
+        np.minimum.at(want, b, low)
+    assert np.array_equal(least_roots(n, a, b), want)
+    assert len(set(want.tolist())) > 10

@@ -9,7 +9,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from pmk_nb.grid import OccupancyGrid
-from pmk_nb.witness.frame import MapFrame, Window
+from pmk_nb.witness.frame import MapFrame, Window, outline
 
 coord = st.floats(min_value=-3.0, max_value=13.0, allow_nan=False).map(lambda v: round(v, 3))
 
@@ -75,3 +75,32 @@ def test_an_upright_rectangle_fills_as_any_polygon(
     xs, ys = frame.centres(win)
     on_edge = shapely.dwithin(box.boundary, shapely.points(xs, ys), 1e-9)
     assert not np.any((frame.mask(win, box) != shapely.contains_xy(box, xs, ys)) & ~on_edge)
+
+
+def test_a_rectangle_below_the_window_sets_nothing() -> None:
+    """A window starting a row or two above an upright rectangle (inside the rows its bounds may touch,
+    as a strip of rows does) gets none of it: the rectangle's shortcut once set a row there, as a slice
+    with a negative end wraps round."""
+    frame = MapFrame(0.0, 0.0, 0.1, 50, 50)
+    box = shapely.box(0.2, 0.0, 1.0, 0.93)  # pixel rows 0..8 (centres 0.05..0.85)
+    win = Window(10, 12, 0, 20)
+    assert not frame.mask(win, box).any()
+    whole = frame.mask(Window(0, 12, 0, 20), box)
+    assert whole[:9, 2:10].all() and whole.sum() == 9 * 8
+
+
+def test_the_rectangle_window_is_what_the_mask_sets() -> None:
+    """MapFrame.rectangle: the pixels an upright rectangle's mask sets, as a window (clipped to the grid);
+    None for any other shape."""
+    frame = MapFrame(-1.0, -2.0, 0.1, 120, 120)
+    whole = Window(0, 120, 0, 120)
+    for box in (shapely.box(0.23, -0.4, 3.01, 2.96), shapely.box(-3.0, -5.0, 0.5, 0.5), shapely.box(0.0, 0.0, 0.04, 1)):
+        rect = frame.rectangle(outline(box))
+        assert rect is not None
+        want = frame.mask(whole, box)
+        got = np.zeros_like(want)
+        got[rect.r0 : rect.r1, rect.c0 : rect.c1] = True
+        np.testing.assert_array_equal(got, want)
+    slanted = shapely.Polygon([(0, 0), (1, 0), (1.2, 1), (0, 1)])
+    assert frame.rectangle(outline(slanted)) is None
+    assert frame.rectangle(outline(shapely.Polygon([(0, 0), (1, 0), (1, 1), (0, 1), (0, 0.5)]))) is None
