@@ -101,11 +101,21 @@ def serve_thin_walls(tmp_path: Path) -> Iterator[str]:
         shutil.copy(tmp_path / "voila.log", ARTIFACTS / "live-voila.log")
 
 
-PIXELS_JS = "document.querySelector('canvas.pmk-live-canvas').toDataURL('image/png')"
+#: the live canvas with the page's chair layer over it (issue 41: the page draws the chair)
+PIXELS_JS = """(() => {
+  const c = document.querySelector('canvas.pmk-live-canvas'), o = document.querySelector('canvas.pmk-live-page');
+  const out = document.createElement('canvas');
+  out.width = c.width; out.height = c.height;
+  const g = out.getContext('2d');
+  g.drawImage(c, 0, 0);
+  if (o && o.width === c.width && o.height === c.height) g.drawImage(o, 0, 0);
+  return out.toDataURL('image/png');
+})()"""
 
 
 def pixels(page: Any) -> np.ndarray:
-    """RGBA pixels of the live canvas as the page shows them (the layers composited: map, then chair)."""
+    """RGBA pixels of the live canvas as the page shows them (the layers composited: map, laser, then
+    the page's chair)."""
     from PIL import Image
 
     url = page.evaluate(PIXELS_JS)

@@ -114,7 +114,7 @@ class HomeScreen:
         self.maps = MapGridCache()
         self.own = OwnMap()  # the chair's own /map while the preview runs (pmk_nb/ui/home/own_map.py)
         fps = fps if fps is not None else ctx.live_fps if ctx.live_fps is not None else LIVE_FPS
-        self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True)
+        self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True, page_chair=True)  # issue 41
         self.live.on_zoom_change(lambda _z: self.refresh_info(texts=True))
         self.live.on_error(self._on_live_error)
         self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
@@ -185,6 +185,8 @@ class HomeScreen:
         self.live.overlays.append(self.path)
         self.layers = NavLayers(self.live)  # pmk_nb/ui/live/nav_layers.py
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.layers.widget)
+        if self.live.page_widget is not None:  # the page draws the chair (issue 41: ui/live/page_script.py)
+            self.ui.preview_box.children = (*self.ui.preview_box.children, self.live.page_widget)
 
     def _floating_tools(self) -> None:
         """The map's floating bar (issue 28): Drive, Go to (two taps to a room), Set destination

@@ -20,17 +20,20 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
+import ipywidgets as w
 import numpy as np
 from ipycanvas import MultiCanvas
 
 from pmk_nb.chair import Odometry, Pose2D, Scan
 from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.ui.live import page_script
 from pmk_nb.ui.live.canvas_fix import make_messages_name_their_layer
 from pmk_nb.ui.live.chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer
 from pmk_nb.ui.live.frame_metrics import FrameMetrics, install_byte_meter, measured_hold
 from pmk_nb.ui.live.gestures import LiveToolbar, ZoomGestures
 from pmk_nb.ui.live.map_layer import TILE_MARGIN, MapLayer
+from pmk_nb.ui.live.page_feed import PageFeed
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.viewport import Insets, Viewport, fit_canvas
 
@@ -117,6 +120,9 @@ class LiveView:
         tile_margin: spare map around the view in the tile, in canvas sizes.
         clock: the render loop's pacing, the repaint after a resize, a frame's age (a ``VirtualClock``
             in tests; the messages' ``received`` stamps are on the same clock).
+        page_chair: the page draws the chair at its display's rate, interpolated between the poses
+            the kernel sends (:mod:`pmk_nb.ui.live.page_feed`); the kernel's frames then carry the
+            map, the laser and the overlays only. :attr:`page_widget` must be shown with the canvas.
     """
 
     def __init__(
@@ -134,6 +140,7 @@ class LiveView:
         map_mode: str = "tile",
         tile_margin: float = TILE_MARGIN,
         clock: Clock = MONOTONIC,
+        page_chair: bool = False,
     ) -> None:
         if laser_style not in LASER_STYLES:
             raise ValueError(f"laser_style must be one of {LASER_STYLES}, got {laser_style!r}")
@@ -183,8 +190,23 @@ class LiveView:
             self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan, clock=clock
         )
         self.toolbar = LiveToolbar()
+        #: the page-drawn chair's feed and script (page_chair), hidden; None when the kernel draws it
+        self.feed: PageFeed | None = None
+        self.page_widget: w.Box | None = None
+        if page_chair:
+            self._page_layer()
         self.toolbar.follow.observe(self._on_follow_toggle, names="value")
         self.toolbar.centre.on_click(lambda _b: self.centre())
+
+    def _page_layer(self) -> None:
+        from IPython.display import HTML
+
+        self.feed = PageFeed(1.0 / self.loop.fps)
+        self.canvas.add_class(f"pmk-live-{self.feed.id}")
+        script = w.Output(layout=w.Layout(display="none"))
+        script.append_display_data(HTML(page_script.page_html()))
+        self.page_widget = w.Box([self.feed.widget, script], layout=w.Layout(display="none"))
+        self.page_widget.add_class("pmk-live-page-layer")
 
     # -- setup ---------------------------------------------------------------------------------------
     def set_map(self, grid: OccupancyGrid) -> None:
@@ -258,6 +280,8 @@ class LiveView:
         with self._lock:
             self._source = source
             self.poses.clear()
+            if self.feed is not None:
+                self.feed.clear()
             if self.viewport is not None:
                 self.viewport.forget_chair()  # Centre means the map until a chair is seen again
             self._force = True
@@ -404,6 +428,9 @@ class LiveView:
                 view.see_chair(pose.x, pose.y)
             if odom is not None:
                 self.poses.remember(odom)  # by header stamp: where each scan was cast
+            if self.feed is not None and pose is not None:
+                v = float(odom.v) if odom is not None else 0.0
+                self.feed.remember(pose.received, pose.x, pose.y, pose.theta, v)
             key = view.state_key()
             inputs: tuple[object, ...] = (
                 key,
@@ -418,6 +445,7 @@ class LiveView:
             inputs += tuple(o.version for o in self.overlays) + tuple(o.version for o in self.map_overlays)
             if not self._force and self._same_inputs(inputs):
                 self.metrics.skipped += 1
+                self._send_feed(view)
                 return False
             started = time.perf_counter()
             with measured_hold(self.canvas) as sent:
@@ -427,7 +455,13 @@ class LiveView:
             self._last_inputs = inputs
             self.metrics.record(started, self._clock.now(), sent[0], draw_map, pose, odom, scan)
             self.metrics.last_hits, self.metrics.last_max_rays = self._rays
+            self._send_feed(view)
             return True
+
+    def _send_feed(self, view: Viewport) -> None:
+        """The page-drawn chair's poses, after the frame they go with (page_chair only)."""
+        if self.feed is not None:
+            self.feed.send(self._clock.now(), self.metrics.frames, view, self.footprint_radius, self.stale)
 
     def scan_pose(self, pose: Pose2D | Odometry, scan: Scan) -> tuple[float, float, float]:
         """Where the rays start: ``pose`` moved back to the scan's header stamp by the odometry since
@@ -461,7 +495,9 @@ class LiveView:
         self, view: Viewport, pose: Pose2D | Odometry | None, odom: Odometry | None, scan: Scan | None
     ) -> None:
         """The dynamic layer (a method so a subclass, e.g. the benchmark's, can draw more on it)."""
-        look = ChairLook(self.footprint_radius, self.stale, self.ray_spacing_px, self.laser_style)
+        look = ChairLook(
+            self.footprint_radius, self.stale, self.ray_spacing_px, self.laser_style, chair=self.feed is None
+        )
         self._rays = draw_chair_layer(self.dyn_layer, view, pose, odom, scan, look, self.poses)
         for overlay in self.overlays:
             overlay.draw(self.dyn_layer, view)

@@ -1,0 +1,93 @@
+"""The page-drawn chair's feed (issue 41): the kernel sends poses and the view, not the chair's pixels."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+
+from pmk_nb.clock import VirtualClock
+from pmk_nb.ui.live import page_script
+from pmk_nb.ui.live.view import LiveView
+from pmk_nb.viewport.glide import HEARTBEAT_S, pixel_affine
+from tests.ui.live.test_live import Source, captured_commands, names, sample_grid
+
+
+def feed_of(view: LiveView) -> dict[str, Any]:
+    assert view.feed is not None
+    return json.loads(view.feed.widget.value)  # type: ignore[no-any-return]
+
+
+def page_view(clock: VirtualClock) -> tuple[LiveView, Source]:
+    view = LiveView(320, 240, page_chair=True, clock=clock, fps=25)
+    src = Source(clock)
+    src.move(3.0, 2.0, 0.5, 0.4)
+    src.set_scan(n=90)
+    view.attach(src)
+    return view, src
+
+
+def test_the_kernel_frame_leaves_the_chair_to_the_page_and_sends_its_pose() -> None:
+    clock = VirtualClock()
+    view, src = page_view(clock)
+    with captured_commands(view.canvas) as cmds:
+        view.set_map(sample_grid())
+    assert view.metrics.frames == 1
+    assert "fillStyledCircles" not in names(cmds), "the page draws the chair, not the kernel"
+    assert "fillPolygon" in names(cmds), "the laser is still the kernel's"
+    msg = feed_of(view)
+    assert view.viewport is not None and view.feed is not None
+    assert msg["id"] == view.feed.id and f"pmk-live-{msg['id']}" in view.canvas._dom_classes
+    assert msg["poses"] == [[src.odom.received, 3.0, 2.0, 0.5, 0.4]]  # type: ignore[union-attr]
+    assert msg["px"] == pytest.approx(list(pixel_affine(view.viewport)), abs=1e-3)
+    assert msg["seq"] == 1 and msg["next"] == pytest.approx(0.04) and msg["behind"] == pytest.approx(0.04)
+    assert msg["r"] == pytest.approx(view.viewport.chair_radius_px(view.footprint_radius), abs=0.01)
+    assert page_script.LINK_SLOW.startswith("Link slow")
+
+
+def test_the_kernels_own_look_still_draws_the_chair() -> None:
+    view = LiveView(320, 240)
+    src = Source()
+    src.move(3.0, 2.0, 0.5, 0.4)
+    view.attach(src)
+    with captured_commands(view.canvas) as cmds:
+        view.set_map(sample_grid())
+    assert names(cmds).count("fillStyledCircles") == 1
+    assert view.feed is None and view.page_widget is None
+
+
+def test_moving_poses_go_each_frame_a_parked_chair_on_the_heartbeat() -> None:
+    clock = VirtualClock()
+    view, src = page_view(clock)
+    view.set_map(sample_grid())
+    assert view.feed is not None
+    for i in range(1, 4):  # driving: a new pose each frame, the last few kept, oldest first
+        clock.advance(0.04)
+        src.move(3.0 + 0.1 * i, 2.0, 0.5, 0.4)
+        view.render_frame()
+    msg = feed_of(view)
+    assert [p[1] for p in msg["poses"]] == pytest.approx([3.0, 3.1, 3.2, 3.3])
+    assert msg["next"] == pytest.approx(0.04)
+    sent = view.feed.sent
+    clock.advance(0.04)  # stopped: the frame is skipped, but the promise of a message is kept
+    assert view.render_frame() is False
+    assert view.feed.sent == sent + 1 and feed_of(view)["next"] == HEARTBEAT_S
+    for _ in range(int(HEARTBEAT_S / 0.04) - 1):  # parked: nothing until the heartbeat is due
+        clock.advance(0.04)
+        view.render_frame()
+    assert view.feed.sent == sent + 1
+    clock.advance(0.08)
+    view.render_frame()
+    assert view.feed.sent == sent + 2, "a parked chair's pose goes again on the heartbeat"
+
+
+def test_a_new_source_forgets_the_old_chairs_poses() -> None:
+    clock = VirtualClock()
+    view, _src = page_view(clock)
+    view.set_map(sample_grid())
+    other = Source(clock)
+    clock.advance(0.04)
+    other.move(-1.0, 0.0)
+    view.attach(other)
+    assert [p[1] for p in feed_of(view)["poses"]] == [-1.0]
