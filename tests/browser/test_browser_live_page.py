@@ -68,7 +68,7 @@ def moved_within_one_kernel_frame(trace: list[list[float]]) -> float:
     """The largest distance (canvas px) the page moved the chair while the kernel's frame stayed the same."""
     best = 0.0
     by_seq: dict[int, list[tuple[float, float]]] = {}
-    for seq, x, y in trace:
+    for seq, x, y, *_ in trace:
         by_seq.setdefault(int(seq), []).append((x, y))
     for points in by_seq.values():
         best = max(best, max(math.dist(points[0], p) for p in points))

@@ -61,7 +61,7 @@ from pmk_nb.ui.live.nav_layers import NavLayers
 from pmk_nb.ui.live.path_layer import LivePathLayer
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.tools import MapTools
-from pmk_nb.ui.live.view import DEFAULT_FPS as LIVE_FPS
+from pmk_nb.ui.live.view import PAGE_CANVAS_FPS as LIVE_FPS
 from pmk_nb.ui.live.view import LiveView
 from pmk_nb.ui.plots.panel import PlotsPanel
 from pmk_nb.ui.record.panel import RecordPanel

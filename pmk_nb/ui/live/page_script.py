@@ -13,7 +13,8 @@ picture changed, at the pose interpolated between the kernel's recent ones, one 
 :mod:`pmk_nb.viewport.glide` line for line.
 
 For tests and the benchmark it keeps ``window.__pmkLive``: ``frames`` (pictures drawn),
-``updates`` (feed messages read) and ``trace`` (the recent frames' ``[kernel seq, x, y]``).
+``updates`` (feed messages read) and ``trace`` (the recent frames' ``[kernel seq, x, y, kernel time
+shown, page wall time ms]``).
 """
 
 from __future__ import annotations
@@ -141,7 +142,7 @@ SCRIPT = """<script>
     g.fillStyle = '__HEADING__';
     g.beginPath(); g.arc(hx, hy, m.dot, 0, 2 * Math.PI); g.fill();
     V.frames += 1; S.frames += 1;
-    S.trace.push([m.seq, x, y]);
+    S.trace.push([m.seq, x, y, p.t, performance.timeOrigin + performance.now()]);
     if (S.trace.length > TRACE) S.trace.shift();
   }
   function tick() {

@@ -41,6 +41,11 @@ RAY_SPACING_PX = 2.0  # thin out rays that would end closer than this on screen
 #: Frame-rate cap: a little above the 30 fps the page must draw, so timer jitter on a busy kernel
 #: never takes it below (frames whose inputs did not change are skipped anyway).
 DEFAULT_FPS = 32.0
+#: With the page drawing the chair (issue 41): the kernel's own frames (map, laser, overlays) at most
+#: this often on Home, and the chair's poses to the page up to FEED_HZ (each a few hundred bytes, a
+#: canvas frame several kilobytes): the page interpolates, so fewer kernel frames cost no smoothness.
+PAGE_CANVAS_FPS = 24.0
+FEED_HZ = 50.0
 #: After a canvas resize the page may apply the new size after the first frame's drawing (size and
 #: drawing travel on different comms) and that frame would be wiped: send everything again this late.
 RESIZE_RESEND_S = 0.5
@@ -185,6 +190,9 @@ class LiveView:
         self.metrics = FrameMetrics()
         self._clock = clock
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error, clock=clock)
+        #: the kernel's canvas frames at most this often (the loop ticks faster for the page's feed)
+        self.canvas_fps = self.loop.fps
+        self._canvas_due = -float("inf")
         self.canvas.on_client_ready(self._on_client_ready)
         self.gestures = ZoomGestures(
             self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan, clock=clock
@@ -199,8 +207,11 @@ class LiveView:
         self.toolbar.centre.on_click(lambda _b: self.centre())
 
     def _page_layer(self) -> None:
+        """The page draws the chair: the loop ticks up to twice the canvas rate (at most FEED_HZ) to
+        send poses, the canvas is drawn at most ``canvas_fps`` times a second."""
         from IPython.display import HTML
 
+        self.loop.fps = max(self.canvas_fps, min(FEED_HZ, 2.0 * self.canvas_fps))
         self.feed = PageFeed(1.0 / self.loop.fps)
         self.canvas.add_class(f"pmk-live-{self.feed.id}")
         script = w.Output(layout=w.Layout(display="none"))
@@ -443,8 +454,8 @@ class LiveView:
                 self.laser_style,
             )
             inputs += tuple(o.version for o in self.overlays) + tuple(o.version for o in self.map_overlays)
-            if not self._force and self._same_inputs(inputs):
-                self.metrics.skipped += 1
+            if not self._force and (self._same_inputs(inputs) or self._clock.now() < self._canvas_due):
+                self.metrics.skipped += 1  # unchanged, or (page_chair) the feed's tick between canvas frames
                 self._send_feed(view)
                 return False
             started = time.perf_counter()
@@ -453,6 +464,8 @@ class LiveView:
                 self._draw_dynamic(view, pose, odom, scan)
             self._force = False
             self._last_inputs = inputs
+            if self.feed is not None:  # a little under a period: ticks a hair early still draw
+                self._canvas_due = self._clock.now() + 0.9 / self.canvas_fps
             self.metrics.record(started, self._clock.now(), sent[0], draw_map, pose, odom, scan)
             self.metrics.last_hits, self.metrics.last_max_rays = self._rays
             self._send_feed(view)

@@ -41,7 +41,9 @@ def test_the_kernel_frame_leaves_the_chair_to_the_page_and_sends_its_pose() -> N
     assert msg["id"] == view.feed.id and f"pmk-live-{msg['id']}" in view.canvas._dom_classes
     assert msg["poses"] == [[src.odom.received, 3.0, 2.0, 0.5, 0.4]]  # type: ignore[union-attr]
     assert msg["px"] == pytest.approx(list(pixel_affine(view.viewport)), abs=1e-3)
-    assert msg["seq"] == 1 and msg["next"] == pytest.approx(0.04) and msg["behind"] == pytest.approx(0.04)
+    # the loop ticks at twice the canvas rate (25 fps) for the feed: a pose every 20 ms
+    assert view.loop.fps == 50 and view.canvas_fps == 25
+    assert msg["seq"] == 1 and msg["next"] == pytest.approx(0.02) and msg["behind"] == pytest.approx(0.02)
     assert msg["r"] == pytest.approx(view.viewport.chair_radius_px(view.footprint_radius), abs=0.01)
     assert page_script.LINK_SLOW.startswith("Link slow")
 
@@ -68,7 +70,7 @@ def test_moving_poses_go_each_frame_a_parked_chair_on_the_heartbeat() -> None:
         view.render_frame()
     msg = feed_of(view)
     assert [p[1] for p in msg["poses"]] == pytest.approx([3.0, 3.1, 3.2, 3.3])
-    assert msg["next"] == pytest.approx(0.04)
+    assert msg["next"] == pytest.approx(0.02)
     sent = view.feed.sent
     clock.advance(0.04)  # stopped: the frame is skipped, but the promise of a message is kept
     assert view.render_frame() is False
@@ -80,6 +82,25 @@ def test_moving_poses_go_each_frame_a_parked_chair_on_the_heartbeat() -> None:
     clock.advance(0.08)
     view.render_frame()
     assert view.feed.sent == sent + 2, "a parked chair's pose goes again on the heartbeat"
+
+
+def test_between_canvas_frames_the_ticks_send_only_poses() -> None:
+    clock = VirtualClock()
+    view, src = page_view(clock)
+    view.set_map(sample_grid())
+    frames = view.metrics.frames
+    got = []
+    for i in range(1, 9):  # 50 Hz ticks, the chair moving every tick
+        clock.advance(0.02)
+        src.move(3.0 + 0.01 * i, 2.0, 0.5, 0.4)
+        with captured_commands(view.canvas) as cmds:
+            drawn = view.render_frame()
+        got.append((drawn, bool(cmds)))
+        assert feed_of(view)["poses"][-1][1] == pytest.approx(3.0 + 0.01 * i), "every tick's pose goes to the page"
+    assert got == [(False, False), (True, True)] * 4, "a canvas frame every other tick, nothing sent between"
+    assert view.metrics.frames == frames + 4
+    view.zoom_in()  # a zoom draws at once, between frames too
+    assert view.metrics.frames == frames + 5
 
 
 def test_a_new_source_forgets_the_old_chairs_poses() -> None:
