@@ -41,6 +41,7 @@ class PageFeed:
         self._sent_at = -float("inf")
         self._promised = HEARTBEAT_S
         self._last: tuple[object, ...] | None = None
+        self._placement: tuple[list[float], float, float, float] | None = None
 
     def clear(self) -> None:
         """A new source: the old chair's poses are not interpolated into the new one's."""
@@ -54,7 +55,18 @@ class PageFeed:
         self.poses.append(StampedPose(float(t), float(x), float(y), float(yaw), float(v)))
         return True
 
-    def payload(self, now: float, seq: int, view: Viewport, footprint_m: float, stale: bool) -> dict[str, Any]:
+    def drawn(self, view: Viewport, footprint_m: float) -> None:
+        """The kernel drew a canvas frame with ``view``: the page places the chair by this view until
+        the next frame (the view may follow the chair before the map under it is drawn again)."""
+        self._placement = (
+            [round(v, 4) for v in pixel_affine(view)],
+            round(view.chair_radius_px(footprint_m), 2),
+            round(view.dot_radius_px(footprint_m), 2),
+            round(float(footprint_m), 3),
+        )
+
+    def payload(self, now: float, seq: int, stale: bool) -> dict[str, Any]:
+        px, r, dot, m = self._placement or ([1.0, 0.0, -1.0, 0.0], 0.0, 0.0, 0.0)
         return {
             "id": self.id,
             "seq": int(seq),
@@ -62,24 +74,26 @@ class PageFeed:
             "next": self._promised,
             "behind": round(self.period, 4),
             "poses": [[round(v, 4) for v in (p.t, p.x, p.y, p.yaw, p.v)] for p in self.poses],
-            "px": [round(v, 4) for v in pixel_affine(view)],
-            "r": round(view.chair_radius_px(footprint_m), 2),
-            "dot": round(view.dot_radius_px(footprint_m), 2),
-            "m": round(float(footprint_m), 3),
+            "px": px,
+            "r": r,
+            "dot": dot,
+            "m": m,
             "stale": bool(stale),
         }
 
-    def send(self, now: float, seq: int, view: Viewport, footprint_m: float, stale: bool) -> bool:
+    def send(self, now: float, seq: int, stale: bool) -> bool:
         """Send when something the page draws changed, when the last message promised another one
-        within a frame, or when the heartbeat is due; True if sent."""
-        key = (self.poses[-1] if self.poses else None, pixel_affine(view), footprint_m, stale)
+        within a frame, or when the heartbeat is due; True if sent (nothing before the first frame)."""
+        if self._placement is None:
+            return False
+        key = (self.poses[-1] if self.poses else None, self._placement, stale)
         changed = key != self._last
         due = self._promised < HEARTBEAT_S or now - self._sent_at >= HEARTBEAT_S
         if not changed and not due:
             return False
-        # while the chair moves, another message comes next frame; parked, within the heartbeat
+        # while the chair moves, another message comes next tick; parked, within the heartbeat
         self._promised = round(self.period, 4) if changed else HEARTBEAT_S
-        self.widget.value = json.dumps(self.payload(now, seq, view, footprint_m, stale), separators=(",", ":"))
+        self.widget.value = json.dumps(self.payload(now, seq, stale), separators=(",", ":"))
         self._last, self._sent_at = key, now
         self.sent += 1
         return True

@@ -454,9 +454,10 @@ class LiveView:
                 self.laser_style,
             )
             inputs += tuple(o.version for o in self.overlays) + tuple(o.version for o in self.map_overlays)
-            if not self._force and (self._same_inputs(inputs) or self._clock.now() < self._canvas_due):
-                self.metrics.skipped += 1  # unchanged, or (page_chair) the feed's tick between canvas frames
-                self._send_feed(view)
+            # (page_chair) the feed's tick between canvas frames, checked first: it is the cheap test
+            if not self._force and (self._clock.now() < self._canvas_due or self._same_inputs(inputs)):
+                self.metrics.skipped += 1
+                self._send_feed()
                 return False
             started = time.perf_counter()
             with measured_hold(self.canvas) as sent:
@@ -464,17 +465,18 @@ class LiveView:
                 self._draw_dynamic(view, pose, odom, scan)
             self._force = False
             self._last_inputs = inputs
-            if self.feed is not None:  # a little under a period: ticks a hair early still draw
-                self._canvas_due = self._clock.now() + 0.9 / self.canvas_fps
+            if self.feed is not None:  # under a period: a tick a little early (a busy kernel) still draws
+                self._canvas_due = self._clock.now() + 0.75 / self.canvas_fps
+                self.feed.drawn(view, self.footprint_radius)
             self.metrics.record(started, self._clock.now(), sent[0], draw_map, pose, odom, scan)
             self.metrics.last_hits, self.metrics.last_max_rays = self._rays
-            self._send_feed(view)
+            self._send_feed()
             return True
 
-    def _send_feed(self, view: Viewport) -> None:
+    def _send_feed(self) -> None:
         """The page-drawn chair's poses, after the frame they go with (page_chair only)."""
         if self.feed is not None:
-            self.feed.send(self._clock.now(), self.metrics.frames, view, self.footprint_radius, self.stale)
+            self.feed.send(self._clock.now(), self.metrics.frames, self.stale)
 
     def scan_pose(self, pose: Pose2D | Odometry, scan: Scan) -> tuple[float, float, float]:
         """Where the rays start: ``pose`` moved back to the scan's header stamp by the odometry since

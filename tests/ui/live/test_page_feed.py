@@ -88,16 +88,22 @@ def test_between_canvas_frames_the_ticks_send_only_poses() -> None:
     clock = VirtualClock()
     view, src = page_view(clock)
     view.set_map(sample_grid())
+    view.set_zoom(6)  # following the chair: the view moves with every pose
     frames = view.metrics.frames
-    got = []
+    got, placed = [], []
     for i in range(1, 9):  # 50 Hz ticks, the chair moving every tick
         clock.advance(0.02)
-        src.move(3.0 + 0.01 * i, 2.0, 0.5, 0.4)
+        src.move(3.0 + 0.05 * i, 2.0, 0.5, 0.4)
         with captured_commands(view.canvas) as cmds:
             drawn = view.render_frame()
         got.append((drawn, bool(cmds)))
-        assert feed_of(view)["poses"][-1][1] == pytest.approx(3.0 + 0.01 * i), "every tick's pose goes to the page"
+        msg = feed_of(view)
+        assert msg["poses"][-1][1] == pytest.approx(3.0 + 0.05 * i), "every tick's pose goes to the page"
+        placed.append(msg["px"])
     assert got == [(False, False), (True, True)] * 4, "a canvas frame every other tick, nothing sent between"
+    # the page places the chair by the view of the frame on the canvas, not by the view that followed on
+    assert all(placed[i] == placed[i - 1] for i in range(2, 8, 2)), placed
+    assert len({json.dumps(p) for p in placed}) > 1, "the view should follow the chair"
     assert view.metrics.frames == frames + 4
     view.zoom_in()  # a zoom draws at once, between frames too
     assert view.metrics.frames == frames + 5
