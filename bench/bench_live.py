@@ -12,9 +12,12 @@ serves the view with Voilà and times the frames headless Chromium really draws.
 Two looks, measured in the same run: "before" is the live view as it was (20 fps cap, one line
 per laser ray, the map sampled one cell per pixel and re-sent on every pan) and "new" the default
 (32 fps cap, hit dots over a free-space polygon, the map at screen resolution from a tile that is
-only moved while following).
+only moved while following).  A third, "page" (issue 41, Home's now): the page draws the chair between
+the kernel's frames, the kernel's own frames at most 24 a second; its browser rows count the pictures
+the page draws and how old the pose each shows is.
 
-Usage: python bench/bench_live.py [--quick] [--seconds S] [--no-browser]  -> bench/results-live.md
+Usage: python bench/bench_live.py [--quick] [--seconds S] [--no-browser] [--looks new,page] [--case zoomed]
+       [--out FILE]  -> bench/results-live.md
 """
 
 from __future__ import annotations
