@@ -112,10 +112,11 @@ def render_time(page_now: float, offset: float, behind: float) -> float:
     return page_now - offset - max(behind, 0.0)
 
 
-def late(page_now: float, arrived: float, next_within: float, grace: float = LATE_GRACE_S) -> bool:
+def late(page_now: float, arrived: float, next_within: float | None, grace: float = LATE_GRACE_S) -> bool:
     """Whether the update the kernel promised (``next_within`` s after the last, which arrived at
-    ``arrived``) is overdue: the page then says "link slow"."""
-    return page_now - arrived > max(next_within, 0.0) + grace
+    ``arrived``) is overdue: the page then says "link slow".  None: no update was promised (the view
+    is not running), so none is late."""
+    return next_within is not None and page_now - arrived > max(next_within, 0.0) + grace
 
 
 def pixel_affine(view: Viewport) -> tuple[float, float, float, float]:

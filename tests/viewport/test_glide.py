@@ -88,6 +88,7 @@ def test_late_after_the_promise_and_the_grace() -> None:
     assert not late(10.0 + 0.04 + LATE_GRACE_S - 0.01, 10.0, 0.04)
     assert late(10.0 + 0.04 + LATE_GRACE_S + 0.01, 10.0, 0.04)
     assert not late(10.6, 10.0, 0.5)  # a parked chair's heartbeat
+    assert not late(1e9, 10.0, None)  # nothing promised: the view is not running
 
 
 def test_pixel_affine_is_the_views_world_to_pixel() -> None:

@@ -6,8 +6,9 @@ the poses this feed sends (:mod:`pmk_nb.viewport.glide`).  The feed is a hidden 
 value the page reads: no custom widget, nothing to install (as the drive stick's channels).
 
 Each message: ``id`` (which canvas), ``seq`` (the kernel's frames drawn so far), ``now`` (kernel
-clock, s), ``next`` (the next message comes within this many seconds: one frame while the chair
-moves, :data:`~pmk_nb.viewport.glide.HEARTBEAT_S` while it is parked), ``behind`` (how far back
+clock, s), ``next`` (the next message comes within this many seconds: one tick while the chair
+moves, :data:`~pmk_nb.viewport.glide.HEARTBEAT_S` while it is parked, ``null`` when the view is not
+running), ``behind`` (how far back
 the page draws), ``poses`` (``[t, x, y, yaw, v]``, oldest first), ``px`` (``[ax, bx, ay, by]``, the
 view's world -> canvas pixel map), ``r`` / ``dot`` (the chair's and heading dot's radii, canvas px),
 ``m`` (the footprint's radius, m), ``stale`` (no fresh data: the page draws it grey).
@@ -39,7 +40,7 @@ class PageFeed:
         self.poses: deque[StampedPose] = deque(maxlen=FEED_POSES)
         self.sent = 0
         self._sent_at = -float("inf")
-        self._promised = HEARTBEAT_S
+        self._promised: float | None = HEARTBEAT_S  # None: no next message promised (not running)
         self._last: tuple[object, ...] | None = None
         self._placement: tuple[list[float], float, float, float] | None = None
 
@@ -81,18 +82,21 @@ class PageFeed:
             "stale": bool(stale),
         }
 
-    def send(self, now: float, seq: int, stale: bool) -> bool:
+    def send(self, now: float, seq: int, stale: bool, *, running: bool = True) -> bool:
         """Send when something the page draws changed, when the last message promised another one
-        within a frame, or when the heartbeat is due; True if sent (nothing before the first frame)."""
+        within a frame, or when the heartbeat is due; True if sent (nothing before the first frame).
+        Not ``running`` (the map shown without the render loop, or the loop stopping) promises
+        nothing: the page must not call a view that is not updating a slow link."""
         if self._placement is None:
             return False
         key = (self.poses[-1] if self.poses else None, self._placement, stale)
         changed = key != self._last
-        due = self._promised < HEARTBEAT_S or now - self._sent_at >= HEARTBEAT_S
-        if not changed and not due:
+        promised = self._promised
+        due = running and (promised is None or promised < HEARTBEAT_S or now - self._sent_at >= HEARTBEAT_S)
+        if not changed and not due and not (promised is not None and not running):
             return False
         # while the chair moves, another message comes next tick; parked, within the heartbeat
-        self._promised = round(self.period, 4) if changed else HEARTBEAT_S
+        self._promised = None if not running else round(self.period, 4) if changed else HEARTBEAT_S
         self.widget.value = json.dumps(self.payload(now, seq, stale), separators=(",", ":"))
         self._last, self._sent_at = key, now
         self.sent += 1

@@ -72,7 +72,7 @@ SCRIPT = """<script>
     return Object.keys(byT).map(Number).sort(function (a, b) { return a - b; })
       .map(function (t) { return byT[t]; }).slice(-KEEP);
   }
-  function late(now, arrived, next) { return now - arrived > Math.max(next, 0) + GRACE; }
+  function late(now, arrived, next) { return next != null && now - arrived > Math.max(next, 0) + GRACE; }
   function read(now) {
     document.querySelectorAll('.__FEED__ input, input.__FEED__').forEach(function (input) {
       var text = input.value;

@@ -306,6 +306,8 @@ class LiveView:
 
     def stop(self) -> None:
         self.loop.stop()
+        with self._lock:
+            self._send_feed()  # (page_chair) no more updates are promised: the page must not say "link slow"
 
     @property
     def running(self) -> bool:
@@ -476,7 +478,7 @@ class LiveView:
     def _send_feed(self) -> None:
         """The page-drawn chair's poses, after the frame they go with (page_chair only)."""
         if self.feed is not None:
-            self.feed.send(self._clock.now(), self.metrics.frames, self.stale)
+            self.feed.send(self._clock.now(), self.metrics.frames, self.stale, running=self.loop.running)
 
     def scan_pose(self, pose: Pose2D | Odometry, scan: Scan) -> tuple[float, float, float]:
         """Where the rays start: ``pose`` moved back to the scan's header stamp by the odometry since

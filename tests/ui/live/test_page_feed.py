@@ -9,14 +9,28 @@ import pytest
 
 from pmk_nb.clock import VirtualClock
 from pmk_nb.ui.live import page_script
+from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.view import LiveView
-from pmk_nb.viewport.glide import HEARTBEAT_S, pixel_affine
+from pmk_nb.viewport.glide import HEARTBEAT_S, late, pixel_affine
 from tests.ui.live.test_live import Source, captured_commands, names, sample_grid
 
 
 def feed_of(view: LiveView) -> dict[str, Any]:
     assert view.feed is not None
     return json.loads(view.feed.widget.value)  # type: ignore[no-any-return]
+
+
+class TickedByTheTest(RenderLoop):
+    """A loop that counts as running while the test calls ``render_frame`` itself, tick by tick."""
+
+    @property
+    def running(self) -> bool:
+        return True
+
+
+def running(view: LiveView) -> LiveView:
+    view.loop.__class__ = TickedByTheTest
+    return view
 
 
 def page_view(clock: VirtualClock) -> tuple[LiveView, Source]:
@@ -43,9 +57,30 @@ def test_the_kernel_frame_leaves_the_chair_to_the_page_and_sends_its_pose() -> N
     assert msg["px"] == pytest.approx(list(pixel_affine(view.viewport)), abs=1e-3)
     # the loop ticks at twice the canvas rate (25 fps) for the feed: a pose every 20 ms
     assert view.loop.fps == 50 and view.canvas_fps == 25
-    assert msg["seq"] == 1 and msg["next"] == pytest.approx(0.02) and msg["behind"] == pytest.approx(0.02)
+    assert msg["seq"] == 1 and msg["behind"] == pytest.approx(0.02)
+    assert msg["next"] is None, "the loop is not running: no next update is promised, none can be late"
+    running(view)
+    clock.advance(0.04)
+    src.move(3.1, 2.0, 0.5, 0.4)
+    view.render_frame()
+    assert feed_of(view)["next"] == pytest.approx(0.02)
     assert msg["r"] == pytest.approx(view.viewport.chair_radius_px(view.footprint_radius), abs=0.01)
     assert page_script.LINK_SLOW.startswith("Link slow")
+
+
+def test_stopping_the_view_promises_no_more_updates() -> None:
+    clock = VirtualClock()
+    view, _src = page_view(clock)
+    view.set_map(sample_grid())
+    view.start()
+    try:
+        assert view.running
+        clock.advance(0.1)
+    finally:
+        view.stop()
+    msg = feed_of(view)
+    assert msg["next"] is None
+    assert not late(1e9, 0.0, msg["next"]), "a stopped view is not a slow link"
 
 
 def test_the_kernels_own_look_still_draws_the_chair() -> None:
@@ -63,6 +98,7 @@ def test_moving_poses_go_each_frame_a_parked_chair_on_the_heartbeat() -> None:
     clock = VirtualClock()
     view, src = page_view(clock)
     view.set_map(sample_grid())
+    running(view)
     assert view.feed is not None
     for i in range(1, 4):  # driving: a new pose each frame, the last few kept, oldest first
         clock.advance(0.04)
@@ -88,7 +124,9 @@ def test_between_canvas_frames_the_ticks_send_only_poses() -> None:
     clock = VirtualClock()
     view, src = page_view(clock)
     view.set_map(sample_grid())
+    running(view)
     view.set_zoom(6)  # following the chair: the view moves with every pose
+    view.render_frame()  # the zoom's frame, at the loop's next tick
     frames = view.metrics.frames
     got, placed = [], []
     for i in range(1, 9):  # 50 Hz ticks, the chair moving every tick
@@ -105,8 +143,9 @@ def test_between_canvas_frames_the_ticks_send_only_poses() -> None:
     assert all(placed[i] == placed[i - 1] for i in range(2, 8, 2)), placed
     assert len({json.dumps(p) for p in placed}) > 1, "the view should follow the chair"
     assert view.metrics.frames == frames + 4
-    view.zoom_in()  # a zoom draws at once, between frames too
-    assert view.metrics.frames == frames + 5
+    view.zoom_in()  # a zoom draws at the next tick, between canvas frames too
+    clock.advance(0.001)
+    assert view.render_frame() and view.metrics.frames == frames + 5
 
 
 def test_a_new_source_forgets_the_old_chairs_poses() -> None:
