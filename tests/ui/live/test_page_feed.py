@@ -148,6 +148,11 @@ def test_between_canvas_frames_the_ticks_send_only_poses() -> None:
     assert view.render_frame() and view.metrics.frames == frames + 5
 
 
+def test_a_capped_page_keeps_its_ticks() -> None:
+    view = LiveView(320, 240, page_chair=True, fps=11)  # the classroom's cap: two cores for ten pages
+    assert view.loop.fps == view.canvas_fps == 11
+
+
 def test_a_new_source_forgets_the_old_chairs_poses() -> None:
     clock = VirtualClock()
     view, _src = page_view(clock)
