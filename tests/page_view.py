@@ -16,7 +16,7 @@ from pmk_nb.viewport import Insets, Viewport
 
 STATE_JS = """() => {
   const s = document.querySelector('.pmk-home-chair-at span');
-  const cs = document.querySelectorAll('.pmk-home-map-stack canvas'), c = cs[cs.length - 1];
+  const cs = document.querySelectorAll('.pmk-home-map-stack canvas:not(.pmk-live-page)'), c = cs[cs.length - 1];
   if (!s || !c || !s.dataset.insets) return null;
   const r = c.getBoundingClientRect();
   return { canvas: s.dataset.canvas, zoom: s.dataset.zoom, insets: s.dataset.insets,

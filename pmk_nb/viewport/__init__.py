@@ -10,7 +10,8 @@ transform per frame (the link's tf tree: map -> odom -> base_link), ``path`` the
 ahead of the chair, ``posetrail`` the odometry by header stamp (a scan drawn where it was cast),
 ``costmap`` (RViz's costmap colours, a costmap's place on the canvas) and ``markers`` (marker shapes ->
 canvas steps) for the navigation layers, ``seriesplot`` any field's samples over a time window,
-``tfframes`` the TF tree view's rows (per frame: parent, rate, age, children).
+``tfframes`` the TF tree view's rows (per frame: parent, rate, age, children), ``glide`` where the
+page draws the chair between the kernel's updates (interpolated, never more than one update ahead).
 """
 
 from __future__ import annotations
@@ -22,6 +23,17 @@ from pmk_nb.viewport.costmap import (
     costmap_placement,
     costmap_rgba,
     pooled_costs,
+)
+from pmk_nb.viewport.glide import (
+    FEED_POSES,
+    HEARTBEAT_S,
+    LATE_GRACE_S,
+    OFFSET_WINDOW,
+    ClockOffset,
+    StampedPose,
+    late,
+    pixel_affine,
+    pose_at,
 )
 from pmk_nb.viewport.history import OdomHistory, plot_lines
 from pmk_nb.viewport.laser import LaserSegments, laser_segments, ray_stride
@@ -66,12 +78,17 @@ from pmk_nb.viewport.view import (
 __all__ = [
     "ARRIVED_M",
     "COSTMAP_LUT",
+    "FEED_POSES",
     "GRAY_LUT",
+    "HEARTBEAT_S",
+    "LATE_GRACE_S",
     "MIN_CHAIR_RADIUS_PX",
     "MIN_DOT_RADIUS_PX",
+    "OFFSET_WINDOW",
     "RATE_WINDOW_S",
     "STILL_SPEED",
     "TRAIL_SIZE",
+    "ClockOffset",
     "CostmapPlacement",
     "EdgeRecord",
     "FrameRow",
@@ -86,6 +103,7 @@ __all__ = [
     "PoseTrail",
     "SeriesLines",
     "SeriesRing",
+    "StampedPose",
     "TfTree",
     "Transform2D",
     "Viewport",
@@ -109,14 +127,17 @@ __all__ = [
     "insets_from_boxes",
     "laser_outline",
     "laser_segments",
+    "late",
     "marker_draws",
     "mounted",
     "normalise_frame",
+    "pixel_affine",
     "pixel_to_map",
     "plan_tile",
     "plot_lines",
     "pool_window",
     "pooled_costs",
+    "pose_at",
     "pose_at_stamp",
     "ray_stride",
     "scale_bar",

@@ -31,7 +31,7 @@ MIN_TARGET = 48
 #: the live canvas's share of the window (the part of its box inside the window), and whether
 #: the canvas is drawn 1:1 (its pixel size is its box: the page's room, not a stretched picture)
 SHARE_JS = """() => {
-  const cs = document.querySelectorAll('.pmk-home-map-stack canvas'), c = cs[cs.length - 1];
+  const cs = document.querySelectorAll('.pmk-home-map-stack canvas:not(.pmk-live-page)'), c = cs[cs.length - 1];
   if (!c) return null;
   const r = c.getBoundingClientRect(), W = window.innerWidth, H = window.innerHeight;
   const w = Math.max(0, Math.min(r.right, W) - Math.max(r.left, 0));
@@ -51,7 +51,7 @@ SMALL_JS = """(min) => [...document.querySelectorAll('.pmk-home button, .pmk-hom
 #: the chair's drawn centre in window coordinates, and the joystick column's box
 CHAIR_JS = """() => {
   const at = document.querySelector('.pmk-home-chair-at span');
-  const cs = document.querySelectorAll('.pmk-home-map-stack canvas'), c = cs[cs.length - 1];
+  const cs = document.querySelectorAll('.pmk-home-map-stack canvas:not(.pmk-live-page)'), c = cs[cs.length - 1];
   const drive = document.querySelector('.pmk-home-map-stack .pmk-drive');
   if (!at || !c || !drive || drive.offsetParent === null) return null;
   const r = c.getBoundingClientRect(), k = r.width / c.width;

@@ -22,7 +22,8 @@ pytestmark = [pytest.mark.slow, pytest.mark.browser, pytest.mark.timeout(300)]
 BOX_JS = """(sel) => { const e = document.querySelector(sel);
   if (!e || e.offsetParent === null) return null;
   const r = e.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom]; }"""
-CANVAS_JS = """() => { const cs = document.querySelectorAll('.pmk-home-map-stack canvas'), c = cs[cs.length - 1];
+CANVAS_JS = """() => {
+  const cs = document.querySelectorAll('.pmk-home-map-stack canvas:not(.pmk-live-page)'), c = cs[cs.length - 1];
   const r = c.getBoundingClientRect(); return [r.left, r.top]; }"""
 #: the map's name in the Details card as a long plan name would show it (the page's text, not the kernel's)
 LONG_NAME_JS = """() => { const e = document.querySelector('.pmk-home-details .pmk-home-map .widget-html-content')

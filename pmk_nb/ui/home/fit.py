@@ -53,7 +53,8 @@ SCRIPT = """<script>
     var stack = document.querySelector('.pmk-home-map-stack');
     var input = document.querySelector('.__CHANNEL__ input, input.__CHANNEL__');
     if (!shown(stack) || !input) return;
-    var cs = stack.querySelectorAll('canvas'), canvas = cs[cs.length - 1];
+    // the live canvas, not the page's chair layer over it (pmk_nb/ui/live/page_script.py)
+    var cs = stack.querySelectorAll('canvas:not(.pmk-live-page)'), canvas = cs[cs.length - 1];
     var width = Math.floor(stack.parentElement.clientWidth || stack.clientWidth);
     var height = Math.floor(window.innerHeight - docTop(stack) - __GAP__);
     // far down a notebook (JupyterLab) little is left below: the map then takes most of a window

@@ -61,7 +61,7 @@ from pmk_nb.ui.live.nav_layers import NavLayers
 from pmk_nb.ui.live.path_layer import LivePathLayer
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.ui.live.tools import MapTools
-from pmk_nb.ui.live.view import DEFAULT_FPS as LIVE_FPS
+from pmk_nb.ui.live.view import PAGE_CANVAS_FPS as LIVE_FPS
 from pmk_nb.ui.live.view import LiveView
 from pmk_nb.ui.plots.panel import PlotsPanel
 from pmk_nb.ui.record.panel import RecordPanel
@@ -114,7 +114,7 @@ class HomeScreen:
         self.maps = MapGridCache()
         self.own = OwnMap()  # the chair's own /map while the preview runs (pmk_nb/ui/home/own_map.py)
         fps = fps if fps is not None else ctx.live_fps if ctx.live_fps is not None else LIVE_FPS
-        self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True)
+        self.live = LiveView(canvas_width, canvas_height, fps=fps, fit_to_map=True, page_chair=True)  # issue 41
         self.live.on_zoom_change(lambda _z: self.refresh_info(texts=True))
         self.live.on_error(self._on_live_error)
         self.ui = HomeLayout(self.live.canvas, self.live.toolbar.widget)
@@ -185,6 +185,8 @@ class HomeScreen:
         self.live.overlays.append(self.path)
         self.layers = NavLayers(self.live)  # pmk_nb/ui/live/nav_layers.py
         self.ui.preview_box.children = (*self.ui.preview_box.children, self.layers.widget)
+        if self.live.page_widget is not None:  # the page draws the chair (issue 41: ui/live/page_script.py)
+            self.ui.preview_box.children = (*self.ui.preview_box.children, self.live.page_widget)
 
     def _floating_tools(self) -> None:
         """The map's floating bar (issue 28): Drive, Go to (two taps to a room), Set destination

@@ -80,6 +80,8 @@ class ChairLook:
     stale: bool
     ray_spacing_px: float
     laser_style: str = "points"
+    #: False when the page draws the chair itself (issue 41: :mod:`pmk_nb.ui.live.page_script`)
+    chair: bool = True
 
 
 def draw_outline(
@@ -178,6 +180,8 @@ def draw_chair_layer(
         rays = draw_rays(layer, view, history.scan_pose(pose, scan), scan, look.ray_spacing_px, look.footprint_radius)
     elif scan is not None:
         rays = draw_outline(layer, view, history.scan_pose(pose, scan), scan, look.footprint_radius)
+    if not look.chair:
+        return rays
     v = float(odom.v) if odom is not None else 0.0
     hx, hy = heading_point(x, y, theta, v, look.footprint_radius)
     px, py = view.world_to_pixel(np.array([x, hx]), np.array([y, hy]))

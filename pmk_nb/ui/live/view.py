@@ -20,17 +20,20 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
+import ipywidgets as w
 import numpy as np
 from ipycanvas import MultiCanvas
 
 from pmk_nb.chair import Odometry, Pose2D, Scan
 from pmk_nb.clock import MONOTONIC, Clock
 from pmk_nb.grid import OccupancyGrid
+from pmk_nb.ui.live import page_script
 from pmk_nb.ui.live.canvas_fix import make_messages_name_their_layer
 from pmk_nb.ui.live.chair_layer import LASER_STYLES, ChairLook, PoseHistory, draw_chair_layer
 from pmk_nb.ui.live.frame_metrics import FrameMetrics, install_byte_meter, measured_hold
 from pmk_nb.ui.live.gestures import LiveToolbar, ZoomGestures
 from pmk_nb.ui.live.map_layer import TILE_MARGIN, MapLayer
+from pmk_nb.ui.live.page_feed import PageFeed
 from pmk_nb.ui.live.render_loop import RenderLoop
 from pmk_nb.viewport import Insets, Viewport, fit_canvas
 
@@ -38,6 +41,11 @@ RAY_SPACING_PX = 2.0  # thin out rays that would end closer than this on screen
 #: Frame-rate cap: a little above the 30 fps the page must draw, so timer jitter on a busy kernel
 #: never takes it below (frames whose inputs did not change are skipped anyway).
 DEFAULT_FPS = 32.0
+#: With the page drawing the chair (issue 41): the kernel's own frames (map, laser, overlays) at most
+#: this often on Home, and the chair's poses to the page up to FEED_HZ (each a few hundred bytes, a
+#: canvas frame several kilobytes): the page interpolates, so fewer kernel frames cost no smoothness.
+PAGE_CANVAS_FPS = 24.0
+FEED_HZ = 50.0
 #: After a canvas resize the page may apply the new size after the first frame's drawing (size and
 #: drawing travel on different comms) and that frame would be wiped: send everything again this late.
 RESIZE_RESEND_S = 0.5
@@ -117,6 +125,9 @@ class LiveView:
         tile_margin: spare map around the view in the tile, in canvas sizes.
         clock: the render loop's pacing, the repaint after a resize, a frame's age (a ``VirtualClock``
             in tests; the messages' ``received`` stamps are on the same clock).
+        page_chair: the page draws the chair at its display's rate, interpolated between the poses
+            the kernel sends (:mod:`pmk_nb.ui.live.page_feed`); the kernel's frames then carry the
+            map, the laser and the overlays only. :attr:`page_widget` must be shown with the canvas.
     """
 
     def __init__(
@@ -134,6 +145,7 @@ class LiveView:
         map_mode: str = "tile",
         tile_margin: float = TILE_MARGIN,
         clock: Clock = MONOTONIC,
+        page_chair: bool = False,
     ) -> None:
         if laser_style not in LASER_STYLES:
             raise ValueError(f"laser_style must be one of {LASER_STYLES}, got {laser_style!r}")
@@ -178,13 +190,37 @@ class LiveView:
         self.metrics = FrameMetrics()
         self._clock = clock
         self.loop = RenderLoop(self.render_frame, fps, on_error=self._report_error, clock=clock)
+        #: the kernel's canvas frames at most this often (the loop ticks faster for the page's feed)
+        self.canvas_fps = self.loop.fps
+        self._canvas_due = -float("inf")
         self.canvas.on_client_ready(self._on_client_ready)
         self.gestures = ZoomGestures(
             self.canvas, lambda: self.zoom, self.set_zoom, self._pinch_zoom, self.pan, clock=clock
         )
         self.toolbar = LiveToolbar()
+        #: the page-drawn chair's feed and script (page_chair), hidden; None when the kernel draws it
+        self.feed: PageFeed | None = None
+        self.page_widget: w.Box | None = None
+        if page_chair:
+            self._page_layer()
         self.toolbar.follow.observe(self._on_follow_toggle, names="value")
         self.toolbar.centre.on_click(lambda _b: self.centre())
+
+    def _page_layer(self) -> None:
+        """The page draws the chair: the loop ticks up to twice the canvas rate (at most FEED_HZ) to
+        send poses, the canvas is drawn at most ``canvas_fps`` times a second.  Below
+        PAGE_CANVAS_FPS (a classroom's cap, set to spare two shared cores) the loop keeps its rate
+        and the poses ride on its ticks: no more wake-ups than before."""
+        from IPython.display import HTML
+
+        if self.canvas_fps >= PAGE_CANVAS_FPS:  # a capped page (the classroom's 11 fps) keeps its ticks
+            self.loop.fps = max(self.canvas_fps, min(FEED_HZ, 2.0 * self.canvas_fps))
+        self.feed = PageFeed(1.0 / self.loop.fps)
+        self.canvas.add_class(f"pmk-live-{self.feed.id}")
+        script = w.Output(layout=w.Layout(display="none"))
+        script.append_display_data(HTML(page_script.page_html()))
+        self.page_widget = w.Box([self.feed.widget, script], layout=w.Layout(display="none"))
+        self.page_widget.add_class("pmk-live-page-layer")
 
     # -- setup ---------------------------------------------------------------------------------------
     def set_map(self, grid: OccupancyGrid) -> None:
@@ -258,6 +294,8 @@ class LiveView:
         with self._lock:
             self._source = source
             self.poses.clear()
+            if self.feed is not None:
+                self.feed.clear()
             if self.viewport is not None:
                 self.viewport.forget_chair()  # Centre means the map until a chair is seen again
             self._force = True
@@ -271,6 +309,8 @@ class LiveView:
 
     def stop(self) -> None:
         self.loop.stop()
+        with self._lock:
+            self._send_feed()  # (page_chair) no more updates are promised: the page must not say "link slow"
 
     @property
     def running(self) -> bool:
@@ -404,6 +444,9 @@ class LiveView:
                 view.see_chair(pose.x, pose.y)
             if odom is not None:
                 self.poses.remember(odom)  # by header stamp: where each scan was cast
+            if self.feed is not None and pose is not None:
+                v = float(odom.v) if odom is not None else 0.0
+                self.feed.remember(pose.received, pose.x, pose.y, pose.theta, v)
             key = view.state_key()
             inputs: tuple[object, ...] = (
                 key,
@@ -416,8 +459,10 @@ class LiveView:
                 self.laser_style,
             )
             inputs += tuple(o.version for o in self.overlays) + tuple(o.version for o in self.map_overlays)
-            if not self._force and self._same_inputs(inputs):
+            # (page_chair) the feed's tick between canvas frames, checked first: it is the cheap test
+            if not self._force and (self._clock.now() < self._canvas_due or self._same_inputs(inputs)):
                 self.metrics.skipped += 1
+                self._send_feed()
                 return False
             started = time.perf_counter()
             with measured_hold(self.canvas) as sent:
@@ -425,9 +470,18 @@ class LiveView:
                 self._draw_dynamic(view, pose, odom, scan)
             self._force = False
             self._last_inputs = inputs
+            if self.feed is not None:  # under a period: a tick a little early (a busy kernel) still draws
+                self._canvas_due = self._clock.now() + 0.75 / self.canvas_fps
+                self.feed.drawn(view, self.footprint_radius)
             self.metrics.record(started, self._clock.now(), sent[0], draw_map, pose, odom, scan)
             self.metrics.last_hits, self.metrics.last_max_rays = self._rays
+            self._send_feed()
             return True
+
+    def _send_feed(self) -> None:
+        """The page-drawn chair's poses, after the frame they go with (page_chair only)."""
+        if self.feed is not None:
+            self.feed.send(self._clock.now(), self.metrics.frames, self.stale, running=self.loop.running)
 
     def scan_pose(self, pose: Pose2D | Odometry, scan: Scan) -> tuple[float, float, float]:
         """Where the rays start: ``pose`` moved back to the scan's header stamp by the odometry since
@@ -461,7 +515,9 @@ class LiveView:
         self, view: Viewport, pose: Pose2D | Odometry | None, odom: Odometry | None, scan: Scan | None
     ) -> None:
         """The dynamic layer (a method so a subclass, e.g. the benchmark's, can draw more on it)."""
-        look = ChairLook(self.footprint_radius, self.stale, self.ray_spacing_px, self.laser_style)
+        look = ChairLook(
+            self.footprint_radius, self.stale, self.ray_spacing_px, self.laser_style, chair=self.feed is None
+        )
         self._rays = draw_chair_layer(self.dyn_layer, view, pose, odom, scan, look, self.poses)
         for overlay in self.overlays:
             overlay.draw(self.dyn_layer, view)
