@@ -1,8 +1,10 @@
-"""No import cycles between pmk_nb's modules (issue 25).
+"""No import cycles between pmk_nb's modules (issues 25 and 42).
 
 The graph is read from the AST: an import at module level and an import inside a function both
 count (a lazy import inside a function is how cycles hid before: ``chair/link`` was a 7-module
-knot held together that way). Imports under ``if TYPE_CHECKING:`` do not run, so they do not count.
+knot held together that way). Imports under ``if TYPE_CHECKING:`` do not run: the run-time graph
+leaves them out, and a second graph with them (what mypy follows) must have no cycle either (issue 42:
+seven type-only knots had hidden there).
 ``from a.b import c`` is an edge to ``a.b.c`` when that is a module, else to ``a.b`` (its
 ``__init__``); importing a submodule is not counted as importing its package's ``__init__``.
 """
@@ -136,15 +138,11 @@ def test_the_graph_sees_lazy_imports_and_skips_type_checking_ones() -> None:
     assert cycles({**graph, "pmk_nb.b": set()}) == []
 
 
-#: type-only cycles left on purpose, each with why (none: every knot mypy follows is broken too)
-KNOWN_TYPE_ONLY_CYCLES: list[list[str]] = []
-
-
 def test_no_cycles_type_only_imports_included() -> None:
     """What mypy follows has no cycle either (issue 42): a type-only knot is the same two modules
     needing each other, only hidden from the run time."""
     graph = import_graph(type_checking=True)
-    knots = sorted((k for k in cycles(graph) if k not in KNOWN_TYPE_ONLY_CYCLES), key=lambda k: (len(k), k))
+    knots = sorted(cycles(graph), key=lambda k: (len(k), k))  # shortest first
     edges = {k[0]: ", ".join(f"{a} -> {b}" for a in k for b in sorted(graph[a]) if b in k) for k in knots}
     assert not knots, (
         "import cycles through `if TYPE_CHECKING:` imports (move the shared type to a small module both import, "
