@@ -2,7 +2,7 @@
 
 ``read_building(path, unit="auto", progress=None)`` and ``summarize(building)`` are the API; the
 modules underneath are layered: ``xmlsafe`` (safe streaming XML) -> ``gml`` (coordinates) ->
-``scan`` (raw records) -> ``footprint``/``layers``/``doors``/``units``/``storeys`` -> ``build`` (the model).
+``records``/``scan`` (raw records) -> ``footprint``/``layers``/``doors``/``units``/``storeys`` -> ``build`` (the model).
 """
 
 from __future__ import annotations
@@ -10,8 +10,7 @@ from __future__ import annotations
 from pmk_nb.errors import IndoorGMLError
 from pmk_nb.indoorgml.doors import says_corridor
 from pmk_nb.indoorgml.levels import RAISED
-from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Link, Storey
-from pmk_nb.indoorgml.overlaps import CellOverlap
+from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, CellOverlap, Georeference, Link, Storey
 from pmk_nb.indoorgml.reader import read_building
 from pmk_nb.indoorgml.sniff import check_indoorgml
 from pmk_nb.indoorgml.summary import format_summary, graph_lines, layer_lines, overlap_lines, summarize

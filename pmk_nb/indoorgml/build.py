@@ -20,7 +20,7 @@ from pmk_nb.indoorgml.layers import KeptCell, select_layers, usable_cells
 from pmk_nb.indoorgml.levels import RAISED, WINDOW_DEPTH, not_window_ids, raised_cells
 from pmk_nb.indoorgml.model import Boundary, Building, Cell, CellKind, Georeference, Storey
 from pmk_nb.indoorgml.overlaps import find_overlaps
-from pmk_nb.indoorgml.scan import RawCell, RawDocument
+from pmk_nb.indoorgml.records import RawCell, RawDocument
 from pmk_nb.indoorgml.storeys import CellZ, StoreyPlan, plan_storeys, split_levels
 from pmk_nb.indoorgml.unit_evidence import gather
 from pmk_nb.indoorgml.units import UNIT_SCALE, UnitChoice, UnitEvidence, choose_unit, unit_suspect

@@ -28,7 +28,7 @@ import re
 from dataclasses import dataclass
 
 from pmk_nb.errors import IndoorGMLError
-from pmk_nb.indoorgml.scan import RawDocument
+from pmk_nb.indoorgml.records import RawDocument
 
 CRS_AUTO = "auto"
 CRS_LOCAL = "local"

@@ -16,7 +16,7 @@ from pmk_nb.indoorgml.xmlsafe import GML_ID
 if TYPE_CHECKING:
     from lxml import etree
 
-    from pmk_nb.indoorgml.scan import RawDocument
+    from pmk_nb.indoorgml.records import RawDocument
 
 DRAFT_VERSION = "0.8/0.9 draft"
 _GEOMETRY_NAMES = {"geometry3d", "geometry2d"}

@@ -19,7 +19,7 @@ from pmk_nb.indoorgml.model import GraphStatus, Link, NavGraph, State, Transitio
 
 if TYPE_CHECKING:
     from pmk_nb.indoorgml.model import Cell
-    from pmk_nb.indoorgml.scan import RawDocument
+    from pmk_nb.indoorgml.records import RawDocument
 
 
 def state_cells(doc: RawDocument) -> dict[str, str | None]:

@@ -25,7 +25,7 @@ from pmk_nb.errors import IndoorGMLError, UnknownLayer
 from pmk_nb.indoorgml.footprint import Footprint, cell_footprints
 from pmk_nb.indoorgml.graph import linked_pairs
 from pmk_nb.indoorgml.model import LayerNote
-from pmk_nb.indoorgml.scan import RawCell, RawDocument, RawLayer
+from pmk_nb.indoorgml.records import RawCell, RawDocument, RawLayer
 
 GEOMETRY_LAYER_WORDS = ("base", "primal", "topographic", "geometry", "physical", "navigab", "navigation")
 # words of a layer that models a theme over the space, not the space itself (light zones, sensor or Wi-Fi

@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
-    from pmk_nb.indoorgml.overlaps import CellOverlap
     from pmk_nb.indoorgml.units import UnitSuspect, UnitVote
 
 
@@ -164,6 +163,17 @@ class GraphStatus:
             "lost": self.lost,
             "reason": self.reason,
         }
+
+
+@dataclass(frozen=True)
+class CellOverlap:
+    """Two cells of one storey whose plans overlap (``pmk info`` names each pair; ``overlaps`` finds them)."""
+
+    storey: str
+    a: str  # cell ids, in the order the storey lists them
+    b: str
+    area: float  # m² the two share
+    share: float  # of the smaller cell's area, 0-1
 
 
 @dataclass

@@ -11,27 +11,15 @@ volume and are not reported either.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
-from pmk_nb.indoorgml.model import Cell
+from pmk_nb.indoorgml.model import Cell, CellOverlap
 
 SLIVER_WIDTH = 0.02  # m: an overlap whose mean width (2 x area / perimeter) is thinner is drawing noise
 SLIVER_AREA = 0.01  # m²: and one smaller than this, however shaped
 Z_TOUCH = 0.05  # m: cells whose height ranges share less than this are stacked, not overlapping
-
-
-@dataclass(frozen=True)
-class CellOverlap:
-    """Two cells of one storey whose plans overlap (``pmk info`` names each pair)."""
-
-    storey: str
-    a: str  # cell ids, in the order the storey lists them
-    b: str
-    area: float  # m² the two share
-    share: float  # of the smaller cell's area, 0-1
 
 
 def _stacked(a: Cell, b: Cell) -> bool:

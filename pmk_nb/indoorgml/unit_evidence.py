@@ -20,7 +20,7 @@ from pmk_nb.indoorgml.footprint import FLAT_SLOPE, STEP_RISE, Footprint
 from pmk_nb.indoorgml.gml import PolygonZ
 from pmk_nb.indoorgml.layers import KeptCell
 from pmk_nb.indoorgml.model import CellKind
-from pmk_nb.indoorgml.scan import RawDocument
+from pmk_nb.indoorgml.records import RawDocument
 from pmk_nb.indoorgml.units import UnitEvidence
 
 DOOR_EVIDENCE = ("type", "name", "partial")  # boundary evidence that marks a door, not a whole wall

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from shapely.geometry.base import BaseGeometry
 
     from pmk_nb.indoorgml import Cell
-    from pmk_nb.openings.plan import Opening
+    from pmk_nb.openings.model import Opening
 
 MAX_DEPTH = 1.0  # metres: a cell no deeper than this, and longer than deep, is a slab in a wall
 _PLACED = ("line", "middle")  # rules that choose a position on the face (door geometry is kept as given)

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from pmk_nb.openings.plan import OpeningPlan
+    from pmk_nb.openings.model import OpeningPlan
 
 MIN_WALL = 1.0  # metres: gaps at least this wide between cells are walls
 _WALL_RULES = ("door", "line", "corridor", "middle")  # openings through a wall (not bridges, not apart)

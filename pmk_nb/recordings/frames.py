@@ -1,4 +1,5 @@
-"""Tables -> one ``pandas.DataFrame`` per topic. pandas is optional: without it, :class:`MissingPackage`.
+"""Rows per topic (:class:`TopicRows`, e.g. ``Tables``) -> one ``pandas.DataFrame`` per topic.
+pandas is optional: without it, :class:`MissingPackage`.
 
 Columns: ``received`` and ``stamp`` (seconds since the epoch, floats; ``stamp`` NaN where a message has
 no header), then the flattened fields in the order of the first message that has them. Cells of a
@@ -9,14 +10,25 @@ for dates.
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING, Any
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Protocol
 
 from pmk_nb.recordings.errors import MissingPackage
 
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped,import-not-found,unused-ignore]  # optional
 
-    from pmk_nb.recordings.read import Tables
+
+class TopicRows(Protocol):
+    """What frames are made of: a recording's rows per topic and its path (named when pandas is missing).
+    :class:`~pmk_nb.recordings.read.Tables` is one; defined here so this module needs nothing of the reader."""
+
+    @property
+    def path(self) -> Path: ...
+
+    @property
+    def rows(self) -> Mapping[str, list[dict[str, Any]]]: ...
 
 
 def require_pandas(path: str) -> Any:
@@ -39,7 +51,7 @@ def columns_of(rows: list[dict[str, Any]]) -> list[str]:
     return list(seen)
 
 
-def to_frames(tables: Tables) -> dict[str, pd.DataFrame]:
+def to_frames(tables: TopicRows) -> dict[str, pd.DataFrame]:
     """One DataFrame per topic of ``tables`` (a topic without messages: an empty frame with the time columns)."""
     pandas = require_pandas(str(tables.path))
     frames: dict[str, pd.DataFrame] = {}

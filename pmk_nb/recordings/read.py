@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 from pmk_nb.recordings.decode import Decoder, decoder_for
 from pmk_nb.recordings.errors import NotARecording, UnsupportedEncoding
 from pmk_nb.recordings.flatten import row
+from pmk_nb.recordings.frames import require_pandas, to_frames
 
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped,import-not-found,unused-ignore]  # optional
@@ -40,8 +41,6 @@ class Tables:
         Raises:
             MissingPackage: pandas is not installed.
         """
-        from pmk_nb.recordings.frames import to_frames
-
         return to_frames(self)
 
 
@@ -126,7 +125,5 @@ def read_frames(path: str | os.PathLike[str], topics: Iterable[str] | None = Non
     Raises:
         MissingPackage: pandas is not installed (checked before the file is read); as :func:`read_recording`.
     """
-    from pmk_nb.recordings.frames import require_pandas
-
     require_pandas(str(path))
     return read_recording(path, topics).frames()

@@ -18,12 +18,12 @@ from pmk_nb.wire import CANCEL_ERROR_UNKNOWN_GOAL_ID as ERROR_UNKNOWN_GOAL_ID
 from pmk_nb.wire import NAV2_ACTION
 
 if TYPE_CHECKING:
-    from pmk_nb.sim.navigation import Navigator
+    from pmk_nb.sim.navroles import GoalKeeper
 
 TOPIC_ACTION = NAV2_ACTION[0]  # what Nav2's /goal_pose becomes (bt_navigator's own goal)
 
 
-def add_cancel_services(nav: Navigator, actions: tuple[str, ...]) -> None:
+def add_cancel_services(nav: GoalKeeper, actions: tuple[str, ...]) -> None:
     """Serve ``<action>/_action/cancel_goal`` for each of ``actions`` on the navigator's bridge."""
     bridge = nav.bridge
     assert bridge is not None
@@ -35,7 +35,7 @@ def add_cancel_services(nav: Navigator, actions: tuple[str, ...]) -> None:
         bridge.add_service(f"{action}/_action/cancel_goal", nav.engine.names.srv("action_msgs", "CancelGoal"), handler)
 
 
-def cancel_goal(nav: Navigator, action: str, args: dict[str, Any]) -> dict[str, Any]:
+def cancel_goal(nav: GoalKeeper, action: str, args: dict[str, Any]) -> dict[str, Any]:
     """The CancelGoal answer; cancels the running goal of ``action`` when the request names it (or all).
 
     A goal sent on Nav2's ``/goal_pose`` topic is a NavigateToPose goal of bt_navigator's own: a

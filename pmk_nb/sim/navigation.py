@@ -29,7 +29,7 @@ from pmk_nb.sim.navigation_ros1 import Ros1Actionlib
 from pmk_nb.wire import NAV2_ACTION, NAV2_ACTIONS, NAV2_THROUGH, make_stamp, pose_msg
 
 if TYPE_CHECKING:
-    from pmk_nb.sim.engine import Engine
+    from pmk_nb.sim.navroles import PlanningEngine
     from pmk_nb.sim.protocol import Bridge
     from pmk_nb.sim.session import ClientSession
 
@@ -44,7 +44,7 @@ _ERROR_CODES = {"succeeded": 0, "aborted": 204, "canceled": 0}  # Nav2 Jazzy: 20
 class Navigator:
     """Goal bookkeeping on the simulator's loop; the engine plans and drives."""
 
-    def __init__(self, engine: Engine) -> None:
+    def __init__(self, engine: PlanningEngine) -> None:
         self.engine = engine
         self.current: NavGoal | None = None
         self.ros1: Ros1Actionlib | None = None

@@ -22,7 +22,7 @@ from pmk_nb.wire import MOVE_BASE, pose_msg
 
 if TYPE_CHECKING:
     from pmk_nb.sim.messages import Names
-    from pmk_nb.sim.navigation import Navigator
+    from pmk_nb.sim.navroles import GoalKeeper
     from pmk_nb.sim.protocol import Bridge
 
 # actionlib_msgs/GoalStatus
@@ -50,7 +50,7 @@ class GoalStatus(TypedDict):
 class Ros1Actionlib:
     """The move_base action server's topics on one bridge, on the engine's clocks (``nav.engine``)."""
 
-    def __init__(self, nav: Navigator, bridge: Bridge, names: Names) -> None:
+    def __init__(self, nav: GoalKeeper, bridge: Bridge, names: Names) -> None:
         self.nav, self.bridge, self.names = nav, bridge, names
         self.clock, self.wall = nav.engine.clock, nav.engine.wall
         self._done: list[tuple[float, GoalStatus]] = []  # (time finished, status entry)

@@ -24,7 +24,7 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import asyncssh
 
@@ -32,8 +32,8 @@ from pmk_nb.sim.hostkey import load_host_key
 from pmk_nb.sim.paths import holds_a_root, inside_roots
 
 if TYPE_CHECKING:
+    from pmk_nb.sim.config import SimConfig
     from pmk_nb.sim.paths import ChairFS
-    from pmk_nb.sim.server import SimChair
 
 
 class ChairSFTPServer(asyncssh.SFTPServer):
@@ -144,6 +144,21 @@ def load_authorized_keys(spec: str | Path | None) -> list[asyncssh.SSHKey]:
     return keys
 
 
+class SftpHost(Protocol):
+    """The chair an endpoint serves (:class:`~pmk_nb.sim.server.SimChair` is one): its settings, folders and
+    login are read; the key, port and fingerprint are filled in. Declared here so the endpoint needs nothing
+    of the server that starts it."""
+
+    config: SimConfig
+    fs: ChairFS
+    sftp_password: str | None  # None: password login refused
+    sftp_keys: list[asyncssh.SSHKey]
+    sftp_server_key: asyncssh.SSHKey | None
+    sftp_port: int | None
+    sftp_host_key_fingerprint: str | None
+    sftp_host_key: str | None
+
+
 class SftpEndpoint:
     """A running asyncssh listener plus its scratch folder."""
 
@@ -159,7 +174,7 @@ class SftpEndpoint:
         shutil.rmtree(self._scratch, ignore_errors=True)
 
 
-async def start_sftp(sim: SimChair) -> SftpEndpoint:
+async def start_sftp(sim: SftpHost) -> SftpEndpoint:
     """Listen on the configured host and SFTP port; fill in the sim's port and fingerprint."""
     cfg = sim.config
     host_key = sim.sftp_server_key

@@ -1,8 +1,10 @@
-"""No import cycles between pmk_nb's modules (issue 25).
+"""No import cycles between pmk_nb's modules (issues 25 and 42).
 
 The graph is read from the AST: an import at module level and an import inside a function both
 count (a lazy import inside a function is how cycles hid before: ``chair/link`` was a 7-module
-knot held together that way). Imports under ``if TYPE_CHECKING:`` do not run, so they do not count.
+knot held together that way). Imports under ``if TYPE_CHECKING:`` do not run: the run-time graph
+leaves them out, and a second graph with them (what mypy follows) must have no cycle either (issue 42:
+seven type-only knots had hidden there).
 ``from a.b import c`` is an edge to ``a.b.c`` when that is a module, else to ``a.b`` (its
 ``__init__``); importing a submodule is not counted as importing its package's ``__init__``.
 """
@@ -27,14 +29,17 @@ def _is_type_checking(node: ast.If) -> bool:
     )
 
 
-def _imported(tree: ast.Module, name: str, is_package: bool, modules: set[str]) -> set[str]:
-    """Modules of pmk_nb that ``tree`` imports when it runs (any depth, not under TYPE_CHECKING)."""
+def _imported(
+    tree: ast.Module, name: str, is_package: bool, modules: set[str], *, type_checking: bool = False
+) -> set[str]:
+    """Modules of pmk_nb that ``tree`` imports when it runs (any depth); with ``type_checking``, also
+    those it imports under ``if TYPE_CHECKING:`` (what mypy follows)."""
     found: set[str] = set()
     stack: list[ast.AST] = [tree]
     while stack:
         node = stack.pop()
         for child in ast.iter_child_nodes(node):
-            if isinstance(child, ast.If) and _is_type_checking(child):
+            if isinstance(child, ast.If) and _is_type_checking(child) and not type_checking:
                 stack.extend(child.orelse)
             elif isinstance(child, ast.Import):
                 found |= {alias.name for alias in child.names}
@@ -52,11 +57,17 @@ def _imported(tree: ast.Module, name: str, is_package: bool, modules: set[str]) 
     return {m for m in found if m in modules and m != name}
 
 
-def import_graph() -> dict[str, set[str]]:
+def import_graph(*, type_checking: bool = False) -> dict[str, set[str]]:
     paths = {_module_name(p): p for p in sorted(PKG.rglob("*.py"))}
     names = set(paths)
     return {
-        name: _imported(ast.parse(path.read_text(encoding="utf-8")), name, path.name == "__init__.py", names)
+        name: _imported(
+            ast.parse(path.read_text(encoding="utf-8")),
+            name,
+            path.name == "__init__.py",
+            names,
+            type_checking=type_checking,
+        )
         for name, path in paths.items()
     }
 
@@ -125,3 +136,28 @@ def test_the_graph_sees_lazy_imports_and_skips_type_checking_ones() -> None:
     assert graph == {"pmk_nb.a": {"pmk_nb.b"}, "pmk_nb.b": {"pmk_nb.a"}, "pmk_nb.c": set()}
     assert cycles(graph) == [["pmk_nb.a", "pmk_nb.b"]]
     assert cycles({**graph, "pmk_nb.b": set()}) == []
+
+
+def test_no_cycles_type_only_imports_included() -> None:
+    """What mypy follows has no cycle either (issue 42): a type-only knot is the same two modules
+    needing each other, only hidden from the run time."""
+    graph = import_graph(type_checking=True)
+    knots = sorted(cycles(graph), key=lambda k: (len(k), k))  # shortest first
+    edges = {k[0]: ", ".join(f"{a} -> {b}" for a in k for b in sorted(graph[a]) if b in k) for k in knots}
+    assert not knots, (
+        "import cycles through `if TYPE_CHECKING:` imports (move the shared type to a small module both import, "
+        "or let the lower module define the Protocol it needs):\n"
+        + "\n".join(f"{' <-> '.join(knot)}   ({edges[knot[0]]})" for knot in knots)
+    )
+
+
+def test_the_type_checking_graph_counts_type_checking_imports() -> None:
+    mods = {"pmk_nb.a", "pmk_nb.b"}
+    a = ast.parse("from pmk_nb.b import X\n")
+    b = ast.parse("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from pmk_nb.a import Y\n")
+    graph = {
+        "pmk_nb.a": _imported(a, "pmk_nb.a", False, mods, type_checking=True),
+        "pmk_nb.b": _imported(b, "pmk_nb.b", False, mods, type_checking=True),
+    }
+    assert graph == {"pmk_nb.a": {"pmk_nb.b"}, "pmk_nb.b": {"pmk_nb.a"}}
+    assert cycles(graph) == [["pmk_nb.a", "pmk_nb.b"]]

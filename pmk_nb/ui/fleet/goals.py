@@ -12,7 +12,10 @@ still running is shown again.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from pmk_nb.ui.fleet.home_role import FleetHome
 
 
 @dataclass(frozen=True)
@@ -34,7 +37,7 @@ def _running(handle: Any) -> bool:
     return handle is not None and not handle.progress().done
 
 
-def park(home: Any) -> ParkedGoals:
+def park(home: FleetHome) -> ParkedGoals:
     """Take Home's goals (Set destination, Go to) away from it; returns them for the chair."""
     goal, rooms = home.goal, home.rooms
     parked = ParkedGoals(goal.goal, goal.handle, rooms.route, rooms.handle)
@@ -46,7 +49,7 @@ def park(home: Any) -> ParkedGoals:
     return parked
 
 
-def resume(home: Any, parked: ParkedGoals | None) -> None:
+def resume(home: FleetHome, parked: ParkedGoals | None) -> None:
     """Give Home back a chair's goals that still run (an ended one stays in the chair's row only)."""
     if parked is None:
         return

@@ -43,7 +43,7 @@ from pmk_nb.ui.live.render_loop import RenderLoop
 
 if TYPE_CHECKING:
     from pmk_nb.ui.common.context import AppContext
-    from pmk_nb.ui.home.screen import HomeScreen
+    from pmk_nb.ui.fleet.home_role import FleetHome
 
 log = logging.getLogger(__name__)
 
@@ -105,10 +105,11 @@ class FleetPanel:
 
     Args:
         ctx: the page's session (profiles, kiosk lock); ``ctx.fleet`` is set while a fleet is open.
-        home: the Home screen whose live view, Drive, Set destination and Go to follow the chair in control.
+        home: the Home screen whose live view, Drive, Set destination and Go to follow the chair in control
+            (what the panel uses of it: :class:`~pmk_nb.ui.fleet.home_role.FleetHome`).
     """
 
-    def __init__(self, ctx: AppContext, home: HomeScreen, *, links: FleetLinks | None = None) -> None:
+    def __init__(self, ctx: AppContext, home: FleetHome, *, links: FleetLinks | None = None) -> None:
         self.ctx, self.home = ctx, home
         self.model = Fleet()
         self.links = links or FleetLinks()
