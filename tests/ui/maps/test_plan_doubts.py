@@ -101,8 +101,9 @@ def test_the_screen_lists_the_doubts_and_draws_a_layer_ticked_on_it(screen: Maps
     assert read_choices(doc) is not None and read_choices(doc).layers == ("TOPO", "L2")  # type: ignore[union-attr]
     assert {r["id"] for r in doc["rooms"]} == {"A", "B", "W1", "W2"}  # the sensor zones drawn, as asked
     screen.select("zoned")  # chosen again: the layers asked for come back ticked
-    wait_until(lambda: bool(screen.choices.layers.children), what="layers offered again")
-    assert {b.description: b.value for b in screen.choices.layers.children} == {"TOPO": True, "L2": True}
+    # the boxes of before may still be up until the background read offers them afresh: wait for the end state
+    offered = lambda: {b.description: b.value for b in screen.choices.layers.children}  # noqa: E731
+    wait_until(lambda: offered() == {"TOPO": True, "L2": True}, what="layers offered again, as asked")
     screen.choices.tick_layers(["TOPO"])  # back to the navigable layer only: nothing asked
     assert screen.choices.choices().layers == ()
 
