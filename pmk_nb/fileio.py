@@ -41,11 +41,13 @@ def _write(fh: BinaryIO, content: Content) -> None:
 
 
 @contextlib.contextmanager
-def atomic_open(path: str | os.PathLike[str], *, mode: int = 0o644) -> Iterator[BinaryIO]:
+def atomic_open(path: str | os.PathLike[str], *, mode: int = 0o644, durable: bool = True) -> Iterator[BinaryIO]:
     """A binary file that replaces ``path`` only when the ``with`` block ends without an error.
 
     ``mode`` is applied before the rename (``mkstemp`` would leave 0600): 0o644 for maps shared with
-    a map server user, 0o600 for secrets and settings.
+    a map server user, 0o600 for secrets and settings. ``durable=False`` skips the fsync: for live
+    state other processes read now and nobody needs after a power cut (the drive claim, written on
+    every Stop: an fsync on a busy disk would hold the chair's zero).
     """
     target = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
@@ -54,7 +56,8 @@ def atomic_open(path: str | os.PathLike[str], *, mode: int = 0o644) -> Iterator[
         with os.fdopen(fd, "wb") as fh:
             yield fh
             fh.flush()
-            os.fsync(fh.fileno())
+            if durable:
+                os.fsync(fh.fileno())
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(OSError):
@@ -83,8 +86,11 @@ def private_dir(path: str | os.PathLike[str], *, tighten: bool = False) -> Path:
     return folder
 
 
-def atomic_write(path: str | os.PathLike[str], content: Content, *, mode: int = 0o644, mkdir: bool = False) -> None:
-    """Replace ``path`` with ``content`` atomically (``mkdir`` creates missing parent folders first).
+def atomic_write(
+    path: str | os.PathLike[str], content: Content, *, mode: int = 0o644, mkdir: bool = False, durable: bool = True
+) -> None:
+    """Replace ``path`` with ``content`` atomically (``mkdir`` creates missing parent folders first;
+    ``durable``: as :func:`atomic_open`).
 
     A private file (``mode`` without group/other bits: settings, secrets) gets a private folder
     (:func:`private_dir`); other files get the umask's.
@@ -94,7 +100,7 @@ def atomic_write(path: str | os.PathLike[str], content: Content, *, mode: int = 
         private_dir(target.parent)
     elif mkdir:
         target.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_open(target, mode=mode) as fh:
+    with atomic_open(target, mode=mode, durable=durable) as fh:
         _write(fh, content)
 
 

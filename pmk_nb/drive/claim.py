@@ -200,7 +200,7 @@ class DriveClaim:
             state.pages[self.member] = now
             edit(state, now)
             state.pages = {k: v for k, v in state.pages.items() if now - v <= 10 * self.stale or k == state.stop_by}
-            atomic_write(self.path, state.dump(), mode=0o600)
+            atomic_write(self.path, state.dump(), mode=0o600, durable=False)  # live state: no fsync before the zero
             self._beat_at = now
             return self._view(state, now)
 

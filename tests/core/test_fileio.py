@@ -91,3 +91,15 @@ def _settings_folder_is_private(tmp_path: Path, monkeypatch: pytest.MonkeyPatch)
     shared = tmp_path / "maps"
     fileio.atomic_write(shared / "m.yaml", "", mkdir=True)  # a shared file keeps a shared folder
     assert stat.S_IMODE(shared.stat().st_mode) == 0o755
+
+
+def test_live_state_is_replaced_atomically_without_an_fsync(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The drive claim is written on every Stop: no fsync may hold the chair's zero; settings keep theirs."""
+    synced: list[int] = []
+    monkeypatch.setattr(fileio.os, "fsync", lambda fd: synced.append(fd))
+    fileio.atomic_write(tmp_path / "claim.json", b"live", mode=0o600, durable=False)
+    assert synced == [] and (tmp_path / "claim.json").read_bytes() == b"live"
+    assert os.stat(tmp_path / "claim.json").st_mode & 0o777 == 0o600
+    fileio.atomic_write(tmp_path / "settings.json", b"kept")
+    assert len(synced) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["claim.json", "settings.json"]  # no temporary left
