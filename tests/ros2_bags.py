@@ -12,8 +12,9 @@ T0_NS = 1_765_000_000 * 10**9
 SPEED = 0.5  # m/s along x
 
 
-def write_drive_bag(folder: Path, seconds: float = 4.0, name: str = "bag") -> Path:
-    """The bag's MCAP file (in ``folder/name/``): /odom at 10 Hz (x from 0 at SPEED), /scan at 2 Hz."""
+def write_drive_bag(folder: Path, seconds: float = 4.0, name: str = "bag", rays: int = 90, scan_every: int = 5) -> Path:
+    """The bag's MCAP file (in ``folder/name/``): /odom at 10 Hz (x from 0 at SPEED), /scan of ``rays`` rays
+    with every ``scan_every``-th odometry message (2 Hz; more rays, more often: a bigger file)."""
     from rosbags.rosbag2 import StoragePlugin
     from rosbags.rosbag2 import Writer as BagWriter
     from rosbags.typesys import Stores, get_typestore
@@ -40,9 +41,9 @@ def write_drive_bag(folder: Path, seconds: float = 4.0, name: str = "bag") -> Pa
         )
 
     def scan(ns: int) -> object:
-        ranges = np.full(90, 2.0, dtype=np.float32)
+        ranges = np.full(rays, 2.0, dtype=np.float32)
         return t["sensor_msgs/msg/LaserScan"](
-            header(ns, "base_link"), -math.pi / 2, math.pi / 2, math.pi / 89, 0.0, 0.1, 0.1, 10.0,
+            header(ns, "base_link"), -math.pi / 2, math.pi / 2, math.pi / (rays - 1), 0.0, 0.1, 0.1, 10.0,
             ranges, np.zeros(0, dtype=np.float32),
         )  # fmt: skip
 
@@ -52,7 +53,7 @@ def write_drive_bag(folder: Path, seconds: float = 4.0, name: str = "bag") -> Pa
         for i in range(int(seconds * 10) + 1):
             ns = T0_NS + i * 10**8
             bag.write(odom_conn, ns, store.serialize_cdr(odom(ns, SPEED * i / 10), "nav_msgs/msg/Odometry"))
-            if i % 5 == 0:
+            if i % scan_every == 0:
                 bag.write(scan_conn, ns, store.serialize_cdr(scan(ns), "sensor_msgs/msg/LaserScan"))
     (file,) = (folder / name).glob("*.mcap")
     return file

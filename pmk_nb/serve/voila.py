@@ -60,6 +60,10 @@ CONFIG_FILE = "voila.json"
 #: seconds Voilà waits for the notebook's output while rendering a page (nbclient's default, 4 s, on a
 #: loaded machine drops the app's output: "Timeout waiting for IOPub output" and a blank page)
 IOPUB_TIMEOUT = 60
+#: the largest message a page may send its kernel: a file chosen on the device (an IndoorGML plan, an
+#: MCAP recording, up to 200 MB each) travels as one; tornado's default, 10 MiB, closed the page's
+#: socket on anything larger (the page then lost its kernel, and said nothing)
+MAX_PAGE_MESSAGE_BYTES = 210 * 2**20
 
 
 def dashboard_notebook() -> dict[str, object]:
@@ -86,11 +90,16 @@ def dashboard_notebook() -> dict[str, object]:
 
 
 def server_config(token: str | None = None, ip: str = DEFAULT_IP, tls: TlsFiles | None = None) -> dict[str, object]:
-    """Voilà's config file: websocket pings (integers, which the command line would make strings), token,
+    """Voilà's config file: websocket pings (integers, which the command line would make strings), the
+    largest message a page may send (an uploaded file), token,
     the guards of :mod:`pmk_nb.serve.voila_guard` (Host/Origin for ``ip``, one bounded channel per kernel),
     the certificate to serve HTTPS with (read by :mod:`pmk_nb.serve.voila_tls`), tokens masked in its log
     (:mod:`pmk_nb.serve.tokenmask`)."""
-    tornado: dict[str, object] = {"ws_ping_interval": WS_PING_INTERVAL_MS, "ws_ping_timeout": WS_PING_TIMEOUT_MS}
+    tornado: dict[str, object] = {
+        "ws_ping_interval": WS_PING_INTERVAL_MS,
+        "ws_ping_timeout": WS_PING_TIMEOUT_MS,
+        "websocket_max_message_size": MAX_PAGE_MESSAGE_BYTES,
+    }
     if tls is not None:
         tornado["ssl_options"] = {"certfile": str(tls.certfile), "keyfile": str(tls.keyfile)}
     if serving.is_loopback(ip):  # jupyter_server's own Host check as well (it knows loopback names only)

@@ -50,3 +50,17 @@ def test_each_kind_of_malformed_frame_has_its_fault() -> None:
     swapped = bytearray(good)
     swapped[16:24], swapped[24:32] = good[24:32], good[16:24]
     assert v1_frame_fault(bytes(swapped)) is FrameFault.OFFSETS_OUT_OF_ORDER
+
+
+def test_a_page_may_send_a_file_as_large_as_the_uploads_allow() -> None:
+    """A file chosen on the device travels to the kernel as one websocket message: tornado's 10 MiB
+    default closed the page's socket on a bigger MCAP or plan (tests/browser/test_browser_record.py
+    uploads an 11 MiB one through the served page)."""
+    from pmk_nb.recordings.folder import UPLOAD_MAX_BYTES as RECORDING_MAX
+    from pmk_nb.serve.voila import server_config
+    from pmk_nb.ui.maps.importer import UPLOAD_MAX_BYTES as PLAN_MAX
+
+    tornado = server_config("t" * 20)["Voila"]["tornado_settings"]  # type: ignore[index]
+    limit = tornado["websocket_max_message_size"]
+    assert limit > max(RECORDING_MAX, PLAN_MAX) + 2**20  # the file and the message's own header
+    assert limit < 2**30  # still bounded: a page cannot make the server buffer without end
