@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from pmk_nb.cli.options import Subparsers
-from pmk_nb.cli.server_options import positive_int
+from pmk_nb.cli.server_options import positive_int, tls_options
 from pmk_nb.serve import (
     CULL_IDLE,
     DEFAULT_IP,
@@ -91,10 +91,7 @@ def add_parser(subparsers: Subparsers) -> None:
     p.add_argument("--max-chairs", type=positive_int, metavar="N", help="chairs at once (default: cores and memory)")
     p.add_argument("--cull-idle", type=positive_int, default=CULL_IDLE, metavar="S", help="stop servers idle S s")
     p.add_argument("--proxy", metavar="PATH", help="configurable-http-proxy to use (default: PATH, then proxy/)")
-    p.add_argument("--https", action="store_true", help="serve HTTPS with a certificate made once (tls/)")
-    p.add_argument("--certfile", metavar="FILE", help="serve HTTPS with this PEM certificate; needs --keyfile")
-    p.add_argument("--keyfile", metavar="FILE", help="the PEM private key of --certfile")
-    p.add_argument("--insecure", action="store_true", help="allow plain HTTP beyond loopback")
+    tls_options(p, https_help="serve HTTPS with a certificate made once (tls/)")
     p.add_argument(
         "--shared-user",
         action="store_true",

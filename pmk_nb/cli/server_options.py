@@ -25,12 +25,16 @@ def server_options(p: argparse.ArgumentParser) -> None:
         f"(required beyond loopback; also read from ${TOKEN_ENV})",
     )
     p.add_argument("--no-browser", action="store_true", help="do not open a browser")
-    p.add_argument(
-        "--https",
-        action="store_true",
-        help="serve HTTPS with a certificate made once in the config folder (tls/); prints its fingerprint "
+    tls_options(
+        p,
+        https_help="serve HTTPS with a certificate made once in the config folder (tls/); prints its fingerprint "
         "and a QR code of the URL",
     )
+
+
+def tls_options(p: argparse.ArgumentParser, *, https_help: str) -> None:
+    """``--https``, ``--certfile``, ``--keyfile``, ``--insecure``: how a served page is reached (also `pmk hub`)."""
+    p.add_argument("--https", action="store_true", help=https_help)
     p.add_argument("--certfile", metavar="FILE", help="serve HTTPS with this PEM certificate (chain); needs --keyfile")
     p.add_argument("--keyfile", metavar="FILE", help="the PEM private key of --certfile")
     p.add_argument(

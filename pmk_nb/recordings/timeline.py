@@ -88,38 +88,43 @@ class Timeline:
         received = [r["received"] for topic_rows in rows.values() for r in topic_rows]
         self.start = min(received) if received else 0.0
         self.duration = (max(received) - self.start) if received else 0.0
-        layers = [t for t in (self.pose_topic, self.scan_topic, self.path_topic) if t]
-        self._rows: dict[str, list[Mapping[str, Any]]] = {t: list(rows.get(t) or ()) for t in layers}
-        self._times = {t: np.array([r["received"] - self.start for r in rs]) for t, rs in self._rows.items()}
+        #: every topic's rows (those with messages), and their times since the start, made when first asked
+        self._rows: dict[str, list[Mapping[str, Any]]] = {t: list(rs) for t, rs in rows.items() if rs}
+        self._times: dict[str, np.ndarray] = {}
         self._by_stamp = _poses_by_stamp(self._rows.get(self.pose_topic or "", []))
         maps = list(rows.get(self.map_topic) or ()) if self.map_topic else []
         self.grid = _grid(maps[-1]) if maps else None
-        self._all: dict[str, list[Mapping[str, Any]]] = {t: list(rs) for t, rs in rows.items() if rs}
-        self._series_times: dict[str, np.ndarray] = {}
 
     @classmethod
     def from_tables(cls, tables: Any) -> Timeline:
         """From :class:`~pmk_nb.recordings.read.Tables` (anything with ``rows`` and ``types``)."""
         return cls(tables.rows, tables.types)
 
+    def _times_of(self, topic: str) -> np.ndarray:
+        times = self._times.get(topic)
+        if times is None:
+            rows = self._rows.get(topic, [])
+            times = self._times[topic] = np.array([r["received"] - self.start for r in rows], dtype=float)
+        return times
+
     def _row(self, topic: str | None, t: float) -> Mapping[str, Any] | None:
         if topic is None or not self._rows.get(topic):
             return None
-        i = _latest(self._times[topic], t)
+        i = _latest(self._times_of(topic), t)
         return None if i is None else self._rows[topic][i]
 
     @property
     def first_pose(self) -> float:
         """When the first pose arrived (seconds since the recording began; 0 without poses): where a replay starts."""
-        times = self._times.get(self.pose_topic or "")
-        return float(times[0]) if times is not None and times.size else 0.0
+        times = self._times_of(self.pose_topic or "")
+        return float(times[0]) if times.size else 0.0
 
     def poses(self, until: float | None = None) -> np.ndarray:
         """(N, 2) positions of the pose topic, those received up to ``until`` seconds (default: all)."""
         topic = self.pose_topic or ""
         rows = self._rows.get(topic, [])
         if until is not None and rows:
-            rows = rows[: int(np.searchsorted(self._times[topic], until, side="right"))]
+            rows = rows[: int(np.searchsorted(self._times_of(topic), until, side="right"))]
         prefix = _pose_prefix(rows[0]) if rows else ""
         points = [(r[f"{prefix}position.x"], r[f"{prefix}position.y"]) for r in rows]
         return np.array(points, dtype=float).reshape(-1, 2)
@@ -139,8 +144,8 @@ class Timeline:
     def numeric_fields(self) -> list[tuple[str, str]]:
         """Every (topic, field) whose first message holds a number there: what the replay can plot."""
         found: list[tuple[str, str]] = []
-        for topic in sorted(self._all):
-            found += [(topic, key) for key, value in self._all[topic][0].items() if _plottable(key, value)]
+        for topic in sorted(self._rows):
+            found += [(topic, key) for key, value in self._rows[topic][0].items() if _plottable(key, value)]
         return found
 
     def default_field(self) -> tuple[str, str] | None:
@@ -155,10 +160,8 @@ class Timeline:
 
     def series(self, topic: str, field: str) -> tuple[np.ndarray, np.ndarray]:
         """(times since the recording began, values) of ``field`` on ``topic``; NaN where a message lacks it."""
-        rows = self._all.get(topic, [])
-        times = self._series_times.get(topic)
-        if times is None:
-            times = self._series_times[topic] = np.array([r["received"] - self.start for r in rows], dtype=float)
+        rows = self._rows.get(topic, [])
+        times = self._times_of(topic)
         values = np.array([_number(r.get(field)) for r in rows], dtype=float)
         return times, values
 

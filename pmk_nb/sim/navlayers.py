@@ -68,13 +68,22 @@ def inflated_costs(grid: OccupancyGrid, inscribed_m: float, inflation_m: float =
     return costs
 
 
-def window(costs: np.ndarray, grid: OccupancyGrid, centre: tuple[float, float], size_m: float) -> OccupancyGrid:
-    """The ``size_m`` square of ``costs`` around ``centre``, cell-aligned with the map (outside: free, as a
-    local costmap that does not track unknown space)."""
+def _square(grid: OccupancyGrid, centre: tuple[float, float], size_m: float) -> tuple[int, int, int, int]:
+    """Rows and columns (r0, r1, c0, c1) of the ``size_m`` square round ``centre``, cell-aligned with the
+    map; it may reach beyond the map."""
     res = float(grid.resolution)
     n = max(1, round(size_m / res))
     col0 = math.floor((centre[0] - grid.origin[0]) / res) - n // 2
     row0 = math.floor((centre[1] - grid.origin[1]) / res) - n // 2
+    return row0, row0 + n, col0, col0 + n
+
+
+def window(costs: np.ndarray, grid: OccupancyGrid, centre: tuple[float, float], size_m: float) -> OccupancyGrid:
+    """The ``size_m`` square of ``costs`` around ``centre``, cell-aligned with the map (outside: free, as a
+    local costmap that does not track unknown space)."""
+    res = float(grid.resolution)
+    row0, _, col0, _ = _square(grid, centre, size_m)
+    n = max(1, round(size_m / res))
     out = np.zeros((n, n), dtype=np.int8)
     rows, cols = costs.shape
     r0, r1, c0, c1 = max(row0, 0), min(row0 + n, rows), max(col0, 0), min(col0 + n, cols)
@@ -163,15 +172,20 @@ class SimNavLayers:
             return 0
         res = float(grid.resolution)
         rows, cols = costs.shape
-        ys, xs = np.mgrid[0:rows, 0:cols]
+        r0, r1, c0, c1 = _square(grid, (x, y), 2.0 * radius_m + 4.0 * res)  # the disc's cells, and a margin
+        r0, r1, c0, c1 = max(r0, 0), min(r1, rows), max(c0, 0), min(c1, cols)
+        if r0 >= r1 or c0 >= c1:  # off the map
+            return 0
+        ys, xs = np.mgrid[r0:r1, c0:c1]
         cx, cy = (x - grid.origin[0]) / res - 0.5, (y - grid.origin[1]) / res - 0.5
         disc = (xs - cx) ** 2 + (ys - cy) ** 2 <= (radius_m / res) ** 2
         if not disc.any():
             return 0
         new = costs.copy()
-        new[disc] = LETHAL
+        new[r0:r1, c0:c1][disc] = LETHAL
         hit_rows, hit_cols = np.nonzero(disc)
-        box = (int(hit_rows.min()), int(hit_rows.max()) + 1, int(hit_cols.min()), int(hit_cols.max()) + 1)
+        top, left = r0 + int(hit_rows.min()), c0 + int(hit_cols.min())
+        box = (top, r0 + int(hit_rows.max()) + 1, left, c0 + int(hit_cols.max()) + 1)
         if self._global_msg is not None:  # the same header and info, the new cells
             self._global_msg = {**self._global_msg, "data": RawJSON(int8_array_json(new))}
         self.costs = new
@@ -183,11 +197,7 @@ class SimNavLayers:
         grid, costs = self.grid, self.costs
         if grid is None or costs is None:
             return None
-        res = float(grid.resolution)
-        n = max(1, round(LOCAL_SIZE_M / res))
-        col0 = math.floor((centre[0] - grid.origin[0]) / res) - n // 2
-        row0 = math.floor((centre[1] - grid.origin[1]) / res) - n // 2
-        box = (row0, row0 + n, col0, col0 + n)
+        box = _square(grid, centre, LOCAL_SIZE_M)
         dirty, self._dirty = self._dirty, None
         if dirty is not None:
             box = _union(box, dirty)
@@ -202,7 +212,7 @@ class SimNavLayers:
             "y": r0,
             "width": c1 - c0,
             "height": r1 - r0,
-            "data": patch.astype(int).ravel().tolist(),
+            "data": RawJSON(int8_array_json(patch)),
         }
 
     def _take(self, key: str, now: float, period: float) -> bool:

@@ -172,7 +172,8 @@ class ReplayView:
         self.field.add_class("pmk-replay-field")
         self.plot = html_slot("pmk-replay-plot")
         self.value = html_slot("pmk-replay-value")
-        self._series: SeriesPicture | None = None
+        #: the plotted field and its picture (None: nothing plotted)
+        self._series: tuple[tuple[str, str], SeriesPicture] | None = None
         self.slider.observe(lambda change: self.show(float(change["new"])), names="value")
         self.field.observe(lambda _change: self.plot_field(), names="value")
         plot_part = [self.field, self.plot, self.value] if fields else []
@@ -188,16 +189,16 @@ class ReplayView:
             self._series = None
             self.plot.value = self.value.value = ""
             return
-        times, values = self.timeline.series(*chosen)
-        self._series = draw_series(times, values, field_label(*chosen), self.timeline.duration)
+        topic, name = chosen
+        times, values = self.timeline.series(topic, name)
+        self._series = (topic, name), draw_series(times, values, field_label(topic, name), self.timeline.duration)
         if draw_cursor:
             self._show_cursor(self.frame.t)
 
     def _show_cursor(self, t: float) -> None:
-        chosen, series = self.field.value, self._series
-        if series is None or not isinstance(chosen, tuple) or len(chosen) != 2:
+        if self._series is None:
             return
-        topic, name = chosen
+        (topic, name), series = self._series
         value = self.timeline.value_at(topic, name, t)
         label = field_label(topic, name)
         said = f"{label} = " + ("no message yet" if value is None else f"{value:.4g}") + f" at {t:.1f} s"
